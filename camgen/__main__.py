@@ -1,0 +1,5 @@
+import sys
+
+from camgen.cli import main
+
+sys.exit(main())

@@ -1,0 +1,732 @@
+"""The one shared value of camgen: a closed counter-clockwise chain of exact segments.
+
+A :class:`Contour` is a closed, planar, counter-clockwise curve in the cam frame (origin on
+the rotation axis), in millimetres.  It is a chain of two kinds of segment:
+
+* :class:`Arc`, an exact circular arc (centre, radius, start angle, signed sweep);
+* :class:`Spline`, a parametric piecewise cubic ``x(t), y(t)`` (C2 inside the segment when
+  built by interpolation; C1 when it is a refitted offset).
+
+Every check and export in camgen works through the operations defined here, so they work for
+every cam.  Nothing in this module imports another camgen module except :mod:`camgen.errors`.
+
+Parameterisation: a contour with ``n`` segments has the global parameter ``t`` in ``[0, n)``;
+``floor(t)`` is the segment index and ``t - floor(t)`` the local parameter ``u`` in ``[0, 1)``.
+
+Conventions: lengths in mm, angles in rad, curvature in 1/mm, positive where the curve turns
+left (convex parts of a counter-clockwise contour).  The outward normal is the unit tangent
+rotated by -90 deg.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Iterable, Union
+
+import numpy as np
+
+from camgen.errors import GeometryError, ParameterError, require_positive
+
+TWO_PI = 2.0 * math.pi
+
+#: Default chord tolerance of :meth:`Contour.flatten`, mm.
+DEFAULT_CHORD_TOL = 1e-3
+#: Gap allowed between the end of one segment and the start of the next, mm.
+DEFAULT_CLOSURE_TOL = 1e-7
+
+
+def _as_array(values: object) -> np.ndarray:
+    return np.asarray(values, dtype=float)
+
+
+def _unit(angle: np.ndarray) -> np.ndarray:
+    """Unit vectors (..., 2) at the given angles (rad)."""
+    return np.stack([np.cos(angle), np.sin(angle)], axis=-1)
+
+
+def _angle_in_sweep(angle: np.ndarray, start: float, sweep: float) -> np.ndarray:
+    """True where ``angle`` lies on the counter-clockwise range ``[start, start + sweep]``."""
+    lo, width = (start, sweep) if sweep >= 0 else (start + sweep, -sweep)
+    rel = np.mod(angle - lo, TWO_PI)
+    # an angle just below lo (rel close to 2 pi) counts as lo: keeps full circles and ends closed
+    return (rel <= width + 1e-15) | (rel >= TWO_PI - 1e-12)
+
+
+# --------------------------------------------------------------------------------------------
+# Arc
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Arc:
+    """An exact circular arc.
+
+    Parameters
+    ----------
+    center : tuple of float
+        Centre (x, y), mm.
+    radius : float
+        Radius, mm, > 0.
+    start_angle : float
+        Polar angle of the start point about the centre, rad.
+    sweep : float
+        Signed sweep, rad: > 0 counter-clockwise about the centre (convex on a CCW contour),
+        < 0 clockwise (concave).
+    """
+
+    center: tuple[float, float]
+    radius: float
+    start_angle: float
+    sweep: float
+
+    kind = "arc"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "center", (float(self.center[0]), float(self.center[1])))
+        require_positive("radius", self.radius)
+        if not math.isfinite(self.start_angle) or not math.isfinite(self.sweep) or self.sweep == 0:
+            raise ParameterError("sweep", self.sweep, "a finite non-zero angle in rad")
+
+    # -- pointwise --------------------------------------------------------------------------
+    def angle(self, u: np.ndarray) -> np.ndarray:
+        """Polar angle about the centre (rad) at local parameters ``u`` in [0, 1]."""
+        return self.start_angle + self.sweep * _as_array(u)
+
+    def point(self, u: np.ndarray) -> np.ndarray:
+        """Points (n, 2), mm, at local parameters ``u``."""
+        return np.asarray(self.center) + self.radius * _unit(self.angle(u))
+
+    def derivative(self, u: np.ndarray) -> np.ndarray:
+        """dP/du (n, 2), mm."""
+        a = self.angle(u)
+        return self.radius * self.sweep * np.stack([-np.sin(a), np.cos(a)], axis=-1)
+
+    def second_derivative(self, u: np.ndarray) -> np.ndarray:
+        """d2P/du2 (n, 2), mm."""
+        return -(self.radius * self.sweep**2) * _unit(self.angle(u))
+
+    def curvature(self, u: np.ndarray) -> np.ndarray:
+        """Signed curvature (1/mm): +1/r on a counter-clockwise arc, -1/r on a clockwise one."""
+        return np.full(np.shape(u), math.copysign(1.0 / self.radius, self.sweep))
+
+    @property
+    def start_point(self) -> np.ndarray:
+        return self.point(np.array([0.0]))[0]
+
+    @property
+    def end_point(self) -> np.ndarray:
+        return self.point(np.array([1.0]))[0]
+
+    @property
+    def length(self) -> float:
+        """Arc length, mm (exact)."""
+        return self.radius * abs(self.sweep)
+
+    # -- whole-segment operations ----------------------------------------------------------
+    def flatten_params(self, chord_tol: float) -> np.ndarray:
+        """Local parameters of a chord polygon with sagitta <= ``chord_tol`` (start included, end excluded).
+
+        The sagitta of a chord spanning the angle ``delta`` is ``r (1 - cos(delta / 2))``, so
+        ``delta = 2 acos(1 - chord_tol / r)`` is the widest allowed step.
+        """
+        ratio = min(chord_tol / self.radius, 2.0)
+        max_step = 2.0 * math.acos(1.0 - ratio)
+        count = max(1, math.ceil(abs(self.sweep) / max_step - 1e-12))
+        return np.arange(count) / count
+
+    def green_area(self) -> float:
+        """(1/2) integral of (x dy - y dx) along the arc, mm^2 (exact)."""
+        cx, cy = self.center
+        r, s = self.radius, self.start_angle
+        e = s + self.sweep
+        return 0.5 * (r * cx * (math.sin(e) - math.sin(s)) - r * cy * (math.cos(e) - math.cos(s)) + r * r * self.sweep)
+
+    def extreme_points(self) -> np.ndarray:
+        """End points and axis-extreme points (k, 2) of the arc: its exact bounding box."""
+        axis_angles = np.arange(4) * (math.pi / 2)
+        inside = axis_angles[_angle_in_sweep(axis_angles, self.start_angle, self.sweep)]
+        pts = [self.start_point[None], self.end_point[None]]
+        if inside.size:
+            pts.append(np.asarray(self.center) + self.radius * _unit(inside))
+        return np.concatenate(pts)
+
+    def offset(self, distance: float, index: int = 0) -> "Arc":
+        """The arc offset by ``distance`` along the outward normal of a CCW contour (exact)."""
+        new_radius = self.radius + (distance if self.sweep > 0 else -distance)
+        if new_radius <= 0.0:
+            mid = self.point(np.array([0.5]))[0]
+            polar = math.degrees(math.atan2(mid[1], mid[0])) % 360.0
+            raise GeometryError(
+                f"offset {distance:g} mm of segment {index} (arc of radius {self.radius:g} mm, "
+                f"{'concave' if self.sweep < 0 else 'convex'}, around cam angle {polar:.3f} deg) "
+                f"would make its radius {new_radius:g} mm <= 0 (undercut): "
+                f"use |offset| < {self.radius:g} mm there"
+            )
+        return Arc(self.center, new_radius, self.start_angle, self.sweep)
+
+    def support_candidates(self, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Interior support values (M,), contact points (M, 2) and radii of curvature (M,).
+
+        For outward normal angles ``psi`` inside the sweep of a convex arc the contact is
+        ``center + r u(psi)`` and ``h = center . u + r``; concave arcs have no interior maxima
+        of ``p . u`` (value -inf).
+        """
+        u = _unit(psi)
+        pts = np.asarray(self.center) + self.radius * u
+        vals = np.einsum("ij,ij->i", pts, u)
+        if self.sweep > 0:
+            vals = np.where(_angle_in_sweep(psi, self.start_angle, self.sweep), vals, -np.inf)
+        else:
+            vals = np.full(psi.shape, -np.inf)
+        return vals, pts, np.full(psi.shape, self.radius)
+
+
+# --------------------------------------------------------------------------------------------
+# Spline
+# --------------------------------------------------------------------------------------------
+class Spline:
+    """A parametric piecewise cubic ``P(t) = (x(t), y(t))`` on ``breaks[0] <= t <= breaks[-1]``.
+
+    Parameters
+    ----------
+    breaks : array (K + 1,)
+        Strictly increasing break points of the parameter.
+    coeffs : array (4, K, 2)
+        Polynomial coefficients per piece, highest power first (scipy ``PPoly`` convention):
+        ``P(t) = sum_m coeffs[m, i] (t - breaks[i]) ** (3 - m)`` on piece ``i``.
+
+    Instances are immutable: the arrays are copied and made read-only.
+    """
+
+    kind = "spline"
+
+    def __init__(self, breaks: np.ndarray, coeffs: np.ndarray) -> None:
+        breaks = np.array(breaks, dtype=float)
+        coeffs = np.array(coeffs, dtype=float)
+        if breaks.ndim != 1 or breaks.size < 2 or not np.all(np.diff(breaks) > 0):
+            raise ParameterError("breaks", f"array of shape {breaks.shape}", "a strictly increasing 1-D array of >= 2 values")
+        if coeffs.shape != (4, breaks.size - 1, 2) or not np.all(np.isfinite(coeffs)):
+            raise ParameterError("coeffs", f"array of shape {coeffs.shape}", f"finite values of shape (4, {breaks.size - 1}, 2)")
+        breaks.flags.writeable = False
+        coeffs.flags.writeable = False
+        self.breaks = breaks
+        self.coeffs = coeffs
+
+    # -- constructors ------------------------------------------------------------------------
+    @classmethod
+    def interpolate(
+        cls,
+        t: np.ndarray,
+        points: np.ndarray,
+        periodic: bool = True,
+        end_derivatives: tuple[np.ndarray, np.ndarray] | None = None,
+    ) -> "Spline":
+        """Cubic spline through ``points`` (n, 2) at parameters ``t`` (n,).
+
+        ``periodic=True`` gives the periodic C2 spline (``points[-1]`` must equal ``points[0]``);
+        otherwise the ends are clamped to ``end_derivatives`` (dP/dt at both ends), or use the
+        not-a-knot condition when those are not given.
+        """
+        from scipy.interpolate import CubicSpline  # lazy: scipy.interpolate costs ~0.6 s to import
+
+        t = _as_array(t)
+        points = _as_array(points)
+        if periodic:
+            if not np.allclose(points[0], points[-1], rtol=0, atol=1e-9):
+                raise GeometryError("a periodic spline needs its last point equal to its first")
+            points = points.copy()
+            points[-1] = points[0]
+            spline = CubicSpline(t, points, bc_type="periodic")
+        elif end_derivatives is not None:
+            d0, d1 = (np.asarray(d, dtype=float) for d in end_derivatives)
+            spline = CubicSpline(t, points, bc_type=((1, d0), (1, d1)))
+        else:
+            spline = CubicSpline(t, points, bc_type="not-a-knot")
+        return cls(spline.x, spline.c)
+
+    @classmethod
+    def hermite(cls, t: np.ndarray, points: np.ndarray, derivatives: np.ndarray) -> "Spline":
+        """C1 piecewise cubic Hermite interpolant of ``points`` (n, 2) and ``derivatives`` dP/dt (n, 2) at ``t`` (n,)."""
+        t, p, m = _as_array(t), _as_array(points), _as_array(derivatives)
+        h = np.diff(t)[:, None]
+        p0, p1, m0, m1 = p[:-1], p[1:], m[:-1], m[1:]
+        c3 = (2.0 * (p0 - p1) + h * (m0 + m1)) / h**3
+        c2 = (3.0 * (p1 - p0) - h * (2.0 * m0 + m1)) / h**2
+        return cls(t, np.stack([c3, c2, m0, p0]))
+
+    # -- pointwise ---------------------------------------------------------------------------
+    @property
+    def span(self) -> float:
+        return float(self.breaks[-1] - self.breaks[0])
+
+    @property
+    def n_pieces(self) -> int:
+        return self.breaks.size - 1
+
+    def _locate(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        idx = np.clip(np.searchsorted(self.breaks, t, side="right") - 1, 0, self.n_pieces - 1)
+        return idx, t - self.breaks[idx]
+
+    def eval_t(self, t: np.ndarray, order: int = 0) -> np.ndarray:
+        """d^order P / dt^order (n, 2) at spline parameters ``t``."""
+        idx, tau = self._locate(_as_array(t))
+        c = self.coeffs[:, idx, :]  # (4, n, 2)
+        tau = tau[:, None]
+        if order == 0:
+            return ((c[0] * tau + c[1]) * tau + c[2]) * tau + c[3]
+        if order == 1:
+            return (3.0 * c[0] * tau + 2.0 * c[1]) * tau + c[2]
+        if order == 2:
+            return 6.0 * c[0] * tau + 2.0 * c[1]
+        if order == 3:
+            return np.broadcast_to(6.0 * c[0], c[0].shape).copy()
+        raise ValueError("order must be 0..3")
+
+    def _t(self, u: np.ndarray) -> np.ndarray:
+        return self.breaks[0] + _as_array(u) * self.span
+
+    def point(self, u: np.ndarray) -> np.ndarray:
+        """Points (n, 2), mm, at local parameters ``u`` in [0, 1]."""
+        return self.eval_t(self._t(u))
+
+    def derivative(self, u: np.ndarray) -> np.ndarray:
+        return self.eval_t(self._t(u), 1) * self.span
+
+    def second_derivative(self, u: np.ndarray) -> np.ndarray:
+        return self.eval_t(self._t(u), 2) * self.span**2
+
+    def curvature(self, u: np.ndarray) -> np.ndarray:
+        """Signed curvature, 1/mm."""
+        t = self._t(u)
+        d1, d2 = self.eval_t(t, 1), self.eval_t(t, 2)
+        speed = np.hypot(d1[:, 0], d1[:, 1])
+        return (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / speed**3
+
+    @property
+    def start_point(self) -> np.ndarray:
+        return self.eval_t(self.breaks[:1])[0]
+
+    @property
+    def end_point(self) -> np.ndarray:
+        return self.eval_t(self.breaks[-1:])[0]
+
+    def _ascending(self) -> np.ndarray:
+        """Coefficients (4, K, 2), lowest power first."""
+        return self.coeffs[::-1]
+
+    @property
+    def length(self) -> float:
+        """Arc length, mm, by 16-point Gauss-Legendre quadrature on every piece (error < 1e-12 relative for smooth pieces)."""
+        nodes, weights = np.polynomial.legendre.leggauss(16)
+        h = np.diff(self.breaks)
+        tau = 0.5 * (nodes[:, None] + 1.0) * h[None, :]  # (16, K)
+        c = self.coeffs
+        d1 = (3.0 * c[0][None] * tau[..., None] + 2.0 * c[1][None]) * tau[..., None] + c[2][None]
+        speed = np.hypot(d1[..., 0], d1[..., 1])
+        return float(np.sum(weights[:, None] * speed * 0.5 * h[None, :]))
+
+    # -- whole-segment operations -------------------------------------------------------------
+    def flatten_params(self, chord_tol: float) -> np.ndarray:
+        """Local parameters of a chord polygon within ``chord_tol`` of the curve (end excluded).
+
+        On a piece of parameter length ``h`` the chord deviates from the curve by at most
+        ``h^2 / 8 * max |P''|`` (linear-interpolation error bound); ``P''`` is linear on a cubic
+        piece, so its largest norm is at one of the piece's ends.
+        """
+        h = np.diff(self.breaks)
+        c = self.coeffs
+        acc_start = np.hypot(*(2.0 * c[1]).T)
+        acc_end = np.hypot(*(6.0 * c[0] * h[:, None] + 2.0 * c[1]).T)
+        max_acc = np.maximum(acc_start, acc_end)
+        counts = np.maximum(1, np.ceil(h * np.sqrt(max_acc / (8.0 * chord_tol)) - 1e-12)).astype(int)
+        piece = np.repeat(np.arange(self.n_pieces), counts)
+        first = np.repeat(np.cumsum(counts) - counts, counts)
+        frac = (np.arange(counts.sum()) - first) / counts[piece]
+        t = self.breaks[piece] + frac * h[piece]
+        return (t - self.breaks[0]) / self.span
+
+    def green_area(self) -> float:
+        """(1/2) integral of (x dy - y dx) along the spline, mm^2 (exact polynomial integration)."""
+        a = self._ascending()  # (4, K, 2)
+        x, y = a[..., 0], a[..., 1]
+        dx = np.stack([x[1], 2 * x[2], 3 * x[3]])  # (3, K)
+        dy = np.stack([y[1], 2 * y[2], 3 * y[3]])
+        h = np.diff(self.breaks)
+        total = np.zeros_like(h)
+        for i in range(4):
+            for j in range(3):
+                power = i + j
+                total += (x[i] * dy[j] - y[i] * dx[j]) * h ** (power + 1) / (power + 1)
+        return 0.5 * float(total.sum())
+
+    def _quadratic_roots(self, qa: np.ndarray, qb: np.ndarray, qc: np.ndarray) -> np.ndarray:
+        """Real roots (2, ...) of qa tau^2 + qb tau + qc inside each piece, NaN elsewhere."""
+        h = np.diff(self.breaks).reshape((-1,) + (1,) * (qa.ndim - 1))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            disc = qb * qb - 4.0 * qa * qc
+            sq = np.sqrt(np.where(disc >= 0, disc, np.nan))
+            # numerically stable pair of roots; linear case where qa is ~0
+            q = -0.5 * (qb + np.copysign(sq, qb))
+            r1 = np.where(np.abs(qa) > 1e-300, q / qa, -qc / qb)
+            r2 = np.where(np.abs(q) > 1e-300, qc / q, np.nan)
+        roots = np.stack([r1, r2])
+        return np.where((roots >= 0) & (roots <= h), roots, np.nan)
+
+    def extreme_points(self) -> np.ndarray:
+        """Break points and axis-extreme points (k, 2): the exact bounding box of the spline."""
+        c = self.coeffs
+        pts = [self.eval_t(self.breaks)]
+        for axis in range(2):
+            roots = self._quadratic_roots(3 * c[0][:, axis], 2 * c[1][:, axis], c[2][:, axis])
+            piece = np.broadcast_to(np.arange(self.n_pieces), roots.shape)
+            ok = np.isfinite(roots)
+            if ok.any():
+                pts.append(self.eval_t(self.breaks[piece[ok]] + roots[ok]))
+        return np.concatenate(pts)
+
+    def support_candidates(self, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Largest interior value of ``P . u(psi)`` (M,) over all pieces, its point (M, 2) and radius of curvature (M,).
+
+        Interior extrema of ``P(t) . u`` are roots of the quadratic ``P'(t) . u = 0`` on each piece.
+        """
+        u = _unit(psi)  # (M, 2)
+        c = self.coeffs  # (4, K, 2)
+        # coefficients of P'(tau).u per (piece, direction): (K, M)
+        qa = 3.0 * (c[0] @ u.T)
+        qb = 2.0 * (c[1] @ u.T)
+        qc = c[2] @ u.T
+        roots = self._quadratic_roots(qa, qb, qc)  # (2, K, M)
+        tau = np.nan_to_num(roots, nan=0.0)
+        vals = np.zeros_like(roots)
+        for m in range(4):  # Horner on P(tau) . u
+            vals = vals * tau + (c[m] @ u.T)[None]
+        vals = np.where(np.isfinite(roots), vals, -np.inf)
+        flat = vals.reshape(-1, psi.size)
+        best = np.argmax(flat, axis=0)
+        best_val = flat[best, np.arange(psi.size)]
+        root_idx, piece = np.divmod(best, self.n_pieces)
+        t = self.breaks[piece] + tau[root_idx, piece, np.arange(psi.size)]
+        d1, d2 = self.eval_t(t, 1), self.eval_t(t, 2)
+        with np.errstate(divide="ignore"):
+            rho = np.hypot(d1[:, 0], d1[:, 1]) ** 3 / (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
+        return best_val, self.eval_t(t), rho
+
+    def offset(self, distance: float, index: int = 0, tol: float = 1e-6) -> "Spline":
+        """Offset along the outward normal of a CCW contour, refitted as a piecewise cubic.
+
+        The exact offset ``Q = P + d n`` has tangent ``Q' = P' (1 + d kappa)``; where
+        ``1 + d kappa <= 0`` the offset reverses (cusp, undercut) and a :class:`GeometryError`
+        names the segment and cam angle.  ``Q`` is only C1 at the breaks of ``P`` (``kappa'``
+        jumps there), so the refit is a cubic Hermite interpolant of the exact ``Q`` and ``Q'``
+        on a subdivision of every piece (C1, error O(h^4)), refined until its distance to the
+        exact offset at the quarter points of every new piece is <= ``tol`` mm.
+        """
+        dense_u = np.linspace(0.0, 1.0, 16 * self.n_pieces + 1)
+        kappa = self.curvature(dense_u)
+        factor = 1.0 + distance * kappa
+        if np.any(factor <= 0.0):
+            worst = int(np.argmin(factor))
+            p = self.point(dense_u[worst : worst + 1])[0]
+            polar = math.degrees(math.atan2(p[1], p[0])) % 360.0
+            raise GeometryError(
+                f"offset {distance:g} mm of segment {index} (spline) reverses at cam angle {polar:.3f} deg: "
+                f"radius of curvature {1.0 / abs(kappa[worst]):.6g} mm <= |offset| (undercut)"
+            )
+
+        def exact(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            p = self.eval_t(t)
+            d1 = self.eval_t(t, 1)
+            d2 = self.eval_t(t, 2)
+            speed = np.hypot(d1[:, 0], d1[:, 1])
+            normal = np.stack([d1[:, 1], -d1[:, 0]], axis=-1) / speed[:, None]
+            k = (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / speed**3
+            return p + distance * normal, d1 * (1.0 + distance * k)[:, None]
+
+        subdiv = 1
+        h = np.diff(self.breaks)
+        while True:
+            frac = np.arange(subdiv) / subdiv
+            t = np.append((self.breaks[:-1, None] + frac[None, :] * h[:, None]).ravel(), self.breaks[-1])
+            q, dq = exact(t)
+            fit = Spline.hermite(t, q, dq)
+            probe = (t[:-1, None] + np.array([0.25, 0.5, 0.75])[None, :] * np.diff(t)[:, None]).ravel()
+            err = float(np.max(np.hypot(*(fit.eval_t(probe) - exact(probe)[0]).T)))
+            if err <= tol:
+                return fit
+            if subdiv >= 256:
+                raise GeometryError(
+                    f"offset {distance:g} mm of segment {index} (spline): refit error {err:.3g} mm "
+                    f"stays above tol = {tol:g} mm; the offset is too close to a cusp"
+                )
+            subdiv *= 2
+
+
+Segment = Union[Arc, Spline]
+
+
+# --------------------------------------------------------------------------------------------
+# Joint report
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Joint:
+    """Continuity where segment ``index`` ends and the next one starts.
+
+    ``gap_mm`` is the distance between the two ends, ``tangent_jump_rad`` the angle between the
+    two unit tangents, ``curvature_jump_per_mm`` the jump of signed curvature (1/mm), and
+    ``continuity`` the highest of ``"G2"``, ``"G1"``, ``"G0"`` that holds, or ``"none"``.
+    """
+
+    index: int
+    point: tuple[float, float]
+    gap_mm: float
+    tangent_jump_rad: float
+    curvature_jump_per_mm: float
+    continuity: str
+
+
+# --------------------------------------------------------------------------------------------
+# Contour
+# --------------------------------------------------------------------------------------------
+class Contour:
+    """A closed counter-clockwise chain of :class:`Arc` and :class:`Spline` segments (mm, cam frame).
+
+    Parameters
+    ----------
+    segments : sequence of Arc or Spline
+        In order along the curve; each must start where the previous one ends.
+    closure_tol : float
+        Largest gap allowed at a joint, mm.
+
+    Raises
+    ------
+    GeometryError
+        If the chain is not closed within ``closure_tol`` or is not counter-clockwise.
+    """
+
+    def __init__(self, segments: Iterable[Segment], closure_tol: float = DEFAULT_CLOSURE_TOL) -> None:
+        self.segments: tuple[Segment, ...] = tuple(segments)
+        if not self.segments:
+            raise GeometryError("a contour needs at least one segment")
+        for i, seg in enumerate(self.segments):
+            nxt = self.segments[(i + 1) % len(self.segments)]
+            gap = float(np.hypot(*(seg.end_point - nxt.start_point)))
+            if gap > closure_tol:
+                raise GeometryError(
+                    f"contour is not closed: segment {i} ends {gap:.3g} mm from where segment "
+                    f"{(i + 1) % len(self.segments)} starts (closure_tol = {closure_tol:g} mm)"
+                )
+        if self.area <= 0.0:
+            raise GeometryError(f"contour must run counter-clockwise (signed area {self.area:.6g} mm^2 <= 0)")
+
+    def __repr__(self) -> str:
+        kinds = ", ".join(s.kind for s in self.segments)
+        return f"Contour({len(self.segments)} segments: {kinds})"
+
+    @property
+    def n_segments(self) -> int:
+        return len(self.segments)
+
+    # -- pointwise ---------------------------------------------------------------------------
+    def _dispatch(self, t: object, method: str) -> np.ndarray:
+        t = _as_array(t)
+        shape = t.shape
+        flat = np.mod(t.ravel(), self.n_segments)
+        idx = np.minimum(np.floor(flat).astype(int), self.n_segments - 1)
+        u = flat - idx
+        first = getattr(self.segments[0], method)(u[:0])
+        out = np.empty((flat.size,) + first.shape[1:])
+        for i, seg in enumerate(self.segments):
+            mask = idx == i
+            if mask.any():
+                out[mask] = getattr(seg, method)(u[mask])
+        return out.reshape(shape + first.shape[1:])
+
+    def evaluate(self, t: object) -> np.ndarray:
+        """Points (..., 2), mm, at global parameters ``t`` (see module docstring)."""
+        return self._dispatch(t, "point")
+
+    def tangent(self, t: object) -> np.ndarray:
+        """Unit tangents (..., 2) in the direction of travel (counter-clockwise)."""
+        d = self._dispatch(t, "derivative")
+        return d / np.linalg.norm(d, axis=-1, keepdims=True)
+
+    def normal(self, t: object) -> np.ndarray:
+        """Outward unit normals (..., 2): the tangent rotated by -90 deg."""
+        tan = self.tangent(t)
+        return np.stack([tan[..., 1], -tan[..., 0]], axis=-1)
+
+    def curvature(self, t: object) -> np.ndarray:
+        """Signed curvature (...,), 1/mm; > 0 where the contour is convex."""
+        return self._dispatch(t, "curvature")
+
+    # -- flattening ---------------------------------------------------------------------------
+    def flatten_params(self, chord_tol: float = DEFAULT_CHORD_TOL) -> np.ndarray:
+        """Global parameters of the vertices of :meth:`flatten` (start of the contour first)."""
+        require_positive("chord_tol", chord_tol)
+        parts = [i + seg.flatten_params(chord_tol) for i, seg in enumerate(self.segments)]
+        params = np.concatenate(parts)
+        if params.size < 3:  # a closed polygon needs 3 vertices
+            params = np.linspace(0.0, self.n_segments, 4)[:-1]
+        return params
+
+    def flatten(self, chord_tol: float = DEFAULT_CHORD_TOL) -> np.ndarray:
+        """Closed polygon (N, 2), mm, first vertex not repeated, counter-clockwise.
+
+        Every vertex lies on the curve and every chord stays within ``chord_tol`` mm of the
+        curve between its ends (sagitta formula for arcs, second-derivative bound for splines).
+        """
+        return self.evaluate(self.flatten_params(chord_tol))
+
+    # -- global measures ----------------------------------------------------------------------
+    @property
+    def area(self) -> float:
+        """Enclosed area, mm^2, by Green's theorem (exact for arcs and cubic pieces)."""
+        return float(sum(seg.green_area() for seg in self.segments))
+
+    @property
+    def length(self) -> float:
+        """Perimeter, mm (exact for arcs, Gauss-Legendre for splines)."""
+        return float(sum(seg.length for seg in self.segments))
+
+    @property
+    def bounds(self) -> tuple[float, float, float, float]:
+        """Exact bounding box ``(xmin, ymin, xmax, ymax)``, mm."""
+        pts = np.concatenate([seg.extreme_points() for seg in self.segments])
+        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        return float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])
+
+    @property
+    def size(self) -> float:
+        """Largest distance of the contour from the rotation axis (bounding-box estimate), mm."""
+        xmin, ymin, xmax, ymax = self.bounds
+        return float(max(abs(xmin), abs(ymin), abs(xmax), abs(ymax)))
+
+    # -- offset -------------------------------------------------------------------------------
+    def offset(self, distance: float, spline_tol: float = 1e-6) -> "Contour":
+        """The contour offset by ``distance`` mm along its outward normal (< 0: inward).
+
+        Arcs stay exact arcs with radius ``r + d`` (convex) or ``r - d`` (concave); spline
+        segments are refitted within ``spline_tol`` mm.  Raises :class:`GeometryError` naming
+        the segment and cam angle where a radius would reach zero (undercut).
+
+        Notes
+        -----
+        Only local validity is checked; a global self-intersection of the offset (two distant
+        parts meeting) is not detected here.
+        """
+        from camgen.errors import require_finite
+
+        distance = require_finite("offset", distance)
+        if distance == 0.0:
+            return self
+        new = []
+        for i, seg in enumerate(self.segments):
+            if isinstance(seg, Arc):
+                new.append(seg.offset(distance, index=i))
+            else:
+                new.append(seg.offset(distance, index=i, tol=spline_tol))
+        # joints between G1 segments stay closed; a corner (G0 joint) would open a gap
+        return Contour(new, closure_tol=max(10 * spline_tol, DEFAULT_CLOSURE_TOL))
+
+    # -- support function -----------------------------------------------------------------------
+    def _support(self, psi: object, chunk: int = 2048) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Support value, contact point and radius of curvature at the contact (0 at a corner)."""
+        psi = _as_array(psi)
+        shape = psi.shape
+        flat = psi.ravel()
+        h = np.empty(flat.size)
+        pts = np.empty((flat.size, 2))
+        rho = np.empty(flat.size)
+        corners = np.array([seg.start_point for seg in self.segments])  # (n, 2)
+        for lo in range(0, flat.size, chunk):
+            block = flat[lo : lo + chunk]
+            best = np.full(block.size, -np.inf)
+            best_pt = np.zeros((block.size, 2))
+            best_rho = np.zeros(block.size)
+            for seg in self.segments:
+                vals, cand, cand_rho = seg.support_candidates(block)
+                better = vals > best
+                best = np.where(better, vals, best)
+                best_pt = np.where(better[:, None], cand, best_pt)
+                best_rho = np.where(better, cand_rho, best_rho)
+            # segment ends win only where clearly better: a corner (G0 joint) of the contour
+            cv = corners @ _unit(block).T  # (n, M)
+            c_best = np.argmax(cv, axis=0)
+            c_val = cv[c_best, np.arange(block.size)]
+            better = c_val > best + 1e-12 * (1.0 + np.abs(c_val))
+            best = np.where(better, c_val, best)
+            best_pt = np.where(better[:, None], corners[c_best], best_pt)
+            best_rho = np.where(better, 0.0, best_rho)
+            h[lo : lo + chunk] = best
+            pts[lo : lo + chunk] = best_pt
+            rho[lo : lo + chunk] = best_rho
+        return h.reshape(shape), pts.reshape(shape + (2,)), rho.reshape(shape)
+
+    def support_point(self, psi: object) -> tuple[np.ndarray, np.ndarray]:
+        """Support function and contact point for outward normal directions ``psi`` (rad).
+
+        Returns
+        -------
+        h : array (...,)
+            ``max over the contour of p . (cos psi, sin psi)``, mm: the distance from the
+            rotation axis to a flat face with outward normal ``psi`` touching the cam.
+        point : array (..., 2)
+            The contact point (for a non-convex contour, a point of the convex hull).
+        """
+        h, pts, _ = self._support(psi)
+        return h, pts
+
+    def support(self, psi: object) -> np.ndarray:
+        """Support function ``h(psi)``, mm, for outward normal directions ``psi`` (rad); see :meth:`support_point`."""
+        return self._support(psi)[0]
+
+    def support_derivatives(self, psi: object) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``h``, ``dh/dpsi`` and ``d2h/dpsi2`` of the support function (mm, mm/rad, mm/rad^2).
+
+        ``dh/dpsi = p . u_perp`` (the contact point's coordinate along the face) and
+        ``d2h/dpsi2 = rho - h`` with ``rho`` the radius of curvature at the contact (0 at a
+        corner).  At a joint where the curvature jumps, ``d2h`` jumps too.
+        """
+        psi = _as_array(psi)
+        h, pts, rho = self._support(psi)
+        u_perp = np.stack([-np.sin(psi), np.cos(psi)], axis=-1)
+        dh = np.einsum("...i,...i->...", pts, u_perp)
+        return h, dh, rho - h
+
+    # -- continuity -----------------------------------------------------------------------------
+    def joints(
+        self,
+        position_tol: float = 1e-9,
+        angle_tol: float = 1e-9,
+        curvature_tol: float = 1e-9,
+    ) -> tuple[Joint, ...]:
+        """G0/G1/G2 continuity at every joint (end of segment ``i`` -> start of segment ``i + 1``).
+
+        Tolerances: ``position_tol`` mm, ``angle_tol`` rad, ``curvature_tol`` 1/mm.
+        """
+        out = []
+        n = self.n_segments
+        for i, seg in enumerate(self.segments):
+            nxt = self.segments[(i + 1) % n]
+            end = seg.end_point
+            gap = float(np.hypot(*(end - nxt.start_point)))
+            t_end = seg.derivative(np.array([1.0]))[0]
+            t_start = nxt.derivative(np.array([0.0]))[0]
+            cross = t_end[0] * t_start[1] - t_end[1] * t_start[0]
+            dot = float(t_end @ t_start)
+            angle = abs(math.atan2(cross, dot))
+            k_jump = float(nxt.curvature(np.array([0.0]))[0] - seg.curvature(np.array([1.0]))[0])
+            if gap > position_tol:
+                level = "none"
+            elif angle > angle_tol:
+                level = "G0"
+            elif abs(k_jump) > curvature_tol:
+                level = "G1"
+            else:
+                level = "G2"
+            out.append(Joint(i, (float(end[0]), float(end[1])), gap, angle, k_jump, level))
+        return tuple(out)
+
+    def continuity(self) -> str:
+        """The lowest continuity over all joints (``"G2"``, ``"G1"``, ``"G0"`` or ``"none"``)."""
+        order = ["none", "G0", "G1", "G2"]
+        return min((j.continuity for j in self.joints()), key=order.index)
+

@@ -1,0 +1,64 @@
+"""Errors camgen raises for user mistakes.
+
+Every user-facing failure is a :class:`CamgenError` subclass whose message names the
+parameter (or segment, or file), the offending value and what would be valid.  The CLI
+prints the message on one line and exits with status 2.
+"""
+from __future__ import annotations
+
+import math
+
+
+class CamgenError(Exception):
+    """Base class of every error camgen raises on purpose."""
+
+
+class ParameterError(CamgenError, ValueError):
+    """A parameter is missing, of the wrong type, not finite, or outside its valid range."""
+
+    def __init__(self, name: str, value: object, valid: str, why: str = "") -> None:
+        self.name = name
+        self.value = value
+        self.valid = valid
+        text = f"parameter '{name}' = {value!r} is invalid: valid range is {valid}"
+        if why:
+            text += f" ({why})"
+        super().__init__(text)
+
+
+class GeometryError(CamgenError, ValueError):
+    """The parameters are individually valid but the geometry cannot be built or used."""
+
+
+class SceneError(CamgenError, ValueError):
+    """A scene file cannot be read or does not follow the scene schema."""
+
+
+class ExportError(CamgenError, OSError):
+    """An output file could not be written or failed its read-back check."""
+
+
+def require_finite(name: str, value: object) -> float:
+    """Return ``value`` as a float, or raise :class:`ParameterError` if it is not a finite real number."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        try:
+            import numpy as np
+
+            if isinstance(value, np.generic) and np.isrealobj(value):
+                value = float(value)
+            else:
+                raise TypeError
+        except (TypeError, ImportError):
+            raise ParameterError(name, value, "a finite real number") from None
+    number = float(value)
+    if not math.isfinite(number):
+        raise ParameterError(name, value, "a finite real number")
+    return number
+
+
+def require_positive(name: str, value: object, unit: str = "mm") -> float:
+    """Return ``value`` as a float if it is finite and > 0, else raise :class:`ParameterError`."""
+    number = require_finite(name, value)
+    if number <= 0.0:
+        raise ParameterError(name, value, f"{name} > 0 {unit}".rstrip())
+    return number

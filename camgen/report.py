@@ -1,0 +1,59 @@
+"""The design-check report: ``report.json`` (machine-readable).
+
+Layout::
+
+    {"scene": str, "camgen_version": str, "source_file": str, "chord_tol_mm": float,
+     "files": [str, ...],
+     "cams": {name: {"kind": str, "figures": {...}, "checks": [{"name", "passed", "value",
+              "limit", "unit", "where_deg", "note"}, ...]}},
+     "mechanisms": {...}}
+
+Keys carry their unit (``_mm``, ``_deg``, ``_mm2``, ``_s``); numbers are finite.
+"""
+from __future__ import annotations
+
+import json
+import math
+from typing import Any, Sequence
+
+from camgen.errors import ExportError
+
+
+def report_dict(scene: Any, cams: Sequence[Any], files: Sequence[str], mechanisms: dict | None = None) -> dict[str, Any]:
+    """Assemble the report for a run of ``scene`` that built ``cams`` and writes ``files``."""
+    from camgen import __version__
+
+    return {
+        "scene": scene.name,
+        "camgen_version": __version__,
+        "source_file": scene.source,
+        "chord_tol_mm": scene.output.chord_tol,
+        "files": list(files),
+        "cams": {
+            cam.name: {"kind": cam.kind, "figures": cam.figures, "checks": [c.as_dict() for c in cam.checks]}
+            for cam in cams
+        },
+        "mechanisms": mechanisms or {},
+    }
+
+
+def _plain(value: Any, where: str) -> Any:
+    """Convert numpy scalars/arrays to plain JSON types; refuse NaN and infinity."""
+    if isinstance(value, dict):
+        return {str(k): _plain(v, f"{where}.{k}") for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v, f"{where}[{i}]") for i, v in enumerate(value)]
+    if hasattr(value, "tolist"):
+        return _plain(value.tolist(), where)
+    if isinstance(value, bool) or value is None or isinstance(value, (str, int)):
+        return value
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            raise ExportError(f"report value {where} = {value} is not finite")
+        return value
+    raise ExportError(f"report value {where} has unsupported type {type(value).__name__}")
+
+
+def report_json(report: dict[str, Any]) -> str:
+    """Deterministic JSON text of ``report`` (sorted keys inside figures, 2-space indent)."""
+    return json.dumps(_plain(report, "report"), indent=2, allow_nan=False) + "\n"

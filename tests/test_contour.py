@@ -1,0 +1,190 @@
+"""Contour core: flattening bound, area, length, bounds, support, offset, joints."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import camgen
+from camgen.contour import Arc, Contour, Spline
+from camgen.errors import GeometryError, ParameterError
+from tests.helpers import brute_support, chord_deviation, distance_to_arcs, shoelace
+
+
+def mixed_contour() -> Contour:
+    """Right half circle (r = 30) + a spline through a half ellipse (semi-axes 45, 30): G1, not G2."""
+    arc = Arc((0.0, 0.0), 30.0, -math.pi / 2, math.pi)
+    s = np.linspace(0.0, math.pi, 13)
+    pts = np.stack([-45.0 * np.sin(s), 30.0 * np.cos(s)], axis=1)
+    spline = Spline.interpolate(s, pts, periodic=False, end_derivatives=(np.array([-45.0, 0.0]), np.array([45.0, 0.0])))
+    return Contour([arc, spline])
+
+
+def periodic_contour() -> Contour:
+    """A periodic C2 spline through a trefoil-like polar curve r = 40 + 8 cos(3 theta) (convex: no)."""
+    theta = np.linspace(0.0, 2 * math.pi, 49)
+    r = 40.0 + 8.0 * np.cos(3.0 * theta)
+    pts = np.stack([r * np.cos(theta), r * np.sin(theta)], axis=1)
+    return Contour([Spline.interpolate(theta, pts, periodic=True)])
+
+
+CONTOURS = {
+    "stride": lambda: camgen.three_arc_cam(220, 160, 25),
+    "height": lambda: camgen.three_arc_cam(220, 220, 10),
+    "mixed": mixed_contour,
+    "periodic": periodic_contour,
+}
+
+
+@pytest.mark.parametrize("name", CONTOURS)
+@pytest.mark.parametrize("tol", [1e-1, 1e-2, 1e-3, 1e-4, 1e-5])
+def test_flatten_deviation_never_exceeds_chord_tol(name, tol):
+    contour = CONTOURS[name]()
+    deviation = chord_deviation(contour, tol)
+    assert deviation <= tol * (1 + 1e-9)
+    # and the bound is not wildly conservative for exact arcs (sagitta formula is tight)
+    if name in ("stride", "height"):
+        assert deviation >= 0.5 * tol
+    pts = contour.flatten(tol)
+    assert pts.ndim == 2 and pts.shape[1] == 2 and len(pts) >= 3
+
+
+@pytest.mark.parametrize("name", CONTOURS)
+def test_area_matches_shoelace_of_fine_flattening(name):
+    contour = CONTOURS[name]()
+    tol = 1e-7
+    poly = contour.flatten(tol)
+    # the region between a chord and its arc has area <= chord length * chord_tol
+    assert abs(contour.area - shoelace(poly)) <= contour.length * tol
+    assert contour.area > shoelace(poly) - 1e-9 or name == "periodic"
+
+
+def test_three_arc_area_closed_form():
+    # area of a three-arc cam = sum of the six sectors + the kite triangles: computed here
+    # from the sector formula of each arc about its own centre minus the triangles O-centre-ends
+    a, b, c = 220.0, 160.0, 25.0
+    cam = camgen.three_arc_cam(a, b, c)
+    total = 0.0
+    for seg in cam.segments:
+        p0, p1 = seg.start_point, seg.end_point
+        cx, cy = seg.center
+        sector = 0.5 * seg.radius**2 * seg.sweep
+        # signed area of triangle (origin, p0, centre) + (origin, centre, p1) shifts the sector to the origin
+        tri = 0.5 * ((p0[0] * cy - p0[1] * cx) + (cx * p1[1] - cy * p1[0]))
+        total += sector + tri
+    assert cam.area == pytest.approx(total, rel=1e-13)
+
+
+@pytest.mark.parametrize("name", CONTOURS)
+def test_length_and_bounds_against_dense_sampling(name):
+    contour = CONTOURS[name]()
+    poly = contour.flatten(1e-7)
+    closed = np.vstack([poly, poly[:1]])
+    perimeter = np.sum(np.linalg.norm(np.diff(closed, axis=0), axis=1))
+    assert contour.length == pytest.approx(perimeter, rel=1e-8)
+    assert contour.length >= perimeter - 1e-9
+    xmin, ymin, xmax, ymax = contour.bounds
+    assert xmin == pytest.approx(poly[:, 0].min(), abs=1e-6) and xmin <= poly[:, 0].min() + 1e-12
+    assert ymin == pytest.approx(poly[:, 1].min(), abs=1e-6)
+    assert xmax == pytest.approx(poly[:, 0].max(), abs=1e-6)
+    assert ymax == pytest.approx(poly[:, 1].max(), abs=1e-6) and ymax >= poly[:, 1].max() - 1e-12
+
+
+@pytest.mark.parametrize("name", CONTOURS)
+def test_support_against_brute_force(name):
+    contour = CONTOURS[name]()
+    psi = np.linspace(-math.pi, math.pi, 3600, endpoint=False)
+    brute = brute_support(contour.flatten(1e-7), psi)
+    h, pts = contour.support_point(psi)
+    assert np.max(np.abs(h - brute)) <= 1e-6
+    assert np.all(h >= brute - 1e-9)
+    # the contact point realises the support value
+    assert np.max(np.abs(np.einsum("ij,ij->i", pts, np.stack([np.cos(psi), np.sin(psi)], 1)) - h)) <= 1e-9
+
+
+def test_spline_curvature_tangent_normal_against_finite_differences():
+    contour = periodic_contour()
+    t = np.linspace(0.0, 1.0, 400, endpoint=False) + 1e-3
+    step = 1e-5
+    p_m, p_0, p_p = contour.evaluate(t - step), contour.evaluate(t), contour.evaluate(t + step)
+    d1 = (p_p - p_m) / (2 * step)
+    d2 = (p_p - 2 * p_0 + p_m) / step**2
+    kappa_fd = (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / np.hypot(*d1.T) ** 3
+    assert np.max(np.abs(contour.curvature(t) - kappa_fd)) <= 1e-5
+    tan = contour.tangent(t)
+    assert np.max(np.abs(tan - d1 / np.hypot(*d1.T)[:, None])) <= 1e-8
+    normal = contour.normal(t)
+    assert np.max(np.abs(np.einsum("ij,ij->i", normal, tan))) <= 1e-12
+    # outward: moving along the normal leaves the curve's inside (the polar radius grows on average)
+    assert np.mean(np.einsum("ij,ij->i", normal, p_0)) > 0
+
+
+def test_joints_report_g1_with_curvature_jumps():
+    cam = camgen.three_arc_cam(220, 160, 25)
+    joints = cam.joints()
+    assert [j.continuity for j in joints] == ["G1"] * 6
+    # curvature jumps from 1/c to 1/(a + c) at B: known size
+    assert joints[0].curvature_jump_per_mm == pytest.approx(1 / 245 - 1 / 25, rel=1e-12)
+    mixed = mixed_contour().joints()
+    assert [j.continuity for j in mixed] == ["G1", "G1"]
+    # half-ellipse ends have curvature b/a^2 = 30/45^2, the circle 1/30; the 12-piece spline
+    # reproduces the ellipse's end curvature to about 1 % (interpolation error, not joint error)
+    assert abs(mixed[0].curvature_jump_per_mm) == pytest.approx(1 / 30 - 30 / 45**2, rel=1e-2)
+    periodic = periodic_contour().joints()
+    assert [j.continuity for j in periodic] == ["G2"]
+
+
+def test_corner_is_g0():
+    # a lens: two arcs meeting at corners
+    # circles of radius 20 about (0, -10) and (0, 10) meet at (+-20 cos 30deg, 0)
+    half = math.pi / 6
+    lens = Contour([Arc((0.0, -10.0), 20.0, half, 4 * half), Arc((0.0, 10.0), 20.0, math.pi + half, 4 * half)])
+    assert {j.continuity for j in lens.joints()} == {"G0"}
+    # the support function picks the corner for directions between the arcs' normal ranges
+    h = lens.support(np.array([0.0, math.pi]))
+    assert h == pytest.approx([20 * math.cos(half), 20 * math.cos(half)], abs=1e-12)
+
+
+def test_offset_is_exact_for_arcs_and_checks_undercut():
+    a, b, c = 220.0, 160.0, 25.0
+    cam = camgen.three_arc_cam(a, b, c)
+    out = cam.offset(6.0)
+    psi = np.linspace(0, math.pi, 360, endpoint=False)
+    assert np.max(np.abs(out.support(psi) + out.support(psi + math.pi) - (2 * a + 2 * c - b + 12))) <= 1e-9
+    # every offset point lies 6 mm from the original arcs
+    dist = distance_to_arcs(out.flatten(1e-3), cam.segments)
+    assert np.max(np.abs(dist - 6.0)) <= 1e-9
+    inner = cam.offset(-20.0)
+    assert inner.segments[0].radius == pytest.approx(5.0)
+    with pytest.raises(GeometryError, match=r"segment 0 .*radius 25 mm.*cam angle 0\.000 deg.*undercut"):
+        cam.offset(-25.0)
+
+
+def test_offset_of_spline_within_tolerance_and_undercut_error():
+    contour = periodic_contour()
+    out = contour.offset(2.0, spline_tol=1e-7)
+    # the refit keeps the parameter of the original spline: compare with P + d n pointwise,
+    # at parameters that are not the refit's own sample points
+    t = np.linspace(0, 1, 4001, endpoint=False) + 1.234e-5
+    exact = contour.evaluate(t) + 2.0 * contour.normal(t)
+    assert np.max(np.linalg.norm(out.evaluate(t) - exact, axis=1)) <= 1e-7
+    # the refit keeps the area of an offset curve: A + L d + pi d^2 (Steiner, closed convex-or-not curve
+    # with total turning 2 pi and no cusps)
+    assert out.area == pytest.approx(contour.area + contour.length * 2.0 + math.pi * 4.0, rel=1e-8)
+    # r = 40 + 8 cos 3t is concave at t = 60 deg with radius of curvature
+    # (r^2 + r'^2)^1.5 / |r^2 + 2 r'^2 - r r''| = 32^3 / |32^2 - 32 * 72| = 25.6 mm
+    contour.offset(24.0, spline_tol=1e-5)  # the 48-point spline has 24.68 mm there
+    with pytest.raises(GeometryError, match=r"segment 0 \(spline\) reverses at cam angle (59|60)\.\d+ deg.*undercut"):
+        contour.offset(26.0)
+
+
+def test_contour_validation():
+    with pytest.raises(GeometryError, match="not closed"):
+        Contour([Arc((0, 0), 10, 0, math.pi)])
+    with pytest.raises(GeometryError, match="counter-clockwise"):
+        Contour([Arc((0, 0), 10, 0, -2 * math.pi)])
+    with pytest.raises(ParameterError, match="radius"):
+        Arc((0, 0), -1.0, 0.0, 1.0)
+    with pytest.raises(ParameterError, match="chord_tol"):
+        camgen.three_arc_cam(220, 160, 25).flatten(0.0)
