@@ -20,6 +20,7 @@ class ParameterError(CamgenError, ValueError):
         self.name = name
         self.value = value
         self.valid = valid
+        self.why = why
         text = f"parameter '{name}' = {value!r} is invalid: valid range is {valid}"
         if why:
             text += f" ({why})"

@@ -11,18 +11,22 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
+import numpy as np
+
 from camgen.scene import CamSpec, Scene
 
 
 @dataclass
 class BuiltCam:
-    """A synthesised cam with its figures (report numbers) and checks."""
+    """A synthesised cam with its figures (report numbers), checks and extra files (name -> text)."""
 
     name: str
     kind: str
     contour: Any
     figures: dict[str, Any]
     checks: list[Any] = field(default_factory=list)
+    files: dict[str, str] = field(default_factory=dict)
+    model: Any = None
 
 
 def _build_three_arc(spec: CamSpec) -> BuiltCam:
@@ -30,15 +34,7 @@ def _build_three_arc(spec: CamSpec) -> BuiltCam:
     from camgen.synthesis import three_arc
 
     p = spec.params
-    a, b, c = (p.get(k) for k in ("a", "b", "c"))
-    try:
-        a, b, c = three_arc.validate_three_arc(a, b, c)
-    except Exception as exc:  # re-raise with the scene key so the user finds it
-        from camgen.errors import ParameterError
-
-        if isinstance(exc, ParameterError):
-            raise ParameterError(f"cams.{spec.name}.{exc.name}_mm", exc.value, exc.valid) from None
-        raise
+    a, b, c = three_arc.validate_three_arc(p["a"], p["b"], p["c"])
     contour = three_arc.three_arc_cam(a, b, c)
     width = three_arc.breadth(a, b, c)
     breadth_check = checks.constant_breadth_check(contour, width)
@@ -67,12 +63,101 @@ def _build_three_arc(spec: CamSpec) -> BuiltCam:
     )
 
 
-BUILDERS: dict[str, Callable[[CamSpec], BuiltCam]] = {"three_arc": _build_three_arc}
+def _build_trajectory(spec: CamSpec, chord_tol: float) -> BuiltCam:
+    """Trajectory-driven disk cam for the steered tricycle (paper 004)."""
+    from camgen.mechanisms import tricycle as tc
+    from camgen.synthesis import trajectory as tr
+
+    p = spec.params
+    if "expression" in p:
+        traj = tr.trajectory_from_expression(p["expression"], p["period"])
+    else:
+        traj = tr.read_trajectory_csv(p["trajectory_csv"])
+    defaults = tc.Tricycle()
+    device = tc.Tricycle(
+        wheelbase=p.get("wheelbase", defaults.wheelbase),
+        half_track=p.get("half_track", defaults.half_track),
+        lever=p.get("lever", defaults.lever),
+        rod_radius=p.get("rod_radius", defaults.rod_radius),
+        z_rear=p.get("z_rear", defaults.z_rear),
+        z_cam=p.get("z_cam", defaults.z_cam),
+        worm_teeth=p.get("worm_teeth", defaults.worm_teeth),
+    )
+    cam = tc.tricycle_cam(traj, device, p.get("samples", 720), p.get("curvature", "exact"))
+    periods = p.get("ride_periods", 10)
+    one = tc.simulate_cam(cam, periods=1)
+    many = tc.simulate_cam(cam, periods=periods)
+    error_one = tc.lateral_error(traj, one.x, one.y)
+    error_many = tc.lateral_error(traj, many.x, many.y)
+    synth = cam.synthesis
+    figures: dict[str, Any] = {
+        "trajectory": traj.source,
+        "period_mm": traj.period,
+        "samples": int(synth.theta.size),
+        "curvature_scheme": synth.scheme,
+        "arc_length_mm": synth.arc_length,
+        "drive_wheel_diameter_mm": device.drive_wheel_diameter(synth.arc_length),
+        "gear_teeth_rear_cam": [device.z_rear, device.z_cam],
+        "rho_min_mm": float(synth.rho.min()),
+        "rho_max_mm": float(synth.rho.max()),
+        "base_radius_mm": device.base_radius,
+        "lever_mm": device.lever,
+        "steering_angle_range_deg": [math.degrees(math.atan((float(synth.rho.min()) - device.base_radius) / device.lever)),
+                                     math.degrees(math.atan((float(synth.rho.max()) - device.base_radius) / device.lever))],
+        "contact_vs_rho_max_mm": tc.contact_vs_rho(cam),
+        "ride_max_error_mm": float(abs(error_one).max()),
+        f"ride_max_error_{periods}_periods_mm": float(abs(error_many).max()),
+        "profile_pieces": int(cam.profile.segments[0].n_pieces),
+        "area_mm2": cam.profile.area,
+        "perimeter_mm": cam.profile.length,
+    }
+    if "source" in p:
+        figures["source"] = p["source"]
+    tables = p.get("fit_tables", ())
+    if tables:
+        from camgen.mechanisms.tricycle_fit import fit_error_model
+
+        figures["fits"] = {name: fit_error_model(cam, tc.load_measured_table(name)).as_dict() for name in tables}
+    theta = np.radians(np.arange(0, 3600) / 10.0)
+    x, y, _ = one.at(theta)
+    from camgen.export.tables import csv_table
+
+    ride_csv = csv_table(
+        [
+            f"camgen ride simulation of cam '{spec.name}': drive wheel A on the cam as made (profile contour), one cam turn",
+            f"units: deg, mm; lateral_error_mm = distance from the target path y = f(x), positive to the left; trajectory: {traj.source}",
+        ],
+        {"theta_deg": np.degrees(theta), "x_mm": x, "y_mm": y, "lateral_error_mm": tc.lateral_error(traj, x, y)},
+    )
+    return BuiltCam(spec.name, spec.kind, cam.profile, figures, [], {f"{spec.name}_ride.csv": ride_csv}, cam)
+
+
+BUILDERS: dict[str, Callable[[CamSpec, float], BuiltCam]] = {
+    "three_arc": lambda spec, tol: _build_three_arc(spec),
+    "trajectory": _build_trajectory,
+}
 
 
 def build_cams(scene: Scene) -> list[BuiltCam]:
-    """Synthesise and check every cam of ``scene``."""
-    return [BUILDERS[spec.kind](spec) for spec in scene.cams]
+    """Synthesise and check every cam of ``scene``.
+
+    A :class:`ParameterError` raised inside a builder is re-raised with the scene key
+    (``cams.<name>.<key>``) so the user finds the line to change.
+    """
+    from camgen.errors import ParameterError
+    from camgen.scene import CAM_KINDS
+
+    built = []
+    for spec in scene.cams:
+        try:
+            built.append(BUILDERS[spec.kind](spec, scene.output.chord_tol))
+        except ParameterError as exc:
+            if exc.name.startswith("cams."):
+                raise
+            schema = CAM_KINDS[spec.kind]
+            key = next((k for k in (exc.name, f"{exc.name}_mm") if k in schema), exc.name)
+            raise ParameterError(f"cams.{spec.name}.{key}", exc.value, exc.valid, exc.why) from None
+    return built
 
 
 def run_scene(scene: Scene, outdir: str | Path = "outputs") -> list[Path]:
@@ -93,6 +178,7 @@ def run_scene(scene: Scene, outdir: str | Path = "outputs") -> list[Path]:
             from camgen.export.points import points_csv
 
             files[f"{cam.name}_points.csv"] = points_csv(cam.contour, tol, cam.name, scene.name)
+        files.update(cam.files)
     files["report.json"] = report_json(report_dict(scene, cams, sorted(files) + ["report.json"]))
 
     from camgen.export.atomic import write_atomic

@@ -37,9 +37,27 @@ FORMATS: dict[str, str] = {
 }
 DEFAULT_FORMATS = ("dxf", "points")
 
-#: Cam kinds and their keys: name -> (required keys, optional keys).
-CAM_KINDS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
-    "three_arc": (("a_mm", "b_mm", "c_mm"), ("source",)),
+#: Cam kinds and their keys: kind -> {key: (type, required)}.  Types: "mm" (finite number, mm;
+#: stored without the suffix), "int", "str", "str_list".
+CAM_KINDS: dict[str, dict[str, tuple[str, bool]]] = {
+    "three_arc": {"a_mm": ("mm", True), "b_mm": ("mm", True), "c_mm": ("mm", True), "source": ("str", False)},
+    "trajectory": {
+        "expression": ("str", False),
+        "trajectory_csv": ("str", False),
+        "period_mm": ("mm", False),
+        "samples": ("int", False),
+        "curvature": ("str", False),
+        "wheelbase_mm": ("mm", False),
+        "half_track_mm": ("mm", False),
+        "lever_mm": ("mm", False),
+        "rod_radius_mm": ("mm", False),
+        "z_rear": ("int", False),
+        "z_cam": ("int", False),
+        "worm_teeth": ("int", False),
+        "ride_periods": ("int", False),
+        "fit_tables": ("str_list", False),
+        "source": ("str", False),
+    },
 }
 
 _NAME = re.compile(r"^[A-Za-z0-9_.-]{1,64}$")
@@ -105,7 +123,23 @@ def _parse_output(table: object) -> OutputSpec:
     return OutputSpec(tuple(dict.fromkeys(formats)), chord_tol)
 
 
-def _parse_cam(name: str, table: object) -> CamSpec:
+def _parse_value(key: str, kind: str, value: object) -> object:
+    if kind == "mm":
+        return require_finite(key, value)
+    if kind == "int":
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise ParameterError(key, value, "a whole number")
+        return value
+    if kind == "str":
+        if not isinstance(value, str):
+            raise ParameterError(key, value, "a string")
+        return value
+    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+        raise ParameterError(key, value, "a list of strings")
+    return tuple(value)
+
+
+def _parse_cam(name: str, table: object, base_dir: Path | None) -> CamSpec:
     where = f"cams.{name}"
     _check_name(where, name)
     if not isinstance(table, dict):
@@ -113,30 +147,32 @@ def _parse_cam(name: str, table: object) -> CamSpec:
     kind = table.get("kind")
     if kind not in CAM_KINDS:
         raise ParameterError(f"{where}.kind", kind, f"one of {sorted(CAM_KINDS)}")
-    required, optional = CAM_KINDS[kind]
-    _check_keys(f"[{where}]", table, {"kind", *required, *optional}, set(required))
+    schema = CAM_KINDS[kind]
+    _check_keys(f"[{where}]", table, {"kind", *schema}, {k for k, (_, req) in schema.items() if req})
     params: dict[str, Any] = {}
-    for key in required + optional:
-        if key not in table:
-            continue
-        value = table[key]
-        if key == "source":
-            if not isinstance(value, str):
-                raise ParameterError(f"{where}.{key}", value, "a string")
-            params[key] = value
-        elif key.endswith("_mm"):
-            params[key[:-3]] = require_finite(f"{where}.{key}", value)
+    for key, (typ, _) in schema.items():
+        if key in table:
+            value = _parse_value(f"{where}.{key}", typ, table[key])
+            params[key[:-3] if typ == "mm" else key] = value
+    if kind == "trajectory":
+        if ("expression" in params) == ("trajectory_csv" in params):
+            raise SceneError(f"[{where}]: give exactly one of 'expression' (with 'period_mm') or 'trajectory_csv'")
+        if "expression" in params and "period" not in params:
+            raise SceneError(f"[{where}]: 'expression' needs 'period_mm'")
+        if "trajectory_csv" in params:
+            path = Path(params["trajectory_csv"])
+            params["trajectory_csv"] = str(path if path.is_absolute() or base_dir is None else base_dir / path)
     return CamSpec(name, kind, params)
 
 
-def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>") -> Scene:
-    """Validate a decoded TOML table and return a :class:`Scene`."""
+def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", base_dir: Path | None = None) -> Scene:
+    """Validate a decoded TOML table and return a :class:`Scene` (``base_dir``: where relative file names point)."""
     _check_keys("scene", data, {"name", "output", "cams"}, {"cams"})
     scene_name = _check_name("name", data.get("name", name))
     cams = data["cams"]
     if not isinstance(cams, dict) or not cams:
         raise SceneError("scene: [cams] must hold at least one [cams.<name>] table")
-    return Scene(scene_name, source, _parse_output(data.get("output")), tuple(_parse_cam(k, v) for k, v in cams.items()))
+    return Scene(scene_name, source, _parse_output(data.get("output")), tuple(_parse_cam(k, v, base_dir) for k, v in cams.items()))
 
 
 def load_scene(path: str | Path, display: str | None = None) -> Scene:
@@ -158,7 +194,7 @@ def load_scene(path: str | Path, display: str | None = None) -> Scene:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"scene file '{path}' is not valid TOML: {exc}") from None
-    return parse_scene(data, path.stem, display or str(path))
+    return parse_scene(data, path.stem, display or str(path), path.parent)
 
 
 def load_template(name: str) -> Scene:

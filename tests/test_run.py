@@ -28,7 +28,8 @@ def default_run(tmp_path_factory):
 def test_default_scene_writes_dxf_csv_and_report(default_run):
     names = sorted(p.name for p in default_run.iterdir())
     assert names == sorted(
-        ["report.json", "stride_length.dxf", "stride_length_points.csv", "stride_height.dxf", "stride_height_points.csv"]
+        ["report.json", "stride_length.dxf", "stride_length_points.csv", "stride_height.dxf", "stride_height_points.csv",
+         "steering.dxf", "steering_points.csv", "steering_ride.csv"]
     )
     assert not [p for p in default_run.iterdir() if p.name.startswith(".")]  # no temp files left
 
@@ -111,14 +112,23 @@ def test_same_scene_gives_identical_bytes_in_other_processes(default_run, tmp_pa
             assert (tmp_path / seed / "default" / path.name).read_bytes() == path.read_bytes(), path.name
 
 
+HEAVY_PROBE = (
+    "import sys; from camgen.cli import main; main(['run', *sys.argv[2:], '-o', sys.argv[1]]);"
+    "heavy = [m for m in ('manifold3d', 'trimesh', 'matplotlib', 'meshio', 'scipy') if m in sys.modules];"
+    "print('HEAVY=' + ','.join(heavy))"
+)
+
+
 def test_dxf_only_job_does_not_import_heavy_libraries(tmp_path):
-    code = (
-        "import sys; from camgen.cli import main; main(['run', '-o', sys.argv[1]]);"
-        "heavy = [m for m in ('manifold3d', 'trimesh', 'matplotlib', 'meshio', 'scipy') if m in sys.modules];"
-        "print('HEAVY=' + ','.join(heavy))"
-    )
-    out = subprocess.run([sys.executable, "-c", code, str(tmp_path)], check=True, capture_output=True, text=True)
+    # the default scene (DXF + CSV, with a spline cam): scipy only, for the spline
+    out = subprocess.run([sys.executable, "-c", HEAVY_PROBE, str(tmp_path)], check=True, capture_output=True, text=True)
+    assert out.stdout.strip().splitlines()[-1] == "HEAVY=scipy"
+    # a three-arc DXF job needs none of them
+    scene = tmp_path / "arcs.toml"
+    scene.write_text('[output]\nformats = ["dxf"]\n[cams.x]\nkind = "three_arc"\na_mm = 220\nb_mm = 160\nc_mm = 25\n')
+    out = subprocess.run([sys.executable, "-c", HEAVY_PROBE, str(tmp_path), str(scene)], check=True, capture_output=True, text=True)
     assert out.stdout.strip().splitlines()[-1] == "HEAVY="
+    assert sorted(p.name for p in (tmp_path / "arcs").iterdir()) == ["report.json", "x.dxf"]
     bare = subprocess.run([sys.executable, "-c", "import camgen, camgen.cli, sys; print('numpy' in sys.modules)"],
                           check=True, capture_output=True, text=True)
     assert bare.stdout.strip() == "False"

@@ -1,13 +1,11 @@
 """CNC point lists: XY CSV at a chord tolerance."""
 from __future__ import annotations
 
-import io
 from pathlib import Path
-
-import numpy as np
 
 from camgen.contour import Contour
 from camgen.export.atomic import write_atomic
+from camgen.export.tables import csv_table
 
 
 def points_csv(contour: Contour, chord_tol: float, cam: str, scene: str) -> str:
@@ -17,15 +15,12 @@ def points_csv(contour: Contour, chord_tol: float, cam: str, scene: str) -> str:
     ``chord_tol`` mm of the true contour.
     """
     pts = contour.flatten(chord_tol)
-    header = (
-        f"# camgen point list of cam '{cam}' (scene '{scene}')\n"
-        "# units: mm, cam frame (origin on the rotation axis), counter-clockwise, closed (last row joins the first)\n"
-        f"# chord tolerance: {chord_tol:g} mm; points: {len(pts)}\n"
-        "x_mm,y_mm\n"
-    )
-    body = io.StringIO()
-    np.savetxt(body, np.round(pts, 9) + 0.0, fmt="%.9f", delimiter=",")  # + 0.0 turns -0.0 into 0.0
-    return header + body.getvalue()
+    comments = [
+        f"camgen point list of cam '{cam}' (scene '{scene}')",
+        "units: mm, cam frame (origin on the rotation axis), counter-clockwise, closed (last row joins the first)",
+        f"chord tolerance: {chord_tol:g} mm; points: {len(pts)}",
+    ]
+    return csv_table(comments, {"x_mm": pts[:, 0], "y_mm": pts[:, 1]})
 
 
 def write_points_csv(contour: Contour, path: str | Path, chord_tol: float, cam: str, scene: str) -> Path:

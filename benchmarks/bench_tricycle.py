@@ -1,0 +1,36 @@
+"""Tricycle steering cam: N x curvature scheme -> synthesis time, ride time, max path error.
+
+Run from the repository root: ``python benchmarks/bench_tricycle.py``.
+Path error: largest lateral distance of the drive wheel's simulated path (on the cam as made)
+from the target y = 202.4396 sin(pi x / 1000), over 1 and 10 periods.
+Target (issue #3): exact curvature <= 1e-6 mm over one period at N = 720, synthesis + ride <= 5 ms.
+"""
+from __future__ import annotations
+
+import _common  # noqa: F401  (puts the repository root on sys.path)
+from _common import median_time, print_table
+
+import numpy as np
+
+from camgen.mechanisms import tricycle as tc
+from camgen.synthesis.trajectory import trajectory_from_expression
+
+
+def main() -> None:
+    traj = trajectory_from_expression("202.4396*sin(pi*x/1000)", 2000.0)
+    rows = []
+    for scheme in ("forward", "central", "exact"):
+        for n in (90, 180, 360, 720, 1440, 2880, 5760):
+            cam = tc.tricycle_cam(traj, n_samples=n, scheme=scheme)
+            synth = median_time(lambda: tc.tricycle_cam(traj, n_samples=n, scheme=scheme), repeats=11)
+            ride_t = median_time(lambda: tc.simulate_cam(cam), repeats=11)
+            one = tc.simulate_cam(cam)
+            ten = tc.simulate_cam(cam, periods=10)
+            e1 = np.max(np.abs(tc.lateral_error(traj, one.x, one.y)))
+            e10 = np.max(np.abs(tc.lateral_error(traj, ten.x, ten.y)))
+            rows.append([scheme, n, f"{synth * 1e3:.2f}", f"{ride_t * 1e3:.2f}", f"{(synth + ride_t) * 1e3:.2f}", f"{e1:.3e}", f"{e10:.3e}"])
+    print_table(["scheme", "N", "synthesis_ms", "ride_ms", "total_ms", "max_error_1_period_mm", "max_error_10_periods_mm"], rows)
+
+
+if __name__ == "__main__":
+    main()

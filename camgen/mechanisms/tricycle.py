@@ -1,0 +1,458 @@
+"""The cam-steered gravity-driven tricycle of paper 004 (Jiang et al. 2022).
+
+Device model (Section 2, Table 2), as reconstructed here — the paper's Figures and eq. (1)
+are missing, so each decision is stated with its evidence:
+
+* **Eq. (1)** is the bicycle steering relation of the rear-axle centre O_AB:
+  ``R = L / tan(alpha)`` (front wheel C at distance L ahead of the rear shaft, steered by
+  ``alpha``).  Evidence: with ``Delta r = d tan(alpha)`` (Section 2.2) it turns eq. (2) into
+  eq. (3), ``rho = d L / R + r_b``, exactly.
+* **The path f is followed by the drive wheel A**, the rear wheel at lateral offset ``+D``
+  (left, eq. 5), not by O_AB: substituting ``R = 1/k`` into eq. (3) would give
+  ``rho = d L k + r_b``, but eq. (13) has ``d L k / (1 + D k)``, i.e. ``R = 1/k + D``: the
+  turning centre is ``1/k`` from the tracked point and ``1/k + D`` from O_AB, so the tracked
+  point sits ``D`` to the left of O_AB.  The drive wheel is also the wheel whose rolling
+  distance per cam turn is the arc length S used for the wheel diameter ``d_AB``.
+* **d = 30 mm, not Table 2's 3 mm**: eq. (14) is printed with ``77 x 30``, i.e.
+  ``d L = 77 * 30``.  With d = 3 mm the cam radius would change by only +-0.5 mm for this
+  path (a 0.01 mm cam error would then be a 0.2 deg steering error); we take Table 2's "3"
+  as a dropped zero and keep d configurable.
+* **Z2 = 120 for the wheel diameter**: Table 2 gives Z1 = Z2 = 20 but the text computes
+  ``d_AB = 2189.0270 * 20 / (120 pi)``; the printed 116.19 mm results with pi = 3.14
+  (``2189.0270 * 20 / (120 * 3.14) = 116.19``; with pi itself it is 116.13 mm).  With
+  Z2 = 20 the drive wheel would be 696.8 mm across, which does not fit a 77 mm wheelbase.
+* ``r_b = L - r_d`` (Table 2, row 6): straight ahead, the rod centre is L from the camshaft.
+
+The steering rod (radius ``r_d``) is the follower: it translates along the radial line of
+the camshaft (the +x axis of the fixed frame) and its centre sits at ``L + Delta r``;
+``tan(alpha) = Delta r / d``.  The paper uses ``rho`` as the cam's polar radius; the true
+cam is the inward offset by ``r_d`` of the rod-centre path ``rho + r_d``
+(:func:`tricycle_cam`), which differs from ``rho`` where the profile slopes.
+
+The cam turns counter-clockwise by ``theta`` while the vehicle advances ``S theta / 2 pi``;
+the rod then touches the cam at cam-frame polar angle ``-theta``.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import Any, Sequence
+
+import numpy as np
+
+from camgen.contour import Contour, Spline
+from camgen.errors import GeometryError, ParameterError, require_positive
+from camgen.synthesis.trajectory import CamSynthesis, Trajectory, synthesize_rho
+
+
+@dataclass(frozen=True)
+class Tricycle:
+    """Device parameters (paper 004, Table 2), mm.
+
+    Attributes
+    ----------
+    wheelbase : L, rear shaft to steering wheel C (77).
+    half_track : D, lateral distance of each rear wheel from the centre line (50).
+    lever : d, active length of the steering rod (30; Table 2 prints 3, eq. 14 uses 30).
+    rod_radius : r_d, radius of the steering rod (1.5).
+    z_rear, z_cam : teeth of the rear-shaft and camshaft gears (20 and 120, see module doc).
+    worm_teeth : Z3, teeth of the worm wheel of the fine-tuning mechanism (50, eq. 17).
+    """
+
+    wheelbase: float = 77.0
+    half_track: float = 50.0
+    lever: float = 30.0
+    rod_radius: float = 1.5
+    z_rear: int = 20
+    z_cam: int = 120
+    worm_teeth: int = 50
+
+    def __post_init__(self) -> None:
+        for name in ("wheelbase", "half_track", "lever", "rod_radius"):
+            require_positive(name, getattr(self, name))
+        for name in ("z_rear", "z_cam", "worm_teeth"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+                raise ParameterError(name, value, "a whole number of teeth >= 1")
+        if self.rod_radius >= self.wheelbase:
+            raise ParameterError("rod_radius", self.rod_radius, f"0 < r_d < L = {self.wheelbase:g} mm", "r_b = L - r_d must be > 0")
+
+    @property
+    def base_radius(self) -> float:
+        """r_b = L - r_d, mm (Table 2, row 6)."""
+        return self.wheelbase - self.rod_radius
+
+    def drive_wheel_diameter(self, arc_length: float) -> float:
+        """d_AB = S Z1 / (pi Z2), mm: the drive wheel rolls S while the cam turns once."""
+        return arc_length * self.z_rear / (math.pi * self.z_cam)
+
+
+# --------------------------------------------------------------------------------------------
+# The cam
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class TricycleCam:
+    """A synthesised tricycle cam.
+
+    Attributes
+    ----------
+    synthesis : the eq. (9)-(13) samples (theta, x, k, rho).
+    pitch : Contour of the rod-centre path, polar radius ``rho + r_d`` (periodic C2 spline).
+    profile : Contour of the cam itself: ``pitch`` offset inward by ``r_d`` (what is made).
+    """
+
+    synthesis: CamSynthesis
+    pitch: Contour
+    profile: Contour
+    device: Tricycle
+    trajectory: Trajectory = field(repr=False)
+
+
+def tricycle_cam(
+    trajectory: Trajectory,
+    device: Tricycle = Tricycle(),
+    n_samples: int = 720,
+    scheme: str = "exact",
+    offset_tol: float = 1e-9,
+) -> TricycleCam:
+    """Synthesise the steering cam for ``trajectory`` (paper 004, Section 3).
+
+    The rod-centre path is a periodic C2 cubic spline through the points of polar radius
+    ``rho_i + r_d`` at polar angles ``-theta_i``; the cam profile is its inward offset by the
+    rod radius, refitted within ``offset_tol`` mm.
+    """
+    synth = synthesize_rho(trajectory, n_samples, device.lever, device.wheelbase, device.half_track, device.base_radius, scheme)
+    n = synth.theta.size
+    if np.min(synth.rho) <= 0.0:
+        raise GeometryError(f"cam radius rho reaches {np.min(synth.rho):.6g} mm <= 0: the path turns too sharply for r_b = {device.base_radius:g} mm")
+    # polar angle phi_j = 2 pi j / N (counter-clockwise) carries the sample of theta = -phi_j
+    order = (-np.arange(n)) % n
+    phi = 2.0 * math.pi * np.arange(n + 1) / n
+    radius = np.append(synth.rho[order], synth.rho[0]) + device.rod_radius
+    points = np.stack([radius * np.cos(phi), radius * np.sin(phi)], axis=1)
+    points[-1] = points[0]
+    pitch = Contour([Spline.interpolate(phi, points, periodic=True)])
+    try:
+        profile = pitch.offset(-device.rod_radius, spline_tol=offset_tol)
+    except GeometryError as exc:
+        raise GeometryError(f"the steering rod (r_d = {device.rod_radius:g} mm) cannot follow this cam: {exc}") from None
+    return TricycleCam(synth, pitch, profile, device, trajectory)
+
+
+def contact_vs_rho(cam: TricycleCam) -> float:
+    """Largest |polar radius of the true contact contour - rho| at the sample angles, mm.
+
+    The paper takes ``rho`` as the cam's polar radius; the contour that really touches the
+    rod is the inward offset of the rod-centre path, whose polar radius differs where the
+    profile slopes.
+    """
+    theta = cam.synthesis.theta
+    radius = polar_radius(cam.profile, -theta)
+    return float(np.max(np.abs(radius - cam.synthesis.rho)))
+
+
+def polar_radius(contour: Contour, phi: np.ndarray, iterations: int = 60) -> np.ndarray:
+    """Distance from the origin to a star-shaped single-segment contour along polar angles ``phi`` (mm).
+
+    Brackets each ray between two break points by their unwrapped polar angles, then
+    refines with safeguarded Newton steps on ``u(phi) x P(t) = 0`` to 1e-13 in ``t``.
+    """
+    (seg,) = contour.segments
+    phi = np.mod(np.asarray(phi, dtype=float), 2.0 * math.pi)
+    breaks = seg.breaks
+    pts = seg.eval_t(breaks)
+    ang = np.unwrap(np.arctan2(pts[:, 1], pts[:, 0]))
+    ang = ang - 2.0 * math.pi * math.floor(ang[0] / (2.0 * math.pi))
+    if not np.all(np.diff(ang) > 0):
+        raise GeometryError("contour is not star-shaped about the cam axis")
+    target = np.where(phi < ang[0], phi + 2.0 * math.pi, phi)
+    k = np.clip(np.searchsorted(ang, target, side="right") - 1, 0, breaks.size - 2)
+    lo, hi = breaks[k].copy(), breaks[k + 1].copy()
+    u = np.stack([np.cos(phi), np.sin(phi)], axis=1)
+    t = lo + (hi - lo) * (target - ang[k]) / (ang[k + 1] - ang[k])
+    for _ in range(iterations):
+        p = seg.eval_t(t)
+        dp = seg.eval_t(t, 1)
+        g = u[:, 0] * p[:, 1] - u[:, 1] * p[:, 0]  # |p| sin(polar angle - phi): < 0 before the ray
+        dg = u[:, 0] * dp[:, 1] - u[:, 1] * dp[:, 0]
+        lo = np.where(g < 0, t, lo)
+        hi = np.where(g > 0, t, hi)
+        step = np.where(dg != 0, g / dg, 0.0)
+        new = t - step
+        new = np.where((new <= lo) | (new >= hi), 0.5 * (lo + hi), new)
+        if np.max(np.abs(new - t)) <= 1e-13:
+            t = new
+            break
+        t = new
+    p = seg.eval_t(t)
+    return np.einsum("ij,ij->i", p, u)
+
+
+# --------------------------------------------------------------------------------------------
+# Ride simulation
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class ErrorModel:
+    """Assembly and drive errors of the tricycle (paper 004, Section 4.2).
+
+    Attributes
+    ----------
+    steering_offset : delta, rad: type I error, added to the steering angle (left > 0).
+    steering_gain : g: type II error, ``tan(alpha) = g Delta r / d`` (g = d_design / d_actual).
+    drive_scale : sigma: actual distance per cam turn / designed S (wheel diameter, slip).
+    start_phase : cam angle at the start, rad.
+    start_heading : heading offset from the designed heading at the start, rad.
+    """
+
+    steering_offset: float = 0.0
+    steering_gain: float = 1.0
+    drive_scale: float = 1.0
+    start_phase: float = 0.0
+    start_heading: float = 0.0
+
+
+def _gauss_integration_matrix(m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Gauss-Legendre nodes, weights and the matrix I with I[j, l] = integral_{-1}^{tau_j} l_l."""
+    nodes, weights = np.polynomial.legendre.leggauss(m)
+    vander = np.vander(nodes, m, increasing=True)
+    powers = np.arange(1, m + 1)
+    antider = (nodes[:, None] ** powers - (-1.0) ** powers) / powers
+    return nodes, weights, antider @ np.linalg.inv(vander)
+
+
+@dataclass(frozen=True)
+class RideGeometry:
+    """What the rod sees of a cam as made, at Gauss nodes in increasing cam angle.
+
+    Attributes
+    ----------
+    theta : array (K, m)
+        Cam angle at the nodes, rad, increasing, within (0, 2 pi).
+    rod : array (K, m)
+        Distance of the rod centre from the camshaft axis, mm.
+    scale : array (K, m)
+        d(theta)/d(sigma) at the nodes, sigma in [-1, 1] on every node interval.
+    weights, integration : Gauss weights (m,) and cumulative integration matrix (m, m).
+    theta_end, rod_end : array (K,)
+        Cam angle and rod-centre distance at the end of every node interval (theta_end[-1] = 2 pi).
+    """
+
+    theta: np.ndarray
+    rod: np.ndarray
+    scale: np.ndarray
+    weights: np.ndarray
+    integration: np.ndarray
+    theta_end: np.ndarray
+    rod_end: np.ndarray
+
+
+def ride_geometry(profile: Contour, rod_radius: float, nodes: int = 6) -> RideGeometry:
+    """Rod-centre distance along the cam turn, from the profile contour (exact offset, no refit).
+
+    The rod centre is the point ``Q = C + r_d n`` of the profile ``C``; ``Q`` must be
+    star-shaped and its polar angle is ``-theta``.  The integration nodes are Gauss points in
+    the spline parameter of every piece of ``C``, where the integrand is smooth.
+    """
+    (seg,) = profile.segments
+    tau, weights, integ = _gauss_integration_matrix(nodes)
+    h = np.diff(seg.breaks)
+    t = seg.breaks[:-1, None] + 0.5 * h[:, None] * (tau[None, :] + 1.0)  # (K, m)
+    piece = np.repeat(np.arange(h.size), nodes)
+    tau_flat = (t - seg.breaks[:-1, None]).ravel()
+    c0, c1, c2 = (seg.eval_piece(piece, tau_flat, order) for order in (0, 1, 2))
+    speed = np.hypot(c1[:, 0], c1[:, 1])
+    normal = _outward(c1)
+    stretch = 1.0 + rod_radius * (c1[:, 0] * c2[:, 1] - c1[:, 1] * c2[:, 0]) / speed**3
+    if np.any(stretch <= 0):
+        raise GeometryError("the rod-centre path of this profile has a cusp: the rod radius exceeds a concave radius of the cam")
+    q = c0 + rod_radius * normal
+    dq = c1 * stretch[:, None]
+    rod = np.hypot(q[:, 0], q[:, 1])
+    dphi_dt = (q[:, 0] * dq[:, 1] - q[:, 1] * dq[:, 0]) / rod**2
+    if np.any(dphi_dt <= 0):
+        raise GeometryError("the rod-centre path is not star-shaped about the camshaft")
+    phi = np.unwrap(np.arctan2(q[:, 1], q[:, 0]))
+    phi -= 2.0 * math.pi * math.floor((phi[0] + 1e-9) / (2.0 * math.pi))
+    theta = (2.0 * math.pi - phi).reshape(t.shape)
+    scale = 0.5 * h[:, None] * dphi_dt.reshape(t.shape)
+    # interval ends: the break points, theta = 2 pi - phi (the first break is at phi = 0)
+    q_break = seg.eval_t(seg.breaks) + rod_radius * _outward(seg.eval_t(seg.breaks, 1))
+    phi_break = np.unwrap(np.arctan2(q_break[:, 1], q_break[:, 0]))
+    phi_break -= phi_break[0]
+    # increasing theta = decreasing parameter: reverse pieces and nodes (Gauss nodes are symmetric)
+    rev = (slice(None, None, -1), slice(None, None, -1))
+    theta_end = (2.0 * math.pi - phi_break[:-1])[::-1]
+    theta_end[-1] = 2.0 * math.pi
+    rod_end = np.hypot(q_break[:-1, 0], q_break[:-1, 1])[::-1]
+    return RideGeometry(theta[rev], rod.reshape(t.shape)[rev], scale[rev], weights, integ, theta_end, rod_end)
+
+
+def _outward(derivative: np.ndarray) -> np.ndarray:
+    """Outward unit normals of a CCW curve from its derivatives (n, 2)."""
+    return np.stack([derivative[:, 1], -derivative[:, 0]], axis=1) / np.hypot(derivative[:, 0], derivative[:, 1])[:, None]
+
+
+def _cumulative(values: np.ndarray, geom: RideGeometry) -> np.ndarray:
+    """Integral over theta of ``values`` (P, K, m) from theta = 0 to every node and to the end
+    of every node interval: flattened (P K (m + 1),), the interval end after its nodes."""
+    weighted = values * geom.scale
+    per_interval = (weighted @ geom.weights).ravel()
+    ends = np.cumsum(per_interval)
+    inner = np.einsum("jl,...l->...j", geom.integration, weighted).reshape(per_interval.size, -1)
+    return np.concatenate([(ends - per_interval)[:, None] + inner, ends[:, None]], axis=1).ravel()
+
+
+def _with_ends(node_values: np.ndarray, end_values: np.ndarray) -> np.ndarray:
+    """Interleave node values (P, K, m) with interval-end values (P, K) as _cumulative orders them."""
+    return np.concatenate([node_values, end_values[..., None]], axis=-1).ravel()
+
+
+@dataclass(frozen=True)
+class Ride:
+    """Simulated path of the tracked point (drive wheel A) at the integration nodes, in order.
+
+    ``theta`` cam angle from the start (rad), ``x``, ``y`` (mm), ``heading`` (rad),
+    ``curvature`` of the path (1/mm) and ``speed`` the distance per unit cam angle (mm/rad).
+    """
+
+    theta: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    heading: np.ndarray
+    curvature: np.ndarray
+    speed: float
+
+    def at(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """x, y (mm) and heading (rad) at cam angles ``theta`` by cubic Hermite interpolation."""
+        theta = np.asarray(theta, dtype=float)
+        k = np.clip(np.searchsorted(self.theta, theta, side="right") - 1, 0, self.theta.size - 2)
+        h = self.theta[k + 1] - self.theta[k]
+        s = (theta - self.theta[k]) / h
+        h00, h10, h01, h11 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s, -2 * s**3 + 3 * s**2, s**3 - s**2
+        out = []
+        slopes = (np.cos(self.heading), np.sin(self.heading), self.curvature)
+        for values, slope in zip((self.x, self.y, self.heading), slopes):
+            d = self.speed * slope
+            out.append(h00 * values[k] + h10 * h * d[k] + h01 * values[k + 1] + h11 * h * d[k + 1])
+        return out[0], out[1], out[2]
+
+    def moved(self, dx: float, dy: float, turn: float) -> "Ride":
+        """The path rotated by ``turn`` (rad) about the origin, then shifted by (dx, dy) mm."""
+        c, s = math.cos(turn), math.sin(turn)
+        return replace(self, x=c * self.x - s * self.y + dx, y=s * self.x + c * self.y + dy, heading=self.heading + turn)
+
+
+def steering_curvature(rod: np.ndarray, device: Tricycle, errors: ErrorModel) -> np.ndarray:
+    """Path curvature of the drive wheel A (1/mm) for rod-centre distances ``rod`` (mm).
+
+    ``tan(alpha) = g (q - L) / d`` (+ offset delta on alpha), ``kappa_O = tan(alpha) / L``
+    (eq. 1), ``kappa_A = kappa_O / (1 - D kappa_O)`` (A is D to the left of O_AB).
+    """
+    tan_alpha = np.tan(np.arctan(errors.steering_gain * (rod - device.wheelbase) / device.lever) + errors.steering_offset)
+    kappa_o = tan_alpha / device.wheelbase
+    denom = 1.0 - device.half_track * kappa_o
+    if np.any(denom <= 0.0):
+        raise GeometryError("the steering turns the rear-axle centre about the drive wheel (1 - D kappa_O <= 0)")
+    return kappa_o / denom
+
+
+def ride(geom: RideGeometry, device: Tricycle, arc_length: float, errors: ErrorModel = ErrorModel(), periods: int = 1) -> Ride:
+    """Integrate the vehicle kinematics over ``periods`` cam turns from ``theta = start_phase``.
+
+    Per unit cam angle the drive wheel rolls ``sigma S / 2 pi``; its heading changes by that
+    times :func:`steering_curvature`.  Heading and position are integrated with the
+    Gauss-Legendre cumulative matrix of every node interval (spectral accuracy inside the
+    pieces of the cam spline).  The path starts at the origin with heading
+    ``errors.start_heading``.
+    """
+    if isinstance(periods, bool) or not isinstance(periods, int) or not 1 <= periods <= 1000:
+        raise ParameterError("periods", periods, "an integer 1 <= periods <= 1000")
+    speed = errors.drive_scale * arc_length / (2.0 * math.pi)
+    theta0 = errors.start_phase % (2.0 * math.pi)
+    reps = periods + (1 if theta0 > 0.0 else 0)
+    shape = (reps,) + geom.rod.shape
+    kappa = np.broadcast_to(steering_curvature(geom.rod, device, errors), shape)
+    heading_all = _cumulative(speed * kappa, geom)
+    nodes = np.ones(shape[:-1] + (shape[-1] + 1,), dtype=bool)
+    nodes[..., -1] = False
+    nodes = nodes.ravel()
+    heading_nodes = heading_all[nodes].reshape(shape)
+    x = np.concatenate([[0.0], _cumulative(speed * np.cos(heading_nodes), geom)])
+    y = np.concatenate([[0.0], _cumulative(speed * np.sin(heading_nodes), geom)])
+    heading = np.concatenate([[0.0], heading_all])
+    turns = 2.0 * math.pi * np.arange(reps)[:, None]
+    theta = np.concatenate([[0.0], _with_ends(geom.theta[None] + turns[..., None], geom.theta_end[None] + turns)])
+    kappa_end = np.broadcast_to(steering_curvature(geom.rod_end, device, errors), shape[:-1])
+    kappa_start = steering_curvature(geom.rod_end[-1:], device, errors)  # theta = 0 is theta = 2 pi
+    curvature = np.concatenate([kappa_start, _with_ends(kappa, kappa_end)])
+    path = Ride(theta, x, y, heading, curvature, speed)
+    if theta0 > 0.0:
+        x0, y0, h0 = path.at(np.array([theta0]))
+        keep = (theta > theta0) & (theta <= theta0 + 2.0 * math.pi * periods)
+        path = Ride(
+            np.concatenate([[theta0], theta[keep]]) - theta0,
+            np.concatenate([x0, x[keep]]) - x0[0],
+            np.concatenate([y0, y[keep]]) - y0[0],
+            np.concatenate([h0, heading[keep]]),
+            np.concatenate([[float(np.interp(theta0, theta, curvature))], curvature[keep]]),
+            speed,
+        ).moved(0.0, 0.0, -float(h0[0]))
+    return path.moved(0.0, 0.0, errors.start_heading)
+
+
+def lateral_error(trajectory: Trajectory, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Signed distance (mm) of points from the periodic path ``y = f(x)``, along its normal
+    (first order in the deviation: ``(y - f(x)) / sqrt(1 + f'(x)^2)``)."""
+    xm = np.mod(x, trajectory.period)
+    slope = trajectory.df(xm)
+    return (y - trajectory.f(xm)) / np.sqrt(1.0 + slope * slope)
+
+
+def design_start(cam: TricycleCam, start_phase: float) -> tuple[float, float, float]:
+    """Designed position (x, y, mm) and heading (rad) of the tracked point at a cam angle."""
+    theta0 = start_phase % (2.0 * math.pi)
+    x0 = cam.synthesis.length.inverse(np.array([cam.synthesis.arc_length * theta0 / (2.0 * math.pi)]))
+    return float(x0[0]), float(cam.trajectory.f(x0)[0]), float(np.arctan(cam.trajectory.df(x0))[0])
+
+
+def simulate_cam(cam: TricycleCam, errors: ErrorModel = ErrorModel(), periods: int = 1, nodes: int = 6) -> Ride:
+    """Ride of ``cam`` as made (its profile contour), started on the designed path.
+
+    The drive wheel starts where the design puts it at ``errors.start_phase``, with the
+    designed heading there plus ``errors.start_heading``.
+    """
+    geom = ride_geometry(cam.profile, cam.device.rod_radius, nodes)
+    x0, y0, h0 = design_start(cam, errors.start_phase)
+    return ride(geom, cam.device, cam.synthesis.arc_length, errors, periods).moved(x0, y0, h0)
+
+
+# --------------------------------------------------------------------------------------------
+# Measured trajectories (paper 004, Appendix A)
+# --------------------------------------------------------------------------------------------
+MEASURED_TABLES = {"A1": "tricycle_table_a1.csv", "A2": "tricycle_table_a2.csv"}
+
+
+@dataclass(frozen=True)
+class MeasuredTable:
+    """A measured trajectory: ``x``, ``measured`` and the paper's ``ideal`` and ``error`` columns (mm)."""
+
+    name: str
+    x: np.ndarray
+    measured: np.ndarray
+    ideal: np.ndarray
+    error: np.ndarray
+
+
+def load_measured_table(name: str) -> MeasuredTable:
+    """Load Table A1 or A2 of paper 004 from ``camgen/data`` (see the CSV headers for the
+    reconstruction and the swapped column labels)."""
+    import csv
+    from pathlib import Path
+
+    if name not in MEASURED_TABLES:
+        raise ParameterError("table", name, f"one of {sorted(MEASURED_TABLES)}")
+    path = Path(__file__).resolve().parent.parent / "data" / MEASURED_TABLES[name]
+    lines = [line for line in path.read_text(encoding="utf-8").splitlines() if line and not line.startswith("#")]
+    rows = list(csv.DictReader(lines))
+    col = {key: np.array([float(r[key]) for r in rows]) for key in ("x_mm", "measured_y_mm", "ideal_y_mm", "error_mm")}
+    return MeasuredTable(name, col["x_mm"], col["measured_y_mm"], col["ideal_y_mm"], col["error_mm"])

@@ -1,0 +1,139 @@
+"""Fit the tricycle error model to a measured trajectory and turn it into adjustment advice.
+
+Paper 004, Section 4.2 and Appendix A.  The error model (:class:`ErrorModel`) has five
+parameters: steering offset ``delta`` (type I), steering gain ``g`` (type II), drive-distance
+scale ``sigma``, start phase ``theta0`` and start-heading offset.  They are fitted by
+nonlinear least squares (``scipy.optimize.least_squares``): the residual at every measured
+point is the simulated ride's ``y`` at the measured ``x`` minus the measured ``y``; the ride
+is simulated on the cam as made (:func:`camgen.mechanisms.tricycle.ride`).
+
+Uncertainties are one standard deviation from the Gauss-Newton covariance
+``s^2 (J^T J)^-1`` with ``s^2 = RSS / (n - p)`` (the measurement noise is not given in the
+paper; the residuals estimate it).
+
+Adjustments (paper 004, eqs. 16-17 and Fig. 8):
+
+* the worm knob turns the steering by ``1 / Z3`` deg per knob degree: removing ``delta``
+  takes ``-delta Z3`` knob degrees;
+* the micro-indexing head moves the cam axially and so changes the active rod length ``d``;
+  a gain ``g = d_design / d_actual`` is undone by changing ``d`` by ``d (1 - 1/g)``;
+* ``sigma`` (distance per cam turn) is set by the drive wheel and the gears; neither
+  mechanism corrects it.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from camgen.errors import GeometryError
+from camgen.mechanisms.tricycle import (
+    ErrorModel,
+    MeasuredTable,
+    TricycleCam,
+    design_start,
+    ride,
+    ride_geometry,
+)
+
+PARAMETERS = ("steering_offset_deg", "steering_gain", "drive_scale", "start_phase_deg", "start_heading_deg")
+
+
+def _errors(p: np.ndarray) -> ErrorModel:
+    return ErrorModel(math.radians(p[0]), p[1], p[2], math.radians(p[3]) % (2.0 * math.pi), math.radians(p[4]))
+
+
+def model_y(cam: TricycleCam, geom: Any, p: np.ndarray, x: np.ndarray, periods: int = 2) -> np.ndarray:
+    """Simulated ``y`` (mm) at abscissae ``x`` for parameters ``p`` (see PARAMETERS), path started at the origin."""
+    errors = _errors(p)
+    _, _, heading0 = design_start(cam, errors.start_phase)
+    path = ride(geom, cam.device, cam.synthesis.arc_length, errors, periods).moved(0.0, 0.0, heading0)
+    if not np.all(np.diff(path.x) > 0) or path.x[-1] < x.max():
+        return np.full(x.shape, 1e3)  # the path turns back or falls short: a large residual
+    return np.interp(x, path.x, path.y)
+
+
+@dataclass(frozen=True)
+class FitResult:
+    """Fitted error model for one measured table (units in the keys)."""
+
+    table: str
+    values: dict[str, float]
+    uncertainty: dict[str, float]
+    residual_rms_mm: float
+    n_points: int
+    advice: dict[str, Any]
+
+    def as_dict(self) -> dict[str, Any]:
+        return {
+            "parameters": self.values,
+            "uncertainty_1sigma": self.uncertainty,
+            "residual_rms_mm": self.residual_rms_mm,
+            "points": self.n_points,
+            "advice": self.advice,
+        }
+
+
+def fit_error_model(cam: TricycleCam, table: MeasuredTable, nodes: int = 4) -> FitResult:
+    """Least-squares fit of the five error-model parameters to ``table``."""
+    from scipy.optimize import least_squares
+
+    geom = ride_geometry(cam.profile, cam.device.rod_radius, nodes)
+    x, y = table.x[1:], table.measured[1:]  # row 1 is the start (0, 0)
+
+    def residual(p: np.ndarray) -> np.ndarray:
+        try:
+            return model_y(cam, geom, p, x) - y
+        except GeometryError:
+            return np.full(x.shape, 1e3)
+
+    best = None
+    # a few starts in drive scale and phase: the problem has shallow valleys
+    x_period = table.x[-1]
+    for sigma0 in (1.0, x_period / cam.trajectory.period):
+        for phase0 in (0.0, 10.0, -10.0):
+            p0 = np.array([0.0, 1.0, sigma0, phase0 % 360.0, 0.0])
+            fit = least_squares(residual, p0, x_scale=np.array([0.1, 0.05, 0.02, 5.0, 1.0]), method="lm", max_nfev=400)
+            if best is None or fit.cost < best.cost:
+                best = fit
+    assert best is not None
+    n, k = x.size, best.x.size
+    rss = float(np.sum(best.fun**2))
+    jac = best.jac
+    try:
+        cov = np.linalg.inv(jac.T @ jac) * rss / max(n - k, 1)
+        sigma = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+    except np.linalg.LinAlgError:
+        sigma = np.full(k, math.inf)
+    values = dict(zip(PARAMETERS, (float(v) for v in best.x)))
+    values["start_phase_deg"] %= 360.0
+    uncertainty = dict(zip(PARAMETERS, (float(s) for s in sigma)))
+    return FitResult(table.name, values, uncertainty, math.sqrt(rss / n), n, adjustment_advice(cam, values))
+
+
+def adjustment_advice(cam: TricycleCam, values: dict[str, float]) -> dict[str, Any]:
+    """Worm knob turns, indexing-head change of ``d`` and what remains, for fitted ``values``."""
+    device = cam.device
+    delta = values["steering_offset_deg"]
+    gain = values["steering_gain"]
+    knob_deg = -delta * device.worm_teeth  # eq. (17): one knob degree = 1/Z3 deg of steering
+    d_change = device.lever * (1.0 - 1.0 / gain)
+    wheel = device.drive_wheel_diameter(cam.synthesis.arc_length)
+    return {
+        "worm_knob_deg": knob_deg,
+        "worm_knob_turns": knob_deg / 360.0,
+        "worm_direction": "right" if delta > 0 else "left",
+        "indexing_head_change_of_d_mm": d_change,
+        "d_after_mm": device.lever,
+        "effective_drive_wheel_diameter_mm": values["drive_scale"] * wheel,
+        "design_drive_wheel_diameter_mm": wheel,
+        "note": (
+            f"turn the worm knob {abs(knob_deg):.1f} deg ({abs(knob_deg) / 360.0:.3f} turns) to steer "
+            f"{abs(delta):.3f} deg to the {'right' if delta > 0 else 'left'}; "
+            f"{'lengthen' if d_change > 0 else 'shorten'} the active rod length d by {abs(d_change):.3f} mm "
+            f"with the indexing head (gain {gain:.4f}); the distance per cam turn is "
+            f"{values['drive_scale']:.4f} x design, which only the drive wheel or the gears can change"
+        ),
+    }
