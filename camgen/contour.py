@@ -178,6 +178,18 @@ class Arc:
             vals = np.full(psi.shape, -np.inf)
         return vals, pts, np.full(psi.shape, self.radius)
 
+    def ray_hits(self, phi: np.ndarray) -> np.ndarray:
+        """Distances (M, 2) along rays from the origin at polar angles ``phi`` to this arc (NaN: no hit)."""
+        u = _unit(phi)
+        uc = u @ np.asarray(self.center)
+        disc = uc * uc - float(np.dot(self.center, self.center)) + self.radius**2
+        root = np.sqrt(np.where(disc >= 0, disc, np.nan))
+        dist = np.stack([uc - root, uc + root], axis=1)
+        pts = dist[..., None] * u[:, None, :] - np.asarray(self.center)
+        ang = np.arctan2(pts[..., 1], pts[..., 0])
+        on_arc = _angle_in_sweep(ang, self.start_angle, self.sweep) & (dist > 0)
+        return np.where(on_arc, dist, np.nan)
+
 
 # --------------------------------------------------------------------------------------------
 # Spline
@@ -395,6 +407,45 @@ class Spline:
             if ok.any():
                 pts.append(self.eval_t(self.breaks[piece[ok]] + roots[ok]))
         return np.concatenate(pts)
+
+    def ray_hits(self, phi: np.ndarray, iterations: int = 60) -> np.ndarray:
+        """Distances (M, 1) along rays from the origin at polar angles ``phi`` to this spline (NaN: no hit).
+
+        The piece where ``u x P`` changes sign from - to + (with ``P . u > 0``) holds the hit;
+        safeguarded Newton steps refine it to 1e-13 in the parameter.  One hit per ray is
+        returned (the first such piece); :meth:`Contour.polar_radius` checks that there is one.
+        """
+        u = _unit(phi)
+        pts = self.eval_t(self.breaks)  # (K + 1, 2)
+        if np.allclose(pts[0], pts[-1], rtol=0, atol=1e-9):
+            pts[-1] = pts[0]  # a closed spline: its two ends are one break, counted once
+        g = np.outer(u[:, 0], pts[:, 1]) - np.outer(u[:, 1], pts[:, 0])  # (M, K + 1) = u x P
+        ahead = (u @ pts.T) > 0
+        crossing = (g[:, :-1] < 0) & (g[:, 1:] >= 0) & (ahead[:, :-1] | ahead[:, 1:])  # half-open: a break counts once
+        count = crossing.sum(axis=1)
+        piece = np.argmax(crossing, axis=1)
+        lo = self.breaks[piece].copy()
+        hi = self.breaks[piece + 1].copy()
+        g0, g1 = g[np.arange(phi.size), piece], g[np.arange(phi.size), piece + 1]
+        t = lo + (hi - lo) * np.clip(-g0 / np.where(g1 - g0 != 0, g1 - g0, 1.0), 0.0, 1.0)
+        for _ in range(iterations):
+            p = self.eval_t(t)
+            dp = self.eval_t(t, 1)
+            gt = u[:, 0] * p[:, 1] - u[:, 1] * p[:, 0]
+            dg = u[:, 0] * dp[:, 1] - u[:, 1] * dp[:, 0]
+            lo = np.where(gt < 0, t, lo)
+            hi = np.where(gt > 0, t, hi)
+            new = t - np.where(dg != 0, gt / np.where(dg != 0, dg, 1.0), 0.0)
+            new = np.where((new <= lo) | (new >= hi) | ~np.isfinite(new), 0.5 * (lo + hi), new)
+            converged = np.max(np.abs(new - t), initial=0.0) <= 1e-13 * max(1.0, self.span)
+            t = new
+            if converged:
+                break
+        dist = np.einsum("ij,ij->i", self.eval_t(t), u)
+        out = np.where(count >= 1, dist, np.nan)
+        if np.any(count > 1):
+            out = np.where(count > 1, np.inf, out)  # several crossings: flagged for the caller
+        return out[:, None]
 
     def support_candidates(self, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Largest interior value of ``P . u(psi)`` (M,) over all pieces, its point (M, 2) and radius of curvature (M,).
@@ -703,6 +754,25 @@ class Contour:
         u_perp = np.stack([-np.sin(psi), np.cos(psi)], axis=-1)
         dh = np.einsum("...i,...i->...", pts, u_perp)
         return h, dh, rho - h
+
+    def polar_radius(self, phi: object) -> np.ndarray:
+        """Distance (mm) from the rotation axis to the contour along polar angles ``phi`` (rad).
+
+        Needs a contour that is star-shaped about the axis (every ray from the origin meets it
+        once), as a cam must be for a polar lift table; raises :class:`GeometryError` otherwise.
+        """
+        phi = _as_array(phi)
+        flat = phi.ravel()
+        hits = np.concatenate([seg.ray_hits(flat) for seg in self.segments], axis=1)
+        finite = np.isfinite(hits)
+        # a ray through a joint hits both neighbouring segments at the same distance
+        dist = np.where(finite, hits, np.inf).min(axis=1)
+        far = np.where(finite, hits, -np.inf).max(axis=1)
+        bad = ~np.isfinite(dist) | (far - dist > 1e-9 * (1.0 + np.abs(dist))) | np.any(np.isposinf(hits), axis=1)
+        if np.any(bad):
+            where = math.degrees(float(flat[np.argmax(bad)])) % 360.0
+            raise GeometryError(f"contour is not star-shaped about the rotation axis: the ray at cam angle {where:.3f} deg does not meet it exactly once")
+        return dist.reshape(phi.shape)
 
     # -- continuity -----------------------------------------------------------------------------
     def joints(

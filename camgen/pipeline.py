@@ -27,6 +27,8 @@ class BuiltCam:
     checks: list[Any] = field(default_factory=list)
     files: dict[str, str] = field(default_factory=dict)
     model: Any = None
+    body: Any = None
+    pitch: Any = None
 
 
 def _build_three_arc(spec: CamSpec) -> BuiltCam:
@@ -129,7 +131,7 @@ def _build_trajectory(spec: CamSpec, chord_tol: float) -> BuiltCam:
         ],
         {"theta_deg": np.degrees(theta), "x_mm": x, "y_mm": y, "lateral_error_mm": tc.lateral_error(traj, x, y)},
     )
-    return BuiltCam(spec.name, spec.kind, cam.profile, figures, [], {f"{spec.name}_ride.csv": ride_csv}, cam)
+    return BuiltCam(spec.name, spec.kind, cam.profile, figures, [], {f"{spec.name}_ride.csv": ride_csv}, cam, pitch=cam.pitch)
 
 
 BUILDERS: dict[str, Callable[[CamSpec, float], BuiltCam]] = {
@@ -145,19 +147,108 @@ def build_cams(scene: Scene) -> list[BuiltCam]:
     (``cams.<name>.<key>``) so the user finds the line to change.
     """
     from camgen.errors import ParameterError
-    from camgen.scene import CAM_KINDS
+    from camgen.scene import BODY_KEYS, CAM_KINDS
 
     built = []
     for spec in scene.cams:
         try:
-            built.append(BUILDERS[spec.kind](spec, scene.output.chord_tol))
+            cam = BUILDERS[spec.kind](spec, scene.output.chord_tol)
+            cam.body = _body(spec)
+            if cam.body.bore_diameter > 0:
+                cam.checks.append(_wall_check(cam))
+            built.append(cam)
         except ParameterError as exc:
             if exc.name.startswith("cams."):
                 raise
-            schema = CAM_KINDS[spec.kind]
-            key = next((k for k in (exc.name, f"{exc.name}_mm") if k in schema), exc.name)
+            schema = {**CAM_KINDS[spec.kind], **BODY_KEYS}
+            key = next((k for k in (exc.name, f"{exc.name}_mm", f"{exc.name}_deg") if k in schema), exc.name)
             raise ParameterError(f"cams.{spec.name}.{key}", exc.value, exc.valid, exc.why) from None
     return built
+
+
+def _body(spec: CamSpec) -> Any:
+    from camgen.export.solid import SolidSpec
+
+    p = spec.params
+    defaults = SolidSpec()
+    return SolidSpec(
+        thickness=p.get("thickness", defaults.thickness),
+        bore_diameter=p.get("bore_diameter", 0.0),
+        keyway_width=p.get("keyway_width", 0.0),
+        keyway_depth=p.get("keyway_depth", 0.0),
+        keyway_angle=p.get("keyway_angle", defaults.keyway_angle),
+        min_wall=p.get("min_wall", defaults.min_wall),
+    )
+
+
+def _wall_check(cam: BuiltCam) -> Any:
+    """Wall between bore/keyway and profile: a GeometryError below min_wall, else a check result."""
+    from camgen.checks import CheckResult
+    from camgen.export.solid import check_wall, wall_left
+
+    check_wall(cam.contour, cam.body, cam.name)
+    wall, where = wall_left(cam.contour, cam.body)
+    return CheckResult("wall_thickness", wall, cam.body.min_wall, "mm", True, [round(where, 6)],
+                       f"thinnest wall between the bore/keyway and the profile, {wall:.3f} mm")
+
+
+def _machining(scene: Scene, cam: BuiltCam) -> Any:
+    from camgen.export.gcode import MachiningSpec
+
+    m = scene.machining
+    defaults = MachiningSpec()
+    return MachiningSpec(
+        tool_diameter=m.get("tool_diameter", defaults.tool_diameter),
+        thickness=cam.body.thickness,
+        step_down=m.get("step_down", defaults.step_down),
+        safe_z=m.get("safe_z", defaults.safe_z),
+        feed=m.get("feed_mm_per_min", defaults.feed),
+        plunge_feed=m.get("plunge_feed_mm_per_min", defaults.plunge_feed),
+        spindle_rpm=m.get("spindle_rpm", defaults.spindle_rpm),
+        direction=m.get("direction", defaults.direction),
+        dialect=m.get("dialect", defaults.dialect),
+        cutter_compensation=m.get("cutter_compensation", defaults.cutter_compensation),
+        lead=m.get("lead"),
+        spline_mode=m.get("spline_mode", defaults.spline_mode),
+        chord_tol=scene.output.chord_tol,
+        decimals=m.get("decimals", defaults.decimals),
+    )
+
+
+def render_files(scene: Scene, cams: list[BuiltCam]) -> dict[str, str | bytes]:
+    """Every output file of the run except report.json, in memory (name -> content)."""
+    out = scene.output
+    files: dict[str, str | bytes] = {}
+    for cam in cams:
+        if "dxf" in out.formats:
+            from camgen.export.dxf import DxfOptions, contour_to_dxf
+
+            options = DxfOptions(splines=out.dxf_splines, biarc_tol=out.chord_tol)
+            pitch = cam.pitch if out.dxf_pitch else None
+            files[f"{cam.name}.dxf"] = contour_to_dxf(cam.contour, cam.body, pitch, options)
+        if "points" in out.formats:
+            from camgen.export.points import points_csv
+
+            files[f"{cam.name}_points.csv"] = points_csv(cam.contour, out.chord_tol, cam.name, scene.name)
+        if "lift" in out.formats:
+            from camgen.export.points import lift_csv
+
+            files[f"{cam.name}_lift.csv"] = lift_csv(cam.contour, out.lift_step, cam.name, scene.name)
+        from camgen.export import solid as solid_export
+
+        meshes = [f for f in out.formats if f in solid_export.MESH_FORMATS]
+        if meshes:
+            body = solid_export.cam_solid(cam.contour, cam.body, out.chord_tol, cam.name)
+            cam.figures["solid_volume_mm3"] = body.volume
+            cam.figures["solid_triangles"] = int(len(body.triangles))
+            for fmt in meshes:
+                files[cam.name + solid_export.SUFFIX[fmt]] = solid_export.mesh_bytes(body, fmt, cam.name)
+        if "ngc" in out.formats:
+            from camgen.export.gcode import gcode_program
+
+            files[f"{cam.name}.ngc"] = gcode_program(cam.contour, _machining(scene, cam), cam.name, scene.name)
+        files.update(cam.files)
+    return files
 
 
 def run_scene(scene: Scene, outdir: str | Path = "outputs") -> list[Path]:
@@ -166,19 +257,8 @@ def run_scene(scene: Scene, outdir: str | Path = "outputs") -> list[Path]:
 
     target = Path(outdir) / scene.name
     cams = build_cams(scene)
-    tol = scene.output.chord_tol
     # render everything in memory first: nothing is written unless all of it succeeded
-    files: dict[str, str | bytes] = {}
-    for cam in cams:
-        if "dxf" in scene.output.formats:
-            from camgen.export.dxf import contour_to_dxf
-
-            files[f"{cam.name}.dxf"] = contour_to_dxf(cam.contour)
-        if "points" in scene.output.formats:
-            from camgen.export.points import points_csv
-
-            files[f"{cam.name}_points.csv"] = points_csv(cam.contour, tol, cam.name, scene.name)
-        files.update(cam.files)
+    files = render_files(scene, cams)
     files["report.json"] = report_json(report_dict(scene, cams, sorted(files) + ["report.json"]))
 
     from camgen.export.atomic import write_atomic

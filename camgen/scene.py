@@ -1,7 +1,8 @@
 """Scene files: schema, reading and validation.
 
 A scene is a TOML file naming the cams to build and the outputs wanted.  Lengths carry
-``_mm`` in their key, angles ``_deg`` (degrees only here, at the edge; radians inside).
+``_mm`` in their key, angles ``_deg`` (degrees only here, at the edge: they are stored in
+radians, under the key without its suffix).
 
 .. code-block:: toml
 
@@ -11,17 +12,23 @@ A scene is a TOML file naming the cams to build and the outputs wanted.  Lengths
     formats = ["dxf", "points"]      # see FORMATS
     chord_tol_mm = 0.001
 
+    [machining]                      # G-code settings (formats = [..., "ngc"])
+    tool_diameter_mm = 6.0
+
     [cams.stride_length]
     kind = "three_arc"
     a_mm = 220.0
     b_mm = 160.0
     c_mm = 25.0
+    thickness_mm = 20.0              # body keys: see BODY_KEYS
+    bore_diameter_mm = 20.0
 
 Reading never evaluates user text; unknown keys, wrong types and out-of-range values raise
 :class:`~camgen.errors.SceneError` or :class:`~camgen.errors.ParameterError` naming the key.
 """
 from __future__ import annotations
 
+import math
 import re
 import tomllib
 from dataclasses import dataclass, field
@@ -32,21 +39,38 @@ from camgen.errors import ParameterError, SceneError, require_finite, require_po
 
 #: Output formats a scene may request, and what each writes per cam.
 FORMATS: dict[str, str] = {
-    "dxf": "<cam>.dxf: 2-D profile, exact ARC entities, R2010, mm",
+    "dxf": "<cam>.dxf: 2-D profile (exact ARCs, clamped B-splines or biarcs), bore, keyway, centre mark; R2010, mm",
     "points": "<cam>_points.csv: XY point list at the chord tolerance",
+    "lift": "<cam>_lift.csv: polar lift table (cam angle -> radius, lift above the base radius)",
+    "stl": "<cam>.stl: binary STL of the extruded body",
+    "stl_ascii": "<cam>_ascii.stl: ASCII STL of the extruded body",
+    "3mf": "<cam>.3mf", "obj": "<cam>.obj", "ply": "<cam>.ply", "vtu": "<cam>.vtu",
+    "ngc": "<cam>.ngc: RS274/NGC G-code milling the profile",
 }
 DEFAULT_FORMATS = ("dxf", "points")
 
-#: Cam kinds and their keys: kind -> {key: (type, required)}.  Types: "mm" (finite number, mm;
-#: stored without the suffix), "int", "str", "str_list".
-CAM_KINDS: dict[str, dict[str, tuple[str, bool]]] = {
+# key -> (type, required); types: mm, deg, float, int, bool, str, str_list, or a tuple of choices
+Schema = dict[str, tuple[Any, bool]]
+
+#: Keys of the cam body (solid, DXF bore/keyway, G-code depth), valid for every cam kind.
+BODY_KEYS: Schema = {
+    "thickness_mm": ("mm", False),
+    "bore_diameter_mm": ("mm", False),
+    "keyway_width_mm": ("mm", False),
+    "keyway_depth_mm": ("mm", False),
+    "keyway_angle_deg": ("deg", False),
+    "min_wall_mm": ("mm", False),
+}
+
+#: Cam kinds and their own keys.
+CAM_KINDS: dict[str, Schema] = {
     "three_arc": {"a_mm": ("mm", True), "b_mm": ("mm", True), "c_mm": ("mm", True), "source": ("str", False)},
     "trajectory": {
         "expression": ("str", False),
         "trajectory_csv": ("str", False),
         "period_mm": ("mm", False),
         "samples": ("int", False),
-        "curvature": ("str", False),
+        "curvature": (("exact", "forward", "central"), False),
         "wheelbase_mm": ("mm", False),
         "half_track_mm": ("mm", False),
         "lever_mm": ("mm", False),
@@ -60,12 +84,35 @@ CAM_KINDS: dict[str, dict[str, tuple[str, bool]]] = {
     },
 }
 
+OUTPUT_KEYS: Schema = {
+    "formats": ("str_list", False),
+    "chord_tol_mm": ("mm", False),
+    "dxf_splines": (("bspline", "biarc"), False),
+    "dxf_pitch": ("bool", False),
+    "lift_step_deg": ("deg", False),
+}
+
+MACHINING_KEYS: Schema = {
+    "tool_diameter_mm": ("mm", False),
+    "step_down_mm": ("mm", False),
+    "safe_z_mm": ("mm", False),
+    "feed_mm_per_min": ("float", False),
+    "plunge_feed_mm_per_min": ("float", False),
+    "spindle_rpm": ("float", False),
+    "direction": (("climb", "conventional"), False),
+    "dialect": (("linuxcnc", "grbl"), False),
+    "cutter_compensation": ("bool", False),
+    "lead_mm": ("mm", False),
+    "spline_mode": (("lines", "biarcs"), False),
+    "decimals": ("int", False),
+}
+
 _NAME = re.compile(r"^[A-Za-z0-9_.-]{1,64}$")
 
 
 @dataclass(frozen=True)
 class CamSpec:
-    """One cam of a scene: its name, kind and validated parameters (mm, rad)."""
+    """One cam of a scene: its name, kind and validated parameters (mm, rad; keys without unit suffix)."""
 
     name: str
     kind: str
@@ -74,10 +121,13 @@ class CamSpec:
 
 @dataclass(frozen=True)
 class OutputSpec:
-    """What a run writes: formats and the chord tolerance (mm) of every flattened output."""
+    """What a run writes: formats, chord tolerance (mm) of flattened outputs, DXF and lift options."""
 
     formats: tuple[str, ...] = DEFAULT_FORMATS
     chord_tol: float = 1e-3
+    dxf_splines: str = "bspline"
+    dxf_pitch: bool = True
+    lift_step: float = math.radians(1.0)
 
 
 @dataclass(frozen=True)
@@ -88,6 +138,7 @@ class Scene:
     source: str
     output: OutputSpec
     cams: tuple[CamSpec, ...] = field(default_factory=tuple)
+    machining: Mapping[str, Any] = field(default_factory=dict)
 
 
 def _check_keys(where: str, table: Mapping[str, Any], allowed: set[str], required: set[str] = frozenset()) -> None:
@@ -105,30 +156,22 @@ def _check_name(where: str, name: object) -> str:
     return name
 
 
-def _parse_output(table: object) -> OutputSpec:
-    if table is None:
-        return OutputSpec()
-    if not isinstance(table, dict):
-        raise SceneError("[output] must be a table")
-    _check_keys("[output]", table, {"formats", "chord_tol_mm"})
-    formats = table.get("formats", list(DEFAULT_FORMATS))
-    if not isinstance(formats, list) or not all(isinstance(f, str) for f in formats):
-        raise ParameterError("output.formats", formats, f"a list of strings from {sorted(FORMATS)}")
-    bad = [f for f in formats if f not in FORMATS]
-    if bad:
-        raise ParameterError("output.formats", bad, f"formats from {sorted(FORMATS)}")
-    chord_tol = require_positive("output.chord_tol_mm", table.get("chord_tol_mm", 1e-3))
-    if not 1e-7 <= chord_tol <= 1.0:
-        raise ParameterError("output.chord_tol_mm", chord_tol, "1e-7 <= chord_tol_mm <= 1 mm")
-    return OutputSpec(tuple(dict.fromkeys(formats)), chord_tol)
-
-
-def _parse_value(key: str, kind: str, value: object) -> object:
-    if kind == "mm":
+def _parse_value(key: str, kind: Any, value: object) -> object:
+    if isinstance(kind, tuple):
+        if value not in kind:
+            raise ParameterError(key, value, f"one of {', '.join(kind)}")
+        return value
+    if kind in ("mm", "float"):
         return require_finite(key, value)
+    if kind == "deg":
+        return math.radians(require_finite(key, value))
     if kind == "int":
         if isinstance(value, bool) or not isinstance(value, int):
             raise ParameterError(key, value, "a whole number")
+        return value
+    if kind == "bool":
+        if not isinstance(value, bool):
+            raise ParameterError(key, value, "true or false")
         return value
     if kind == "str":
         if not isinstance(value, str):
@@ -139,6 +182,38 @@ def _parse_value(key: str, kind: str, value: object) -> object:
     return tuple(value)
 
 
+def _strip_unit(key: str) -> str:
+    for suffix in ("_mm", "_deg"):
+        if key.endswith(suffix):
+            return key[: -len(suffix)]
+    return key
+
+
+def _parse_table(where: str, table: object, schema: Schema) -> dict[str, Any]:
+    """Validate ``table`` against ``schema``; keys lose their unit suffix, degrees become radians."""
+    if not isinstance(table, dict):
+        raise SceneError(f"[{where}] must be a table")
+    _check_keys(f"[{where}]", table, set(schema), {k for k, (_, req) in schema.items() if req})
+    return {_strip_unit(k): _parse_value(f"{where}.{k}", schema[k][0], v) for k, v in table.items()}
+
+
+def _parse_output(table: object) -> OutputSpec:
+    if table is None:
+        return OutputSpec()
+    p = _parse_table("output", table, OUTPUT_KEYS)
+    formats = p.get("formats", DEFAULT_FORMATS)
+    bad = [f for f in formats if f not in FORMATS]
+    if bad:
+        raise ParameterError("output.formats", bad, f"formats from {sorted(FORMATS)}")
+    chord_tol = require_positive("output.chord_tol_mm", p.get("chord_tol", 1e-3))
+    if not 1e-7 <= chord_tol <= 1.0:
+        raise ParameterError("output.chord_tol_mm", chord_tol, "1e-7 <= chord_tol_mm <= 1 mm")
+    step = p.get("lift_step", math.radians(1.0))
+    if not math.radians(0.01) <= step <= math.radians(10.0):
+        raise ParameterError("output.lift_step_deg", math.degrees(step), "0.01 <= lift_step_deg <= 10")
+    return OutputSpec(tuple(dict.fromkeys(formats)), chord_tol, p.get("dxf_splines", "bspline"), p.get("dxf_pitch", True), step)
+
+
 def _parse_cam(name: str, table: object, base_dir: Path | None) -> CamSpec:
     where = f"cams.{name}"
     _check_name(where, name)
@@ -147,13 +222,7 @@ def _parse_cam(name: str, table: object, base_dir: Path | None) -> CamSpec:
     kind = table.get("kind")
     if kind not in CAM_KINDS:
         raise ParameterError(f"{where}.kind", kind, f"one of {sorted(CAM_KINDS)}")
-    schema = CAM_KINDS[kind]
-    _check_keys(f"[{where}]", table, {"kind", *schema}, {k for k, (_, req) in schema.items() if req})
-    params: dict[str, Any] = {}
-    for key, (typ, _) in schema.items():
-        if key in table:
-            value = _parse_value(f"{where}.{key}", typ, table[key])
-            params[key[:-3] if typ == "mm" else key] = value
+    params = _parse_table(where, {k: v for k, v in table.items() if k != "kind"}, {**CAM_KINDS[kind], **BODY_KEYS})
     if kind == "trajectory":
         if ("expression" in params) == ("trajectory_csv" in params):
             raise SceneError(f"[{where}]: give exactly one of 'expression' (with 'period_mm') or 'trajectory_csv'")
@@ -167,12 +236,19 @@ def _parse_cam(name: str, table: object, base_dir: Path | None) -> CamSpec:
 
 def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", base_dir: Path | None = None) -> Scene:
     """Validate a decoded TOML table and return a :class:`Scene` (``base_dir``: where relative file names point)."""
-    _check_keys("scene", data, {"name", "output", "cams"}, {"cams"})
+    _check_keys("scene", data, {"name", "output", "cams", "machining"}, {"cams"})
     scene_name = _check_name("name", data.get("name", name))
     cams = data["cams"]
     if not isinstance(cams, dict) or not cams:
         raise SceneError("scene: [cams] must hold at least one [cams.<name>] table")
-    return Scene(scene_name, source, _parse_output(data.get("output")), tuple(_parse_cam(k, v, base_dir) for k, v in cams.items()))
+    machining = _parse_table("machining", data.get("machining", {}), MACHINING_KEYS)
+    return Scene(
+        scene_name,
+        source,
+        _parse_output(data.get("output")),
+        tuple(_parse_cam(k, v, base_dir) for k, v in cams.items()),
+        machining,
+    )
 
 
 def load_scene(path: str | Path, display: str | None = None) -> Scene:

@@ -74,3 +74,42 @@ def table1_paper(a: float, b: float, c: float, phi: np.ndarray) -> tuple[np.ndar
     radius[r3] = a * np.sin(ap[r3] - beta[r3] + tx / 2) / np.sin(beta[r3])
     radius[r4] = 2 * a + c - b
     return beta, radius
+
+
+def rs274_toolpath(program: str, workdir) -> tuple[int, str, list[tuple[float, np.ndarray]]]:
+    """Run LinuxCNC's ``rs274 -g`` on ``program``; return (exit status, stderr, feed moves).
+
+    Feed moves are rebuilt from the canonical calls: ``STRAIGHT_FEED`` as its end point and
+    ``ARC_FEED`` sampled every 0.2 deg, as (z, points (n, 2)) per move.
+    """
+    import re
+    import subprocess
+    from pathlib import Path
+
+    path = Path(workdir) / "program.ngc"
+    path.write_text(program)
+    proc = subprocess.run(["rs274", "-g", str(path)], stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120)
+    number = r"(-?\d+(?:\.\d+)?)"
+    moves = []
+    current = np.zeros(3)
+    for line in proc.stdout.splitlines():
+        m = re.search(rf"STRAIGHT_(FEED|TRAVERSE)\({number}, {number}, {number}", line)
+        if m:
+            end = np.array([float(m.group(i)) for i in (2, 3, 4)])
+            if m.group(1) == "FEED":
+                moves.append((end[2], np.vstack([current[:2], end[:2]])))
+            current = end
+            continue
+        m = re.search(rf"ARC_FEED\({number}, {number}, {number}, {number}, (-?\d+), {number}", line)
+        if m:
+            x1, y1, cx, cy = (float(m.group(i)) for i in (1, 2, 3, 4))
+            rot, z1 = int(m.group(5)), float(m.group(6))
+            a0 = math.atan2(current[1] - cy, current[0] - cx)
+            a1 = math.atan2(y1 - cy, x1 - cx)
+            sweep = (a1 - a0) % (2 * math.pi) if rot > 0 else -((a0 - a1) % (2 * math.pi))
+            radius = math.hypot(current[0] - cx, current[1] - cy)
+            n = max(2, int(abs(math.degrees(sweep)) / 0.2) + 2)
+            ang = a0 + sweep * np.linspace(0, 1, n)
+            moves.append((z1, np.stack([cx + radius * np.cos(ang), cy + radius * np.sin(ang)], axis=1)))
+            current = np.array([x1, y1, z1])
+    return proc.returncode, proc.stderr + proc.stdout[-2000:] if proc.returncode else proc.stderr, moves

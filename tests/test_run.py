@@ -27,10 +27,9 @@ def default_run(tmp_path_factory):
 
 def test_default_scene_writes_dxf_csv_and_report(default_run):
     names = sorted(p.name for p in default_run.iterdir())
-    assert names == sorted(
-        ["report.json", "stride_length.dxf", "stride_length_points.csv", "stride_height.dxf", "stride_height_points.csv",
-         "steering.dxf", "steering_points.csv", "steering_ride.csv"]
-    )
+    per_cam = [".dxf", "_points.csv", "_lift.csv", ".stl", ".3mf", ".ngc"]
+    expected = [f"{cam}{suffix}" for cam in ("stride_length", "stride_height", "steering") for suffix in per_cam]
+    assert names == sorted(expected + ["steering_ride.csv", "report.json"])
     assert not [p for p in default_run.iterdir() if p.name.startswith(".")]  # no temp files left
 
 
@@ -60,7 +59,7 @@ def test_dxf_read_back_by_ezdxf(default_run):
         assert doc.dxfversion == "AC1024" and doc.header["$INSUNITS"] == 4
         auditor = doc.audit()
         assert not auditor.has_errors
-        arcs = [e for e in doc.modelspace() if e.dxftype() == "ARC"]
+        arcs = [e for e in doc.modelspace() if e.dxftype() == "ARC" and e.dxf.layer == "PROFILE"]
         assert len(arcs) == 6 and all(e.dxf.layer == "PROFILE" for e in arcs)
         cam = camgen.three_arc_cam(a, b, c)
         for entity, seg in zip(arcs, cam.segments):
@@ -80,7 +79,8 @@ def test_dxf_read_back_by_gdal(default_run):
     shapely = pytest.importorskip("shapely")
     for name, (a, b, c, _) in PAPER.items():
         meta, _, wkb, fields = pyogrio.raw.read(default_run / f"{name}.dxf")
-        geoms = shapely.from_wkb(wkb)
+        layer = fields[list(meta["fields"]).index("Layer")]
+        geoms = shapely.from_wkb(wkb)[layer == "PROFILE"]
         assert len(geoms) == 6
         pts = np.concatenate([shapely.get_coordinates(g) for g in geoms])
         cam = camgen.three_arc_cam(a, b, c)
@@ -120,8 +120,10 @@ HEAVY_PROBE = (
 
 
 def test_dxf_only_job_does_not_import_heavy_libraries(tmp_path):
-    # the default scene (DXF + CSV, with a spline cam): scipy only, for the spline
-    out = subprocess.run([sys.executable, "-c", HEAVY_PROBE, str(tmp_path)], check=True, capture_output=True, text=True)
+    # a DXF + CSV job with a spline cam: scipy only, for the spline
+    scene = tmp_path / "spline.toml"
+    scene.write_text('[output]\nformats = ["dxf", "points"]\n[cams.s]\nkind = "trajectory"\nexpression = "202.4396*sin(pi*x/1000)"\nperiod_mm = 2000\n')
+    out = subprocess.run([sys.executable, "-c", HEAVY_PROBE, str(tmp_path), str(scene)], check=True, capture_output=True, text=True)
     assert out.stdout.strip().splitlines()[-1] == "HEAVY=scipy"
     # a three-arc DXF job needs none of them
     scene = tmp_path / "arcs.toml"

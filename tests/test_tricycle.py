@@ -126,14 +126,14 @@ def test_true_contact_contour_versus_rho(cam):
     order = np.argsort(ang)
     theta = cam.synthesis.theta
     brute = np.interp(np.mod(-theta, 2 * math.pi), ang[order], np.hypot(*poly[order].T), period=2 * math.pi)
-    exact = tc.polar_radius(cam.profile, -theta)
+    exact = cam.profile.polar_radius(-theta)
     assert np.max(np.abs(exact - brute)) <= 1e-6
     gap = tc.contact_vs_rho(cam)
     assert gap == pytest.approx(np.max(np.abs(brute - cam.synthesis.rho)), abs=1e-6)
     assert 1e-4 < gap < 0.05  # the paper's polar-radius shortcut is off by microns here, not zero
     # the profile is the rod-centre path moved in by r_d: offsetting it back gives rho + r_d
     back = cam.profile.offset(cam.device.rod_radius)
-    assert np.max(np.abs(tc.polar_radius(back, -theta) - cam.synthesis.rho - 1.5)) <= 1e-8
+    assert np.max(np.abs(back.polar_radius(-theta) - cam.synthesis.rho - 1.5)) <= 1e-8
 
 
 # --- ride simulation -------------------------------------------------------------------------------

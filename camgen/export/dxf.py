@@ -13,7 +13,9 @@ from __future__ import annotations
 import io
 import math
 from collections import OrderedDict
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -46,28 +48,25 @@ def spline_bezier_controls(spline: Spline) -> tuple[np.ndarray, np.ndarray]:
     return knots, controls
 
 
-def contour_to_dxf(contour: Contour, layer: str = PROFILE_LAYER) -> str:
-    """DXF text (R2010, $INSUNITS = 4 mm) of ``contour``: one ARC or SPLINE entity per segment."""
-    import ezdxf
+@dataclass(frozen=True)
+class DxfOptions:
+    """DXF drawing options.
 
-    previous = ezdxf.options.write_fixed_meta_data_for_testing
-    ezdxf.options.write_fixed_meta_data_for_testing = True  # fixed dates, GUIDs and marker string
-    try:
-        return _contour_to_dxf(contour, layer)
-    finally:
-        ezdxf.options.write_fixed_meta_data_for_testing = previous
+    ``splines``: ``"bspline"`` (exact clamped cubic B-splines) or ``"biarc"`` (arcs within
+    ``biarc_tol`` mm, readable by every CAM program); ``center_mark``: half-length of the
+    centre cross, mm.
+    """
+
+    splines: str = "bspline"
+    biarc_tol: float = 1e-3
+    center_mark: float = 5.0
 
 
-def _contour_to_dxf(contour: Contour, layer: str) -> str:
-    import ezdxf
-    from ezdxf import units
+def _is_line(seg: Spline) -> bool:
+    return seg.n_pieces == 1 and not np.any(seg.coeffs[:2])
 
-    doc = ezdxf.new("R2010", units=units.MM)
-    doc.header["$MEASUREMENT"] = 1
-    doc.header["$LUNITS"] = 2
-    doc.header["$LUPREC"] = 6
-    doc.layers.add(layer, color=7)
-    msp = doc.modelspace()
+
+def _add_contour(msp, contour: Contour, layer: str) -> None:
     for seg in contour.segments:
         if isinstance(seg, Arc):
             start = math.degrees(seg.start_angle)
@@ -75,9 +74,67 @@ def _contour_to_dxf(contour: Contour, layer: str) -> str:
             if seg.sweep < 0:  # DXF arcs always run counter-clockwise from start to end
                 start, end = end, start
             msp.add_arc(seg.center, seg.radius, start, end, dxfattribs={"layer": layer})
+        elif _is_line(seg):
+            msp.add_line(tuple(seg.start_point), tuple(seg.end_point), dxfattribs={"layer": layer})
         else:
             knots, controls = spline_bezier_controls(seg)
             msp.add_open_spline(controls, degree=3, knots=knots, dxfattribs={"layer": layer})
+
+
+def contour_to_dxf(contour: Contour, body: Any = None, pitch: Contour | None = None, options: DxfOptions = DxfOptions()) -> str:
+    """DXF text (R2010, $INSUNITS = 4 mm) of a cam drawing.
+
+    Layers: ``PROFILE`` (the contour), ``BORE`` (circle) and ``KEYWAY`` (its three sides
+    outside the bore) from ``body`` (a :class:`camgen.export.solid.SolidSpec`), ``PITCH`` (the
+    follower-centre path, when given) and ``CENTER`` (a centre mark on the rotation axis).
+    """
+    import ezdxf
+
+    previous = ezdxf.options.write_fixed_meta_data_for_testing
+    ezdxf.options.write_fixed_meta_data_for_testing = True  # fixed dates, GUIDs and marker string
+    try:
+        return _contour_to_dxf(contour, body, pitch, options)
+    finally:
+        ezdxf.options.write_fixed_meta_data_for_testing = previous
+
+
+def _contour_to_dxf(contour: Contour, body: Any, pitch: Contour | None, options: DxfOptions) -> str:
+    import ezdxf
+    from ezdxf import units
+
+    if options.splines == "biarc":
+        from camgen.biarc import to_arc_spline
+
+        contour = to_arc_spline(contour, options.biarc_tol)
+        pitch = to_arc_spline(pitch, options.biarc_tol) if pitch is not None else None
+    doc = ezdxf.new("R2010", units=units.MM)
+    doc.header["$MEASUREMENT"] = 1
+    doc.header["$LUNITS"] = 2
+    doc.header["$LUPREC"] = 6
+    for name, color in ((PROFILE_LAYER, 7), ("BORE", 2), ("KEYWAY", 3), ("PITCH", 4), ("CENTER", 1)):
+        doc.layers.add(name, color=color)
+    msp = doc.modelspace()
+    _add_contour(msp, contour, PROFILE_LAYER)
+    if pitch is not None:
+        _add_contour(msp, pitch, "PITCH")
+    if body is not None and body.bore_diameter > 0:
+        r = body.bore_diameter / 2
+        if body.keyway_width > 0:
+            # keyway: two sides from the bore circle out to the keyway bottom, and the bottom
+            half = body.keyway_width / 2
+            inner = math.sqrt(r * r - half * half)
+            out = r + body.keyway_depth
+            c, s = math.cos(body.keyway_angle), math.sin(body.keyway_angle)
+            rot = lambda a, b: (a * c - b * s, a * s + b * c)  # noqa: E731
+            msp.add_lwpolyline([rot(inner, -half), rot(out, -half), rot(out, half), rot(inner, half)], dxfattribs={"layer": "KEYWAY"})
+            gap = math.degrees(math.asin(half / r))
+            key = math.degrees(body.keyway_angle)
+            msp.add_arc((0.0, 0.0), r, key + gap, key + 360.0 - gap, dxfattribs={"layer": "BORE"})
+        else:
+            msp.add_circle((0.0, 0.0), r, dxfattribs={"layer": "BORE"})
+    m = options.center_mark
+    msp.add_line((-m, 0.0), (m, 0.0), dxfattribs={"layer": "CENTER"})
+    msp.add_line((0.0, -m), (0.0, m), dxfattribs={"layer": "CENTER"})
     # ezdxf adds CLASS entries from a set of the entity types in use, so their order follows
     # Python's hash seed; add them now and sort them so every process writes the same bytes
     doc.classes.add_required_classes(doc.dxfversion)
@@ -87,6 +144,6 @@ def _contour_to_dxf(contour: Contour, layer: str) -> str:
     return stream.getvalue()
 
 
-def write_dxf(contour: Contour, path: str | Path) -> Path:
-    """Write ``contour`` to ``path`` as DXF, atomically."""
-    return write_atomic(path, contour_to_dxf(contour))
+def write_dxf(contour: Contour, path: str | Path, **kwargs: Any) -> Path:
+    """Write :func:`contour_to_dxf` to ``path`` atomically."""
+    return write_atomic(path, contour_to_dxf(contour, **kwargs))

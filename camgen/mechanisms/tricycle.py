@@ -147,45 +147,8 @@ def contact_vs_rho(cam: TricycleCam) -> float:
     profile slopes.
     """
     theta = cam.synthesis.theta
-    radius = polar_radius(cam.profile, -theta)
+    radius = cam.profile.polar_radius(-theta)
     return float(np.max(np.abs(radius - cam.synthesis.rho)))
-
-
-def polar_radius(contour: Contour, phi: np.ndarray, iterations: int = 60) -> np.ndarray:
-    """Distance from the origin to a star-shaped single-segment contour along polar angles ``phi`` (mm).
-
-    Brackets each ray between two break points by their unwrapped polar angles, then
-    refines with safeguarded Newton steps on ``u(phi) x P(t) = 0`` to 1e-13 in ``t``.
-    """
-    (seg,) = contour.segments
-    phi = np.mod(np.asarray(phi, dtype=float), 2.0 * math.pi)
-    breaks = seg.breaks
-    pts = seg.eval_t(breaks)
-    ang = np.unwrap(np.arctan2(pts[:, 1], pts[:, 0]))
-    ang = ang - 2.0 * math.pi * math.floor(ang[0] / (2.0 * math.pi))
-    if not np.all(np.diff(ang) > 0):
-        raise GeometryError("contour is not star-shaped about the cam axis")
-    target = np.where(phi < ang[0], phi + 2.0 * math.pi, phi)
-    k = np.clip(np.searchsorted(ang, target, side="right") - 1, 0, breaks.size - 2)
-    lo, hi = breaks[k].copy(), breaks[k + 1].copy()
-    u = np.stack([np.cos(phi), np.sin(phi)], axis=1)
-    t = lo + (hi - lo) * (target - ang[k]) / (ang[k + 1] - ang[k])
-    for _ in range(iterations):
-        p = seg.eval_t(t)
-        dp = seg.eval_t(t, 1)
-        g = u[:, 0] * p[:, 1] - u[:, 1] * p[:, 0]  # |p| sin(polar angle - phi): < 0 before the ray
-        dg = u[:, 0] * dp[:, 1] - u[:, 1] * dp[:, 0]
-        lo = np.where(g < 0, t, lo)
-        hi = np.where(g > 0, t, hi)
-        step = np.where(dg != 0, g / dg, 0.0)
-        new = t - step
-        new = np.where((new <= lo) | (new >= hi), 0.5 * (lo + hi), new)
-        if np.max(np.abs(new - t)) <= 1e-13:
-            t = new
-            break
-        t = new
-    p = seg.eval_t(t)
-    return np.einsum("ij,ij->i", p, u)
 
 
 # --------------------------------------------------------------------------------------------

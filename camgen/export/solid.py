@@ -1,0 +1,247 @@
+"""Extruded cam solids: profile minus shaft bore and keyway, with manifold3d; mesh files.
+
+The profile is flattened at the chord tolerance, turned into a manifold3d ``CrossSection``
+(counter-clockwise outer contour), the bore (a polygon inscribed in the bore circle at the same
+chord tolerance) and the keyway (a rectangle from the axis out to ``bore radius + depth``) are
+subtracted, and the result is extruded to the cam thickness.  Before any of that the wall left
+between bore/keyway and profile is measured; less than ``min_wall`` is a :class:`GeometryError`.
+
+Writers: binary and ASCII STL with numpy (no trimesh import), 3MF, OBJ and PLY through trimesh,
+VTU (and other FEA formats) through meshio.  Mind: STL stores float32 (~1e-5 mm at 300 mm).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from camgen.contour import Contour
+from camgen.errors import GeometryError, ParameterError, require_finite, require_positive
+
+#: Mesh formats and how they are written.
+MESH_FORMATS = {
+    "stl": "binary STL (numpy writer)",
+    "stl_ascii": "ASCII STL (numpy writer)",
+    "3mf": "3MF (trimesh; units mm)",
+    "obj": "Wavefront OBJ (trimesh)",
+    "ply": "binary PLY (trimesh)",
+    "vtu": "VTK unstructured grid (meshio)",
+}
+SUFFIX = {"stl": ".stl", "stl_ascii": "_ascii.stl", "3mf": ".3mf", "obj": ".obj", "ply": ".ply", "vtu": ".vtu"}
+
+
+@dataclass(frozen=True)
+class SolidSpec:
+    """Cam body: thickness, shaft bore and keyway (mm, rad).
+
+    ``bore_diameter = 0`` means no bore; ``keyway_width = 0`` no keyway.  The keyway is a
+    rectangle of ``keyway_width`` centred on the direction ``keyway_angle`` (cam frame), from
+    the axis out to ``bore_diameter / 2 + keyway_depth``.
+    """
+
+    thickness: float = 10.0
+    bore_diameter: float = 0.0
+    keyway_width: float = 0.0
+    keyway_depth: float = 0.0
+    keyway_angle: float = math.pi / 2
+    min_wall: float = 2.0
+
+    def __post_init__(self) -> None:
+        require_positive("thickness", self.thickness)
+        for name in ("bore_diameter", "keyway_width", "keyway_depth", "min_wall"):
+            if require_finite(name, getattr(self, name)) < 0:
+                raise ParameterError(name, getattr(self, name), f"{name} >= 0 mm")
+        require_finite("keyway_angle", self.keyway_angle)
+        if self.keyway_width > 0 and (self.bore_diameter <= 0 or self.keyway_depth <= 0):
+            raise ParameterError("keyway_width", self.keyway_width, "0 unless bore_diameter > 0 and keyway_depth > 0")
+        if self.keyway_width >= self.bore_diameter > 0:
+            raise ParameterError("keyway_width", self.keyway_width, f"0 <= keyway_width < bore_diameter = {self.bore_diameter:g} mm")
+
+
+def _keyway_rectangle(spec: SolidSpec) -> np.ndarray:
+    """Corners (4, 2) of the keyway, counter-clockwise."""
+    out = spec.bore_diameter / 2 + spec.keyway_depth
+    half = spec.keyway_width / 2
+    local = np.array([[0.0, -half], [out, -half], [out, half], [0.0, half]])
+    c, s = math.cos(spec.keyway_angle), math.sin(spec.keyway_angle)
+    return local @ np.array([[c, s], [-s, c]])
+
+
+def wall_left(contour: Contour, spec: SolidSpec, chord_tol: float = 1e-4) -> tuple[float, float]:
+    """Thinnest wall (mm) between bore/keyway and the profile, and the cam angle (deg) where it is.
+
+    Measured on the profile flattened at ``chord_tol`` (every chord within ``chord_tol`` of the
+    curve, so the true wall is within ``chord_tol`` of the value; ``chord_tol`` is subtracted
+    to stay on the safe side).  Negative: the bore or keyway breaks through.
+    """
+    if spec.bore_diameter <= 0:
+        return math.inf, 0.0
+    poly = contour.flatten(chord_tol)
+    radius = np.hypot(poly[:, 0], poly[:, 1])
+    i = int(np.argmin(radius))
+    wall, where = float(radius[i]) - spec.bore_diameter / 2, poly[i]
+    if spec.keyway_width > 0:
+        # distance of the profile vertices to the keyway rectangle, in the keyway's frame
+        c, s = math.cos(spec.keyway_angle), math.sin(spec.keyway_angle)
+        along = poly @ np.array([c, s])
+        across = poly @ np.array([-s, c])
+        out = spec.bore_diameter / 2 + spec.keyway_depth
+        dx = np.maximum(np.maximum(-along, along - out), 0.0)
+        dy = np.maximum(np.abs(across) - spec.keyway_width / 2, 0.0)
+        dist = np.hypot(dx, dy)
+        inside = (along >= 0) & (along <= out) & (np.abs(across) <= spec.keyway_width / 2)
+        dist = np.where(inside, -1.0, dist)
+        # the rectangle's outer corners must lie inside the profile (star-shaped cams)
+        corners = _keyway_rectangle(spec)[1:3]
+        reach = contour.polar_radius(np.arctan2(corners[:, 1], corners[:, 0]))
+        j = int(np.argmin(dist))
+        k_wall = float(dist[j])
+        if np.any(np.hypot(corners[:, 0], corners[:, 1]) >= reach):
+            k_wall = min(k_wall, -1.0)
+        if k_wall < wall:
+            wall, where = k_wall, poly[j]
+    return wall - chord_tol, math.degrees(math.atan2(where[1], where[0])) % 360.0
+
+
+def check_wall(contour: Contour, spec: SolidSpec, cam: str = "cam") -> float:
+    """Raise :class:`GeometryError` if the wall left is below ``spec.min_wall``; return the wall (mm)."""
+    wall, where = wall_left(contour, spec)
+    if wall < spec.min_wall:
+        what = "breaks through the profile" if wall <= 0 else f"leaves a wall of only {wall:.3f} mm"
+        raise GeometryError(
+            f"cam '{cam}': the bore ({spec.bore_diameter:g} mm) / keyway ({spec.keyway_width:g} x {spec.keyway_depth:g} mm) "
+            f"{what} at cam angle {where:.2f} deg; min_wall_mm = {spec.min_wall:g}: use a smaller bore or keyway"
+        )
+    return wall
+
+
+def cross_section(contour: Contour, spec: SolidSpec, chord_tol: float):
+    """manifold3d ``CrossSection`` of the profile minus bore and keyway."""
+    from manifold3d import CrossSection
+
+    outer = CrossSection([contour.flatten(chord_tol)])
+    if spec.bore_diameter > 0:
+        r = spec.bore_diameter / 2
+        step = 2.0 * math.acos(max(-1.0, 1.0 - chord_tol / r))
+        n = max(8, math.ceil(2.0 * math.pi / step))
+        a = 2.0 * math.pi * np.arange(n) / n
+        cut = CrossSection([np.stack([r * np.cos(a), r * np.sin(a)], axis=1)])
+        if spec.keyway_width > 0:
+            cut = cut + CrossSection([_keyway_rectangle(spec)])
+        outer = outer - cut
+    return outer
+
+
+@dataclass(frozen=True)
+class CamSolid:
+    """A cam body: mesh vertices (n, 3, float64, mm), triangles (m, 3) and the manifold figures."""
+
+    vertices: np.ndarray
+    triangles: np.ndarray
+    volume: float
+    section_area: float
+    genus: int
+
+
+def cam_solid(contour: Contour, spec: SolidSpec, chord_tol: float = 1e-3, cam: str = "cam") -> CamSolid:
+    """Extrude the cam profile (minus bore and keyway) to ``spec.thickness``; checks the wall first."""
+    import manifold3d
+
+    check_wall(contour, spec, cam)
+    section = cross_section(contour, spec, chord_tol)
+    solid = section.extrude(spec.thickness)
+    if solid.status() != manifold3d.Error.NoError:
+        raise GeometryError(f"cam '{cam}': the solid could not be built ({solid.status()})")
+    mesh = solid.to_mesh64()
+    return CamSolid(
+        np.asarray(mesh.vert_properties[:, :3], dtype=np.float64),
+        np.asarray(mesh.tri_verts, dtype=np.int64),
+        float(solid.volume()),
+        float(section.area()),
+        int(solid.genus()),
+    )
+
+
+# --------------------------------------------------------------------------------------------
+# Writers
+# --------------------------------------------------------------------------------------------
+def _facets(vertices: np.ndarray, triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    tri = vertices[triangles]
+    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
+    return tri, normal
+
+
+def stl_binary(solid: CamSolid, name: str = "camgen") -> bytes:
+    """Binary STL bytes (float32 coordinates, mm)."""
+    tri, normal = _facets(solid.vertices, solid.triangles)
+    records = np.zeros(len(tri), dtype=[("normal", "<f4", 3), ("vertices", "<f4", (3, 3)), ("attribute", "<u2")])
+    records["normal"] = normal
+    records["vertices"] = tri
+    header = f"camgen binary STL '{name}', units mm".encode("ascii", "replace")[:80].ljust(80, b" ")
+    return header + np.uint32(len(tri)).tobytes() + records.tobytes()
+
+
+def stl_ascii(solid: CamSolid, name: str = "camgen") -> str:
+    """ASCII STL text (coordinates printed with 9 significant digits, mm)."""
+    import io
+
+    tri, normal = _facets(solid.vertices, solid.triangles)
+    rows = np.concatenate([normal, tri.reshape(-1, 9)], axis=1)
+    fmt = (
+        "  facet normal %.9e %.9e %.9e\n    outer loop\n      vertex %.9e %.9e %.9e\n"
+        "      vertex %.9e %.9e %.9e\n      vertex %.9e %.9e %.9e\n    endloop\n  endfacet"
+    )
+    body = io.StringIO()
+    np.savetxt(body, rows + 0.0, fmt=fmt)
+    return f"solid {name}\n{body.getvalue()}endsolid {name}\n"
+
+
+def mesh_bytes(solid: CamSolid, fmt: str, name: str = "camgen") -> bytes:
+    """File content of ``solid`` in mesh format ``fmt`` (see :data:`MESH_FORMATS`)."""
+    if fmt == "stl":
+        return stl_binary(solid, name)
+    if fmt == "stl_ascii":
+        return stl_ascii(solid, name).encode("ascii")
+    if fmt in ("3mf", "obj", "ply"):
+        import trimesh
+
+        mesh = trimesh.Trimesh(solid.vertices, solid.triangles, process=False)
+        mesh.units = "mm"
+        data = mesh.export(file_type=fmt)
+        data = data.encode("utf-8") if isinstance(data, str) else bytes(data)
+        return _deterministic_zip(data) if fmt == "3mf" else data
+    if fmt == "vtu":
+        import tempfile
+
+        import meshio
+
+        with tempfile.TemporaryDirectory() as tmp:
+            path = Path(tmp) / f"{name}.vtu"
+            meshio.write(path, meshio.Mesh(solid.vertices, [("triangle", solid.triangles.astype(np.int32))]), binary=True)
+            return path.read_bytes()
+    raise ParameterError("format", fmt, f"one of {sorted(MESH_FORMATS)}")
+
+
+def _deterministic_zip(data: bytes) -> bytes:
+    """Rewrite a 3MF (zip) so the same mesh gives the same bytes: fixed entry dates and the
+    random UUIDs trimesh writes replaced by name-based ones (uuid5, in order of appearance)."""
+    import io
+    import re
+    import uuid
+    import zipfile
+
+    pattern = re.compile(rb"[0-9a-f]{8}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{12}")
+    counter = iter(range(1 << 30))
+    out = io.BytesIO()
+    with zipfile.ZipFile(io.BytesIO(data)) as src, zipfile.ZipFile(out, "w") as dst:
+        for info in src.infolist():
+            content = src.read(info.filename)
+            content = pattern.sub(lambda _: str(uuid.uuid5(uuid.NAMESPACE_URL, f"camgen/{next(counter)}")).encode(), content)
+            entry = zipfile.ZipInfo(info.filename, date_time=(1980, 1, 1, 0, 0, 0))
+            entry.compress_type = zipfile.ZIP_DEFLATED
+            entry.external_attr = 0o644 << 16
+            dst.writestr(entry, content)
+    return out.getvalue()
