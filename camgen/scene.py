@@ -44,7 +44,8 @@ FORMATS: dict[str, str] = {
     "lift": "<cam>_lift.csv: polar lift table (cam angle -> radius, lift above the base radius)",
     "stl": "<cam>.stl: binary STL of the extruded body",
     "stl_ascii": "<cam>_ascii.stl: ASCII STL of the extruded body",
-    "3mf": "<cam>.3mf", "obj": "<cam>.obj", "ply": "<cam>.ply", "vtu": "<cam>.vtu",
+    "3mf": "<cam>.3mf", "obj": "<cam>.obj", "ply": "<cam>.ply", "vtu": "<cam>.vtu (VTK, FEA)",
+    "msh": "<cam>.msh (Gmsh 2.2, FEA)", "inp": "<cam>.inp (Abaqus, FEA)",
     "ngc": "<cam>.ngc: RS274/NGC G-code milling the profile",
 }
 DEFAULT_FORMATS = ("dxf", "points")

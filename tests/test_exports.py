@@ -157,7 +157,7 @@ def test_solid_is_watertight_genus_one_with_the_right_volume(name, contours):
     assert abs(solid.volume - exact) <= (contour.length + math.pi * body.bore_diameter + 4 * body.keyway_depth) * tol * body.thickness
 
 
-@pytest.mark.parametrize("fmt", ["stl", "stl_ascii", "3mf", "obj", "ply", "vtu"])
+@pytest.mark.parametrize("fmt", ["stl", "stl_ascii", "3mf", "obj", "ply", "vtu", "msh", "inp"])
 def test_mesh_formats_read_back(fmt, contours, tmp_path):
     contour, body = contours["stride"], BODIES["stride"]
     solid = cam_solid(contour, body, 1e-3)
@@ -166,7 +166,7 @@ def test_mesh_formats_read_back(fmt, contours, tmp_path):
     suffix = {"stl_ascii": "stl"}.get(fmt, fmt)
     path = tmp_path / f"cam.{suffix}"
     path.write_bytes(data)
-    if fmt == "vtu":
+    if fmt in ("vtu", "msh", "inp"):
         import meshio
 
         mesh = meshio.read(path)

@@ -28,8 +28,11 @@ MESH_FORMATS = {
     "obj": "Wavefront OBJ (trimesh)",
     "ply": "binary PLY (trimesh)",
     "vtu": "VTK unstructured grid (meshio)",
+    "msh": "Gmsh 2.2 mesh (meshio)",
+    "inp": "Abaqus input surface mesh (meshio)",
 }
-SUFFIX = {"stl": ".stl", "stl_ascii": "_ascii.stl", "3mf": ".3mf", "obj": ".obj", "ply": ".ply", "vtu": ".vtu"}
+SUFFIX = {"stl": ".stl", "stl_ascii": "_ascii.stl", "3mf": ".3mf", "obj": ".obj", "ply": ".ply", "vtu": ".vtu", "msh": ".msh", "inp": ".inp"}
+_MESHIO = {"vtu": ("vtu", {"binary": True}), "msh": ("gmsh22", {"binary": False}), "inp": ("abaqus", {})}
 
 
 @dataclass(frozen=True)
@@ -213,14 +216,16 @@ def mesh_bytes(solid: CamSolid, fmt: str, name: str = "camgen") -> bytes:
         data = mesh.export(file_type=fmt)
         data = data.encode("utf-8") if isinstance(data, str) else bytes(data)
         return _deterministic_zip(data) if fmt == "3mf" else data
-    if fmt == "vtu":
+    if fmt in _MESHIO:
         import tempfile
 
         import meshio
 
+        file_format, options = _MESHIO[fmt]
         with tempfile.TemporaryDirectory() as tmp:
-            path = Path(tmp) / f"{name}.vtu"
-            meshio.write(path, meshio.Mesh(solid.vertices, [("triangle", solid.triangles.astype(np.int32))]), binary=True)
+            path = Path(tmp) / f"{name}{SUFFIX[fmt]}"
+            mesh = meshio.Mesh(solid.vertices, [("triangle", solid.triangles.astype(np.int32))])
+            meshio.write(path, mesh, file_format=file_format, **options)
             return path.read_bytes()
     raise ParameterError("format", fmt, f"one of {sorted(MESH_FORMATS)}")
 

@@ -1,0 +1,53 @@
+"""Exports: per format, time (median) and file size against chord tolerance.
+
+Run from the repository root: ``python benchmarks/bench_exports.py``.
+Cams: the stride-length three-arc cam (exact arcs) and the tricycle steering cam (spline).
+"""
+from __future__ import annotations
+
+import _common  # noqa: F401  (puts the repository root on sys.path)
+from _common import median_time, print_table
+
+import camgen
+from camgen.export.dxf import DxfOptions, contour_to_dxf
+from camgen.export.gcode import MachiningSpec, gcode_program
+from camgen.export.points import lift_csv, points_csv
+from camgen.export.solid import SolidSpec, cam_solid, mesh_bytes
+from camgen.mechanisms import tricycle as tc
+from camgen.synthesis.trajectory import trajectory_from_expression
+
+
+def main() -> None:
+    steering = tc.tricycle_cam(trajectory_from_expression("202.4396*sin(pi*x/1000)", 2000.0))
+    cams = {
+        "stride_length": (camgen.three_arc_cam(220.0, 160.0, 25.0), SolidSpec(20.0, 20.0, 6.0, 2.8, min_wall=3.0)),
+        "steering": (steering.profile, SolidSpec(8.0, 8.0, 2.0, 1.0, min_wall=3.0)),
+    }
+    rows = []
+    for name, (contour, body) in cams.items():
+        for tol in (1e-2, 1e-3, 1e-4):
+            jobs = {
+                "dxf (bspline)": lambda: contour_to_dxf(contour, body),
+                "dxf (biarc)": lambda: contour_to_dxf(contour, body, options=DxfOptions("biarc", tol)),
+                "points csv": lambda: points_csv(contour, tol, name, "bench"),
+                "lift csv (1 deg)": lambda: lift_csv(contour, 0.017453292519943295, name, "bench"),
+                "solid (manifold)": lambda: cam_solid(contour, body, tol),
+                "ngc (biarcs)": lambda: gcode_program(contour, MachiningSpec(thickness=body.thickness, chord_tol=tol)),
+                "ngc (lines)": lambda: gcode_program(contour, MachiningSpec(thickness=body.thickness, chord_tol=tol, spline_mode="lines")),
+            }
+            solid = cam_solid(contour, body, tol)
+            for fmt in ("stl", "stl_ascii", "3mf", "obj", "ply", "vtu"):
+                jobs[fmt] = (lambda f: lambda: mesh_bytes(solid, f))(fmt)
+            for label, job in jobs.items():
+                if tol != 1e-3 and label in ("dxf (bspline)", "lift csv (1 deg)"):
+                    continue  # independent of the chord tolerance
+                out = job()
+                size = len(out) if isinstance(out, (str, bytes)) else len(out.triangles)
+                unit = "triangles" if label.startswith("solid") else "bytes"
+                seconds = median_time(job, repeats=5, min_total=0.02)
+                rows.append([name, f"{tol:g}", label, f"{seconds * 1e3:.2f}", f"{size} {unit}"])
+    print_table(["cam", "chord_tol_mm", "format", "time_ms", "size"], rows)
+
+
+if __name__ == "__main__":
+    main()
