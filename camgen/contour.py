@@ -41,7 +41,11 @@ def _as_array(values: object) -> np.ndarray:
 
 def _unit(angle: np.ndarray) -> np.ndarray:
     """Unit vectors (..., 2) at the given angles (rad)."""
-    return np.stack([np.cos(angle), np.sin(angle)], axis=-1)
+    angle = np.asarray(angle, dtype=float)
+    out = np.empty(angle.shape + (2,))
+    np.cos(angle, out=out[..., 0])
+    np.sin(angle, out=out[..., 1])
+    return out
 
 
 def _angle_in_sweep(angle: np.ndarray, start: float, sweep: float) -> np.ndarray:
@@ -579,6 +583,21 @@ class Contour:
                 )
         if self.area <= 0.0:
             raise GeometryError(f"contour must run counter-clockwise (signed area {self.area:.6g} mm^2 <= 0)")
+        self._corners = np.array([seg.start_point for seg in self.segments])  # segment start points (n, 2)
+        self._arc_table = self._convex_arc_table()
+
+    def _convex_arc_table(self) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        """For a G1 chain of convex arcs, the normal-angle ranges tile the circle: start angles
+        (sorted, mod 2 pi), centres and radii, for an O(log n) support function."""
+        if not all(isinstance(s, Arc) and s.sweep > 0 for s in self.segments):
+            return None
+        if any(j.tangent_jump_rad > 1e-9 for j in self.joints()):
+            return None
+        starts = np.array([s.start_angle for s in self.segments]) % TWO_PI
+        order = np.argsort(starts)
+        centres = np.array([s.center for s in self.segments])[order]
+        radii = np.array([s.radius for s in self.segments])[order]
+        return starts[order], centres, radii
 
     def __repr__(self) -> str:
         kinds = ", ".join(s.kind for s in self.segments)
@@ -695,11 +714,18 @@ class Contour:
         """Support value, contact point and radius of curvature at the contact (0 at a corner)."""
         psi = _as_array(psi)
         shape = psi.shape
+        if self._arc_table is not None:  # convex G1 arcs: the arc holding psi in its normal range
+            starts, centres, radii = self._arc_table
+            k = np.searchsorted(starts, np.mod(psi, TWO_PI), side="right") - 1  # -1 wraps to the last arc
+            u = _unit(psi)
+            c, r = centres[k], radii[k]
+            pts = c + r[..., None] * u
+            return c[..., 0] * u[..., 0] + c[..., 1] * u[..., 1] + r, pts, r
         flat = psi.ravel()
         h = np.empty(flat.size)
         pts = np.empty((flat.size, 2))
         rho = np.empty(flat.size)
-        corners = np.array([seg.start_point for seg in self.segments])  # (n, 2)
+        corners = self._corners
         for lo in range(0, flat.size, chunk):
             block = flat[lo : lo + chunk]
             best = np.full(block.size, -np.inf)

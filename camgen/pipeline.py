@@ -215,6 +215,18 @@ def _machining(scene: Scene, cam: BuiltCam) -> Any:
     )
 
 
+def analyse_mechanisms(scene: Scene, cams: list[BuiltCam]) -> tuple[dict[str, Any], dict[str, str]]:
+    """Mechanism analyses of the scene: report sections and their files."""
+    report: dict[str, Any] = {}
+    files: dict[str, str] = {}
+    if "horse_leg" in scene.mechanisms:
+        from camgen.mechanisms.horse_leg_job import horse_leg_job
+
+        report["horse_leg"], leg_files = horse_leg_job(scene, {c.name: c for c in cams})
+        files.update(leg_files)
+    return report, files
+
+
 def render_files(scene: Scene, cams: list[BuiltCam]) -> dict[str, str | bytes]:
     """Every output file of the run except report.json, in memory (name -> content)."""
     out = scene.output
@@ -257,9 +269,11 @@ def run_scene(scene: Scene, outdir: str | Path = "outputs") -> list[Path]:
 
     target = Path(outdir) / scene.name
     cams = build_cams(scene)
+    mechanisms, mechanism_files = analyse_mechanisms(scene, cams)
     # render everything in memory first: nothing is written unless all of it succeeded
     files = render_files(scene, cams)
-    files["report.json"] = report_json(report_dict(scene, cams, sorted(files) + ["report.json"]))
+    files.update(mechanism_files)
+    files["report.json"] = report_json(report_dict(scene, cams, sorted(files) + ["report.json"], mechanisms))
 
     from camgen.export.atomic import write_atomic
 

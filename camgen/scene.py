@@ -108,6 +108,19 @@ MACHINING_KEYS: Schema = {
     "decimals": ("int", False),
 }
 
+#: Mechanisms a scene may analyse, and their keys.
+MECHANISMS: dict[str, Schema] = {
+    "horse_leg": {
+        "stride_cam": ("str", True),
+        "height_cam": ("str", True),
+        "inclinations_deg": ("float_list", False),
+        "sweep_deg": ("float_list", False),
+        "pressure_angle_limit_deg": ("deg", False),
+        "ground_y_mm": ("mm", False),
+        "positions": ("int", False),
+    },
+}
+
 _NAME = re.compile(r"^[A-Za-z0-9_.-]{1,64}$")
 
 
@@ -140,6 +153,7 @@ class Scene:
     output: OutputSpec
     cams: tuple[CamSpec, ...] = field(default_factory=tuple)
     machining: Mapping[str, Any] = field(default_factory=dict)
+    mechanisms: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
 
 
 def _check_keys(where: str, table: Mapping[str, Any], allowed: set[str], required: set[str] = frozenset()) -> None:
@@ -178,6 +192,10 @@ def _parse_value(key: str, kind: Any, value: object) -> object:
         if not isinstance(value, str):
             raise ParameterError(key, value, "a string")
         return value
+    if kind == "float_list":
+        if not isinstance(value, list) or not value:
+            raise ParameterError(key, value, "a non-empty list of numbers")
+        return tuple(require_finite(key, v) for v in value)
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
         raise ParameterError(key, value, "a list of strings")
     return tuple(value)
@@ -237,19 +255,26 @@ def _parse_cam(name: str, table: object, base_dir: Path | None) -> CamSpec:
 
 def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", base_dir: Path | None = None) -> Scene:
     """Validate a decoded TOML table and return a :class:`Scene` (``base_dir``: where relative file names point)."""
-    _check_keys("scene", data, {"name", "output", "cams", "machining"}, {"cams"})
+    _check_keys("scene", data, {"name", "output", "cams", "machining", "mechanisms"}, {"cams"})
     scene_name = _check_name("name", data.get("name", name))
     cams = data["cams"]
     if not isinstance(cams, dict) or not cams:
         raise SceneError("scene: [cams] must hold at least one [cams.<name>] table")
     machining = _parse_table("machining", data.get("machining", {}), MACHINING_KEYS)
-    return Scene(
-        scene_name,
-        source,
-        _parse_output(data.get("output")),
-        tuple(_parse_cam(k, v, base_dir) for k, v in cams.items()),
-        machining,
-    )
+    cam_specs = tuple(_parse_cam(k, v, base_dir) for k, v in cams.items())
+    mechanisms_table = data.get("mechanisms", {})
+    if not isinstance(mechanisms_table, dict):
+        raise SceneError("[mechanisms] must be a table of [mechanisms.<kind>] tables")
+    unknown = sorted(set(mechanisms_table) - set(MECHANISMS))
+    if unknown:
+        raise SceneError(f"[mechanisms]: unknown mechanism(s) {', '.join(map(repr, unknown))}; known: {', '.join(sorted(MECHANISMS))}")
+    mechanisms = {k: _parse_table(f"mechanisms.{k}", v, MECHANISMS[k]) for k, v in mechanisms_table.items()}
+    names = {c.name: c for c in cam_specs}
+    for kind, params in mechanisms.items():
+        for key in ("stride_cam", "height_cam"):
+            if key in params and (params[key] not in names or names[params[key]].kind != "three_arc"):
+                raise ParameterError(f"mechanisms.{kind}.{key}", params[key], f"the name of a three_arc cam of this scene: {sorted(n for n, c in names.items() if c.kind == 'three_arc')}")
+    return Scene(scene_name, source, _parse_output(data.get("output")), cam_specs, machining, mechanisms)
 
 
 def load_scene(path: str | Path, display: str | None = None) -> Scene:

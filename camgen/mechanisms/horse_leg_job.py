@@ -1,0 +1,85 @@
+"""The horse-leg analysis of a scene: leg paths per inclination, Section 6.1 figures, sweep.
+
+Scene table ``[mechanisms.horse_leg]``: ``stride_cam`` and ``height_cam`` name three-arc cams
+of the scene; ``inclinations_deg`` (default 12.5, 14.5, 18.5) get a path file and report
+figures; ``sweep_deg = [from, to, step]`` (default 10, 19, 0.5) the trajectory cluster with
+the pressure-angle limit ``pressure_angle_limit_deg`` (default 45); ``ground_y_mm``;
+``positions`` per cam turn (default 3600).
+"""
+from __future__ import annotations
+
+import math
+from typing import Any, Mapping
+
+import numpy as np
+
+from camgen.errors import CamgenError, ParameterError
+from camgen.mechanisms import horse_leg as hl
+
+
+def _leg(params: Mapping[str, Any], cams: Mapping[str, Any]) -> hl.HorseLeg:
+    stride = cams[params["stride_cam"]].figures
+    height = cams[params["height_cam"]].figures
+    return hl.HorseLeg(
+        stride_cam=(stride["a_mm"], stride["b_mm"], stride["c_mm"]),
+        height_cam=(height["a_mm"], height["b_mm"], height["c_mm"]),
+        ground_y=params.get("ground_y", hl.HorseLeg.ground_y),
+    )
+
+
+def sweep_values(params: Mapping[str, Any]) -> np.ndarray:
+    """Inclinations (rad) of the sweep ``[from, to, step]`` (deg in the scene)."""
+    sweep = params.get("sweep", (10.0, 19.0, 0.5))
+    if len(sweep) != 3 or sweep[2] <= 0 or sweep[1] < sweep[0] or (sweep[1] - sweep[0]) / sweep[2] > 200:
+        raise ParameterError("mechanisms.horse_leg.sweep_deg", list(sweep), "[from, to, step] with to >= from, step > 0, at most 200 steps")
+    count = int(math.floor((sweep[1] - sweep[0]) / sweep[2] + 1e-9)) + 1
+    return np.radians(sweep[0] + sweep[2] * np.arange(count))
+
+
+def horse_leg_job(scene: Any, cams: Mapping[str, Any]) -> tuple[dict[str, Any], dict[str, str]]:
+    """Report section ``mechanisms.horse_leg`` and the files ``leg_path_alpha_<deg>.csv``."""
+    from camgen.export.tables import csv_table
+
+    params = scene.mechanisms["horse_leg"]
+    leg = _leg(params, cams)
+    positions = params.get("positions", 3600)
+    theta1 = hl.cycle(positions)
+    limit = params.get("pressure_angle_limit", math.radians(45.0))
+    cam_contours = hl._cams(leg)
+    report: dict[str, Any] = {
+        "grashof_margin_mm": hl.grashof_margin(leg),
+        "ground_y_mm": leg.ground_y,
+        "pressure_angle_limit_deg": math.degrees(limit),
+        "positions": positions,
+    }
+    files: dict[str, str] = {}
+    for alpha_deg in params.get("inclinations", (12.5, 14.5, 18.5)):
+        sol = hl.solve_leg(leg, math.radians(alpha_deg), theta1, cams=cam_contours)
+        figures = hl.gait_figures(leg, sol)
+        figures["alpha1_deg"] = float(alpha_deg)
+        figures["pressure_angle_within_limit"] = bool(np.max(sol.pressure_angle) <= limit)
+        label = f"{alpha_deg:g}"
+        report[f"alpha_{label}"] = figures
+        files[f"leg_path_alpha_{label}.csv"] = csv_table(
+            [
+                f"camgen horse-robot leg end point W (paper 000, eq. 18), alpha1 = {label} deg, scene '{scene.name}'",
+                "units: deg, mm; frame: origin O1 at the stride-cam centre, x right, y up",
+                f"pressure_angle_deg: stride-cam pressure angle (eqs. 19-25 with the slide term of eq. 4); ground line y = {leg.ground_y:g} mm",
+            ],
+            {"theta1_deg": np.degrees(theta1), "x_mm": sol.w[:, 0], "y_mm": sol.w[:, 1], "pressure_angle_deg": np.degrees(sol.pressure_angle)},
+        )
+    sweep = []
+    for alpha in sweep_values(params):
+        row: dict[str, Any] = {"alpha1_deg": round(math.degrees(alpha), 9)}
+        try:
+            sol = hl.solve_leg(leg, alpha, hl.cycle(720), cams=cam_contours)
+            row["max_pressure_angle_deg"] = float(np.degrees(sol.pressure_angle.max()))
+            row["within_limit"] = bool(sol.pressure_angle.max() <= limit)
+            row["foot_y_range_mm"] = [float(sol.w[:, 1].min()), float(sol.w[:, 1].max())]
+            row["foot_x_range_mm"] = [float(sol.w[:, 0].min()), float(sol.w[:, 0].max())]
+        except CamgenError as exc:
+            row["error"] = str(exc)
+            row["within_limit"] = False
+        sweep.append(row)
+    report["sweep"] = sweep
+    return report, files
