@@ -1,4 +1,15 @@
-"""Design checks on a contour: each returns a :class:`CheckResult` a person and a program can read."""
+"""Design checks on a contour with its follower model.
+
+Every check returns a :class:`CheckResult` (``name``, ``value``, ``limit``, ``unit``,
+``passed``, ``where_deg``, ``note``) that report.json and report.html show as they are.
+Angles in results are cam angles in degrees: the polar angle in the cam frame of the point
+concerned, counter-clockwise from +x (for motion and pressure angle: the cam rotation angle).
+
+Followers (:class:`Follower`): a translating or oscillating roller (radius > 0, the steering
+rod of the tricycle is one), a translating flat face, or a translating yoke (two parallel flat
+faces, the constant-breadth cams).  Geometry of the roller checks comes from the pitch curve
+(the path of the roller centre): the profile offset outward by the roller radius.
+"""
 from __future__ import annotations
 
 import math
@@ -8,8 +19,11 @@ from typing import Any
 import numpy as np
 
 from camgen.contour import Contour
+from camgen.errors import GeometryError, ParameterError, require_finite
 
 _ORDER = ["none", "G0", "G1", "G2"]
+FOLLOWER_KINDS = ("yoke", "flat", "roller")
+MOTIONS = ("translating", "oscillating")
 
 
 @dataclass(frozen=True)
@@ -29,7 +43,7 @@ class CheckResult:
     passed : bool
         Whether ``value`` satisfies ``limit``.
     where_deg : list of float
-        Cam angles (deg, polar angle in the cam frame) where the check is worst or fails.
+        Cam angles (deg) where the check is worst or fails.
     note : str
         One sentence a designer reads.
     """
@@ -46,10 +60,96 @@ class CheckResult:
         return asdict(self)
 
 
+@dataclass(frozen=True)
+class Follower:
+    """Follower model (mm, rad).
+
+    Attributes
+    ----------
+    kind : ``"yoke"``, ``"flat"`` or ``"roller"``.
+    motion : ``"translating"`` or ``"oscillating"`` (roller only).
+    roller_radius : roller radius (> 0 for ``"roller"``).
+    offset : translating: distance of the follower axis from the cam axis (e).
+    direction : translating: direction of the follower's motion in the fixed frame.
+    pivot_distance, pivot_angle, arm_length : oscillating: pivot position (polar, fixed frame)
+        and the arm length from the pivot to the roller centre.
+    face_half_length : flat / yoke: usable half-length of the face (None: not checked).
+    pressure_angle_limit : None for the defaults, 30 deg translating, 45 deg oscillating/yoke.
+    """
+
+    kind: str = "yoke"
+    motion: str = "translating"
+    roller_radius: float = 0.0
+    offset: float = 0.0
+    direction: float = 0.0
+    pivot_distance: float = 0.0
+    pivot_angle: float = 0.0
+    arm_length: float = 0.0
+    face_half_length: float | None = None
+    pressure_angle_limit: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.kind not in FOLLOWER_KINDS:
+            raise ParameterError("follower", self.kind, f"one of {FOLLOWER_KINDS}")
+        if self.motion not in MOTIONS:
+            raise ParameterError("follower_motion", self.motion, f"one of {MOTIONS}")
+        if self.kind == "roller" and not require_finite("roller_radius", self.roller_radius) > 0:
+            raise ParameterError("roller_radius", self.roller_radius, "roller_radius > 0 mm for a roller follower")
+        if self.kind != "roller" and self.motion != "translating":
+            raise ParameterError("follower_motion", self.motion, "translating for flat and yoke followers")
+        if self.motion == "oscillating" and not (self.pivot_distance > 0 and self.arm_length > 0):
+            raise ParameterError("arm_length", self.arm_length, "pivot_distance > 0 and arm_length > 0 mm for an oscillating follower")
+
+    @property
+    def limit(self) -> float:
+        """Pressure-angle limit, rad."""
+        if self.pressure_angle_limit is not None:
+            return self.pressure_angle_limit
+        return math.radians(30.0 if (self.motion == "translating" and self.kind != "yoke") else 45.0)
+
+
+def _deg(angles: np.ndarray) -> list[float]:
+    return [round(float(a), 6) for a in np.mod(np.degrees(np.atleast_1d(angles)), 360.0)]
+
+
 def _polar_deg(points: np.ndarray) -> list[float]:
-    return [round(math.degrees(math.atan2(y, x)) % 360.0, 6) for x, y in np.atleast_2d(points)]
+    points = np.atleast_2d(points)
+    return _deg(np.arctan2(points[:, 1], points[:, 0]))
 
 
+def _spread(angles_deg: list[float], limit: int = 12) -> list[float]:
+    """At most ``limit`` representative angles (the list, thinned evenly)."""
+    if len(angles_deg) <= limit:
+        return angles_deg
+    idx = np.linspace(0, len(angles_deg) - 1, limit).round().astype(int)
+    return [angles_deg[i] for i in idx]
+
+
+def _run_ends(mask: np.ndarray, angles: np.ndarray) -> list[float]:
+    """Start and end cam angles (deg) of every run of True in ``mask`` (samples in curve order,
+    periodic): where a failing region begins and ends."""
+    mask = np.asarray(mask, dtype=bool)
+    if not mask.any():
+        return []
+    if mask.all():
+        return _deg(angles[[0, -1]])
+    starts = np.nonzero(mask & ~np.roll(mask, 1))[0]
+    ends = np.nonzero(mask & ~np.roll(mask, -1))[0]
+    return [v for s, e in zip(starts, ends) for v in _deg(angles[[s, e]])]
+
+
+def _samples(contour: Contour, per_segment: int = 512) -> np.ndarray:
+    """Global parameters for dense checks: ``per_segment`` per segment (32 per spline piece at
+    least), spline break points included (the curvature of a cubic spline peaks there)."""
+    if contour.n_segments == 1 and hasattr(contour.segments[0], "n_pieces"):
+        per_segment = max(per_segment, 32 * contour.segments[0].n_pieces)
+    u = np.arange(per_segment) / per_segment
+    return (np.arange(contour.n_segments)[:, None] + u[None, :]).ravel()
+
+
+# --------------------------------------------------------------------------------------------
+# Breadth, continuity, convexity, curvature
+# --------------------------------------------------------------------------------------------
 def breadth_error(contour: Contour, breadth: float, n_directions: int = 3600) -> tuple[float, float]:
     """Largest ``|h(psi) + h(psi + pi) - breadth|`` (mm) over ``n_directions`` face directions, and where (rad)."""
     psi = np.linspace(0.0, math.pi, n_directions, endpoint=False)
@@ -62,12 +162,7 @@ def constant_breadth_check(contour: Contour, breadth: float, tol: float = 1e-6) 
     """Constant breadth for a yoke (double flat-faced) follower: error against ``tol`` mm."""
     err, psi = breadth_error(contour, breadth)
     return CheckResult(
-        "constant_breadth",
-        err,
-        tol,
-        "mm",
-        err <= tol,
-        [round(math.degrees(psi) % 360.0, 6)],
+        "constant_breadth", err, tol, "mm", err <= tol, _deg(psi),
         f"distance between the parallel yoke faces stays {breadth:g} mm within {err:.3g} mm over 3600 directions",
     )
 
@@ -88,21 +183,288 @@ def continuity_check(contour: Contour, required: str = "G1") -> CheckResult:
     return CheckResult("continuity", level, required, "", _ORDER.index(level) >= _ORDER.index(required), where, note)
 
 
-def convexity_check(contour: Contour, samples_per_segment: int = 64) -> CheckResult:
-    """Flat-faced and yoke followers need a convex cam: smallest signed curvature must be > 0 (1/mm)."""
-    u = (np.arange(samples_per_segment) + 0.5) / samples_per_segment
-    t = (np.arange(contour.n_segments)[:, None] + u[None, :]).ravel()
+def convexity_check(contour: Contour) -> CheckResult:
+    """Undercut for flat-faced and yoke followers: the cam must be convex, its smallest signed
+    curvature > 0 (1/mm)."""
+    t = _samples(contour, 64)
     kappa = contour.curvature(t)
     worst = int(np.argmin(kappa))
     bad = kappa <= 0
-    where = _polar_deg(contour.evaluate(t[bad])) if bad.any() else _polar_deg(contour.evaluate(t[worst : worst + 1]))
+    pts = contour.evaluate(t)
+    where = _run_ends(bad, np.arctan2(pts[:, 1], pts[:, 0])) if bad.any() else _polar_deg(pts[worst])
     return CheckResult(
-        "convexity",
-        float(kappa[worst]),
-        0.0,
-        "1/mm",
-        bool(not bad.any()),
-        where[:20],
-        "a flat face touches a convex cam at one point in every direction" if not bad.any()
+        "undercut", float(kappa[worst]), 0.0, "1/mm", bool(not bad.any()), where,
+        "convex everywhere: a flat face touches the cam at one point in every direction" if not bad.any()
         else "concave parts: a flat face would bridge them (undercut of the flat follower)",
     )
+
+
+def radius_of_curvature(contour: Contour) -> tuple[np.ndarray, np.ndarray]:
+    """Signed radius of curvature (mm; < 0 concave) and cam angle (rad) at dense samples."""
+    t = _samples(contour)
+    kappa = contour.curvature(t)
+    pts = contour.evaluate(t)
+    with np.errstate(divide="ignore"):
+        rho = np.where(kappa != 0, 1.0 / kappa, np.inf)
+    return rho, np.arctan2(pts[:, 1], pts[:, 0])
+
+
+def machinability_check(contour: Contour, tool_radius: float) -> list[CheckResult]:
+    """Smallest convex and concave radii of curvature against the cutting-tool radius (mm).
+
+    A concave radius below the tool radius cannot be cut (the tool would gouge); a convex
+    radius has no lower limit but is reported for the machinist.
+    """
+    rho, angle = radius_of_curvature(contour)
+    convex = rho > 0
+    out = []
+    if convex.any():
+        i = int(np.argmin(np.where(convex, rho, np.inf)))
+        out.append(CheckResult("min_convex_radius", float(rho[i]), tool_radius, "mm", True, _deg(angle[i]),
+                               "smallest convex radius of the profile (no limit; shown with the tool radius)"))
+    concave = rho < 0
+    if concave.any():
+        i = int(np.argmax(np.where(concave, rho, -np.inf)))
+        value = float(-rho[i])
+        bad = concave & (-rho < tool_radius)
+        where = _run_ends(bad, angle) if bad.any() else _deg(angle[i])
+        out.append(CheckResult("min_concave_radius", value, tool_radius, "mm", value > tool_radius, where,
+                               "a concave radius below the tool radius cannot be cut without gouging"
+                               + (" (between the listed pairs of cam angles)" if bad.any() else "")))
+    else:
+        out.append(CheckResult("min_concave_radius", "none", tool_radius, "mm", True, [], "no concave parts: any tool radius cuts the profile"))
+    return out
+
+
+# --------------------------------------------------------------------------------------------
+# Roller followers: undercut and pressure angle from the pitch curve
+# --------------------------------------------------------------------------------------------
+def pitch_curve(contour: Contour, follower: Follower) -> Contour:
+    """Path of the roller centre: the profile offset outward by the roller radius."""
+    return contour.offset(follower.roller_radius, spline_tol=1e-7)
+
+
+def undercut_check(pitch: Contour, follower: Follower) -> CheckResult:
+    """Roller follower: where the pitch curve's convex radius of curvature is not larger than
+    the roller radius, the profile (pitch offset inward by the roller radius) reverses: undercut."""
+    t = _samples(pitch)
+    kappa = pitch.curvature(t)
+    pts = pitch.evaluate(t)
+    with np.errstate(divide="ignore"):
+        rho = np.where(kappa > 0, 1.0 / kappa, np.inf)
+    i = int(np.argmin(rho))
+    bad = rho <= follower.roller_radius
+    where = _run_ends(bad, np.arctan2(pts[:, 1], pts[:, 0])) if bad.any() else _polar_deg(pts[i])
+    return CheckResult(
+        "undercut", float(rho[i]), follower.roller_radius, "mm", bool(not bad.any()), where,
+        "smallest convex radius of the pitch curve against the roller radius"
+        + ("" if not bad.any() else ": the profile undercuts (cusps) between the listed pairs of cam angles"),
+    )
+
+
+@dataclass(frozen=True)
+class RollerKinematics:
+    """Roller-centre kinematics sampled along the pitch curve, sorted by cam angle.
+
+    ``cam_angle`` (rad, in [0, 2 pi)), ``position`` (translating: distance along the motion
+    direction, mm; oscillating: arm angle, rad), ``pressure_angle`` (rad, signed).
+    """
+
+    cam_angle: np.ndarray
+    position: np.ndarray
+    pressure_angle: np.ndarray
+
+
+def roller_kinematics(pitch: Contour, follower: Follower, samples: int = 7200) -> RollerKinematics:
+    """Cam angle, follower position and pressure angle for every sampled pitch point.
+
+    Each pitch point P (cam frame) is on the follower's path at one cam angle theta (the cam
+    turns counter-clockwise): translating, ``Rot(theta) P`` on the follower axis (offset e from
+    the cam axis, moving along ``direction``); oscillating, ``|Rot(theta) P - A| = arm``.  The
+    pressure angle is the angle between the pitch-curve normal there and the roller centre's
+    velocity (the motion direction; perpendicular to the arm for oscillating followers).
+    """
+    t = np.linspace(0.0, pitch.n_segments, samples, endpoint=False)
+    p = pitch.evaluate(t)
+    n = pitch.normal(t)
+    radius = np.hypot(p[:, 0], p[:, 1])
+    phi = np.arctan2(p[:, 1], p[:, 0])
+    if follower.motion == "translating":
+        e = follower.offset
+        if np.any(radius <= abs(e)):
+            raise GeometryError(f"the follower axis (offset {e:g} mm) misses part of the pitch curve")
+        theta = follower.direction + np.arcsin(e / radius) - phi
+        position = np.sqrt(radius**2 - e * e)
+        velocity_dir = np.full(t.shape, follower.direction)
+    else:
+        a, la = follower.pivot_distance, follower.arm_length
+        cos = (radius**2 + a * a - la * la) / (2.0 * radius * a)
+        if np.any(np.abs(cos) > 1):
+            raise GeometryError("the oscillating follower's arm cannot reach part of the pitch curve")
+        phi_x = follower.pivot_angle + np.arccos(cos)
+        theta = phi_x - phi
+        x = radius[:, None] * np.stack([np.cos(phi_x), np.sin(phi_x)], axis=1)
+        rel = x - a * np.array([math.cos(follower.pivot_angle), math.sin(follower.pivot_angle)])
+        position = np.arctan2(rel[:, 1], rel[:, 0])
+        velocity_dir = position + math.pi / 2
+    normal_angle = np.arctan2(n[:, 1], n[:, 0]) + theta
+    pressure = np.mod(normal_angle - velocity_dir + math.pi, 2.0 * math.pi) - math.pi
+    pressure = np.where(pressure > math.pi / 2, pressure - math.pi, np.where(pressure < -math.pi / 2, pressure + math.pi, pressure))
+    theta = np.mod(theta, 2.0 * math.pi)
+    order = np.argsort(theta)
+    return RollerKinematics(theta[order], position[order], pressure[order])
+
+
+def pressure_angle_check(values: np.ndarray, cam_angle: np.ndarray, limit: float, what: str) -> CheckResult:
+    """Largest |pressure angle| (deg) of ``values`` (rad) at ``cam_angle`` (rad) against ``limit`` (rad)."""
+    mag = np.abs(values)
+    i = int(np.argmax(mag))
+    bad = mag > limit
+    where = _run_ends(bad, cam_angle) if bad.any() else _deg(cam_angle[i])
+    return CheckResult("pressure_angle", float(np.degrees(mag[i])), float(np.degrees(limit)), "deg", bool(not bad.any()),
+                       where, f"largest pressure angle of the {what}" + (" (above the limit between the listed pairs of cam angles)" if bad.any() else ""))
+
+
+# --------------------------------------------------------------------------------------------
+# Flat faces and yokes: face length and motion
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Motion:
+    """Follower motion per unit cam speed against cam angle (uniform grid, rad).
+
+    ``displacement`` mm (or rad for an oscillating arm), ``velocity`` per rad,
+    ``acceleration`` per rad^2, ``jerk`` per rad^3 (finite part: impulses at curvature jumps
+    are listed in ``jerk_impulses_deg``).
+    """
+
+    cam_angle: np.ndarray
+    displacement: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+    jerk: np.ndarray
+    unit: str = "mm"
+    jerk_impulses_deg: list[float] = field(default_factory=list)
+
+    def at_rpm(self, rpm: float) -> dict[str, float]:
+        """Largest |velocity|, |acceleration|, |jerk| at ``rpm`` (per s, s^2, s^3)."""
+        omega = 2.0 * math.pi * rpm / 60.0
+        return {
+            f"max_velocity_{self.unit}_per_s": float(np.max(np.abs(self.velocity)) * omega),
+            f"max_acceleration_{self.unit}_per_s2": float(np.max(np.abs(self.acceleration)) * omega**2),
+            f"max_jerk_{self.unit}_per_s3": float(np.max(np.abs(self.jerk)) * omega**3),
+        }
+
+
+def flat_motion(contour: Contour, follower: Follower, samples: int = 3600) -> tuple[Motion, np.ndarray]:
+    """Translating flat/yoke follower: motion from the support function, and the contact
+    offset along the face (mm) at every cam angle (``h'(psi)``)."""
+    theta = 2.0 * math.pi * np.arange(samples) / samples
+    psi = follower.direction - theta
+    h, dh, d2h = contour.support_derivatives(psi)
+    acc = d2h
+    step = theta[1] - theta[0]
+    jerk = (np.roll(acc, -1) - np.roll(acc, 1)) / (2.0 * step)
+    jumps = np.abs(np.roll(acc, -1) - acc)
+    typical = np.median(np.abs(np.diff(acc))) + 1e-12
+    impulses = jumps > 50.0 * typical
+    # the finite part of the jerk: drop the differences that straddle a jump
+    finite = ~(impulses | np.roll(impulses, 1))
+    jerk = np.where(finite, jerk, np.nan)
+    jerk = np.where(np.isnan(jerk), np.interp(theta, theta[finite], jerk[finite]), jerk)
+    motion = Motion(theta, h, -dh, acc, jerk, "mm", _deg(theta[impulses] + 0.5 * step))
+    return motion, dh
+
+
+def roller_motion(kin: RollerKinematics, samples: int = 3600, unit: str = "mm") -> Motion:
+    """Roller follower motion on a uniform cam-angle grid (periodic interpolation, central differences)."""
+    theta = 2.0 * math.pi * np.arange(samples) / samples
+    pos = np.interp(theta, kin.cam_angle, kin.position, period=2.0 * math.pi)
+    step = theta[1] - theta[0]
+
+    def d(a: np.ndarray) -> np.ndarray:
+        return (np.roll(a, -1) - np.roll(a, 1)) / (2.0 * step)
+
+    vel = d(pos)
+    acc = (np.roll(pos, -1) - 2.0 * pos + np.roll(pos, 1)) / step**2
+    return Motion(theta, pos, vel, acc, d(acc), unit)
+
+
+def face_length_check(offsets: np.ndarray, cam_angle: np.ndarray, half_length: float | None) -> CheckResult:
+    """Largest contact offset along the flat face (mm) against the face half-length."""
+    mag = np.abs(offsets)
+    i = int(np.argmax(mag))
+    if half_length is None:
+        return CheckResult("face_length", float(mag[i]), "not given", "mm", True, _deg(cam_angle[i]),
+                           "largest contact offset along the face: the face must reach this far from its centre")
+    bad = mag > half_length
+    where = _run_ends(bad, cam_angle) if bad.any() else _deg(cam_angle[i])
+    return CheckResult("face_length", float(mag[i]), half_length, "mm", bool(not bad.any()), where,
+                       "largest contact offset along the face against the face half-length")
+
+
+def motion_check(motion: Motion, rpm: float | None) -> CheckResult:
+    """Summary of the follower motion (largest |v|, |a|, |jerk| per unit cam speed), informational."""
+    figures = {
+        "max_velocity_per_rad": float(np.max(np.abs(motion.velocity))),
+        "max_acceleration_per_rad2": float(np.max(np.abs(motion.acceleration))),
+        "max_jerk_per_rad3": float(np.max(np.abs(motion.jerk))),
+    }
+    note = (f"stroke {np.ptp(motion.displacement):.6g} {motion.unit}; largest |velocity| {figures['max_velocity_per_rad']:.6g} {motion.unit}/rad, "
+            f"|acceleration| {figures['max_acceleration_per_rad2']:.6g} {motion.unit}/rad^2, |jerk| {figures['max_jerk_per_rad3']:.6g} {motion.unit}/rad^3 (finite part)")
+    if rpm:
+        at = motion.at_rpm(rpm)
+        note += f"; at {rpm:g} rpm: " + ", ".join(f"{k} {v:.6g}" for k, v in at.items())
+    if motion.jerk_impulses_deg:
+        note += f"; jerk impulses (acceleration jumps) at {len(motion.jerk_impulses_deg)} cam angles"
+    return CheckResult("follower_motion", float(np.ptp(motion.displacement)), "none", motion.unit, True,
+                       motion.jerk_impulses_deg[:12], note)
+
+
+# --------------------------------------------------------------------------------------------
+# All checks of one cam
+# --------------------------------------------------------------------------------------------
+@dataclass
+class CamEvaluation:
+    """The checks of one cam and the curves report.html draws (cam angles in rad)."""
+
+    checks: list[CheckResult]
+    follower: Follower
+    motion: Motion
+    pressure_angle: tuple[np.ndarray, np.ndarray] | None  # (cam angle, rad)
+    curvature_radius: tuple[np.ndarray, np.ndarray]  # (cam angle, signed radius mm)
+    pitch: Contour | None = None
+
+
+def evaluate_cam(contour: Contour, follower: Follower, tool_radius: float | None = None, rpm: float | None = None,
+                 breadth: float | None = None, pitch: Contour | None = None) -> CamEvaluation:
+    """Run every check that applies to ``contour`` with ``follower``.
+
+    Yoke and flat followers: undercut (convexity), constant breadth (yoke), face length, motion
+    (pressure angle 0 for a translating face normal to its motion: reported as such).  Roller
+    followers: undercut from the pitch curve, pressure angle, motion.  Always: continuity and,
+    with ``tool_radius``, machinability.
+    """
+    checks = [continuity_check(contour)]
+    rho, rho_angle = radius_of_curvature(contour)
+    pressure = None
+    if follower.kind in ("yoke", "flat"):
+        checks.append(convexity_check(contour))
+        if follower.kind == "yoke" and breadth is not None:
+            checks.append(constant_breadth_check(contour, breadth))
+        motion, offsets = flat_motion(contour, follower)
+        checks.append(face_length_check(offsets, motion.cam_angle, follower.face_half_length))
+        pressure = (motion.cam_angle, np.zeros_like(motion.cam_angle))
+        checks.append(CheckResult("pressure_angle", 0.0, math.degrees(follower.limit), "deg", True, [],
+                                  "a translating flat face moves along its own normal: pressure angle 0 at every cam angle"))
+    else:
+        pitch = pitch if pitch is not None else pitch_curve(contour, follower)
+        checks.append(undercut_check(pitch, follower))
+        kin = roller_kinematics(pitch, follower)
+        pressure = (kin.cam_angle, kin.pressure_angle)
+        what = f"{follower.motion} roller follower" + (f" (offset {follower.offset:g} mm)" if follower.offset else "")
+        checks.append(pressure_angle_check(kin.pressure_angle, kin.cam_angle, follower.limit, what))
+        motion = roller_motion(kin, unit="mm" if follower.motion == "translating" else "rad")
+    checks.append(motion_check(motion, rpm))
+    if tool_radius is not None:
+        checks.extend(machinability_check(contour, tool_radius))
+    return CamEvaluation(checks, follower, motion, pressure, (rho_angle, rho), pitch)

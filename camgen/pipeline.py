@@ -29,6 +29,7 @@ class BuiltCam:
     model: Any = None
     body: Any = None
     pitch: Any = None
+    evaluation: Any = None
 
 
 def _build_three_arc(spec: CamSpec) -> BuiltCam:
@@ -39,14 +40,14 @@ def _build_three_arc(spec: CamSpec) -> BuiltCam:
     a, b, c = three_arc.validate_three_arc(p["a"], p["b"], p["c"])
     contour = three_arc.three_arc_cam(a, b, c)
     width = three_arc.breadth(a, b, c)
-    breadth_check = checks.constant_breadth_check(contour, width)
+    error, _ = checks.breadth_error(contour, width)
     figures = {
         "a_mm": a,
         "b_mm": b,
         "c_mm": c,
         "theta_x_deg": math.degrees(three_arc.theta_x(a, b)),
         "breadth_mm": width,
-        "breadth_error_mm": breadth_check.value,
+        "breadth_error_mm": error,
         "base_radius_mm": c,
         "max_radius_mm": 2.0 * a + c - b,
         "area_mm2": contour.area,
@@ -61,7 +62,8 @@ def _build_three_arc(spec: CamSpec) -> BuiltCam:
         spec.kind,
         contour,
         figures,
-        [breadth_check, checks.continuity_check(contour), checks.convexity_check(contour)],
+        [],
+        model={"breadth_mm": width},
     )
 
 
@@ -154,6 +156,7 @@ def build_cams(scene: Scene) -> list[BuiltCam]:
         try:
             cam = BUILDERS[spec.kind](spec, scene.output.chord_tol)
             cam.body = _body(spec)
+            _evaluate(scene, spec, cam)
             if cam.body.bore_diameter > 0:
                 cam.checks.append(_wall_check(cam))
             built.append(cam)
@@ -164,6 +167,47 @@ def build_cams(scene: Scene) -> list[BuiltCam]:
             key = next((k for k in (exc.name, f"{exc.name}_mm", f"{exc.name}_deg") if k in schema), exc.name)
             raise ParameterError(f"cams.{spec.name}.{key}", exc.value, exc.valid, exc.why) from None
     return built
+
+
+def _follower(spec: CamSpec, cam: BuiltCam) -> Any:
+    """The follower model of a cam: scene keys, else the kind's natural follower."""
+    from camgen.checks import Follower
+
+    p = spec.params
+    if spec.kind == "trajectory":  # the tricycle's steering rod: a radially translating roller on +x
+        default = Follower("roller", "translating", roller_radius=cam.model.device.rod_radius)
+    else:
+        default = Follower("yoke")
+    kind = p.get("follower", default.kind)
+    return Follower(
+        kind=kind,
+        motion=p.get("follower_motion", default.motion),
+        roller_radius=p.get("roller_radius", default.roller_radius if kind == "roller" else 0.0),
+        offset=p.get("follower_offset", 0.0),
+        direction=p.get("follower_direction", 0.0),
+        pivot_distance=p.get("pivot_distance", 0.0),
+        pivot_angle=p.get("pivot_angle", 0.0),
+        arm_length=p.get("arm_length", 0.0),
+        face_half_length=p.get("face_half_length"),
+        pressure_angle_limit=p.get("pressure_angle_limit"),
+    )
+
+
+def _evaluate(scene: Scene, spec: CamSpec, cam: BuiltCam) -> None:
+    """Design checks of one cam (camgen.checks), kept for the report."""
+    from camgen.checks import evaluate_cam
+
+    follower = _follower(spec, cam)
+    tool = scene.machining.get("tool_diameter", 6.0) / 2.0
+    breadth = cam.model.get("breadth_mm") if isinstance(cam.model, dict) else None
+    pitch = cam.pitch if (follower.kind == "roller" and cam.pitch is not None and spec.kind == "trajectory"
+                          and follower.roller_radius == cam.model.device.rod_radius) else None
+    cam.evaluation = evaluate_cam(cam.contour, follower, tool, spec.params.get("rpm"), breadth, pitch)
+    cam.checks.extend(cam.evaluation.checks)
+    cam.figures["follower"] = {"kind": follower.kind, "motion": follower.motion, "roller_radius_mm": follower.roller_radius,
+                               "offset_mm": follower.offset, "pressure_angle_limit_deg": math.degrees(follower.limit)}
+    if spec.params.get("rpm"):
+        cam.figures["motion_at_rpm"] = {"rpm": spec.params["rpm"], **cam.evaluation.motion.at_rpm(spec.params["rpm"])}
 
 
 def _body(spec: CamSpec) -> Any:
@@ -215,16 +259,17 @@ def _machining(scene: Scene, cam: BuiltCam) -> Any:
     )
 
 
-def analyse_mechanisms(scene: Scene, cams: list[BuiltCam]) -> tuple[dict[str, Any], dict[str, str]]:
-    """Mechanism analyses of the scene: report sections and their files."""
+def analyse_mechanisms(scene: Scene, cams: list[BuiltCam]) -> tuple[dict[str, Any], dict[str, str], dict[str, Any]]:
+    """Mechanism analyses of the scene: report sections, their files, and their data for report.html."""
     report: dict[str, Any] = {}
     files: dict[str, str] = {}
+    context: dict[str, Any] = {}
     if "horse_leg" in scene.mechanisms:
         from camgen.mechanisms.horse_leg_job import horse_leg_job
 
-        report["horse_leg"], leg_files = horse_leg_job(scene, {c.name: c for c in cams})
+        report["horse_leg"], leg_files, context["horse_leg"] = horse_leg_job(scene, {c.name: c for c in cams})
         files.update(leg_files)
-    return report, files
+    return report, files, context
 
 
 def render_files(scene: Scene, cams: list[BuiltCam]) -> dict[str, str | bytes]:
@@ -269,11 +314,16 @@ def run_scene(scene: Scene, outdir: str | Path = "outputs") -> list[Path]:
 
     target = Path(outdir) / scene.name
     cams = build_cams(scene)
-    mechanisms, mechanism_files = analyse_mechanisms(scene, cams)
+    mechanisms, mechanism_files, context = analyse_mechanisms(scene, cams)
     # render everything in memory first: nothing is written unless all of it succeeded
     files = render_files(scene, cams)
     files.update(mechanism_files)
-    files["report.json"] = report_json(report_dict(scene, cams, sorted(files) + ["report.json"], mechanisms))
+    names = sorted(files) + ["report.json"] + (["report.html"] if "html" in scene.output.formats else [])
+    files["report.json"] = report_json(report_dict(scene, cams, names, mechanisms))
+    if "html" in scene.output.formats:
+        from camgen.report_html import report_html
+
+        files["report.html"] = report_html(scene, cams, mechanisms, context, scene.machining.get("tool_diameter", 6.0) / 2.0)
 
     from camgen.export.atomic import write_atomic
 

@@ -18,6 +18,66 @@ from typing import Any, Sequence
 
 from camgen.errors import ExportError
 
+_CHECK = {
+    "type": "object",
+    "required": ["name", "passed", "value", "limit", "unit", "where_deg", "note"],
+    "properties": {
+        "name": {"type": "string"},
+        "passed": {"type": "boolean"},
+        "value": {"type": ["number", "string"]},
+        "limit": {"type": ["number", "string"]},
+        "unit": {"type": "string"},
+        "where_deg": {"type": "array", "items": {"type": "number", "minimum": 0, "maximum": 360}},
+        "note": {"type": "string"},
+    },
+    "additionalProperties": False,
+}
+_NUMBERS = {"type": "object", "additionalProperties": {"type": ["number", "string", "boolean", "array", "object"]}}
+
+#: The documented layout of report.json, as a JSON Schema (draft 2020-12).
+REPORT_SCHEMA = {
+    "$schema": "https://json-schema.org/draft/2020-12/schema",
+    "type": "object",
+    "required": ["scene", "camgen_version", "cams", "mechanisms"],
+    "properties": {
+        "scene": {"type": "string"},
+        "camgen_version": {"type": "string"},
+        "source_file": {"type": "string"},
+        "chord_tol_mm": {"type": "number", "exclusiveMinimum": 0},
+        "files": {"type": "array", "items": {"type": "string"}},
+        "cams": {
+            "type": "object",
+            "additionalProperties": {
+                "type": "object",
+                "required": ["kind", "figures", "checks"],
+                "properties": {
+                    "kind": {"enum": ["three_arc", "trajectory"]},
+                    "figures": _NUMBERS,
+                    "checks": {"type": "array", "items": _CHECK},
+                },
+                "additionalProperties": False,
+            },
+        },
+        "mechanisms": {
+            "type": "object",
+            "properties": {
+                "horse_leg": {
+                    "type": "object",
+                    "required": ["grashof_margin_mm", "sweep"],
+                    "patternProperties": {
+                        "^alpha_": {
+                            "type": "object",
+                            "required": ["lift_mm", "leg_horizontal_mm", "body_height_change_mm", "body_horizontal_mm",
+                                         "stride_mm", "max_pressure_angle_deg", "grashof_margin_mm"],
+                        }
+                    },
+                }
+            },
+        },
+    },
+    "additionalProperties": False,
+}
+
 
 def report_dict(scene: Any, cams: Sequence[Any], files: Sequence[str], mechanisms: dict | None = None) -> dict[str, Any]:
     """Assemble the report for a run of ``scene`` that built ``cams`` and writes ``files``."""

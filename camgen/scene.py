@@ -47,6 +47,7 @@ FORMATS: dict[str, str] = {
     "3mf": "<cam>.3mf", "obj": "<cam>.obj", "ply": "<cam>.ply", "vtu": "<cam>.vtu (VTK, FEA)",
     "msh": "<cam>.msh (Gmsh 2.2, FEA)", "inp": "<cam>.inp (Abaqus, FEA)",
     "ngc": "<cam>.ngc: RS274/NGC G-code milling the profile",
+    "html": "report.html: the design-check report with plots (needs the report extra: matplotlib)",
 }
 DEFAULT_FORMATS = ("dxf", "points")
 
@@ -61,6 +62,18 @@ BODY_KEYS: Schema = {
     "keyway_depth_mm": ("mm", False),
     "keyway_angle_deg": ("deg", False),
     "min_wall_mm": ("mm", False),
+    # follower model of the design checks (camgen.checks.Follower)
+    "follower": (("yoke", "flat", "roller"), False),
+    "follower_motion": (("translating", "oscillating"), False),
+    "roller_radius_mm": ("mm", False),
+    "follower_offset_mm": ("mm", False),
+    "follower_direction_deg": ("deg", False),
+    "pivot_distance_mm": ("mm", False),
+    "pivot_angle_deg": ("deg", False),
+    "arm_length_mm": ("mm", False),
+    "face_half_length_mm": ("mm", False),
+    "pressure_angle_limit_deg": ("deg", False),
+    "rpm": ("float", False),
 }
 
 #: Cam kinds and their own keys.

@@ -30,7 +30,7 @@ def test_default_scene_writes_dxf_csv_and_report(default_run):
     per_cam = [".dxf", "_points.csv", "_lift.csv", ".stl", ".3mf", ".ngc"]
     expected = [f"{cam}{suffix}" for cam in ("stride_length", "stride_height", "steering") for suffix in per_cam]
     legs = [f"leg_path_alpha_{a}.csv" for a in ("12.5", "14.5", "18.5")]
-    assert names == sorted(expected + legs + ["steering_ride.csv", "report.json"])
+    assert names == sorted(expected + legs + ["steering_ride.csv", "report.json", "report.html"])
     assert not [p for p in default_run.iterdir() if p.name.startswith(".")]  # no temp files left
 
 

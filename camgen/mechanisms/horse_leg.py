@@ -404,6 +404,15 @@ def pressure_angle(leg: HorseLeg, sol: LegSolution, literal: bool = False) -> np
     return np.minimum(alpha, math.pi - alpha)
 
 
+def height_fork_pressure_angle(leg: HorseLeg, sol: LegSolution) -> np.ndarray:
+    """Pressure angle (rad, acute) of the stride-height cam on its fork, which swings about O5:
+    the fork point at the contact K moves perpendicular to O5K."""
+    rel = sol.contact4 - leg.point("o5")
+    velocity = np.arctan2(rel[..., 1], rel[..., 0]) + math.pi / 2
+    alpha = np.abs(_wrap(sol.psi4 - velocity))
+    return np.minimum(alpha, math.pi - alpha)
+
+
 # --------------------------------------------------------------------------------------------
 # Gait figures (Section 6.1)
 # --------------------------------------------------------------------------------------------

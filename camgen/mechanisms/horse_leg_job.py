@@ -36,8 +36,9 @@ def sweep_values(params: Mapping[str, Any]) -> np.ndarray:
     return np.radians(sweep[0] + sweep[2] * np.arange(count))
 
 
-def horse_leg_job(scene: Any, cams: Mapping[str, Any]) -> tuple[dict[str, Any], dict[str, str]]:
-    """Report section ``mechanisms.horse_leg`` and the files ``leg_path_alpha_<deg>.csv``."""
+def horse_leg_job(scene: Any, cams: Mapping[str, Any]) -> tuple[dict[str, Any], dict[str, str], dict[str, Any]]:
+    """Report section ``mechanisms.horse_leg``, the files ``leg_path_alpha_<deg>.csv``, and the
+    solutions (for report.html).  Adds the mechanism's pressure-angle checks to the two cams."""
     from camgen.export.tables import csv_table
 
     params = scene.mechanisms["horse_leg"]
@@ -53,8 +54,10 @@ def horse_leg_job(scene: Any, cams: Mapping[str, Any]) -> tuple[dict[str, Any], 
         "positions": positions,
     }
     files: dict[str, str] = {}
+    solutions = {}
     for alpha_deg in params.get("inclinations", (12.5, 14.5, 18.5)):
         sol = hl.solve_leg(leg, math.radians(alpha_deg), theta1, cams=cam_contours)
+        solutions[alpha_deg] = sol
         figures = hl.gait_figures(leg, sol)
         figures["alpha1_deg"] = float(alpha_deg)
         figures["pressure_angle_within_limit"] = bool(np.max(sol.pressure_angle) <= limit)
@@ -82,4 +85,26 @@ def horse_leg_job(scene: Any, cams: Mapping[str, Any]) -> tuple[dict[str, Any], 
             row["within_limit"] = False
         sweep.append(row)
     report["sweep"] = sweep
-    return report, files
+    _add_checks(leg, params, cams, solutions, limit)
+    return report, files, {"leg": leg, "solutions": solutions, "sweep": sweep, "limit": limit}
+
+
+def _add_checks(leg: hl.HorseLeg, params: Mapping[str, Any], cams: Mapping[str, Any], solutions: Mapping[float, Any], limit: float) -> None:
+    """Pressure-angle checks of the two cams in the mechanism (worst over the inclinations)."""
+    from camgen.checks import CheckResult
+
+    for cam_key, values, what in (
+        ("stride_cam", lambda s: s.pressure_angle, "stride cam on its yoke (eqs. 19-25)"),
+        ("height_cam", lambda s: hl.height_fork_pressure_angle(leg, s), "height cam on its fork swinging about O5"),
+    ):
+        worst_alpha, worst_sol = max(solutions.items(), key=lambda item: float(np.max(values(item[1]))))
+        angle = values(worst_sol)
+        i = int(np.argmax(angle))
+        check = CheckResult(
+            "pressure_angle", float(np.degrees(angle[i])), float(np.degrees(limit)), "deg", bool(angle[i] <= limit),
+            [round(float(np.degrees(worst_sol.theta1[i])), 6)],
+            f"largest pressure angle of the {what} over alpha1 = {', '.join(f'{a:g}' for a in solutions)} deg "
+            f"(worst at alpha1 = {worst_alpha:g} deg; where_deg is the stride-cam angle theta1)",
+        )
+        cam = cams[params[cam_key]]
+        cam.checks[:] = [c for c in cam.checks if c.name != "pressure_angle"] + [check]
