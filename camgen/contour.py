@@ -39,13 +39,16 @@ def _as_array(values: object) -> np.ndarray:
     return np.asarray(values, dtype=float)
 
 
-def _unit(angle: np.ndarray) -> np.ndarray:
+def unit_vectors(angle: np.ndarray) -> np.ndarray:
     """Unit vectors (..., 2) at the given angles (rad)."""
     angle = np.asarray(angle, dtype=float)
     out = np.empty(angle.shape + (2,))
     np.cos(angle, out=out[..., 0])
     np.sin(angle, out=out[..., 1])
     return out
+
+
+_unit = unit_vectors
 
 
 def _angle_in_sweep(angle: np.ndarray, start: float, sweep: float) -> np.ndarray:

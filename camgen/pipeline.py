@@ -77,16 +77,7 @@ def _build_trajectory(spec: CamSpec, chord_tol: float) -> BuiltCam:
         traj = tr.trajectory_from_expression(p["expression"], p["period"])
     else:
         traj = tr.read_trajectory_csv(p["trajectory_csv"])
-    defaults = tc.Tricycle()
-    device = tc.Tricycle(
-        wheelbase=p.get("wheelbase", defaults.wheelbase),
-        half_track=p.get("half_track", defaults.half_track),
-        lever=p.get("lever", defaults.lever),
-        rod_radius=p.get("rod_radius", defaults.rod_radius),
-        z_rear=p.get("z_rear", defaults.z_rear),
-        z_cam=p.get("z_cam", defaults.z_cam),
-        worm_teeth=p.get("worm_teeth", defaults.worm_teeth),
-    )
+    device = _from_params(tc.Tricycle, p, ("wheelbase", "half_track", "lever", "rod_radius", "z_rear", "z_cam", "worm_teeth"))
     cam = tc.tricycle_cam(traj, device, p.get("samples", 720), p.get("curvature", "exact"))
     periods = p.get("ride_periods", 10)
     one = tc.simulate_cam(cam, periods=1)
@@ -239,24 +230,16 @@ def _wall_check(cam: BuiltCam) -> Any:
 def _machining(scene: Scene, cam: BuiltCam) -> Any:
     from camgen.export.gcode import MachiningSpec
 
-    m = scene.machining
-    defaults = MachiningSpec()
-    return MachiningSpec(
-        tool_diameter=m.get("tool_diameter", defaults.tool_diameter),
-        thickness=cam.body.thickness,
-        step_down=m.get("step_down", defaults.step_down),
-        safe_z=m.get("safe_z", defaults.safe_z),
-        feed=m.get("feed_mm_per_min", defaults.feed),
-        plunge_feed=m.get("plunge_feed_mm_per_min", defaults.plunge_feed),
-        spindle_rpm=m.get("spindle_rpm", defaults.spindle_rpm),
-        direction=m.get("direction", defaults.direction),
-        dialect=m.get("dialect", defaults.dialect),
-        cutter_compensation=m.get("cutter_compensation", defaults.cutter_compensation),
-        lead=m.get("lead"),
-        spline_mode=m.get("spline_mode", defaults.spline_mode),
-        chord_tol=scene.output.chord_tol,
-        decimals=m.get("decimals", defaults.decimals),
-    )
+    fields = ("tool_diameter", "step_down", "safe_z", "spindle_rpm", "direction", "dialect", "cutter_compensation",
+              "lead", "spline_mode", "decimals")
+    renamed = {"feed": "feed_mm_per_min", "plunge_feed": "plunge_feed_mm_per_min"}
+    return _from_params(MachiningSpec, scene.machining, fields, renamed, thickness=cam.body.thickness, chord_tol=scene.output.chord_tol)
+
+
+def _from_params(cls: Any, params: Any, fields: tuple[str, ...], renamed: dict[str, str] | None = None, **fixed: Any) -> Any:
+    """``cls(**...)`` from the scene ``params`` that are given; the dataclass defaults fill the rest."""
+    keys = {name: name for name in fields} | (renamed or {})
+    return cls(**{name: params[key] for name, key in keys.items() if key in params}, **fixed)
 
 
 def analyse_mechanisms(scene: Scene, cams: list[BuiltCam]) -> tuple[dict[str, Any], dict[str, str], dict[str, Any]]:

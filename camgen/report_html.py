@@ -218,6 +218,23 @@ def _horse_leg_section(Figure: Any, report: dict[str, Any], context: dict[str, A
     ax1.set_ylabel("pressure angle (deg)")
     ax1.set_title("stride-cam pressure angle (paper 000, Fig. 13)", fontsize=9)
     ax1.legend(fontsize=7)
+    fig2 = Figure(figsize=(10, 4.2))
+    bx1, bx2 = fig2.subplots(1, 2)
+    for alpha, sol in context.get("sweep_solutions", {}).items():
+        within = bool(sol.pressure_angle.max() <= limit)
+        style = {"color": "tab:green" if within else "tab:red", "lw": 0.7, "alpha": 0.8}
+        w = np.vstack([sol.w, sol.w[:1]])
+        bx1.plot(w[:, 0], w[:, 1], **style)
+        bx2.plot(np.degrees(sol.theta1), np.degrees(sol.pressure_angle), **style)
+    bx1.axhline(leg.ground_y, color="k", lw=0.8, ls="--")
+    bx1.set_aspect("equal")
+    bx1.set_xlabel("x (mm)")
+    bx1.set_ylabel("y (mm)")
+    bx1.set_title("trajectory cluster over the sweep (green: within the limit)", fontsize=9)
+    bx2.axhline(math.degrees(limit), color="tab:red", ls="--", lw=0.8)
+    bx2.set_xlabel("stride-cam angle theta1 (deg)")
+    bx2.set_ylabel("pressure angle (deg)")
+    bx2.set_title("pressure angle over the sweep", fontsize=9)
     ok = [r for r in sweep if "max_pressure_angle_deg" in r]
     ax2.plot([r["alpha1_deg"] for r in ok], [r["max_pressure_angle_deg"] for r in ok], "o-", ms=3)
     ax2.axhline(math.degrees(limit), color="tab:red", ls="--", lw=0.8, label="limit")
@@ -226,6 +243,7 @@ def _horse_leg_section(Figure: Any, report: dict[str, Any], context: dict[str, A
     ax2.set_title("inclination sweep", fontsize=9)
     ax2.legend(fontsize=7)
     parts.append(f"<div class='fig'>{_svg(fig)}</div>")
+    parts.append(f"<div class='fig'>{_svg(fig2)}</div>")
     keys = ("lift_mm", "leg_horizontal_mm", "body_height_change_mm", "body_horizontal_mm", "stride_mm", "max_pressure_angle_deg")
     head = "".join(f"<th>{k}</th>" for k in keys)
     rows = "".join(

@@ -133,3 +133,25 @@ def test_flat_follower_on_a_concave_cam_is_undercut():
     ev = evaluate_cam(contour, Follower("flat"))
     undercut = next(c for c in ev.checks if c.name == "undercut")
     assert not undercut.passed and undercut.value < 0
+
+
+def test_oscillating_roller_on_an_eccentric_circle():
+    """Pitch circle (centre (eps, 0), radius R) and a roller arm of length La about a pivot A:
+    the roller centre X lies on the arm circle and on the rotated pitch circle, and the pressure
+    angle is the angle between the circle's normal X - C and the arm's velocity, perpendicular
+    to X - A (closed form from X)."""
+    eps, radius = 6.0, 40.0
+    pivot = 90.0 * np.array([math.cos(0.3), math.sin(0.3)])
+    arm = 60.0
+    pitch = Contour([camgen.Arc((eps, 0.0), radius, 0.0, 2 * math.pi)])
+    follower = Follower("roller", "oscillating", roller_radius=5.0, pivot_distance=90.0, pivot_angle=0.3, arm_length=arm)
+    kin = roller_kinematics(pitch, follower)
+    x = pivot + arm * np.stack([np.cos(kin.position), np.sin(kin.position)], 1)
+    centre = eps * np.stack([np.cos(kin.cam_angle), np.sin(kin.cam_angle)], 1)  # pitch centre after turning the cam
+    assert np.max(np.abs(np.linalg.norm(x - centre, axis=1) - radius)) <= 1e-9
+    normal = (x - centre) / radius
+    velocity = (x - pivot) / arm
+    velocity = np.stack([-velocity[:, 1], velocity[:, 0]], 1)
+    closed = np.arccos(np.clip(np.abs(np.sum(normal * velocity, 1)), 0, 1))
+    assert np.max(np.abs(np.abs(kin.pressure_angle) - closed)) <= 1e-9
+    assert follower.limit == pytest.approx(math.radians(45.0))

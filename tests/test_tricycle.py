@@ -330,3 +330,13 @@ def test_bad_trajectory_scene_writes_nothing(tmp_path, capsys):
     scene.write_text('[cams.s]\nkind = "trajectory"\nexpression = "sin(pi*x/1000)"\nperiod_mm = 2000\nsamples = 4\n')
     assert main(["run", str(scene), "-o", str(tmp_path / "out")]) == 2
     assert "cams.s.samples" in capsys.readouterr().err
+
+
+def test_fine_tuning_equations_16_and_17():
+    # +-0.01 deg permissible -> e <= 0.02 deg (eq. 16) -> Z3 >= 50 with a 1 deg knob step (eq. 17)
+    e = tc.fine_tuning_step(0.01)
+    assert e == pytest.approx(0.02)
+    assert tc.worm_teeth_for(e) == 50
+    assert tc.worm_teeth_for(0.019) == 53 and tc.worm_teeth_for(0.05) == 20
+    with pytest.raises(ParameterError, match="step_deg"):
+        tc.worm_teeth_for(0.0)

@@ -51,6 +51,7 @@ from typing import Any
 import numpy as np
 
 from camgen.contour import Contour
+from camgen.contour import unit_vectors as _unit
 from camgen.errors import GeometryError, ParameterError, require_finite
 
 D = math.radians
@@ -106,14 +107,6 @@ class Branches:
     stride_psi0: float = D(206.5)
     four_bar: int = 1
     height_side: int = 1
-
-
-def _unit(angle: np.ndarray) -> np.ndarray:
-    angle = np.asarray(angle, dtype=float)
-    out = np.empty(angle.shape + (2,))
-    np.cos(angle, out=out[..., 0])
-    np.sin(angle, out=out[..., 1])
-    return out
 
 
 def _rotate(v: np.ndarray, angle: np.ndarray) -> np.ndarray:

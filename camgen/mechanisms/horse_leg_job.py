@@ -72,10 +72,12 @@ def horse_leg_job(scene: Any, cams: Mapping[str, Any]) -> tuple[dict[str, Any], 
             {"theta1_deg": np.degrees(theta1), "x_mm": sol.w[:, 0], "y_mm": sol.w[:, 1], "pressure_angle_deg": np.degrees(sol.pressure_angle)},
         )
     sweep = []
+    sweep_solutions = {}
     for alpha in sweep_values(params):
         row: dict[str, Any] = {"alpha1_deg": round(math.degrees(alpha), 9)}
         try:
             sol = hl.solve_leg(leg, alpha, hl.cycle(720), cams=cam_contours)
+            sweep_solutions[row["alpha1_deg"]] = sol
             row["max_pressure_angle_deg"] = float(np.degrees(sol.pressure_angle.max()))
             row["within_limit"] = bool(sol.pressure_angle.max() <= limit)
             row["foot_y_range_mm"] = [float(sol.w[:, 1].min()), float(sol.w[:, 1].max())]
@@ -86,7 +88,9 @@ def horse_leg_job(scene: Any, cams: Mapping[str, Any]) -> tuple[dict[str, Any], 
         sweep.append(row)
     report["sweep"] = sweep
     _add_checks(leg, params, cams, solutions, limit)
-    return report, files, {"leg": leg, "solutions": solutions, "sweep": sweep, "limit": limit}
+    for alpha_deg, sol in solutions.items():  # how far along the stride fork's face the cam touches
+        report[f"alpha_{alpha_deg:g}"]["stride_fork_contact_offset_range_mm"] = [float(sol.h.min()), float(sol.h.max())]
+    return report, files, {"leg": leg, "solutions": solutions, "sweep": sweep, "sweep_solutions": sweep_solutions, "limit": limit}
 
 
 def _add_checks(leg: hl.HorseLeg, params: Mapping[str, Any], cams: Mapping[str, Any], solutions: Mapping[float, Any], limit: float) -> None:

@@ -390,6 +390,23 @@ def simulate_cam(cam: TricycleCam, errors: ErrorModel = ErrorModel(), periods: i
 
 
 # --------------------------------------------------------------------------------------------
+# Fine-tuning mechanism (paper 004, Section 4.2, eqs. 16-17)
+# --------------------------------------------------------------------------------------------
+def fine_tuning_step(permissible_deviation_deg: float) -> float:
+    """Eq. (16): a correction step ``e`` brings any excess back within ``+-delta`` iff ``e <= 2 delta`` (deg)."""
+    delta = require_positive("permissible_deviation_deg", permissible_deviation_deg, "deg")
+    return 2.0 * delta
+
+
+def worm_teeth_for(step_deg: float, knob_step_deg: float = 1.0) -> int:
+    """Eq. (17): one knob step of ``knob_step_deg`` turns the worm wheel (and the steering) by
+    ``knob_step_deg / Z3``; the smallest whole ``Z3`` with ``knob_step / Z3 <= step``."""
+    step = require_positive("step_deg", step_deg, "deg")
+    knob = require_positive("knob_step_deg", knob_step_deg, "deg")
+    return math.ceil(knob / step - 1e-9)
+
+
+# --------------------------------------------------------------------------------------------
 # Measured trajectories (paper 004, Appendix A)
 # --------------------------------------------------------------------------------------------
 MEASURED_TABLES = {"A1": "tricycle_table_a1.csv", "A2": "tricycle_table_a2.csv"}

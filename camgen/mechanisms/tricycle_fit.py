@@ -73,7 +73,22 @@ class FitResult:
             "residual_rms_mm": self.residual_rms_mm,
             "points": self.n_points,
             "advice": self.advice,
+            "finding": self.finding,
         }
+
+    @property
+    def finding(self) -> str:
+        """What the fit says about the paper's explanation of the measured path."""
+        sigma, ds = self.values["drive_scale"], self.uncertainty["drive_scale"]
+        gain = self.values["steering_gain"]
+        text = f"steering gain {gain:.3f}" + (" (steering too large)" if gain > 1 else " (steering too small)")
+        if sigma - 1 > 3 * ds:
+            text += (
+                f"; the vehicle travels {sigma:.3f} x S per cam turn ({(sigma - 1) * 100:.1f} % +- {ds * 100:.1f} % more than designed): "
+                "a steering error changes the shape of the path, not its length per cam turn, so this, not a too-large "
+                "steering angle as the paper says, is what lengthens the measured period"
+            )
+        return text
 
 
 def fit_error_model(cam: TricycleCam, table: MeasuredTable, nodes: int = 4) -> FitResult:
