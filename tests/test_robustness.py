@@ -58,14 +58,19 @@ def test_arbitrary_expression_text_is_a_parameter_error_or_a_function(text):
     max_leaves=8,
 ))
 def test_whitelisted_expressions_have_consistent_derivatives(text):
+    """The symbolic derivative against the complex-step derivative Im f(x + i h) / h, exact to
+    rounding for analytic expressions (abs is not analytic: those are skipped)."""
+    if "abs" in text:
+        return
     expr = parse_expression(text)
     x = np.linspace(0.7, 1.3, 7)
-    h = 1e-6
+    h = 1e-30
     with np.errstate(all="ignore"):
-        f0, fp, fm, d1 = expr.f(x), expr.f(x + h), expr.f(x - h), expr.df(x)
-        fd = (fp - fm) / (2 * h)
-    ok = np.isfinite(f0) & np.isfinite(fp) & np.isfinite(fm) & np.isfinite(d1) & (np.abs(f0) < 1e6) & (np.abs(d1) < 1e6)
-    assert np.all(np.abs(fd[ok] - d1[ok]) <= 1e-4 * (1 + np.abs(d1[ok])))
+        reference = expr.f(x + 1j * h).imag / h
+        d1 = expr.df(x)
+        f0 = expr.f(x)
+    ok = np.isfinite(f0) & np.isfinite(reference) & np.isfinite(d1) & (np.abs(d1) < 1e12)
+    assert np.all(np.abs(reference[ok] - d1[ok]) <= 1e-9 * (1 + np.abs(d1[ok])))
 
 
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])

@@ -51,7 +51,8 @@ class Const(Node):
 @dataclass(frozen=True)
 class Var(Node):
     def __call__(self, x: np.ndarray) -> np.ndarray:
-        return np.asarray(x, dtype=float)
+        x = np.asarray(x)
+        return x if np.iscomplexobj(x) else x.astype(float)  # complex input: complex-step checks
 
     def diff(self) -> Node:
         return ONE
