@@ -264,7 +264,8 @@ def render_files(scene: Scene, cams: list[BuiltCam]) -> dict[str, str | bytes]:
             from camgen.export.dxf import DxfOptions, contour_to_dxf
 
             options = DxfOptions(splines=out.dxf_splines, biarc_tol=out.chord_tol)
-            pitch = cam.pitch if out.dxf_pitch else None
+            # follower-centre path: the synthesis' own, else the roller checks' pitch curve
+            pitch = (cam.pitch if cam.pitch is not None else getattr(cam.evaluation, "pitch", None)) if out.dxf_pitch else None
             files[f"{cam.name}.dxf"] = contour_to_dxf(cam.contour, cam.body, pitch, options)
         if "points" in out.formats:
             from camgen.export.points import points_csv

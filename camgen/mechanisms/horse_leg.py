@@ -272,7 +272,7 @@ def lifting_loop(leg: HorseLeg, cam: Contour, theta4: np.ndarray, side: int = 1,
     return best
 
 
-def leg_loop(leg: HorseLeg, s_point: np.ndarray, t_point: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def leg_loop(leg: HorseLeg, s_point: np.ndarray, t_point: np.ndarray, theta1: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Slider length l (mm) and leg angle theta8 (rad): ``S - T = e^{j theta8} (r8 - l e^{j theta_U})``.
 
     ``|S - T|^2 = r8^2 + l^2 - 2 r8 l cos(theta_U)``: the positive root of this quadratic.
@@ -280,11 +280,15 @@ def leg_loop(leg: HorseLeg, s_point: np.ndarray, t_point: np.ndarray) -> tuple[n
     rel = s_point - t_point
     d2 = _dot(rel, rel)
     disc = d2 - (leg.r8 * math.sin(leg.theta_u)) ** 2
+
+    def where(bad: np.ndarray) -> str:
+        return "" if theta1 is None else f" at theta1 = {math.degrees(float(np.asarray(theta1)[np.argmax(bad)])):.2f} deg"
+
     if np.any(disc < 0):
-        raise GeometryError("leg loop O1O5SUTO6 cannot close: S is too close to T")
+        raise GeometryError(f"leg loop O1O5SUTO6 cannot close{where(disc < 0)}: S is too close to T")
     length = leg.r8 * math.cos(leg.theta_u) + np.sqrt(disc)
     if np.any(length <= 0):
-        raise GeometryError("leg loop O1O5SUTO6: the slider S would leave the leg's slideway (l <= 0)")
+        raise GeometryError(f"leg loop O1O5SUTO6{where(length <= 0)}: the slider S would leave the leg's slideway (l <= 0)")
     zeta = np.arctan2(rel[..., 1], rel[..., 0])
     theta8 = zeta - np.angle(leg.r8 - length * np.exp(1j * leg.theta_u))
     return length, theta8
@@ -361,7 +365,7 @@ def solve_leg(leg: HorseLeg, alpha1: float, theta1: np.ndarray, branches: Branch
     theta5 = 1.5 * math.pi + psi4 - leg.gamma5
     s_point = leg.point("o5") + leg.r5 * _unit(theta5)
     t_point = leg.point("o6") + leg.r7 * _unit(theta6 + leg.gamma6)
-    slider, theta8 = leg_loop(leg, s_point, t_point)
+    slider, theta8 = leg_loop(leg, s_point, t_point, theta1)
     u_point = t_point + leg.r8 * _unit(theta8)
     w = u_point + leg.s8 * _unit(math.pi + theta8 - leg.theta_p)  # eq. (18)
     sol = LegSolution(
