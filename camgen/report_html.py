@@ -115,7 +115,7 @@ def _profile_figure(Figure: Any, cam: Any) -> str:
             line = np.array([dist * d - 0.6 * span * side, dist * d + 0.6 * span * side])
             ax.plot(line[:, 0], line[:, 1], color="tab:red", lw=1.0, label="follower face at cam angle 0" if k == 0 else None)
     else:
-        kin_angle, pos = ev.motion.cam_angle, ev.motion.displacement
+        pos = ev.motion.displacement
         if follower.motion == "translating":
             centre = pos[0] * d + follower.offset * side
             a = np.linspace(0, 2 * math.pi, 91)
@@ -219,7 +219,7 @@ def _horse_leg_section(Figure: Any, report: dict[str, Any], context: dict[str, A
     ax1.legend(fontsize=7)
     fig2 = Figure(figsize=(10, 4.2))
     bx1, bx2 = fig2.subplots(1, 2)
-    for alpha, sol in context.get("sweep_solutions", {}).items():
+    for sol in context.get("sweep_solutions", {}).values():
         within = bool(sol.pressure_angle.max() <= limit)
         style = {"color": "tab:green" if within else "tab:red", "lw": 0.7, "alpha": 0.8}
         w = np.vstack([sol.w, sol.w[:1]])

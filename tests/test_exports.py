@@ -124,7 +124,7 @@ def test_dxf_biarcs_within_tolerance(tol, contours, tmp_path):
 
 # --- solids ------------------------------------------------------------------------------------------
 def _shapely_section(contour, body, tol):
-    shapely = pytest.importorskip("shapely")
+    pytest.importorskip("shapely")
     from shapely.geometry import Polygon, box
     from shapely import affinity
 
@@ -233,7 +233,6 @@ def _check_program(program, intended, tmp_path, spec):
     depth = -spec.thickness
     cutting = [pts for z, pts in moves if abs(z - depth) < 1e-9]
     assert cutting
-    pts = np.concatenate([p[1:] for p in cutting])
     # the lead-in/out lines are not on the contour: drop the first and last move of the pass
     contour_pts = np.concatenate([p[1:] for p in cutting[1:-1]])
     assert np.max(radial_error(intended, contour_pts)) <= 1e-3

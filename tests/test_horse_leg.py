@@ -158,7 +158,7 @@ def test_scene_writes_leg_paths_and_report(tmp_path):
     out = tmp_path / "horse_leg"
     report = json.loads((out / "report.json").read_text())
     leg = report["mechanisms"]["horse_leg"]
-    for alpha, paper in PAPER.items():
+    for alpha in PAPER:
         figures = leg[f"alpha_{alpha:g}"]
         assert set(figures) >= set(KEYS) | {"max_pressure_angle_deg", "grashof_margin_mm"}
         rows = [r for r in (out / f"leg_path_alpha_{alpha:g}.csv").read_text().splitlines() if not r.startswith("#")]

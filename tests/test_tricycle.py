@@ -6,14 +6,12 @@ import math
 import numpy as np
 import pytest
 
-from camgen.errors import CamgenError, GeometryError, ParameterError
+from camgen.errors import CamgenError, ParameterError
 from camgen.mechanisms import tricycle as tc
 from camgen.synthesis.expression import parse_expression
 from camgen.synthesis.trajectory import (
     arc_length,
-    path_curvature,
     read_trajectory_csv,
-    synthesize_rho,
     trajectory_from_expression,
     trajectory_from_table,
 )

@@ -95,7 +95,7 @@ def _primitives(contour: Contour, spec: MachiningSpec) -> list[tuple]:
 
         contour = to_arc_spline(contour, spec.chord_tol)
     out: list[tuple] = []
-    for i, seg in enumerate(contour.segments):
+    for seg in contour.segments:
         if isinstance(seg, Arc):
             out.append(("arc", seg))
         else:
@@ -170,7 +170,7 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     if spec.dialect == "linuxcnc":
         lines.append(f"G64 P{spec.chord_tol:.{d}f}")
     lines += [f"G0 Z{spec.safe_z:.{d}f}", f"M3 S{spec.spindle_rpm:.0f}"]
-    body = [f"\n".join(lines) + "\n"]
+    body = ["\n".join(lines) + "\n"]
     for k, z in enumerate(depths, 1):
         body.append(
             f"(pass {k} of {n_passes}: Z{z:.{d}f})\n"
