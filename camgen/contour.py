@@ -691,12 +691,10 @@ class Contour:
 
         Arcs stay exact arcs with radius ``r + d`` (convex) or ``r - d`` (concave); spline
         segments are refitted within ``spline_tol`` mm.  Raises :class:`GeometryError` naming
-        the segment and cam angle where a radius would reach zero (undercut).
-
-        Notes
-        -----
-        Only local validity is checked; a global self-intersection of the offset (two distant
-        parts meeting) is not detected here.
+        the segment and cam angle where a radius would reach zero (undercut), or the cam angle
+        where two distant parts of the offset cross (a neck narrower than twice the offset).
+        The global check runs for non-convex contours only: the parallel curve of a convex
+        curve whose radii all exceed the offset is simple.
         """
         from camgen.errors import require_finite
 
@@ -710,7 +708,59 @@ class Contour:
             else:
                 new.append(seg.offset(distance, index=i, tol=spline_tol))
         # joints between G1 segments stay closed; a corner (G0 joint) would open a gap
-        return Contour(new, closure_tol=max(10 * spline_tol, DEFAULT_CLOSURE_TOL))
+        out = Contour(new, closure_tol=max(10 * spline_tol, DEFAULT_CLOSURE_TOL))
+        if not self.is_convex():
+            crossing = out.self_intersection()
+            if crossing is not None:
+                polar = round(math.degrees(math.atan2(crossing[1], crossing[0])), 3) % 360.0
+                raise GeometryError(
+                    f"offset {distance:g} mm crosses itself near cam angle {polar:.3f} deg "
+                    f"(point ({crossing[0]:.4g}, {crossing[1]:.4g}) mm): a neck of the contour is narrower than twice the offset"
+                )
+        return out
+
+    def is_convex(self, samples_per_piece: int = 8) -> bool:
+        """True if the signed curvature is >= 0 everywhere (sampled on spline pieces) and every joint turns left."""
+        for seg in self.segments:
+            if isinstance(seg, Arc):
+                if seg.sweep < 0:
+                    return False
+            else:
+                u = np.linspace(0.0, 1.0, samples_per_piece * seg.n_pieces + 1)
+                if np.any(seg.curvature(u) < 0):
+                    return False
+        return True
+
+    def self_intersection(self, chord_tol: float | None = None, block: int = 512) -> np.ndarray | None:
+        """A point (2,) where two non-adjacent chords of the flattened contour cross, else None.
+
+        ``chord_tol`` defaults to 1e-6 of the contour size (at least 1e-6 mm): parts of the
+        curve closer than twice that may be reported as crossing.
+        """
+        tol = chord_tol if chord_tol is not None else max(1e-6, 1e-6 * self.size)
+        a = self.flatten(tol)
+        b = np.roll(a, -1, axis=0)
+        n = len(a)
+        d = b - a
+        for lo in range(0, n, block):
+            i = np.arange(lo, min(lo + block, n))[:, None]
+            j = np.arange(n)[None, :]
+            ai, di = a[i[:, 0]][:, None, :], d[i[:, 0]][:, None, :]
+            aj, dj = a[None], d[None]
+
+            def cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+                return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+
+            o1 = cross(di, aj - ai)
+            o2 = cross(di, aj + dj - ai)
+            o3 = cross(dj, ai - aj)
+            o4 = cross(dj, ai + di - aj)
+            hit = (o1 * o2 < 0) & (o3 * o4 < 0) & (np.abs(i - j) > 1) & (np.abs(i - j) < n - 1)
+            if hit.any():
+                k, m = np.argwhere(hit)[0]
+                t = o3[k, m] / (o3[k, m] - o4[k, m])
+                return a[i[k, 0]] + t * d[i[k, 0]]
+        return None
 
     # -- support function -----------------------------------------------------------------------
     def _support(self, psi: object, chunk: int = 2048) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

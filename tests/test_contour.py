@@ -188,3 +188,19 @@ def test_contour_validation():
         Arc((0, 0), -1.0, 0.0, 1.0)
     with pytest.raises(ParameterError, match="chord_tol"):
         camgen.three_arc_cam(220, 160, 25).flatten(0.0)
+
+
+def test_offset_through_a_narrow_neck_is_an_error():
+    """r = 30 + 25 cos(2 theta): a peanut whose waist at +-90 deg is 5 mm from the axis, i.e. a
+    10 mm neck.  Every convex radius exceeds 11 mm, so an inward offset of 6 mm passes the local
+    check, but the two sides of the neck cross: a global self-intersection."""
+    theta = np.linspace(0.0, 2 * math.pi, 241)
+    r = 30 + 25 * np.cos(2 * theta)
+    peanut = Contour([Spline.interpolate(theta, np.stack([r * np.cos(theta), r * np.sin(theta)], 1))])
+    assert not peanut.is_convex() and peanut.self_intersection() is None
+    peanut.offset(-4.0)  # the neck (10 mm) still leaves 2 mm
+    with pytest.raises(GeometryError, match=r"crosses itself near cam angle .* deg \(point \((?P<x>[-\d.e]+), (?P<y>[-\d.e]+)\) mm\)") as info:
+        peanut.offset(-6.0)
+    x, y = (float(v) for v in info.value.args[0].split("(point (")[1].split(") mm")[0].split(", "))
+    assert abs(y) < 5 and abs(x) < 10  # the two sides of the neck meet inside the 10 mm waist
+    assert camgen.three_arc_cam(220, 160, 25).is_convex()
