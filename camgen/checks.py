@@ -433,6 +433,7 @@ class CamEvaluation:
     pressure_angle: tuple[np.ndarray, np.ndarray] | None  # (cam angle, rad)
     curvature_radius: tuple[np.ndarray, np.ndarray]  # (cam angle, signed radius mm)
     pitch: Contour | None = None
+    pressure_angle_label: str = ""
 
 
 def evaluate_cam(contour: Contour, follower: Follower, tool_radius: float | None = None, rpm: float | None = None,

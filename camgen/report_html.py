@@ -144,8 +144,8 @@ def _curves_figure(Figure: Any, cam: Any, tool_radius: float) -> str:
     ax1.set_xlabel("cam angle (deg)")
     ax1.set_ylabel("pressure angle (deg)")
     title = "pressure angle, limit dashed"
-    if pa_check is not None and "eqs. 19-25" in pa_check.note:
-        title += " (translating face: 0; the leg mechanism's value is in the table)"
+    if ev.pressure_angle_label:
+        title += f" ({ev.pressure_angle_label})"
     ax1.set_title(title, fontsize=8)
     rho_angle, rho = ev.curvature_radius
     order = np.argsort(np.mod(rho_angle, 2 * math.pi))

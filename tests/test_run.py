@@ -173,3 +173,13 @@ def test_missing_scene_file(tmp_path, capsys):
 def test_console_script_entry_point(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "camgen", "run", str(tmp_path / "missing.toml")], capture_output=True, text=True)
     assert proc.returncode == 2 and "Traceback" not in proc.stderr
+
+
+@pytest.mark.parametrize("template", ["tricycle", "horse_leg"])
+def test_bundled_templates_run(template, tmp_path):
+    from camgen.scene import template_path
+
+    assert main(["run", str(template_path(template)), "-o", str(tmp_path)]) == 0
+    report = json.loads((tmp_path / template / "report.json").read_text())
+    assert all(check["passed"] for cam in report["cams"].values() for check in cam["checks"])
+    assert (tmp_path / template / "report.html").stat().st_size > 10_000

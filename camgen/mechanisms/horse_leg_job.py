@@ -112,3 +112,6 @@ def _add_checks(leg: hl.HorseLeg, params: Mapping[str, Any], cams: Mapping[str, 
         )
         cam = cams[params[cam_key]]
         cam.checks[:] = [c for c in cam.checks if c.name != "pressure_angle"] + [check]
+        if cam.evaluation is not None:  # report.html draws the mechanism's curve, not the translating face's zero
+            cam.evaluation.pressure_angle = (worst_sol.theta1, angle)
+            cam.evaluation.pressure_angle_label = f"in the horse leg, alpha1 = {worst_alpha:g} deg, against the stride-cam angle theta1"
