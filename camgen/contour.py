@@ -51,6 +51,11 @@ def unit_vectors(angle: np.ndarray) -> np.ndarray:
 _unit = unit_vectors
 
 
+def _wrap_pi(angle: np.ndarray) -> np.ndarray:
+    """Angles wrapped to [-pi, pi)."""
+    return np.mod(angle + math.pi, TWO_PI) - math.pi
+
+
 def _angle_in_sweep(angle: np.ndarray, start: float, sweep: float) -> np.ndarray:
     """True where ``angle`` lies on the counter-clockwise range ``[start, start + sweep]``."""
     lo, width = (start, sweep) if sweep >= 0 else (start + sweep, -sweep)
@@ -376,6 +381,24 @@ class Spline:
         t = self.breaks[piece] + frac * h[piece]
         return (t - self.breaks[0]) / self.span
 
+    def min_turning(self) -> float:
+        """Smallest ``P' x P''`` over the spline (its sign is the sign of the curvature), exact.
+
+        On a cubic piece ``P' x P''`` is the quadratic ``-6 (a x b) t^2 + 6 (c x a) t + 2 (c x b)``
+        (``P = a t^3 + b t^2 + c t + d``); its minimum is at an end or at the vertex.
+        """
+        a, b, c = self.coeffs[0], self.coeffs[1], self.coeffs[2]
+
+        def cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+            return u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+
+        qa, qb, qc = -6.0 * cross(a, b), 6.0 * cross(c, a), 2.0 * cross(c, b)
+        h = np.diff(self.breaks)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            vertex = np.clip(np.where(qa != 0, -qb / (2.0 * qa), 0.0), 0.0, h)
+        values = [qc, (qa * h + qb) * h + qc, (qa * vertex + qb) * vertex + qc]
+        return float(np.min(values))
+
     def green_area(self) -> float:
         """(1/2) integral of (x dy - y dx) along the spline, mm^2 (exact polynomial integration)."""
         a = self._ascending()  # (4, K, 2)
@@ -594,9 +617,11 @@ class Contour:
         (sorted, mod 2 pi), centres and radii, for an O(log n) support function."""
         if not all(isinstance(s, Arc) and s.sweep > 0 for s in self.segments):
             return None
-        if any(j.tangent_jump_rad > 1e-9 for j in self.joints()):
-            return None
         starts = np.array([s.start_angle for s in self.segments]) % TWO_PI
+        ends = np.array([s.start_angle + s.sweep for s in self.segments])
+        # convex arcs join with a common tangent iff each ends at the normal angle the next starts at
+        if np.any(np.abs(_wrap_pi(ends - np.roll(starts, -1))) > 1e-9):
+            return None
         order = np.argsort(starts)
         centres = np.array([s.center for s in self.segments])[order]
         radii = np.array([s.radius for s in self.segments])[order]
@@ -719,17 +744,9 @@ class Contour:
                 )
         return out
 
-    def is_convex(self, samples_per_piece: int = 8) -> bool:
-        """True if the signed curvature is >= 0 everywhere (sampled on spline pieces) and every joint turns left."""
-        for seg in self.segments:
-            if isinstance(seg, Arc):
-                if seg.sweep < 0:
-                    return False
-            else:
-                u = np.linspace(0.0, 1.0, samples_per_piece * seg.n_pieces + 1)
-                if np.any(seg.curvature(u) < 0):
-                    return False
-        return True
+    def is_convex(self) -> bool:
+        """True if the signed curvature is >= 0 everywhere (exact for arcs and cubic pieces)."""
+        return all(seg.sweep > 0 if isinstance(seg, Arc) else seg.min_turning() >= 0 for seg in self.segments)
 
     def self_intersection(self, chord_tol: float | None = None, block: int = 512) -> np.ndarray | None:
         """A point (2,) where two non-adjacent chords of the flattened contour cross, else None.

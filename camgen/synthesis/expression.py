@@ -39,7 +39,7 @@ class Const(Node):
     value: float
 
     def __call__(self, x: np.ndarray) -> np.ndarray:
-        return np.full(np.shape(x), self.value)
+        return np.float64(self.value)  # a scalar: numpy broadcasting spreads it (see Expression)
 
     def diff(self) -> Node:
         return ZERO
@@ -228,14 +228,27 @@ def _convert(node: ast.AST, text: str) -> Node:
     raise ParameterError("expression", text, _ALLOWED, f"'{shown}' is not allowed")
 
 
+class _Vectorised:
+    """A node evaluated to an array of the input's shape (constant parts come back as scalars)."""
+
+    def __init__(self, node: Node) -> None:
+        self.node = node
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        value = self.node(x)
+        shape = np.shape(x)
+        return value if np.shape(value) == shape else np.broadcast_to(value, shape).copy()
+
+
 @dataclass(frozen=True)
 class Expression:
-    """A parsed expression ``f(x)`` with its first and second derivatives."""
+    """A parsed expression ``f(x)`` with its first and second derivatives (each maps an array
+    of x to an array of the same shape)."""
 
     text: str
-    f: Node
-    df: Node
-    d2f: Node
+    f: _Vectorised
+    df: _Vectorised
+    d2f: _Vectorised
 
     def __call__(self, x: np.ndarray) -> np.ndarray:
         return self.f(x)
@@ -259,4 +272,4 @@ def parse_expression(text: object) -> Expression:
         raise ParameterError("expression", text, _ALLOWED, f"syntax error at column {exc.offset}") from None
     f = _convert(tree, text)
     df = f.diff()
-    return Expression(text, f, df, df.diff())
+    return Expression(text, _Vectorised(f), _Vectorised(df), _Vectorised(df.diff()))
