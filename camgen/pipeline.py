@@ -127,7 +127,34 @@ def _build_trajectory(spec: CamSpec, chord_tol: float) -> BuiltCam:
     return BuiltCam(spec.name, spec.kind, cam.profile, figures, [], {f"{spec.name}_ride.csv": ride_csv}, cam, pitch=cam.pitch)
 
 
+def _build_motion_law(spec: CamSpec, chord_tol: float) -> BuiltCam:
+    """Disk cam from a motion program for a translating roller or flat follower."""
+    from camgen.synthesis import motion_law as ml
+
+    p = spec.params
+    program = ml.MotionProgram([ml.MotionSegment(seg["law"], seg["span"], seg.get("lift", 0.0)) for seg in p["segments"]])
+    samples = p.get("samples", 720)
+    kind = p.get("follower", "roller")
+    if kind == "roller":
+        profile, pitch = ml.roller_cam(program, p["base_radius"], p.get("roller_radius", 10.0), p.get("follower_offset", 0.0), samples)
+    else:
+        profile, pitch = ml.flat_cam(program, p["base_radius"], samples), None
+    figures: dict[str, Any] = {
+        "base_radius_mm": p["base_radius"],
+        "stroke_mm": program.stroke,
+        "segments": [{"law": seg["law"], "span_deg": math.degrees(seg["span"]), "lift_mm": seg.get("lift", 0.0)} for seg in p["segments"]],
+        "samples": samples,
+        "area_mm2": profile.area,
+        "perimeter_mm": profile.length,
+        "bounds_mm": list(profile.bounds),
+    }
+    if "source" in p:
+        figures["source"] = p["source"]
+    return BuiltCam(spec.name, spec.kind, profile, figures, [], {}, {"program": program}, pitch=pitch)
+
+
 BUILDERS: dict[str, Callable[[CamSpec, float], BuiltCam]] = {
+    "motion_law": _build_motion_law,
     "three_arc": lambda spec, tol: _build_three_arc(spec),
     "trajectory": _build_trajectory,
 }
@@ -167,6 +194,8 @@ def _follower(spec: CamSpec, cam: BuiltCam) -> Any:
     p = spec.params
     if spec.kind == "trajectory":  # the tricycle's steering rod: a radially translating roller on +x
         default = Follower("roller", "translating", roller_radius=cam.model.device.rod_radius)
+    elif spec.kind == "motion_law":  # the follower moves along +y (camgen.synthesis.motion_law)
+        default = Follower(p.get("follower", "roller"), roller_radius=p.get("roller_radius", 10.0), direction=math.pi / 2)
     else:
         default = Follower("yoke")
     kind = p.get("follower", default.kind)
@@ -175,7 +204,7 @@ def _follower(spec: CamSpec, cam: BuiltCam) -> Any:
         motion=p.get("follower_motion", default.motion),
         roller_radius=p.get("roller_radius", default.roller_radius if kind == "roller" else 0.0),
         offset=p.get("follower_offset", 0.0),
-        direction=p.get("follower_direction", 0.0),
+        direction=p.get("follower_direction", default.direction),
         pivot_distance=p.get("pivot_distance", 0.0),
         pivot_angle=p.get("pivot_angle", 0.0),
         arm_length=p.get("arm_length", 0.0),
@@ -191,8 +220,10 @@ def _evaluate(scene: Scene, spec: CamSpec, cam: BuiltCam) -> None:
     follower = _follower(spec, cam)
     tool = scene.machining.get("tool_diameter", 6.0) / 2.0
     breadth = cam.model.get("breadth_mm") if isinstance(cam.model, dict) else None
-    pitch = cam.pitch if (follower.kind == "roller" and cam.pitch is not None and spec.kind == "trajectory"
-                          and follower.roller_radius == cam.model.device.rod_radius) else None
+    pitch = None
+    if follower.kind == "roller" and cam.pitch is not None:
+        synthesis_roller = cam.model.device.rod_radius if spec.kind == "trajectory" else spec.params.get("roller_radius", 10.0)
+        pitch = cam.pitch if follower.roller_radius == synthesis_roller else None
     cam.evaluation = evaluate_cam(cam.contour, follower, tool, spec.params.get("rpm"), breadth, pitch)
     cam.checks.extend(cam.evaluation.checks)
     cam.figures["follower"] = {"kind": follower.kind, "motion": follower.motion, "roller_radius_mm": follower.roller_radius,

@@ -51,7 +51,7 @@ REPORT_SCHEMA = {
                 "type": "object",
                 "required": ["kind", "figures", "checks"],
                 "properties": {
-                    "kind": {"enum": ["three_arc", "trajectory"]},
+                    "kind": {"enum": ["three_arc", "trajectory", "motion_law"]},
                     "figures": _NUMBERS,
                     "checks": {"type": "array", "items": _CHECK},
                 },

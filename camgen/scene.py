@@ -96,7 +96,16 @@ CAM_KINDS: dict[str, Schema] = {
         "fit_tables": ("str_list", False),
         "source": ("str", False),
     },
+    "motion_law": {
+        "base_radius_mm": ("mm", True),
+        "segments": ("segment_list", True),
+        "samples": ("int", False),
+        "source": ("str", False),
+    },
 }
+
+#: Keys of one ``[[cams.<name>.segments]]`` table of a motion-law cam.
+SEGMENT_KEYS: Schema = {"law": (("cycloidal", "harmonic", "poly345", "poly4567", "dwell"), True), "span_deg": ("deg", True), "lift_mm": ("mm", False)}
 
 OUTPUT_KEYS: Schema = {
     "formats": ("str_list", False),
@@ -205,6 +214,10 @@ def _parse_value(key: str, kind: Any, value: object) -> object:
         if not isinstance(value, str):
             raise ParameterError(key, value, "a string")
         return value
+    if kind == "segment_list":
+        if not isinstance(value, list) or not value or not all(isinstance(v, dict) for v in value):
+            raise ParameterError(key, value, "a list of [[segments]] tables (law, span_deg, lift_mm)")
+        return tuple(_parse_table(f"{key}[{i}]", v, SEGMENT_KEYS) for i, v in enumerate(value))
     if kind == "float_list":
         if not isinstance(value, list) or not value:
             raise ParameterError(key, value, "a non-empty list of numbers")
@@ -263,6 +276,8 @@ def _parse_cam(name: str, table: object, base_dir: Path | None) -> CamSpec:
         if "trajectory_csv" in params:
             path = Path(params["trajectory_csv"])
             params["trajectory_csv"] = str(path if path.is_absolute() or base_dir is None else base_dir / path)
+    if kind == "motion_law" and params.get("follower", "roller") not in ("roller", "flat"):
+        raise ParameterError(f"{where}.follower", params["follower"], "roller or flat for a motion-law cam")
     return CamSpec(name, kind, params)
 
 

@@ -149,6 +149,9 @@ BAD_SCENES = {
     "tol": ('[output]\nchord_tol_mm = 0\n[cams.x]\nkind = "three_arc"\na_mm = 1\nb_mm = 1\nc_mm = 1', "output.chord_tol_mm"),
     "name": ('name = "../evil"\n[cams.x]\nkind = "three_arc"\na_mm = 1\nb_mm = 1\nc_mm = 1', "parameter 'name'"),
     "nocams": ('name = "x"', "missing key(s) 'cams'"),
+    "segments": ('[cams.m]\nkind = "motion_law"\nbase_radius_mm = 40\n[[cams.m.segments]]\nlaw = "cycloidal"\nspan_deg = 90\nlift_mm = 5',
+                 "cams.m.segments"),
+    "law": ('[cams.m]\nkind = "motion_law"\nbase_radius_mm = 40\n[[cams.m.segments]]\nlaw = "sine"\nspan_deg = 360', "cams.m.segments[0].law"),
 }
 
 
@@ -175,7 +178,7 @@ def test_console_script_entry_point(tmp_path):
     assert proc.returncode == 2 and "Traceback" not in proc.stderr
 
 
-@pytest.mark.parametrize("template", ["tricycle", "horse_leg"])
+@pytest.mark.parametrize("template", ["tricycle", "horse_leg", "motion_law"])
 def test_bundled_templates_run(template, tmp_path):
     from camgen.scene import template_path
 

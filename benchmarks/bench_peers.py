@@ -1,0 +1,97 @@
+"""Peers side by side: a roller follower riding the cam each tool exports.
+
+Run from the repository root: ``python benchmarks/bench_peers.py``.
+The case of shared/research/peers.md section 3 in millimetres: cycloidal rise 25.4 mm over
+180 deg and fall over 180 deg, base radius 76.2 mm, roller radius 12.7 mm, radial translating
+follower.  Accuracy: the roller's lift on the exported profile (brute force over the polygon,
+at cam angles between the tools' samples) against the required motion.
+
+Peers: the `mechanism` package (PyPI, MIT; `pip install mechanism` -- not a camgen dependency,
+skipped when missing) exports ``r = Rb + s`` at every angle; the same radial shortcut computed
+with numpy stands for it (and for MOTUS NOVA's "Approximate" profile) when it is not installed.
+"""
+from __future__ import annotations
+
+import _common  # noqa: F401  (puts the repository root on sys.path)
+from _common import median_time, print_table
+
+import math
+
+import numpy as np
+
+from camgen.synthesis.motion_law import MotionProgram, MotionSegment, roller_cam
+
+BASE, ROLLER, LIFT = 76.2, 12.7, 25.4
+N = 3600
+
+
+def motion(theta: np.ndarray) -> np.ndarray:
+    t = np.mod(theta, 2 * math.pi)
+    rise = LIFT * (t / math.pi - np.sin(2 * t) / (2 * math.pi))
+    fall = LIFT * (1 - ((t - math.pi) / math.pi - np.sin(2 * (t - math.pi)) / (2 * math.pi)))
+    return np.where(t < math.pi, rise, fall)
+
+
+def roller_lift(points: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    """Lift of a radial roller along +y riding the closed polygon ``points`` turned by ``theta`` (CCW)."""
+    out = np.empty(theta.size)
+    for k, t in enumerate(theta):  # brute-force reference, per angle on purpose
+        c, s = math.cos(t), math.sin(t)
+        x = c * points[:, 0] - s * points[:, 1]
+        y = s * points[:, 0] + c * points[:, 1]
+        near = np.abs(x) <= ROLLER
+        out[k] = np.max(y[near] + np.sqrt(ROLLER**2 - x[near] ** 2))
+    return out
+
+
+def ride_error(points: np.ndarray) -> float:
+    theta = np.linspace(0, 2 * math.pi, 720, endpoint=False) + math.radians(0.05)
+    wanted = BASE + ROLLER + motion(theta)
+    # a tool may use another sense of rotation or angle origin: take its best reading
+    best = math.inf
+    for mirror in (1.0, -1.0):
+        for quarter in range(4):
+            c, s = math.cos(quarter * math.pi / 2), math.sin(quarter * math.pi / 2)
+            p = points * np.array([mirror, 1.0])
+            p = np.column_stack([c * p[:, 0] - s * p[:, 1], s * p[:, 0] + c * p[:, 1]])
+            best = min(best, float(np.max(np.abs(roller_lift(p, theta[::8]) - wanted[::8]))))
+            if best < 1.0:  # the right reading: measure it at every angle
+                return float(np.max(np.abs(roller_lift(p, theta) - wanted)))
+    return best
+
+
+def main() -> None:
+    program = MotionProgram([MotionSegment("cycloidal", math.pi, LIFT), MotionSegment("cycloidal", math.pi, -LIFT)])
+    rows = []
+    seconds = median_time(lambda: roller_cam(program, BASE, ROLLER, 0.0, 720), repeats=7)
+    profile, _ = roller_cam(program, BASE, ROLLER, 0.0, 720)
+    # the ride is measured on a 1e-6 mm polygon of the exported curve (vertices on the curve)
+    rows.append(["camgen exact envelope (720 samples)", f"{seconds * 1e3:.2f}", f"{ride_error(profile.flatten(1e-6)):.2e}"])
+
+    theta = 2 * math.pi * np.arange(N) / N  # radial shortcut: radius Rb + s at the polar angle of the follower
+    def shortcut() -> np.ndarray:
+        r = BASE + motion(-theta)
+        return np.stack([r * np.cos(theta + math.pi / 2), r * np.sin(theta + math.pi / 2)], axis=1)
+    seconds = median_time(shortcut, repeats=7)
+    rows.append([f"radial shortcut r = Rb + s ({N} points, numpy)", f"{seconds * 1e3:.2f}", f"{ride_error(shortcut()):.2e}"])
+
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        from mechanism import Cam
+    except ImportError:
+        rows.append(["mechanism (PyPI)", "not installed", "-"])
+    else:
+        def peer() -> np.ndarray:
+            cam = Cam(motion=[("Rise", LIFT, 180), ("Fall", LIFT, 180)], degrees=True, omega=2 * math.pi, rotation="cw", h=2 * math.pi / N)
+            x, y = cam.cycloidal.get_profile(BASE, cam.thetas_r)
+            return np.column_stack([x, y])
+        seconds = median_time(peer, repeats=5, min_total=0.0)
+        rows.append([f"mechanism {__import__('importlib.metadata').metadata.version('mechanism')} get_profile ({N} points)",
+                     f"{seconds * 1e3:.2f}", f"{ride_error(peer()):.2e}"])
+    print_table(["tool", "profile_ms", "max_roller_ride_error_mm"], rows)
+
+
+if __name__ == "__main__":
+    main()
