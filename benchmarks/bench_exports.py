@@ -35,11 +35,20 @@ def main() -> None:
                 "ngc (biarcs)": lambda: gcode_program(contour, MachiningSpec(thickness=body.thickness, chord_tol=tol)),
                 "ngc (lines)": lambda: gcode_program(contour, MachiningSpec(thickness=body.thickness, chord_tol=tol, spline_mode="lines")),
             }
+            try:
+                import OCP  # noqa: F401
+
+                from camgen.export.step import step_bytes
+
+                if tol == 1e-3:
+                    jobs["step (exact)"] = lambda: step_bytes(contour, body, name)
+            except ImportError:
+                pass
             solid = cam_solid(contour, body, tol)
             for fmt in ("stl", "stl_ascii", "3mf", "obj", "ply", "vtu"):
                 jobs[fmt] = (lambda f: lambda: mesh_bytes(solid, f))(fmt)
             for label, job in jobs.items():
-                if tol != 1e-3 and label in ("dxf (bspline)", "lift csv (1 deg)"):
+                if tol != 1e-3 and label in ("dxf (bspline)", "lift csv (1 deg)", "step (exact)"):
                     continue  # independent of the chord tolerance
                 out = job()
                 size = len(out) if isinstance(out, (str, bytes)) else len(out.triangles)

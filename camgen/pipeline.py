@@ -315,6 +315,10 @@ def render_files(scene: Scene, cams: list[BuiltCam]) -> dict[str, str | bytes]:
             cam.figures["solid_triangles"] = int(len(body.triangles))
             for fmt in meshes:
                 files[cam.name + solid_export.SUFFIX[fmt]] = solid_export.mesh_bytes(body, fmt, cam.name)
+        if "step" in out.formats:
+            from camgen.export.step import step_bytes
+
+            files[f"{cam.name}.step"] = step_bytes(cam.contour, cam.body, cam.name)
         if "ngc" in out.formats:
             from camgen.export.gcode import gcode_program
 

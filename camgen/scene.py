@@ -48,6 +48,7 @@ FORMATS: dict[str, str] = {
     "msh": "<cam>.msh (Gmsh 2.2, FEA)", "inp": "<cam>.inp (Abaqus, FEA)",
     "ngc": "<cam>.ngc: RS274/NGC G-code milling the profile",
     "html": "report.html: the design-check report with plots (needs the report extra: matplotlib)",
+    "step": "<cam>.step: exact solid, AP214, mm (needs the step extra: cadquery-ocp-novtk)",
 }
 DEFAULT_FORMATS = ("dxf", "points")
 

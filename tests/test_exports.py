@@ -309,3 +309,28 @@ def test_lift_table_against_table_1():
     assert np.max(np.abs(data[:, 1] - radius)) <= 2e-9
     assert np.allclose(data[:, 2], data[:, 1] - 25.0, atol=2e-9)
     assert base_radius(camgen.three_arc_cam(*HEIGHT)) == pytest.approx(10.0, abs=1e-12)
+
+
+# --- STEP (optional extra) ---------------------------------------------------------------------------
+@pytest.mark.parametrize("name", ["stride", "steering"])
+def test_step_solid_is_exact(name, contours):
+    pytest.importorskip("OCP", reason="cadquery-ocp-novtk not installed: pip install '.[step]'")
+    from camgen.export.step import step_bytes, step_volume
+
+    contour, body = contours[name], BODIES[name]
+    data = step_bytes(contour, body, name)
+    assert data == step_bytes(contour, body, name)  # deterministic
+    text = data.decode("ascii")
+    assert text.startswith("ISO-10303-21;") and "AUTOMOTIVE_DESIGN" in text and "SI_UNIT(.MILLI.,.METRE.)" in text
+    cubic = "B_SPLINE_CURVE_WITH_KNOTS('',3,"  # (degree-1 B-splines are OCCT's parameter-space pcurves)
+    if name == "stride":
+        assert text.count("CIRCLE(") >= 2 * (6 + 1)  # six arcs and the bore, on both faces
+        assert cubic not in text
+    else:
+        assert cubic in text
+    r, h = body.bore_diameter / 2, body.keyway_width / 2
+    keyway = 2 * h * (r + body.keyway_depth) - (h * math.sqrt(r * r - h * h) + r * r * math.asin(h / r))
+    exact = (contour.area - math.pi * r * r - keyway) * body.thickness
+    # OCCT integrates planar faces bounded by circles exactly; on B-spline boundaries its default
+    # integration is approximate (shared/research/ecosystem.md section 6)
+    assert step_volume(data) == pytest.approx(exact, rel=1e-9 if name == "stride" else 1e-4)
