@@ -10,7 +10,6 @@ import math
 from pathlib import Path
 from typing import Any
 
-
 from camgen.builders import BUILDERS, BuiltCam, from_params
 from camgen.scene import CamSpec, Scene
 
