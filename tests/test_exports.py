@@ -334,3 +334,17 @@ def test_step_solid_is_exact(name, contours):
     # OCCT integrates planar faces bounded by circles exactly; on B-spline boundaries its default
     # integration is approximate (shared/research/ecosystem.md section 6)
     assert step_volume(data) == pytest.approx(exact, rel=1e-9 if name == "stride" else 1e-4)
+
+
+def test_bspline_form_has_the_fewest_knots_and_is_exact(steering):
+    from scipy.interpolate import BSpline
+
+    from camgen.export.dxf import spline_bspline
+
+    for contour, per_piece in ((steering.pitch, 1), (steering.profile, 2)):  # C2 pitch, C1 refitted offset
+        seg = contour.segments[0]
+        knots, controls = spline_bspline(seg)
+        assert len(controls) == per_piece * seg.n_pieces + (3 if per_piece == 1 else 2)
+        curve = BSpline(knots, controls, 3)  # scipy evaluates the written form independently
+        t = np.linspace(seg.breaks[0], seg.breaks[-1], 20001)
+        assert np.max(np.abs(curve(t) - seg.eval_t(t))) <= 1e-9

@@ -48,6 +48,40 @@ def spline_bezier_controls(spline: Spline) -> tuple[np.ndarray, np.ndarray]:
     return knots, controls
 
 
+def spline_bspline(spline: Spline, tol: float = 1e-9) -> tuple[np.ndarray, np.ndarray]:
+    """The clamped cubic B-spline of ``spline`` with the fewest knots: knot multiplicity 1 at
+    C2 breaks, 2 at C1 breaks, 3 elsewhere (knots (n + 4,), control points (n, 2)).
+
+    The control points come from interpolation at the Greville abscissae in that spline space,
+    which holds the piecewise cubic exactly; the result is checked against the spline at the
+    quarter points of every piece and replaced by :func:`spline_bezier_controls` if it is more
+    than ``tol`` mm off.
+    """
+    from scipy.interpolate import make_interp_spline
+
+    t = spline.breaks
+    inner = t[1:-1]
+    scale = max(1.0, float(np.max(np.abs(spline.coeffs[3]))))
+    mult = np.full(inner.size, 3)
+    if inner.size:
+        d1l, d1r = spline.eval_piece(np.arange(inner.size), np.diff(t)[:-1], 1), spline.eval_piece(np.arange(1, inner.size + 1), np.zeros(inner.size), 1)
+        d2l, d2r = spline.eval_piece(np.arange(inner.size), np.diff(t)[:-1], 2), spline.eval_piece(np.arange(1, inner.size + 1), np.zeros(inner.size), 2)
+        c1 = np.max(np.abs(d1l - d1r), axis=1) <= 1e-10 * scale
+        c2 = c1 & (np.max(np.abs(d2l - d2r), axis=1) <= 1e-8 * scale)
+        mult = np.where(c2, 1, np.where(c1, 2, 3))
+    knots = np.concatenate([[t[0]] * 4, np.repeat(inner, mult), [t[-1]] * 4])
+    count = knots.size - 4
+    greville = (knots[1 : count + 1] + knots[2 : count + 2] + knots[3 : count + 3]) / 3.0
+    try:
+        fit = make_interp_spline(greville, spline.eval_t(greville), k=3, t=knots)
+    except (ValueError, np.linalg.LinAlgError):
+        return spline_bezier_controls(spline)
+    probe = (t[:-1, None] + np.array([0.25, 0.5, 0.75])[None, :] * np.diff(t)[:, None]).ravel()
+    if np.max(np.abs(fit(probe) - spline.eval_t(probe))) > tol:
+        return spline_bezier_controls(spline)
+    return knots, np.asarray(fit.c)
+
+
 @dataclass(frozen=True)
 class DxfOptions:
     """DXF drawing options.
@@ -77,7 +111,7 @@ def _add_contour(msp, contour: Contour, layer: str) -> None:
         elif _is_line(seg):
             msp.add_line(tuple(seg.start_point), tuple(seg.end_point), dxfattribs={"layer": layer})
         else:
-            knots, controls = spline_bezier_controls(seg)
+            knots, controls = spline_bspline(seg)
             msp.add_open_spline(controls, degree=3, knots=knots, dxfattribs={"layer": layer})
 
 

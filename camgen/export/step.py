@@ -33,7 +33,7 @@ def _edges(contour: Contour) -> list[Any]:
     from OCP.Geom import Geom_BSplineCurve
     from OCP.gp import gp_Pnt
 
-    from camgen.export.dxf import spline_bezier_controls
+    from camgen.export.dxf import spline_bspline
 
     edges = []
     for seg in contour.segments:
@@ -41,7 +41,7 @@ def _edges(contour: Contour) -> list[Any]:
             a, m, b = (seg.point([u])[0] for u in (0.0, 0.5, 1.0))
             curve = GC_MakeArcOfCircle(gp_Pnt(a[0], a[1], 0.0), gp_Pnt(m[0], m[1], 0.0), gp_Pnt(b[0], b[1], 0.0)).Value()
         else:
-            knots, controls = spline_bezier_controls(seg)
+            knots, controls = spline_bspline(seg)
             unique = sorted(set(knots.tolist()))
             poles = Array1_gp_Pnt(1, len(controls))
             for i, (x, y) in enumerate(controls, 1):
