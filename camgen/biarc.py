@@ -28,10 +28,6 @@ def _unit(v: np.ndarray) -> np.ndarray:
     return v / np.linalg.norm(v, axis=-1, keepdims=True)
 
 
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
-
-
 def _arc_through(p: np.ndarray, tangent: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Arc from ``p`` with unit tangent ``tangent`` to ``q``: centre (n, 2), signed curvature (n,), sweep (n,)."""
     chord = q - p

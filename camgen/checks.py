@@ -117,14 +117,6 @@ def _polar_deg(points: np.ndarray) -> list[float]:
     return _deg(np.arctan2(points[:, 1], points[:, 0]))
 
 
-def _spread(angles_deg: list[float], limit: int = 12) -> list[float]:
-    """At most ``limit`` representative angles (the list, thinned evenly)."""
-    if len(angles_deg) <= limit:
-        return angles_deg
-    idx = np.linspace(0, len(angles_deg) - 1, limit).round().astype(int)
-    return [angles_deg[i] for i in idx]
-
-
 def _run_ends(mask: np.ndarray, angles: np.ndarray) -> list[float]:
     """Start and end cam angles (deg) of every run of True in ``mask`` (samples in curve order,
     periodic): where a failing region begins and ends."""

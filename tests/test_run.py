@@ -17,13 +17,6 @@ from tests.helpers import distance_to_arcs
 PAPER = {"stride_length": (220.0, 160.0, 25.0, 330.0), "stride_height": (220.0, 220.0, 10.0, 240.0)}
 
 
-@pytest.fixture(scope="module")
-def default_run(tmp_path_factory):
-    out = tmp_path_factory.mktemp("run")
-    assert main(["run", "-o", str(out)]) == 0
-    return out / "default"
-
-
 def test_default_scene_writes_dxf_csv_and_report(default_run):
     names = sorted(p.name for p in default_run.iterdir())
     per_cam = [".dxf", "_points.csv", "_lift.csv", ".stl", ".3mf", ".ngc"]

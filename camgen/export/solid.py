@@ -63,7 +63,7 @@ class SolidSpec:
             raise ParameterError("keyway_width", self.keyway_width, f"0 <= keyway_width < bore_diameter = {self.bore_diameter:g} mm")
 
 
-def _keyway_rectangle(spec: SolidSpec) -> np.ndarray:
+def keyway_rectangle(spec: SolidSpec) -> np.ndarray:
     """Corners (4, 2) of the keyway, counter-clockwise."""
     out = spec.bore_diameter / 2 + spec.keyway_depth
     half = spec.keyway_width / 2
@@ -97,7 +97,7 @@ def wall_left(contour: Contour, spec: SolidSpec, chord_tol: float = 1e-4) -> tup
         inside = (along >= 0) & (along <= out) & (np.abs(across) <= spec.keyway_width / 2)
         dist = np.where(inside, -1.0, dist)
         # the rectangle's outer corners must lie inside the profile (star-shaped cams)
-        corners = _keyway_rectangle(spec)[1:3]
+        corners = keyway_rectangle(spec)[1:3]
         reach = contour.polar_radius(np.arctan2(corners[:, 1], corners[:, 0]))
         j = int(np.argmin(dist))
         k_wall = float(dist[j])
@@ -132,7 +132,7 @@ def cross_section(contour: Contour, spec: SolidSpec, chord_tol: float):
         a = 2.0 * math.pi * np.arange(n) / n
         cut = CrossSection([np.stack([r * np.cos(a), r * np.sin(a)], axis=1)])
         if spec.keyway_width > 0:
-            cut = cut + CrossSection([_keyway_rectangle(spec)])
+            cut = cut + CrossSection([keyway_rectangle(spec)])
         outer = outer - cut
     return outer
 
