@@ -1,15 +1,12 @@
-"""Shared helpers of the benchmark scripts (run them from the repository root)."""
+"""Shared helpers of the benchmark scripts (camgen installed, e.g. ``pip install -e ".[test]"``)."""
 from __future__ import annotations
 
 import statistics
-import sys
 import time
 from pathlib import Path
 from typing import Callable
 
 ROOT = Path(__file__).resolve().parent.parent
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
 
 
 def median_time(func: Callable[[], object], repeats: int = 21, min_total: float = 0.05) -> float:

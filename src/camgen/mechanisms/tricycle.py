@@ -426,12 +426,12 @@ def load_measured_table(name: str) -> MeasuredTable:
     """Load Table A1 or A2 of paper 004 from ``camgen/data`` (see the CSV headers for the
     reconstruction and the swapped column labels)."""
     import csv
-    from pathlib import Path
+    from importlib.resources import files
 
     if name not in MEASURED_TABLES:
         raise ParameterError("table", name, f"one of {sorted(MEASURED_TABLES)}")
-    path = Path(__file__).resolve().parent.parent / "data" / MEASURED_TABLES[name]
-    lines = [line for line in path.read_text(encoding="utf-8").splitlines() if line and not line.startswith("#")]
+    text = files("camgen.data").joinpath(MEASURED_TABLES[name]).read_text(encoding="utf-8")
+    lines = [line for line in text.splitlines() if line and not line.startswith("#")]
     rows = list(csv.DictReader(lines))
     col = {key: np.array([float(r[key]) for r in rows]) for key in ("x_mm", "measured_y_mm", "ideal_y_mm", "error_mm")}
     return MeasuredTable(name, col["x_mm"], col["measured_y_mm"], col["ideal_y_mm"], col["error_mm"])

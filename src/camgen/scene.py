@@ -334,11 +334,7 @@ def load_template(name: str) -> Scene:
 
 
 def template_dir() -> Path:
-    """Folder of the bundled template scenes: ``templates/`` of a source checkout, else the
-    installed ``camgen.templates`` package data."""
-    checkout = Path(__file__).resolve().parent.parent / "templates"
-    if (checkout / "default.toml").is_file():
-        return checkout
+    """Folder of the bundled template scenes (package data ``camgen/templates``)."""
     from importlib.resources import files
 
     return Path(str(files("camgen.templates")))

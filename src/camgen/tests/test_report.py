@@ -2,17 +2,17 @@
 from __future__ import annotations
 
 import json
-import shutil
 import subprocess
 
 import numpy as np
 import pytest
 
 from camgen.report import REPORT_SCHEMA
+from camgen.tests.helpers import require_tool
 
 
 def test_report_json_follows_the_documented_layout(default_run):
-    jsonschema = pytest.importorskip("jsonschema", reason="jsonschema not installed: pip install '.[test]'")
+    import jsonschema
     report = json.loads((default_run / "report.json").read_text())
     jsonschema.validate(report, REPORT_SCHEMA)
     names = {c["name"] for cam in report["cams"].values() for c in cam["checks"]}
@@ -35,9 +35,7 @@ def test_report_html_is_self_contained(default_run):
 
 
 def test_report_html_renders_in_headless_chromium(default_run, tmp_path):
-    browser = shutil.which("chromium") or shutil.which("chromium-browser")
-    if browser is None:
-        pytest.skip("chromium not installed (Debian package chromium; .ci/run installs it)")
+    browser = require_tool("chromium")
     shot = tmp_path / "shot.png"
     proc = subprocess.run(
         [browser, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",

@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 import camgen
 from camgen.errors import ParameterError
 from camgen.synthesis import three_arc
-from tests.helpers import brute_support, distance_to_arcs, table1_paper
+from camgen.tests.helpers import brute_support, distance_to_arcs, table1_paper
 
 # paper 000, Section 6: cam parameters and the yoke single-side widths e2, e5
 STRIDE = (220.0, 160.0, 25.0)

@@ -4,7 +4,6 @@ from __future__ import annotations
 import io
 import math
 import re
-import shutil
 import subprocess
 
 import numpy as np
@@ -16,7 +15,7 @@ from camgen.export.dxf import DxfOptions, contour_to_dxf
 from camgen.export.gcode import MachiningSpec, gcode_program
 from camgen.export.points import base_radius, lift_csv
 from camgen.export.solid import SolidSpec, cam_solid, mesh_bytes
-from tests.helpers import distance_to_arcs, rs274_toolpath
+from camgen.tests.helpers import distance_to_arcs, require_tool, rs274_toolpath
 
 STRIDE = (220.0, 160.0, 25.0)
 HEIGHT = (220.0, 220.0, 10.0)
@@ -82,8 +81,8 @@ def test_dxf_entities_match_the_contour_by_ezdxf(name, contours, steering):
 
 @pytest.mark.parametrize("name", ["stride", "steering"])
 def test_dxf_read_by_gdal_within_1e6(name, contours, tmp_path):
-    pyogrio = pytest.importorskip("pyogrio", reason="pyogrio (GDAL) not installed: pip install '.[test]'")
-    shapely = pytest.importorskip("shapely")
+    import pyogrio
+    import shapely
     contour = contours[name]
     path = tmp_path / "cam.dxf"
     path.write_text(contour_to_dxf(contour, BODIES[name]))
@@ -124,7 +123,6 @@ def test_dxf_biarcs_within_tolerance(tol, contours, tmp_path):
 
 # --- solids ------------------------------------------------------------------------------------------
 def _shapely_section(contour, body, tol):
-    pytest.importorskip("shapely")
     from shapely.geometry import Polygon, box
     from shapely import affinity
 
@@ -140,7 +138,7 @@ def _shapely_section(contour, body, tol):
 
 @pytest.mark.parametrize("name", ["stride", "height", "steering"])
 def test_solid_is_watertight_genus_one_with_the_right_volume(name, contours):
-    trimesh = pytest.importorskip("trimesh")
+    import trimesh
     contour, body, tol = contours[name], BODIES[name], 1e-3
     solid = cam_solid(contour, body, tol)
     mesh = trimesh.Trimesh(solid.vertices, solid.triangles, process=False)
@@ -185,12 +183,12 @@ def test_mesh_formats_read_back(fmt, contours, tmp_path):
 
 
 def test_binary_stl_passes_admesh(contours, tmp_path):
-    if shutil.which("admesh") is None:
-        pytest.skip("admesh not installed (Debian package admesh; .ci/run installs it)")
+    admesh = require_tool("admesh")
     path = tmp_path / "cam.stl"
     solid = cam_solid(contours["height"], BODIES["height"], 1e-3)
     path.write_bytes(mesh_bytes(solid, "stl"))
-    out = subprocess.run(["admesh", "-e", str(path)], capture_output=True, text=True, timeout=60).stdout  # always exits 0
+    # admesh always exits 0 and echoes the 80-byte header's raw bytes: decode leniently, parse the figures
+    out = subprocess.run([admesh, "-e", str(path)], capture_output=True, timeout=60).stdout.decode("utf-8", "replace")
     figures = {k.strip(): v for k, v in re.findall(r"^([A-Za-z ]+?)\s*:\s*(\d+)", out, re.M)}
     for key in ("Degenerate facets", "Edges fixed", "Facets removed", "Facets added", "Facets reversed", "Backwards edges", "Normals fixed"):
         assert int(figures[key]) == 0, (key, out)
@@ -224,7 +222,9 @@ def test_wall_is_measured_where_it_is_thinnest(contours):
 
 
 # --- G-code ----------------------------------------------------------------------------------------
-needs_rs274 = pytest.mark.skipif(shutil.which("rs274") is None, reason="rs274 not installed (Debian package linuxcnc-uspace; .ci/run installs it)")
+@pytest.fixture
+def needs_rs274():
+    return require_tool("rs274")
 
 
 def _check_program(program, intended, tmp_path, spec):
@@ -241,8 +241,8 @@ def _check_program(program, intended, tmp_path, spec):
     return contour_pts
 
 
-@needs_rs274
 @pytest.mark.parametrize("direction", ["climb", "conventional"])
+@pytest.mark.usefixtures("needs_rs274")
 def test_gcode_three_arc_runs_in_rs274_and_follows_the_offset(direction, contours, tmp_path):
     spec = MachiningSpec(thickness=6.0, step_down=2.5, direction=direction, tool_diameter=8.0)
     program = gcode_program(contours["stride"], spec, "stride")
@@ -253,8 +253,8 @@ def test_gcode_three_arc_runs_in_rs274_and_follows_the_offset(direction, contour
     assert (signed < 0) == (direction == "climb")  # climb: clockwise round the outside
 
 
-@needs_rs274
 @pytest.mark.parametrize("mode", ["biarcs", "lines"])
+@pytest.mark.usefixtures("needs_rs274")
 def test_gcode_spline_cam_runs_in_rs274(mode, contours, tmp_path):
     spec = MachiningSpec(thickness=4.0, step_down=2.0, tool_diameter=6.0, spline_mode=mode, chord_tol=5e-4)
     program = gcode_program(contours["steering"], spec, "steering")
@@ -264,8 +264,8 @@ def test_gcode_spline_cam_runs_in_rs274(mode, contours, tmp_path):
     _check_program(program, intended, tmp_path, spec)
 
 
-@needs_rs274
 @pytest.mark.parametrize("direction", ["climb", "conventional"])
+@pytest.mark.usefixtures("needs_rs274")
 def test_gcode_cutter_compensation_done_by_rs274(direction, contours, tmp_path):
     spec = MachiningSpec(thickness=2.0, step_down=2.0, tool_diameter=8.0, cutter_compensation=True, direction=direction)
     program = gcode_program(contours["stride"], spec, "stride")
@@ -314,7 +314,6 @@ def test_lift_table_against_table_1():
 # --- STEP (optional extra) ---------------------------------------------------------------------------
 @pytest.mark.parametrize("name", ["stride", "steering"])
 def test_step_solid_is_exact(name, contours):
-    pytest.importorskip("OCP", reason="cadquery-ocp-novtk not installed: pip install '.[step]'")
     from camgen.export.step import step_bytes, step_volume
 
     contour, body = contours[name], BODIES[name]

@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 import camgen
 from camgen.errors import CamgenError, ParameterError
 from camgen.synthesis.expression import parse_expression
-from tests.helpers import chord_deviation
+from camgen.tests.helpers import chord_deviation
 
 
 @pytest.mark.parametrize(

@@ -1,0 +1,30 @@
+"""Fixtures and settings shared by the test modules.
+
+The tests ship inside the package and run against the installed copy from any folder
+(``python3 -m pytest -q --pyargs camgen``), where no ``pyproject.toml`` is found: the
+warning filters are therefore set here, not in the project file.
+"""
+from __future__ import annotations
+
+import pytest
+
+WARNING_FILTERS = (
+    "error",
+    "ignore:overflow encountered in scalar multiply:RuntimeWarning",  # meshio reading ASCII STL on NumPy 2
+    "ignore:mypy_extensions.TypedDict is deprecated:DeprecationWarning",  # hypothesis' failure report on some installs
+)
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    for line in WARNING_FILTERS:
+        config.addinivalue_line("filterwarnings", line)
+
+
+@pytest.fixture(scope="session")
+def default_run(tmp_path_factory):
+    """``camgen run`` of the bundled default scene, once per test session: its output folder."""
+    from camgen.cli import main
+
+    out = tmp_path_factory.mktemp("run")
+    assert main(["run", "-o", str(out)]) == 0
+    return out / "default"
