@@ -28,3 +28,21 @@ def default_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("run")
     assert main(["run", "-o", str(out)]) == 0
     return out / "default"
+
+
+@pytest.fixture(scope="session")
+def steering():
+    """The tricycle steering cam of paper 004 (eq. 15 path, Table 2 device)."""
+    from camgen.mechanisms import tricycle as tc
+    from camgen.synthesis.trajectory import trajectory_from_expression
+
+    return tc.tricycle_cam(trajectory_from_expression("202.4396*sin(pi*x/1000)", 2000.0))
+
+
+@pytest.fixture(scope="session")
+def contours(steering):
+    """The stride and height cams of paper 000 and the tricycle steering cam's profile."""
+    import camgen
+    from camgen.tests.cams import HEIGHT, STRIDE
+
+    return {"stride": camgen.three_arc_cam(*STRIDE), "height": camgen.three_arc_cam(*HEIGHT), "steering": steering.profile}

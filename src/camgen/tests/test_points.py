@@ -1,0 +1,26 @@
+"""Point lists and lift tables."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import camgen
+from camgen.export.points import base_radius, lift_csv
+from camgen.tests.cams import HEIGHT, STRIDE
+
+
+def test_lift_table_against_table_1():
+    cam = camgen.three_arc_cam(*STRIDE)
+    text = lift_csv(cam, math.radians(0.5), "stride", "test")
+    assert "units: deg, mm" in text and "base radius 25.000000000 mm" in text
+    rows = [line for line in text.splitlines() if not line.startswith("#")]
+    assert rows[0] == "cam_angle_deg,radius_mm,lift_mm"
+    data = np.loadtxt(rows[1:], delimiter=",")
+    assert data.shape == (720, 3)
+    _, radius = camgen.yoke_law(*STRIDE, np.radians(data[:, 0]))  # Table 1's radius vector R
+    assert np.max(np.abs(data[:, 1] - radius)) <= 2e-9
+    assert np.allclose(data[:, 2], data[:, 1] - 25.0, atol=2e-9)
+    assert base_radius(camgen.three_arc_cam(*HEIGHT)) == pytest.approx(10.0, abs=1e-12)
+
