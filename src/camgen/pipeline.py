@@ -1,107 +1,109 @@
-"""The lazy pipeline: scene -> synthesis -> contour -> checks -> report and exports.
+"""The planned pipeline: scene -> synthesis -> checks -> mechanism jobs -> stages -> files.
 
-Only the stages a scene's outputs need are run, and their libraries are imported only then
-(ezdxf for DXF; nothing heavier is touched by a DXF/CSV job).  Everything is computed before
-the first file is written, so a user error leaves no partial output behind.
+:func:`plan_run` decides, from the requested outputs, which stages run (:mod:`camgen.outputs`);
+:func:`execute` runs them and renders every file in memory; :func:`run_scene` then writes the
+run atomically (:mod:`camgen.staging`).  Synthesis and the design checks always run: they decide
+the exit status.  Everything else (ride simulations, fits, sweeps, meshes, plot data) runs only
+when an output needs it, and its libraries are imported only then.
 """
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Callable, Sequence
 
-from camgen.builders import BUILDERS, BuiltCam, from_params
-from camgen.scene import CamSpec, Scene
+from camgen.errors import ParameterError
+
+if TYPE_CHECKING:
+    from camgen.checks import CheckResult
+    from camgen.jobs.base import JobResult
+    from camgen.kinds.base import BuiltCam, CamSpec
+    from camgen.scene import Scene
+    from camgen.writers import RunSettings
+
+#: Called with a short description before each step of a run (progress display).
+Progress = Callable[[str], None]
 
 
-def build_cams(scene: Scene) -> list[BuiltCam]:
-    """Synthesise and check every cam of ``scene``.
+def _quiet(step: str) -> None:
+    return None
 
-    A :class:`ParameterError` raised inside a builder is re-raised with the scene key
-    (``cams.<name>.<key>``) so the user finds the line to change.
+
+@dataclass(frozen=True)
+class Plan:
+    """What a run writes and which stages it runs.
+
+    ``formats``: the outputs written (registered names); ``stages``: the stages run besides
+    synthesis and checks; ``full_report``: report.json carries the analysis figures (every run
+    but one restricted by ``--only`` without ``json``).
     """
-    from camgen.errors import ParameterError
-    from camgen.scene import BODY_KEYS, CAM_KINDS
 
-    built = []
-    for spec in scene.cams:
-        try:
-            cam = BUILDERS[spec.kind](spec, scene.output.chord_tol)
-            cam.body = _body(spec)
-            _evaluate(scene, spec, cam)
-            if cam.body.bore_diameter > 0:
-                cam.checks.append(_wall_check(cam))
-            built.append(cam)
-        except ParameterError as exc:
-            if exc.name.startswith("cams."):
-                raise
-            schema = {**CAM_KINDS[spec.kind], **BODY_KEYS}
-            key = next((k for k in (exc.name, f"{exc.name}_mm", f"{exc.name}_deg") if k in schema), exc.name)
-            raise ParameterError(f"cams.{spec.name}.{key}", exc.value, exc.valid, exc.why) from None
-    return built
+    formats: tuple[str, ...]
+    stages: frozenset[str]
+    full_report: bool = True
 
 
-def _follower(spec: CamSpec, cam: BuiltCam) -> Any:
-    """The follower model of a cam: scene keys, else the kind's natural follower."""
-    from camgen.checks import Follower
+def plan_run(scene: "Scene", only: Sequence[str] | None = None) -> Plan:
+    """The outputs and stages of a run of ``scene``; ``only`` restricts the outputs to those
+    formats (whether or not the scene lists them; report.json is always written)."""
+    from camgen.outputs import OUTPUTS
 
-    p = spec.params
-    if spec.kind == "trajectory":  # the tricycle's steering rod: a radially translating roller on +x
-        default = Follower("roller", "translating", roller_radius=cam.model.device.rod_radius)
-    elif spec.kind == "motion_law":  # the follower moves along +y (camgen.synthesis.motion_law)
-        default = Follower(p.get("follower", "roller"), roller_radius=p.get("roller_radius", 10.0), direction=math.pi / 2)
+    if only is None:
+        wanted = list(scene.output.formats) + [f.name for f in OUTPUTS.values() if f.implied]
+        full = True
     else:
-        default = Follower("yoke")
-    kind = p.get("follower", default.kind)
-    return Follower(
-        kind=kind,
-        motion=p.get("follower_motion", default.motion),
-        roller_radius=p.get("roller_radius", default.roller_radius if kind == "roller" else 0.0),
-        offset=p.get("follower_offset", 0.0),
-        direction=p.get("follower_direction", default.direction),
-        pivot_distance=p.get("pivot_distance", 0.0),
-        pivot_angle=p.get("pivot_angle", 0.0),
-        arm_length=p.get("arm_length", 0.0),
-        face_half_length=p.get("face_half_length"),
-        pressure_angle_limit=p.get("pressure_angle_limit"),
-    )
+        unknown = [f for f in only if f not in OUTPUTS]
+        if unknown or not only:
+            raise ParameterError("--only", ",".join(only), "a comma-separated list of formats from " + ", ".join(OUTPUTS))
+        wanted = list(only) + ["json"]
+        full = "json" in only
+    formats = tuple(f for f in OUTPUTS if f in wanted)
+    stages: set[str] = set()
+    for name in formats:
+        if name != "json" or full:
+            stages |= OUTPUTS[name].stages
+    return Plan(formats, frozenset(stages), full)
 
 
-def _evaluate(scene: Scene, spec: CamSpec, cam: BuiltCam) -> None:
-    """Design checks of one cam (camgen.checks), kept for the report."""
+@dataclass
+class RunResult:
+    """Everything a run computed: the cams, the mechanism jobs' results, the files (name ->
+    content, report.json included) and the plan."""
+
+    scene: "Scene"
+    plan: Plan
+    cams: "list[BuiltCam]"
+    jobs: "dict[str, JobResult]" = field(default_factory=dict)
+    files: dict[str, str | bytes] = field(default_factory=dict)
+
+    def failed_checks(self) -> "list[tuple[str, CheckResult]]":
+        """(cam name, check) of every check that failed."""
+        return [(cam.name, check) for cam in self.cams for check in cam.checks if not check.passed]
+
+    def settings(self) -> "RunSettings":
+        from camgen.writers import RunSettings
+
+        return RunSettings(self.scene.name, self.scene.output, self.scene.machining)
+
+
+def check_cam(cam: "BuiltCam", spec: "CamSpec", tool_radius: float) -> None:
+    """The design checks of one cam (:func:`camgen.checks.evaluate_cam`) and its wall check."""
     from camgen.checks import evaluate_cam
 
-    follower = _follower(spec, cam)
-    tool = scene.machining.get("tool_diameter", 6.0) / 2.0
-    breadth = cam.model.get("breadth_mm") if isinstance(cam.model, dict) else None
-    pitch = None
-    if follower.kind == "roller" and cam.pitch is not None:
-        synthesis_roller = cam.model.device.rod_radius if spec.kind == "trajectory" else spec.params.get("roller_radius", 10.0)
-        pitch = cam.pitch if follower.roller_radius == synthesis_roller else None
-    cam.evaluation = evaluate_cam(cam.contour, follower, tool, spec.params.get("rpm"), breadth, pitch)
+    follower = cam.follower
+    pitch = cam.pitch if follower.kind == "roller" else None
+    cam.evaluation = evaluate_cam(cam.contour, follower, tool_radius, spec.checks.rpm, cam.breadth, pitch)
     cam.checks.extend(cam.evaluation.checks)
     cam.figures["follower"] = {"kind": follower.kind, "motion": follower.motion, "roller_radius_mm": follower.roller_radius,
                                "offset_mm": follower.offset, "pressure_angle_limit_deg": math.degrees(follower.limit)}
-    if spec.params.get("rpm"):
-        cam.figures["motion_at_rpm"] = {"rpm": spec.params["rpm"], **cam.evaluation.motion.at_rpm(spec.params["rpm"])}
+    if spec.checks.rpm:
+        cam.figures["motion_at_rpm"] = {"rpm": spec.checks.rpm, **cam.evaluation.motion.at_rpm(spec.checks.rpm)}
+    if cam.body.bore_diameter > 0:
+        cam.checks.append(_wall_check(cam))
 
 
-def _body(spec: CamSpec) -> Any:
-    from camgen.export.solid import SolidSpec
-
-    p = spec.params
-    defaults = SolidSpec()
-    return SolidSpec(
-        thickness=p.get("thickness", defaults.thickness),
-        bore_diameter=p.get("bore_diameter", 0.0),
-        keyway_width=p.get("keyway_width", 0.0),
-        keyway_depth=p.get("keyway_depth", 0.0),
-        keyway_angle=p.get("keyway_angle", defaults.keyway_angle),
-        min_wall=p.get("min_wall", defaults.min_wall),
-    )
-
-
-def _wall_check(cam: BuiltCam) -> Any:
+def _wall_check(cam: "BuiltCam") -> "CheckResult":
     """Wall between bore/keyway and profile: a GeometryError below min_wall, else a check result."""
     from camgen.checks import CheckResult
     from camgen.export.solid import check_wall, wall_left
@@ -112,86 +114,98 @@ def _wall_check(cam: BuiltCam) -> Any:
                        f"thinnest wall between the bore/keyway and the profile, {wall:.3f} mm")
 
 
-def _machining(scene: Scene, cam: BuiltCam) -> Any:
-    from camgen.export.gcode import MachiningSpec
-
-    fields = ("tool_diameter", "step_down", "safe_z", "spindle_rpm", "direction", "dialect", "cutter_compensation",
-              "lead", "spline_mode", "decimals")
-    renamed = {"feed": "feed_mm_per_min", "plunge_feed": "plunge_feed_mm_per_min"}
-    return from_params(MachiningSpec, scene.machining, fields, renamed, thickness=cam.body.thickness, chord_tol=scene.output.chord_tol)
-
-
-def analyse_mechanisms(scene: Scene, cams: list[BuiltCam]) -> tuple[dict[str, Any], dict[str, str], dict[str, Any]]:
-    """Mechanism analyses of the scene: report sections, their files, and their data for report.html."""
-    report: dict[str, Any] = {}
-    files: dict[str, str] = {}
-    context: dict[str, Any] = {}
-    if "horse_leg" in scene.mechanisms:
-        from camgen.mechanisms.horse_leg_job import horse_leg_job
-
-        report["horse_leg"], leg_files, context["horse_leg"] = horse_leg_job(scene, {c.name: c for c in cams})
-        files.update(leg_files)
-    return report, files, context
+def _merge_job(cams: "dict[str, BuiltCam]", result: "JobResult") -> None:
+    """A mechanism's checks replace the cams' checks of the same name; its curves replace the
+    pressure-angle curves report.html draws."""
+    for name, checks in result.checks.items():
+        replaced = {c.name for c in checks}
+        cams[name].checks[:] = [c for c in cams[name].checks if c.name not in replaced] + list(checks)
+    for name, (theta, angle, label) in result.curves.items():
+        evaluation = cams[name].evaluation
+        if evaluation is not None:
+            evaluation.pressure_angle = (theta, angle)
+            evaluation.pressure_angle_label = label
 
 
-def render_files(scene: Scene, cams: list[BuiltCam]) -> dict[str, str | bytes]:
-    """Every output file of the run except report.json, in memory (name -> content)."""
-    out = scene.output
-    files: dict[str, str | bytes] = {}
-    for cam in cams:
-        if "dxf" in out.formats:
-            from camgen.export.dxf import DxfOptions, contour_to_dxf
+def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> RunResult:
+    """Synthesis, design checks, mechanism jobs and the planned stages of ``scene`` (no files)."""
+    from camgen.jobs import get_job
+    from camgen.kinds import get_kind
+    from camgen.kinds.base import with_cam
 
-            options = DxfOptions(splines=out.dxf_splines, biarc_tol=out.chord_tol)
-            # follower-centre path: the synthesis' own, else the roller checks' pitch curve
-            pitch = (cam.pitch if cam.pitch is not None else getattr(cam.evaluation, "pitch", None)) if out.dxf_pitch else None
-            files[f"{cam.name}.dxf"] = contour_to_dxf(cam.contour, cam.body, pitch, options)
-        if "points" in out.formats:
-            from camgen.export.points import points_csv
+    tool_radius = scene.machining.tool_radius
+    cams: list[BuiltCam] = []
+    for spec in scene.cams:
+        progress(f"building cam '{spec.name}' ({spec.kind})")
+        cam = get_kind(spec.kind).build(spec, plan.stages)
+        progress(f"checking cam '{spec.name}'")
+        with_cam(f"cams.{spec.name}", lambda: check_cam(cam, spec, tool_radius))
+        cams.append(cam)
+    by_name = {c.name: c for c in cams}
+    result = RunResult(scene, plan, cams)
+    for mech in scene.mechanisms:
+        progress(f"mechanism '{mech.name}'")
+        job = get_job(mech.name)
+        result.jobs[mech.name] = job.run(mech.settings, by_name, plan.stages, scene.name)
+        _merge_job(by_name, result.jobs[mech.name])
+    if "mesh" in plan.stages:
+        from camgen.export.solid import cam_solid
 
-            files[f"{cam.name}_points.csv"] = points_csv(cam.contour, out.chord_tol, cam.name, scene.name)
-        if "lift" in out.formats:
-            from camgen.export.points import lift_csv
-
-            files[f"{cam.name}_lift.csv"] = lift_csv(cam.contour, out.lift_step, cam.name, scene.name)
-        from camgen.export import solid as solid_export
-
-        meshes = [f for f in out.formats if f in solid_export.MESH_FORMATS]
-        if meshes:
-            body = solid_export.cam_solid(cam.contour, cam.body, out.chord_tol, cam.name)
-            cam.figures["solid_volume_mm3"] = body.volume
-            cam.figures["solid_triangles"] = int(len(body.triangles))
-            for fmt in meshes:
-                files[cam.name + solid_export.SUFFIX[fmt]] = solid_export.mesh_bytes(body, fmt, cam.name)
-        if "step" in out.formats:
-            from camgen.export.step import step_bytes
-
-            files[f"{cam.name}.step"] = step_bytes(cam.contour, cam.body, cam.name)
-        if "ngc" in out.formats:
-            from camgen.export.gcode import gcode_program
-
-            files[f"{cam.name}.ngc"] = gcode_program(cam.contour, _machining(scene, cam), cam.name, scene.name)
-        files.update(cam.files)
-    return files
+        for cam in cams:
+            progress(f"meshing cam '{cam.name}'")
+            cam.solid = cam_solid(cam.contour, cam.body, scene.output.chord_tol, cam.name)
+            cam.figures["solid_volume_mm3"] = cam.solid.volume
+            cam.figures["solid_triangles"] = int(len(cam.solid.triangles))
+    return result
 
 
-def run_scene(scene: Scene, outdir: str | Path = "outputs") -> list[Path]:
-    """Run ``scene`` and write its outputs into ``outdir/<scene name>/``; return the paths written."""
-    from camgen.report import report_json, report_dict
+def execute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> RunResult:
+    """Run the planned stages of ``scene`` and render every file in memory (nothing written)."""
+    result = compute(scene, plan, progress)
+    render(result, progress)
+    return result
 
-    target = Path(outdir) / scene.name
-    cams = build_cams(scene)
-    mechanisms, mechanism_files, context = analyse_mechanisms(scene, cams)
-    # render everything in memory first: nothing is written unless all of it succeeded
-    files = render_files(scene, cams)
-    files.update(mechanism_files)
-    names = sorted(files) + ["report.json"] + (["report.html"] if "html" in scene.output.formats else [])
-    files["report.json"] = report_json(report_dict(scene, cams, names, mechanisms))
-    if "html" in scene.output.formats:
-        from camgen.report_html import report_html
 
-        files["report.html"] = report_html(scene, cams, mechanisms, context, scene.machining.get("tool_diameter", 6.0) / 2.0)
+def render(result: RunResult, progress: Progress = _quiet) -> None:
+    """Every planned file of ``result`` into ``result.files``: per-cam writers, the kinds' and
+    jobs' files, report.json and report.html."""
+    import importlib
 
-    from camgen.export.atomic import write_atomic
+    from camgen.outputs import OUTPUTS
+    from camgen.report import report_dict, report_json
 
-    return [write_atomic(target / name, data) for name, data in files.items()]
+    settings = result.settings()
+    files = result.files
+    for cam in result.cams:
+        for name in result.plan.formats:
+            fmt = OUTPUTS[name]
+            if fmt.scope != "cam":
+                continue
+            progress(f"writing {fmt.files.format(cam=cam.name)}")
+            module, function = fmt.writer.split(":")
+            writer = getattr(importlib.import_module(module), function)
+            files[fmt.files.format(cam=cam.name)] = writer(cam, settings, name)
+        if "ride" in result.plan.formats:
+            files.update(cam.files)
+    if "legs" in result.plan.formats:
+        for job in result.jobs.values():
+            files.update(job.files)
+    html = "html" in result.plan.formats
+    names = sorted(files) + ["report.json"] + (["report.html"] if html else [])
+    mechanisms = {name: job.report for name, job in result.jobs.items()}
+    files["report.json"] = report_json(report_dict(result.scene, result.cams, names, mechanisms))
+    if html:
+        progress("writing report.html")
+        module, function = OUTPUTS["html"].writer.split(":")
+        files["report.html"] = getattr(importlib.import_module(module), function)(result)
+
+
+def run_scene(scene: "Scene", outdir: str | Path = "outputs", only: Sequence[str] | None = None,
+              progress: Progress = _quiet) -> RunResult:
+    """Run ``scene`` and write its files into ``outdir/<scene name>/`` as one atomic swap."""
+    from camgen.staging import write_run
+
+    result = execute(scene, plan_run(scene, only), progress)
+    progress("writing files")
+    write_run(Path(outdir) / scene.name, result.files)
+    return result

@@ -1,0 +1,203 @@
+"""Mechanism job ``horse_leg``: the leg of paper 000 driven by two three-arc cams of the scene.
+
+Scene table ``[mechanisms.horse_leg]``.  The job solves the leg at each inclination in
+``inclinations_deg`` (always: the two cams' pressure-angle checks come from it), writes
+``leg_path_alpha_<deg>.csv`` for each, and, with the ``analysis`` stage, sweeps the inclination
+(``sweep_deg = [from, to, step]``) for the trajectory cluster.  It returns its checks and
+report data; the pipeline merges them (it never edits the cams itself).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Mapping
+
+import numpy as np
+
+from camgen.errors import CamgenError, ParameterError
+from camgen.jobs.base import JobResult, MechanismJob
+from camgen.schema import REQUIRED, Angle, Count, Key, Number, NumberList, Text
+
+if TYPE_CHECKING:
+    from camgen.kinds.base import BuiltCam, CamSpec
+    from camgen.mechanisms.horse_leg import HorseLeg, LegSolution
+
+
+def _ground_default() -> float:
+    from camgen.kinds.base import field_default
+    from camgen.mechanisms.horse_leg import HorseLeg
+
+    return field_default(HorseLeg, "ground_y")
+
+
+KEYS = (
+    Key("stride_cam", Text(64), "Name of the scene's three_arc cam driving the stride (yoke at O1).", ("mechanism",), default=REQUIRED),
+    Key("height_cam", Text(64), "Name of the scene's three_arc cam driving the leg height (fork swinging about O5).", ("mechanism",),
+        default=REQUIRED),
+    Key("inclinations_deg", NumberList(Number("deg", -90.0, 90.0), 1, 20, distinct_decimals=6),
+        "Swing-rod inclinations alpha1: a leg path file and report figures each; the pressure-angle checks take the worst.",
+        ("mechanism",), default=[12.5, 14.5, 18.5], attr="inclinations_deg"),
+    Key("sweep_deg", NumberList(Number("deg", -90.0, 90.0), 3, 3), "Inclination sweep [from, to, step] for the trajectory cluster "
+        "(to >= from, step > 0, at most 200 steps).", ("report",), default=[10.0, 19.0, 0.5], attr="sweep_deg"),
+    Key("pressure_angle_limit_deg", Angle(0.0, 90.0, low_open=True, high_open=True), "Largest pressure angle allowed in the leg.",
+        ("report",), default=45.0),
+    Key("ground_y_mm", Number("mm", -1e5, 1e5), "Ground line below the stride-cam centre O1 (splits swing and stance).", ("mechanism",),
+        default=_ground_default()),
+    Key("positions", Count(36, 36000), "Cam positions per turn in the leg path files.", ("mechanism",), default=3600),
+)
+
+
+@dataclass(frozen=True)
+class HorseLegSpec:
+    """The job's settings: cam names, inclinations and sweep (deg), limit (rad), ground (mm)."""
+
+    stride_cam: str
+    height_cam: str
+    inclinations_deg: tuple[float, ...]
+    sweep_deg: tuple[float, float, float]
+    pressure_angle_limit: float
+    ground_y: float
+    positions: int
+
+
+@dataclass(frozen=True)
+class HorseLegPlots:
+    """What report.html draws: the leg, the solutions per inclination and of the sweep, the
+    stance body paths (mm, rad)."""
+
+    leg: "HorseLeg"
+    solutions: dict[float, "LegSolution"]
+    sweep: list[dict[str, Any]]
+    sweep_solutions: dict[float, "LegSolution"] = field(default_factory=dict)
+    body_paths: dict[float, np.ndarray | None] = field(default_factory=dict)
+    limit: float = math.radians(45.0)
+
+
+def read(where: str, parsed: Mapping[str, Any], cams: Mapping[str, "CamSpec"]) -> HorseLegSpec:
+    """The typed spec; the two cams must be three_arc cams of the scene."""
+    three_arc = sorted(n for n, c in cams.items() if c.kind == "three_arc")
+    for key in ("stride_cam", "height_cam"):
+        if parsed[key] not in three_arc:
+            raise ParameterError(f"{where}.{key}", parsed[key], f"the name of a three_arc cam of this scene: {three_arc}")
+    sweep = parsed["sweep_deg"]
+    if sweep[2] <= 0 or sweep[1] < sweep[0] or (sweep[1] - sweep[0]) / sweep[2] > 200:
+        raise ParameterError(f"{where}.sweep_deg", list(sweep), "[from, to, step] with to >= from, step > 0, at most 200 steps")
+    return HorseLegSpec(parsed["stride_cam"], parsed["height_cam"], parsed["inclinations_deg"], sweep,
+                        parsed["pressure_angle_limit"], parsed["ground_y"], parsed["positions"])
+
+
+def _leg(spec: HorseLegSpec, cams: Mapping[str, "BuiltCam"]) -> "HorseLeg":
+    from camgen.mechanisms.horse_leg import HorseLeg
+
+    stride, height = cams[spec.stride_cam].figures, cams[spec.height_cam].figures
+    return HorseLeg(stride_cam=(stride["a_mm"], stride["b_mm"], stride["c_mm"]),
+                    height_cam=(height["a_mm"], height["b_mm"], height["c_mm"]), ground_y=spec.ground_y)
+
+
+def sweep_values(sweep_deg: tuple[float, float, float]) -> np.ndarray:
+    """Inclinations (rad) of the sweep ``[from, to, step]`` (deg)."""
+    start, stop, step = sweep_deg
+    count = int(math.floor((stop - start) / step + 1e-9)) + 1
+    return np.radians(start + step * np.arange(count))
+
+
+def run(spec: HorseLegSpec, cams: Mapping[str, "BuiltCam"], stages: frozenset[str], scene_name: str) -> JobResult:
+    """Leg paths per inclination, Section 6.1 figures, the cams' pressure-angle checks and,
+    with ``analysis``, the inclination sweep."""
+    from camgen.export.tables import csv_table
+    from camgen.mechanisms import horse_leg as hl
+
+    leg = _leg(spec, cams)
+    theta1 = hl.cycle(spec.positions)
+    limit = spec.pressure_angle_limit
+    cam_contours = hl._cams(leg)
+    report: dict[str, Any] = {
+        "grashof_margin_mm": hl.grashof_margin(leg),
+        "ground_y_mm": leg.ground_y,
+        "pressure_angle_limit_deg": math.degrees(limit),
+        "positions": spec.positions,
+    }
+    files: dict[str, str] = {}
+    solutions = {}
+    for alpha_deg in spec.inclinations_deg:
+        sol = hl.solve_leg(leg, math.radians(alpha_deg), theta1, cams=cam_contours)
+        solutions[alpha_deg] = sol
+        figures = hl.gait_figures(leg, sol)
+        figures["alpha1_deg"] = float(alpha_deg)
+        figures["pressure_angle_within_limit"] = bool(np.max(sol.pressure_angle) <= limit)
+        label = f"{alpha_deg:g}"
+        report[f"alpha_{label}"] = figures
+        files[f"leg_path_alpha_{label}.csv"] = csv_table(
+            [
+                f"camgen horse-robot leg end point W (paper 000, eq. 18), alpha1 = {label} deg, scene '{scene_name}'",
+                "units: deg, mm; frame: origin O1 at the stride-cam centre, x right, y up",
+                f"pressure_angle_deg: stride-cam pressure angle (eqs. 19-25 with the slide term of eq. 4); ground line y = {leg.ground_y:g} mm",
+            ],
+            {"theta1_deg": np.degrees(theta1), "x_mm": sol.w[:, 0], "y_mm": sol.w[:, 1], "pressure_angle_deg": np.degrees(sol.pressure_angle)},
+        )
+    sweep: list[dict[str, Any]] = []
+    sweep_solutions = {}
+    if "analysis" in stages:
+        for alpha in sweep_values(spec.sweep_deg):
+            row: dict[str, Any] = {"alpha1_deg": round(math.degrees(alpha), 9)}
+            try:
+                sol = hl.solve_leg(leg, alpha, hl.cycle(720), cams=cam_contours)
+                sweep_solutions[row["alpha1_deg"]] = sol
+                row["max_pressure_angle_deg"] = float(np.degrees(sol.pressure_angle.max()))
+                row["within_limit"] = bool(sol.pressure_angle.max() <= limit)
+                row["foot_y_range_mm"] = [float(sol.w[:, 1].min()), float(sol.w[:, 1].max())]
+                row["foot_x_range_mm"] = [float(sol.w[:, 0].min()), float(sol.w[:, 0].max())]
+            except CamgenError as exc:
+                row["error"] = str(exc)
+                row["within_limit"] = False
+            sweep.append(row)
+        report["sweep"] = sweep
+    checks, curves = _checks(leg, spec, solutions, limit)
+    for alpha_deg, sol in solutions.items():  # how far along the stride fork's face the cam touches
+        report[f"alpha_{alpha_deg:g}"]["stride_fork_contact_offset_range_mm"] = [float(sol.h.min()), float(sol.h.max())]
+    plots = None
+    if "plots" in stages:
+        paths = {}
+        for alpha, sol in solutions.items():
+            try:
+                paths[alpha] = hl.body_path(leg, sol)
+            except CamgenError:  # a path that misses the ground has no stance
+                paths[alpha] = None
+        plots = HorseLegPlots(leg, solutions, sweep, sweep_solutions, paths, limit)
+    return JobResult(report, files, checks, curves, plots)
+
+
+def _checks(leg: "HorseLeg", spec: HorseLegSpec, solutions: Mapping[float, "LegSolution"], limit: float):
+    """Pressure-angle checks of the two cams in the mechanism (worst over the inclinations),
+    and the curves report.html draws for them."""
+    from camgen.checks import CheckResult
+    from camgen.mechanisms import horse_leg as hl
+
+    checks: dict[str, list[CheckResult]] = {}
+    curves: dict[str, tuple[np.ndarray, np.ndarray, str]] = {}
+    for cam_name, values, what in (
+        (spec.stride_cam, lambda s: s.pressure_angle, "stride cam on its yoke (eqs. 19-25)"),
+        (spec.height_cam, lambda s: hl.height_fork_pressure_angle(leg, s), "height cam on its fork swinging about O5"),
+    ):
+        worst_alpha, worst_sol = max(solutions.items(), key=lambda item: float(np.max(values(item[1]))))
+        angle = values(worst_sol)
+        i = int(np.argmax(angle))
+        check = CheckResult(
+            "pressure_angle", float(np.degrees(angle[i])), float(np.degrees(limit)), "deg", bool(angle[i] <= limit),
+            [round(float(np.degrees(worst_sol.theta1[i])), 6)],
+            f"largest pressure angle of the {what} over alpha1 = {', '.join(f'{a:g}' for a in solutions)} deg "
+            f"(worst at alpha1 = {worst_alpha:g} deg; where_deg is the stride-cam angle theta1)",
+        )
+        checks.setdefault(cam_name, []).append(check)
+        curves[cam_name] = (worst_sol.theta1, angle, f"in the horse leg, alpha1 = {worst_alpha:g} deg, against the stride-cam angle theta1")
+    return checks, curves
+
+
+JOB = MechanismJob(
+    name="horse_leg",
+    summary="single leg of the quadruped horse robot driven by two three-arc cams (paper 000, Sections 3-6)",
+    keys=KEYS,
+    read=read,
+    run=run,
+    report_section="camgen.report.sections:horse_leg_section",
+)

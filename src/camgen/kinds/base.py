@@ -1,0 +1,175 @@
+"""What every cam kind shares: the built cam, the cam spec, the kind object and the key groups.
+
+A cam kind is one module in :mod:`camgen.kinds` exposing ``KIND``, a :class:`CamKind`: its
+scene keys, how to read them into a typed spec, how to build the cam (synthesis, and the
+analysis stages it feeds), and which report section draws it.  The pipeline knows nothing
+about any kind beyond this interface.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Callable, Mapping
+
+from camgen.errors import CamgenError, ParameterError
+from camgen.schema import Angle, Choice, Key, Length, Number, Text
+
+if TYPE_CHECKING:  # the heavy modules stay unimported until a cam is built
+    from camgen.checks import CamEvaluation, CheckResult, Follower
+    from camgen.contour import Contour
+    from camgen.export.solid import CamSolid, SolidSpec
+
+#: Analysis stages a kind may feed (the pipeline plans them from the requested outputs).
+#: ``analysis``: figures and files beyond the design checks (ride simulations, fits, sweeps);
+#: ``plots``: the data report.html draws.
+STAGES = ("analysis", "plots", "mesh")
+
+
+def field_default(cls: type, name: str) -> Any:
+    """The default of dataclass field ``name`` of ``cls``: one owner for every default."""
+    return {f.name: f.default for f in dataclasses.fields(cls)}[name]
+
+
+@dataclass(frozen=True)
+class CheckSettings:
+    """Limits and conditions of the design checks (rad, rev/min)."""
+
+    pressure_angle_limit: float | None = None
+    rpm: float | None = None
+
+
+@dataclass(frozen=True)
+class CamSpec:
+    """One cam of a scene: name, kind, the kind's typed parameters, body, follower and check settings."""
+
+    name: str
+    kind: str
+    params: Any  # the kind's own frozen dataclass (see its module)
+    body: "SolidSpec"
+    checks: CheckSettings
+    follower: "Follower | None" = None
+
+
+@dataclass
+class BuiltCam:
+    """A synthesised cam: its contour, figures (report numbers), checks and files.
+
+    ``contour`` is None when the profile cannot be made (an undercut): the checks say why and
+    the report shows it, and no manufacturing file is written.  Kinds extend this class with
+    their own typed data.
+    """
+
+    name: str
+    kind: str
+    contour: "Contour | None"
+    figures: dict[str, Any]
+    body: "SolidSpec"
+    follower: "Follower | None" = None
+    pitch: "Contour | None" = None  # follower-centre path the cam was made for (roller followers)
+    breadth: float | None = None  # constant breadth (yoke followers)
+    checks: "list[CheckResult]" = field(default_factory=list)
+    files: dict[str, str] = field(default_factory=dict)
+    evaluation: "CamEvaluation | None" = None
+    solid: "CamSolid | None" = None
+
+
+@dataclass(frozen=True)
+class CamKind:
+    """A registered cam kind.
+
+    Attributes
+    ----------
+    name : the ``kind`` value in scene files.
+    summary : one line for ``camgen keys`` and the template list.
+    keys : every key ``[cams.<name>]`` accepts besides ``kind``.
+    read : ``(where, name, parsed, base_dir) -> CamSpec``: the parsed keys (fields in internal
+        units) into the typed spec; cross-key validation here, errors naming scene keys under
+        ``where``; ``base_dir`` is where relative file names in the scene point.
+    build : ``(spec, stages) -> BuiltCam``: synthesis, plus the analysis stages in ``stages``.
+    report_section : ``"module:function"`` drawing the kind's own part of report.html, or "".
+    """
+
+    name: str
+    summary: str
+    keys: tuple[Key, ...]
+    read: Callable[..., CamSpec]
+    build: Callable[[CamSpec, frozenset[str]], BuiltCam]
+    report_section: str = ""
+
+
+# --------------------------------------------------------------------------------------------
+# Key groups shared by the kinds
+# --------------------------------------------------------------------------------------------
+def _solid_default(name: str) -> Any:
+    from camgen.export.solid import SolidSpec
+
+    return field_default(SolidSpec, name)
+
+
+def body_keys() -> tuple[Key, ...]:
+    """Keys of the cam body (every kind): thickness, bore, keyway, minimum wall."""
+    return (
+        Key("thickness_mm", Length(0.0, 1e4), "Thickness of the cam plate.", ("thickness",), default=_solid_default("thickness")),
+        Key("bore_diameter_mm", Length(0.0, 1e4, low_open=False), "Diameter of the shaft bore; 0: no bore.", ("body",),
+            default=_solid_default("bore_diameter")),
+        Key("keyway_width_mm", Length(0.0, 1e4, low_open=False), "Width of the keyway in the bore; 0: no keyway.", ("body",),
+            default=_solid_default("keyway_width")),
+        Key("keyway_depth_mm", Length(0.0, 1e4, low_open=False), "Depth of the keyway beyond the bore radius.", ("body",),
+            default=_solid_default("keyway_depth")),
+        Key("keyway_angle_deg", Angle(), "Direction of the keyway's centre line in the cam frame (counter-clockwise from +x).",
+            ("body",), default=math.degrees(_solid_default("keyway_angle"))),
+        Key("min_wall_mm", Length(0.0, 1e4, low_open=False), "Smallest wall allowed between bore/keyway and profile (the wall check's limit).",
+            ("report",), default=_solid_default("min_wall")),
+    )
+
+
+def check_keys() -> tuple[Key, ...]:
+    """Keys of the design checks (every kind)."""
+    return (
+        Key("pressure_angle_limit_deg", Angle(0.0, 90.0, low_open=True, high_open=True),
+            "Largest pressure angle allowed (default: 30 deg translating roller/flat, 45 deg oscillating and yoke).", ("report",)),
+        Key("rpm", Number("rev/min", 0.0, 1e6, low_open=True), "Cam speed for the follower motion figures (velocity, acceleration, jerk at speed).",
+            ("report",)),
+    )
+
+
+def source_key() -> Key:
+    return Key("source", Text(), "Where the numbers come from (a note copied into the report).", ("report",))
+
+
+def read_body(where: str, parsed: Mapping[str, Any]) -> "SolidSpec":
+    """The :class:`~camgen.export.solid.SolidSpec` of a cam table, errors naming the scene key."""
+    from camgen.export.solid import SolidSpec
+
+    keys = body_keys()
+    return rename_errors(where, lambda: SolidSpec(**{k.field: parsed[k.field] for k in keys if k.field in parsed}), keys)
+
+
+def read_checks(parsed: Mapping[str, Any]) -> CheckSettings:
+    return CheckSettings(parsed.get("pressure_angle_limit"), parsed.get("rpm"))
+
+
+def rename_errors(where: str, make: Callable[[], Any], keys: tuple[Key, ...]) -> Any:
+    """Call ``make``; a :class:`ParameterError` naming an internal parameter (``bore_diameter``)
+    is re-raised naming its scene key (``cams.x.bore_diameter_mm``) so the user finds the line."""
+    try:
+        return make()
+    except ParameterError as exc:
+        if "." in exc.name:  # already a scene path
+            raise
+        key = {k.field: k.name for k in keys}.get(exc.name, exc.name)
+        raise ParameterError(f"{where}.{key}", exc.value, exc.valid, exc.why) from None
+
+
+def with_cam(where: str, make: Callable[[], Any]) -> Any:
+    """Call ``make``; any other :class:`CamgenError` is prefixed with the cam's scene path."""
+    try:
+        return make()
+    except ParameterError:
+        raise
+    except CamgenError as exc:
+        text = str(exc)
+        if text.startswith(f"{where}"):
+            raise
+        raise type(exc)(f"{where}: {text}") from None

@@ -1,0 +1,127 @@
+"""Cam kind ``three_arc``: the constant-breadth three-center cam of paper 000 (Section 4.1, Table 1).
+
+The profile is six exact arcs (:func:`camgen.synthesis.three_arc.three_arc_cam`); it drives a
+flat-faced double (yoke) follower by default.  A single flat face or a roller may be analysed
+instead: the follower keys change the checks in the report (and the DXF PITCH layer for a
+roller), never the profile, which the three parameters fix.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from camgen.kinds.base import (
+    BuiltCam,
+    CamKind,
+    CamSpec,
+    body_keys,
+    check_keys,
+    read_body,
+    read_checks,
+    rename_errors,
+    source_key,
+)
+from camgen.schema import REQUIRED, Angle, Choice, Key, Length
+
+
+@dataclass(frozen=True)
+class ThreeArcParams:
+    """a = |OO'| = |OO''|, b = |O'O''|, c = base-circle radius (mm); ``source`` a note."""
+
+    a: float
+    b: float
+    c: float
+    source: str | None = None
+
+
+_PARAMS = (
+    Key("a_mm", Length(), "Distance of the off-axis centres O', O'' from the pivot O (paper 000, Fig. 5).", ("profile",), default=REQUIRED),
+    Key("b_mm", Length(), "Distance between O' and O''; valid 0 < b < min(2a, a + c).", ("profile",), default=REQUIRED),
+    Key("c_mm", Length(), "Base-circle radius: the dwell arc nearest the axis.", ("profile",), default=REQUIRED),
+    source_key(),
+)
+
+_FOLLOWER = (
+    Key("follower", Choice(("yoke", "flat", "roller")),
+        "Follower analysed by the checks: a yoke (two parallel flat faces, the constant-breadth drive), one flat face, or a roller.",
+        ("report", "pitch"), default="yoke"),
+    Key("follower_motion", Choice(("translating", "oscillating")),
+        "Translating, or (roller only) oscillating about a pivot.", ("report",), default="translating"),
+    Key("roller_radius_mm", Length(), "Roller radius.", ("report", "pitch"), requires={"follower": ("roller",)}),
+    Key("follower_offset_mm", Length(-1e5, 1e5, low_open=False),
+        "Distance of a translating roller's axis from the cam axis (to the left of the motion direction).", ("report",),
+        requires={"follower": ("roller",), "follower_motion": ("translating",)}),
+    Key("follower_direction_deg", Angle(), "Direction in which the follower translates, in the fixed frame (counter-clockwise from +x).",
+        ("report",), default=0.0, requires={"follower_motion": ("translating",)}),
+    Key("pivot_distance_mm", Length(), "Oscillating roller: distance of the arm's pivot from the cam axis.", ("report",),
+        requires={"follower_motion": ("oscillating",)}),
+    Key("pivot_angle_deg", Angle(), "Oscillating roller: polar angle of the pivot in the fixed frame.", ("report",),
+        requires={"follower_motion": ("oscillating",)}),
+    Key("arm_length_mm", Length(), "Oscillating roller: arm length from the pivot to the roller centre.", ("report",),
+        requires={"follower_motion": ("oscillating",)}),
+    Key("face_half_length_mm", Length(), "Flat face or yoke: usable half-length of the face (checked against the contact's reach).",
+        ("report",), requires={"follower": ("flat", "yoke")}),
+)
+
+KEYS = _PARAMS + body_keys() + _FOLLOWER + check_keys()
+
+
+def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = None) -> CamSpec:
+    """The typed spec of a ``three_arc`` cam table (fields in mm and rad)."""
+    from camgen.checks import Follower
+    from camgen.synthesis.three_arc import validate_three_arc
+
+    a, b, c = rename_errors(where, lambda: validate_three_arc(parsed["a"], parsed["b"], parsed["c"]), KEYS)
+    checks = read_checks(parsed)
+    follower = rename_errors(where, lambda: Follower(
+        kind=parsed["follower"],
+        motion=parsed["follower_motion"],
+        roller_radius=parsed.get("roller_radius", 0.0),
+        offset=parsed.get("follower_offset", 0.0),
+        direction=parsed["follower_direction"],
+        pivot_distance=parsed.get("pivot_distance", 0.0),
+        pivot_angle=parsed.get("pivot_angle", 0.0),
+        arm_length=parsed.get("arm_length", 0.0),
+        face_half_length=parsed.get("face_half_length"),
+        pressure_angle_limit=checks.pressure_angle_limit,
+    ), KEYS)
+    return CamSpec(name, "three_arc", ThreeArcParams(a, b, c, parsed.get("source")), read_body(where, parsed), checks, follower)
+
+
+def build(spec: CamSpec, stages: frozenset[str]) -> BuiltCam:
+    """The six-arc cam and its figures (exact; no analysis stage needed)."""
+    from camgen import checks
+    from camgen.synthesis import three_arc
+
+    p: ThreeArcParams = spec.params
+    contour = three_arc.three_arc_cam(p.a, p.b, p.c)
+    width = three_arc.breadth(p.a, p.b, p.c)
+    error, _ = checks.breadth_error(contour, width)
+    figures: dict[str, Any] = {
+        "a_mm": p.a,
+        "b_mm": p.b,
+        "c_mm": p.c,
+        "theta_x_deg": math.degrees(three_arc.theta_x(p.a, p.b)),
+        "breadth_mm": width,
+        "breadth_error_mm": error,
+        "base_radius_mm": p.c,
+        "max_radius_mm": 2.0 * p.a + p.c - p.b,
+        "area_mm2": contour.area,
+        "perimeter_mm": contour.length,
+        "bounds_mm": list(contour.bounds),
+        "arc_radii_mm": [seg.radius for seg in contour.segments],
+    }
+    if p.source is not None:
+        figures["source"] = p.source
+    return BuiltCam(spec.name, spec.kind, contour, figures, spec.body, spec.follower, breadth=width)
+
+
+KIND = CamKind(
+    name="three_arc",
+    summary="constant-breadth three-center cam of six exact arcs for a yoke follower (paper 000)",
+    keys=KEYS,
+    read=read,
+    build=build,
+)

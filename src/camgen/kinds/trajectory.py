@@ -1,0 +1,237 @@
+"""Cam kind ``trajectory``: a steering cam from a required periodic path (paper 004, the tricycle).
+
+Synthesis by arc length, curvature and a periodic cubic spline
+(:func:`camgen.mechanisms.tricycle.tricycle_cam`); the follower is the steering rod, a
+radially translating roller of radius ``rod_radius_mm``.  Stages: ``analysis`` simulates the
+ride on the cam as made (figures and ``<cam>_ride.csv``) and fits the paper's error model to
+the measured tables; ``plots`` computes what report.html draws (rides with the error types,
+fitted model curves).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from camgen.errors import ParameterError, SceneError
+from camgen.kinds.base import (
+    BuiltCam,
+    CamKind,
+    CamSpec,
+    body_keys,
+    check_keys,
+    field_default,
+    read_body,
+    read_checks,
+    rename_errors,
+    source_key,
+    with_cam,
+)
+from camgen.schema import Choice, ChoiceList, Count, Key, Length, Text
+
+if TYPE_CHECKING:
+    from camgen.mechanisms.tricycle import Ride, Tricycle, TricycleCam
+    from camgen.synthesis.trajectory import Trajectory
+
+#: Largest number of samples per cam turn (the spline and its offset grow with it).
+MAX_SAMPLES = 20000
+
+
+def _device_default(name: str) -> Any:
+    from camgen.mechanisms.tricycle import Tricycle
+
+    return field_default(Tricycle, name)
+
+
+_DEVICE = ("wheelbase", "half_track", "lever", "rod_radius", "z_rear", "z_cam", "worm_teeth")
+
+KEYS = (
+    Key("expression", Text(2000), "The path y = f(x) over one period, mm: numbers, x, pi, + - * / **, sin cos tan exp log sqrt abs. "
+        "Give exactly one of expression (with period_mm) and trajectory_csv.", ("profile",)),
+    Key("trajectory_csv", Text(), "A CSV file of x, y rows (mm) over one period, relative to the scene file.", ("profile",)),
+    Key("period_mm", Length(), "Period of the expression's path: the distance travelled per cam turn along x.", ("profile",)),
+    Key("samples", Count(16, MAX_SAMPLES), "Cam angles per turn at which the cam radius is computed (N).", ("profile",), default=720),
+    Key("curvature", Choice(("exact", "forward", "central")),
+        "Path curvature: exact derivatives, or the paper's eq. (12) forward/central differences.", ("profile",), default="exact"),
+    Key("wheelbase_mm", Length(), "L: rear shaft to the steered wheel (Table 2).", ("profile",), default=_device_default("wheelbase")),
+    Key("half_track_mm", Length(), "D: lateral distance of each rear wheel from the centre line.", ("profile",),
+        default=_device_default("half_track")),
+    Key("lever_mm", Length(), "d: active length of the steering rod (eq. 14 uses 30 mm).", ("profile",), default=_device_default("lever")),
+    Key("rod_radius_mm", Length(), "r_d: radius of the steering rod, the cam's follower (r_b = L - r_d).", ("profile", "pitch"),
+        default=_device_default("rod_radius")),
+    Key("z_rear", Count(1, 100000, "teeth"), "Z1: teeth of the rear-shaft gear (drive-wheel diameter).", ("report",),
+        default=_device_default("z_rear")),
+    Key("z_cam", Count(1, 100000, "teeth"), "Z2: teeth of the camshaft gear (drive-wheel diameter).", ("report",),
+        default=_device_default("z_cam")),
+    Key("worm_teeth", Count(1, 100000, "teeth"), "Z3: teeth of the fine-tuning worm wheel (eq. 17), for the fits' advice.", ("report",)),
+    Key("ride_periods", Count(1, 1000), "Cam turns of the long ride simulation (its error in the report).", ("report",), default=10),
+    Key("fit_tables", ChoiceList(("A1", "A2")), "Fit the error model to the paper's measured trajectories (Appendix A).", ("report",)),
+    source_key(),
+) + body_keys() + check_keys()
+
+
+@dataclass(frozen=True)
+class TrajectoryParams:
+    """The path, the device and the synthesis options (mm, rad)."""
+
+    trajectory: "Trajectory"
+    device: "Tricycle"
+    samples: int
+    curvature: str
+    ride_periods: int
+    fit_tables: tuple[str, ...] = ()
+    source: str | None = None
+
+
+@dataclass(frozen=True)
+class TricyclePlots:
+    """What report.html draws for a tricycle cam: the design ride over one turn, rides with
+    the error types over two turns, and each fitted table with its model curve (mm, rad)."""
+
+    ride: "Ride"
+    error_rides: dict[str, "Ride"]
+    fits: dict[str, dict[str, np.ndarray]] = field(default_factory=dict)
+
+
+@dataclass
+class TrajectoryCam(BuiltCam):
+    """A built trajectory cam: the tricycle model and, with the plots stage, the report's data."""
+
+    tricycle: "TricycleCam | None" = None
+    plots: TricyclePlots | None = None
+
+
+def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = None) -> CamSpec:
+    """The typed spec of a ``trajectory`` cam table: the path is parsed or read now."""
+    from camgen.checks import Follower
+    from camgen.mechanisms.tricycle import Tricycle
+    from camgen.synthesis import trajectory as tr
+
+    if ("expression" in parsed) == ("trajectory_csv" in parsed):
+        raise SceneError(f"[{where}]: give exactly one of 'expression' (with 'period_mm') or 'trajectory_csv'")
+    if "expression" in parsed:
+        if "period" not in parsed:
+            raise SceneError(f"[{where}]: 'expression' needs 'period_mm'")
+        traj = rename_errors(where, lambda: tr.trajectory_from_expression(parsed["expression"], parsed["period"]), KEYS)
+    else:
+        if "period" in parsed:
+            raise ParameterError(f"{where}.period_mm", parsed["period"], "only with expression",
+                                 "a table's period is its last x minus its first")
+        path = Path(parsed["trajectory_csv"])
+        path = path if path.is_absolute() or base_dir is None else base_dir / path
+        traj = rename_errors(where, lambda: tr.read_trajectory_csv(str(path)), KEYS)
+    if "worm_teeth" in parsed and not parsed.get("fit_tables"):
+        raise ParameterError(f"{where}.worm_teeth", parsed["worm_teeth"], "only with fit_tables",
+                             "Z3 enters only the fitted error model's worm-knob advice")
+    device = rename_errors(where, lambda: Tricycle(**{k: parsed[k] for k in _DEVICE if k in parsed}), KEYS)
+    checks = read_checks(parsed)
+    follower = Follower("roller", "translating", roller_radius=device.rod_radius, pressure_angle_limit=checks.pressure_angle_limit)
+    params = TrajectoryParams(traj, device, parsed["samples"], parsed["curvature"], parsed["ride_periods"],
+                              parsed.get("fit_tables", ()), parsed.get("source"))
+    return CamSpec(name, "trajectory", params, read_body(where, parsed), checks, follower)
+
+
+def build(spec: CamSpec, stages: frozenset[str]) -> TrajectoryCam:
+    """Synthesis; with ``analysis`` the ride figures, the ride file and the fits; with
+    ``plots`` the report's curves."""
+    from camgen.mechanisms import tricycle as tc
+
+    p: TrajectoryParams = spec.params
+    traj, device = p.trajectory, p.device
+    cam = with_cam(f"cams.{spec.name}", lambda: tc.tricycle_cam(traj, device, p.samples, p.curvature))
+    synth = cam.synthesis
+    figures: dict[str, Any] = {
+        "trajectory": traj.source,
+        "period_mm": traj.period,
+        "samples": int(synth.theta.size),
+        "curvature_scheme": synth.scheme,
+        "arc_length_mm": synth.arc_length,
+        "drive_wheel_diameter_mm": device.drive_wheel_diameter(synth.arc_length),
+        "gear_teeth_rear_cam": [device.z_rear, device.z_cam],
+        "rho_min_mm": float(synth.rho.min()),
+        "rho_max_mm": float(synth.rho.max()),
+        "base_radius_mm": device.base_radius,
+        "lever_mm": device.lever,
+        "steering_angle_range_deg": [math.degrees(math.atan((float(synth.rho.min()) - device.base_radius) / device.lever)),
+                                     math.degrees(math.atan((float(synth.rho.max()) - device.base_radius) / device.lever))],
+        "contact_vs_rho_max_mm": tc.contact_vs_rho(cam),
+    }
+    files: dict[str, str] = {}
+    one = None
+    if "analysis" in stages:
+        one = tc.simulate_cam(cam, periods=1)
+        many = tc.simulate_cam(cam, periods=p.ride_periods)
+        figures["ride_max_error_mm"] = float(abs(tc.lateral_error(traj, one.x, one.y)).max())
+        figures[f"ride_max_error_{p.ride_periods}_periods_mm"] = float(abs(tc.lateral_error(traj, many.x, many.y)).max())
+    figures["profile_pieces"] = int(cam.profile.segments[0].n_pieces)
+    figures["area_mm2"] = cam.profile.area
+    figures["perimeter_mm"] = cam.profile.length
+    if p.source is not None:
+        figures["source"] = p.source
+    if "analysis" in stages and p.fit_tables:
+        from camgen.mechanisms.tricycle_fit import fit_error_model
+
+        figures["fits"] = {name: fit_error_model(cam, tc.load_measured_table(name)).as_dict() for name in p.fit_tables}
+    if one is not None:
+        files[f"{spec.name}_ride.csv"] = _ride_csv(spec.name, traj, one)
+    built = TrajectoryCam(spec.name, spec.kind, cam.profile, figures, spec.body, spec.follower, pitch=cam.pitch, files=files, tricycle=cam)
+    if "plots" in stages:
+        built.plots = _plots(cam, figures.get("fits", {}), one)
+    return built
+
+
+def _ride_csv(name: str, traj: "Trajectory", one: "Ride") -> str:
+    from camgen.export.tables import csv_table
+    from camgen.mechanisms import tricycle as tc
+
+    theta = np.radians(np.arange(0, 3600) / 10.0)
+    x, y, _ = one.at(theta)
+    return csv_table(
+        [
+            f"camgen ride simulation of cam '{name}': drive wheel A on the cam as made (profile contour), one cam turn",
+            f"units: deg, mm; lateral_error_mm = distance from the target path y = f(x), positive to the left; trajectory: {traj.source}",
+        ],
+        {"theta_deg": np.degrees(theta), "x_mm": x, "y_mm": y, "lateral_error_mm": tc.lateral_error(traj, x, y)},
+    )
+
+
+#: The error types report.html shows (paper 004, Figs. 9-10).
+ERROR_CASES = {
+    "design": {},
+    "type I: +0.1 deg": {"steering_offset": math.radians(0.1)},
+    "type I: -0.1 deg": {"steering_offset": math.radians(-0.1)},
+    "type II: gain 1.1": {"steering_gain": 1.1},
+    "type II: gain 0.9": {"steering_gain": 0.9},
+}
+
+
+def _plots(cam: "TricycleCam", fits: dict[str, Any], one: "Ride | None") -> TricyclePlots:
+    from camgen.mechanisms import tricycle as tc
+
+    ride = one if one is not None else tc.simulate_cam(cam)
+    error_rides = {label: tc.simulate_cam(cam, tc.ErrorModel(**changes), periods=2) for label, changes in ERROR_CASES.items()}
+    curves: dict[str, dict[str, np.ndarray]] = {}
+    if fits:
+        from camgen.mechanisms.tricycle_fit import PARAMETERS, model_y
+
+        geom = tc.ride_geometry(cam.profile, cam.device.rod_radius, 4)
+        for name, fit in fits.items():
+            table = tc.load_measured_table(name)
+            xs = np.linspace(0, table.x.max(), 400)
+            p = np.array([fit["parameters"][k] for k in PARAMETERS])
+            curves[name] = {"x": table.x, "measured": table.measured, "xs": xs,
+                            "ideal": cam.trajectory.f(np.mod(xs, cam.trajectory.period)), "model": model_y(cam, geom, p, xs[1:])}
+    return TricyclePlots(ride, error_rides, curves)
+
+
+KIND = CamKind(
+    name="trajectory",
+    summary="steering cam from a required periodic path y = f(x), by arc length and a periodic spline (paper 004)",
+    keys=KEYS,
+    read=read,
+    build=build,
+    report_section="camgen.report.sections:tricycle_section",
+)

@@ -1,0 +1,139 @@
+"""The output registry: one line per format, naming its file, writer and the stages it needs.
+
+Adding a format: a writer function in :mod:`camgen.writers` (``(cam, run, fmt) -> content``
+per cam, ``(result) -> content`` per run) and one :class:`OutputFormat` line in
+:data:`OUTPUTS`.  The pipeline plans the stages from the requested formats and runs only those.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from camgen.schema import Angle, Choice, ChoiceList, Count, Flag, Key, Number
+
+#: Stages: ``mesh`` (the extruded solid), ``analysis`` (ride simulations, fits, sweeps: report
+#: figures beyond the checks), ``plots`` (the data report.html draws).
+MESH = frozenset({"mesh"})
+ANALYSIS = frozenset({"analysis"})
+
+
+@dataclass(frozen=True)
+class OutputFormat:
+    """A registered output.
+
+    Attributes
+    ----------
+    name : the format's name in ``output.formats`` and ``--only``.
+    files : file name pattern (``{cam}`` is the cam's name).
+    description : one line for the key reference.
+    writer : ``"module:function"``; None for files a kind or mechanism job makes in its stages.
+    stages : the stages it needs besides synthesis and checks.
+    manufacturing : withheld for a cam that cannot be made as designed (undercut, gouge, wall).
+    scope : ``"cam"`` (a file per cam), ``"run"`` (one file per run), ``"kind"`` / ``"job"``
+        (files a kind's or a mechanism job's stages made).
+    implied : written whenever the scene has something for it, without being listed in
+        ``output.formats`` (``--only`` still filters it).
+    """
+
+    name: str
+    files: str
+    description: str
+    writer: str | None
+    stages: frozenset[str] = frozenset()
+    manufacturing: bool = True
+    scope: str = "cam"
+    implied: bool = False
+
+
+_FORMATS = (
+    OutputFormat("dxf", "{cam}.dxf", "2-D drawing: PROFILE (exact ARCs, B-splines or biarcs), PITCH, BORE, KEYWAY, CENTER layers; R2010, mm",
+                 "camgen.writers:dxf"),
+    OutputFormat("points", "{cam}_points.csv", "XY point list of the profile at the chord tolerance", "camgen.writers:points"),
+    OutputFormat("lift", "{cam}_lift.csv", "polar lift table: cam angle -> radius, lift above the base radius", "camgen.writers:lift"),
+    OutputFormat("stl", "{cam}.stl", "binary STL of the extruded body", "camgen.writers:mesh", MESH),
+    OutputFormat("stl_ascii", "{cam}_ascii.stl", "ASCII STL of the extruded body", "camgen.writers:mesh", MESH),
+    OutputFormat("3mf", "{cam}.3mf", "3MF mesh of the body (units mm)", "camgen.writers:mesh", MESH),
+    OutputFormat("obj", "{cam}.obj", "Wavefront OBJ mesh of the body", "camgen.writers:mesh", MESH),
+    OutputFormat("ply", "{cam}.ply", "binary PLY mesh of the body", "camgen.writers:mesh", MESH),
+    OutputFormat("vtu", "{cam}.vtu", "VTK unstructured grid of the body (FEA)", "camgen.writers:mesh", MESH),
+    OutputFormat("msh", "{cam}.msh", "Gmsh 2.2 mesh of the body (FEA)", "camgen.writers:mesh", MESH),
+    OutputFormat("inp", "{cam}.inp", "Abaqus/CalculiX input mesh of the body (FEA)", "camgen.writers:mesh", MESH),
+    OutputFormat("step", "{cam}.step", "exact solid (circles and B-splines), AP214, mm; needs the step extra (cadquery-ocp-novtk)",
+                 "camgen.writers:step"),
+    OutputFormat("ngc", "{cam}.ngc", "RS274/NGC G-code milling the outside profile (LinuxCNC or GRBL)", "camgen.writers:gcode"),
+    OutputFormat("html", "report.html", "the design-check report with plots, one self-contained page (needs the report extra: matplotlib)",
+                 "camgen.writers:html", frozenset({"analysis", "plots"}), manufacturing=False, scope="run"),
+    OutputFormat("json", "report.json", "the machine-readable report: figures and checks of every cam and mechanism (always written)",
+                 None, ANALYSIS, manufacturing=False, scope="run", implied=True),
+    OutputFormat("ride", "{cam}_ride.csv", "trajectory cams: the simulated ride on the cam as made", None, ANALYSIS, manufacturing=False,
+                 scope="kind", implied=True),
+    OutputFormat("legs", "leg_path_alpha_<deg>.csv", "horse leg: the leg end point's path per inclination", None, manufacturing=False,
+                 scope="job", implied=True),
+)
+
+#: format name -> OutputFormat
+OUTPUTS: dict[str, OutputFormat] = {f.name: f for f in _FORMATS}
+#: formats a scene lists in ``output.formats`` (the implied ones are always on)
+SELECTABLE = tuple(f.name for f in _FORMATS if not f.implied)
+MESH_FORMATS = tuple(f.name for f in _FORMATS if "mesh" in f.stages)
+
+
+@dataclass(frozen=True)
+class OutputSpec:
+    """What a run writes and how: formats, chord tolerance (mm) of every flattened output, DXF
+    spline form, PITCH layer, lift-table step (rad)."""
+
+    formats: tuple[str, ...] = ("dxf", "points")
+    chord_tol: float = 1e-3
+    dxf_splines: str = "bspline"
+    dxf_pitch: bool = True
+    lift_step: float = math.radians(1.0)
+
+
+def output_keys() -> tuple[Key, ...]:
+    """Keys of the ``[output]`` table (defaults owned by :class:`OutputSpec`)."""
+    d = OutputSpec()
+    return (
+        Key("formats", ChoiceList(SELECTABLE), "Files to write per cam (report.json is always written; ride and leg files whenever "
+            "the scene has them).", ("files",), default=list(d.formats)),
+        Key("chord_tol_mm", Number("mm", 1e-7, 1.0), "Largest distance between a flattened output (point list, DXF biarcs, "
+            "meshes, G-code) and the exact profile.", ("tolerance",), default=d.chord_tol),
+        Key("dxf_splines", Choice(("bspline", "biarc")), "How the DXF writes spline segments: exact clamped B-splines, or arcs "
+            "within chord_tol_mm.", ("dxf",), default=d.dxf_splines),
+        Key("dxf_pitch", Flag(), "Draw the follower-centre path of roller followers on the DXF's PITCH layer.", ("dxf",),
+            default=d.dxf_pitch),
+        Key("lift_step_deg", Angle(0.01, 10.0), "Cam-angle step of the lift table (<cam>_lift.csv).", ("tables",),
+            default=math.degrees(d.lift_step)),
+    )
+
+
+def machining_keys() -> tuple[Key, ...]:
+    """Keys of the ``[machining]`` table (defaults owned by :class:`camgen.export.gcode.MachiningSpec`)."""
+    from camgen.export.gcode import DIALECTS, DIRECTIONS, SPLINE_MODES, MachiningSpec
+    from camgen.kinds.base import field_default
+
+    def d(name: str):
+        return field_default(MachiningSpec, name)
+
+    return (
+        Key("tool_diameter_mm", Number("mm", 0.0, 1000.0, low_open=True), "Diameter of the end mill; its radius is also the "
+            "machinability check's limit on concave radii.", ("gcode", "report"), default=d("tool_diameter")),
+        Key("step_down_mm", Number("mm", 0.0, 1000.0, low_open=True), "Largest depth of cut per pass.", ("gcode",), default=d("step_down")),
+        Key("safe_z_mm", Number("mm", 0.0, 1000.0, low_open=True), "Clearance height above the stock top (Z0) for rapid moves.",
+            ("gcode",), default=d("safe_z")),
+        Key("feed_mm_per_min", Number("mm/min", 0.0, 1e6, low_open=True), "Cutting feed.", ("gcode",), default=d("feed"), attr="feed"),
+        Key("plunge_feed_mm_per_min", Number("mm/min", 0.0, 1e6, low_open=True), "Feed of the plunge to each pass depth.", ("gcode",),
+            default=d("plunge_feed"), attr="plunge_feed"),
+        Key("spindle_rpm", Number("rev/min", 0.0, 2e5, low_open=True), "Spindle speed.", ("gcode",), default=d("spindle_rpm")),
+        Key("direction", Choice(DIRECTIONS), "Climb (clockwise round the outside, spindle M3) or conventional milling.", ("gcode",),
+            default=d("direction")),
+        Key("dialect", Choice(DIALECTS), "Controller: LinuxCNC (G64 blending, cutter compensation) or GRBL.", ("gcode",),
+            default=d("dialect")),
+        Key("cutter_compensation", Flag(), "Program the profile itself with G41.1/G42.1 (LinuxCNC) instead of the tool-centre path.",
+            ("gcode",), default=d("cutter_compensation")),
+        Key("lead_mm", Number("mm", 0.0, 1000.0, low_open=True), "Length of the lead-in and lead-out moves (default: tool radius + 3 mm).",
+            ("gcode",)),
+        Key("spline_mode", Choice(SPLINE_MODES), "Spline segments as G2/G3 biarcs or G1 chords, within chord_tol_mm.", ("gcode",),
+            default=d("spline_mode")),
+        Key("decimals", Count(3, 6), "Decimal places of the coordinates in the program.", ("gcode",), default=d("decimals")),
+    )

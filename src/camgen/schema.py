@@ -1,0 +1,389 @@
+"""The scene schema: every key a scene accepts, its type, unit, range, default, and what it changes.
+
+One :class:`Key` per scene key.  The kinds (:mod:`camgen.kinds`), the outputs
+(:mod:`camgen.outputs`) and the scene reader (:mod:`camgen.scene`) build their tables from
+keys; the key reference (``camgen keys``, ``docs/scene-keys.md``) is generated from the same
+objects, and a test walks every key and proves it changes the outputs its ``affects`` names.
+
+Values are validated strictly: a number must be a TOML integer or float (not a boolean, not a
+string, not a list), finite, inside its stated range; a whole number must be an integer inside
+its range; lists and strings have stated maximum sizes.  Every failure is a
+:class:`~camgen.errors.ParameterError` naming the key by its scene path (``cams.x.a_mm``), the
+value and the valid range.  Lengths are millimetres and angles degrees at this edge; inside
+they are millimetres and radians (a ``_deg`` key is stored in radians under its field name).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable, Mapping, Sequence
+
+from camgen.errors import ParameterError, SceneError
+
+#: What a key can change.  The key-effect test checks these outputs' bytes change.
+EFFECTS = {
+    "profile": "the cam profile: DXF, points and lift tables, meshes, STEP and G-code",
+    "pitch": "the follower-centre path (DXF PITCH layer)",
+    "body": "the cam body (bore, keyway, thickness): DXF BORE/KEYWAY layers, meshes, STEP",
+    "thickness": "the cam thickness: meshes, STEP, G-code depth",
+    "gcode": "the G-code program",
+    "dxf": "the DXF drawing only",
+    "report": "report.json and report.html only (checks, figures)",
+    "files": "which files are written and their names",
+    "mechanism": "the mechanism's report section and files (leg paths)",
+    "tables": "the lift table (<cam>_lift.csv)",
+    "tolerance": "every flattened output: DXF biarcs, point lists, meshes, G-code",
+}
+
+#: Largest number of items of any list key (lists are small in every real scene).
+MAX_LIST = 1000
+#: Largest length of a text value (expressions have their own limit, 2000).
+MAX_TEXT = 500
+
+
+class ValueType:
+    """How a key's value is read.  Subclasses implement :meth:`parse` and :meth:`describe`."""
+
+    def parse(self, path: str, value: object) -> Any:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def describe(self) -> str:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def to_scene(self, value: Any) -> Any:
+        """The inverse of :meth:`parse` for documentation (defaults in scene units)."""
+        return value
+
+
+def _is_number(value: object) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _number(path: str, value: object, valid: str) -> float:
+    if not _is_number(value):
+        raise ParameterError(path, value, valid)
+    try:
+        number = float(value)
+    except OverflowError:
+        raise ParameterError(path, f"<integer of {len(str(value))} digits>", valid) from None
+    if not math.isfinite(number):
+        raise ParameterError(path, value, valid)
+    return number
+
+
+def _fmt(x: float) -> str:
+    return f"{x:g}"
+
+
+@dataclass(frozen=True)
+class Number(ValueType):
+    """A finite real number in ``[low, high]`` (``low_open``/``high_open``: strict bounds), of
+    ``unit``; ``scale`` converts the scene value to the stored one (degrees -> radians)."""
+
+    unit: str
+    low: float = -math.inf
+    high: float = math.inf
+    low_open: bool = False
+    high_open: bool = False
+    scale: float = 1.0
+
+    def describe(self) -> str:
+        lo = "" if self.low == -math.inf else f"{_fmt(self.low)} {'<' if self.low_open else '<='} "
+        hi = "" if self.high == math.inf else f" {'<' if self.high_open else '<='} {_fmt(self.high)}"
+        unit = f" {self.unit}" if self.unit else ""
+        return f"a number{unit}" + (f", {lo}x{hi}" if lo or hi else "")
+
+    def parse(self, path: str, value: object) -> float:
+        number = _number(path, value, self.describe())
+        below = number <= self.low if self.low_open else number < self.low
+        above = number >= self.high if self.high_open else number > self.high
+        if below or above:
+            raise ParameterError(path, value, self.describe())
+        return number * self.scale
+
+    def to_scene(self, value: Any) -> Any:
+        return None if value is None else value / self.scale
+
+
+def Length(low: float = 0.0, high: float = 1e5, low_open: bool = True) -> Number:
+    """A length in mm, by default 0 < x <= 100 m."""
+    return Number("mm", low, high, low_open=low_open)
+
+
+def Angle(low: float = -360.0, high: float = 360.0, low_open: bool = False, high_open: bool = False) -> Number:
+    """An angle given in degrees, stored in radians."""
+    return Number("deg", low, high, low_open, high_open, scale=math.pi / 180.0)
+
+
+@dataclass(frozen=True)
+class Count(ValueType):
+    """A whole number in ``[low, high]``."""
+
+    low: int
+    high: int
+    unit: str = ""
+
+    def describe(self) -> str:
+        return f"a whole number{' of ' + self.unit if self.unit else ''}, {self.low} <= n <= {self.high}"
+
+    def parse(self, path: str, value: object) -> int:
+        if isinstance(value, bool) or not isinstance(value, int) or not self.low <= value <= self.high:
+            shown = value if not isinstance(value, int) or abs(value) < 10**30 else f"<integer of {len(str(value))} digits>"
+            raise ParameterError(path, shown, self.describe())
+        return value
+
+
+@dataclass(frozen=True)
+class Flag(ValueType):
+    """true or false."""
+
+    def describe(self) -> str:
+        return "true or false"
+
+    def parse(self, path: str, value: object) -> bool:
+        if not isinstance(value, bool):
+            raise ParameterError(path, value, self.describe())
+        return value
+
+
+@dataclass(frozen=True)
+class Choice(ValueType):
+    """One of a fixed set of strings."""
+
+    values: tuple[str, ...]
+
+    def describe(self) -> str:
+        return "one of " + ", ".join(f'"{v}"' for v in self.values)
+
+    def parse(self, path: str, value: object) -> str:
+        if not isinstance(value, str) or value not in self.values:
+            raise ParameterError(path, value, self.describe())
+        return value
+
+
+@dataclass(frozen=True)
+class Text(ValueType):
+    """A string of at most ``max_length`` characters (non-empty unless ``allow_empty``)."""
+
+    max_length: int = MAX_TEXT
+    allow_empty: bool = False
+
+    def describe(self) -> str:
+        return f"a string of {'0' if self.allow_empty else '1'} to {self.max_length} characters"
+
+    def parse(self, path: str, value: object) -> str:
+        if not isinstance(value, str):
+            raise ParameterError(path, value, self.describe())
+        if len(value) > self.max_length:
+            raise ParameterError(path, f"<{len(value)} characters>", self.describe())
+        if not value.strip() and not self.allow_empty:
+            raise ParameterError(path, value, self.describe())
+        return value
+
+
+@dataclass(frozen=True)
+class ChoiceList(ValueType):
+    """A list of distinct strings from ``values`` (``min_items`` .. ``len(values)`` items)."""
+
+    values: tuple[str, ...]
+    min_items: int = 1
+
+    def describe(self) -> str:
+        return f"a list of {self.min_items} or more distinct values from " + ", ".join(f'"{v}"' for v in self.values)
+
+    def parse(self, path: str, value: object) -> tuple[str, ...]:
+        if not isinstance(value, list) or not self.min_items <= len(value) <= len(self.values):
+            raise ParameterError(path, value if not isinstance(value, list) or len(value) < 20 else f"<list of {len(value)}>", self.describe())
+        for i, item in enumerate(value):
+            if not isinstance(item, str) or item not in self.values:
+                raise ParameterError(f"{path}[{i}]", item, "one of " + ", ".join(f'"{v}"' for v in self.values))
+        if len(set(value)) != len(value):
+            raise ParameterError(path, value, self.describe(), "a value is repeated")
+        return tuple(value)
+
+
+@dataclass(frozen=True)
+class NumberList(ValueType):
+    """A list of numbers, each of type ``item``; ``min_items`` .. ``max_items`` items; with
+    ``distinct_decimals`` the values must differ after rounding to that many decimals."""
+
+    item: Number
+    min_items: int = 1
+    max_items: int = 100
+    distinct_decimals: int | None = None
+
+    def describe(self) -> str:
+        what = f"a list of {self.min_items} to {self.max_items} numbers, each {self.item.describe()}"
+        if self.distinct_decimals is not None:
+            what += f", distinct after rounding to {self.distinct_decimals} decimals"
+        return what
+
+    def parse(self, path: str, value: object) -> tuple[float, ...]:
+        if not isinstance(value, list) or not self.min_items <= len(value) <= self.max_items:
+            shown = value if not isinstance(value, list) or len(value) < 20 else f"<list of {len(value)}>"
+            raise ParameterError(path, shown, self.describe())
+        out = tuple(self.item.parse(f"{path}[{i}]", v) for i, v in enumerate(value))
+        if self.distinct_decimals is not None:
+            rounded = [round(v / self.item.scale, self.distinct_decimals) for v in out]
+            if len(set(rounded)) != len(rounded):
+                raise ParameterError(path, value, self.describe(), "two values are equal after rounding")
+        return out
+
+    def to_scene(self, value: Any) -> Any:
+        return None if value is None else [v / self.item.scale for v in value]
+
+
+@dataclass(frozen=True)
+class TableList(ValueType):
+    """A list of tables (``[[...]]`` in TOML), each read against ``keys``."""
+
+    keys: tuple["Key", ...]
+    min_items: int = 1
+    max_items: int = 100
+    what: str = "tables"
+
+    def describe(self) -> str:
+        return f"a list of {self.min_items} to {self.max_items} {self.what} with keys " + ", ".join(k.name for k in self.keys)
+
+    def parse(self, path: str, value: object) -> tuple[dict[str, Any], ...]:
+        if not isinstance(value, list) or not self.min_items <= len(value) <= self.max_items:
+            shown = value if not isinstance(value, list) or len(value) < 20 else f"<list of {len(value)}>"
+            raise ParameterError(path, shown, self.describe())
+        return tuple(parse_table(f"{path}[{i}]", item, self.keys) for i, item in enumerate(value))
+
+
+_REQUIRED = object()
+
+
+@dataclass(frozen=True)
+class Key:
+    """One scene key.
+
+    Attributes
+    ----------
+    name : the key as written in the scene (its unit suffix included: ``a_mm``, ``span_deg``).
+    type : how its value is read (:class:`ValueType`).
+    doc : what the key is, one sentence (units in ``type``).
+    affects : what it changes, names from :data:`EFFECTS`; the key-effect test checks them.
+    default : the value in scene units when the key is left out; ``None``: optional with no
+        default (the feature is off or derived, as ``doc`` says); :data:`REQUIRED`: must be given.
+    example : a valid value different from the default, in scene units (key reference, tests).
+    requires : other keys' values this key needs (``{"follower": ("roller",)}``): given
+        without them, it is refused.
+    attr : the attribute it is stored under, when not the name without its unit suffix.
+    """
+
+    name: str
+    type: ValueType
+    doc: str
+    affects: tuple[str, ...]
+    default: Any = None
+    example: Any = None
+    requires: Mapping[str, tuple[Any, ...]] = field(default_factory=dict)
+    attr: str | None = None
+
+    def __post_init__(self) -> None:
+        unknown = set(self.affects) - set(EFFECTS)
+        if unknown:  # a programming error, caught by the tests that import every kind
+            raise ValueError(f"key {self.name}: unknown effects {sorted(unknown)}")
+
+    @property
+    def field(self) -> str:
+        """The attribute name: the key without its unit suffix (``a_mm`` -> ``a``)."""
+        if self.attr is not None:
+            return self.attr
+        for suffix in ("_mm", "_deg"):
+            if self.name.endswith(suffix):
+                return self.name[: -len(suffix)]
+        return self.name
+
+    @property
+    def required(self) -> bool:
+        return self.default is REQUIRED
+
+    def default_value(self) -> Any:
+        """The default in internal units (radians for angles), or None."""
+        if self.default is None or self.default is REQUIRED:
+            return None
+        return self.type.parse(self.name, self.default)
+
+
+REQUIRED: Any = _REQUIRED
+
+
+def check_keys(where: str, table: Mapping[str, Any], keys: Sequence[Key]) -> None:
+    """Refuse unknown and missing keys of ``table`` (read at scene path ``where``)."""
+    allowed = {k.name for k in keys}
+    unknown = sorted(set(table) - allowed, key=str)
+    if unknown:
+        hint = ""
+        near = [k for k in allowed if k.split("_")[0] == str(unknown[0]).split("_")[0]]
+        if near:
+            hint = f" (did you mean {', '.join(sorted(near))}?)"
+        raise SceneError(f"[{where}]: unknown key(s) {', '.join(map(repr, unknown))}{hint}; allowed: {', '.join(sorted(allowed))}")
+    missing = [k.name for k in keys if k.required and k.name not in table]
+    if missing:
+        raise SceneError(f"[{where}]: missing key(s) {', '.join(map(repr, missing))}")
+
+
+def parse_table(where: str, table: object, keys: Sequence[Key]) -> dict[str, Any]:
+    """Validate ``table`` against ``keys``; return ``{field: value}`` in internal units, the
+    defaults filled in (keys without a default and not given are absent)."""
+    if not isinstance(table, dict):
+        raise SceneError(f"[{where}] must be a table, not {type(table).__name__}")
+    check_keys(where, table, keys)
+    out: dict[str, Any] = {}
+    for key in keys:
+        if key.name in table:
+            out[key.field] = key.type.parse(f"{where}.{key.name}", table[key.name])
+        else:
+            default = key.default_value()
+            if default is not None:
+                out[key.field] = default
+    for key in keys:  # conditional keys: refused where they would have no effect
+        if key.name in table:
+            for other, allowed in key.requires.items():
+                have = table.get(other, next((k.default for k in keys if k.name == other), None))
+                if have not in allowed:
+                    raise ParameterError(
+                        f"{where}.{key.name}", table[key.name],
+                        f"only with {other} = {' or '.join(repr(a) for a in allowed)}",
+                        f"{other} is {have!r} here, where {key.name} would have no effect",
+                    )
+    return out
+
+
+def nesting_depth(value: object, limit: int) -> int:
+    """Depth of nested lists/tables in a decoded TOML value, counting up to ``limit + 1``
+    (iterative: deep input cannot exhaust the interpreter's stack)."""
+    depth = 0
+    level = [value]
+    while level and depth <= limit:
+        children = []
+        for item in level:
+            if isinstance(item, dict):
+                children.extend(item.values())
+            elif isinstance(item, list):
+                children.extend(item)
+        if children:
+            depth += 1
+        level = children
+    return depth
+
+
+def key_reference_rows(keys: Sequence[Key]) -> list[tuple[str, str, str, str, str]]:
+    """Rows (name, type and range, default, what it changes, doc) of a key reference."""
+    rows = []
+    for key in keys:
+        if key.required:
+            default = "required"
+        elif key.default is None:
+            default = "-"
+        else:
+            default = repr(key.default).replace("'", '"') if not isinstance(key.default, bool) else str(key.default).lower()
+        effect = ", ".join(key.affects)
+        doc = key.doc
+        if key.requires:
+            doc += " Only with " + "; ".join(f"{k} = {' or '.join(repr(v).replace(chr(39), chr(34)) for v in vals)}" for k, vals in key.requires.items()) + "."
+        rows.append((key.name, key.type.describe(), default, effect, doc))
+    return rows

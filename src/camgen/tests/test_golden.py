@@ -1,0 +1,27 @@
+"""Every bundled template gives byte-identical files to a recorded reference.
+
+golden/template_outputs.json holds the sha256 of every file of every template as written by the
+commit it names (for the cam-kind/output registry refactor: the code before it, commit 5a3620e).
+It changes only when outputs change on purpose (golden/regenerate.py).  Files written through a
+third-party writer (DXF: ezdxf; STL, 3MF: manifold3d, trimesh; report.html: matplotlib;
+report.json holds manifold3d's triangle count) are compared when the installed library versions
+are the recorded ones; the CSV tables and G-code always.
+"""
+from __future__ import annotations
+
+import json
+from importlib.resources import files
+
+from camgen.tests.golden.regenerate import library_versions, template_hashes
+
+
+def test_every_template_writes_the_recorded_bytes(tmp_path):
+    record = json.loads(files("camgen.tests.golden").joinpath("template_outputs.json").read_text())
+    same_libraries = record["libraries"] == library_versions()
+    now = template_hashes(tmp_path)
+    assert sorted(now) == sorted(record["templates"])
+    for template, expected in record["templates"].items():
+        assert sorted(now[template]) == sorted(expected), template  # the same files
+        for name, digest in expected.items():
+            if same_libraries or name.endswith((".csv", ".ngc")):
+                assert now[template][name] == digest, f"{template}/{name} differs from the recorded bytes ({record['commit']})"

@@ -1,0 +1,69 @@
+"""Writers of the registered outputs (:mod:`camgen.outputs`): the built cam and the run's typed
+settings in, the file content out.  Each imports its export module when called."""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from camgen.export.gcode import MachiningSpec
+    from camgen.kinds.base import BuiltCam
+    from camgen.outputs import OutputSpec
+    from camgen.pipeline import RunResult
+
+
+@dataclass(frozen=True)
+class RunSettings:
+    """The run-wide settings the writers take: scene name, output and machining specs."""
+
+    scene_name: str
+    output: "OutputSpec"
+    machining: "MachiningSpec"
+
+
+def dxf(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
+    from camgen.export.dxf import DxfOptions, contour_to_dxf
+
+    options = DxfOptions(splines=run.output.dxf_splines, biarc_tol=run.output.chord_tol)
+    pitch = None
+    if run.output.dxf_pitch:  # the synthesis' follower-centre path, else the roller checks' pitch curve
+        pitch = cam.pitch if cam.pitch is not None else (cam.evaluation.pitch if cam.evaluation is not None else None)
+    return contour_to_dxf(cam.contour, cam.body, pitch, options)
+
+
+def points(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
+    from camgen.export.points import points_csv
+
+    return points_csv(cam.contour, run.output.chord_tol, cam.name, run.scene_name)
+
+
+def lift(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
+    from camgen.export.points import lift_csv
+
+    return lift_csv(cam.contour, run.output.lift_step, cam.name, run.scene_name)
+
+
+def mesh(cam: "BuiltCam", run: RunSettings, fmt: str) -> bytes:
+    from camgen.export.solid import mesh_bytes
+
+    return mesh_bytes(cam.solid, fmt, cam.name)
+
+
+def step(cam: "BuiltCam", run: RunSettings, fmt: str) -> bytes:
+    from camgen.export.step import step_bytes
+
+    return step_bytes(cam.contour, cam.body, cam.name)
+
+
+def gcode(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
+    from camgen.export.gcode import gcode_program
+
+    spec = dataclasses.replace(run.machining, thickness=cam.body.thickness, chord_tol=run.output.chord_tol)
+    return gcode_program(cam.contour, spec, cam.name, run.scene_name)
+
+
+def html(result: "RunResult") -> str:
+    from camgen.report.html import report_html
+
+    return report_html(result)
