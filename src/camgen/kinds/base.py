@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Callable, Mapping
 
 from camgen.errors import CamgenError, ParameterError
-from camgen.schema import Angle, Choice, Key, Length, Number, Text
+from camgen.schema import Angle, Key, Length, Number, Text
 
 if TYPE_CHECKING:  # the heavy modules stay unimported until a cam is built
     from camgen.checks import CamEvaluation, CheckResult, Follower
