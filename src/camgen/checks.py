@@ -13,7 +13,7 @@ faces, the constant-breadth cams).  Geometry of the roller checks comes from the
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -26,6 +26,10 @@ FOLLOWER_KINDS = ("yoke", "flat", "roller")
 MOTIONS = ("translating", "oscillating")
 
 
+#: Comparisons a check's value is held to against its limit ("at least" orders continuity levels).
+COMPARISONS = ("<=", "<", ">=", ">", "at least")
+
+
 @dataclass(frozen=True)
 class CheckResult:
     """One design check.
@@ -36,28 +40,57 @@ class CheckResult:
         What is checked (snake_case).
     value : float or str
         The measured value, in ``unit``.
-    limit : float or str
-        The limit it is held against, in ``unit``.
+    limit : float, str or None
+        The limit it is held against, in ``unit``; None for information without a limit.
+    comparison : str
+        How ``value`` must compare with ``limit`` to pass (:data:`COMPARISONS`); "" for information.
     unit : str
         Unit of ``value`` and ``limit`` (``mm``, ``deg``, ``1/mm``, or ``""``).
-    passed : bool
-        Whether ``value`` satisfies ``limit``.
+    passed : bool or None
+        Whether ``value`` satisfies ``limit``; None for information (never a pass).
     where_deg : list of float
         Cam angles (deg) where the check is worst or fails.
     note : str
         One sentence a designer reads.
+    blocks_manufacture : bool
+        A failure means the cam cannot be made as designed (undercut, gouge, broken wall): no
+        manufacturing file is written for it.
     """
 
     name: str
     value: Any
     limit: Any
+    comparison: str
     unit: str
-    passed: bool
+    passed: bool | None
     where_deg: list[float] = field(default_factory=list)
     note: str = ""
+    blocks_manufacture: bool = False
+
+    @property
+    def status(self) -> str:
+        """"pass", "fail" or "info"."""
+        return "info" if self.passed is None else "pass" if self.passed else "fail"
+
+    @property
+    def failed(self) -> bool:
+        return self.passed is False
 
     def as_dict(self) -> dict[str, Any]:
-        return asdict(self)
+        return {"name": self.name, "status": self.status, "value": self.value, "limit": self.limit, "comparison": self.comparison,
+                "unit": self.unit, "where_deg": self.where_deg, "note": self.note, "blocks_manufacture": self.blocks_manufacture}
+
+
+def limited(name: str, value: float, comparison: str, limit: float, unit: str, where: list[float], note: str,
+            blocks_manufacture: bool = False) -> CheckResult:
+    """A check of a number against a limit; ``passed`` follows from ``comparison``."""
+    passed = {"<=": value <= limit, "<": value < limit, ">=": value >= limit, ">": value > limit}[comparison]
+    return CheckResult(name, value, limit, comparison, unit, bool(passed), where, note, blocks_manufacture)
+
+
+def information(name: str, value: Any, unit: str, where: list[float], note: str) -> CheckResult:
+    """A figure shown as information: no limit, neither pass nor fail."""
+    return CheckResult(name, value, None, "", unit, None, where, note)
 
 
 @dataclass(frozen=True)
@@ -153,8 +186,8 @@ def breadth_error(contour: Contour, breadth: float, n_directions: int = 3600) ->
 def constant_breadth_check(contour: Contour, breadth: float, tol: float = 1e-6) -> CheckResult:
     """Constant breadth for a yoke (double flat-faced) follower: error against ``tol`` mm."""
     err, psi = breadth_error(contour, breadth)
-    return CheckResult(
-        "constant_breadth", err, tol, "mm", err <= tol, _deg(psi),
+    return limited(
+        "constant_breadth", err, "<=", tol, "mm", _deg(psi),
         f"distance between the parallel yoke faces stays {breadth:g} mm within {err:.3g} mm over 3600 directions",
     )
 
@@ -177,7 +210,7 @@ def continuity_check(contour: Contour, required: str = "G1", curvature_tol: floa
             f"; curvature jumps at {len(jumps)} joints (largest {biggest:.6g} 1/mm): the follower "
             "acceleration jumps there, i.e. infinite jerk"
         )
-    return CheckResult("continuity", level, required, "", _ORDER.index(level) >= _ORDER.index(required), where, note)
+    return CheckResult("continuity", level, required, "at least", "", _ORDER.index(level) >= _ORDER.index(required), where, note)
 
 
 def convexity_check(contour: Contour) -> CheckResult:
@@ -190,9 +223,9 @@ def convexity_check(contour: Contour) -> CheckResult:
     pts = contour.evaluate(t)
     where = _run_ends(bad, np.arctan2(pts[:, 1], pts[:, 0])) if bad.any() else _polar_deg(pts[worst])
     return CheckResult(
-        "undercut", float(kappa[worst]), 0.0, "1/mm", bool(not bad.any()), where,
+        "undercut", float(kappa[worst]), 0.0, ">", "1/mm", bool(not bad.any()), where,
         "convex everywhere: a flat face touches the cam at one point in every direction" if not bad.any()
-        else "concave parts: a flat face would bridge them (undercut of the flat follower)",
+        else "concave parts: a flat face would bridge them (undercut of the flat follower)", blocks_manufacture=True,
     )
 
 
@@ -206,30 +239,38 @@ def radius_of_curvature(contour: Contour) -> tuple[np.ndarray, np.ndarray]:
     return rho, np.arctan2(pts[:, 1], pts[:, 0])
 
 
-def machinability_check(contour: Contour, tool_radius: float) -> list[CheckResult]:
+def machinability_check(contour: Contour, tool_radius: float, tool_is_limit: bool = True) -> list[CheckResult]:
     """Smallest convex and concave radii of curvature against the cutting-tool radius (mm).
 
-    A concave radius below the tool radius cannot be cut (the tool would gouge); a convex
-    radius has no lower limit but is reported for the machinist.
+    A concave radius below the tool radius cannot be cut (the tool would gouge): with
+    ``tool_is_limit`` (the scene names its tool or writes G-code) that fails the check and blocks
+    the manufacturing files; otherwise it is information.  A convex radius has no lower limit
+    but is reported for the machinist.
     """
     rho, angle = radius_of_curvature(contour)
     convex = rho > 0
     out = []
     if convex.any():
         i = int(np.argmin(np.where(convex, rho, np.inf)))
-        out.append(CheckResult("min_convex_radius", float(rho[i]), tool_radius, "mm", True, _deg(angle[i]),
-                               "smallest convex radius of the profile (no limit; shown with the tool radius)"))
+        out.append(information("min_convex_radius", float(rho[i]), "mm", _deg(angle[i]),
+                               f"smallest convex radius of the profile (no limit; the tool radius is {tool_radius:g} mm)"))
     concave = rho < 0
     if concave.any():
         i = int(np.argmax(np.where(concave, rho, -np.inf)))
         value = float(-rho[i])
         bad = concave & (-rho < tool_radius)
         where = _run_ends(bad, angle) if bad.any() else _deg(angle[i])
-        out.append(CheckResult("min_concave_radius", value, tool_radius, "mm", value > tool_radius, where,
-                               "a concave radius below the tool radius cannot be cut without gouging"
-                               + (" (between the listed pairs of cam angles)" if bad.any() else "")))
+        note = ("a concave radius below the tool radius cannot be cut without gouging"
+                + (" (between the listed pairs of cam angles)" if bad.any() else ""))
+        if tool_is_limit:
+            out.append(limited("min_concave_radius", value, ">", tool_radius, "mm", where, note, blocks_manufacture=True))
+        else:
+            out.append(information("min_concave_radius", value, "mm", where,
+                                   note + f"; no tool is named (machining.tool_diameter_mm), {tool_radius:g} mm is the default radius"))
+    elif tool_is_limit:
+        out.append(CheckResult("min_concave_radius", "none", tool_radius, ">", "mm", True, [], "no concave parts: any tool radius cuts the profile"))
     else:
-        out.append(CheckResult("min_concave_radius", "none", tool_radius, "mm", True, [], "no concave parts: any tool radius cuts the profile"))
+        out.append(information("min_concave_radius", "none", "mm", [], "no concave parts: any tool radius cuts the profile"))
     return out
 
 
@@ -253,9 +294,10 @@ def undercut_check(pitch: Contour, follower: Follower) -> CheckResult:
     bad = rho <= follower.roller_radius
     where = _run_ends(bad, np.arctan2(pts[:, 1], pts[:, 0])) if bad.any() else _polar_deg(pts[i])
     return CheckResult(
-        "undercut", float(rho[i]), follower.roller_radius, "mm", bool(not bad.any()), where,
+        "undercut", float(rho[i]), follower.roller_radius, ">", "mm", bool(not bad.any()), where,
         "smallest convex radius of the pitch curve against the roller radius"
         + ("" if not bad.any() else ": the profile undercuts (cusps) between the listed pairs of cam angles"),
+        blocks_manufacture=True,
     )
 
 
@@ -318,7 +360,7 @@ def pressure_angle_check(values: np.ndarray, cam_angle: np.ndarray, limit: float
     i = int(np.argmax(mag))
     bad = mag > limit
     where = _run_ends(bad, cam_angle) if bad.any() else _deg(cam_angle[i])
-    return CheckResult("pressure_angle", float(np.degrees(mag[i])), float(np.degrees(limit)), "deg", bool(not bad.any()),
+    return CheckResult("pressure_angle", float(np.degrees(mag[i])), float(np.degrees(limit)), "<=", "deg", bool(not bad.any()),
                        where, f"largest pressure angle of the {what}" + (" (above the limit between the listed pairs of cam angles)" if bad.any() else ""))
 
 
@@ -391,11 +433,12 @@ def face_length_check(offsets: np.ndarray, cam_angle: np.ndarray, half_length: f
     mag = np.abs(offsets)
     i = int(np.argmax(mag))
     if half_length is None:
-        return CheckResult("face_length", float(mag[i]), "not given", "mm", True, _deg(cam_angle[i]),
-                           "largest contact offset along the face: the face must reach this far from its centre")
+        return information("face_length", float(mag[i]), "mm", _deg(cam_angle[i]),
+                           "largest contact offset along the face: the face must reach this far from its centre "
+                           "(give face_half_length_mm to check it)")
     bad = mag > half_length
     where = _run_ends(bad, cam_angle) if bad.any() else _deg(cam_angle[i])
-    return CheckResult("face_length", float(mag[i]), half_length, "mm", bool(not bad.any()), where,
+    return CheckResult("face_length", float(mag[i]), half_length, "<=", "mm", bool(not bad.any()), where,
                        "largest contact offset along the face against the face half-length")
 
 
@@ -413,8 +456,7 @@ def motion_check(motion: Motion, rpm: float | None) -> CheckResult:
         note += f"; at {rpm:g} rpm: " + ", ".join(f"{k} {v:.6g}" for k, v in at.items())
     if motion.jerk_impulses_deg:
         note += f"; jerk impulses (acceleration jumps) at {len(motion.jerk_impulses_deg)} cam angles"
-    return CheckResult("follower_motion", float(np.ptp(motion.displacement)), "none", motion.unit, True,
-                       motion.jerk_impulses_deg[:12], note)
+    return information("follower_motion", float(np.ptp(motion.displacement)), motion.unit, motion.jerk_impulses_deg[:12], note)
 
 
 # --------------------------------------------------------------------------------------------
@@ -426,25 +468,33 @@ class CamEvaluation:
 
     checks: list[CheckResult]
     follower: Follower
-    motion: Motion
+    motion: Motion | None
     pressure_angle: tuple[np.ndarray, np.ndarray] | None  # (cam angle, rad)
-    curvature_radius: tuple[np.ndarray, np.ndarray]  # (cam angle, signed radius mm)
+    curvature_radius: tuple[np.ndarray, np.ndarray] | None  # (cam angle, signed radius mm)
     pitch: Contour | None = None
     pressure_angle_label: str = ""
+    curvature_label: str = "radius of curvature (mm, < 0 concave)"
+    curvature_limit: float | None = None  # the radius the curvature plot is held to (roller radius)
 
 
-def evaluate_cam(contour: Contour, follower: Follower, tool_radius: float | None = None, rpm: float | None = None,
-                 breadth: float | None = None, pitch: Contour | None = None) -> CamEvaluation:
+def evaluate_cam(contour: Contour | None, follower: Follower, tool_radius: float | None = None, rpm: float | None = None,
+                 breadth: float | None = None, pitch: Contour | None = None, tool_is_limit: bool = True) -> CamEvaluation:
     """Run every check that applies to ``contour`` with ``follower``.
 
     Yoke and flat followers: undercut (convexity), constant breadth (yoke), face length, motion
     (pressure angle 0 for a translating face normal to its motion: reported as such).  Roller
     followers: undercut from the pitch curve, pressure angle, motion.  Always: continuity and,
-    with ``tool_radius``, machinability.
+    with ``tool_radius``, machinability (a limit when ``tool_is_limit``, else information).
+
+    ``contour`` None: the profile could not be made (the roller undercuts the ``pitch`` curve);
+    the checks of the pitch curve still run, so the report shows where and why.
     """
+    if contour is None:
+        return _evaluate_pitch_only(follower, pitch, rpm)
     checks = [continuity_check(contour)]
     rho, rho_angle = radius_of_curvature(contour)
     pressure = None
+    motion = None
     if follower.kind in ("yoke", "flat"):
         checks.append(convexity_check(contour))
         if follower.kind == "yoke" and breadth is not None:
@@ -452,17 +502,40 @@ def evaluate_cam(contour: Contour, follower: Follower, tool_radius: float | None
         motion, offsets = flat_motion(contour, follower)
         checks.append(face_length_check(offsets, motion.cam_angle, follower.face_half_length))
         pressure = (motion.cam_angle, np.zeros_like(motion.cam_angle))
-        checks.append(CheckResult("pressure_angle", 0.0, math.degrees(follower.limit), "deg", True, [],
-                                  "a translating flat face moves along its own normal: pressure angle 0 at every cam angle"))
+        checks.append(limited("pressure_angle", 0.0, "<=", math.degrees(follower.limit), "deg", [],
+                              "a translating flat face moves along its own normal: pressure angle 0 at every cam angle"))
     else:
-        pitch = pitch if pitch is not None else pitch_curve(contour, follower)
-        checks.append(undercut_check(pitch, follower))
-        kin = roller_kinematics(pitch, follower)
-        pressure = (kin.cam_angle, kin.pressure_angle)
-        what = f"{follower.motion} roller follower" + (f" (offset {follower.offset:g} mm)" if follower.offset else "")
-        checks.append(pressure_angle_check(kin.pressure_angle, kin.cam_angle, follower.limit, what))
-        motion = roller_motion(kin, unit="mm" if follower.motion == "translating" else "rad")
-    checks.append(motion_check(motion, rpm))
+        try:
+            pitch = pitch if pitch is not None else pitch_curve(contour, follower)
+        except GeometryError as exc:  # the roller does not fit a concave part: no pitch curve
+            checks.append(CheckResult("undercut", "no pitch curve", follower.roller_radius, ">", "mm", False, [],
+                                      f"the roller cannot follow the profile: {exc}", blocks_manufacture=True))
+            pitch = None
+        if pitch is not None:
+            checks.append(undercut_check(pitch, follower))
+            kin = roller_kinematics(pitch, follower)
+            pressure = (kin.cam_angle, kin.pressure_angle)
+            what = f"{follower.motion} roller follower" + (f" (offset {follower.offset:g} mm)" if follower.offset else "")
+            checks.append(pressure_angle_check(kin.pressure_angle, kin.cam_angle, follower.limit, what))
+            motion = roller_motion(kin, unit="mm" if follower.motion == "translating" else "rad")
+    if motion is not None:
+        checks.append(motion_check(motion, rpm))
     if tool_radius is not None:
-        checks.extend(machinability_check(contour, tool_radius))
+        checks.extend(machinability_check(contour, tool_radius, tool_is_limit))
     return CamEvaluation(checks, follower, motion, pressure, (rho_angle, rho), pitch)
+
+
+def _evaluate_pitch_only(follower: Follower, pitch: Contour | None, rpm: float | None) -> CamEvaluation:
+    """The checks of a roller cam whose profile cannot be made: undercut, pressure angle and
+    motion from the pitch curve; the curvature plot shows the pitch curve against the roller."""
+    if pitch is None or follower.kind != "roller":
+        return CamEvaluation([], follower, None, None, None, pitch)
+    checks = [undercut_check(pitch, follower)]
+    kin = roller_kinematics(pitch, follower)
+    what = f"{follower.motion} roller follower" + (f" (offset {follower.offset:g} mm)" if follower.offset else "")
+    checks.append(pressure_angle_check(kin.pressure_angle, kin.cam_angle, follower.limit, what))
+    motion = roller_motion(kin, unit="mm" if follower.motion == "translating" else "rad")
+    checks.append(motion_check(motion, rpm))
+    rho, angle = radius_of_curvature(pitch)
+    return CamEvaluation(checks, follower, motion, (kin.cam_angle, kin.pressure_angle), (angle, rho), pitch,
+                         curvature_label="radius of curvature of the pitch curve (mm)", curvature_limit=follower.roller_radius)

@@ -31,6 +31,29 @@ class GeometryError(CamgenError, ValueError):
     """The parameters are individually valid but the geometry cannot be built or used."""
 
 
+class UndercutError(GeometryError):
+    """The follower cannot ride the cam as designed: the profile reverses (roller: the pitch
+    curve's radius of curvature is not larger than the roller; flat face: the envelope's radius
+    of curvature is not positive).  Carries what the report draws to show where and why.
+
+    Attributes
+    ----------
+    pitch : the follower-centre path (roller followers), or None.
+    curve : (cam angle rad, radius of curvature mm) of the curve whose radius must stay above
+        ``limit``, or None.
+    limit : that radius' limit, mm (the roller radius, or 0 for a flat face).
+    where_deg : cam angles (deg) bounding the undercut regions.
+    """
+
+    def __init__(self, message: str, pitch: object = None, curve: object = None, limit: float = 0.0,
+                 where_deg: list[float] | None = None) -> None:
+        super().__init__(message)
+        self.pitch = pitch
+        self.curve = curve
+        self.limit = limit
+        self.where_deg = list(where_deg or [])
+
+
 class SceneError(CamgenError, ValueError):
     """A scene file cannot be read or does not follow the scene schema."""
 

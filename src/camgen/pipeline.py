@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable, Sequence
 
-from camgen.errors import ParameterError
+from camgen.errors import GeometryError, ParameterError
 
 if TYPE_CHECKING:
     from camgen.checks import CheckResult
@@ -78,8 +78,8 @@ class RunResult:
     files: dict[str, str | bytes] = field(default_factory=dict)
 
     def failed_checks(self) -> "list[tuple[str, CheckResult]]":
-        """(cam name, check) of every check that failed."""
-        return [(cam.name, check) for cam in self.cams for check in cam.checks if not check.passed]
+        """(cam name, check) of every check that failed (information is never a failure)."""
+        return [(cam.name, check) for cam in self.cams for check in cam.checks if check.failed]
 
     def settings(self) -> "RunSettings":
         from camgen.writers import RunSettings
@@ -87,31 +87,52 @@ class RunResult:
         return RunSettings(self.scene.name, self.scene.output, self.scene.machining)
 
 
-def check_cam(cam: "BuiltCam", spec: "CamSpec", tool_radius: float) -> None:
-    """The design checks of one cam (:func:`camgen.checks.evaluate_cam`) and its wall check."""
-    from camgen.checks import evaluate_cam
+def check_cam(cam: "BuiltCam", spec: "CamSpec", tool_radius: float, tool_is_limit: bool) -> None:
+    """The design checks of one cam (:func:`camgen.checks.evaluate_cam`) and its wall check.
+
+    A cam whose profile could not be made (``cam.contour`` None: an undercut) gets the checks
+    of its pitch curve, or its undercut as a failed check with the curvature curve to plot.
+    """
+    from camgen.checks import CheckResult, evaluate_cam
 
     follower = cam.follower
     pitch = cam.pitch if follower.kind == "roller" else None
-    cam.evaluation = evaluate_cam(cam.contour, follower, tool_radius, spec.checks.rpm, cam.breadth, pitch)
+    cam.evaluation = evaluate_cam(cam.contour, follower, tool_radius, spec.checks.rpm, cam.breadth, pitch, tool_is_limit)
+    if cam.contour is None and cam.undercut is not None and not any(c.name == "undercut" for c in cam.evaluation.checks):
+        exc = cam.undercut
+        angle, rho = exc.curve
+        cam.evaluation.checks.insert(0, CheckResult("undercut", float(rho.min()), exc.limit, ">", "mm", False, exc.where_deg,
+                                                    str(exc), blocks_manufacture=True))
+        cam.evaluation.curvature_radius = (angle, rho)
+        cam.evaluation.curvature_label = "radius of curvature of the envelope (mm)"
+        cam.evaluation.curvature_limit = exc.limit
     cam.checks.extend(cam.evaluation.checks)
     cam.figures["follower"] = {"kind": follower.kind, "motion": follower.motion, "roller_radius_mm": follower.roller_radius,
                                "offset_mm": follower.offset, "pressure_angle_limit_deg": math.degrees(follower.limit)}
-    if spec.checks.rpm:
+    if spec.checks.rpm and cam.evaluation.motion is not None:
         cam.figures["motion_at_rpm"] = {"rpm": spec.checks.rpm, **cam.evaluation.motion.at_rpm(spec.checks.rpm)}
-    if cam.body.bore_diameter > 0:
+    if cam.body.bore_diameter > 0 and cam.contour is not None:
         cam.checks.append(_wall_check(cam))
 
 
 def _wall_check(cam: "BuiltCam") -> "CheckResult":
-    """Wall between bore/keyway and profile: a GeometryError below min_wall, else a check result."""
-    from camgen.checks import CheckResult
-    from camgen.export.solid import check_wall, wall_left
+    """Wall left between bore/keyway and profile against ``min_wall`` (blocks manufacture)."""
+    from camgen.checks import limited
+    from camgen.export.solid import wall_left
 
-    check_wall(cam.contour, cam.body, cam.name)
     wall, where = wall_left(cam.contour, cam.body)
-    return CheckResult("wall_thickness", wall, cam.body.min_wall, "mm", True, [round(where, 6)],
-                       f"thinnest wall between the bore/keyway and the profile, {wall:.3f} mm")
+    what = "the bore/keyway breaks through the profile" if wall <= 0 else f"thinnest wall between the bore/keyway and the profile, {wall:.3f} mm"
+    note = what if wall >= cam.body.min_wall else what + ": use a smaller bore or keyway, or a smaller min_wall_mm"
+    return limited("wall_thickness", wall, ">=", cam.body.min_wall, "mm", [round(where, 6)], note, blocks_manufacture=True)
+
+
+def _export_failure(cam: "BuiltCam", what: str, exc: Exception) -> "CheckResult":
+    """A manufacturing output that cannot be made (a tool path that would gouge, a solid that
+    cannot be built) as a failed check that withholds the cam's manufacturing files."""
+    from camgen.checks import CheckResult
+
+    return CheckResult(f"{what}_export", "failed", "made as designed", "", "", False, [], " ".join(str(exc).split()),
+                       blocks_manufacture=True)
 
 
 def _merge_job(cams: "dict[str, BuiltCam]", result: "JobResult") -> None:
@@ -134,12 +155,14 @@ def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> RunResul
     from camgen.kinds.base import with_cam
 
     tool_radius = scene.machining.tool_radius
+    # the tool is a limit where the scene names it or machines the cam
+    tool_is_limit = scene.machining_given or "ngc" in scene.output.formats or "ngc" in plan.formats
     cams: list[BuiltCam] = []
     for spec in scene.cams:
         progress(f"building cam '{spec.name}' ({spec.kind})")
         cam = get_kind(spec.kind).build(spec, plan.stages)
         progress(f"checking cam '{spec.name}'")
-        with_cam(f"cams.{spec.name}", lambda: check_cam(cam, spec, tool_radius))
+        with_cam(f"cams.{spec.name}", lambda: check_cam(cam, spec, tool_radius, tool_is_limit))
         cams.append(cam)
     by_name = {c.name: c for c in cams}
     result = RunResult(scene, plan, cams)
@@ -152,8 +175,14 @@ def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> RunResul
         from camgen.export.solid import cam_solid
 
         for cam in cams:
+            if not cam.manufacturable:
+                continue
             progress(f"meshing cam '{cam.name}'")
-            cam.solid = cam_solid(cam.contour, cam.body, scene.output.chord_tol, cam.name)
+            try:
+                cam.solid = cam_solid(cam.contour, cam.body, scene.output.chord_tol, cam.name)
+            except GeometryError as exc:
+                cam.checks.append(_export_failure(cam, "solid", exc))
+                continue
             cam.figures["solid_volume_mm3"] = cam.solid.volume
             cam.figures["solid_triangles"] = int(len(cam.solid.triangles))
     return result
@@ -177,14 +206,21 @@ def render(result: RunResult, progress: Progress = _quiet) -> None:
     settings = result.settings()
     files = result.files
     for cam in result.cams:
-        for name in result.plan.formats:
-            fmt = OUTPUTS[name]
-            if fmt.scope != "cam":
-                continue
-            progress(f"writing {fmt.files.format(cam=cam.name)}")
-            module, function = fmt.writer.split(":")
-            writer = getattr(importlib.import_module(module), function)
-            files[fmt.files.format(cam=cam.name)] = writer(cam, settings, name)
+        planned = {name: OUTPUTS[name].files.format(cam=cam.name) for name in result.plan.formats if OUTPUTS[name].scope == "cam"}
+        made = {name: path for name, path in planned.items() if cam.manufacturable or not OUTPUTS[name].manufacturing}
+        cam.withheld = [path for name, path in planned.items() if name not in made]
+        cam_files: dict[str, str | bytes] = {}
+        for name, path in made.items():
+            progress(f"writing {path}")
+            module, function = OUTPUTS[name].writer.split(":")
+            try:
+                cam_files[path] = getattr(importlib.import_module(module), function)(cam, settings, name)
+            except GeometryError as exc:  # the cam cannot be made this way: a failed check, no manufacturing files
+                cam.checks.append(_export_failure(cam, name, exc))
+                cam.withheld = [path for name, path in planned.items() if OUTPUTS[name].manufacturing]
+                cam_files = {p: data for p, data in cam_files.items() if p not in cam.withheld}
+                break
+        files.update(cam_files)
         if "ride" in result.plan.formats:
             files.update(cam.files)
     if "legs" in result.plan.formats:
@@ -193,7 +229,7 @@ def render(result: RunResult, progress: Progress = _quiet) -> None:
     html = "html" in result.plan.formats
     names = sorted(files) + ["report.json"] + (["report.html"] if html else [])
     mechanisms = {name: job.report for name, job in result.jobs.items()}
-    files["report.json"] = report_json(report_dict(result.scene, result.cams, names, mechanisms))
+    files["report.json"] = report_json(report_dict(result.scene, result.cams, names, mechanisms, result.plan.stages))
     if html:
         progress("writing report.html")
         module, function = OUTPUTS["html"].writer.split(":")

@@ -183,7 +183,7 @@ def _checks(leg: "HorseLeg", spec: HorseLegSpec, solutions: Mapping[float, "LegS
         angle = values(worst_sol)
         i = int(np.argmax(angle))
         check = CheckResult(
-            "pressure_angle", float(np.degrees(angle[i])), float(np.degrees(limit)), "deg", bool(angle[i] <= limit),
+            "pressure_angle", float(np.degrees(angle[i])), float(np.degrees(limit)), "<=", "deg", bool(angle[i] <= limit),
             [round(float(np.degrees(worst_sol.theta1[i])), 6)],
             f"largest pressure angle of the {what} over alpha1 = {', '.join(f'{a:g}' for a in solutions)} deg "
             f"(worst at alpha1 = {worst_alpha:g} deg; where_deg is the stride-cam angle theta1)",

@@ -17,6 +17,7 @@ from camgen.schema import Angle, Key, Length, Number, Text
 
 if TYPE_CHECKING:  # the heavy modules stay unimported until a cam is built
     from camgen.checks import CamEvaluation, CheckResult, Follower
+    from camgen.errors import UndercutError
     from camgen.contour import Contour
     from camgen.export.solid import CamSolid, SolidSpec
 
@@ -72,6 +73,13 @@ class BuiltCam:
     files: dict[str, str] = field(default_factory=dict)
     evaluation: "CamEvaluation | None" = None
     solid: "CamSolid | None" = None
+    undercut: "UndercutError | None" = None  # why the profile could not be made (contour None)
+    withheld: list[str] = field(default_factory=list)  # manufacturing files not written
+
+    @property
+    def manufacturable(self) -> bool:
+        """False when the profile could not be made or a check that blocks manufacture failed."""
+        return self.contour is not None and not any(c.failed and c.blocks_manufacture for c in self.checks)
 
 
 @dataclass(frozen=True)

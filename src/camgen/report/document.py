@@ -1,36 +1,51 @@
 """The design-check report: ``report.json`` (machine-readable).
 
-Layout::
+Layout (:data:`REPORT_SCHEMA`)::
 
     {"scene": str, "camgen_version": str, "source_file": str, "chord_tol_mm": float,
-     "files": [str, ...],
-     "cams": {name: {"kind": str, "figures": {...}, "checks": [{"name", "passed", "value",
-              "limit", "unit", "where_deg", "note"}, ...]}},
+     "status": "pass" | "fail", "stages": [str, ...], "files": [str, ...],
+     "cams": {name: {"kind": str, "manufacturable": bool, "withheld_files": [str, ...],
+              "figures": {...},
+              "checks": [{"name", "status": "pass" | "fail" | "info", "value", "limit",
+                          "comparison", "unit", "where_deg", "note", "blocks_manufacture"}, ...]}},
      "mechanisms": {...}}
 
-Keys carry their unit (``_mm``, ``_deg``, ``_mm2``, ``_s``); numbers are finite.
+A check passes when ``value comparison limit`` holds (``"<="``, ``"<"``, ``">="``, ``">"``,
+``"at least"`` for continuity levels); ``"info"`` checks have no limit and never pass or fail.
+``status`` is "fail" when any check failed (the run's exit status is then 1).  Keys carry
+their unit (``_mm``, ``_deg``, ``_mm2``, ``_s``); numbers are finite.
 """
 from __future__ import annotations
 
 import json
 import math
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 from camgen.errors import ExportError
 
+if TYPE_CHECKING:
+    from camgen.kinds.base import BuiltCam
+    from camgen.scene import Scene
+
 _CHECK = {
     "type": "object",
-    "required": ["name", "passed", "value", "limit", "unit", "where_deg", "note"],
+    "required": ["name", "status", "value", "limit", "comparison", "unit", "where_deg", "note", "blocks_manufacture"],
     "properties": {
         "name": {"type": "string"},
-        "passed": {"type": "boolean"},
+        "status": {"enum": ["pass", "fail", "info"]},
         "value": {"type": ["number", "string"]},
-        "limit": {"type": ["number", "string"]},
+        "limit": {"type": ["number", "string", "null"]},
+        "comparison": {"enum": ["<=", "<", ">=", ">", "at least", ""]},
         "unit": {"type": "string"},
         "where_deg": {"type": "array", "items": {"type": "number", "minimum": 0, "maximum": 360}},
         "note": {"type": "string"},
+        "blocks_manufacture": {"type": "boolean"},
     },
     "additionalProperties": False,
+    # information has no limit; a limited check states how the value must compare with it
+    "if": {"properties": {"status": {"const": "info"}}},
+    "then": {"properties": {"limit": {"type": "null"}, "comparison": {"const": ""}}},
+    "else": {"properties": {"limit": {"type": ["number", "string"]}, "comparison": {"enum": ["<=", "<", ">=", ">", "at least"]}}},
 }
 _NUMBERS = {"type": "object", "additionalProperties": {"type": ["number", "string", "boolean", "array", "object"]}}
 
@@ -38,20 +53,24 @@ _NUMBERS = {"type": "object", "additionalProperties": {"type": ["number", "strin
 REPORT_SCHEMA = {
     "$schema": "https://json-schema.org/draft/2020-12/schema",
     "type": "object",
-    "required": ["scene", "camgen_version", "cams", "mechanisms"],
+    "required": ["scene", "camgen_version", "status", "stages", "files", "cams", "mechanisms"],
     "properties": {
         "scene": {"type": "string"},
         "camgen_version": {"type": "string"},
         "source_file": {"type": "string"},
         "chord_tol_mm": {"type": "number", "exclusiveMinimum": 0},
+        "status": {"enum": ["pass", "fail"]},
+        "stages": {"type": "array", "items": {"enum": ["analysis", "plots", "mesh"]}},
         "files": {"type": "array", "items": {"type": "string"}},
         "cams": {
             "type": "object",
             "additionalProperties": {
                 "type": "object",
-                "required": ["kind", "figures", "checks"],
+                "required": ["kind", "manufacturable", "withheld_files", "figures", "checks"],
                 "properties": {
-                    "kind": {"enum": ["three_arc", "trajectory", "motion_law"]},
+                    "kind": {"type": "string"},
+                    "manufacturable": {"type": "boolean"},
+                    "withheld_files": {"type": "array", "items": {"type": "string"}},
                     "figures": _NUMBERS,
                     "checks": {"type": "array", "items": _CHECK},
                 },
@@ -63,7 +82,7 @@ REPORT_SCHEMA = {
             "properties": {
                 "horse_leg": {
                     "type": "object",
-                    "required": ["grashof_margin_mm", "sweep"],
+                    "required": ["grashof_margin_mm"],
                     "patternProperties": {
                         "^alpha_": {
                             "type": "object",
@@ -79,18 +98,23 @@ REPORT_SCHEMA = {
 }
 
 
-def report_dict(scene: Any, cams: Sequence[Any], files: Sequence[str], mechanisms: dict | None = None) -> dict[str, Any]:
+def report_dict(scene: "Scene", cams: "Sequence[BuiltCam]", files: Sequence[str], mechanisms: dict | None = None,
+                stages: Sequence[str] = ()) -> dict[str, Any]:
     """Assemble the report for a run of ``scene`` that built ``cams`` and writes ``files``."""
     from camgen import __version__
 
+    failed = any(c.failed for cam in cams for c in cam.checks)
     return {
         "scene": scene.name,
         "camgen_version": __version__,
         "source_file": scene.source,
         "chord_tol_mm": scene.output.chord_tol,
+        "status": "fail" if failed else "pass",
+        "stages": sorted(stages),
         "files": list(files),
         "cams": {
-            cam.name: {"kind": cam.kind, "figures": cam.figures, "checks": [c.as_dict() for c in cam.checks]}
+            cam.name: {"kind": cam.kind, "manufacturable": cam.manufacturable, "withheld_files": list(cam.withheld),
+                       "figures": cam.figures, "checks": [c.as_dict() for c in cam.checks]}
             for cam in cams
         },
         "mechanisms": mechanisms or {},

@@ -27,7 +27,7 @@ _CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;margin:2em auto;max-width:1100px;color:#222;padding:0 1em}
 h1{font-size:1.6em}h2{border-bottom:2px solid #ccc;padding-bottom:.2em;margin-top:2em}h3{margin-top:1.4em}
 table{border-collapse:collapse;margin:.6em 0;font-size:.9em}td,th{border:1px solid #ccc;padding:.25em .5em;text-align:left;vertical-align:top}
-th{background:#f3f3f3}.pass{color:#0a0;font-weight:bold}.fail{color:#c00;font-weight:bold}
+th{background:#f3f3f3}.pass{color:#0a0;font-weight:bold}.fail{color:#c00;font-weight:bold}.info{color:#666}
 .fig{margin:.5em 0}.note{color:#555;font-size:.9em}code{background:#f3f3f3;padding:0 .2em}
 """
 
@@ -68,11 +68,15 @@ def _fmt(value: Any) -> str:
     return html.escape(str(value))
 
 
+_STATUS = {"pass": ("pass", "pass"), "fail": ("fail", "FAIL"), "info": ("info", "info")}
+
+
 def _checks_table(checks: Sequence[Any]) -> str:
     rows = "".join(
-        f"<tr><td>{html.escape(c.name)}</td><td class='{'pass' if c.passed else 'fail'}'>{'pass' if c.passed else 'FAIL'}</td>"
-        f"<td>{_fmt(c.value)}</td><td>{_fmt(c.limit)}</td><td>{html.escape(c.unit)}</td><td>{_fmt(c.where_deg)}</td>"
-        f"<td>{html.escape(c.note)}</td></tr>"
+        f"<tr><td>{html.escape(c.name)}</td><td class='{_STATUS[c.status][0]}'>{_STATUS[c.status][1]}</td>"
+        f"<td>{_fmt(c.value)}</td><td>{html.escape(c.comparison)} {_fmt(c.limit) if c.limit is not None else 'none'}</td>"
+        f"<td>{html.escape(c.unit)}</td><td>{_fmt(c.where_deg)}</td>"
+        f"<td>{html.escape(c.note)}{' <b>(blocks manufacture)</b>' if c.failed and c.blocks_manufacture else ''}</td></tr>"
         for c in checks
     )
     return ("<table><tr><th>check</th><th>result</th><th>value</th><th>limit</th><th>unit</th><th>where (deg)</th>"
@@ -88,9 +92,11 @@ def _profile_figure(Figure: Any, cam: Any) -> str:
     ev = cam.evaluation
     fig = Figure(figsize=(5.2, 5.2))
     ax = fig.add_subplot()
-    pts = cam.contour.flatten(0.01)
-    closed = np.vstack([pts, pts[:1]])
-    ax.plot(closed[:, 0], closed[:, 1], color="k", lw=1.2, label="profile")
+    outline = cam.contour if cam.contour is not None else ev.pitch
+    if cam.contour is not None:
+        pts = cam.contour.flatten(0.01)
+        closed = np.vstack([pts, pts[:1]])
+        ax.plot(closed[:, 0], closed[:, 1], color="k", lw=1.2, label="profile")
     if ev.pitch is not None:
         pitch = ev.pitch.flatten(0.01)
         pitch = np.vstack([pitch, pitch[:1]])
@@ -107,17 +113,22 @@ def _profile_figure(Figure: Any, cam: Any) -> str:
             rect = np.vstack([rect, rect[:1]])
             ax.plot(rect[:, 0], rect[:, 1], color="tab:green", lw=0.8, label="keyway")
     follower = ev.follower
-    xmin, ymin, xmax, ymax = cam.contour.bounds
+    if outline is None:  # nothing to draw to scale: the checks table says why
+        ax.text(0.5, 0.5, "the profile cannot be made (see the checks)", ha="center", transform=ax.transAxes)
+        return _svg(fig)
+    xmin, ymin, xmax, ymax = outline.bounds
     span = max(xmax - xmin, ymax - ymin)
     d = np.array([math.cos(follower.direction), math.sin(follower.direction)])
     side = np.array([-d[1], d[0]])
-    if follower.kind in ("yoke", "flat"):
+    if cam.contour is None:
+        ax.set_title(f"{cam.name}: pitch curve to scale; the profile cannot be made (undercut)")
+    elif follower.kind in ("yoke", "flat"):
         h = float(cam.contour.support(np.array([follower.direction]))[0])
         faces = [h] + ([h - cam.breadth] if follower.kind == "yoke" and cam.breadth is not None else [])
         for k, dist in enumerate(faces):
             line = np.array([dist * d - 0.6 * span * side, dist * d + 0.6 * span * side])
             ax.plot(line[:, 0], line[:, 1], color="tab:red", lw=1.0, label="follower face at cam angle 0" if k == 0 else None)
-    else:
+    elif ev.motion is not None:
         pos = ev.motion.displacement
         if follower.motion == "translating":
             centre = pos[0] * d + follower.offset * side
@@ -128,7 +139,8 @@ def _profile_figure(Figure: Any, cam: Any) -> str:
     ax.set_aspect("equal")
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
-    ax.set_title(f"{cam.name}: profile to scale (cam frame)")
+    if cam.contour is not None:
+        ax.set_title(f"{cam.name}: profile to scale (cam frame)")
     ax.legend(loc="upper right", fontsize=7)
     return _svg(fig)
 
@@ -137,6 +149,9 @@ def _curves_figure(Figure: Any, cam: Any, tool_radius: float) -> str:
     ev = cam.evaluation
     fig = Figure(figsize=(10, 3.2))
     ax1, ax2 = fig.subplots(1, 2)
+    if ev.pressure_angle is None or ev.curvature_radius is None:
+        ax1.text(0.5, 0.5, "no curves: the profile cannot be made (see the checks)", ha="center", transform=ax1.transAxes)
+        return _svg(fig)
     angle, pressure = ev.pressure_angle
     pa_check = next((c for c in cam.checks if c.name == "pressure_angle"), None)
     limit = float(pa_check.limit) if pa_check is not None else math.degrees(ev.follower.limit)
@@ -152,15 +167,20 @@ def _curves_figure(Figure: Any, cam: Any, tool_radius: float) -> str:
     ax1.set_title(title, fontsize=8)
     rho_angle, rho = ev.curvature_radius
     order = np.argsort(np.mod(rho_angle, 2 * math.pi))
-    size = max(abs(v) for v in cam.contour.bounds)
+    outline = cam.contour if cam.contour is not None else ev.pitch
+    size = max(abs(v) for v in outline.bounds) if outline is not None else float(np.max(np.abs(rho[np.isfinite(rho)])))
     clipped = np.clip(rho[order], -3 * size, 3 * size)
     keep = _thin(order.size, 1200)
     ax2.plot(np.degrees(np.mod(rho_angle[order], 2 * math.pi))[keep], clipped[keep], ".", ms=1.5, color="tab:blue")
-    for sign in (1, -1):
-        ax2.axhline(sign * tool_radius, color="tab:red", ls="--", lw=0.8)
+    if ev.curvature_limit is not None:  # the radius the curve must stay above (roller radius, or 0)
+        ax2.axhline(ev.curvature_limit, color="tab:red", ls="--", lw=0.8)
+        ax2.set_title(f"{ev.curvature_label}; must stay above {ev.curvature_limit:g} mm (dashed)", fontsize=8)
+    else:
+        for sign in (1, -1):
+            ax2.axhline(sign * tool_radius, color="tab:red", ls="--", lw=0.8)
+        ax2.set_title(f"radius of curvature; tool radius {tool_radius:g} mm dashed", fontsize=8)
     ax2.set_xlabel("cam angle (deg)")
-    ax2.set_ylabel("radius of curvature (mm, < 0 concave)")
-    ax2.set_title(f"radius of curvature; tool radius {tool_radius:g} mm dashed", fontsize=8)
+    ax2.set_ylabel(ev.curvature_label)
     return _svg(fig)
 
 
@@ -195,8 +215,10 @@ def report_html(result: "RunResult") -> str:
     tool_radius = scene.machining.tool_radius
     summary = "".join(
         f"<tr><td><a href='#{html.escape(c.name)}'>{html.escape(c.name)}</a></td><td>{html.escape(c.kind)}</td>"
-        f"<td class='{'pass' if all(k.passed for k in c.checks) else 'fail'}'>"
-        f"{sum(k.passed for k in c.checks)} / {len(c.checks)} passed</td></tr>"
+        f"<td class='{'fail' if any(k.failed for k in c.checks) else 'pass'}'>"
+        f"{sum(k.status == 'pass' for k in c.checks)} passed, {sum(k.failed for k in c.checks)} failed, "
+        f"{sum(k.status == 'info' for k in c.checks)} information</td>"
+        f"<td>{'yes' if c.manufacturable else 'no: ' + html.escape(', '.join(c.withheld) or 'no manufacturing file')}</td></tr>"
         for c in cams
     )
     parts = [
@@ -205,7 +227,7 @@ def report_html(result: "RunResult") -> str:
         f"<h1>camgen design-check report: {html.escape(scene.name)}</h1>",
         f"<p class='note'>camgen {__version__}; scene <code>{html.escape(scene.source)}</code>; chord tolerance "
         f"{scene.output.chord_tol:g} mm; units mm and deg.</p>",
-        f"<table><tr><th>cam</th><th>kind</th><th>checks</th></tr>{summary}</table>",
+        f"<table><tr><th>cam</th><th>kind</th><th>checks</th><th>manufacturing files written</th></tr>{summary}</table>",
     ]
 
     def section(path: str):
@@ -217,7 +239,8 @@ def report_html(result: "RunResult") -> str:
         if cam.evaluation is not None:
             parts.append(f"<div class='fig'>{_profile_figure(Figure, cam)}</div>")
             parts.append(f"<div class='fig'>{_curves_figure(Figure, cam, tool_radius)}</div>")
-            parts.append(f"<div class='fig'>{_motion_figure(Figure, cam)}</div>")
+            if cam.evaluation.motion is not None:
+                parts.append(f"<div class='fig'>{_motion_figure(Figure, cam)}</div>")
         parts.append("<h3>Checks</h3>" + _checks_table(cam.checks))
         parts.append("<h3>Figures</h3>" + _figures_table(cam.figures))
         kind_section = get_kind(cam.kind).report_section

@@ -38,8 +38,10 @@ def test_report_json_layout_and_paper_figures(default_run):
         assert fig["breadth_error_mm"] <= 1e-9
         assert fig["base_radius_mm"] == c and fig["max_radius_mm"] == 2 * a + c - b
         for check in cam["checks"]:
-            assert set(check) >= {"name", "passed", "value", "limit", "unit", "where_deg"}
-            assert check["passed"] is True
+            assert set(check) >= {"name", "status", "value", "limit", "comparison", "unit", "where_deg"}
+            assert check["status"] in ("pass", "info")
+            # a check with a limit states how the value must compare with it; information has none
+            assert (check["limit"] is None) == (check["status"] == "info") == (check["comparison"] == "")
         continuity = next(ch for ch in cam["checks"] if ch["name"] == "continuity")
         assert continuity["value"] == "G1" and len(continuity["where_deg"]) == 6
 
@@ -177,5 +179,6 @@ def test_bundled_templates_run(template, tmp_path):
 
     assert main(["run", str(template_path(template)), "-o", str(tmp_path)]) == 0
     report = json.loads((tmp_path / template / "report.json").read_text())
-    assert all(check["passed"] for cam in report["cams"].values() for check in cam["checks"])
+    assert report["status"] == "pass"
+    assert all(check["status"] != "fail" for cam in report["cams"].values() for check in cam["checks"])
     assert (tmp_path / template / "report.html").stat().st_size > 10_000
