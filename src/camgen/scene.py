@@ -111,7 +111,7 @@ SEGMENT_KEYS: Schema = {"law": (("cycloidal", "harmonic", "poly345", "poly4567",
 OUTPUT_KEYS: Schema = {
     "formats": ("str_list", False),
     "chord_tol_mm": ("mm", False),
-    "dxf_splines": (("bspline", "biarc"), False),
+    "dxf_splines": (("biarc", "bspline"), False),  # default biarc: ARCs/LINEs within chord_tol_mm; bspline: exact SPLINEs
     "dxf_pitch": ("bool", False),
     "lift_step_deg": ("deg", False),
 }
@@ -162,7 +162,7 @@ class OutputSpec:
 
     formats: tuple[str, ...] = DEFAULT_FORMATS
     chord_tol: float = 1e-3
-    dxf_splines: str = "bspline"
+    dxf_splines: str = "biarc"
     dxf_pitch: bool = True
     lift_step: float = math.radians(1.0)
 
@@ -257,7 +257,7 @@ def _parse_output(table: object) -> OutputSpec:
     step = p.get("lift_step", math.radians(1.0))
     if not math.radians(0.01) <= step <= math.radians(10.0):
         raise ParameterError("output.lift_step_deg", math.degrees(step), "0.01 <= lift_step_deg <= 10")
-    return OutputSpec(tuple(dict.fromkeys(formats)), chord_tol, p.get("dxf_splines", "bspline"), p.get("dxf_pitch", True), step)
+    return OutputSpec(tuple(dict.fromkeys(formats)), chord_tol, p.get("dxf_splines", OutputSpec.dxf_splines), p.get("dxf_pitch", True), step)
 
 
 def _parse_cam(name: str, table: object, base_dir: Path | None) -> CamSpec:
