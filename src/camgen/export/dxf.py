@@ -195,8 +195,8 @@ def _bore_and_keyway(body: Any) -> tuple[float, np.ndarray | None]:
 def drawing_bounds(contour: Contour, body: Any = None, pitch: Contour | None = None, center_mark: float = 0.0) -> tuple[float, float, float, float]:
     """Exact bounding box ``(xmin, ymin, xmax, ymax)``, mm, of the entities of a drawing.
 
-    ``contour`` and ``pitch`` are the contours as drawn (after any biarc conversion); the bore
-    circle or arc counts as its full circle only where its sweep reaches the axis directions.
+    ``contour`` and ``pitch`` are the contours as drawn (after any biarc conversion); arcs
+    (the bore arc too) count with their end points and the axis-extreme points inside their sweep.
     """
     boxes = [np.array(contour.bounds).reshape(2, 2)]
     if pitch is not None:

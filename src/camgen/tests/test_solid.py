@@ -281,3 +281,15 @@ def test_wall_is_measured_where_it_is_thinnest(contours):
     # thinnest at the keyway's outer corners (9.5, +-1): 10 - hypot(9.5, 1) from the base circle
     assert wall == pytest.approx(10.0 - math.hypot(9.5, 1.0), abs=2e-4) and (where < 15 or where > 345)
 
+
+
+def test_volume_mesh_layers_are_checked(fea_cams):
+    from camgen.errors import ParameterError
+    from camgen.export.solid import volume_mesh
+
+    solid = fea_cams["stride"][2]
+    for bad in (0, 2.5, True):
+        with pytest.raises(ParameterError, match="layers"):
+            volume_mesh(solid, layers=bad)
+    one = volume_mesh(solid, layers=1)
+    assert len(one.wedges) == np.sum(np.all(solid.vertices[solid.triangles][:, :, 2] == 0.0, axis=1))  # one wedge per cap triangle
