@@ -341,7 +341,7 @@ def test_openscad_imports_the_profile_layer(template, template_dxfs, tmp_path):
     openscad = require_tool("openscad")
     scene, cams = template_dxfs[template]
     height = 10.0
-    for name, (cam, text) in cams.items():
+    for cam, text in cams.values():
         (tmp_path / "cam.dxf").write_text(text)
         (tmp_path / "cam.scad").write_text(f'linear_extrude(height={height}) import("cam.dxf", layer="PROFILE", $fn=0, $fa=0.1, $fs=0.05);\n')
         proc = subprocess.run([openscad, "-o", "cam.stl", "--export-format", "binstl", "cam.scad"], cwd=tmp_path,

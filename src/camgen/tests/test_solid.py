@@ -15,8 +15,8 @@ from camgen.tests.helpers import require_tool
 
 
 def _shapely_section(contour, body, tol):
-    from shapely.geometry import Polygon, box
     from shapely import affinity
+    from shapely.geometry import Polygon, box
 
     outer = Polygon(contour.flatten(tol))
     r = body.bore_diameter / 2
@@ -99,7 +99,7 @@ def test_fea_formats_hold_wedges_filling_the_section_times_thickness(fmt, name, 
 
     from camgen.export.solid import DEFAULT_FEA_LAYERS
 
-    contour, body, solid, area = fea_cams[name]
+    _, body, solid, area = fea_cams[name]
     data = mesh_bytes(solid, fmt, name)
     assert data == mesh_bytes(solid, fmt, name)  # deterministic
     path = tmp_path / f"cam.{fmt}"
@@ -146,7 +146,7 @@ def test_calculix_solves_the_inp(name, fea_cams, tmp_path):
       uniform strain exactly, so the force on TOP is E A d / T (A: GEOS section area).
     """
     ccx = require_tool("ccx")
-    contour, body, solid, area = fea_cams[name]
+    _, body, solid, area = fea_cams[name]
     inp = mesh_bytes(solid, "inp", name)
     n_profile = sum(len(re.findall(r"\d+", line)) for line in inp.decode().split("*NSET, NSET=PROFILE\n")[1].split("*")[0].splitlines())
     dat = _run_ccx(ccx, tmp_path, inp, """*MATERIAL, NAME=STEEL
@@ -195,7 +195,7 @@ def test_gmsh_reads_the_msh_as_volume_elements(fea_cams, tmp_path):
     import meshio
 
     gmsh = require_tool("gmsh")
-    contour, body, solid, area = fea_cams["stride"]
+    _, body, solid, area = fea_cams["stride"]
     (tmp_path / "cam.msh").write_bytes(mesh_bytes(solid, "msh", "stride"))
     (tmp_path / "check.geo").write_text(
         'Merge "cam.msh";\nPlugin(AnalyseMeshQuality).JacobianDeterminant = 1;\n'
