@@ -85,7 +85,7 @@ class OutputSpec:
 
     formats: tuple[str, ...] = ("dxf", "points")
     chord_tol: float = 1e-3
-    dxf_splines: str = "bspline"
+    dxf_splines: str = "biarc"
     dxf_pitch: bool = True
     lift_step: float = math.radians(1.0)
 
@@ -98,8 +98,8 @@ def output_keys() -> tuple[Key, ...]:
             "the scene has them).", ("files",), default=list(d.formats)),
         Key("chord_tol_mm", Number("mm", 1e-7, 1.0), "Largest distance between a flattened output (point list, DXF biarcs, "
             "meshes, G-code) and the exact profile.", ("tolerance",), default=d.chord_tol),
-        Key("dxf_splines", Choice(("bspline", "biarc")), "How the DXF writes spline segments: exact clamped B-splines, or arcs "
-            "within chord_tol_mm.", ("dxf",), default=d.dxf_splines),
+        Key("dxf_splines", Choice(("biarc", "bspline")), "How the DXF writes spline segments: ARCs and LINEs within chord_tol_mm "
+            "(every reader takes them), or exact clamped B-spline SPLINEs (for CAD).", ("dxf",), default=d.dxf_splines),
         Key("dxf_pitch", Flag(), "Draw the follower-centre path of roller followers on the DXF's PITCH layer.", ("dxf",),
             default=d.dxf_pitch),
         Key("lift_step_deg", Angle(0.01, 10.0), "Cam-angle step of the lift table (<cam>_lift.csv).", ("tables",),

@@ -1,9 +1,18 @@
-"""2-D DXF export with ezdxf: R2010, units mm, arcs as exact ARC entities.
+"""2-D DXF export with ezdxf: R2010, units mm, ARC and LINE entities every reader takes.
 
-Spline segments are written as clamped cubic B-splines built from their Bezier pieces
-(knots of multiplicity 3 at every break): an exact representation of the piecewise cubic
-that independent readers evaluate correctly (fit-point-only or raw periodic-knot SPLINEs
-are misread, see ``shared/research/ecosystem.md`` section 3).
+Spline segments are written in one of two ways (:class:`DxfOptions` ``splines``):
+
+* ``"biarc"`` (default): G1 chains of circular ARCs (and LINEs where the curve is straight)
+  within ``biarc_tol`` mm of the exact curve (:mod:`camgen.biarc`).  OpenSCAD, laser and CAM
+  programs import these; many of them ignore or reject SPLINE entities.
+* ``"bspline"``: clamped cubic B-splines, an exact representation of the piecewise cubic for CAD
+  programs (fit-point-only or raw periodic-knot SPLINEs are misread by independent readers, see
+  ``shared/research/ecosystem.md`` section 3).
+
+Arc segments (three-arc cams) are exact ARCs in both modes.  The header extents ($EXTMIN,
+$EXTMAX, and $LIMMIN/$LIMMAX) are the exact bounding box of everything drawn; the spline mode
+and tolerance are stated in the header's custom properties (``camgen_splines``,
+``camgen_biarc_tol_mm``).
 
 Files are deterministic: ezdxf's fixed-metadata mode replaces the creation time stamps and
 random GUIDs, and the CLASSES section is sorted (ezdxf fills it in hash-seed order).
@@ -19,7 +28,8 @@ from typing import Any
 
 import numpy as np
 
-from camgen.contour import Arc, Contour, Spline
+from camgen.contour import DEFAULT_CHORD_TOL, Arc, Contour, Spline
+from camgen.errors import ParameterError, require_finite, require_positive
 from camgen.export.atomic import write_atomic
 
 PROFILE_LAYER = "PROFILE"
@@ -82,22 +92,54 @@ def spline_bspline(spline: Spline, tol: float = 1e-9) -> tuple[np.ndarray, np.nd
     return knots, np.asarray(fit.c)
 
 
+#: Spline modes of :class:`DxfOptions`.
+SPLINE_MODES = ("biarc", "bspline")
+
+
 @dataclass(frozen=True)
 class DxfOptions:
     """DXF drawing options.
 
-    ``splines``: ``"bspline"`` (exact clamped cubic B-splines) or ``"biarc"`` (arcs within
-    ``biarc_tol`` mm, readable by every CAM program); ``center_mark``: half-length of the
-    centre cross, mm.
+    Parameters
+    ----------
+    splines : {"biarc", "bspline"}
+        ``"biarc"`` (default): spline segments of PROFILE and PITCH become ARCs and LINEs within
+        ``biarc_tol`` mm (every DXF reader takes them); ``"bspline"``: exact clamped cubic
+        B-spline SPLINEs (for CAD programs).
+    biarc_tol : float
+        Largest distance between a spline segment and its biarcs, mm (the pipeline passes the
+        scene's ``chord_tol_mm``).
+    center_mark : float
+        Half-length of the centre cross on the rotation axis, mm (0: no centre mark).
     """
 
-    splines: str = "bspline"
-    biarc_tol: float = 1e-3
+    splines: str = "biarc"
+    biarc_tol: float = DEFAULT_CHORD_TOL
     center_mark: float = 5.0
+
+    def __post_init__(self) -> None:
+        if self.splines not in SPLINE_MODES:
+            raise ParameterError("dxf_splines", self.splines, f"one of {', '.join(SPLINE_MODES)}")
+        require_positive("biarc_tol", self.biarc_tol)
+        if require_finite("center_mark", self.center_mark) < 0:
+            raise ParameterError("center_mark", self.center_mark, "center_mark >= 0 mm")
 
 
 def _is_line(seg: Spline) -> bool:
     return seg.n_pieces == 1 and not np.any(seg.coeffs[:2])
+
+
+def _arc_spline(contour: Contour, tol: float) -> Contour:
+    """``contour`` with every curved spline segment replaced by biarcs within ``tol`` mm (arcs
+    and straight pieces kept as they are)."""
+    from camgen.biarc import spline_to_biarcs
+
+    if all(isinstance(seg, Arc) or _is_line(seg) for seg in contour.segments):
+        return contour
+    segments: list[Arc | Spline] = []
+    for seg in contour.segments:
+        segments.extend([seg] if isinstance(seg, Arc) or _is_line(seg) else spline_to_biarcs(seg, tol))
+    return Contour(segments, closure_tol=1e-6)
 
 
 def _add_contour(msp, contour: Contour, layer: str) -> None:
@@ -118,9 +160,11 @@ def _add_contour(msp, contour: Contour, layer: str) -> None:
 def contour_to_dxf(contour: Contour, body: Any = None, pitch: Contour | None = None, options: DxfOptions = DxfOptions()) -> str:
     """DXF text (R2010, $INSUNITS = 4 mm) of a cam drawing.
 
-    Layers: ``PROFILE`` (the contour), ``BORE`` (circle) and ``KEYWAY`` (its three sides
-    outside the bore) from ``body`` (a :class:`camgen.export.solid.SolidSpec`), ``PITCH`` (the
-    follower-centre path, when given) and ``CENTER`` (a centre mark on the rotation axis).
+    Layers: ``PROFILE`` (the contour), ``BORE`` (circle, or the arc outside the keyway) and
+    ``KEYWAY`` (its three sides outside the bore) from ``body`` (a
+    :class:`camgen.export.solid.SolidSpec`), ``PITCH`` (the follower-centre path, when given)
+    and ``CENTER`` (a centre mark on the rotation axis).  Spline segments follow
+    ``options.splines`` (default: biarcs within ``options.biarc_tol`` mm).
     """
     import ezdxf
 
@@ -132,43 +176,89 @@ def contour_to_dxf(contour: Contour, body: Any = None, pitch: Contour | None = N
         ezdxf.options.write_fixed_meta_data_for_testing = previous
 
 
+def _bore_and_keyway(body: Any) -> tuple[float, np.ndarray | None]:
+    """Bore radius (mm, 0: none) and the keyway's corners (4, 2) from the bore circle out
+    (``None``: no keyway), in the cam frame."""
+    if body is None or body.bore_diameter <= 0:
+        return 0.0, None
+    r = body.bore_diameter / 2
+    if body.keyway_width <= 0:
+        return r, None
+    half = body.keyway_width / 2
+    inner = math.sqrt(r * r - half * half)  # where the keyway sides meet the bore circle
+    out = r + body.keyway_depth
+    c, s = math.cos(body.keyway_angle), math.sin(body.keyway_angle)
+    local = np.array([[inner, -half], [out, -half], [out, half], [inner, half]])
+    return r, local @ np.array([[c, s], [-s, c]])  # rotated by +keyway_angle
+
+
+def drawing_bounds(contour: Contour, body: Any = None, pitch: Contour | None = None, center_mark: float = 0.0) -> tuple[float, float, float, float]:
+    """Exact bounding box ``(xmin, ymin, xmax, ymax)``, mm, of the entities of a drawing.
+
+    ``contour`` and ``pitch`` are the contours as drawn (after any biarc conversion); arcs
+    (the bore arc too) count with their end points and the axis-extreme points inside their sweep.
+    """
+    boxes = [np.array(contour.bounds).reshape(2, 2)]
+    if pitch is not None:
+        boxes.append(np.array(pitch.bounds).reshape(2, 2))
+    r, keyway = _bore_and_keyway(body)
+    if r > 0:
+        if keyway is None:
+            boxes.append(np.array([[-r, -r], [r, r]]))
+        else:
+            boxes.append(np.array([keyway.min(axis=0), keyway.max(axis=0)]))
+            gap = math.asin(body.keyway_width / 2 / r)
+            arc = Arc((0.0, 0.0), r, body.keyway_angle + gap, 2.0 * math.pi - 2.0 * gap)
+            pts = arc.extreme_points()
+            boxes.append(np.array([pts.min(axis=0), pts.max(axis=0)]))
+    if center_mark > 0:
+        boxes.append(np.array([[-center_mark, -center_mark], [center_mark, center_mark]]))
+    stack = np.concatenate(boxes)
+    lo, hi = stack.min(axis=0), stack.max(axis=0)
+    return float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])
+
+
 def _contour_to_dxf(contour: Contour, body: Any, pitch: Contour | None, options: DxfOptions) -> str:
     import ezdxf
     from ezdxf import units
 
     if options.splines == "biarc":
-        from camgen.biarc import to_arc_spline
-
-        contour = to_arc_spline(contour, options.biarc_tol)
-        pitch = to_arc_spline(pitch, options.biarc_tol) if pitch is not None else None
+        contour = _arc_spline(contour, options.biarc_tol)
+        pitch = _arc_spline(pitch, options.biarc_tol) if pitch is not None else None
     doc = ezdxf.new("R2010", units=units.MM)
     doc.header["$MEASUREMENT"] = 1
     doc.header["$LUNITS"] = 2
     doc.header["$LUPREC"] = 6
+    xmin, ymin, xmax, ymax = drawing_bounds(contour, body, pitch, options.center_mark)
+    # readers zoom to $EXTMIN/$EXTMAX, which ezdxf leaves at +-1e20; it copies the modelspace
+    # layout's extents and limits into the header ($EXTMIN ... $LIMMAX) when it writes the file
+    msp = doc.modelspace()
+    msp.dxf.extmin = (xmin, ymin, 0.0)
+    msp.dxf.extmax = (xmax, ymax, 0.0)
+    msp.dxf.limmin = (xmin, ymin)
+    msp.dxf.limmax = (xmax, ymax)
+    doc.header.custom_vars.append("camgen_splines", options.splines)
+    if options.splines == "biarc":
+        doc.header.custom_vars.append("camgen_biarc_tol_mm", repr(float(options.biarc_tol)))
     for name, color in ((PROFILE_LAYER, 7), ("BORE", 2), ("KEYWAY", 3), ("PITCH", 4), ("CENTER", 1)):
         doc.layers.add(name, color=color)
-    msp = doc.modelspace()
     _add_contour(msp, contour, PROFILE_LAYER)
     if pitch is not None:
         _add_contour(msp, pitch, "PITCH")
-    if body is not None and body.bore_diameter > 0:
-        r = body.bore_diameter / 2
-        if body.keyway_width > 0:
-            # keyway: two sides from the bore circle out to the keyway bottom, and the bottom
-            half = body.keyway_width / 2
-            inner = math.sqrt(r * r - half * half)
-            out = r + body.keyway_depth
-            c, s = math.cos(body.keyway_angle), math.sin(body.keyway_angle)
-            rot = lambda a, b: (a * c - b * s, a * s + b * c)  # noqa: E731
-            msp.add_lwpolyline([rot(inner, -half), rot(out, -half), rot(out, half), rot(inner, half)], dxfattribs={"layer": "KEYWAY"})
-            gap = math.degrees(math.asin(half / r))
-            key = math.degrees(body.keyway_angle)
-            msp.add_arc((0.0, 0.0), r, key + gap, key + 360.0 - gap, dxfattribs={"layer": "BORE"})
-        else:
-            msp.add_circle((0.0, 0.0), r, dxfattribs={"layer": "BORE"})
+    r, keyway = _bore_and_keyway(body)
+    if r > 0 and keyway is not None:
+        # keyway: two sides from the bore circle out to the keyway bottom, and the bottom; the
+        # bore arc closes the loop outside the keyway
+        msp.add_lwpolyline([tuple(p) for p in keyway], dxfattribs={"layer": "KEYWAY"})
+        gap = math.degrees(math.asin(body.keyway_width / 2 / r))
+        key = math.degrees(body.keyway_angle)
+        msp.add_arc((0.0, 0.0), r, key + gap, key + 360.0 - gap, dxfattribs={"layer": "BORE"})
+    elif r > 0:
+        msp.add_circle((0.0, 0.0), r, dxfattribs={"layer": "BORE"})
     m = options.center_mark
-    msp.add_line((-m, 0.0), (m, 0.0), dxfattribs={"layer": "CENTER"})
-    msp.add_line((0.0, -m), (0.0, m), dxfattribs={"layer": "CENTER"})
+    if m > 0:
+        msp.add_line((-m, 0.0), (m, 0.0), dxfattribs={"layer": "CENTER"})
+        msp.add_line((0.0, -m), (0.0, m), dxfattribs={"layer": "CENTER"})
     # ezdxf adds CLASS entries from a set of the entity types in use, so their order follows
     # Python's hash seed; add them now and sort them so every process writes the same bytes
     doc.classes.add_required_classes(doc.dxfversion)

@@ -6,8 +6,18 @@ chord tolerance) and the keyway (a rectangle from the axis out to ``bore radius 
 subtracted, and the result is extruded to the cam thickness.  Before any of that the wall left
 between bore/keyway and profile is measured; less than ``min_wall`` is a :class:`GeometryError`.
 
-Writers: binary and ASCII STL with numpy (no trimesh import), 3MF, OBJ and PLY through trimesh,
-VTU (and other FEA formats) through meshio.  Mind: STL stores float32 (~1e-5 mm at 300 mm).
+Surface meshes (the boundary of the solid): binary and ASCII STL with numpy (no trimesh import),
+3MF, OBJ and PLY through trimesh.  Mind: STL stores float32 (~1e-5 mm at 300 mm).
+
+FEA volume meshes (VTU, Gmsh MSH 2.2, Abaqus/CalculiX INP): the cam is an extrusion, so the
+cross-section triangulation (the bottom cap of the manifold3d extrusion) is extruded into
+``layers`` layers of 6-node wedges (VTK_WEDGE 13, Gmsh prism 6, Abaqus/CalculiX C3D6; default
+:data:`DEFAULT_FEA_LAYERS`).  Every wedge has its bottom triangle counter-clockwise seen from
+its top (positive Jacobian in all three formats), so the element volumes add up to the section
+area times the thickness.  The INP also holds node sets for boundary conditions (see
+:func:`inp_text`).  The in-plane triangles are the triangulation of the flattened section
+(long, thin triangles between profile and bore): fine for stiffness and load-path checks;
+refine in an FEA pre-processor for stress peaks.
 """
 from __future__ import annotations
 
@@ -27,12 +37,17 @@ MESH_FORMATS = {
     "3mf": "3MF (trimesh; units mm)",
     "obj": "Wavefront OBJ (trimesh)",
     "ply": "binary PLY (trimesh)",
-    "vtu": "VTK unstructured grid (meshio)",
-    "msh": "Gmsh 2.2 mesh (meshio)",
-    "inp": "Abaqus input surface mesh (meshio)",
+    "vtu": "VTK unstructured grid of wedge volume elements (meshio)",
+    "msh": "Gmsh 2.2 ASCII mesh of 6-node prism volume elements",
+    "inp": "Abaqus/CalculiX input: C3D6 wedge volume elements and node sets",
 }
 SUFFIX = {"stl": ".stl", "stl_ascii": "_ascii.stl", "3mf": ".3mf", "obj": ".obj", "ply": ".ply", "vtu": ".vtu", "msh": ".msh", "inp": ".inp"}
-_MESHIO = {"vtu": ("vtu", {"binary": True}), "msh": ("gmsh22", {"binary": False}), "inp": ("abaqus", {})}
+#: Formats written as volume meshes (wedges); the others hold the surface triangles.
+VOLUME_FORMATS = ("vtu", "msh", "inp")
+#: Element layers through the thickness of the volume meshes.  Linear wedges are stiff in
+#: bending through the thickness; four layers keep that error small for a cam loaded in its
+#: plane while the file stays about (layers + 1) times the section's vertex count in nodes.
+DEFAULT_FEA_LAYERS = 4
 
 
 @dataclass(frozen=True)
@@ -202,8 +217,12 @@ def stl_ascii(solid: CamSolid, name: str = "camgen") -> str:
     return f"solid {name}\n{body.getvalue()}endsolid {name}\n"
 
 
-def mesh_bytes(solid: CamSolid, fmt: str, name: str = "camgen") -> bytes:
-    """File content of ``solid`` in mesh format ``fmt`` (see :data:`MESH_FORMATS`)."""
+def mesh_bytes(solid: CamSolid, fmt: str, name: str = "camgen", layers: int = DEFAULT_FEA_LAYERS) -> bytes:
+    """File content of ``solid`` in mesh format ``fmt`` (see :data:`MESH_FORMATS`).
+
+    ``layers``: element layers through the thickness of the volume formats
+    (:data:`VOLUME_FORMATS`); ignored by the surface formats.
+    """
     if fmt == "stl":
         return stl_binary(solid, name)
     if fmt == "stl_ascii":
@@ -216,18 +235,175 @@ def mesh_bytes(solid: CamSolid, fmt: str, name: str = "camgen") -> bytes:
         data = mesh.export(file_type=fmt)
         data = data.encode("utf-8") if isinstance(data, str) else bytes(data)
         return _deterministic_zip(data) if fmt == "3mf" else data
-    if fmt in _MESHIO:
-        import tempfile
-
-        import meshio
-
-        file_format, options = _MESHIO[fmt]
-        with tempfile.TemporaryDirectory() as tmp:
-            path = Path(tmp) / f"{name}{SUFFIX[fmt]}"
-            mesh = meshio.Mesh(solid.vertices, [("triangle", solid.triangles.astype(np.int32))])
-            meshio.write(path, mesh, file_format=file_format, **options)
-            return path.read_bytes()
+    if fmt in VOLUME_FORMATS:
+        volume = volume_mesh(solid, layers)
+        if fmt == "inp":
+            return inp_text(volume, name).encode("ascii")
+        if fmt == "msh":
+            return msh_text(volume, name).encode("ascii")
+        return vtu_bytes(volume, name)
     raise ParameterError("format", fmt, f"one of {sorted(MESH_FORMATS)}")
+
+
+# --------------------------------------------------------------------------------------------
+# FEA volume meshes
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class VolumeMesh:
+    """Wedge mesh of an extruded section (mm).
+
+    Attributes
+    ----------
+    nodes : array (n, 3)
+        Node coordinates, layer by layer from z = 0 up (``k`` section vertices per layer).
+    wedges : array (m, 6)
+        0-based node indices: the bottom triangle counter-clockwise seen from +z, then the
+        nodes above them (Gmsh prism / Abaqus C3D6 / VTK wedge order, positive Jacobian).
+    node_sets : dict of str to array
+        0-based node indices: ``PROFILE`` (outer contour), ``BORE`` (bore and keyway, empty
+        without a bore), ``BOTTOM`` (z = 0) and ``TOP`` (z = thickness).
+    layers : int
+        Element layers through the thickness.
+    thickness : float
+        Extrusion height, mm.
+    """
+
+    nodes: np.ndarray
+    wedges: np.ndarray
+    node_sets: dict
+    layers: int
+    thickness: float
+
+
+def section_triangulation(solid: CamSolid) -> tuple[np.ndarray, np.ndarray]:
+    """The cross-section triangulation of an extruded ``solid``: vertices (k, 2) and
+    counter-clockwise triangles (t, 3), from the bottom cap (z = 0) of its mesh."""
+    z = solid.vertices[:, 2]
+    cap = solid.triangles[np.all(z[solid.triangles] == 0.0, axis=1)]
+    if not len(cap):
+        raise GeometryError("the solid has no bottom cap at z = 0: not an extrusion from z = 0")
+    used, local = np.unique(cap, return_inverse=True)
+    triangles = local.reshape(-1, 3)[:, ::-1]  # the cap faces -z: reverse to counter-clockwise seen from +z
+    return solid.vertices[used, :2], triangles
+
+
+def _boundary_sets(points: np.ndarray, triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Vertices (indices) of the outer boundary loop and of the hole loops of a triangulation."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    edges = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
+    key = np.sort(edges, axis=1)
+    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    boundary = edges[counts[inverse.ravel()] == 1]  # directed: the outer loop runs CCW, holes CW
+    n = len(points)
+    graph = coo_matrix((np.ones(len(boundary)), (boundary[:, 0], boundary[:, 1])), shape=(n, n))
+    _, label = connected_components(graph, directed=False)
+    a, b = points[boundary[:, 0]], points[boundary[:, 1]]
+    loop_area = np.bincount(label[boundary[:, 0]], weights=0.5 * (a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]), minlength=label.max() + 1)
+    on_boundary = np.unique(boundary)
+    outer = loop_area[label[on_boundary]] > 0
+    return on_boundary[outer], on_boundary[~outer]
+
+
+def volume_mesh(solid: CamSolid, layers: int = DEFAULT_FEA_LAYERS) -> VolumeMesh:
+    """Extrude the section triangulation of ``solid`` into ``layers`` layers of 6-node wedges."""
+    if isinstance(layers, bool) or not isinstance(layers, (int, np.integer)) or not 1 <= layers <= 1000:
+        raise ParameterError("layers", layers, "a whole number 1 ... 1000 of element layers through the thickness")
+    layers = int(layers)
+    points, triangles = section_triangulation(solid)
+    thickness = float(solid.vertices[:, 2].max())
+    k = len(points)
+    z = thickness * np.arange(layers + 1) / layers
+    nodes = np.concatenate([np.repeat(points[None], layers + 1, axis=0), np.broadcast_to(z[:, None, None], (layers + 1, k, 1))], axis=2).reshape(-1, 3)
+    base = (np.arange(layers) * k)[:, None, None] + triangles[None]  # (layers, t, 3)
+    wedges = np.concatenate([base, base + k], axis=2).reshape(-1, 6)
+    outer, holes = _boundary_sets(points, triangles)
+    column = (np.arange(layers + 1) * k)[:, None]
+    sets = {
+        "PROFILE": (column + outer[None]).ravel(),
+        "BORE": (column + holes[None]).ravel(),
+        "BOTTOM": np.arange(k),
+        "TOP": layers * k + np.arange(k),
+    }
+    return VolumeMesh(nodes, wedges.astype(np.int64), sets, layers, thickness)
+
+
+def _numbers(values: np.ndarray) -> np.ndarray:
+    """Coordinates cleaned for printing: sub-picometre values (and -0.0) become 0.0."""
+    return np.where(np.abs(values) < 1e-9, 0.0, values) + 0.0
+
+
+def _id_lines(ids: np.ndarray, per_line: int = 8) -> str:
+    """1-based ids, ``per_line`` to a line, comma separated (Abaqus data lines)."""
+    ids = np.asarray(ids) + 1
+    lines = [", ".join(map(str, ids[i : i + per_line].tolist())) for i in range(0, len(ids), per_line)]
+    return "\n".join(lines) + "\n"
+
+
+def inp_text(mesh: VolumeMesh, name: str = "camgen") -> str:
+    """Abaqus/CalculiX input (mesh part): ``*NODE`` (set NALL), ``*ELEMENT, TYPE=C3D6`` (set
+    CAM) and node sets PROFILE, BORE, BOTTOM, TOP; units mm.
+
+    Coordinates are printed with 14 significant digits ("%.14g"): at most 20 characters, the
+    field width CalculiX reads a coordinate with.  Add material, section, steps and loads in
+    the analysis deck (``*INCLUDE, INPUT=<cam>.inp``).
+    """
+    import io
+
+    body = io.StringIO()
+    ids = np.arange(1, len(mesh.nodes) + 1)
+    np.savetxt(body, np.column_stack([ids, _numbers(mesh.nodes)]), fmt=["%d", "%.14g", "%.14g", "%.14g"], delimiter=", ")
+    nodes = body.getvalue()
+    body = io.StringIO()
+    np.savetxt(body, np.column_stack([np.arange(1, len(mesh.wedges) + 1), mesh.wedges + 1]), fmt="%d", delimiter=", ")
+    elements = body.getvalue()
+    parts = [
+        "*HEADING\n",
+        f"camgen cam '{name}': {len(mesh.wedges)} C3D6 wedges in {mesh.layers} layers through {mesh.thickness:g} mm; units mm\n",
+        "** node sets: NALL, PROFILE (outer contour), BORE (bore and keyway), BOTTOM (z = 0), TOP (z = thickness)\n",
+        "** element set: CAM; add *MATERIAL, *SOLID SECTION, ELSET=CAM and the steps in the analysis deck\n",
+        "*NODE, NSET=NALL\n", nodes,
+        "*ELEMENT, TYPE=C3D6, ELSET=CAM\n", elements,
+    ]
+    for set_name, members in mesh.node_sets.items():
+        if len(members):
+            parts += [f"*NSET, NSET={set_name}\n", _id_lines(np.sort(members))]
+    return "".join(parts)
+
+
+def msh_text(mesh: VolumeMesh, name: str = "camgen") -> str:
+    """Gmsh MSH 2.2 (ASCII) of the wedges: element type 6 (6-node prism), physical volume 1
+    named after the cam; coordinates with 17 significant digits (exact round trip)."""
+    import io
+
+    body = io.StringIO()
+    np.savetxt(body, np.column_stack([np.arange(1, len(mesh.nodes) + 1), _numbers(mesh.nodes)]), fmt=["%d", "%.17g", "%.17g", "%.17g"], delimiter=" ")
+    nodes = body.getvalue()
+    body = io.StringIO()
+    m = len(mesh.wedges)
+    # id, type 6 (prism), 2 tags (physical 1, elementary 1), six nodes
+    rows = np.column_stack([np.arange(1, m + 1), np.full(m, 6), np.full(m, 2), np.ones(m, int), np.ones(m, int), mesh.wedges + 1])
+    np.savetxt(body, rows, fmt="%d", delimiter=" ")
+    label = name.replace('"', "'")
+    return (
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
+        f'$PhysicalNames\n1\n3 1 "{label}"\n$EndPhysicalNames\n'
+        f"$Nodes\n{len(mesh.nodes)}\n{nodes}$EndNodes\n"
+        f"$Elements\n{m}\n{body.getvalue()}$EndElements\n"
+    )
+
+
+def vtu_bytes(mesh: VolumeMesh, name: str = "camgen") -> bytes:
+    """VTK XML unstructured grid (binary, zlib) of the wedges (VTK_WEDGE), through meshio."""
+    import tempfile
+
+    import meshio
+
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / f"{name}.vtu"
+        meshio.write(path, meshio.Mesh(mesh.nodes, [("wedge", mesh.wedges.astype(np.int32))]), file_format="vtu", binary=True)
+        return path.read_bytes()
 
 
 def _deterministic_zip(data: bytes) -> bytes:

@@ -16,6 +16,7 @@ VALIDATOR_PACKAGES = {
     "chromium": "chromium",
     "ccx": "calculix-ccx",
     "gmsh": "gmsh",
+    "openscad": "openscad",
 }
 
 

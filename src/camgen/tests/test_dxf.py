@@ -1,18 +1,123 @@
-"""DXF drawings, read back by ezdxf and GDAL."""
+"""DXF drawings, read back by ezdxf, GDAL (pyogrio) and OpenSCAD.
+
+Distances are exact point-to-arc and point-to-segment distances (:class:`Chain`), measured
+both ways: every point read back lies within the tolerance of the exact contour, and every
+point of the exact contour lies within the tolerance of what was read back.
+"""
 from __future__ import annotations
 
 import io
 import math
+import subprocess
 
 import numpy as np
 import pytest
 
 from camgen.export.dxf import DxfOptions, contour_to_dxf
 from camgen.tests.cams import BODIES, radial_error
-from camgen.tests.helpers import distance_to_arcs
+from camgen.tests.helpers import distance_to_arcs, require_tool
+
+TEMPLATES = ("default", "horse_leg", "motion_law", "tricycle")
+GDAL_STEP_DEG = 0.05  # OGR_ARC_STEPSIZE: GDAL samples arcs every 0.05 deg
 
 
-def _read_dxf(text):
+# --------------------------------------------------------------------------------------------
+# Independent geometry: exact distances to chains of arcs and segments
+# --------------------------------------------------------------------------------------------
+def _segment_distance(p, a, b):
+    ab = b - a
+    length2 = np.einsum("ij,ij->i", ab, ab)
+    w = np.clip(np.einsum("ij,ij->i", p - a, ab) / np.where(length2 > 0, length2, 1.0), 0.0, 1.0)
+    return np.hypot(*(p - a - w[:, None] * ab).T)
+
+
+def _arc_distance(p, centre, radius, start, sweep):
+    """Distance of points p (n, 2) to arcs (n,): radial distance where the point's angle lies in the
+    sweep, else the distance to the nearer end point."""
+    d = p - centre
+    lo = np.where(sweep > 0, start, start + sweep)
+    inside = np.mod(np.arctan2(d[:, 1], d[:, 0]) - lo, 2 * math.pi) <= np.abs(sweep)
+    ends = [centre + radius[:, None] * np.stack([np.cos(a), np.sin(a)], 1) for a in (start, start + sweep)]
+    end_dist = np.minimum(*(np.hypot(*(p - e).T) for e in ends))
+    return np.where(inside, np.abs(np.hypot(d[:, 0], d[:, 1]) - radius), end_dist)
+
+
+class Chain:
+    """Arcs (k, 5: cx, cy, r, start rad, signed sweep rad) and segments (m, 4: x0, y0, x1, y1).
+
+    :meth:`distance` takes, for each point, the exact distance to the entities owning its
+    ``k`` nearest sample points (KD-tree on samples every ``spacing`` mm): an upper bound of
+    the true distance, equal to it unless the nearest entity has no sample among them.
+    """
+
+    def __init__(self, arcs=None, segments=None, spacing: float = 0.05):
+        from scipy.spatial import cKDTree
+
+        self.arcs = np.zeros((0, 5)) if arcs is None or not len(arcs) else np.asarray(arcs, float).reshape(-1, 5)
+        self.segments = np.zeros((0, 4)) if segments is None or not len(segments) else np.asarray(segments, float).reshape(-1, 4)
+        pts, owner = [], []
+        # samples from each entity's start up to (not including) its end: no duplicate points
+        for i, (cx, cy, r, a0, sweep) in enumerate(self.arcs):
+            n = 1 + int(min(abs(sweep) * r / spacing, 20000))
+            t = a0 + sweep * np.arange(n) / n
+            pts.append(np.stack([cx + r * np.cos(t), cy + r * np.sin(t)], 1))
+            owner.append(np.full(n, i))
+        if len(self.segments):
+            seg = self.segments
+            n = 1 + np.minimum(np.hypot(seg[:, 2] - seg[:, 0], seg[:, 3] - seg[:, 1]) / spacing, 20000).astype(int)
+            idx = np.repeat(np.arange(len(seg)), n)
+            f = (np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n)) / n[idx]
+            pts.append(seg[idx, :2] + f[:, None] * (seg[idx, 2:] - seg[idx, :2]))
+            owner.append(len(self.arcs) + idx)
+        self.samples = np.concatenate(pts)
+        self.owner = np.concatenate(owner)
+        self.tree = cKDTree(self.samples)
+
+    def distance(self, points, k: int = 12):
+        _, near = self.tree.query(points, k=k)
+        best = np.full(len(points), np.inf)
+        na = len(self.arcs)
+        for j in range(k):
+            e = self.owner[near[:, j]]
+            is_arc = e < na
+            d = np.empty(len(points))
+            if is_arc.any():
+                a = self.arcs[e[is_arc]]
+                d[is_arc] = _arc_distance(points[is_arc], a[:, :2], a[:, 2], a[:, 3], a[:, 4])
+            if (~is_arc).any():
+                s = self.segments[e[~is_arc] - na]
+                d[~is_arc] = _segment_distance(points[~is_arc], s[:, :2], s[:, 2:])
+            best = np.minimum(best, d)
+        return best
+
+
+def exact_chain(contour, per_piece: int = 64) -> Chain:
+    """The exact contour: its arcs as arcs, its spline pieces as polylines of ``per_piece`` chords
+    (chord error (chord length)^2 / (8 x radius of curvature): below 1e-7 mm for the cams here)."""
+    from camgen.contour import Arc
+
+    arcs, segments = [], []
+    for seg in contour.segments:
+        if isinstance(seg, Arc):
+            arcs.append([*seg.center, seg.radius, seg.start_angle, seg.sweep])
+        else:
+            p = seg.point(np.linspace(0.0, 1.0, seg.n_pieces * per_piece + 1))
+            segments.append(np.concatenate([p[:-1], p[1:]], axis=1))
+    return Chain(arcs, np.concatenate(segments) if segments else None)
+
+
+def exact_samples(contour, per_piece: int = 48, per_arc: int = 4000) -> np.ndarray:
+    """Points on the exact contour: ``per_piece`` per spline piece, ``per_arc`` per arc."""
+    from camgen.contour import Arc
+
+    out = []
+    for seg in contour.segments:
+        n = per_arc if isinstance(seg, Arc) else seg.n_pieces * per_piece
+        out.append(seg.point(np.arange(n) / n))
+    return np.concatenate(out)
+
+
+def read_dxf(text):
     import ezdxf
 
     doc = ezdxf.read(io.StringIO(text))
@@ -21,11 +126,274 @@ def _read_dxf(text):
     return doc
 
 
+def dxf_layer(doc, layer: str, per_span: int = 64):
+    """A layer read back by ezdxf: (Chain of its ARCs and LINEs, points on them (n, 2), entity types).
+
+    ARC angles come from the file (counter-clockwise from start to end); SPLINEs are evaluated
+    by ezdxf at ``per_span`` points per knot span and kept as polylines."""
+    arcs, segments, points, kinds = [], [], [], []
+    for e in doc.modelspace():
+        if e.dxf.layer != layer:
+            continue
+        kinds.append(e.dxftype())
+        if e.dxftype() == "ARC":
+            a0 = math.radians(e.dxf.start_angle)
+            sweep = math.radians((e.dxf.end_angle - e.dxf.start_angle) % 360.0)
+            arcs.append([e.dxf.center.x, e.dxf.center.y, e.dxf.radius, a0, sweep])
+            t = a0 + sweep * np.linspace(0, 1, 200)
+            points.append(np.stack([e.dxf.center.x + e.dxf.radius * np.cos(t), e.dxf.center.y + e.dxf.radius * np.sin(t)], 1))
+        elif e.dxftype() == "LINE":
+            a, b = np.array(e.dxf.start)[:2], np.array(e.dxf.end)[:2]
+            segments.append(np.concatenate([a, b])[None])
+            points.append(a + np.linspace(0, 1, 50)[:, None] * (b - a))
+        elif e.dxftype() == "SPLINE":
+            knots = np.unique(np.array(e.knots))
+            t = np.append((knots[:-1, None] + np.arange(per_span) / per_span * np.diff(knots)[:, None]).ravel(), knots[-1])
+            p = np.array(list(e.construction_tool().points(t)))[:, :2]
+            segments.append(np.concatenate([p[:-1], p[1:]], axis=1))
+            points.append(p)
+        else:
+            raise AssertionError(f"unexpected {e.dxftype()} on layer {layer}")
+    chain = Chain(arcs, np.concatenate(segments) if segments else None)
+    return chain, np.concatenate(points), kinds
+
+
+def gdal_layers(path) -> dict:
+    """Every layer of a DXF as read by GDAL (pyogrio): name -> list of vertex arrays (n, 2)."""
+    import pyogrio
+    import shapely
+
+    pyogrio.set_gdal_config_options({"OGR_ARC_STEPSIZE": str(GDAL_STEP_DEG)})
+    try:
+        meta, _, wkb, fields = pyogrio.raw.read(path)
+    finally:
+        pyogrio.set_gdal_config_options({"OGR_ARC_STEPSIZE": None})
+    layer = fields[list(meta["fields"]).index("Layer")]
+    out: dict = {}
+    for name, geom in zip(layer, shapely.from_wkb(wkb)):
+        out.setdefault(name, []).append(shapely.get_coordinates(geom))
+    return out
+
+
+def gdal_chain(lines) -> Chain:
+    return Chain(segments=np.concatenate([np.concatenate([p[:-1], p[1:]], axis=1) for p in lines]))
+
+
+def gdal_sagitta(chain: Chain) -> float:
+    """Largest gap between an arc and GDAL's chords through it, r (1 - cos(step / 2))."""
+    if not len(chain.arcs):
+        return 0.0
+    return float(np.max(chain.arcs[:, 2])) * (1.0 - math.cos(math.radians(GDAL_STEP_DEG) / 2))
+
+
+def assert_round_trip(contour, doc, path, layer: str, tol: float, gdal: bool = True) -> None:
+    """``layer`` of the DXF lies within ``tol`` of ``contour`` and covers it, by ezdxf and GDAL."""
+    exact = exact_chain(contour)
+    samples = exact_samples(contour)
+    chain, points, _ = dxf_layer(doc, layer)
+    assert np.max(exact.distance(points)) <= tol, "ezdxf: a point of the file is off the contour"
+    assert np.max(chain.distance(samples)) <= tol, "ezdxf: a point of the contour is off the file"
+    if gdal:
+        lines = gdal_layers(path)[layer]
+        vertices = np.concatenate(lines)
+        assert np.max(exact.distance(vertices)) <= tol, "GDAL: a vertex of the file is off the contour"
+        chords = gdal_chain(lines)
+        assert np.max(chords.distance(samples)) <= tol + gdal_sagitta(chain), "GDAL: a point of the contour is off the file"
+
+
+# --------------------------------------------------------------------------------------------
+# Test cams: concave profiles
+# --------------------------------------------------------------------------------------------
+def trefoil():
+    """Spline cam r = 40 + 8 cos(3 theta): concave near theta = 60, 180, 300 deg (r^2 + 2 r'^2 - r r'' < 0)."""
+    from camgen.contour import Contour, Spline
+
+    theta = np.linspace(0.0, 2 * math.pi, 721)
+    r = 40.0 + 8.0 * np.cos(3 * theta)
+    pts = np.stack([r * np.cos(theta), r * np.sin(theta)], axis=1)
+    pts[-1] = pts[0]
+    return Contour([Spline.interpolate(theta, pts, periodic=True)])
+
+
+def notched():
+    """A 40 mm circle with a concave notch: a clockwise arc (centre (60, 0)) joining the circle's
+    points at -20 and +20 deg, and a straight-sided spline piece on the far side."""
+    from camgen.contour import Arc, Contour, Spline
+
+    a = math.radians(20.0)
+    p_lo, p_hi = 40.0 * np.array([math.cos(a), -math.sin(a)]), 40.0 * np.array([math.cos(a), math.sin(a)])
+    centre = np.array([60.0, 0.0])
+    rho = float(np.hypot(*(p_hi - centre)))
+    start = math.atan2(*(p_lo - centre)[::-1])
+    end = math.atan2(*(p_hi - centre)[::-1])
+    notch = Arc(tuple(centre), rho, start, -((start - end) % (2 * math.pi)))  # clockwise through 180 deg: concave
+    upper = Arc((0.0, 0.0), 40.0, a, math.pi - a)  # up to (-40, 0)
+    lower = Arc((0.0, 0.0), 40.0, math.pi + 0.3, math.pi - a - 0.3)  # from 180 + 17.2 deg to -20 deg
+    q0, q1 = upper.end_point, lower.start_point
+    coeffs = np.zeros((4, 1, 2))
+    coeffs[2, 0], coeffs[3, 0] = q1 - q0, q0  # a straight piece (LINE in both modes)
+    return Contour([notch, upper, Spline(np.array([0.0, 1.0]), coeffs), lower])
+
+
+@pytest.fixture(scope="module")
+def template_dxfs():
+    """Every bundled template: its cams and their DXF text, rendered as `camgen run` does."""
+    from camgen.pipeline import execute, plan_run
+    from camgen.scene import load_template
+
+    out = {}
+    for name in TEMPLATES:
+        scene = load_template(name)
+        result = execute(scene, plan_run(scene, only=["dxf"]))
+        out[name] = (scene, {c.name: (c, result.files[f"{c.name}.dxf"]) for c in result.cams})
+    return out
+
+
+# --------------------------------------------------------------------------------------------
+# Default DXF of every template: ARCs and LINEs only, within chord_tol both ways
+# --------------------------------------------------------------------------------------------
+def test_templates_are_all_tested():
+    from camgen.scene import template_dir
+
+    assert sorted(p.stem for p in template_dir().glob("*.toml")) == sorted(TEMPLATES)
+
+
+@pytest.mark.parametrize("template", TEMPLATES)
+def test_template_dxf_has_no_spline_and_reads_back_within_chord_tol(template, template_dxfs, tmp_path):
+    scene, cams = template_dxfs[template]
+    tol = scene.output.chord_tol
+    for name, (cam, text) in cams.items():
+        doc = read_dxf(text)
+        kinds = {e.dxftype() for e in doc.modelspace()}
+        assert "SPLINE" not in kinds and kinds <= {"ARC", "LINE", "LWPOLYLINE", "CIRCLE"}
+        assert dict(doc.header.custom_vars)["camgen_biarc_tol_mm"] == repr(tol)
+        path = tmp_path / f"{name}.dxf"
+        path.write_text(text)
+        assert_round_trip(cam.contour, doc, path, "PROFILE", tol)
+        if cam.pitch is not None:
+            assert_round_trip(cam.pitch, doc, path, "PITCH", tol)
+        # three-arc cams stay their six exact arcs
+        if cam.kind == "three_arc":
+            radii = sorted(e.dxf.radius for e in doc.modelspace() if e.dxf.layer == "PROFILE" and e.dxftype() == "ARC")
+            assert len([e for e in doc.modelspace() if e.dxf.layer == "PROFILE"]) == 6
+            assert radii == pytest.approx(sorted(s.radius for s in cam.contour.segments), abs=1e-12)
+
+
+@pytest.mark.parametrize("template", ["motion_law", "tricycle"])
+def test_pitch_layer_is_the_roller_centre_path(template, template_dxfs):
+    """Every PITCH point lies one roller radius (from the scene file) outside the exact profile,
+    and every point of the profile's parallel curve (GEOS buffer) lies on the PITCH layer."""
+    import shapely
+    from shapely.geometry import Polygon
+
+    scene, cams = template_dxfs[template]
+    tol = scene.output.chord_tol
+    for spec in scene.cams:
+        cam, text = cams[spec.name]
+        roller = spec.follower.roller_radius if spec.follower is not None and spec.follower.kind == "roller" else None
+        doc = read_dxf(text)
+        chain, points, _ = dxf_layer(doc, "PITCH")
+        profile = exact_chain(cam.contour)
+        assert np.max(np.abs(profile.distance(points) - roller)) <= tol + 1e-6
+        # on the roller's side: outside the cam
+        assert not np.any(shapely.contains_xy(Polygon(exact_samples(cam.contour, 8)), points[:, 0], points[:, 1]))
+        ring = np.asarray(Polygon(exact_samples(cam.contour, 64)).buffer(roller, quad_segs=256).exterior.coords)
+        assert np.max(chain.distance(ring)) <= tol + roller * (1 - math.cos(math.pi / 1024)) + 1e-6
+
+
+@pytest.mark.parametrize("template", TEMPLATES)
+def test_header_extents_are_the_bounds_of_everything_drawn(template, template_dxfs, tmp_path):
+    scene, cams = template_dxfs[template]
+    for name, (cam, text) in cams.items():
+        doc = read_dxf(text)
+        lo, hi = np.array(doc.header["$EXTMIN"]), np.array(doc.header["$EXTMAX"])
+        assert lo[2] == hi[2] == 0.0
+        assert np.allclose(doc.header["$LIMMIN"], lo[:2]) and np.allclose(doc.header["$LIMMAX"], hi[:2])
+        path = tmp_path / f"{name}.dxf"
+        path.write_text(text)
+        layers = gdal_layers(path)
+        vertices = np.concatenate([p for lines in layers.values() for p in lines])
+        assert set(layers) >= {"PROFILE", "CENTER"}
+        # every vertex GDAL reads lies inside the extents, and the extents touch the drawing:
+        # GDAL's arc vertices miss an extreme by at most the sagitta of its 0.05 deg step
+        assert np.all(vertices >= lo[:2] - 1e-9) and np.all(vertices <= hi[:2] + 1e-9)
+        slack = 400.0 * (1 - math.cos(math.radians(GDAL_STEP_DEG)))
+        assert np.all(vertices.min(axis=0) - lo[:2] <= slack) and np.all(hi[:2] - vertices.max(axis=0) <= slack)
+        # and they agree with the exact drawing within the chord tolerance (the profile dominates)
+        exact = exact_samples(cam.contour)
+        assert np.all(exact.min(axis=0) >= lo[:2] - scene.output.chord_tol - 1e-9)
+        assert np.all(exact.max(axis=0) <= hi[:2] + scene.output.chord_tol + 1e-9)
+
+
+@pytest.mark.parametrize("template", ["default", "motion_law", "tricycle"])
+def test_openscad_imports_the_profile_layer(template, template_dxfs, tmp_path):
+    """OpenSCAD 2021 imports the PROFILE layer as one closed outline: the extruded volume is
+    the exact area x height within the chord tolerance bound.
+
+    Bound per mm of perimeter: the biarc tolerance, plus OpenSCAD's import grid (it snaps DXF
+    points to 0.001 mm: up to 0.0005 * sqrt(2) mm off), plus its chords through the ARCs
+    ($fa = 0.1 deg, $fs = 0.05 mm: sagitta <= r (1 - cos(max(0.1 deg, 0.05 mm / r) / 2)))."""
+    import trimesh
+
+    openscad = require_tool("openscad")
+    scene, cams = template_dxfs[template]
+    height = 10.0
+    for cam, text in cams.values():
+        (tmp_path / "cam.dxf").write_text(text)
+        (tmp_path / "cam.scad").write_text(f'linear_extrude(height={height}) import("cam.dxf", layer="PROFILE", $fn=0, $fa=0.1, $fs=0.05);\n')
+        proc = subprocess.run([openscad, "-o", "cam.stl", "--export-format", "binstl", "cam.scad"], cwd=tmp_path,
+                              capture_output=True, text=True, timeout=120)
+        assert proc.returncode == 0, proc.stderr
+        assert "WARNING" not in proc.stderr and "ERROR" not in proc.stderr, proc.stderr
+        mesh = trimesh.load(tmp_path / "cam.stl", force="mesh")
+        assert mesh.is_watertight and mesh.body_count == 1
+        chain, _, _ = dxf_layer(read_dxf(text), "PROFILE")
+        r = chain.arcs[:, 2]
+        step = np.minimum(np.abs(chain.arcs[:, 4]), np.maximum(math.radians(0.1), 0.05 / r))
+        tessellation = float(np.sum(r * np.abs(chain.arcs[:, 4]) * r * (1 - np.cos(step / 2))))
+        bound = height * (cam.contour.length * (scene.output.chord_tol + 0.0005 * math.sqrt(2)) + tessellation)
+        assert abs(mesh.volume - cam.contour.area * height) <= bound + 1e-6 * mesh.volume  # + float32 STL
+
+
+# --------------------------------------------------------------------------------------------
+# Concave profiles in both modes
+# --------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("mode", ["biarc", "bspline"])
+@pytest.mark.parametrize("shape", ["trefoil", "notched"])
+def test_concave_profiles_round_trip(shape, mode, tmp_path):
+    contour = {"trefoil": trefoil, "notched": notched}[shape]()
+    assert not contour.is_convex()
+    tol = 1e-3
+    text = contour_to_dxf(contour, options=DxfOptions(splines=mode, biarc_tol=tol))
+    assert text == contour_to_dxf(contour, options=DxfOptions(splines=mode, biarc_tol=tol))  # deterministic
+    doc = read_dxf(text)
+    _, _, kinds = dxf_layer(doc, "PROFILE")
+    path = tmp_path / "cam.dxf"
+    path.write_text(text)
+    if mode == "biarc":
+        assert set(kinds) <= {"ARC", "LINE"}
+        # the concave parts come back as clockwise arcs: the file's ARCs run counter-clockwise,
+        # so a concave arc's end point is where the contour enters it
+        assert_round_trip(contour, doc, path, "PROFILE", tol)
+    else:
+        assert ("SPLINE" in kinds) == (shape == "trefoil")
+        # exact B-splines: within the spline sampling error of ezdxf's polyline (1e-6 mm); GDAL
+        # evaluates SPLINEs at its own points, so only its vertices are checked
+        assert_round_trip(contour, doc, path, "PROFILE", 1e-6, gdal=False)
+        vertices = np.concatenate(gdal_layers(path)["PROFILE"])
+        assert np.max(exact_chain(contour).distance(vertices)) <= 1e-6
+    if shape == "notched":
+        assert "LINE" in kinds and "ARC" in kinds
+
+
+# --------------------------------------------------------------------------------------------
+# Exact B-spline option, options, and entities
+# --------------------------------------------------------------------------------------------
 @pytest.mark.parametrize("name", ["stride", "steering"])
-def test_dxf_entities_match_the_contour_by_ezdxf(name, contours, steering):
+def test_bspline_entities_match_the_contour_by_ezdxf(name, contours, steering):
     contour = contours[name]
     pitch = steering.pitch if name == "steering" else None
-    doc = _read_dxf(contour_to_dxf(contour, BODIES[name], pitch))
+    doc = read_dxf(contour_to_dxf(contour, BODIES[name], pitch, DxfOptions(splines="bspline")))
     msp = doc.modelspace()
     profile = [e for e in msp if e.dxf.layer == "PROFILE"]
     assert len(profile) == contour.n_segments
@@ -43,46 +411,44 @@ def test_dxf_entities_match_the_contour_by_ezdxf(name, contours, steering):
     assert len([e for e in msp if e.dxf.layer == "KEYWAY"]) == 1
     assert len([e for e in msp if e.dxf.layer == "CENTER"]) == 2
     assert bool([e for e in msp if e.dxf.layer == "PITCH"]) == (pitch is not None)
+    assert dict(doc.header.custom_vars) == {"camgen_splines": "bspline"}
 
 
 @pytest.mark.parametrize("name", ["stride", "steering"])
-def test_dxf_read_by_gdal_within_1e6(name, contours, tmp_path):
-    import pyogrio
-    import shapely
+def test_bspline_dxf_read_by_gdal_within_1e6(name, contours, tmp_path):
     contour = contours[name]
     path = tmp_path / "cam.dxf"
-    path.write_text(contour_to_dxf(contour, BODIES[name]))
-    pyogrio.set_gdal_config_options({"OGR_ARC_STEPSIZE": "0.5"})  # GDAL samples arcs every 0.5 deg
-    meta, _, wkb, fields = pyogrio.raw.read(path)
-    layer = fields[list(meta["fields"]).index("Layer")]
-    lines = shapely.from_wkb(wkb)[layer == "PROFILE"]
-    pts = np.concatenate([shapely.get_coordinates(g) for g in lines])
+    path.write_text(contour_to_dxf(contour, BODIES[name], options=DxfOptions(splines="bspline")))
+    lines = gdal_layers(path)["PROFILE"]
+    pts = np.concatenate(lines)
     assert len(pts) > 100
     if name == "stride":
         assert np.max(distance_to_arcs(pts, contour.segments)) <= 1e-6
     else:
         assert np.max(radial_error(contour, pts)) <= 1e-6
     # the PROFILE pieces go all the way round: their total length is the contour's perimeter
-    assert sum(g.length for g in lines) == pytest.approx(contour.length, rel=1e-4)
+    assert sum(np.sum(np.hypot(*np.diff(p, axis=0).T)) for p in lines) == pytest.approx(contour.length, rel=1e-4)
 
 
 @pytest.mark.parametrize("tol", [1e-2, 1e-3, 1e-4])
-def test_dxf_biarcs_within_tolerance(tol, contours, tmp_path):
+def test_biarcs_within_tolerance_and_fewer_than_the_spline_pieces(tol, contours, tmp_path):
     contour = contours["steering"]
-    doc = _read_dxf(contour_to_dxf(contour, options=DxfOptions(splines="biarc", biarc_tol=tol)))
-    arcs = [e for e in doc.modelspace() if e.dxf.layer == "PROFILE"]
-    assert {e.dxftype() for e in arcs} <= {"ARC", "LINE"}
-    from types import SimpleNamespace
+    text = contour_to_dxf(contour, options=DxfOptions(biarc_tol=tol))  # biarc is the default
+    doc = read_dxf(text)
+    path = tmp_path / "cam.dxf"
+    path.write_text(text)
+    assert_round_trip(contour, doc, path, "PROFILE", tol, gdal=tol >= 1e-3)
+    _, _, kinds = dxf_layer(doc, "PROFILE")
+    assert set(kinds) <= {"ARC", "LINE"}
+    if tol >= 1e-3:  # fewer entities than the spline has pieces when the tolerance allows
+        assert len(kinds) < contour.segments[0].n_pieces
 
-    segs = [
-        SimpleNamespace(center=(e.dxf.center.x, e.dxf.center.y), radius=e.dxf.radius, start_angle=math.radians(e.dxf.start_angle),
-                        sweep=math.radians((e.dxf.end_angle - e.dxf.start_angle) % 360))
-        for e in arcs if e.dxftype() == "ARC"
-    ]
-    # every point of the exact profile is within tol of the arcs read back from the file
-    samples = contour.evaluate(np.linspace(0, 1, 20000, endpoint=False))
-    assert np.max(distance_to_arcs(samples, segs)) <= tol * (1 + 1e-6)
-    # and they come back in fewer entities than the spline has pieces when the tolerance allows
-    if tol >= 1e-3:
-        assert len(arcs) < contour.segments[0].n_pieces
 
+def test_dxf_options_are_checked():
+    from camgen.errors import ParameterError
+
+    with pytest.raises(ParameterError, match="dxf_splines"):
+        DxfOptions(splines="nurbs")
+    with pytest.raises(ParameterError, match="biarc_tol"):
+        DxfOptions(biarc_tol=0.0)
+    assert DxfOptions().splines == "biarc"

@@ -1,8 +1,9 @@
 """Every bundled template gives byte-identical files to a recorded reference.
 
 golden/template_outputs.json holds the sha256 of every file of every template as written by the
-commit it names (for the cam-kind/output registry refactor: the code before it, commit 5a3620e).
-It changes only when outputs change on purpose (golden/regenerate.py).  Files written through a
+code its "commit" names.  It proved the cam-kind/output registry refactor (b99c518) byte-identical
+to the code before it (5a3620e), and guards every later change since: it is re-recorded only when
+outputs change on purpose (golden/regenerate.py; the commit message says why).  Files written through a
 third-party writer (DXF: ezdxf; STL, 3MF: manifold3d, trimesh; report.html: matplotlib;
 report.json holds manifold3d's triangle count) are compared when the installed library versions
 are the recorded ones; the CSV tables and G-code always.
