@@ -40,7 +40,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from camgen.contour import Contour, Spline
-from camgen.errors import GeometryError, ParameterError, require_positive
+from camgen.errors import GeometryError, ParameterError, UndercutError, require_positive
 from camgen.synthesis.trajectory import CamSynthesis, Trajectory, synthesize_rho
 
 
@@ -134,7 +134,8 @@ def tricycle_cam(
     try:
         profile = pitch.offset(-device.rod_radius, spline_tol=offset_tol)
     except GeometryError as exc:
-        raise GeometryError(f"the steering rod (r_d = {device.rod_radius:g} mm) cannot follow this cam: {exc}") from None
+        raise UndercutError(f"the steering rod (r_d = {device.rod_radius:g} mm) cannot follow this cam: {exc}", pitch=pitch,
+                            limit=device.rod_radius) from None
     return TricycleCam(synth, pitch, profile, device, trajectory)
 
 

@@ -30,7 +30,7 @@ from typing import Sequence
 import numpy as np
 
 from camgen.contour import Contour, Spline
-from camgen.errors import GeometryError, ParameterError, require_finite, require_positive
+from camgen.errors import GeometryError, ParameterError, UndercutError, require_finite, require_positive
 
 TWO_PI = 2.0 * math.pi
 
@@ -155,7 +155,8 @@ def roller_cam(program: MotionProgram, base_radius: float, roller_radius: float,
     try:
         profile = pitch.offset(-roller_radius, spline_tol=offset_tol)
     except GeometryError as exc:
-        raise GeometryError(f"roller of radius {roller_radius:g} mm undercuts this cam: {exc}") from None
+        raise UndercutError(f"roller of radius {roller_radius:g} mm undercuts this cam: {exc}", pitch=pitch,
+                            limit=roller_radius) from None
     return profile, pitch
 
 
@@ -170,9 +171,13 @@ def flat_cam(program: MotionProgram, base_radius: float, samples: int = 720) -> 
     rho = base_radius + s + d2s  # radius of curvature of the envelope: h + h''
     if np.any(rho <= 0):
         worst = float(np.mod(theta[np.argmin(rho)], TWO_PI))
-        raise GeometryError(
+        cam_angle = np.mod(theta, TWO_PI)
+        order = np.argsort(cam_angle)
+        bad = np.degrees(cam_angle[rho <= 0])
+        raise UndercutError(
             f"the flat follower undercuts the cam at cam angle {math.degrees(worst):.3f} deg "
-            f"(radius of curvature Rb + s + s'' = {float(rho.min()):.4g} mm <= 0): use a larger base radius"
+            f"(radius of curvature Rb + s + s'' = {float(rho.min()):.4g} mm <= 0): use a larger base radius",
+            curve=(cam_angle[order], rho[order]), limit=0.0, where_deg=[round(float(bad.min()), 6), round(float(bad.max()), 6)],
         )
     h = base_radius + s
     dh = -ds  # dh/dpsi = -ds/dtheta
