@@ -68,9 +68,10 @@ reported.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Callable, Mapping, Protocol, Sequence, runtime_checkable
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 
@@ -160,12 +161,12 @@ class _Piece:
     def derivative(self, tau: np.ndarray, n: int) -> np.ndarray:
         return self.values(tau, (n,))[0]
 
-    def reversed(self, rise: float) -> "_Piece":
+    def reversed(self, rise: float) -> _Piece:
         """The piece of R(tau) = rise - S(1 - tau)."""
         return _Piece(1.0 - self.hi, 1.0 - self.lo, self.poly, self.trig, 1.0 - self.ref, -self.sign_in,
                       rise - self.offset, -self.sign_out)
 
-    def scaled(self, k: float) -> "_Piece":
+    def scaled(self, k: float) -> _Piece:
         return _Piece(self.lo, self.hi, tuple(k * c for c in self.poly), tuple((om, k * a, k * b) for om, a, b in self.trig),
                       self.ref, self.sign_in, k * self.offset, self.sign_out)
 
@@ -259,7 +260,7 @@ class Law:
     source: str = ""
     options: Mapping[str, object] = field(default_factory=dict)
     exact_ends: tuple[tuple[float, ...], tuple[float, ...]] | None = field(default=None, repr=False)
-    builder: Callable[..., "Law"] | None = field(default=None, repr=False)
+    builder: Callable[..., Law] | None = field(default=None, repr=False)
     start: tuple[float, float, float, float] = field(init=False)
     end: tuple[float, float, float, float] = field(init=False)
     peaks: tuple[tuple[float, float], ...] = field(init=False, repr=False)
@@ -327,7 +328,7 @@ class Law:
         return self.evaluate(tau)
 
     # -- variants -----------------------------------------------------------------------------
-    def reversed(self) -> "Law":
+    def reversed(self) -> Law:
         """The time-reversed law ``R(tau) = S(1) - S(1 - tau)`` (a return runs the rise backwards)."""
         rise = self.end[0]
         s, e = self.start, self.end
@@ -338,13 +339,13 @@ class Law:
                    tuple(LawBreak(1.0 - b.tau, b.jumps) for b in reversed(self.breaks)), self.source,
                    dict(self.options, reversed=True), (start, end), None)
 
-    def configure(self, **options: object) -> "Law":
+    def configure(self, **options: object) -> Law:
         """This law with ``options`` (e.g. ``blend`` for constant_velocity; ``start``/``end`` for
         polynomial, in tau units); a law without options refuses any."""
         if not options:
             return self
         if self.builder is None:
-            key = sorted(options)[0]
+            key = min(options)
             raise ParameterError(key, options[key], f"no option for the {self.name} law")
         return self.builder(**options)
 
@@ -603,7 +604,8 @@ class Segment:
 class Join:
     """A segment join: cam ``angle`` (rad), the segments ``before``/``after`` (indices), the
     highest derivative order continuous there, the exact (s, v, a, j) on each side
-    (unit/rad^n) and the ``jumps`` (after - before) of velocity, acceleration and jerk."""
+    (unit/rad^n) and the ``jumps`` (after - before) of velocity, acceleration and jerk; ``unit``
+    is the follower's ("mm" or "rad")."""
 
     angle: float
     before: int
@@ -612,9 +614,11 @@ class Join:
     left: tuple[float, float, float, float]
     right: tuple[float, float, float, float]
     jumps: tuple[float, float, float]
+    unit: str = "mm"
 
-    def describe(self, unit: str = "mm") -> str:
-        """One line for a report, e.g. ``acceleration jumps by 2.5 mm/rad^2 at 120 deg``."""
+    def describe(self) -> str:
+        """One line for a report, e.g. ``acceleration jumps by 2.5 mm/rad^2 at 120 deg (segments 1 -> 2)``."""
+        unit = self.unit
         if self.continuity >= SMOOTH:
             return f"segments {self.before} -> {self.after} join smoothly up to jerk at {math.degrees(self.angle):.6g} deg"
         n = self.continuity + 1
@@ -727,7 +731,7 @@ class MotionProgram:
                                      f"the displacement jumps by {diff[0]:.6g} {unit} at {where:.9g} deg")
             continuity = next((k - 1 for k in (1, 2, 3) if not ok[k]), SMOOTH)
             self._joins.append(Join(float(self.starts[i]), prev, i, continuity, tuple(map(float, left)),
-                                    tuple(map(float, right)), tuple(float(d) for d in diff[1:])))
+                                    tuple(map(float, right)), tuple(float(d) for d in diff[1:]), unit))
         # breaks: joins and internal law breaks; evaluation pieces in cam angle
         brk, cont = [], []
         piece_lo, piece_ref = [], []

@@ -14,7 +14,13 @@ import numpy as np
 import pytest
 
 from camgen.errors import ParameterError
-from camgen.synthesis.laws import LAWS, Displacement, MotionProgram, Segment, constant_velocity
+from camgen.synthesis.laws import (
+    LAWS,
+    Displacement,
+    MotionProgram,
+    Segment,
+    constant_velocity,
+)
 
 PI = math.pi
 D = math.radians
@@ -98,7 +104,7 @@ def test_v_a_j_are_the_derivatives_of_s(name):
         tau = tau[np.abs(tau - b) > 5 * h]
     vals = law.evaluate(tau)
     for n in range(3):
-        numeric = fd(lambda x: law.evaluate(x)[n], tau, h)
+        numeric = fd(lambda x, n=n: law.evaluate(x)[n], tau, h)
         scale = max(1.0, float(np.max(np.abs(vals[n + 1]))))
         assert np.max(np.abs(numeric - vals[n + 1])) <= 2e-7 * scale, (name, ["V", "A", "J"][n])
 
@@ -275,7 +281,7 @@ def test_return_is_the_time_reversed_rise():
 # ------------------------------------------------------------------------------------------------
 # programs
 # ------------------------------------------------------------------------------------------------
-def shm_program(lift=20.0, beta=D(90)):
+def shm_program(lift=20.0, beta=PI / 2):
     return MotionProgram([Segment("dwell", D(90)), Segment("harmonic", beta, lift), Segment("dwell", D(180) - beta),
                           Segment("simple_harmonic", D(90), -lift)])
 
@@ -324,7 +330,7 @@ def test_program_values_against_independent_formulas_and_periodicity():
                              Segment("dwell", D(60))])
     rng = np.random.default_rng(7)
     theta = rng.uniform(-20, 20, 5000)
-    s, v, a, j = program(theta)
+    s, v, _, j = program(theta)
     t = np.mod(theta, 2 * PI)
     b = D(120)
     x1 = t / b
@@ -335,7 +341,7 @@ def test_program_values_against_independent_formulas_and_periodicity():
     ref_v = np.select([t < D(120), t < D(180), t < D(300), t >= D(300)],
                       [20 / b * (1 - np.cos(2 * PI * x1)), 0 * t, -20 / b * (30 * x3**2 - 60 * x3**3 + 30 * x3**4), 0 * t])
     assert np.max(np.abs(s - ref)) < 1e-12 and np.max(np.abs(v - ref_v)) < 1e-11
-    s2, v2, a2, j2 = program(theta + 2 * PI * 3)
+    s2, _, _, j2 = program(theta + 2 * PI * 3)
     assert np.max(np.abs(s2 - s)) < 1e-11 and np.max(np.abs(j2 - j)) < 1e-6 * np.max(np.abs(j))
     # shapes are kept
     s3, _, _, _ = program(theta.reshape(50, 100))
@@ -352,7 +358,7 @@ def test_program_derivatives_by_finite_differences():
     theta = theta[keep]
     vals = program(theta)
     for n in range(3):
-        numeric = fd(lambda x: program(x)[n], theta, h)
+        numeric = fd(lambda x, n=n: program(x)[n], theta, h)
         scale = np.max(np.abs(vals[n + 1]))
         assert np.max(np.abs(numeric - vals[n + 1])) <= 1e-6 * scale, n
 
@@ -376,6 +382,9 @@ def test_velocity_jump_is_allowed_and_reported():
     assert join.continuity == 0 and join.jumps[0] == pytest.approx(lift / beta, rel=1e-14)
     assert "velocity jumps by" in join.describe()
     assert program.peak_values().infinite_acceleration
+    swing = MotionProgram([Segment("dwell", D(90)), Segment("constant_velocity", beta, 0.2), Segment("dwell", D(90)),
+                           Segment("cycloidal", D(90), -0.2)], unit="rad")
+    assert "velocity jumps by 0.127324 rad/rad at 90 deg" in swing.joins()[1].describe()
 
 
 def test_double_harmonic_rise_and_return_join_smoothly():
@@ -490,20 +499,20 @@ def test_bad_programs_name_the_segment(segments, name, text):
 
 
 @pytest.mark.parametrize("kwargs, name", [
-    (dict(law="sine-ish", span=1.0, lift=1.0), "law"),
-    (dict(law="dwell", span=1.0, lift=2.0), "lift"),
-    (dict(law="cycloidal", span=1.0, lift=0.0), "lift"),
-    (dict(law="cycloidal", span=1.0), "lift"),
-    (dict(law="cycloidal", span=0.0, lift=1.0), "span"),
-    (dict(law="cycloidal", span=7.0, lift=1.0), "span"),
-    (dict(law="cycloidal", span=1.0, lift=float("nan")), "lift"),
-    (dict(law="cycloidal", span=1.0, lift=1.0, blend=0.2), "blend"),
-    (dict(law="constant_velocity", span=1.0, lift=1.0, blend=0.6), "blend"),
-    (dict(law="cycloidal", span=1.0, lift=1.0, start=(0, 0)), "start"),
-    (dict(law="polynomial", span=1.0, start=(0, 0, 0)), "end"),
-    (dict(law="polynomial", span=1.0, start=(0, 0, 0, 0, 0), end=(1, 0)), "start"),
-    (dict(law="polynomial", span=1.0, start=(0, 0), end="10"), "end"),
-    (dict(law="polynomial", span=1.0, lift=3.0, start=(0, 0), end=(1, 0)), "lift"),
+    ({"law": "sine-ish", "span": 1.0, "lift": 1.0}, "law"),
+    ({"law": "dwell", "span": 1.0, "lift": 2.0}, "lift"),
+    ({"law": "cycloidal", "span": 1.0, "lift": 0.0}, "lift"),
+    ({"law": "cycloidal", "span": 1.0}, "lift"),
+    ({"law": "cycloidal", "span": 0.0, "lift": 1.0}, "span"),
+    ({"law": "cycloidal", "span": 7.0, "lift": 1.0}, "span"),
+    ({"law": "cycloidal", "span": 1.0, "lift": float("nan")}, "lift"),
+    ({"law": "cycloidal", "span": 1.0, "lift": 1.0, "blend": 0.2}, "blend"),
+    ({"law": "constant_velocity", "span": 1.0, "lift": 1.0, "blend": 0.6}, "blend"),
+    ({"law": "cycloidal", "span": 1.0, "lift": 1.0, "start": (0, 0)}, "start"),
+    ({"law": "polynomial", "span": 1.0, "start": (0, 0, 0)}, "end"),
+    ({"law": "polynomial", "span": 1.0, "start": (0, 0, 0, 0, 0), "end": (1, 0)}, "start"),
+    ({"law": "polynomial", "span": 1.0, "start": (0, 0), "end": "10"}, "end"),
+    ({"law": "polynomial", "span": 1.0, "lift": 3.0, "start": (0, 0), "end": (1, 0)}, "lift"),
 ])
 def test_bad_segments(kwargs, name):
     with pytest.raises(ParameterError) as info:
