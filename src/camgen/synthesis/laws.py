@@ -1,0 +1,807 @@
+"""Standard cam motion laws, motion segments and motion programs (one cam turn).
+
+A *law* is a normalised rise ``S(tau)`` on ``tau in [0, 1]`` with ``S(0) = 0`` and ``S(1) = 1`` (a
+dwell: ``S = 0``), given in closed form with its derivatives ``V = dS/dtau``, ``A = d2S/dtau2``,
+``J = d3S/dtau3``.  A *segment* scales a law to a cam-angle span ``beta`` (rad) and a lift ``L``
+(mm for a translating follower, rad for an oscillating one): ``s = s_start + L S(tau)``,
+``ds/dtheta = L V / beta``, ``d2s/dtheta2 = L A / beta^2``, ``d3s/dtheta3 = L J / beta^3`` with
+``tau = (theta - theta_start) / beta``.  A *return* (``L < 0``) runs the rise backwards in time,
+``s = s_start + L (1 - S(1 - tau))``: identical to ``L S(tau)`` for the symmetric laws, and the
+textbook fall for the one asymmetric law here, the double harmonic.  A :class:`MotionProgram`
+chains segments over one turn and implements the :class:`Displacement` interface.
+
+The laws (``LAWS``, keyed by the names scene files use):
+
+=====================  ===================================================================  =====================
+name                   displacement S(tau) (rise)                                           source
+=====================  ===================================================================  =====================
+dwell                  0                                                                    --
+constant_velocity      tau; with ``blend = b`` (0 < b <= 1/2): velocity ramps over           Norton ch. 8 (the
+                       ``[0, b]`` and ``[1 - b, 1]`` whose acceleration is the pulse         "naive" cam); blends:
+                       ``1 - cos(2 pi u / b)``, constant velocity ``1 / (1 - b)`` between   camgen's design (below)
+simple_harmonic        (1 - cos(pi tau)) / 2                    (alias: ``harmonic``)       Norton ch. 8, SHM
+double_harmonic        (1 - cos(pi tau)) / 2 - (1 - cos(2 pi tau)) / 8                      Norton ch. 8 (single-
+                                                                                            dwell rise and fall)
+cycloidal              tau - sin(2 pi tau) / (2 pi)                                         Norton ch. 8
+modified_trapezoid     A: quarter sines of period 1/2 on [0, 1/8], [3/8, 5/8] (half),       Norton ch. 8 (modified
+                       [7/8, 1], constant on [1/8, 3/8] and [5/8, 7/8]                      trapezoidal accel.)
+modified_sine          A: quarter sine of period 1/2 on [0, 1/8] and [7/8, 1], half sine     Norton ch. 8 (modified
+                       of period 3/2 on [1/8, 7/8]       (alias: ``modified_cycloidal``)    sinusoidal accel.)
+poly345                10 tau^3 - 15 tau^4 + 6 tau^5                                        Norton ch. 8
+poly4567               35 tau^4 - 84 tau^5 + 70 tau^6 - 20 tau^7                            Norton ch. 8
+polynomial             the polynomial of lowest degree meeting the user's end conditions    Norton ch. 8
+                       (s, v, a[, j] at each end; degree = number of conditions - 1)        (polynomial functions)
+=====================  ===================================================================  =====================
+
+Peak coefficients (``Cv = max|V|``, ``Ca = max|A|``, ``Cj = max|J|``) follow Norton's convention
+(Design of Machinery, Table 8-3): a rise *between two dwells*, so a law whose velocity (acceleration)
+is not zero at an end has ``Ca = inf`` (``Cj = inf``): the acceleration (jerk) is an impulse there.
+The peaks inside the segment are always finite and given by :attr:`Law.peaks`.  Closed forms:
+cycloidal ``(2, 2 pi, 4 pi^2)``; simple harmonic ``(pi/2, pi^2/2, inf)``; modified trapezoid
+``(2, 8 pi/(2 + pi), 32 pi^2/(2 + pi))``; modified sine ``(4 pi/(4 + pi), 4 pi^2/(4 + pi),
+16 pi^3/(4 + pi))``; 3-4-5 ``(15/8, 10/sqrt(3), 60)``; 4-5-6-7 ``(35/16, 7.51319, 52.5)``; double
+harmonic ``(3 sqrt(3) pi/8, pi^2, inf)``; blended constant velocity ``(1/(1-b), 2/(b(1-b)),
+2 pi/(b^2 (1-b)))``.  camgen computes them at construction from the closed-form derivatives (root of
+the next derivative by bisection: exact to ~1e-13).
+
+Notes on three laws:
+
+* **modified_cycloidal**: the modified sine is the "modified sine-acceleration" (= cycloidal) law, and
+  camgen treats ``modified_cycloidal`` as its alias.  Wildt's graphical construction, which some books
+  also call modified cycloidal, is not implemented.
+* **double_harmonic** (Norton, ch. 8, single-dwell design): the rise starts from rest with zero
+  acceleration and jerk and arrives with ``A(1) = -pi^2``; the matching return (the time-reversed
+  rise, Norton's fall ``(1 + cos(pi tau))/2 - (1 - cos(2 pi tau))/8``) leaves the top with the same
+  acceleration, so a rise and a return of equal span join smoothly up to jerk.  Against a dwell at the
+  top the acceleration jumps (reported by :meth:`MotionProgram.joins`).
+* **constant_velocity with blends** (camgen's design): each end blend is a velocity ramp shaped like
+  a cycloidal displacement, ``V = Vc (u - sin(2 pi u)/(2 pi))`` with ``u = tau / b``, so the
+  acceleration ``(Vc/b)(1 - cos(2 pi u))`` and the jerk vanish at both ends of each blend: the
+  segment starts and ends at rest and is continuous up to jerk everywhere (only the 4th derivative
+  steps at ``tau = b, 1 - b``).  ``S(1) = 1`` gives ``Vc = 1/(1 - b)``.
+
+Segment joins are checked: :meth:`MotionProgram.joins` lists for every join which derivative jumps
+and by how much (physical units per rad^n), so a report can say "acceleration jumps by X mm/rad^2 at
+120 deg".  A displacement jump is an error; a velocity jump (infinite acceleration) is allowed but
+reported.
+"""
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+from camgen.errors import ParameterError, require_finite, require_positive
+
+TWO_PI = 2.0 * math.pi
+#: names of the derivative orders 0..3, for messages
+ORDER_NAMES = ("displacement", "velocity", "acceleration", "jerk")
+#: continuity order meaning "continuous up to and including the jerk"
+SMOOTH = 3
+
+
+@runtime_checkable
+class Displacement(Protocol):
+    """A follower displacement over one cam turn (period 2 pi), vectorised.
+
+    ``breaks``: cam angles (rad), sorted, in ``[0, 2 pi)``: every segment join and every internal
+    break of a law.  ``break_continuity``: int per break, the highest derivative order continuous
+    there (0: s' jumps, 1: s'' jumps, 2: s''' jumps, 3: smooth to jerk).  At a break the value is
+    the right-hand (following) piece's.
+    """
+
+    breaks: np.ndarray
+    break_continuity: np.ndarray
+
+    def __call__(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """s, ds/dtheta, d2s/dtheta2, d3s/dtheta3 at cam angles theta (rad, any real; periodic).
+        s in the follower's unit: mm (translating) or rad (oscillating swing)."""
+        ...
+
+
+# --------------------------------------------------------------------------------------------
+# pieces: S(tau) = offset + sign_out * F(w), w = sign_in * (tau - ref),
+# F(w) = sum_i poly[i] w^i + sum_m (a_m sin(omega_m w) + b_m cos(omega_m w))
+# --------------------------------------------------------------------------------------------
+_MAX_ORDER = 5  # derivatives kept: 0..5 (the peak of the jerk needs the 4th)
+
+
+@dataclass(frozen=True)
+class _Piece:
+    lo: float
+    hi: float
+    poly: tuple[float, ...]
+    trig: tuple[tuple[float, float, float], ...] = ()
+    ref: float = 0.0
+    sign_in: float = 1.0
+    offset: float = 0.0
+    sign_out: float = 1.0
+    _dpoly: tuple[np.ndarray, ...] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        c = np.asarray(self.poly, dtype=float)
+        derivs = []
+        for _ in range(_MAX_ORDER + 1):
+            derivs.append(c if c.size else np.zeros(1))
+            c = np.array([i * c[i] for i in range(1, c.size)]) if c.size > 1 else np.zeros(1)
+        object.__setattr__(self, "_dpoly", tuple(derivs))
+
+    def values(self, tau: np.ndarray, orders: Sequence[int] = (0, 1, 2, 3)) -> list[np.ndarray]:
+        """Derivatives d^n S / dtau^n for n in ``orders`` at ``tau`` (array)."""
+        tau = np.asarray(tau, dtype=float)
+        w = tau - self.ref if self.sign_in > 0 else self.ref - tau
+        trig = [(om, np.sin(om * w), np.cos(om * w), a, b) for om, a, b in self.trig]
+        out = []
+        for n in orders:
+            c = self._dpoly[n]
+            val = np.full(w.shape, c[-1])
+            for coef in c[-2::-1]:  # Horner, in place
+                val *= w
+                val += coef
+            for om, sn, cs, a, b in trig:
+                ca, cb = a, b
+                for _ in range(n):  # d/dw (a sin + b cos) = (-b om) sin + (a om) cos
+                    ca, cb = -cb * om, ca * om
+                if ca:
+                    val += ca * sn
+                if cb:
+                    val += cb * cs
+            factor = self.sign_out * self.sign_in**n
+            if factor != 1.0:
+                val *= factor
+            if n == 0 and self.offset:
+                val += self.offset
+            out.append(val)
+        return out
+
+    def derivative(self, tau: np.ndarray, n: int) -> np.ndarray:
+        return self.values(tau, (n,))[0]
+
+    def reversed(self, rise: float) -> _Piece:
+        """The piece of R(tau) = rise - S(1 - tau)."""
+        return _Piece(1.0 - self.hi, 1.0 - self.lo, self.poly, self.trig, 1.0 - self.ref, -self.sign_in,
+                      rise - self.offset, -self.sign_out)
+
+    def scaled(self, k: float) -> _Piece:
+        return _Piece(self.lo, self.hi, tuple(k * c for c in self.poly), tuple((om, k * a, k * b) for om, a, b in self.trig),
+                      self.ref, self.sign_in, k * self.offset, self.sign_out)
+
+
+def _extrema(piece: _Piece, n: int, samples: int = 257, iterations: int = 80) -> tuple[float, float, float, float]:
+    """(min, tau_min, max, tau_max) of d^n S/dtau^n over the closed piece: samples, piece ends and the
+    sign changes of the next derivative refined by bisection (vectorised)."""
+    u = np.linspace(piece.lo, piece.hi, samples)
+    g = piece.derivative(u, n + 1)
+    sg = np.sign(g)
+    k = np.flatnonzero(sg[:-1] * sg[1:] < 0)
+    cand = u
+    if k.size:
+        a, b, ga = u[k].copy(), u[k + 1].copy(), sg[k].copy()
+        for _ in range(iterations):
+            mid = 0.5 * (a + b)
+            same = np.sign(piece.derivative(mid, n + 1)) == ga
+            a = np.where(same, mid, a)
+            b = np.where(same, b, mid)
+        cand = np.concatenate([u, 0.5 * (a + b)])
+    f = piece.derivative(cand, n)
+    i, j = int(np.argmin(f)), int(np.argmax(f))
+    return float(f[i]), float(cand[i]), float(f[j]), float(cand[j])
+
+
+def _grouped(idx: np.ndarray, count: int) -> tuple[np.ndarray | None, np.ndarray]:
+    """Group points by piece index: (permutation or None if already grouped, bounds of each group)."""
+    idx = idx.astype(np.int16 if count < 32000 else np.int64)
+    bounds = np.concatenate([[0], np.cumsum(np.bincount(idx, minlength=count))])
+    if idx.size < 2 or bool(np.all(idx[1:] >= idx[:-1])):
+        return None, bounds
+    return np.argsort(idx, kind="stable"), bounds
+
+
+def _ungroup(res: list[np.ndarray], order: np.ndarray | None) -> list[np.ndarray]:
+    if order is None:
+        return res
+    out = [np.empty(r.shape) for r in res]
+    for o, r in zip(out, res):
+        o[order] = r
+    return out
+
+
+# --------------------------------------------------------------------------------------------
+# laws
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class LawBreak:
+    """An internal break of a law at ``tau``: ``jumps`` is the order of the lowest derivative that
+    jumps there (1: V, 2: A, 3: J, 4: only beyond the jerk)."""
+
+    tau: float
+    jumps: int
+
+    @property
+    def continuity(self) -> int:
+        """Highest derivative order continuous at the break (``jumps - 1``, at most 3)."""
+        return min(self.jumps - 1, SMOOTH)
+
+
+@dataclass(frozen=True, eq=False)
+class Law:
+    """A motion law on the normalised segment ``tau in [0, 1]``.
+
+    Attributes
+    ----------
+    name : str
+        Canonical name (a key of :data:`LAWS`).
+    pieces : tuple
+        The closed-form pieces (internal; see :meth:`evaluate`).
+    breaks : tuple of LawBreak
+        Internal breaks (tau strictly inside (0, 1)) and the derivative order that jumps there.
+    source : str
+        Where the formula comes from.
+    options : dict
+        The options this law was configured with (e.g. ``{"blend": 0.2}``).
+    start, end : tuple of 4 floats
+        Exact (S, V, A, J) at ``tau = 0`` (right limit) and ``tau = 1`` (left limit); entries below
+        1e-12 of the law's peak are rounding of ``sin(2 pi)`` and similar and are set to 0.
+    peaks : tuple of 3 (value, tau)
+        ``max |V|``, ``max |A|``, ``max |J|`` over the segment (one-sided at breaks) and where.
+    cv, ca, cj : float
+        Norton's peak coefficients for a rise between two dwells: ``inf`` where the next-lower
+        derivative jumps at an end or at an internal break (an impulse).
+    s_range : (min S, tau, max S, tau)
+    """
+
+    name: str
+    pieces: tuple[_Piece, ...]
+    breaks: tuple[LawBreak, ...] = ()
+    source: str = ""
+    options: Mapping[str, object] = field(default_factory=dict)
+    exact_ends: tuple[tuple[float, ...], tuple[float, ...]] | None = field(default=None, repr=False)
+    builder: Callable[..., Law] | None = field(default=None, repr=False)
+    start: tuple[float, float, float, float] = field(init=False)
+    end: tuple[float, float, float, float] = field(init=False)
+    peaks: tuple[tuple[float, float], ...] = field(init=False, repr=False)
+    s_range: tuple[float, float, float, float] = field(init=False, repr=False)
+    cv: float = field(init=False)
+    ca: float = field(init=False)
+    cj: float = field(init=False)
+
+    def __post_init__(self) -> None:
+        los = np.array([p.lo for p in self.pieces])
+        object.__setattr__(self, "_los", los)
+        ext = []
+        for n in range(4):
+            per_piece = [_extrema(p, n) for p in self.pieces]
+            lo = min(per_piece, key=lambda e: e[0])
+            hi = max(per_piece, key=lambda e: e[2])
+            ext.append((lo[0], lo[1], hi[2], hi[3]))
+        object.__setattr__(self, "s_range", ext[0])
+        peaks = []
+        for n in (1, 2, 3):
+            mn, tmn, mx, tmx = ext[n]
+            peaks.append((abs(mn), tmn) if abs(mn) > abs(mx) else (abs(mx), tmx))
+        object.__setattr__(self, "peaks", tuple(peaks))
+        if self.exact_ends is not None:
+            start, end = (tuple(float(x) for x in e) for e in self.exact_ends)
+        else:
+            zero = np.zeros(1)
+            start = tuple(float(v[0]) for v in self.pieces[0].values(zero))
+            end = tuple(float(v[0]) for v in self.pieces[-1].values(zero + 1.0))
+            scale = (max(1.0, abs(ext[0][0]), abs(ext[0][2])),) + tuple(max(1.0, p[0]) for p in peaks)
+            start = tuple(0.0 if abs(x) <= 1e-12 * s else x for x, s in zip(start, scale))
+            end = tuple(0.0 if abs(x) <= 1e-12 * s else x for x, s in zip(end, scale))
+            if abs(end[0] - round(end[0])) <= 1e-12:  # S(1) = 1 (a rise) or 0 (a dwell) up to rounding
+                end = (float(round(end[0])),) + end[1:]
+        object.__setattr__(self, "start", start)
+        object.__setattr__(self, "end", end)
+        # Norton's convention: a rise between two dwells
+        v_impulse = start[1] != 0 or end[1] != 0 or any(b.jumps <= 1 for b in self.breaks)
+        a_impulse = v_impulse or start[2] != 0 or end[2] != 0 or any(b.jumps <= 2 for b in self.breaks)
+        object.__setattr__(self, "cv", peaks[0][0])
+        object.__setattr__(self, "ca", math.inf if v_impulse else peaks[1][0])
+        object.__setattr__(self, "cj", math.inf if a_impulse else peaks[2][0])
+
+    # -- evaluation ---------------------------------------------------------------------------
+    def evaluate(self, tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(S, V, A, J) at ``tau`` (array, nominally in [0, 1]; at an internal break the right-hand
+        piece).  Closed form, vectorised over ``tau``."""
+        tau = np.asarray(tau, dtype=float)
+        if len(self.pieces) == 1:
+            return tuple(self.pieces[0].values(tau))  # type: ignore[return-value]
+        flat = tau.ravel()
+        idx = np.clip(np.searchsorted(self._los, flat, side="right") - 1, 0, len(self.pieces) - 1)
+        order, bounds = _grouped(idx, len(self.pieces))
+        ts = flat if order is None else flat[order]
+        res = [np.empty(flat.shape) for _ in range(4)]
+        for k, piece in enumerate(self.pieces):
+            lo, hi = bounds[k], bounds[k + 1]
+            if lo < hi:
+                for r, v in zip(res, piece.values(ts[lo:hi])):
+                    r[lo:hi] = v
+        out = [o.reshape(tau.shape) for o in _ungroup(res, order)]
+        return out[0], out[1], out[2], out[3]
+
+    def __call__(self, tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        return self.evaluate(tau)
+
+    # -- variants -----------------------------------------------------------------------------
+    def reversed(self) -> Law:
+        """The time-reversed law ``R(tau) = S(1) - S(1 - tau)`` (a return runs the rise backwards)."""
+        rise = self.end[0]
+        s, e = self.start, self.end
+        sign = (0, 1, -1, 1)  # R^(n)(0) = -(-1)^n S^(n)(1) for n >= 1
+        start = (0.0,) + tuple(sign[n] * e[n] for n in (1, 2, 3))
+        end = (rise,) + tuple(sign[n] * s[n] for n in (1, 2, 3))
+        return Law(self.name, tuple(p.reversed(rise) for p in reversed(self.pieces)),
+                   tuple(LawBreak(1.0 - b.tau, b.jumps) for b in reversed(self.breaks)), self.source,
+                   dict(self.options, reversed=True), (start, end), None)
+
+    def configure(self, **options: object) -> Law:
+        """This law with ``options`` (e.g. ``blend`` for constant_velocity; ``start``/``end`` for
+        polynomial, in tau units); a law without options refuses any."""
+        if not options:
+            return self
+        if self.builder is None:
+            key = min(options)
+            raise ParameterError(key, options[key], f"no option for the {self.name} law")
+        return self.builder(**options)
+
+
+def _integrate(edges: Sequence[float], accel: Sequence[tuple[tuple[float, ...], tuple[tuple[float, float, float], ...]]]) -> list[_Piece]:
+    """Pieces of S from a piecewise acceleration (poly in the local u = tau - lo plus sin/cos terms),
+    integrated in closed form with S(0) = V(0) = 0 and S, V continuous, then scaled to S(1) = 1."""
+    s0 = v0 = 0.0
+    pieces = []
+    for k, (poly_a, trig_a) in enumerate(accel):
+        lo, hi = edges[k], edges[k + 1]
+        poly = [0.0, 0.0] + [c / ((i + 1) * (i + 2)) for i, c in enumerate(poly_a)]
+        trig = tuple((om, -a / om**2, -b / om**2) for om, a, b in trig_a)
+        poly[0] = s0 - sum(b for _, _, b in trig)  # S(0) = s0
+        poly[1] = v0 - sum(a * om for om, a, _ in trig)  # V(0) = v0
+        piece = _Piece(lo, hi, tuple(poly), trig, ref=lo)
+        end = piece.values(np.array([hi]), (0, 1))
+        s0, v0 = float(end[0][0]), float(end[1][0])
+        pieces.append(piece)
+    return [p.scaled(1.0 / s0) for p in pieces]
+
+
+def constant_velocity(blend: object = 0.0) -> Law:
+    """Constant velocity, plain (``blend = 0``: ``S = tau``, velocity 1 at both ends) or with end
+    blends over the fraction ``blend`` (0 < blend <= 1/2) of the span each (see the module notes)."""
+    b = require_finite("blend", blend)
+    if not 0.0 <= b <= 0.5:
+        raise ParameterError("blend", blend, "0 <= blend <= 0.5 (fraction of the span in each end blend)")
+    if b == 0.0:
+        return Law("constant_velocity", (_Piece(0.0, 1.0, (0.0, 1.0)),), (),
+                   "Norton, Design of Machinery, ch. 8 (constant velocity: infinite acceleration at the ends)",
+                   {"blend": 0.0}, builder=constant_velocity)
+    w = TWO_PI / b
+    # acceleration per piece (u = tau - lo): (1 - cos(w u)); 0; -(1 - cos(w u))
+    edges = [0.0, b, 1.0 - b, 1.0] if b < 0.5 else [0.0, 0.5, 1.0]
+    accel = [((1.0,), ((w, 0.0, -1.0),))] + ([((0.0,), ())] if b < 0.5 else []) + [((-1.0,), ((w, 0.0, 1.0),))]
+    pieces = _integrate(edges, accel)
+    return Law("constant_velocity", tuple(pieces), tuple(LawBreak(t, 4) for t in edges[1:-1]),
+               "camgen: cycloidal-velocity blends (acceleration 1 - cos pulses), see module notes",
+               {"blend": b}, builder=constant_velocity)
+
+
+def _falling(i: int, k: int) -> int:
+    """i! / (i - k)! (0 for k > i): the k-th derivative factor of tau^i at tau = 1."""
+    return math.perm(i, k) if k <= i else 0
+
+
+def polynomial(start: Sequence[float], end: Sequence[float]) -> Law:
+    """The polynomial of lowest degree with ``d^k S/dtau^k (0) = start[k]`` and ``(1) = end[k]``.
+
+    ``start``/``end``: 1..4 values each (S, V, A, J in tau units; ``start[0]`` is normally 0);
+    degree ``len(start) + len(end) - 1``.  The coefficients come from the Hermite conditions solved
+    exactly in rational arithmetic (the floats are converted exactly), then rounded once.
+    """
+    start = [Fraction(require_finite("start", x)) for x in start]
+    end = [Fraction(require_finite("end", x)) for x in end]
+    m0, m1 = len(start), len(end)
+    if not (1 <= m0 <= 4 and 1 <= m1 <= 4):
+        raise ParameterError("polynomial conditions", (m0, m1), "1 to 4 values (s, v, a, j) at each end")
+    n = m0 + m1
+    c = [Fraction(0)] * n
+    for k in range(m0):
+        c[k] = start[k] / math.factorial(k)
+    # end conditions: sum_i c_i i!/(i-k)! = end[k]; unknowns c[m0:] (Gaussian elimination, exact)
+    rows = [[Fraction(_falling(m0 + j, k)) for j in range(m1)] + [end[k] - sum(c[i] * _falling(i, k) for i in range(m0))]
+            for k in range(m1)]
+    for col in range(m1):
+        piv = next(r for r in range(col, m1) if rows[r][col] != 0)  # the Hermite system is regular
+        rows[col], rows[piv] = rows[piv], rows[col]
+        for r in range(m1):
+            if r != col and rows[r][col] != 0:
+                f = rows[r][col] / rows[col][col]
+                rows[r] = [x - f * y for x, y in zip(rows[r], rows[col])]
+    for j in range(m1):
+        c[m0 + j] = rows[j][m1] / rows[j][j]
+    at0 = tuple(float(c[k] * math.factorial(k)) if k < n else 0.0 for k in range(4))
+    at1 = tuple(float(sum(c[i] * _falling(i, k) for i in range(k, n))) for k in range(4))
+    ends = (at0, at1)
+    return Law("polynomial", (_Piece(0.0, 1.0, tuple(float(x) for x in c)),), (),
+               "Norton, Design of Machinery, ch. 8 (polynomial functions from boundary conditions)",
+               {"start": tuple(float(x) for x in start), "end": tuple(float(x) for x in end), "degree": n - 1},
+               ends, polynomial)
+
+
+def _mod_trapezoid() -> Law:
+    # Norton, Design of Machinery, ch. 8, modified trapezoidal acceleration: quarter sines of period
+    # 1/2 joined by constant acceleration; the half sine over [3/8, 5/8] is one piece (analytic there)
+    w = 4.0 * math.pi
+    edges = [0.0, 1 / 8, 3 / 8, 5 / 8, 7 / 8, 1.0]
+    accel = [((0.0,), ((w, 1.0, 0.0),)), ((1.0,), ()), ((0.0,), ((w, 0.0, 1.0),)), ((-1.0,), ()), ((0.0,), ((w, 0.0, -1.0),))]
+    return Law("modified_trapezoid", tuple(_integrate(edges, accel)), tuple(LawBreak(t, 4) for t in edges[1:-1]),
+               "Norton, Design of Machinery, ch. 8 (modified trapezoidal acceleration; Table 8-3)")
+
+
+def _mod_sine() -> Law:
+    # Norton, Design of Machinery, ch. 8, modified sinusoidal acceleration: a quarter sine of period
+    # 1/2 at each end and a half sine of period 3/2 over [1/8, 7/8]
+    w1, w2 = 4.0 * math.pi, 4.0 * math.pi / 3.0
+    edges = [0.0, 1 / 8, 7 / 8, 1.0]
+    accel = [((0.0,), ((w1, 1.0, 0.0),)), ((0.0,), ((w2, 0.0, 1.0),)), ((0.0,), ((w1, 0.0, -1.0),))]
+    return Law("modified_sine", tuple(_integrate(edges, accel)), tuple(LawBreak(t, 4) for t in edges[1:-1]),
+               "Norton, Design of Machinery, ch. 8 (modified sinusoidal acceleration; Table 8-3)")
+
+
+def _single(name: str, poly: tuple[float, ...], trig: tuple[tuple[float, float, float], ...], source: str) -> Law:
+    return Law(name, (_Piece(0.0, 1.0, poly, trig),), (), source)
+
+
+_PI = math.pi
+_CANONICAL: dict[str, Law] = {
+    "dwell": _single("dwell", (0.0,), (), "a dwell: S = 0"),
+    "constant_velocity": constant_velocity(0.0),
+    # Norton ch. 8, simple harmonic motion: S = (1 - cos(pi tau)) / 2
+    "simple_harmonic": _single("simple_harmonic", (0.5,), ((_PI, 0.0, -0.5),), "Norton, Design of Machinery, ch. 8 (simple harmonic motion)"),
+    # Norton ch. 8, single-dwell double harmonic rise: S = (1 - cos(pi tau))/2 - (1 - cos(2 pi tau))/8
+    "double_harmonic": _single("double_harmonic", (0.375,), ((_PI, 0.0, -0.5), (2 * _PI, 0.0, 0.125)),
+                               "Norton, Design of Machinery, ch. 8 (double harmonic, single-dwell rise and fall)"),
+    # Norton ch. 8, cycloidal displacement: S = tau - sin(2 pi tau) / (2 pi)
+    "cycloidal": _single("cycloidal", (0.0, 1.0), ((2 * _PI, -1.0 / (2 * _PI), 0.0),), "Norton, Design of Machinery, ch. 8 (cycloidal displacement)"),
+    "modified_trapezoid": _mod_trapezoid(),
+    "modified_sine": _mod_sine(),
+    # Norton ch. 8, the 3-4-5 and 4-5-6-7 polynomials (rest to rest)
+    "poly345": _single("poly345", (0, 0, 0, 10.0, -15.0, 6.0), (), "Norton, Design of Machinery, ch. 8 (3-4-5 polynomial)"),
+    "poly4567": _single("poly4567", (0, 0, 0, 0, 35.0, -84.0, 70.0, -20.0), (), "Norton, Design of Machinery, ch. 8 (4-5-6-7 polynomial)"),
+    # the default conditions give the rest-to-rest quintic (= poly345); segments pass their own
+    "polynomial": polynomial((0.0, 0.0, 0.0), (1.0, 0.0, 0.0)),
+}
+#: alternative names users may write
+ALIASES: dict[str, str] = {"harmonic": "simple_harmonic", "modified_cycloidal": "modified_sine"}
+#: every law by the name scene files use (aliases map to the same object)
+LAWS: dict[str, Law] = {**_CANONICAL, **{a: _CANONICAL[c] for a, c in ALIASES.items()}}
+
+
+# --------------------------------------------------------------------------------------------
+# segments
+# --------------------------------------------------------------------------------------------
+def _conditions(key: str, value: object) -> tuple[float, ...]:
+    if isinstance(value, (str, bytes)) or not isinstance(value, Sequence) or not 1 <= len(value) <= 4:
+        raise ParameterError(key, value, "a list of 1 to 4 numbers: s [unit], v [unit/rad], a [unit/rad^2], j [unit/rad^3]")
+    return tuple(require_finite(key, x) for x in value)
+
+
+@dataclass(frozen=True)
+class Segment:
+    """One segment of a motion program.
+
+    Parameters
+    ----------
+    law : str or Law
+        A key of :data:`LAWS` (aliases allowed) or a :class:`Law`.
+    span : float
+        Cam angle the segment covers (rad), 0 < span <= 2 pi.
+    lift : float, optional
+        Displacement change over the segment (mm or rad; > 0 rise, < 0 return).  Must be 0 or
+        omitted for a dwell, non-zero for the other laws; for ``polynomial`` it follows from
+        ``end[0] - start[0]`` (if given, it must agree).
+    blend : float, optional
+        ``constant_velocity`` only: fraction of the span in each end blend, 0..0.5 (default 0:
+        plain constant velocity).
+    start, end : sequence of 1..4 floats, optional
+        ``polynomial`` only (both required): absolute displacement s [unit], velocity ds/dtheta
+        [unit/rad], acceleration [unit/rad^2], jerk [unit/rad^3] at the segment's start and end.
+    where : str
+        How messages name this segment (e.g. ``"cams.lifter.segments[2]"``); the program fills in
+        ``segments[i]`` when empty.
+
+    After construction ``lift`` is a float, ``shape`` the configured :class:`Law` (time-reversed
+    for a return) and ``scale`` the factor on its S (``lift``; 1 for a polynomial, whose shape is in
+    physical units).
+    """
+
+    law: str | Law
+    span: float
+    lift: float | None = None
+    blend: float | None = None
+    start: Sequence[float] | None = None
+    end: Sequence[float] | None = None
+    where: str = field(default="", compare=False)
+    shape: Law = field(init=False, repr=False, compare=False)
+    scale: float = field(init=False, repr=False, compare=False)
+    start_level: float | None = field(init=False, repr=False, compare=False)
+
+    def _name(self, key: str) -> str:
+        return f"{self.where}.{key}" if self.where else key
+
+    def __post_init__(self) -> None:
+        if isinstance(self.law, Law):
+            base, name = self.law, self.law.name
+        elif isinstance(self.law, str) and self.law in LAWS:
+            base, name = LAWS[self.law], LAWS[self.law].name
+        else:
+            raise ParameterError(self._name("law"), self.law, f"one of {sorted(LAWS)}")
+        span = require_positive(self._name("span"), self.span, "rad")
+        if span > TWO_PI * (1 + 1e-12):
+            raise ParameterError(self._name("span"), self.span, "0 < span <= 2 pi rad (360 deg)")
+        object.__setattr__(self, "span", span)
+        for key in ("blend", "start", "end"):
+            allowed = {"blend": "constant_velocity", "start": "polynomial", "end": "polynomial"}[key]
+            if getattr(self, key) is not None and name != allowed:
+                raise ParameterError(self._name(key), getattr(self, key), f"no '{key}' for a {name} segment (only for {allowed})")
+        start_level = None
+        if name == "polynomial" and not isinstance(self.law, Law):
+            if self.start is None or self.end is None:
+                raise ParameterError(self._name("start" if self.start is None else "end"), None,
+                                     "s, v, a (optionally j) at both ends of a polynomial segment")
+            start = _conditions(self._name("start"), self.start)
+            end = _conditions(self._name("end"), self.end)
+            lift = end[0] - start[0]
+            if self.lift is not None:
+                given = require_finite(self._name("lift"), self.lift)
+                if abs(given - lift) > 1e-9 * max(1.0, abs(lift)):
+                    raise ParameterError(self._name("lift"), self.lift, f"end[0] - start[0] = {lift:g} (or omit it)")
+            # physical per-rad conditions -> tau units (d^k/dtau^k = span^k d^k/dtheta^k), relative to s0
+            shape = polynomial((0.0,) + tuple(x * span**k for k, x in enumerate(start) if k),
+                               (lift,) + tuple(x * span**k for k, x in enumerate(end) if k))
+            scale, start_level = 1.0, start[0]
+            object.__setattr__(self, "start", start)
+            object.__setattr__(self, "end", end)
+        else:
+            if name == "dwell":
+                lift = 0.0 if self.lift is None else require_finite(self._name("lift"), self.lift)
+                if lift != 0.0:
+                    raise ParameterError(self._name("lift"), self.lift, "0 for a dwell (or omit it)")
+            else:
+                if self.lift is None:
+                    raise ParameterError(self._name("lift"), None, f"a non-zero lift for a {name} segment")
+                lift = require_finite(self._name("lift"), self.lift)
+                if lift == 0.0:
+                    raise ParameterError(self._name("lift"), self.lift, f"a non-zero lift for a {name} segment (use 'dwell' to stay)")
+            try:
+                shape = base.configure(blend=self.blend) if self.blend is not None else base
+            except ParameterError as exc:
+                raise ParameterError(self._name(exc.name), exc.value, exc.valid, exc.why) from None
+            if lift < 0.0:
+                shape = shape.reversed()
+            scale = lift
+        object.__setattr__(self, "lift", lift)
+        object.__setattr__(self, "shape", shape)
+        object.__setattr__(self, "scale", scale)
+        object.__setattr__(self, "start_level", start_level)
+
+    def values(self, tau: np.ndarray) -> list[np.ndarray]:
+        """Displacement above the segment's start level and its cam-angle derivatives (per rad^n)."""
+        return [self.scale * v / self.span**n for n, v in enumerate(self.shape.evaluate(tau))]
+
+    def end_values(self, at_end: bool) -> tuple[float, float, float, float]:
+        """Exact (s - start level, v, a, j) at the segment's start (``False``) or end (``True``)."""
+        e = self.shape.end if at_end else self.shape.start
+        return tuple(self.scale * e[n] / self.span**n for n in range(4))  # type: ignore[return-value]
+
+
+# --------------------------------------------------------------------------------------------
+# programs
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Join:
+    """A segment join: cam ``angle`` (rad), the segments ``before``/``after`` (indices), the
+    highest derivative order continuous there, the exact (s, v, a, j) on each side
+    (unit/rad^n) and the ``jumps`` (after - before) of velocity, acceleration and jerk; ``unit``
+    is the follower's ("mm" or "rad")."""
+
+    angle: float
+    before: int
+    after: int
+    continuity: int
+    left: tuple[float, float, float, float]
+    right: tuple[float, float, float, float]
+    jumps: tuple[float, float, float]
+    unit: str = "mm"
+
+    def describe(self) -> str:
+        """One line for a report, e.g. ``acceleration jumps by 2.5 mm/rad^2 at 120 deg (segments 1 -> 2)``."""
+        unit = self.unit
+        if self.continuity >= SMOOTH:
+            return f"segments {self.before} -> {self.after} join smoothly up to jerk at {math.degrees(self.angle):.6g} deg"
+        n = self.continuity + 1
+        units = {1: f"{unit}/rad", 2: f"{unit}/rad^2", 3: f"{unit}/rad^3"}
+        return (f"{ORDER_NAMES[n]} jumps by {self.jumps[n - 1]:.6g} {units[n]} at {math.degrees(self.angle):.6g} deg "
+                f"(segments {self.before} -> {self.after})")
+
+
+@dataclass(frozen=True)
+class Peaks:
+    """Largest |velocity|, |acceleration|, |jerk| (unit/rad^n) of a displacement over the turn,
+    from the closed-form pieces (one-sided at breaks), and the cam angles (rad) where they occur.
+    ``infinite_acceleration`` / ``infinite_jerk``: some join makes the velocity / acceleration jump
+    (an impulse the finite values do not show)."""
+
+    velocity: float
+    velocity_at: float
+    acceleration: float
+    acceleration_at: float
+    jerk: float
+    jerk_at: float
+    infinite_acceleration: bool = False
+    infinite_jerk: bool = False
+
+
+class MotionProgram:
+    """Follower displacement over one cam turn from consecutive segments; a :class:`Displacement`.
+
+    The first segment starts at cam angle 0 with displacement 0 (or, for a polynomial, its
+    ``start[0]``); each next segment starts where the previous one ends.
+
+    Parameters
+    ----------
+    segments : sequence of Segment
+    unit : str
+        The follower's unit for messages: ``"mm"`` (translating) or ``"rad"`` (oscillating).
+    span_tol : float
+        Tolerance (rad) on the spans adding up to 2 pi.
+    join_tol : float
+        Relative tolerance below which a derivative counts as continuous at a join: the jump is
+        compared with the larger of the two sides and the program's peak of that derivative.
+
+    Raises
+    ------
+    ParameterError
+        If the spans do not add up to 360 deg, or the displacement jumps at a join (a polynomial
+        segment not starting where the previous one ends, or the lifts not returning to the start):
+        the message names ``segments[i]`` and the jump.
+    """
+
+    def __init__(self, segments: Sequence[Segment], unit: str = "mm", span_tol: float = 1e-9, join_tol: float = 1e-9) -> None:
+        self.segments = tuple(segments)
+        if unit not in ("mm", "rad"):
+            raise ParameterError("unit", unit, "'mm' (translating follower) or 'rad' (oscillating follower)")
+        self.unit = unit
+        self.span_tol = require_positive("span_tol", span_tol, "rad")
+        self.join_tol = require_positive("join_tol", join_tol, "")
+        if not self.segments:
+            raise ParameterError("segments", [], "at least one segment")
+        for i, seg in enumerate(self.segments):
+            if not isinstance(seg, Segment):
+                raise ParameterError(f"segments[{i}]", seg, "a Segment")
+        n = len(self.segments)
+        names = [seg.where or f"segments[{i}]" for i, seg in enumerate(self.segments)]
+        spans = np.array([seg.span for seg in self.segments])
+        total = float(spans.sum())
+        if abs(total - TWO_PI) > self.span_tol:
+            raise ParameterError("segments", f"spans adding up to {math.degrees(total):.9g} deg",
+                                 "spans adding up to 360 deg", f"tolerance {self.span_tol:g} rad")
+        self.starts = np.concatenate([[0.0], np.cumsum(spans)[:-1]])
+        self.spans = spans
+        # absolute start level of every segment: chained, or a polynomial's own start[0]
+        levels = []
+        level = 0.0
+        for seg in self.segments:
+            if seg.start_level is not None:
+                level = seg.start_level
+            levels.append(level)
+            level = level + seg.lift
+        self.levels = np.array(levels)
+        # peaks and extremes per segment (physical units)
+        self._seg_peaks = []
+        s_lo, s_hi = math.inf, -math.inf
+        for seg, lvl, th0 in zip(self.segments, self.levels, self.starts):
+            sh = seg.shape
+            mn, tmn, mx, tmx = sh.s_range
+            vals = sorted([(lvl + seg.scale * mn, tmn), (lvl + seg.scale * mx, tmx)])
+            s_lo, s_hi = min(s_lo, vals[0][0]), max(s_hi, vals[1][0])
+            self._seg_peaks.append([(abs(seg.scale) * p / seg.span ** (k + 1), th0 + t * seg.span) for k, (p, t) in enumerate(sh.peaks)])
+        self._s_bounds = (s_lo, s_hi)
+        peak = [max(abs(s_lo), abs(s_hi))] + [max(p[k][0] for p in self._seg_peaks) for k in range(3)]
+        # joins: segment i-1 -> i at starts[i] (the join at 0 closes the turn)
+        self._joins = []
+        for i in range(n):
+            prev = (i - 1) % n
+            lp = self.segments[prev].end_values(True)
+            left = (self.levels[prev] + lp[0],) + lp[1:]
+            rp = self.segments[i].end_values(False)
+            right = (self.levels[i] + rp[0],) + rp[1:]
+            diff = [r - l for l, r in zip(left, right)]
+            ok = [abs(d) <= self.join_tol * max(abs(l), abs(r), pk) for d, l, r, pk in zip(diff, left, right, peak)]
+            if not ok[0]:
+                where = math.degrees(self.starts[i])
+                if i == 0:
+                    raise ParameterError(names[n - 1], f"ends at s = {left[0]:.9g} {unit}",
+                                         f"ending where the program starts (s = {right[0]:.9g} {unit} at 0 deg)",
+                                         f"the displacement jumps by {diff[0]:.6g} {unit} at 0 deg: the lifts must return to the start")
+                raise ParameterError(names[i], f"starts at s = {right[0]:.9g} {unit}",
+                                     f"starting where {names[prev]} ends (s = {left[0]:.9g} {unit})",
+                                     f"the displacement jumps by {diff[0]:.6g} {unit} at {where:.9g} deg")
+            continuity = next((k - 1 for k in (1, 2, 3) if not ok[k]), SMOOTH)
+            self._joins.append(Join(float(self.starts[i]), prev, i, continuity, tuple(map(float, left)),
+                                    tuple(map(float, right)), tuple(float(d) for d in diff[1:]), unit))
+        # breaks: joins and internal law breaks; evaluation pieces in cam angle
+        brk, cont = [], []
+        piece_lo, piece_ref = [], []
+        for i, (seg, th0) in enumerate(zip(self.segments, self.starts)):
+            brk.append(th0)
+            cont.append(self._joins[i].continuity)
+            for b in seg.shape.breaks:
+                brk.append(th0 + b.tau * seg.span)
+                cont.append(b.continuity)
+            for k, piece in enumerate(seg.shape.pieces):
+                piece_lo.append(th0 + piece.lo * seg.span)
+                piece_ref.append((i, k))
+        order = np.argsort(brk, kind="stable")
+        self.breaks = np.asarray(brk, dtype=float)[order]
+        self.break_continuity = np.asarray(cont, dtype=int)[order]
+        self._piece_lo = np.asarray(piece_lo, dtype=float)
+        self._piece_ref = piece_ref
+
+    # -- the Displacement interface ----------------------------------------------------------
+    def __call__(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """s (unit), ds/dtheta (unit/rad), d2s/dtheta2 (unit/rad^2), d3s/dtheta3 (unit/rad^3) at cam
+        angles ``theta`` (rad, any real, any shape; periodic); at a break the following piece."""
+        theta = np.asarray(theta, dtype=float)
+        if not np.all(np.isfinite(theta)):
+            raise ParameterError("theta", "non-finite cam angles", "finite angles in rad")
+        th = np.mod(theta.ravel(), TWO_PI)
+        th[th >= TWO_PI] -= TWO_PI  # np.mod(-1e-300, 2 pi) == 2 pi
+        npieces = len(self._piece_ref)
+        if npieces <= 64:  # count the piece starts <= theta (the right-hand piece at a break)
+            idx = np.zeros(th.size, dtype=np.int16)
+            for lo in self._piece_lo[1:]:
+                idx += th >= lo
+        else:
+            idx = np.searchsorted(self._piece_lo, th, side="right") - 1
+        order, bounds = _grouped(idx, npieces)  # evaluate each piece once on its group of angles
+        ths = th if order is None else th[order]
+        res = [np.empty(th.shape) for _ in range(4)]
+        for g, (i, k) in enumerate(self._piece_ref):
+            lo, hi = bounds[g], bounds[g + 1]
+            if lo == hi:
+                continue
+            seg = self.segments[i]
+            vals = seg.shape.pieces[k].values((ths[lo:hi] - self.starts[i]) / seg.span)
+            res[0][lo:hi] = self.levels[i] + seg.scale * vals[0]
+            for n in (1, 2, 3):
+                res[n][lo:hi] = (seg.scale / seg.span**n) * vals[n]
+        out = _ungroup(res, order)
+        shape = theta.shape
+        return out[0].reshape(shape), out[1].reshape(shape), out[2].reshape(shape), out[3].reshape(shape)
+
+    # -- reports ------------------------------------------------------------------------------
+    def joins(self) -> list[Join]:
+        """Every segment join (the first at cam angle 0 closes the turn), in cam-angle order."""
+        return list(self._joins)
+
+    @property
+    def stroke(self) -> float:
+        """Largest minus smallest displacement over the turn (unit)."""
+        return float(self._s_bounds[1] - self._s_bounds[0])
+
+    @property
+    def s_bounds(self) -> tuple[float, float]:
+        """(smallest, largest) displacement over the turn (unit)."""
+        return self._s_bounds
+
+    def peak_values(self) -> Peaks:
+        """Largest |s'|, |s''|, |s'''| (unit/rad^n) over the turn and where (see :class:`Peaks`)."""
+        best = []
+        for k in range(3):
+            value, at = max((p[k] for p in self._seg_peaks), key=lambda x: x[0])
+            best.extend([float(value), float(at % TWO_PI)])
+        return Peaks(*best, infinite_acceleration=any(j.continuity < 1 for j in self._joins),
+                     infinite_jerk=any(j.continuity < 2 for j in self._joins) or any(c < 2 for c in self.break_continuity))
