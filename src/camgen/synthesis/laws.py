@@ -26,7 +26,7 @@ cycloidal              tau - sin(2 pi tau) / (2 pi)                             
 modified_trapezoid     A: quarter sines of period 1/2 on [0, 1/8], [3/8, 5/8] (half),       Norton ch. 8 (modified
                        [7/8, 1], constant on [1/8, 3/8] and [5/8, 7/8]                      trapezoidal accel.)
 modified_sine          A: quarter sine of period 1/2 on [0, 1/8] and [7/8, 1], half sine     Norton ch. 8 (modified
-                       of period 3/2 on [1/8, 7/8]       (alias: ``modified_cycloidal``)    sinusoidal accel.)
+                       of period 3/2 on [1/8, 7/8]                                          sinusoidal accel.)
 poly345                10 tau^3 - 15 tau^4 + 6 tau^5                                        Norton ch. 8
 poly4567               35 tau^4 - 84 tau^5 + 70 tau^6 - 20 tau^7                            Norton ch. 8
 polynomial             the polynomial of lowest degree meeting the user's end conditions    Norton ch. 8
@@ -46,9 +46,9 @@ the next derivative by bisection: exact to ~1e-13).
 
 Notes on three laws:
 
-* **modified_cycloidal**: the modified sine is the "modified sine-acceleration" (= cycloidal) law, and
-  camgen treats ``modified_cycloidal`` as its alias.  Wildt's graphical construction, which some books
-  also call modified cycloidal, is not implemented.
+* **modified_cycloidal** (Wildt's modified cycloid) is refused by name (:data:`NOT_IMPLEMENTED`): no
+  definition camgen could verify against a source was at hand, and an alias to another law would
+  silently give the user a law they did not ask for.
 * **double_harmonic** (Norton, ch. 8, single-dwell design): the rise starts from rest with zero
   acceleration and jerk and arrives with ``A(1) = -pi^2``; the matching return (the time-reversed
   rise, Norton's fall ``(1 + cos(pi tau))/2 - (1 - cos(2 pi tau))/8``) leaves the top with the same
@@ -474,7 +474,12 @@ _CANONICAL: dict[str, Law] = {
     "polynomial": polynomial((0.0, 0.0, 0.0), (1.0, 0.0, 0.0)),
 }
 #: alternative names users may write
-ALIASES: dict[str, str] = {"harmonic": "simple_harmonic", "modified_cycloidal": "modified_sine"}
+ALIASES: dict[str, str] = {"harmonic": "simple_harmonic"}
+#: names users may expect that camgen refuses, with the reason
+NOT_IMPLEMENTED: dict[str, str] = {
+    "modified_cycloidal": "Wildt's modified cycloidal law is not implemented yet (no verified definition); "
+                          "modified_sine has the same continuity (jerk finite, Cv 1.76, Ca 5.53)",
+}
 #: every law by the name scene files use (aliases map to the same object)
 LAWS: dict[str, Law] = {**_CANONICAL, **{a: _CANONICAL[c] for a, c in ALIASES.items()}}
 
@@ -536,6 +541,8 @@ class Segment:
             base, name = self.law, self.law.name
         elif isinstance(self.law, str) and self.law in LAWS:
             base, name = LAWS[self.law], LAWS[self.law].name
+        elif isinstance(self.law, str) and self.law in NOT_IMPLEMENTED:
+            raise ParameterError(self._name("law"), self.law, f"one of {sorted(LAWS)}", NOT_IMPLEMENTED[self.law])
         else:
             raise ParameterError(self._name("law"), self.law, f"one of {sorted(LAWS)}")
         span = require_positive(self._name("span"), self.span, "rad")

@@ -39,7 +39,6 @@ TEXTBOOK = {
     "cycloidal": (2, 2, {}),
     "modified_trapezoid": (2, 2, {1 / 8: 3, 3 / 8: 3, 5 / 8: 3, 7 / 8: 3}),
     "modified_sine": (2, 2, {1 / 8: 3, 7 / 8: 3}),
-    "modified_cycloidal": (2, 2, {1 / 8: 3, 7 / 8: 3}),
     "poly345": (2, 2, {}),
     "polynomial": (2, 2, {}),  # the default conditions: rest to rest, zero acceleration (= 3-4-5)
     "poly4567": (3, 3, {}),
@@ -251,7 +250,9 @@ def test_single_formula_laws_match_the_textbook_formulas():
     for name, ref in formulas.items():
         assert np.max(np.abs(LAWS[name].evaluate(x)[0] - ref)) < 1e-13, name
     assert LAWS["harmonic"] is LAWS["simple_harmonic"]
-    assert LAWS["modified_cycloidal"] is LAWS["modified_sine"]
+    assert "modified_cycloidal" not in LAWS  # refused by name, not silently replaced by another law
+    with pytest.raises(ParameterError, match="modified_cycloidal.*not implemented"):
+        Segment("modified_cycloidal", math.pi, 10.0)
 
 
 def test_blended_constant_velocity_shape():
