@@ -9,10 +9,10 @@ import _common  # noqa: F401  (puts the repository root on sys.path)
 from _common import median_time, print_table
 
 import camgen
+from camgen.body import BodySpec, cam_solid, mesh_bytes
 from camgen.export.dxf import DxfOptions, contour_to_dxf
 from camgen.export.gcode import MachiningSpec, gcode_program
 from camgen.export.points import lift_csv, points_csv
-from camgen.export.solid import SolidSpec, cam_solid, mesh_bytes
 from camgen.mechanisms import tricycle as tc
 from camgen.synthesis.trajectory import trajectory_from_expression
 
@@ -20,8 +20,8 @@ from camgen.synthesis.trajectory import trajectory_from_expression
 def main() -> None:
     steering = tc.tricycle_cam(trajectory_from_expression("202.4396*sin(pi*x/1000)", 2000.0))
     cams = {
-        "stride_length": (camgen.three_arc_cam(220.0, 160.0, 25.0), SolidSpec(20.0, 20.0, 6.0, 2.8, min_wall=3.0)),
-        "steering": (steering.profile, SolidSpec(8.0, 8.0, 2.0, 1.0, min_wall=3.0)),
+        "stride_length": (camgen.three_arc_cam(220.0, 160.0, 25.0), BodySpec(20.0, 20.0, 6.0, 2.8, min_wall=3.0)),
+        "steering": (steering.profile, BodySpec(8.0, 8.0, 2.0, 1.0, min_wall=3.0)),
     }
     rows = []
     for name, (contour, body) in cams.items():

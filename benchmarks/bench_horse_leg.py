@@ -7,12 +7,11 @@ one position after another.  Target (issue #4): <= 15 ms for 3600 positions.
 """
 from __future__ import annotations
 
-import _common  # noqa: F401  (puts the repository root on sys.path)
-from _common import median_time, print_table
-
 import math
 
+import _common  # noqa: F401  (puts the repository root on sys.path)
 import numpy as np
+from _common import median_time, print_table
 
 from camgen.mechanisms import horse_leg as hl
 

@@ -12,12 +12,11 @@ with numpy stands for it (and for MOTUS NOVA's "Approximate" profile) when it is
 """
 from __future__ import annotations
 
-import _common  # noqa: F401  (puts the repository root on sys.path)
-from _common import median_time, print_table
-
 import math
 
+import _common  # noqa: F401  (puts the repository root on sys.path)
 import numpy as np
+from _common import median_time, print_table
 
 from camgen.synthesis.motion_law import MotionProgram, MotionSegment, roller_cam
 

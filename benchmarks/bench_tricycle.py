@@ -8,9 +8,8 @@ Target (issue #3): exact curvature <= 1e-6 mm over one period at N = 720, synthe
 from __future__ import annotations
 
 import _common  # noqa: F401  (puts the repository root on sys.path)
-from _common import median_time, print_table
-
 import numpy as np
+from _common import median_time, print_table
 
 from camgen.mechanisms import tricycle as tc
 from camgen.synthesis.trajectory import trajectory_from_expression

@@ -5,7 +5,13 @@ The package namespace is lazy: ``import camgen`` loads nothing heavy (not even n
 """
 from __future__ import annotations
 
-from camgen.errors import CamgenError, ExportError, GeometryError, ParameterError, SceneError
+from camgen.errors import (
+    CamgenError,
+    ExportError,
+    GeometryError,
+    ParameterError,
+    SceneError,
+)
 
 __version__ = "0.1.0"
 

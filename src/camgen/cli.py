@@ -48,7 +48,10 @@ def _report_failures(result: "RunResult") -> int:
     failed = result.failed_checks()
     for cam, check in failed:
         where = f" at {', '.join(f'{w:g}' for w in check.where_deg[:6])} deg" if check.where_deg else ""
-        print(f"camgen: check failed: cams.{cam}: {check.name} = {check.value} {check.unit} (limit {check.limit}){where}", file=sys.stderr)
+        value = f"{check.value:.6g}" if isinstance(check.value, float) else check.value
+        limit = f"{check.limit:.6g}" if isinstance(check.limit, float) else check.limit
+        print(f"camgen: check failed: cams.{cam}: {check.name} = {value} {check.unit}, must be {check.comparison} {limit}{where}"
+              + (" (no manufacturing file written for this cam)" if check.blocks_manufacture else ""), file=sys.stderr)
     return 1 if failed else 0
 
 
@@ -75,11 +78,12 @@ def _cmd_check(args: argparse.Namespace) -> int:
     scene = _scene(args.scene)
     result = compute(scene, Plan((), frozenset(), full_report=False))
     rows = [("cam", "check", "result", "value", "limit", "unit")]
+    shown = {"pass": "pass", "fail": "FAIL", "info": "info"}
     for cam in result.cams:
         for c in cam.checks:
             value = f"{c.value:.6g}" if isinstance(c.value, float) else str(c.value)
-            limit = f"{c.limit:.6g}" if isinstance(c.limit, float) else str(c.limit)
-            rows.append((cam.name, c.name, "pass" if c.passed else "FAIL", value, limit, c.unit))
+            limit = "none" if c.limit is None else f"{c.comparison} {c.limit:.6g}" if isinstance(c.limit, float) else f"{c.comparison} {c.limit}"
+            rows.append((cam.name, c.name, shown[c.status], value, limit, c.unit))
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
     for row in rows:
         print("  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip())

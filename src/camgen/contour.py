@@ -250,7 +250,9 @@ class Spline:
         otherwise the ends are clamped to ``end_derivatives`` (dP/dt at both ends), or use the
         not-a-knot condition when those are not given.
         """
-        from scipy.interpolate import CubicSpline  # lazy: scipy.interpolate costs ~0.6 s to import
+        from scipy.interpolate import (
+            CubicSpline,  # lazy: scipy.interpolate costs ~0.6 s to import
+        )
 
         t = _as_array(t)
         points = _as_array(points)

@@ -117,8 +117,8 @@ def check_cam(cam: "BuiltCam", spec: "CamSpec", tool_radius: float, tool_is_limi
 
 def _wall_check(cam: "BuiltCam") -> "CheckResult":
     """Wall left between bore/keyway and profile against ``min_wall`` (blocks manufacture)."""
+    from camgen.body import wall_left
     from camgen.checks import limited
-    from camgen.export.solid import wall_left
 
     wall, where = wall_left(cam.contour, cam.body)
     what = "the bore/keyway breaks through the profile" if wall <= 0 else f"thinnest wall between the bore/keyway and the profile, {wall:.3f} mm"

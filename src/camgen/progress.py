@@ -26,7 +26,12 @@ class TerminalProgress:
             if time.perf_counter() - self.start < SHOW_AFTER_S:
                 return
             from rich.console import Console  # lazily: rich comes with meshio
-            from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+            from rich.progress import (
+                Progress,
+                SpinnerColumn,
+                TextColumn,
+                TimeElapsedColumn,
+            )
 
             self.bar = Progress(SpinnerColumn(), TextColumn("{task.description}"), TimeElapsedColumn(), transient=True,
                                 console=Console(stderr=True), redirect_stdout=False, redirect_stderr=False)

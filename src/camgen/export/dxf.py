@@ -177,19 +177,12 @@ def contour_to_dxf(contour: Contour, body: Any = None, pitch: Contour | None = N
 
 
 def _bore_and_keyway(body: Any) -> tuple[float, np.ndarray | None]:
-    """Bore radius (mm, 0: none) and the keyway's corners (4, 2) from the bore circle out
-    (``None``: no keyway), in the cam frame."""
+    """Bore radius (mm, 0: none) and the keyway's corners (4, 2) outside the bore circle
+    (``None``: no keyway), in the cam frame (:meth:`camgen.body.BodySpec.keyway_outside_bore`)."""
     if body is None or body.bore_diameter <= 0:
         return 0.0, None
     r = body.bore_diameter / 2
-    if body.keyway_width <= 0:
-        return r, None
-    half = body.keyway_width / 2
-    inner = math.sqrt(r * r - half * half)  # where the keyway sides meet the bore circle
-    out = r + body.keyway_depth
-    c, s = math.cos(body.keyway_angle), math.sin(body.keyway_angle)
-    local = np.array([[inner, -half], [out, -half], [out, half], [inner, half]])
-    return r, local @ np.array([[c, s], [-s, c]])  # rotated by +keyway_angle
+    return r, (body.keyway_outside_bore() if body.keyway_width > 0 else None)
 
 
 def drawing_bounds(contour: Contour, body: Any = None, pitch: Contour | None = None, center_mark: float = 0.0) -> tuple[float, float, float, float]:

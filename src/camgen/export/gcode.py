@@ -23,7 +23,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from camgen.contour import Arc, Contour
-from camgen.errors import GeometryError, ParameterError, require_finite, require_positive
+from camgen.errors import (
+    GeometryError,
+    ParameterError,
+    require_finite,
+    require_positive,
+)
 
 DIALECTS = ("linuxcnc", "grbl")
 DIRECTIONS = ("climb", "conventional")

@@ -3,7 +3,7 @@
 Arcs become circles (``GC_MakeArcOfCircle`` through start, middle and end points); spline
 segments become B-spline curves with the same knots and poles as the DXF export (the exact
 piecewise cubic, knots of multiplicity 3 inside).  The face (profile minus bore) is extruded to
-the thickness and the keyway is cut as a box.  Optional: ``pip install "camgen[step]"``
+the thickness and the keyway's prism (camgen.body's one keyway shape) is cut.  Optional: ``pip install "camgen[step]"``
 (cadquery-ocp-novtk, Apache-2.0 bindings of OCCT).  The file's time stamp is fixed so the same
 cam gives the same bytes.
 """
@@ -60,10 +60,14 @@ def step_bytes(contour: Contour, body: Any, name: str = "cam") -> bytes:
     """STEP file content of the extruded cam body (``body``: :class:`camgen.export.solid.SolidSpec`)."""
     _ocp()
     from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut
-    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakeWire
-    from OCP.BRepPrimAPI import BRepPrimAPI_MakeBox, BRepPrimAPI_MakePrism
-    from OCP.gp import gp_Ax2, gp_Circ, gp_Dir, gp_Pnt, gp_Trsf, gp_Vec
-    from OCP.BRepBuilderAPI import BRepBuilderAPI_Transform
+    from OCP.BRepBuilderAPI import (
+        BRepBuilderAPI_MakeEdge,
+        BRepBuilderAPI_MakeFace,
+        BRepBuilderAPI_MakePolygon,
+        BRepBuilderAPI_MakeWire,
+    )
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakePrism
+    from OCP.gp import gp_Ax2, gp_Circ, gp_Dir, gp_Pnt, gp_Vec
     from OCP.Interface import Interface_Static
     from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
     from OCP.TopoDS import TopoDS
@@ -79,12 +83,14 @@ def step_bytes(contour: Contour, body: Any, name: str = "cam") -> bytes:
         bore = BRepBuilderAPI_MakeWire(BRepBuilderAPI_MakeEdge(circle).Edge()).Wire()
         face.Add(TopoDS.Wire(bore.Reversed()))
     solid = BRepPrimAPI_MakePrism(face.Face(), gp_Vec(0, 0, body.thickness)).Shape()
-    if body.keyway_width > 0:
-        length = body.bore_diameter / 2 + body.keyway_depth
-        box = BRepPrimAPI_MakeBox(gp_Pnt(0.0, -body.keyway_width / 2, -1.0), length, body.keyway_width, body.thickness + 2.0).Shape()
-        turn = gp_Trsf()
-        turn.SetRotation(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)).Axis(), body.keyway_angle)
-        box = BRepBuilderAPI_Transform(box, turn).Shape()
+    if body.keyway_width > 0:  # the keyway's prism, from the one keyway shape (camgen.body)
+        corners = body.keyway_corners()
+        outline = BRepBuilderAPI_MakePolygon()
+        for x, y in corners:
+            outline.Add(gp_Pnt(float(x), float(y), -1.0))
+        outline.Close()
+        key_face = BRepBuilderAPI_MakeFace(outline.Wire()).Face()
+        box = BRepPrimAPI_MakePrism(key_face, gp_Vec(0, 0, body.thickness + 2.0)).Shape()
         solid = BRepAlgoAPI_Cut(solid, box).Shape()
     Interface_Static.SetCVal_s("write.step.unit", "MM")
     Interface_Static.SetCVal_s("write.step.schema", "AP214IS")

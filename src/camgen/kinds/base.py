@@ -16,10 +16,11 @@ from camgen.errors import CamgenError, ParameterError
 from camgen.schema import Angle, Key, Length, Number, Text
 
 if TYPE_CHECKING:  # the heavy modules stay unimported until a cam is built
+    from camgen.body import BodySpec
     from camgen.checks import CamEvaluation, CheckResult, Follower
-    from camgen.errors import UndercutError
     from camgen.contour import Contour
-    from camgen.export.solid import CamSolid, SolidSpec
+    from camgen.errors import UndercutError
+    from camgen.export.solid import CamSolid
 
 #: Analysis stages a kind may feed (the pipeline plans them from the requested outputs).
 #: ``analysis``: figures and files beyond the design checks (ride simulations, fits, sweeps);
@@ -47,7 +48,7 @@ class CamSpec:
     name: str
     kind: str
     params: Any  # the kind's own frozen dataclass (see its module)
-    body: "SolidSpec"
+    body: "BodySpec"
     checks: CheckSettings
     follower: "Follower | None" = None
 
@@ -65,7 +66,7 @@ class BuiltCam:
     kind: str
     contour: "Contour | None"
     figures: dict[str, Any]
-    body: "SolidSpec"
+    body: "BodySpec"
     follower: "Follower | None" = None
     pitch: "Contour | None" = None  # follower-centre path the cam was made for (roller followers)
     breadth: float | None = None  # constant breadth (yoke followers)
@@ -110,9 +111,9 @@ class CamKind:
 # Key groups shared by the kinds
 # --------------------------------------------------------------------------------------------
 def _solid_default(name: str) -> Any:
-    from camgen.export.solid import SolidSpec
+    from camgen.body import BodySpec
 
-    return field_default(SolidSpec, name)
+    return field_default(BodySpec, name)
 
 
 def body_keys() -> tuple[Key, ...]:
@@ -146,12 +147,12 @@ def source_key() -> Key:
     return Key("source", Text(), "Where the numbers come from (a note copied into the report).", ("report",))
 
 
-def read_body(where: str, parsed: Mapping[str, Any]) -> "SolidSpec":
-    """The :class:`~camgen.export.solid.SolidSpec` of a cam table, errors naming the scene key."""
-    from camgen.export.solid import SolidSpec
+def read_body(where: str, parsed: Mapping[str, Any]) -> "BodySpec":
+    """The :class:`~camgen.export.solid.BodySpec` of a cam table, errors naming the scene key."""
+    from camgen.body import BodySpec
 
     keys = body_keys()
-    return rename_errors(where, lambda: SolidSpec(**{k.field: parsed[k.field] for k in keys if k.field in parsed}), keys)
+    return rename_errors(where, lambda: BodySpec(**{k.field: parsed[k.field] for k in keys if k.field in parsed}), keys)
 
 
 def read_checks(parsed: Mapping[str, Any]) -> CheckSettings:

@@ -107,9 +107,7 @@ def _profile_figure(Figure: Any, cam: Any) -> str:
         r = body.bore_diameter / 2
         ax.plot(r * np.cos(a), r * np.sin(a), color="tab:orange", lw=0.8, label="bore")
         if body.keyway_width > 0:
-            from camgen.export.solid import keyway_rectangle
-
-            rect = keyway_rectangle(body)
+            rect = body.keyway_corners()
             rect = np.vstack([rect, rect[:1]])
             ax.plot(rect[:, 0], rect[:, 1], color="tab:green", lw=0.8, label="keyway")
     follower = ev.follower

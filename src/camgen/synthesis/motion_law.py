@@ -30,7 +30,13 @@ from typing import Sequence
 import numpy as np
 
 from camgen.contour import Contour, Spline
-from camgen.errors import GeometryError, ParameterError, UndercutError, require_finite, require_positive
+from camgen.errors import (
+    GeometryError,
+    ParameterError,
+    UndercutError,
+    require_finite,
+    require_positive,
+)
 
 TWO_PI = 2.0 * math.pi
 

@@ -3,14 +3,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from camgen.export.solid import SolidSpec
+from camgen.body import BodySpec
 
 STRIDE = (220.0, 160.0, 25.0)
 HEIGHT = (220.0, 220.0, 10.0)
 BODIES = {
-    "stride": SolidSpec(thickness=20.0, bore_diameter=20.0, keyway_width=6.0, keyway_depth=2.8, min_wall=3.0),
-    "height": SolidSpec(thickness=20.0, bore_diameter=8.0, keyway_width=2.0, keyway_depth=1.0, min_wall=3.0),
-    "steering": SolidSpec(thickness=8.0, bore_diameter=8.0, keyway_width=2.0, keyway_depth=1.0, min_wall=3.0),
+    "stride": BodySpec(thickness=20.0, bore_diameter=20.0, keyway_width=6.0, keyway_depth=2.8, min_wall=3.0),
+    "height": BodySpec(thickness=20.0, bore_diameter=8.0, keyway_width=2.0, keyway_depth=1.0, min_wall=3.0),
+    "steering": BodySpec(thickness=8.0, bore_diameter=8.0, keyway_width=2.0, keyway_depth=1.0, min_wall=3.0),
 }
 
 

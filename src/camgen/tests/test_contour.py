@@ -9,7 +9,12 @@ import pytest
 import camgen
 from camgen.contour import Arc, Contour, Spline
 from camgen.errors import GeometryError, ParameterError
-from camgen.tests.helpers import brute_support, chord_deviation, distance_to_arcs, shoelace
+from camgen.tests.helpers import (
+    brute_support,
+    chord_deviation,
+    distance_to_arcs,
+    shoelace,
+)
 
 
 def mixed_contour() -> Contour:

@@ -8,7 +8,13 @@ import pytest
 
 from camgen.checks import Follower, evaluate_cam
 from camgen.errors import GeometryError, ParameterError
-from camgen.synthesis.motion_law import LAWS, MotionProgram, MotionSegment, flat_cam, roller_cam
+from camgen.synthesis.motion_law import (
+    LAWS,
+    MotionProgram,
+    MotionSegment,
+    flat_cam,
+    roller_cam,
+)
 
 D = math.radians
 PROGRAM = [MotionSegment("cycloidal", D(120), 20.0), MotionSegment("dwell", D(60), 0.0),

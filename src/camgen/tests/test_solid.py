@@ -8,8 +8,9 @@ import subprocess
 import numpy as np
 import pytest
 
+from camgen.body import BodySpec
 from camgen.errors import GeometryError
-from camgen.export.solid import SolidSpec, cam_solid, mesh_bytes
+from camgen.export.solid import cam_solid, mesh_bytes
 from camgen.tests.cams import BODIES, radial_error
 from camgen.tests.helpers import require_tool
 
@@ -222,7 +223,7 @@ def test_volume_mesh_node_sets(fea_cams):
     import shapely
     from shapely.geometry import Polygon
 
-    from camgen.export.solid import keyway_rectangle, volume_mesh
+    from camgen.export.solid import volume_mesh
 
     contour, body, solid, _ = fea_cams["stride"]
     layers = 3
@@ -234,7 +235,7 @@ def test_volume_mesh_node_sets(fea_cams):
     assert np.max(radial_error(contour, xy[mesh.node_sets["PROFILE"]])) <= 1e-6  # chord vertices lie on the curve
     bore = xy[mesh.node_sets["BORE"]]
     on_circle = np.abs(np.hypot(bore[:, 0], bore[:, 1]) - body.bore_diameter / 2) <= 1e-6
-    on_key = Polygon(keyway_rectangle(body)).exterior.distance(shapely.points(bore)) <= 1e-6
+    on_key = Polygon(body.keyway_corners()).exterior.distance(shapely.points(bore)) <= 1e-6
     # off the circle, per node layer: the keyway's 2 outer corners and the 2 points where its
     # sides cut the bore polygon (on a chord of the circle)
     assert np.all(on_circle | on_key) and np.sum(~on_circle) == 4 * (layers + 1)
@@ -261,9 +262,9 @@ def test_binary_stl_passes_admesh(contours, tmp_path):
 @pytest.mark.parametrize(
     "body, fragment",
     [
-        (SolidSpec(bore_diameter=21.0, min_wall=0.5), "breaks through"),
-        (SolidSpec(bore_diameter=16.0, min_wall=3.0), "wall of only"),
-        (SolidSpec(bore_diameter=8.0, keyway_width=2.0, keyway_depth=6.0, keyway_angle=0.0, min_wall=0.5), "breaks through"),
+        (BodySpec(bore_diameter=21.0, min_wall=0.5), "breaks through"),
+        (BodySpec(bore_diameter=16.0, min_wall=3.0), "wall of only"),
+        (BodySpec(bore_diameter=8.0, keyway_width=2.0, keyway_depth=6.0, keyway_angle=0.0, min_wall=0.5), "breaks through"),
     ],
 )
 def test_bore_or_keyway_breaking_the_wall_is_an_error(body, fragment, contours):
@@ -272,12 +273,12 @@ def test_bore_or_keyway_breaking_the_wall_is_an_error(body, fragment, contours):
 
 
 def test_wall_is_measured_where_it_is_thinnest(contours):
-    from camgen.export.solid import wall_left
+    from camgen.body import wall_left
 
-    wall, where = wall_left(contours["height"], SolidSpec(bore_diameter=8.0))
+    wall, where = wall_left(contours["height"], BodySpec(bore_diameter=8.0))
     # the whole base arc (+-30 deg for b = a) is 10 mm from the axis
     assert wall == pytest.approx(10.0 - 4.0, abs=2e-4) and (where <= 30.01 or where >= 329.99)
-    wall, where = wall_left(contours["height"], SolidSpec(bore_diameter=8.0, keyway_width=2.0, keyway_depth=5.5, keyway_angle=0.0))
+    wall, where = wall_left(contours["height"], BodySpec(bore_diameter=8.0, keyway_width=2.0, keyway_depth=5.5, keyway_angle=0.0))
     # thinnest at the keyway's outer corners (9.5, +-1): 10 - hypot(9.5, 1) from the base circle
     assert wall == pytest.approx(10.0 - math.hypot(9.5, 1.0), abs=2e-4) and (where < 15 or where > 345)
 

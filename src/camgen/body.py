@@ -1,0 +1,102 @@
+"""The cam body beside its profile: thickness, shaft bore and keyway, and the wall they leave.
+
+One definition of the keyway shape for every writer (:meth:`BodySpec.keyway_corners`): a
+rectangle of ``keyway_width`` centred on the direction ``keyway_angle`` (cam frame), reaching
+from the axis to ``bore_diameter / 2 + keyway_depth``.  The mesh subtracts it from the profile
+together with the bore; the DXF draws the part outside the bore; STEP cuts its prism.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from camgen.contour import Contour
+from camgen.errors import ParameterError, require_finite, require_positive
+
+
+@dataclass(frozen=True)
+class BodySpec:
+    """Cam body: thickness, shaft bore and keyway (mm, rad); ``min_wall`` is the smallest wall
+    allowed between bore/keyway and profile.
+
+    ``bore_diameter = 0`` means no bore; ``keyway_width = 0`` no keyway.
+    """
+
+    thickness: float = 10.0
+    bore_diameter: float = 0.0
+    keyway_width: float = 0.0
+    keyway_depth: float = 0.0
+    keyway_angle: float = math.pi / 2
+    min_wall: float = 2.0
+
+    def __post_init__(self) -> None:
+        require_positive("thickness", self.thickness)
+        for name in ("bore_diameter", "keyway_width", "keyway_depth", "min_wall"):
+            if require_finite(name, getattr(self, name)) < 0:
+                raise ParameterError(name, getattr(self, name), f"{name} >= 0 mm")
+        require_finite("keyway_angle", self.keyway_angle)
+        if self.keyway_width > 0 and (self.bore_diameter <= 0 or self.keyway_depth <= 0):
+            raise ParameterError("keyway_width", self.keyway_width, "0 unless bore_diameter > 0 and keyway_depth > 0")
+        if self.keyway_width >= self.bore_diameter > 0:
+            raise ParameterError("keyway_width", self.keyway_width, f"0 <= keyway_width < bore_diameter = {self.bore_diameter:g} mm")
+        if self.keyway_width == 0 and (self.keyway_depth > 0):
+            raise ParameterError("keyway_depth", self.keyway_depth, "0 unless keyway_width > 0", "a keyway needs a width")
+
+    @property
+    def keyway_reach(self) -> float:
+        """Distance of the keyway's bottom from the axis, mm."""
+        return self.bore_diameter / 2 + self.keyway_depth
+
+    def keyway_corners(self, from_radius: float = 0.0) -> np.ndarray:
+        """Corners (4, 2) of the keyway rectangle, counter-clockwise, from ``from_radius`` along
+        its centre line out to its bottom (0: from the axis; the bore radius' chord point
+        ``sqrt(r^2 - (w/2)^2)``: the part outside the bore)."""
+        half = self.keyway_width / 2
+        out = self.keyway_reach
+        local = np.array([[from_radius, -half], [out, -half], [out, half], [from_radius, half]])
+        c, s = math.cos(self.keyway_angle), math.sin(self.keyway_angle)
+        return local @ np.array([[c, s], [-s, c]])  # rotated by +keyway_angle
+
+    def keyway_outside_bore(self) -> np.ndarray:
+        """The keyway's three sides outside the bore circle: corners (4, 2) from where its sides
+        meet the bore circle."""
+        r, half = self.bore_diameter / 2, self.keyway_width / 2
+        return self.keyway_corners(math.sqrt(r * r - half * half))
+
+
+def wall_left(contour: Contour, body: BodySpec, chord_tol: float = 1e-4) -> tuple[float, float]:
+    """Thinnest wall (mm) between bore/keyway and the profile, and the cam angle (deg) where it is.
+
+    Measured on the profile flattened at ``chord_tol`` (every chord within ``chord_tol`` of the
+    curve, so the true wall is within ``chord_tol`` of the value; ``chord_tol`` is subtracted
+    to stay on the safe side).  Negative: the bore or keyway breaks through.
+    """
+    if body.bore_diameter <= 0:
+        return math.inf, 0.0
+    poly = contour.flatten(chord_tol)
+    radius = np.hypot(poly[:, 0], poly[:, 1])
+    i = int(np.argmin(radius))
+    wall, where = float(radius[i]) - body.bore_diameter / 2, poly[i]
+    if body.keyway_width > 0:
+        # distance of the profile vertices to the keyway rectangle, in the keyway's frame
+        c, s = math.cos(body.keyway_angle), math.sin(body.keyway_angle)
+        along = poly @ np.array([c, s])
+        across = poly @ np.array([-s, c])
+        out = body.keyway_reach
+        dx = np.maximum(np.maximum(-along, along - out), 0.0)
+        dy = np.maximum(np.abs(across) - body.keyway_width / 2, 0.0)
+        dist = np.hypot(dx, dy)
+        inside = (along >= 0) & (along <= out) & (np.abs(across) <= body.keyway_width / 2)
+        dist = np.where(inside, -1.0, dist)
+        # the rectangle's outer corners must lie inside the profile (star-shaped cams)
+        corners = body.keyway_corners()[1:3]
+        reach = contour.polar_radius(np.arctan2(corners[:, 1], corners[:, 0]))
+        j = int(np.argmin(dist))
+        k_wall = float(dist[j])
+        if np.any(np.hypot(corners[:, 0], corners[:, 1]) >= reach):
+            k_wall = min(k_wall, -1.0)
+        if k_wall < wall:
+            wall, where = k_wall, poly[j]
+    return wall - chord_tol, math.degrees(math.atan2(where[1], where[0])) % 360.0
