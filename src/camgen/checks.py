@@ -20,6 +20,7 @@ import numpy as np
 
 from camgen.contour import Contour
 from camgen.errors import GeometryError, ParameterError, require_finite
+from camgen.geometry import wrap_pi
 
 _ORDER = ["none", "G0", "G1", "G2"]
 FOLLOWER_KINDS = ("yoke", "flat", "roller")
@@ -347,7 +348,7 @@ def roller_kinematics(pitch: Contour, follower: Follower, samples: int = 7200) -
         position = np.arctan2(rel[:, 1], rel[:, 0])
         velocity_dir = position + math.pi / 2
     normal_angle = np.arctan2(n[:, 1], n[:, 0]) + theta
-    pressure = np.mod(normal_angle - velocity_dir + math.pi, 2.0 * math.pi) - math.pi
+    pressure = wrap_pi(normal_angle - velocity_dir)
     pressure = np.where(pressure > math.pi / 2, pressure - math.pi, np.where(pressure < -math.pi / 2, pressure + math.pi, pressure))
     theta = np.mod(theta, 2.0 * math.pi)
     order = np.argsort(theta)

@@ -26,6 +26,13 @@ from typing import Iterable, Union
 import numpy as np
 
 from camgen.errors import GeometryError, ParameterError, require_positive
+from camgen.geometry import (
+    angle_in_sweep,
+    outward_normal,
+    signed_curvature,
+    unit_vectors,
+    wrap_pi,
+)
 
 TWO_PI = 2.0 * math.pi
 
@@ -39,29 +46,9 @@ def _as_array(values: object) -> np.ndarray:
     return np.asarray(values, dtype=float)
 
 
-def unit_vectors(angle: np.ndarray) -> np.ndarray:
-    """Unit vectors (..., 2) at the given angles (rad)."""
-    angle = np.asarray(angle, dtype=float)
-    out = np.empty(angle.shape + (2,))
-    np.cos(angle, out=out[..., 0])
-    np.sin(angle, out=out[..., 1])
-    return out
-
-
 _unit = unit_vectors
-
-
-def _wrap_pi(angle: np.ndarray) -> np.ndarray:
-    """Angles wrapped to [-pi, pi)."""
-    return np.mod(angle + math.pi, TWO_PI) - math.pi
-
-
-def _angle_in_sweep(angle: np.ndarray, start: float, sweep: float) -> np.ndarray:
-    """True where ``angle`` lies on the counter-clockwise range ``[start, start + sweep]``."""
-    lo, width = (start, sweep) if sweep >= 0 else (start + sweep, -sweep)
-    rel = np.mod(angle - lo, TWO_PI)
-    # an angle just below lo (rel close to 2 pi) counts as lo: keeps full circles and ends closed
-    return (rel <= width + 1e-15) | (rel >= TWO_PI - 1e-12)
+_wrap_pi = wrap_pi
+_angle_in_sweep = angle_in_sweep
 
 
 # --------------------------------------------------------------------------------------------
@@ -337,8 +324,7 @@ class Spline:
     def curvature(self, u: np.ndarray) -> np.ndarray:
         """Signed curvature, 1/mm."""
         _, d1, d2 = self.derivatives(self._t(u))
-        speed = np.hypot(d1[:, 0], d1[:, 1])
-        return (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / speed**3
+        return signed_curvature(d1, d2)
 
     @property
     def start_point(self) -> np.ndarray:
@@ -530,10 +516,7 @@ class Spline:
 
         def exact(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
             p, d1, d2 = self.derivatives(t)
-            speed = np.hypot(d1[:, 0], d1[:, 1])
-            normal = np.stack([d1[:, 1], -d1[:, 0]], axis=-1) / speed[:, None]
-            k = (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / speed**3
-            return p + distance * normal, d1 * (1.0 + distance * k)[:, None]
+            return p + distance * outward_normal(d1), d1 * (1.0 + distance * signed_curvature(d1, d2))[:, None]
 
         subdiv = 1
         h = np.diff(self.breaks)

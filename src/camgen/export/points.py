@@ -65,13 +65,13 @@ def base_radius(contour: Contour) -> float:
     import numpy as np
 
     from camgen.contour import Arc
+    from camgen.geometry import angle_in_sweep
 
     candidates = [float(np.min(np.hypot(*contour.flatten(1e-7).T)))]
     for seg in contour.segments:
         if isinstance(seg, Arc):
             distance = math.hypot(*seg.center)
             toward_axis = math.atan2(-seg.center[1], -seg.center[0]) if distance > 0 else seg.start_angle
-            lo = seg.start_angle if seg.sweep > 0 else seg.start_angle + seg.sweep
-            if (toward_axis - lo) % (2 * math.pi) <= abs(seg.sweep) + 1e-15:
+            if angle_in_sweep(np.array([toward_axis]), seg.start_angle, seg.sweep)[0]:
                 candidates.append(abs(distance - seg.radius))
     return min(candidates)

@@ -51,8 +51,9 @@ from typing import Any
 import numpy as np
 
 from camgen.contour import Contour
-from camgen.contour import unit_vectors as _unit
 from camgen.errors import GeometryError, ParameterError, require_finite
+from camgen.geometry import unit_vectors as _unit
+from camgen.geometry import wrap_pi
 
 D = math.radians
 
@@ -118,8 +119,7 @@ def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.sum(a * b, axis=-1)
 
 
-def _wrap(a: np.ndarray) -> np.ndarray:
-    return np.mod(a + math.pi, 2.0 * math.pi) - math.pi
+_wrap = wrap_pi
 
 
 def grashof_margin(leg: HorseLeg) -> float:

@@ -41,6 +41,7 @@ import numpy as np
 
 from camgen.contour import Contour, Spline
 from camgen.errors import GeometryError, ParameterError, UndercutError, require_positive
+from camgen.geometry import outward_normal, signed_curvature
 from camgen.synthesis.trajectory import CamSynthesis, Trajectory, synthesize_rho
 
 
@@ -223,9 +224,8 @@ def ride_geometry(profile: Contour, rod_radius: float, nodes: int = 6) -> RideGe
     piece = np.repeat(np.arange(h.size), nodes)
     tau_flat = (t - seg.breaks[:-1, None]).ravel()
     c0, c1, c2 = (seg.eval_piece(piece, tau_flat, order) for order in (0, 1, 2))
-    speed = np.hypot(c1[:, 0], c1[:, 1])
     normal = _outward(c1)
-    stretch = 1.0 + rod_radius * (c1[:, 0] * c2[:, 1] - c1[:, 1] * c2[:, 0]) / speed**3
+    stretch = 1.0 + rod_radius * signed_curvature(c1, c2)
     if np.any(stretch <= 0):
         raise GeometryError("the rod-centre path of this profile has a cusp: the rod radius exceeds a concave radius of the cam")
     q = c0 + rod_radius * normal
@@ -250,9 +250,7 @@ def ride_geometry(profile: Contour, rod_radius: float, nodes: int = 6) -> RideGe
     return RideGeometry(theta[rev], rod.reshape(t.shape)[rev], scale[rev], weights, integ, theta_end, rod_end)
 
 
-def _outward(derivative: np.ndarray) -> np.ndarray:
-    """Outward unit normals of a CCW curve from its derivatives (n, 2)."""
-    return np.stack([derivative[:, 1], -derivative[:, 0]], axis=1) / np.hypot(derivative[:, 0], derivative[:, 1])[:, None]
+_outward = outward_normal
 
 
 def _cumulative(values: np.ndarray, geom: RideGeometry) -> np.ndarray:

@@ -37,6 +37,7 @@ import numpy as np
 
 from camgen.contour import Arc, Contour
 from camgen.errors import ParameterError, require_positive
+from camgen.geometry import wrap_pi
 
 
 def validate_three_arc(a: float, b: float, c: float) -> tuple[float, float, float]:
@@ -131,7 +132,7 @@ def yoke_law(a: float, b: float, c: float, phi: object) -> tuple[np.ndarray, np.
     at the region boundaries B and D.
     """
     a, b, c = validate_three_arc(a, b, c)
-    phi = np.mod(np.asarray(phi, dtype=float) + math.pi, 2.0 * math.pi) - math.pi
+    phi = wrap_pi(phi)
     ap = np.abs(phi)
     half, phi_c, phi_d = region_bounds(a, b, c)
     in2 = (ap > half) & (ap <= phi_c)
@@ -158,7 +159,7 @@ def contact_from_normal(contour: Contour, psi: object) -> tuple[np.ndarray, np.n
     _, point = contour.support_point(psi)
     phi = np.arctan2(point[..., 1], point[..., 0])
     radius = np.hypot(point[..., 0], point[..., 1])
-    beta = np.abs(np.mod(psi - phi + math.pi, 2.0 * math.pi) - math.pi)
+    beta = np.abs(wrap_pi(psi - phi))
     return phi, beta, radius
 
 
