@@ -151,7 +151,7 @@ def _polar_deg(points: np.ndarray) -> list[float]:
     return _deg(np.arctan2(points[:, 1], points[:, 0]))
 
 
-def _run_ends(mask: np.ndarray, angles: np.ndarray) -> list[float]:
+def run_ends(mask: np.ndarray, angles: np.ndarray) -> list[float]:
     """Start and end cam angles (deg) of every run of True in ``mask`` (samples in curve order,
     periodic): where a failing region begins and ends."""
     mask = np.asarray(mask, dtype=bool)
@@ -222,7 +222,7 @@ def convexity_check(contour: Contour) -> CheckResult:
     worst = int(np.argmin(kappa))
     bad = kappa <= 0
     pts = contour.evaluate(t)
-    where = _run_ends(bad, np.arctan2(pts[:, 1], pts[:, 0])) if bad.any() else _polar_deg(pts[worst])
+    where = run_ends(bad, np.arctan2(pts[:, 1], pts[:, 0])) if bad.any() else _polar_deg(pts[worst])
     return CheckResult(
         "undercut", float(kappa[worst]), 0.0, ">", "1/mm", bool(not bad.any()), where,
         "convex everywhere: a flat face touches the cam at one point in every direction" if not bad.any()
@@ -260,7 +260,7 @@ def machinability_check(contour: Contour, tool_radius: float, tool_is_limit: boo
         i = int(np.argmax(np.where(concave, rho, -np.inf)))
         value = float(-rho[i])
         bad = concave & (-rho < tool_radius)
-        where = _run_ends(bad, angle) if bad.any() else _deg(angle[i])
+        where = run_ends(bad, angle) if bad.any() else _deg(angle[i])
         note = ("a concave radius below the tool radius cannot be cut without gouging"
                 + (" (between the listed pairs of cam angles)" if bad.any() else ""))
         if tool_is_limit:
@@ -293,7 +293,7 @@ def undercut_check(pitch: Contour, follower: Follower) -> CheckResult:
         rho = np.where(kappa > 0, 1.0 / kappa, np.inf)
     i = int(np.argmin(rho))
     bad = rho <= follower.roller_radius
-    where = _run_ends(bad, np.arctan2(pts[:, 1], pts[:, 0])) if bad.any() else _polar_deg(pts[i])
+    where = run_ends(bad, np.arctan2(pts[:, 1], pts[:, 0])) if bad.any() else _polar_deg(pts[i])
     return CheckResult(
         "undercut", float(rho[i]), follower.roller_radius, ">", "mm", bool(not bad.any()), where,
         "smallest convex radius of the pitch curve against the roller radius"
@@ -360,7 +360,7 @@ def pressure_angle_check(values: np.ndarray, cam_angle: np.ndarray, limit: float
     mag = np.abs(values)
     i = int(np.argmax(mag))
     bad = mag > limit
-    where = _run_ends(bad, cam_angle) if bad.any() else _deg(cam_angle[i])
+    where = run_ends(bad, cam_angle) if bad.any() else _deg(cam_angle[i])
     return CheckResult("pressure_angle", float(np.degrees(mag[i])), float(np.degrees(limit)), "<=", "deg", bool(not bad.any()),
                        where, f"largest pressure angle of the {what}" + (" (above the limit between the listed pairs of cam angles)" if bad.any() else ""))
 
@@ -438,7 +438,7 @@ def face_length_check(offsets: np.ndarray, cam_angle: np.ndarray, half_length: f
                            "largest contact offset along the face: the face must reach this far from its centre "
                            "(give face_half_length_mm to check it)")
     bad = mag > half_length
-    where = _run_ends(bad, cam_angle) if bad.any() else _deg(cam_angle[i])
+    where = run_ends(bad, cam_angle) if bad.any() else _deg(cam_angle[i])
     return CheckResult("face_length", float(mag[i]), half_length, "<=", "mm", bool(not bad.any()), where,
                        "largest contact offset along the face against the face half-length")
 

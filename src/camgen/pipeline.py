@@ -98,14 +98,16 @@ def check_cam(cam: "BuiltCam", spec: "CamSpec", tool_radius: float, tool_is_limi
     follower = cam.follower
     pitch = cam.pitch if follower.kind == "roller" else None
     cam.evaluation = evaluate_cam(cam.contour, follower, tool_radius, spec.checks.rpm, cam.breadth, pitch, tool_is_limit)
-    if cam.contour is None and cam.undercut is not None and not any(c.name == "undercut" for c in cam.evaluation.checks):
-        exc = cam.undercut
-        angle, rho = exc.curve
-        cam.evaluation.checks.insert(0, CheckResult("undercut", float(rho.min()), exc.limit, ">", "mm", False, exc.where_deg,
-                                                    str(exc), blocks_manufacture=True))
-        cam.evaluation.curvature_radius = (angle, rho)
-        cam.evaluation.curvature_label = "radius of curvature of the envelope (mm)"
-        cam.evaluation.curvature_limit = exc.limit
+    if cam.contour is None and cam.undercut is not None and not any(c.name == "undercut" and c.failed for c in cam.evaluation.checks):
+        exc = cam.undercut  # the synthesis found the undercut: a failed check, with its curvature curve when it has one
+        value = float(exc.curve[1].min()) if exc.curve is not None else "undercut"
+        cam.evaluation.checks = [c for c in cam.evaluation.checks if c.name != "undercut"]
+        cam.evaluation.checks.insert(0, CheckResult("undercut", value, exc.limit, ">", "mm", False, exc.where_deg,
+                                                    " ".join(str(exc).split()), blocks_manufacture=True))
+        if exc.curve is not None:
+            cam.evaluation.curvature_radius = exc.curve
+            cam.evaluation.curvature_label = "radius of curvature of the envelope (mm)"
+            cam.evaluation.curvature_limit = exc.limit
     cam.checks.extend(cam.evaluation.checks)
     cam.figures["follower"] = {"kind": follower.kind, "motion": follower.motion, "roller_radius_mm": follower.roller_radius,
                                "offset_mm": follower.offset, "pressure_angle_limit_deg": math.degrees(follower.limit)}

@@ -172,7 +172,10 @@ def rename_errors(where: str, make: Callable[[], Any], keys: tuple[Key, ...]) ->
 
 
 def with_cam(where: str, make: Callable[[], Any]) -> Any:
-    """Call ``make``; any other :class:`CamgenError` is prefixed with the cam's scene path."""
+    """Call ``make``; any other :class:`CamgenError` is prefixed with the cam's scene path (its
+    attributes, e.g. an undercut's pitch curve, are kept)."""
+    import copy
+
     try:
         return make()
     except ParameterError:
@@ -181,4 +184,6 @@ def with_cam(where: str, make: Callable[[], Any]) -> Any:
         text = str(exc)
         if text.startswith(f"{where}"):
             raise
-        raise type(exc)(f"{where}: {text}") from None
+        renamed = copy.copy(exc)
+        renamed.args = (f"{where}: {text}",)
+        raise renamed from None

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from camgen.errors import ParameterError
+from camgen.errors import ParameterError, UndercutError
 from camgen.kinds.base import (
     BuiltCam,
     CamKind,
@@ -106,10 +106,14 @@ def build(spec: CamSpec, stages: frozenset[str]) -> BuiltCam:
     from camgen.synthesis import motion_law as ml
 
     p: MotionLawParams = spec.params
-    if p.follower == "roller":
-        profile, pitch = with_cam(f"cams.{spec.name}", lambda: ml.roller_cam(p.program, p.base_radius, p.roller_radius, p.offset, p.samples))
-    else:
-        profile, pitch = with_cam(f"cams.{spec.name}", lambda: ml.flat_cam(p.program, p.base_radius, p.samples)), None
+    try:
+        if p.follower == "roller":
+            profile, pitch = with_cam(f"cams.{spec.name}", lambda: ml.roller_cam(p.program, p.base_radius, p.roller_radius, p.offset, p.samples))
+        else:
+            profile, pitch = with_cam(f"cams.{spec.name}", lambda: ml.flat_cam(p.program, p.base_radius, p.samples)), None
+    except UndercutError as exc:  # the follower cannot ride this cam: the report shows where and why
+        figures = {"base_radius_mm": p.base_radius, "stroke_mm": p.program.stroke}
+        return BuiltCam(spec.name, spec.kind, None, figures, spec.body, spec.follower, pitch=exc.pitch, undercut=exc)
     figures: dict[str, Any] = {
         "base_radius_mm": p.base_radius,
         "stroke_mm": p.program.stroke,

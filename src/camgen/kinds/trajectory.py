@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from camgen.errors import ParameterError, SceneError
+from camgen.errors import ParameterError, SceneError, UndercutError
 from camgen.kinds.base import (
     BuiltCam,
     CamKind,
@@ -141,7 +141,11 @@ def build(spec: CamSpec, stages: frozenset[str]) -> TrajectoryCam:
 
     p: TrajectoryParams = spec.params
     traj, device = p.trajectory, p.device
-    cam = with_cam(f"cams.{spec.name}", lambda: tc.tricycle_cam(traj, device, p.samples, p.curvature))
+    try:
+        cam = with_cam(f"cams.{spec.name}", lambda: tc.tricycle_cam(traj, device, p.samples, p.curvature))
+    except UndercutError as exc:  # the rod cannot follow this cam: the report shows where and why
+        figures = {"trajectory": traj.source, "period_mm": traj.period, "base_radius_mm": device.base_radius}
+        return TrajectoryCam(spec.name, spec.kind, None, figures, spec.body, spec.follower, pitch=exc.pitch, undercut=exc)
     synth = cam.synthesis
     figures: dict[str, Any] = {
         "trajectory": traj.source,

@@ -177,13 +177,14 @@ def flat_cam(program: MotionProgram, base_radius: float, samples: int = 720) -> 
     rho = base_radius + s + d2s  # radius of curvature of the envelope: h + h''
     if np.any(rho <= 0):
         worst = float(np.mod(theta[np.argmin(rho)], TWO_PI))
-        cam_angle = np.mod(theta, TWO_PI)
+        from camgen.checks import run_ends
+
+        cam_angle = np.mod(theta[:-1], TWO_PI)
         order = np.argsort(cam_angle)
-        bad = np.degrees(cam_angle[rho <= 0])
         raise UndercutError(
             f"the flat follower undercuts the cam at cam angle {math.degrees(worst):.3f} deg "
             f"(radius of curvature Rb + s + s'' = {float(rho.min()):.4g} mm <= 0): use a larger base radius",
-            curve=(cam_angle[order], rho[order]), limit=0.0, where_deg=[round(float(bad.min()), 6), round(float(bad.max()), 6)],
+            curve=(cam_angle[order], rho[:-1][order]), limit=0.0, where_deg=run_ends(rho[:-1][order] <= 0, cam_angle[order]),
         )
     h = base_radius + s
     dh = -ds  # dh/dpsi = -ds/dtheta
