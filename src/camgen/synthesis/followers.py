@@ -23,7 +23,7 @@ radius ``Rp = base_radius + roller_radius``.  Flat face: the line ``y = base_rad
 perpendicular to the motion, its centre on the follower axis ``x = e`` (the offset moves the face
 centre only, not the cam).  For a ``ccw`` cam a positive offset lowers the pressure angle during
 a rise: ``tan(alpha) = (s' - sigma e) / (sqrt(Rp^2 - e^2) + s)`` (Norton, *Design of Machinery*,
-eq. 8.31, with eccentricity ``epsilon = sigma e``).
+ch. 8, pressure angle of an eccentric roller follower, with eccentricity ``epsilon = sigma e``).
 
 **Oscillating followers** turn about a pivot at ``pivot = (px, py)`` (fixed frame, mm).  The law
 gives the swing ``phi`` (rad); a positive swing turns the arm about the pivot in the direction
@@ -64,7 +64,10 @@ one per law segment between breaks: C2 cubic splines through exact points, clamp
 tangents at every break where the law's acceleration (or velocity) jumps, knots at every break,
 refined until the spline is within ``fit_tol`` (mm) of the exact curve at the quarter and mid
 points of every piece.  The curve is therefore G2 at every break where ``s''`` is continuous and
-exactly G1 (a curvature jump) where ``s''`` jumps.
+exactly G1 (a curvature jump) where ``s''`` jumps.  The contour has one segment per interval
+between the law's breaks (one segment from cam angle 0 round to itself when there are none), and
+each segment's spline parameter is ``t = -sigma theta`` (rad, shifted by a multiple of 2 pi): the
+spline at ``t`` is the contact point of cam angle ``theta``.
 """
 from __future__ import annotations
 
@@ -337,6 +340,15 @@ class Kinematics:
     pitch_d2: Optional[np.ndarray] = field(default=None, repr=False)
     contact_d1: Optional[np.ndarray] = field(default=None, repr=False)
     contact_d2: Optional[np.ndarray] = field(default=None, repr=False)
+
+    @property
+    def pitch_radius(self) -> Optional[np.ndarray]:
+        """Signed radius of curvature of the pitch curve, mm (``inf`` where straight; None for a flat face)."""
+        if self.pitch_curvature is None:
+            return None
+        k = self.pitch_curvature
+        with np.errstate(divide="ignore"):
+            return np.where(k != 0, 1.0 / np.where(k != 0, k, 1.0), np.inf)
 
 
 def _centre(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray):

@@ -161,7 +161,7 @@ def _base_range(follower: FollowerSpec, offset: float) -> tuple[float, float | N
 def _pressure_bound(follower: FollowerSpec, law: Displacement, limits: DesignLimits, theta: np.ndarray) -> float:
     """Translating roller / knife: the smallest base radius the pressure-angle limit alone allows,
     in closed form: ``|s' - sigma e| <= tan(limit) (d0 + s)`` for every cam angle, so
-    ``d0 >= max(|s' - sigma e| / tan(limit) - s)`` and ``Rp = sqrt(d0^2 + e^2)`` (Norton eq. 8.31)."""
+    ``d0 >= max(|s' - sigma e| / tan(limit) - s)`` and ``Rp = sqrt(d0^2 + e^2)`` (Norton, *Design of Machinery*, ch. 8)."""
     s, ds, _, _ = (np.asarray(x, dtype=float) for x in law(theta))
     e = follower.offset
     d0 = float(np.max(np.abs(ds - follower.sigma * e) / math.tan(limits.max_pressure_angle) - s))

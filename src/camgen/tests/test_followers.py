@@ -332,6 +332,9 @@ def test_eccentric_circular_cam(name, rotation):
     assert np.max(np.abs(k.profile_radius - R_DISK)) <= 1e-8
     if f.kind != "flat":
         assert np.max(np.abs(k.pitch_curvature - 1 / (R_DISK + f.roller_radius))) <= 1e-11
+        assert np.max(np.abs(k.pitch_radius - (R_DISK + f.roller_radius))) <= 1e-8
+    else:
+        assert k.pitch_radius is None and cam.pitch is None
     c = _disk_centre(theta, f.sigma)
     if f.kind == "flat":
         normal = np.stack([np.zeros_like(theta), np.ones_like(theta)], -1) if f.motion == "translating" else None
@@ -356,6 +359,42 @@ def test_eccentric_circular_cam(name, rotation):
     assert np.max(np.abs(np.abs(k.pressure_angle) - alpha)) <= 1e-9
     if name == "roller":
         assert np.max(np.abs(np.abs(np.sin(k.pressure_angle)) - A * np.abs(np.sin(theta)) / (R_DISK + f.roller_radius))) <= 1e-12
+
+
+@pytest.mark.parametrize("rotation", ["ccw", "cw"])
+@pytest.mark.parametrize("name", ["roller_offset", "flat", "osc_roller", "osc_flat"])
+def test_spline_parameter_is_the_cam_angle(name, rotation):
+    """The spline's parameter is t = -sigma theta: at t it passes through the contact point of cam
+    angle theta, and its second derivative at the segment ends is the exact curve's (which is what
+    makes the joints G2 or exactly G1).  Contact points from the eccentric disk's plane geometry."""
+    f = FollowerSpec(**ECCENTRIC[name], rotation=rotation)
+    law = eccentric_law(f)
+    spline = cam_envelope(f, law).profile.segments[0]
+    sigma = f.sigma
+
+    def contact(theta):
+        s = law(theta)[0]
+        c = _disk_centre(theta, sigma)
+        if f.kind == "flat":  # the disk touches the face where its normal w points: c + R w
+            psi = np.full_like(theta, math.pi / 2) if f.motion == "translating" else rest_face_angle(f) + f.tau * s
+            x = c + R_DISK * np.stack([np.cos(psi), np.sin(psi)], -1)
+        else:  # on the line from the disk centre to the roller centre
+            if f.motion == "translating":
+                centre = np.stack([np.full_like(theta, f.offset), math.sqrt((f.base_radius + f.roller_radius) ** 2 - f.offset**2) + s], -1)
+            else:
+                g = rest_arm_angle(f) + f.tau * s
+                centre = np.asarray(f.pivot) + f.arm_length * np.stack([np.cos(g), np.sin(g)], -1)
+            x = c + R_DISK * (centre - c) / (R_DISK + f.roller_radius)
+        cb, sb = np.cos(-sigma * theta), np.sin(-sigma * theta)
+        return np.stack([cb * x[:, 0] - sb * x[:, 1], sb * x[:, 0] + cb * x[:, 1]], -1)
+
+    t = np.linspace(spline.breaks[0], spline.breaks[-1], 1001)
+    assert np.max(np.hypot(*(spline.eval_t(t) - contact(-sigma * t)).T)) <= 1e-7
+    h = 1e-3
+    for end in (spline.breaks[0], spline.breaks[-1]):
+        q = contact(-sigma * (end + h * np.arange(-2, 3)))
+        second = (-q[0] + 16 * q[1] - 30 * q[2] + 16 * q[3] - q[4]) / (12 * h * h)
+        assert np.max(np.abs(spline.eval_t(np.array([end - 1e-12 if end > 0 else end]), 2)[0] - second)) <= 1e-5 * np.max(np.abs(second))
 
 
 @pytest.mark.parametrize("rotation", ["ccw", "cw"])
@@ -448,7 +487,7 @@ def test_flat_undercut_names_the_angles_of_rb_plus_s_plus_s2_below_zero():
     f = FollowerSpec("flat", 12.0)
     theta = np.linspace(0, TWO_PI, 72001)
     s, _, a, _ = motion(theta)
-    bad = 12.0 + s + a <= 0  # the textbook condition for a flat face (Norton, sec. 8.?: rho = Rb + s + s'')
+    bad = 12.0 + s + a <= 0  # textbook radius of curvature of a flat follower's cam: rho = Rb + s + s'' (Norton, Design of Machinery, ch. 8)
     edges = _ranges(bad, theta)
     assert edges.size == 4  # two failing stretches
     with pytest.raises(GeometryError, match="undercut.*cam angles") as err:
