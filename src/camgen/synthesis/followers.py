@@ -73,7 +73,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Callable, Optional, Protocol
+from typing import Callable, Protocol
 
 import numpy as np
 
@@ -152,7 +152,7 @@ class FollowerSpec:
     motion: str = "translating"
     roller_radius: float = 0.0
     offset: float = 0.0
-    pivot: Optional[tuple[float, float]] = None
+    pivot: tuple[float, float] | None = None
     arm_length: float = 0.0
     face_offset: float = 0.0
     lift_turn: str = "ccw"
@@ -327,22 +327,22 @@ class Kinematics:
     unit: str
     pressure_angle: np.ndarray
     follower_point: np.ndarray
-    arm_angle: Optional[np.ndarray]
-    pitch_point: Optional[np.ndarray]
-    pitch_curvature: Optional[np.ndarray]
+    arm_angle: np.ndarray | None
+    pitch_point: np.ndarray | None
+    pitch_curvature: np.ndarray | None
     contact_point: np.ndarray
     profile_curvature: np.ndarray
     profile_radius: np.ndarray
-    face_position: Optional[np.ndarray]
-    normal_turn_rate: Optional[np.ndarray]
+    face_position: np.ndarray | None
+    normal_turn_rate: np.ndarray | None
     # internal: exact first and second derivatives d/dtheta of the pitch and the profile (cam frame)
-    pitch_d1: Optional[np.ndarray] = field(default=None, repr=False)
-    pitch_d2: Optional[np.ndarray] = field(default=None, repr=False)
-    contact_d1: Optional[np.ndarray] = field(default=None, repr=False)
-    contact_d2: Optional[np.ndarray] = field(default=None, repr=False)
+    pitch_d1: np.ndarray | None = field(default=None, repr=False)
+    pitch_d2: np.ndarray | None = field(default=None, repr=False)
+    contact_d1: np.ndarray | None = field(default=None, repr=False)
+    contact_d2: np.ndarray | None = field(default=None, repr=False)
 
     @property
-    def pitch_radius(self) -> Optional[np.ndarray]:
+    def pitch_radius(self) -> np.ndarray | None:
         """Signed radius of curvature of the pitch curve, mm (``inf`` where straight; None for a flat face)."""
         if self.pitch_curvature is None:
             return None
@@ -614,8 +614,8 @@ class CamEnvelope:
     """
 
     follower: FollowerSpec
-    profile: Optional[Contour]
-    pitch: Optional[Contour]
+    profile: Contour | None
+    pitch: Contour | None
     data: Kinematics
     failures: list[dict] = field(default_factory=list)
     fit_tol: float = DEFAULT_FIT_TOL
@@ -692,7 +692,12 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
     error = float("nan")
     pitch_ok = f.kind != "flat" and not any(item["reason"].startswith(("cusp", "the follower passes")) for item in failures)
     if pitch_ok and f.kind == "roller":
-        pitch, error = _spline_contour(exact_pitch, sigma, law, fit_tol)
+        try:
+            pitch, error = _spline_contour(exact_pitch, sigma, law, fit_tol)
+        except GeometryError as exc:  # report-only: show what failed instead of the pitch curve
+            if not failures:
+                raise
+            failures.append({"reason": f"pitch curve: {exc}", "ranges_deg": [], "worst_deg": float("nan")})
     if not failures:
         profile, error = _spline_contour(exact_profile, sigma, law, fit_tol)
         if f.kind == "knife":

@@ -88,7 +88,7 @@ def test_offset_and_base_radius_against_a_grid():
         k = int(np.argmin(best))
         return best[k], offsets[k]
 
-    coarse, coarse_e = smallest(np.arange(-20.0, 20.01, 0.5), np.arange(1.0, 80.0, 0.25))
+    coarse, _ = smallest(np.arange(-20.0, 20.01, 0.5), np.arange(1.0, 80.0, 0.25))
     fine, fine_e = smallest(result.offset + np.arange(-0.3, 0.301, 0.01), result.base_radius + np.arange(-0.1, 0.1, 0.002))
     assert result.base_radius <= coarse + 1e-9  # nothing on the global grid is better
     assert fine - 0.002 - 1e-6 <= result.base_radius <= fine + 1e-9
