@@ -460,7 +460,7 @@ def kinematics(follower: FollowerSpec, law: Displacement, theta: object) -> Kine
 # --------------------------------------------------------------------------------------------
 # Undercut / validity
 # --------------------------------------------------------------------------------------------
-def _failures(f: FollowerSpec, k: Kinematics) -> list[tuple[str, np.ndarray]]:
+def profile_failures(f: FollowerSpec, k: Kinematics) -> list[tuple[str, np.ndarray]]:
     """(reason, mask) pairs of the conditions that make the profile impossible."""
     out = []
     if f.kind == "flat":
@@ -671,7 +671,7 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
     theta = check_grid(law, check_step)
     data = kinematics(f, law, theta)
     failures = []
-    for reason, mask in _failures(f, data):
+    for reason, mask in profile_failures(f, data):
         if mask.any():
             worst = float(theta[np.argmax(mask)])
             failures.append({"reason": reason, "ranges_deg": _run_ranges(mask, theta), "worst_deg": math.degrees(worst)})

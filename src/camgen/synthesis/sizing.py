@@ -27,7 +27,7 @@ from camgen.synthesis.followers import (
     DEFAULT_CHECK_STEP,
     Displacement,
     FollowerSpec,
-    _failures,
+    profile_failures,
     check_grid,
     kinematics,
 )
@@ -108,7 +108,7 @@ def measure(follower: FollowerSpec, law: Displacement, check_step: float = DEFAU
     theta = check_grid(law, check_step) if theta is None else theta
     k = kinematics(follower, law, theta)
     deg = np.degrees(theta)
-    failures = [reason for reason, mask in _failures(follower, k) if mask.any()]
+    failures = [reason for reason, mask in profile_failures(follower, k) if mask.any()]
     alpha = np.abs(k.pressure_angle)
     i = int(np.argmax(alpha))
     rho = k.profile_radius
