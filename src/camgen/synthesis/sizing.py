@@ -1,0 +1,343 @@
+"""Sizing of disk cams: the smallest base radius (and offset) that meets the design limits.
+
+A design is *feasible* when the profile can be made (no undercut, cusp or backward-turning face,
+see :func:`camgen.synthesis.followers.cam_envelope`) and, on the dense cam-angle grid of
+:func:`camgen.synthesis.followers.check_grid`,
+
+* the largest ``|pressure angle|`` is ``<= max_pressure_angle``;
+* the smallest convex radius of curvature of the profile is ``>= min_convex_radius`` (for a
+  roller ``rho_pitch - r``: a margin over the roller radius on the pitch curve);
+* the smallest concave radius of curvature of the profile is ``>= min_concave_radius`` (the
+  cutter radius: a concave part tighter than the tool cannot be cut); a flat face allows no
+  concave part at all.
+
+All quantities come from the closed forms of :func:`camgen.synthesis.followers.kinematics`.
+The base radius is searched by a scan over the valid range followed by bisection between the
+last infeasible and the first feasible value, to ``tol`` mm; the value returned is feasible.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from camgen.errors import GeometryError, ParameterError, require_finite, require_positive
+from camgen.synthesis.followers import (
+    DEFAULT_CHECK_STEP,
+    Displacement,
+    FollowerSpec,
+    profile_failures,
+    check_grid,
+    kinematics,
+)
+
+#: Default resolution of the base-radius (and offset) search, mm.
+DEFAULT_SIZE_TOL = 1e-4
+
+
+@dataclass(frozen=True)
+class DesignLimits:
+    """Limits a cam design must meet (rad, mm).
+
+    Attributes
+    ----------
+    max_pressure_angle : float
+        Largest allowed ``|pressure angle|``, rad, in ``(0, pi/2)`` (typical: 30 deg translating,
+        45 deg oscillating).
+    min_convex_radius : float
+        Smallest allowed convex radius of curvature of the profile, mm (>= 0; the profile must
+        also be free of undercut, i.e. > 0).
+    min_concave_radius : float
+        Smallest allowed concave radius of curvature of the profile, mm (>= 0; the cutter radius).
+    check_step : float
+        Spacing of the cam-angle grid the limits are checked on, rad.
+    """
+
+    max_pressure_angle: float = math.radians(30.0)
+    min_convex_radius: float = 0.0
+    min_concave_radius: float = 0.0
+    check_step: float = DEFAULT_CHECK_STEP
+
+    def __post_init__(self) -> None:
+        a = require_finite("max_pressure_angle", self.max_pressure_angle)
+        if not 0.0 < a < math.pi / 2:
+            raise ParameterError("max_pressure_angle", a, "0 < max_pressure_angle < pi/2 rad (0 to 90 deg)")
+        for name in ("min_convex_radius", "min_concave_radius"):
+            if require_finite(name, getattr(self, name)) < 0:
+                raise ParameterError(name, getattr(self, name), f"{name} >= 0 mm")
+        require_positive("check_step", self.check_step, "rad")
+
+
+@dataclass(frozen=True)
+class DesignMeasures:
+    """What a design achieves on the check grid.
+
+    ``max_pressure_angle`` (rad, of ``|alpha|``), ``min_convex_radius`` / ``min_concave_radius``
+    (mm, of the profile; ``inf`` when there is no such part), each with the cam angle (deg) where
+    it occurs; ``failures``: the reasons the profile cannot be made (empty when it can).
+    """
+
+    max_pressure_angle: float
+    max_pressure_angle_deg_at: float
+    min_convex_radius: float
+    min_convex_radius_deg_at: float
+    min_concave_radius: float
+    min_concave_radius_deg_at: float
+    failures: list[str] = field(default_factory=list)
+
+    def violations(self, limits: DesignLimits) -> list[str]:
+        """One sentence per limit the design breaks (empty: feasible)."""
+        out = list(self.failures)
+        if self.max_pressure_angle > limits.max_pressure_angle:
+            out.append(f"pressure angle {math.degrees(self.max_pressure_angle):.4g} deg > {math.degrees(limits.max_pressure_angle):.4g} deg "
+                       f"at cam angle {self.max_pressure_angle_deg_at:.3f} deg")
+        if self.min_convex_radius < limits.min_convex_radius:
+            out.append(f"convex radius of curvature {self.min_convex_radius:.6g} mm < {limits.min_convex_radius:g} mm "
+                       f"at cam angle {self.min_convex_radius_deg_at:.3f} deg")
+        if self.min_concave_radius < limits.min_concave_radius:
+            out.append(f"concave radius of curvature {self.min_concave_radius:.6g} mm < {limits.min_concave_radius:g} mm "
+                       f"at cam angle {self.min_concave_radius_deg_at:.3f} deg")
+        return out
+
+
+def measure(follower: FollowerSpec, law: Displacement, check_step: float = DEFAULT_CHECK_STEP,
+            theta: np.ndarray | None = None) -> DesignMeasures:
+    """Largest pressure angle, smallest convex / concave radii of curvature of the profile and the
+    failures of ``follower`` on ``law`` over the check grid (or the given cam angles ``theta``)."""
+    theta = check_grid(law, check_step) if theta is None else theta
+    k = kinematics(follower, law, theta)
+    deg = np.degrees(theta)
+    failures = [reason for reason, mask in profile_failures(follower, k) if mask.any()]
+    alpha = np.abs(k.pressure_angle)
+    i = int(np.argmax(alpha))
+    rho = k.profile_radius
+    convex = np.where(rho > 0, rho, np.inf)
+    concave = np.where(rho < 0, -rho, np.inf)
+    if follower.kind == "flat":  # a flat face bridges any concave part: that is the undercut itself
+        concave = np.full(theta.shape, np.inf)
+    j, m = int(np.argmin(convex)), int(np.argmin(concave))
+    return DesignMeasures(float(alpha[i]), float(deg[i]), float(convex[j]), float(deg[j]), float(concave[m]), float(deg[m]), failures)
+
+
+@dataclass(frozen=True)
+class SizingResult:
+    """The smallest base radius found (mm; with the offset when that was searched too), the
+    follower with it, and what that design achieves."""
+
+    base_radius: float
+    offset: float
+    follower: FollowerSpec
+    measures: DesignMeasures
+    tol: float
+
+
+def _feasible(follower: FollowerSpec, law: Displacement, limits: DesignLimits, theta: np.ndarray) -> bool:
+    return not measure(follower, law, theta=theta).violations(limits)
+
+
+def _with_base(follower: FollowerSpec, base: float, offset: float | None = None) -> FollowerSpec | None:
+    try:
+        if offset is None:
+            return replace(follower, base_radius=base)
+        return replace(follower, base_radius=base, offset=offset)
+    except ParameterError:
+        return None
+
+
+def _base_range(follower: FollowerSpec, offset: float) -> tuple[float, float | None]:
+    """Open range of base radii the follower's other parameters allow (upper None: unbounded)."""
+    r = follower.roller_radius
+    if follower.motion == "translating":
+        lo = max(0.0, abs(offset) - r) if follower.kind != "flat" else 0.0
+        return lo, None
+    d = math.hypot(*follower.pivot)  # type: ignore[misc]
+    if follower.kind == "flat":
+        f = follower.face_offset
+        return max(0.0, -d - f), d - f
+    return max(0.0, abs(d - follower.arm_length) - r), d - r
+
+
+def _pressure_bound(follower: FollowerSpec, law: Displacement, limits: DesignLimits, theta: np.ndarray) -> float:
+    """Translating roller / knife: the smallest base radius the pressure-angle limit alone allows,
+    in closed form: ``|s' - sigma e| <= tan(limit) (d0 + s)`` for every cam angle, so
+    ``d0 >= max(|s' - sigma e| / tan(limit) - s)`` and ``Rp = sqrt(d0^2 + e^2)`` (Norton, *Design of Machinery*, ch. 8)."""
+    s, ds, _, _ = (np.asarray(x, dtype=float) for x in law(theta))
+    e = follower.offset
+    d0 = float(np.max(np.abs(ds - follower.sigma * e) / math.tan(limits.max_pressure_angle) - s))
+    d0 = max(d0, float(np.max(-s)), 0.0)
+    return math.hypot(d0, e) - follower.roller_radius
+
+
+def min_base_radius(follower: FollowerSpec, law: Displacement, limits: DesignLimits = DesignLimits(), *,
+                    tol: float = DEFAULT_SIZE_TOL, scan: int = 32) -> SizingResult:
+    """The smallest base radius (mm, within ``tol``) at which ``follower`` (its other parameters
+    kept) meets ``limits`` on ``law``.
+
+    Translating followers: the search starts at the smallest base radius the geometry allows
+    (``|offset| - roller_radius`` or 0), for rollers and knives at the closed-form bound of the
+    pressure-angle limit, and doubles an upper end until a feasible design appears; oscillating
+    followers search the open range the pivot and arm allow.  ``scan`` points of the range are
+    tried upwards and the first feasible one is bracketed by bisection.  Raises
+    :class:`GeometryError` when no base radius works, naming what else to change.
+    """
+    tol = require_positive("tol", tol)
+    theta = check_grid(law, limits.check_step)
+    offset = follower.offset
+    lo, hi = _base_range(follower, offset)
+
+    def ok(base: float) -> bool:
+        spec = _with_base(follower, base)
+        return spec is not None and _feasible(spec, law, limits, theta)
+
+    if follower.motion == "translating" and follower.kind != "flat":
+        bound = _pressure_bound(follower, law, limits, theta)
+        if bound > lo:
+            lo = bound
+            first = bound * (1.0 + 1e-12) + 1e-12  # the bound itself meets the pressure limit with equality
+            if ok(first):
+                spec = _with_base(follower, first)
+                return SizingResult(first, offset, spec, measure(spec, law, theta=theta), tol)  # type: ignore[arg-type]
+    if hi is None:  # the pressure angle falls and the radii of curvature grow with the base radius
+        hi = max(2.0 * lo, lo + 10.0 * tol, 1.0)
+        while not ok(hi):
+            hi = lo + 2.0 * (hi - lo)
+            if hi > 1e6:
+                raise GeometryError(_no_base_message(follower, law, limits, theta, 1e6))
+        grid = lo + (hi - lo) * (np.arange(1, scan + 1) / scan)  # up to hi, which is feasible
+    else:
+        grid = lo + (hi - lo) * (np.arange(1, scan + 1) / (scan + 1))  # inside the open range
+    feasible = [ok(b) for b in grid]
+    if not any(feasible):
+        raise GeometryError(_no_base_message(follower, law, limits, theta, float(grid[-1])))
+    first = int(np.argmax(feasible))
+    a, b = (grid[first - 1] if first > 0 else lo), grid[first]
+    while b - a > tol:
+        mid = 0.5 * (a + b)
+        if ok(mid):
+            b = mid
+        else:
+            a = mid
+    spec = _with_base(follower, b)
+    return SizingResult(float(b), offset, spec, measure(spec, law, theta=theta), tol)  # type: ignore[arg-type]
+
+
+def _no_base_message(follower: FollowerSpec, law: Displacement, limits: DesignLimits, theta: np.ndarray, largest: float) -> str:
+    spec = _with_base(follower, largest)
+    why = "; ".join(measure(spec, law, theta=theta).violations(limits)) if spec is not None else "invalid geometry"
+    if follower.motion == "oscillating":
+        change = ("move the pivot farther from the cam axis or change arm_length" if follower.kind != "flat"
+                  else "move the pivot or change face_offset")
+        return f"no base radius the pivot and arm allow meets the limits ({why} at base_radius_mm = {largest:.6g}): {change}, or relax the limits"
+    return f"no base radius up to {largest:.6g} mm meets the limits ({why}): change the roller radius, the offset or the limits"
+
+
+def min_base_radius_and_offset(follower: FollowerSpec, law: Displacement, limits: DesignLimits = DesignLimits(), *,
+                               offset_range: tuple[float, float] | None = None, tol: float = DEFAULT_SIZE_TOL,
+                               offsets: int = 21) -> SizingResult:
+    """Translating roller or knife: the offset (mm) in ``offset_range`` and base radius that give the
+    smallest base radius meeting ``limits``.
+
+    ``offset_range`` defaults to ``+-`` the base radius found for a centred follower.  The offsets
+    are scanned at ``offsets`` points, then the best one is refined by golden-section search in the
+    bracket around it (the minimum base radius is assumed unimodal in the offset there) to ``tol``.
+    """
+    if follower.motion != "translating" or follower.kind == "flat":
+        raise ParameterError("follower", f"{follower.motion} {follower.kind}", "a translating roller or knife (the offset of a flat face does not change the cam)")
+    tol = require_positive("tol", tol)
+    centred = min_base_radius(replace(follower, offset=0.0), law, limits, tol=tol)
+    if offset_range is None:
+        offset_range = (-centred.base_radius, centred.base_radius)
+    e_lo, e_hi = (require_finite("offset_range", v) for v in offset_range)
+    if not e_lo < e_hi:
+        raise ParameterError("offset_range", offset_range, "(low, high) with low < high, mm")
+
+    def best_base(e: float) -> float:
+        try:
+            return min_base_radius(replace(follower, offset=e, base_radius=abs(e) + 1.0),
+                                   law, limits, tol=tol).base_radius
+        except GeometryError:
+            return math.inf
+
+    grid = np.linspace(e_lo, e_hi, offsets)
+    values = np.array([best_base(e) for e in grid])
+    k = int(np.argmin(values))
+    a, b = grid[max(0, k - 1)], grid[min(offsets - 1, k + 1)]
+    golden = (math.sqrt(5.0) - 1.0) / 2.0
+    c, d = b - golden * (b - a), a + golden * (b - a)
+    fc, fd = best_base(c), best_base(d)
+    while b - a > tol:
+        if fc <= fd:
+            b, d, fd = d, c, fc
+            c = b - golden * (b - a)
+            fc = best_base(c)
+        else:
+            a, c, fc = c, d, fd
+            d = a + golden * (b - a)
+            fd = best_base(d)
+    candidates = [(values[k], grid[k]), (fc, c), (fd, d)]
+    base, e = min(candidates)
+    if not math.isfinite(base):
+        raise GeometryError("no offset in the range meets the limits: widen offset_range or relax the limits")
+    spec = _with_base(follower, base, e)
+    return SizingResult(float(base), float(e), spec, measure(spec, law, limits.check_step), tol)  # type: ignore[arg-type]
+
+
+def _ceil(value: float, digits: int = 3) -> float:
+    scale = 10.0**digits
+    return math.ceil(value * scale - 1e-9) / scale
+
+
+def require_design(follower: FollowerSpec, law: Displacement, limits: DesignLimits = DesignLimits()) -> DesignMeasures:
+    """The design's measures if it meets ``limits``; else a :class:`GeometryError` that says what
+    breaks and which value of ``base_radius_mm`` would work ("increase base_radius_mm to at least
+    42.317"), or what else to change when no base radius does."""
+    theta = check_grid(law, limits.check_step)
+    m = measure(follower, law, theta=theta)
+    broken = m.violations(limits)
+    if not broken:
+        return m
+    what = "; ".join(broken)
+    try:
+        found = min_base_radius(follower, law, limits)
+    except GeometryError as exc:
+        raise GeometryError(f"the cam breaks the design limits ({what}) and {exc}") from None
+    need = _ceil(found.base_radius)
+    spec = _with_base(follower, need)
+    if spec is None or not _feasible(spec, law, limits, theta):  # the rounded value must work too
+        need = found.base_radius
+    verb = "increase" if need > follower.base_radius else "set"
+    raise GeometryError(f"the cam breaks the design limits ({what}): {verb} base_radius_mm to at least {need:.3f}")
+
+
+@dataclass(frozen=True)
+class FaceWidth:
+    """Extent of the contact on a flat face, mm.
+
+    Translating: ``left`` and ``right`` are the distances from the face centre (on the follower
+    axis) to the farthest contact towards ``-x`` and ``+x`` (0 if the contact never goes that
+    way); the face must reach at least that far on each side.  Oscillating: ``left`` / ``right``
+    are the nearest and farthest contact distances along the face from the foot of the pivot's
+    perpendicular (``xi``, positive along ``J w``).  ``left_deg`` / ``right_deg``: cam angles where
+    they occur.  ``width`` = the length of face the contact uses.
+    """
+
+    left: float
+    right: float
+    left_deg: float
+    right_deg: float
+    width: float
+
+
+def face_width(follower: FollowerSpec, law: Displacement, check_step: float = DEFAULT_CHECK_STEP) -> FaceWidth:
+    """The face extent a flat follower needs (see :class:`FaceWidth`); add a clearance to it."""
+    if follower.kind != "flat":
+        raise ParameterError("follower", follower.kind, "a flat follower")
+    theta = check_grid(law, check_step)
+    xi = kinematics(follower, law, theta).face_position
+    deg = np.degrees(theta)
+    i, j = int(np.argmin(xi)), int(np.argmax(xi))
+    if follower.motion == "translating":
+        left, right = max(0.0, -float(xi[i])), max(0.0, float(xi[j]))
+        return FaceWidth(left, right, float(deg[i]), float(deg[j]), left + right)
+    return FaceWidth(float(xi[i]), float(xi[j]), float(deg[i]), float(deg[j]), float(xi[j] - xi[i]))
