@@ -153,7 +153,8 @@ def test_tool_that_would_gouge_blocks_the_gcode(tmp_path, capsys):
 
 
 def test_without_a_named_tool_concave_radii_are_information(tmp_path, capsys):
-    text = '[output]\nformats = ["dxf"]\n[cams.s]\nkind = "trajectory"\nexpression = "40*sin(2*pi*x/400)"\nperiod_mm = 400\n'
+    text = ('[output]\nformats = ["dxf"]\n[cams.s]\nkind = "trajectory"\nexpression = "40*sin(2*pi*x/400)"\nperiod_mm = 400\n'
+            'pressure_angle_limit_deg = 60\n')  # this sharp path's rod sees 49.5 deg
     status, folder, _ = _run(tmp_path, text, capsys)
     assert status == 0 and (folder / "s.dxf").exists()
     check = next(c for c in json.loads((folder / "report.json").read_text())["cams"]["s"]["checks"] if c["name"] == "min_concave_radius")
