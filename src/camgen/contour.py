@@ -40,6 +40,9 @@ TWO_PI = 2.0 * math.pi
 DEFAULT_CHORD_TOL = 1e-3
 #: Gap allowed between the end of one segment and the start of the next, mm.
 DEFAULT_CLOSURE_TOL = 1e-7
+#: Relative slack (of a piece's parameter length) within which a root of a piece's polynomial
+#: just outside the piece, by rounding, still counts as on its end (knot).
+ROOT_TOL = 1e-9
 
 
 def _as_array(values: object) -> np.ndarray:
@@ -412,7 +415,10 @@ class Spline:
             r1 = np.where(np.abs(qa) > 1e-300, q / qa, -qc / qb)
             r2 = np.where(np.abs(q) > 1e-300, qc / q, np.nan)
         roots = np.stack([r1, r2])
-        return np.where((roots >= 0) & (roots <= h), roots, np.nan)
+        # a root on a knot may round to just outside [0, h]: accept it within ROOT_TOL of the piece
+        slack = ROOT_TOL * h
+        inside = (roots >= -slack) & (roots <= h + slack)
+        return np.where(inside, np.clip(roots, 0.0, h), np.nan)
 
     def extreme_points(self) -> np.ndarray:
         """Break points and axis-extreme points (k, 2): the exact bounding box of the spline."""

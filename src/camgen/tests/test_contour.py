@@ -209,3 +209,20 @@ def test_offset_through_a_narrow_neck_is_an_error():
     x, y = (float(v) for v in info.value.args[0].split("(point (")[1].split(") mm")[0].split(", "))
     assert abs(y) < 5 and abs(x) < 10  # the two sides of the neck meet inside the 10 mm waist
     assert camgen.three_arc_cam(220, 160, 25).is_convex()
+
+
+def test_support_maximum_exactly_on_a_knot_is_found():
+    """A periodic spline through a circle's points at 0, 10, ... 350 deg: in the direction of a
+    knot the support point is that knot (symmetry), and its radius of curvature is the spline's
+    there, not 0 (a corner).  Brute force over a dense sampling gives the support value."""
+    phi = np.radians(np.arange(0, 361, 10.0))
+    pts = 50.0 * np.stack([np.cos(phi), np.sin(phi)], 1)
+    pts[-1] = pts[0]
+    contour = Contour([Spline.interpolate(phi, pts)])
+    psi = phi[:-1]
+    h, dh, d2h = contour.support_derivatives(psi)
+    dense = contour.evaluate(np.linspace(0, 1, 200001))
+    assert np.allclose(h, (dense @ np.stack([np.cos(psi), np.sin(psi)])).max(axis=0), atol=1e-9)
+    rho = d2h + h  # = radius of curvature at the contact point
+    kappa = contour.curvature(psi / (2 * math.pi))
+    assert np.allclose(rho, 1.0 / kappa, rtol=1e-9)
