@@ -94,10 +94,15 @@ def check_cam(cam: "BuiltCam", spec: "CamSpec", tool_radius: float, tool_is_limi
     of its pitch curve, or its undercut as a failed check with the curvature curve to plot.
     """
     from camgen.checks import CheckResult, evaluate_cam
+    from camgen.kinds import get_kind
 
     follower = cam.follower
-    pitch = cam.pitch if follower.kind == "roller" else None
-    cam.evaluation = evaluate_cam(cam.contour, follower, tool_radius, spec.checks.rpm, cam.breadth, pitch, tool_is_limit)
+    own = get_kind(spec.kind).evaluate
+    if own is not None:  # the kind's own (closed-form) checks
+        cam.evaluation = own(cam, spec, tool_radius, tool_is_limit)
+    else:
+        pitch = cam.pitch if follower.kind == "roller" else None
+        cam.evaluation = evaluate_cam(cam.contour, follower, tool_radius, spec.checks.rpm, cam.breadth, pitch, tool_is_limit)
     if cam.contour is None and cam.undercut is not None and not any(c.name == "undercut" and c.failed for c in cam.evaluation.checks):
         exc = cam.undercut  # the synthesis found the undercut: a failed check, with its curvature curve when it has one
         value = float(exc.curve[1].min()) if exc.curve is not None else "undercut"
@@ -109,8 +114,9 @@ def check_cam(cam: "BuiltCam", spec: "CamSpec", tool_radius: float, tool_is_limi
             cam.evaluation.curvature_label = "radius of curvature of the envelope (mm)"
             cam.evaluation.curvature_limit = exc.limit
     cam.checks.extend(cam.evaluation.checks)
-    cam.figures["follower"] = {"kind": follower.kind, "motion": follower.motion, "roller_radius_mm": follower.roller_radius,
-                               "offset_mm": follower.offset, "pressure_angle_limit_deg": math.degrees(follower.limit)}
+    if own is None:  # a kind with its own checks reports its follower itself
+        cam.figures["follower"] = {"kind": follower.kind, "motion": follower.motion, "roller_radius_mm": follower.roller_radius,
+                                   "offset_mm": follower.offset, "pressure_angle_limit_deg": math.degrees(follower.limit)}
     if spec.checks.rpm and cam.evaluation.motion is not None:
         cam.figures["motion_at_rpm"] = {"rpm": spec.checks.rpm, **cam.evaluation.motion.at_rpm(spec.checks.rpm)}
     if cam.body.bore_diameter > 0 and cam.contour is not None:

@@ -97,6 +97,9 @@ class CamKind:
         ``where``; ``base_dir`` is where relative file names in the scene point.
     build : ``(spec, stages) -> BuiltCam``: synthesis, plus the analysis stages in ``stages``.
     report_section : ``"module:function"`` drawing the kind's own part of report.html, or "".
+    evaluate : ``(cam, spec, tool_radius, tool_is_limit) -> CamEvaluation``: the kind's own design
+        checks (e.g. closed-form kinematics of its follower); None: the generic checks of the
+        contour with ``spec.follower`` (:func:`camgen.checks.evaluate_cam`).
     """
 
     name: str
@@ -105,6 +108,7 @@ class CamKind:
     read: Callable[..., CamSpec]
     build: Callable[[CamSpec, frozenset[str]], BuiltCam]
     report_section: str = ""
+    evaluate: "Callable[[BuiltCam, CamSpec, float, bool], CamEvaluation] | None" = None
 
 
 # --------------------------------------------------------------------------------------------
