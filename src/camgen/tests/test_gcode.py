@@ -135,6 +135,16 @@ def test_spline_cam_in_lines_mode_cuts_its_exact_profile(comp, template_cams, tm
 
 
 @pytest.mark.usefixtures("needs_rs274")
+def test_grbl_program_cuts_the_profile(template_cams, tmp_path):
+    """The GRBL dialect writes the same tool-centre path (no G41/G42, no G64): cut it too."""
+    cam, base = template_cams["motion_law"][0]
+    spec = dataclasses.replace(base, dialect="grbl")
+    program = gcode_program(cam.contour, spec)
+    assert "G41" not in program and "G42" not in program and "G64" not in program
+    _assert_cut(simulate(program, cam.contour, spec.tool_radius, tmp_path), spec, "grbl")
+
+
+@pytest.mark.usefixtures("needs_rs274")
 def test_part_left_matches_the_profile_in_a_polygon_sweep(template_cams, tmp_path):
     """Coarse cross-check with shapely: the stock minus the tool disc swept along the last pass
     of the motion-law cam (compensated, climb: the program that gouged 17.7 mm) is the profile."""
@@ -191,12 +201,16 @@ def test_biarcs_follow_a_concave_spline_with_tangent_joints():
 @pytest.mark.parametrize("mode", ["biarcs", "lines"])
 @pytest.mark.usefixtures("needs_rs274")
 def test_concave_spline_profile_cut_exactly(mode, tmp_path):
-    """The trefoil (concave radius 25.6 mm) with a 20 mm tool, in both output modes."""
+    """The trefoil (concave radius 25.6 mm) with 20 and 40 mm tools, in both output modes (chords
+    under compensation: LinuxCNC's straight-on corners need finer chords where the tool nearly
+    fills the concave radius)."""
     contour = trefoil()
     profile = ExactProfile(contour)
     # (the offset of a non-convex contour checks itself for crossings: ~1 s per program)
-    for comp, direction in [(False, "climb"), (True, "conventional")] if mode == "biarcs" else [(True, "climb"), (False, "conventional")]:
-        spec = MachiningSpec(tool_diameter=20.0, thickness=3.0, step_down=3.0, spline_mode=mode, cutter_compensation=comp, direction=direction)
+    cases = {"biarcs": [(20.0, False, "climb"), (20.0, True, "conventional")],
+             "lines": [(20.0, True, "climb"), (20.0, False, "conventional"), (40.0, True, "conventional")]}
+    for diameter, comp, direction in cases[mode]:
+        spec = MachiningSpec(tool_diameter=diameter, thickness=3.0, step_down=3.0, spline_mode=mode, cutter_compensation=comp, direction=direction)
         program = gcode_program(contour, spec)
         if mode == "biarcs":
             assert re.search(r"^G[23] .*", program, re.M)
@@ -214,6 +228,22 @@ def test_concave_arc_profile_cut_exactly(diameter, tmp_path):
         program = gcode_program(contour, spec)
         assert program.count("G2 ") + program.count("G3 ") >= 8  # exact arcs, not chords
         _assert_cut(simulate(program, contour, spec.tool_radius, tmp_path, profile=profile), spec, f"d={diameter} comp={comp} {direction}")
+
+
+@pytest.mark.usefixtures("needs_rs274")
+def test_arcs_too_short_to_print_never_become_full_circles(tmp_path):
+    """A lobe arc split off a 1e-6 rad piece (15 nm long): printed with 4 decimals its
+    ends coincide, and LinuxCNC runs such an arc as a full circle.  It must not be written as one."""
+    arcs = list(lobes().segments)
+    first = arcs[0]
+    tiny = 1e-6
+    arcs[:1] = [Arc(first.center, first.radius, first.start_angle, first.sweep - tiny),
+                Arc(first.center, first.radius, first.start_angle + first.sweep - tiny, tiny)]
+    contour = Contour(arcs, closure_tol=1e-9)
+    profile = ExactProfile(contour)
+    for comp, direction in MODES[1:3]:
+        spec = MachiningSpec(tool_diameter=12.0, thickness=2.0, step_down=2.0, cutter_compensation=comp, direction=direction)
+        _assert_cut(simulate(gcode_program(contour, spec), contour, 6.0, tmp_path, profile=profile), spec, f"comp={comp}")
 
 
 def test_tools_that_would_gouge_are_refused():
@@ -256,16 +286,18 @@ def _cross(a, b):
     return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
 
 
-@pytest.mark.parametrize("comp", [False, True])
+@pytest.mark.parametrize(("comp", "lead"), [(False, None), (True, None), (True, 300.0)])
 @pytest.mark.parametrize("direction", ["climb", "conventional"])
 @pytest.mark.usefixtures("needs_rs274")
-def test_leads_are_tangent_to_the_tool_path_and_end_at_its_start(comp, direction, contours, tmp_path):
+def test_leads_are_tangent_to_the_tool_path_and_end_at_its_start(comp, lead, direction, contours, tmp_path):
     """From rs274's tool-centre moves: after the plunge, straight feeds along one line reach the
     contour's first arc at S'; the line is tangent to that arc and to the last one, S' is r from
     the profile, the lead-out continues along the same line, and nothing on the line comes
-    closer than r to the exact profile."""
+    closer than r to the exact profile.  A 300 mm lead under compensation: LinuxCNC runs corners
+    flatter than 0.05 rad straight on, so the entry move must still meet the tangent line at a
+    steeper angle."""
     contour = contours["stride"]
-    spec = MachiningSpec(tool_diameter=8.0, thickness=1.0, step_down=2.0, direction=direction, cutter_compensation=comp)
+    spec = MachiningSpec(tool_diameter=8.0, thickness=1.0, step_down=2.0, direction=direction, cutter_compensation=comp, lead=lead)
     status, message, canon = rs274_canon(gcode_program(contour, spec), tmp_path)
     assert status == 0, message
     chain = _passes(canon)[0]
@@ -293,7 +325,7 @@ def test_leads_are_tangent_to_the_tool_path_and_end_at_its_start(comp, direction
     # S' is r from the exact profile; the lead line stays >= r away (rigorous lower bound)
     profile = ExactProfile(contour)
     assert profile.tree.query(s_in)[0] == pytest.approx(spec.tool_radius, abs=1e-4)
-    line = p0 + np.linspace(0, 1, 2001)[:, None] * (q - p0)
+    line = p0 + np.linspace(0, 1, 20001)[:, None] * (q - p0)
     assert np.min(profile.distance_lower_bound(line)) >= spec.tool_radius - 1e-4
     assert not profile.contains(p0)
     signed = sum(_cross(m["start"][:2], m["end"][:2]) for m in path)  # twice the area swept about the origin
