@@ -25,7 +25,9 @@ at ``A' = A + r u_perp`` (``A`` the programmed point, ``u`` the direction from t
 ``A``); a following line that turns the other way is a concave corner and moves that end to
 the intersection of the two offset lines.  camgen therefore programs the entry on the
 profile's tangent line: ``G41.1`` to ``A = S - a t`` from ``P0``, then a line ``A -> S``.  With
-``L' = sqrt(L^2 - r^2) / 2`` the horizontal length of the entry move (``a = L - L'``), the
+``L' = min(sqrt(L^2 - r^2) / 2, r / tan(COMP_ENTRY_ANGLE))`` the length of the entry move along
+the tangent (``a = L - L'``; its angle to the tangent stays above LinuxCNC's 0.05 rad, below
+which a corner is run straight on), the
 interpreter ends the entry move on the offset line at ``S' - (L - sqrt(L'^2 + r^2)) t``,
 before ``S'``: the tool runs along the tangent from ``P0`` to ``S'`` and into the contour with
 no corner.  The exit programs a line ``S -> B = S + (L / 2) t`` (tool on the offset line),
