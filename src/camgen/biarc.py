@@ -7,8 +7,10 @@ its distance to the curve and splits the interval in two where it is too far, al
 a level at once (vectorised).
 
 Tolerance: the distance from the curve to the biarc is measured at ``CHECK_SAMPLES`` points of
-the curve per interval and must be <= ``tol``; the fitted arcs pass exactly through the
-interval ends with the curve's tangent there (G1 everywhere).
+the curve per interval and must be <= ``(1 - SAMPLING_MARGIN) tol``: the deviation is smooth
+between samples and its true maximum exceeds the sampled one by well under that margin (0.3 %
+measured on a concave spline), so the whole curve stays within ``tol``.  The fitted arcs pass
+exactly through the interval ends with the curve's tangent there (G1 everywhere).
 """
 from __future__ import annotations
 
@@ -20,6 +22,7 @@ from camgen.contour import Arc, Contour, Spline
 from camgen.errors import GeometryError, require_positive
 
 CHECK_SAMPLES = 33
+SAMPLING_MARGIN = 0.05
 _MAX_LEVELS = 30
 _STRAIGHT = 1e-12  # |sagitta / chord| below which an arc is treated as a straight line
 
@@ -98,7 +101,7 @@ def spline_to_biarcs(spline: Spline, tol: float) -> list[Arc | Spline]:
             _distance_to_arc(samples, p0, c1, k1, w1, junction),
             _distance_to_arc(samples, p1, c2, k2, w2, junction),
         )
-        ok = np.all(np.isfinite(junction), axis=1) & (np.max(dist, axis=1) <= tol)
+        ok = np.all(np.isfinite(junction), axis=1) & (np.max(dist, axis=1) <= (1.0 - SAMPLING_MARGIN) * tol)
         done_lo.append(lo[ok])
         done_hi.append(hi[ok])
         done_j.append(junction[ok])

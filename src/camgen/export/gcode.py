@@ -1,15 +1,46 @@
 """G-code (RS274/NGC) for milling the cam profile: LinuxCNC dialect by default, GRBL on request.
 
-The program cuts the outside of the profile in step-down passes to full thickness:
+The program cuts the outside of the profile in step-down passes to the stock bottom and
+``breakthrough`` below it:
 
-* header ``G21 G90 G17 G40 G49 G80 G94`` (+ ``G64 P<tol>`` path blending tolerance for LinuxCNC);
+* header ``G21 G90 G17 G40 G49 G80 G94`` (+ ``G64 P<blend>`` path blending tolerance for LinuxCNC);
 * by default the **tool-centre path**: the profile offset outward by the tool radius (exact
-  arcs stay ``G2/G3``; spline segments become ``G1`` chords within ``chord_tol`` or biarcs
-  within ``chord_tol``);
+  arcs stay ``G2/G3``; spline segments become biarcs ``G2/G3`` or ``G1`` chords);
 * optionally **cutter compensation** (LinuxCNC only): the profile itself with ``G41.1/G42.1
-  D<diameter>`` switched on along the linear lead-in and off (``G40``) along the lead-out;
-* climb milling (clockwise around the outside with a clockwise spindle, ``M3``) or conventional;
-* a perpendicular linear lead-in and lead-out of length ``lead``, safe Z between passes.
+  D<diameter>``, switched on along the lead-in and off (``G40``) along the lead-out;
+* climb milling (clockwise around the outside with a clockwise spindle, ``M3``) or conventional.
+
+Lead-in and lead-out (the same geometry in both modes).  The tool enters and leaves along the
+tangent of the tool-centre path at its start ``S' = S + r n`` (``S`` on the profile, ``n`` the
+outward normal, ``t`` the travel direction, ``L`` the lead length): it plunges at
+``P0 = S' - L t`` and runs straight to ``S'``; after the closed contour it runs on to
+``Q = S' + L t``.  ``S`` is a **support point** of the profile: its tangent line touches the
+profile and has all of it on one side (a point of the convex hull where the curvature is > 0;
+the sharpest such point is taken).  The lead line lies at distance ``r`` outside that tangent
+line, so every point of the lead-in, the lead-out and the plunge is at least ``r`` from every
+point of the profile: the tool disc swept along them never touches the part.
+
+Cutter compensation.  LinuxCNC's interpreter (``convert_straight_comp1``) ends the entry move
+at ``A' = A + r u_perp`` (``A`` the programmed point, ``u`` the direction from the tool to
+``A``); a following line that turns the other way is a concave corner and moves that end to
+the intersection of the two offset lines.  camgen therefore programs the entry on the
+profile's tangent line: ``G41.1`` to ``A = S - a t`` from ``P0``, then a line ``A -> S``.  With
+``L' = min(sqrt(L^2 - r^2) / 2, r / tan(COMP_ENTRY_ANGLE))`` the length of the entry move along
+the tangent (``a = L - L'``; its angle to the tangent stays above LinuxCNC's 0.05 rad, below
+which a corner is run straight on), the
+interpreter ends the entry move on the offset line at ``S' - (L - sqrt(L'^2 + r^2)) t``,
+before ``S'``: the tool runs along the tangent from ``P0`` to ``S'`` and into the contour with
+no corner.  The exit programs a line ``S -> B = S + (L / 2) t`` (tool on the offset line),
+then ``G40`` with a straight move to ``Q``, again along the tangent.  A concave arc whose
+radius is not above the tool radius is refused (LinuxCNC's own rule); arcs too short to print
+safely are written as lines, never as arcs that the control could read as full circles.
+
+Error budget.  The program follows the ideal tool path within ``chord_tol``:
+``FIT_SHARE`` for the biarc / chord fit of spline segments, ``REFIT_SHARE`` for the offset
+refit of spline segments, ``ROUNDING_SHARE`` for the printed decimals (a printed point is
+within ``sqrt(2)/2 * 10^-decimals`` of its value; an arc, whose centre and both ends are
+printed, within three times that) and ``BLEND_SHARE`` for LinuxCNC's path blending
+(``G64 P``).  ``decimals`` too coarse for ``chord_tol`` is a :class:`ParameterError`.
 
 A concave radius of the profile smaller than the tool radius would be gouged: that is a
 :class:`GeometryError` naming the cam angle.  Z = 0 is the top face of the stock.
@@ -22,22 +53,49 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from camgen.contour import Arc, Contour
-from camgen.errors import (
-    GeometryError,
-    ParameterError,
-    require_finite,
-    require_positive,
-)
+from camgen.contour import Arc, Contour, Spline
+from camgen.errors import GeometryError, ParameterError, require_finite, require_positive
 
 DIALECTS = ("linuxcnc", "grbl")
 DIRECTIONS = ("climb", "conventional")
 SPLINE_MODES = ("lines", "biarcs")
 
+#: Shares of ``chord_tol`` (they sum to 1): fit of spline segments by biarcs or chords,
+#: offset refit of spline segments, printed decimals, LinuxCNC path blending (G64 P).
+FIT_SHARE = 0.6
+REFIT_SHARE = 0.05
+ROUNDING_SHARE = 0.25
+BLEND_SHARE = 0.1
+#: LinuxCNC's TOLERANCE_CONCAVE_CORNER (rad): compensated corners flatter than this are run
+#: straight on (interp_internal.hh).
+COMP_STRAIGHT = 0.05
+#: Angle (rad) between the compensation entry move and the tangent lead line, above COMP_STRAIGHT
+#: so that LinuxCNC treats the corner as concave and moves the entry's end onto the offset line.
+COMP_ENTRY_ANGLE = 0.1
+#: Largest distance (mm) the profile may reach beyond the tangent line at the start point.
+SUPPORT_TOL = 1e-7
+#: Sagitta of the coarse polygon whose chord midpoints are the start-point candidates, as a
+#: fraction of the contour size.
+START_SAMPLING = 1e-3
+
+
+def rounding_error(decimals: int) -> float:
+    """Largest distance (mm) between a printed arc and the exact one: centre and both ends are
+    each rounded by up to ``sqrt(2)/2 * 10^-decimals``, so every point of the arc moves by up to
+    three times that (radius error from the ends and centre, plus the centre shift)."""
+    return 3.0 * math.sqrt(2.0) / 2.0 * 10.0 ** (-decimals)
+
 
 @dataclass(frozen=True)
 class MachiningSpec:
-    """Cutting parameters (mm, mm/min, rev/min)."""
+    """Cutting parameters (mm, mm/min, rev/min).
+
+    ``breakthrough`` (mm, >= 0, default 0.2): the last pass runs this far below the stock
+    bottom (Z = -thickness - breakthrough).  An end mill's corner is never perfectly sharp and
+    the machine's Z zero is set by touching off, to a few hundredths of a millimetre: a last pass
+    exactly at the stock bottom leaves a skin or burr that holds the part to the stock.  Going a
+    little deeper (into a spoil board or a gap below the stock) cuts the part free.
+    """
 
     tool_diameter: float = 6.0
     thickness: float = 10.0
@@ -53,10 +111,13 @@ class MachiningSpec:
     spline_mode: str = "biarcs"
     chord_tol: float = 1e-3
     decimals: int = 4
+    breakthrough: float = 0.2
 
     def __post_init__(self) -> None:
         for name in ("tool_diameter", "thickness", "step_down", "safe_z", "feed", "plunge_feed", "spindle_rpm", "chord_tol"):
             require_positive(name, getattr(self, name), "")
+        if require_finite("breakthrough", self.breakthrough) < 0.0:
+            raise ParameterError("breakthrough", self.breakthrough, "breakthrough >= 0 mm")
         if self.direction not in DIRECTIONS:
             raise ParameterError("direction", self.direction, f"one of {DIRECTIONS}")
         if self.dialect not in DIALECTS:
@@ -69,6 +130,15 @@ class MachiningSpec:
             raise ParameterError("lead", self.lead, f"lead > tool radius = {self.tool_diameter / 2:g} mm", "the cutter-compensation entry move must be longer than the tool radius")
         if isinstance(self.decimals, bool) or not isinstance(self.decimals, int) or not 3 <= self.decimals <= 6:
             raise ParameterError("decimals", self.decimals, "an integer 3..6")
+        budget = ROUNDING_SHARE * self.chord_tol
+        if rounding_error(self.decimals) > budget:
+            lowest = next((d for d in range(3, 7) if rounding_error(d) <= budget), None)
+            valid = f"an integer {lowest}..6" if lowest is not None else "none for this chord_tol (raise chord_tol to >= 8.5e-06 mm)"
+            raise ParameterError(
+                "decimals", self.decimals, valid,
+                f"printed coordinates may move an arc by {rounding_error(self.decimals):.2g} mm, more than "
+                f"{ROUNDING_SHARE:g} x chord_tol = {budget:.2g} mm",
+            )
 
     @property
     def tool_radius(self) -> float:
@@ -78,14 +148,20 @@ class MachiningSpec:
     def lead_length(self) -> float:
         return self.lead if self.lead is not None else self.tool_radius + 3.0
 
+    @property
+    def depth(self) -> float:
+        """Depth of the last pass below the stock top, mm: thickness + breakthrough."""
+        return self.thickness + self.breakthrough
+
 
 def tool_path(contour: Contour, spec: MachiningSpec) -> Contour:
     """The contour the tool centre follows: ``contour`` offset outward by the tool radius.
 
+    Spline segments are refitted within ``REFIT_SHARE * chord_tol`` (at most 1e-6 mm).
     Raises :class:`GeometryError` where a concave radius is smaller than the tool radius.
     """
     try:
-        return contour.offset(spec.tool_radius, spline_tol=min(1e-6, spec.chord_tol / 10))
+        return contour.offset(spec.tool_radius, spline_tol=min(1e-6, REFIT_SHARE * spec.chord_tol))
     except GeometryError as exc:
         raise GeometryError(
             f"a tool of diameter {spec.tool_diameter:g} mm would gouge the profile ({exc}); "
@@ -93,18 +169,107 @@ def tool_path(contour: Contour, spec: MachiningSpec) -> Contour:
         ) from None
 
 
+# ------------------------------------------------------------------------------------------
+# start point and contour rotation
+# ------------------------------------------------------------------------------------------
+def start_parameter(path: Contour, what: str = "lead") -> float:
+    """Global parameter of the start point on ``path``: a support point (the tangent line has
+    the whole path on one side, within ``SUPPORT_TOL`` mm) with positive curvature, the sharpest one.
+
+    Candidates are the chord midpoints of a coarse flattening (never a segment end).  Raises
+    :class:`GeometryError` naming ``what`` when no candidate qualifies (a hull made of corners).
+    """
+    params = path.flatten_params(START_SAMPLING * max(path.size, 1.0))
+    mid = 0.5 * (params + np.append(params[1:], path.n_segments))
+    points = path.evaluate(mid)
+    normals = path.normal(mid)
+    kappa = path.curvature(mid)
+    psi = np.arctan2(normals[:, 1], normals[:, 0])
+    gap = path.support(psi) - np.einsum("ij,ij->i", points, normals)
+    ok = (kappa > 0.0) & (gap <= SUPPORT_TOL)
+    if not ok.any():
+        raise GeometryError(
+            f"no safe start for the {what}: no point of the contour's convex hull has a tangent "
+            "(the hull is made of corners); the tangent lead-in needs a smooth convex stretch"
+            + ("; set cutter_compensation = false" if what == "cutter_compensation" else "")
+        )
+    return float(mid[np.argmax(np.where(ok, kappa, -np.inf))])
+
+
+def _shift_cubic(c: np.ndarray, delta: float) -> np.ndarray:
+    """Coefficients (4, 2) of the cubic piece ``c`` (highest power first) re-expanded at ``tau = delta``."""
+    a, b, cc, d = c
+    return np.stack([a, 3 * a * delta + b, (3 * a * delta + 2 * b) * delta + cc, ((a * delta + b) * delta + cc) * delta + d])
+
+
+def _split(seg: Arc | Spline, u: float) -> tuple[Arc | Spline | None, Arc | Spline | None]:
+    """``seg`` split at local parameter ``u`` in (0, 1): (head, tail); None for an empty part."""
+    if isinstance(seg, Arc):
+        return (Arc(seg.center, seg.radius, seg.start_angle, seg.sweep * u),
+                Arc(seg.center, seg.radius, seg.start_angle + seg.sweep * u, seg.sweep * (1.0 - u)))
+    t = seg.breaks[0] + u * seg.span
+    j = int(np.clip(np.searchsorted(seg.breaks, t, side="right") - 1, 0, seg.n_pieces - 1))
+    delta = t - seg.breaks[j]
+    if delta <= 1e-12 * seg.span:  # on a break: no piece to cut
+        head = Spline(seg.breaks[: j + 1], seg.coeffs[:, :j]) if j > 0 else None
+        return head, Spline(seg.breaks[j:], seg.coeffs[:, j:])
+    tail_coeffs = np.concatenate([_shift_cubic(seg.coeffs[:, j], delta)[:, None], seg.coeffs[:, j + 1 :]], axis=1)
+    tail = Spline(np.concatenate([[t], seg.breaks[j + 1 :]]), tail_coeffs)
+    head = Spline(np.concatenate([seg.breaks[: j + 1], [t]]), seg.coeffs[:, : j + 1])
+    return head, tail
+
+
+def rotate(path: Contour, t: float) -> Contour:
+    """The same closed path starting at global parameter ``t`` (the segment there is split)."""
+    i = int(math.floor(t)) % path.n_segments
+    u = t - math.floor(t)
+    segs = list(path.segments)
+    if u <= 0.0:
+        order = segs[i:] + segs[:i]
+    else:
+        head, tail = _split(segs[i], u)
+        order = [tail] + segs[i + 1 :] + segs[:i] + ([head] if head is not None else [])
+    return Contour(order, closure_tol=1e-5)
+
+
+# ------------------------------------------------------------------------------------------
+# primitives
+# ------------------------------------------------------------------------------------------
+def _line_tolerance(contour: Contour, spec: MachiningSpec) -> float:
+    """Chord tolerance of ``lines`` mode, mm.
+
+    Without compensation it is the fit share of ``chord_tol``.  With compensation LinuxCNC
+    treats a chord corner below ``COMP_STRAIGHT`` rad as straight and starts the next offset
+    chord where the previous one ended (no arc, no intersection).  For chords of sagitta ``f``
+    on a radius ``R`` the tool then reaches into the part by ``f (1 + 2 r/R - (r/R)^2) <= 2 f``
+    on a convex stretch and by ``r f / (R - r)`` on a concave one (the offset point of each
+    vertex is tilted by the chord angle ``sqrt(8 f / R)``): ``f`` is scaled by
+    ``min(1/2, (R - r) / r)`` with R the smallest concave radius of the spline segments.
+    """
+    fit = FIT_SHARE * spec.chord_tol
+    if not spec.cutter_compensation:
+        return fit
+    r = spec.tool_radius
+    u = np.linspace(0.0, 1.0, 4097)
+    kappa = [np.min(seg.curvature(u)) for seg in contour.segments if not isinstance(seg, Arc)]
+    least = min(kappa, default=0.0)
+    scale = 0.5 if least >= 0.0 else min(0.5, (1.0 / -least - r) / r)
+    return fit * scale
+
+
 def _primitives(contour: Contour, spec: MachiningSpec) -> list[tuple]:
     """Counter-clockwise primitives: ('arc', Arc) or ('lines', points (n, 2) excluding the start)."""
     if spec.spline_mode == "biarcs" and any(not isinstance(s, Arc) for s in contour.segments):
         from camgen.biarc import to_arc_spline
 
-        contour = to_arc_spline(contour, spec.chord_tol)
+        contour = to_arc_spline(contour, FIT_SHARE * spec.chord_tol)
+    tol = _line_tolerance(contour, spec)
     out: list[tuple] = []
     for seg in contour.segments:
         if isinstance(seg, Arc):
             out.append(("arc", seg))
         else:
-            u = np.append(seg.flatten_params(spec.chord_tol)[1:], 1.0)
+            u = np.append(seg.flatten_params(tol)[1:], 1.0)
             out.append(("lines", seg.point(u)))
     return out
 
@@ -121,69 +286,191 @@ def _reverse(prims: list[tuple], start: np.ndarray) -> list[tuple]:
     return out
 
 
+def _check_compensated_arcs(prims: list[tuple], spec: MachiningSpec) -> None:
+    """Concave arcs of the counter-clockwise profile ``prims`` under cutter compensation.
+
+    LinuxCNC refuses an arc with the tool inside whose radius is not above the tool radius, and
+    an arc whose compensated chord is too short to print (< 100 units of the last decimal)
+    could run as a full circle: both are a :class:`GeometryError` naming ``cutter_compensation``.
+    """
+    r = spec.tool_radius
+    least = 100.0 * 10.0 ** (-spec.decimals)
+    for kind, arc in prims:
+        if kind != "arc" or arc.sweep > 0:  # convex: the tool runs outside the arc
+            continue
+        half = math.sin(min(abs(arc.sweep), math.pi) / 2.0)
+        written_as_arc = 2.0 * arc.radius * half >= least
+        if arc.radius <= r or (written_as_arc and 2.0 * (arc.radius - r) * half < least):
+            mid = arc.point(np.array([0.5]))[0]
+            polar = math.degrees(math.atan2(mid[1], mid[0])) % 360.0
+            raise GeometryError(
+                f"cutter_compensation: the concave arc of radius {arc.radius:.4g} mm near cam angle {polar:.3f} deg "
+                f"leaves the tool (radius {r:g} mm) too little room for LinuxCNC's compensation; "
+                "set cutter_compensation = false (camgen then writes the exact tool-centre path) or use a smaller tool"
+            )
+
+
+# ------------------------------------------------------------------------------------------
+# writing
+# ------------------------------------------------------------------------------------------
+class _Writer:
+    """Moves printed from the printed current point: I/J from printed values, zero-length moves
+    dropped, arcs too short to print safely written as lines."""
+
+    def __init__(self, decimals: int, start: np.ndarray) -> None:
+        self.d = decimals
+        self.unit = 10.0 ** (-decimals)
+        self.current = self.round(start)
+        self.out = io.StringIO()
+
+    def round(self, p: np.ndarray) -> np.ndarray:
+        return np.round(np.asarray(p, dtype=float), self.d) + 0.0
+
+    def xy(self, p: np.ndarray) -> str:
+        return f"X{p[0]:.{self.d}f} Y{p[1]:.{self.d}f}"
+
+    def line(self, p: np.ndarray, prefix: str = "") -> None:
+        q = self.round(p)
+        if np.array_equal(q, self.current) and not prefix:
+            return
+        self.out.write(f"{prefix}G1 {self.xy(q)}\n")
+        self.current = q
+
+    def lines(self, points: np.ndarray) -> None:
+        q = self.round(points)
+        keep = np.any(q != np.vstack([self.current[None], q[:-1]]), axis=1)
+        q = q[keep]
+        if len(q):
+            np.savetxt(self.out, q, fmt=f"G1 X%.{self.d}f Y%.{self.d}f")
+            self.current = q[-1]
+
+    def arc(self, arc: Arc) -> None:
+        end = self.round(arc.end_point)
+        centre = self.round(np.asarray(arc.center))
+        chord = float(np.hypot(*(end - self.current)))
+        sagitta = arc.radius * (1.0 - math.cos(min(abs(arc.sweep), math.pi) / 2.0))
+        if chord < 100.0 * self.unit and sagitta <= math.sqrt(2.0) * self.unit:
+            self.line(end)  # within the rounding budget, and never misread as a full circle
+            return
+        # the sweep the control will run: from the printed start to the printed end about the printed centre
+        a0 = math.atan2(self.current[1] - centre[1], self.current[0] - centre[0])
+        a1 = math.atan2(end[1] - centre[1], end[0] - centre[0])
+        run = (a1 - a0) % (2 * math.pi) if arc.sweep > 0 else -((a0 - a1) % (2 * math.pi))
+        if chord == 0.0 or abs(run - arc.sweep) > 1e-2 * max(1.0, abs(arc.sweep)):
+            raise GeometryError(
+                f"an arc of radius {arc.radius:.6g} mm and sweep {math.degrees(arc.sweep):.6g} deg cannot be "
+                f"printed with {self.d} decimals; raise decimals"
+            )
+        ij = centre - self.current
+        word = "G3" if arc.sweep > 0 else "G2"
+        self.out.write(f"{word} {self.xy(end)} I{ij[0]:.{self.d}f} J{ij[1]:.{self.d}f}\n")
+        self.current = end
+
+    def text(self) -> str:
+        return self.out.getvalue()
+
+
 def _comment(text: str) -> str:
     """An RS274 comment: parentheses cannot nest, so they are replaced in the text."""
     return "(" + text.replace("(", "[").replace(")", "]") + ")"
 
 
+def _blend_word(tol: float, decimals: int) -> str:
+    """``P`` value of ``G64`` printed rounded down (P0 would mean no tolerance at all)."""
+    for k in range(decimals, decimals + 6):
+        value = math.floor(tol * 10**k) / 10**k
+        if value >= 0.5 * tol:
+            return f"{value:.{k}f}"
+    return f"{tol:.3e}"
+
+
 def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene: str = "") -> str:
-    """RS274/NGC program text that mills ``contour`` (the cam profile) to ``spec.thickness``."""
+    """RS274/NGC program text that mills ``contour`` (the cam profile) to ``spec.thickness``
+    plus ``spec.breakthrough``, with tangent lead-in and lead-out (see the module docstring)."""
     from camgen import __version__
 
-    path = contour if spec.cutter_compensation else tool_path(contour, spec)
-    if spec.cutter_compensation:
-        tool_path(contour, spec)  # the controller offsets the path: still refuse a gouge
+    comp = spec.cutter_compensation
+    # the start is chosen on the profile; the offset keeps the parameter (arcs: same angles,
+    # splines: refitted at the same parameter values), so it starts at the same global parameter
+    t_start = start_parameter(contour, "cutter_compensation" if comp else "lead")
+    offset = tool_path(contour, spec)  # in compensation mode still refuses a gouging tool
+    path = rotate(contour if comp else offset, t_start)
     prims = _primitives(path, spec)
-    start = path.evaluate(np.array([0.0]))[0]
-    normal = path.normal(np.array([0.0]))[0]
+    if comp:
+        _check_compensated_arcs(prims, spec)
+    start = path.segments[0].start_point
+    tangent = path.tangent(np.array([0.0]))[0]  # counter-clockwise
+    normal = np.array([tangent[1], -tangent[0]])  # outward
     climb = spec.direction == "climb"
     if climb:
         prims = _reverse(prims, start)
-    lead_point = start + spec.lead_length * normal
+    travel = -tangent if climb else tangent
+    r, lead = spec.tool_radius, spec.lead_length
+    centre_start = start + r * normal if comp else start  # S': the tool centre at the start
+    plunge = centre_start - lead * travel
+    leave = centre_start + lead * travel
+    if comp:
+        # L': length of the entry move along the tangent; its angle atan(r / L') to the tangent
+        # stays above COMP_STRAIGHT so that LinuxCNC takes the corner as concave
+        entry = min(math.sqrt(lead * lead - r * r) / 2.0, r / math.tan(COMP_ENTRY_ANGLE))
+        a_point = start - (lead - entry) * travel
+        b_point = start + 0.5 * lead * travel
+
+    writer = _Writer(spec.decimals, start)
+    for kind, item in prims:
+        if kind == "arc":
+            writer.arc(item)
+        else:
+            writer.lines(item)
+    gap = float(np.hypot(*(writer.current - writer.round(start))))
+    if gap > 1e-4:
+        raise GeometryError(f"the written contour does not close: it ends {gap:.3g} mm from its start")
+    writer.line(start)  # a gap of the offset's closure tolerance, if any
+    contour_moves = writer.text()
+
     d = spec.decimals
-    num = f"%.{d}f"
 
     def xy(p: np.ndarray) -> str:
         return f"X{p[0]:.{d}f} Y{p[1]:.{d}f}"
 
-    moves = io.StringIO()
-    current = start
-    for kind, item in prims:
-        if kind == "arc":
-            end = item.end_point
-            ij = np.asarray(item.center) - current
-            word = "G3" if item.sweep > 0 else "G2"
-            moves.write(f"{word} {xy(end)} I{ij[0]:.{d}f} J{ij[1]:.{d}f}\n")
-            current = end
-        else:
-            np.savetxt(moves, item + 0.0, fmt=f"G1 X{num} Y{num}")
-            current = item[-1]
-    contour_moves = moves.getvalue()
-
-    n_passes = max(1, math.ceil(spec.thickness / spec.step_down - 1e-9))
-    depths = -np.minimum(spec.step_down * np.arange(1, n_passes + 1), spec.thickness)
-    # G41: tool left of the travel direction = outside of a clockwise (climb) path
-    comp = ("G41.1" if climb else "G42.1") + f" D{spec.tool_diameter:.{d}f} " if spec.cutter_compensation else ""
-    uncomp = "G40 " if spec.cutter_compensation else ""
-    mode = "cutter compensation G41.1/G42.1 on the profile" if spec.cutter_compensation else "tool-centre path = profile offset by the tool radius"
+    n_passes = max(1, math.ceil(spec.depth / spec.step_down - 1e-9))
+    depths = -np.minimum(spec.step_down * np.arange(1, n_passes + 1), spec.depth)
+    tol = spec.chord_tol
+    blend = _blend_word(BLEND_SHARE * tol, d)
+    if comp:
+        # G41: tool left of the travel direction = outside of a clockwise (climb) path
+        side = "G41.1" if climb else "G42.1"
+        lead_in = f"{side} D{spec.tool_diameter:.{d}f} G1 {xy(a_point)} F{spec.feed:.0f}\nG1 {xy(start)}\n"
+        lead_out = f"G1 {xy(b_point)}\nG40 G1 {xy(leave)}\n"
+        mode = f"cutter compensation {side} on the profile"
+    else:
+        lead_in = f"G1 {xy(start)} F{spec.feed:.0f}\n"
+        lead_out = f"G1 {xy(leave)}\n"
+        mode = "tool-centre path = profile offset by the tool radius"
+    fit_what = "biarc" if spec.spline_mode == "biarcs" else "chord"
     lines = [
         _comment(f"camgen {__version__}: cam '{cam}'" + (f", scene '{scene}'" if scene else "")),
         _comment(f"units mm; tool diameter {spec.tool_diameter:g}; {mode}; {spec.direction} milling, outside contour"),
-        _comment(f"stock top Z0; depth {spec.thickness:g} in {n_passes} passes of <= {spec.step_down:g}; chord/biarc tolerance {spec.chord_tol:g}"),
+        _comment(f"stock top Z0, bottom Z{-spec.thickness:g}; last pass Z{-spec.depth:g} = {spec.breakthrough:g} below the stock bottom "
+                 f"(breakthrough); {n_passes} passes of <= {spec.step_down:g}"),
+        _comment(f"path tolerance {tol:g} = {fit_what} fit {FIT_SHARE * tol:.3g} + offset refit {min(1e-6, REFIT_SHARE * tol):.3g} "
+                 f"+ {d} printed decimals {rounding_error(d):.3g}"
+                 + (f" + G64 blending {blend}" if spec.dialect == "linuxcnc" else "")),
+        _comment(f"tangent lead-in and lead-out of {lead:g} at tool-centre point {xy(centre_start)}, plunge at {xy(plunge)}"),
         "G21 G90 G17 G40 G49 G80 G94",
     ]
     if spec.dialect == "linuxcnc":
-        lines.append(f"G64 P{spec.chord_tol:.{d}f}")
+        lines.append(f"G64 P{blend}")
     lines += [f"G0 Z{spec.safe_z:.{d}f}", f"M3 S{spec.spindle_rpm:.0f}"]
     body = ["\n".join(lines) + "\n"]
     for k, z in enumerate(depths, 1):
         body.append(
             f"(pass {k} of {n_passes}: Z{z:.{d}f})\n"
-            f"G0 {xy(lead_point)}\n"
+            f"G0 {xy(plunge)}\n"
             f"G1 Z{z:.{d}f} F{spec.plunge_feed:.0f}\n"
-            f"{comp}G1 {xy(start)} F{spec.feed:.0f}\n"
+            f"{lead_in}"
             f"{contour_moves}"
-            f"{uncomp}G1 {xy(lead_point)}\n"
+            f"{lead_out}"
             f"G0 Z{spec.safe_z:.{d}f}\n"
         )
     body.append("M5\nM2\n")

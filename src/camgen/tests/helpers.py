@@ -102,11 +102,13 @@ def table1_paper(a: float, b: float, c: float, phi: np.ndarray) -> tuple[np.ndar
     return beta, radius
 
 
-def rs274_toolpath(program: str, workdir) -> tuple[int, str, list[tuple[float, np.ndarray]]]:
-    """Run LinuxCNC's ``rs274 -g`` on ``program``; return (exit status, stderr, feed moves).
+def rs274_canon(program: str, workdir) -> tuple[int, str, list[dict]]:
+    """Run LinuxCNC's ``rs274 -g`` on ``program``; return (exit status, message, canonical moves).
 
-    Feed moves are rebuilt from the canonical calls: ``STRAIGHT_FEED`` as its end point and
-    ``ARC_FEED`` sampled every 0.2 deg, as (z, points (n, 2)) per move.
+    Every ``STRAIGHT_TRAVERSE``, ``STRAIGHT_FEED`` and ``ARC_FEED`` call becomes a dict with
+    ``kind`` ("traverse", "line" or "arc"), ``start`` and ``end`` (3,) in mm, and for arcs
+    ``centre`` (2,) and ``turn`` (rs274's rotation: > 0 counter-clockwise, |turn| - 1 extra
+    full turns).  rs274 prints 4 decimals, so every number is within 5e-5 mm of its value.
     """
     import re
     import subprocess
@@ -116,26 +118,59 @@ def rs274_toolpath(program: str, workdir) -> tuple[int, str, list[tuple[float, n
     path.write_text(program)
     proc = subprocess.run(["rs274", "-g", str(path)], stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120)
     number = r"(-?\d+(?:\.\d+)?)"
-    moves = []
+    straight = re.compile(rf"STRAIGHT_(FEED|TRAVERSE)\({number}, {number}, {number}")
+    arc = re.compile(rf"ARC_FEED\({number}, {number}, {number}, {number}, (-?\d+), {number}")
+    moves: list[dict] = []
     current = np.zeros(3)
     for line in proc.stdout.splitlines():
-        m = re.search(rf"STRAIGHT_(FEED|TRAVERSE)\({number}, {number}, {number}", line)
+        m = straight.search(line)
         if m:
             end = np.array([float(m.group(i)) for i in (2, 3, 4)])
-            if m.group(1) == "FEED":
-                moves.append((end[2], np.vstack([current[:2], end[:2]])))
+            moves.append({"kind": "line" if m.group(1) == "FEED" else "traverse", "start": current, "end": end})
             current = end
             continue
-        m = re.search(rf"ARC_FEED\({number}, {number}, {number}, {number}, (-?\d+), {number}", line)
+        m = arc.search(line)
         if m:
-            x1, y1, cx, cy = (float(m.group(i)) for i in (1, 2, 3, 4))
-            rot, z1 = int(m.group(5)), float(m.group(6))
-            a0 = math.atan2(current[1] - cy, current[0] - cx)
-            a1 = math.atan2(y1 - cy, x1 - cx)
-            sweep = (a1 - a0) % (2 * math.pi) if rot > 0 else -((a0 - a1) % (2 * math.pi))
-            radius = math.hypot(current[0] - cx, current[1] - cy)
+            end = np.array([float(m.group(1)), float(m.group(2)), float(m.group(6))])
+            centre = np.array([float(m.group(3)), float(m.group(4))])
+            moves.append({"kind": "arc", "start": current, "end": end, "centre": centre, "turn": int(m.group(5))})
+            current = end
+    message = proc.stderr + proc.stdout[-2000:] if proc.returncode else proc.stderr
+    return proc.returncode, message, moves
+
+
+def arc_sweep(start: np.ndarray, end: np.ndarray, centre: np.ndarray, turn: int) -> float:
+    """Signed sweep (rad) of a canonical arc as LinuxCNC runs it: counter-clockwise for turn > 0,
+    in (0, 2 pi] plus (|turn| - 1) full turns; an arc that ends where it starts is a full circle."""
+    a0 = math.atan2(start[1] - centre[1], start[0] - centre[0])
+    a1 = math.atan2(end[1] - centre[1], end[0] - centre[0])
+    ccw = (a1 - a0) % (2 * math.pi) if turn > 0 else (a0 - a1) % (2 * math.pi)
+    if ccw == 0.0 or math.hypot(end[0] - start[0], end[1] - start[1]) == 0.0:
+        ccw = 2 * math.pi
+    ccw += (abs(turn) - 1) * 2 * math.pi
+    return ccw if turn > 0 else -ccw
+
+
+def rs274_toolpath(program: str, workdir) -> tuple[int, str, list[tuple[float, np.ndarray]]]:
+    """Run LinuxCNC's ``rs274 -g`` on ``program``; return (exit status, stderr, feed moves).
+
+    Feed moves are rebuilt from the canonical calls (:func:`rs274_canon`): ``STRAIGHT_FEED`` as
+    its two end points and ``ARC_FEED`` sampled every 0.2 deg, as (z, points (n, 2)) per move.
+    """
+    status, message, canon = rs274_canon(program, workdir)
+    moves = []
+    for move in canon:
+        start, end = move["start"], move["end"]
+        if move["kind"] == "line":
+            moves.append((end[2], np.vstack([start[:2], end[:2]])))
+        elif move["kind"] == "arc":
+            cx, cy = move["centre"]
+            sweep = arc_sweep(start, end, move["centre"], move["turn"])
+            a0 = math.atan2(start[1] - cy, start[0] - cx)
+            r0, r1 = math.hypot(start[0] - cx, start[1] - cy), math.hypot(end[0] - cx, end[1] - cy)
             n = max(2, int(abs(math.degrees(sweep)) / 0.2) + 2)
-            ang = a0 + sweep * np.linspace(0, 1, n)
-            moves.append((z1, np.stack([cx + radius * np.cos(ang), cy + radius * np.sin(ang)], axis=1)))
-            current = np.array([x1, y1, z1])
-    return proc.returncode, proc.stderr + proc.stdout[-2000:] if proc.returncode else proc.stderr, moves
+            w = np.linspace(0, 1, n)
+            radius = r0 + (r1 - r0) * w
+            ang = a0 + sweep * w
+            moves.append((end[2], np.stack([cx + radius * np.cos(ang), cy + radius * np.sin(ang)], axis=1)))
+    return status, message, moves
