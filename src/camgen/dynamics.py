@@ -1,0 +1,728 @@
+"""Cam-follower dynamics: contact force, jump, camshaft torque and Hertz stress over one cam turn.
+
+The model is the classic rigid-body one (Rothbart, *Cam Design Handbook*, McGraw-Hill 2004,
+ch. 8 "Cam mechanism forces"): the cam turns at a constant speed ``w``; the
+follower train is one rigid body with one coordinate ``q`` (translating: the follower's travel
+``s``, mm; oscillating: the arm angle ``psi``, rad), pressed onto the cam by a spring, loads
+and gravity; the contact has no friction.  All kinematics are given per radian of cam angle
+(``q' = dq/dtheta``, ``q'' = d2q/dtheta2``), so at speed ``w`` the follower velocity is
+``w q'`` and its acceleration ``w^2 q''``.
+
+The generalised force the cam must supply along ``q`` (N for a translating follower, N*mm
+about the pivot for an oscillating one) is
+
+    Q(theta) = M w^2 q'' + C w q' + K (q - q_min) + P0 + L(theta) + G(theta)
+
+with the inertia ``M``, viscous damping ``C``, spring rate ``K`` and preload ``P0`` (the
+spring force at the follower's lowest position ``q_min``), the external load ``L`` and the
+weight's component ``G`` against the motion.  Along the common normal the contact carries
+``F = Q / (lever cos(phi))`` (``phi`` the pressure angle, ``lever`` 1 for a translating
+follower and the arm length for an oscillating one: the normal through the roller centre
+passes ``arm cos(phi)`` from the pivot).
+
+* Jump: the follower leaves the cam where ``F <= 0``.  ``Q`` is a quadratic in ``w`` at every
+  cam angle, so the speed at which the contact force first reaches a margin is the smallest
+  positive root over the samples, found in closed form (:func:`jump_speed`), not by scanning.
+* Camshaft torque, from the power balance: with a frictionless contact the cam's input power
+  ``T w`` equals the power the contact delivers to the follower, ``Q w q'``, so ``T = Q q'``
+  exactly, for every follower type, without the contact point's lever (which the tests check
+  against the lever computed from the contact geometry).
+* Hertz line-contact stress (Rothbart, eq. 9.11; two cylinders with parallel axes):
+  ``p_max = sqrt(F (1/rho_cam + 1/rho_follower) / (pi b ((1-nu_c^2)/E_c + (1-nu_f^2)/E_f)))``,
+  with the signed radius of curvature of the *profile* (not of the pitch curve) at the contact:
+  a concave profile point (``rho_cam < 0``) gives the conformal contact, a flat face
+  (``rho_follower = inf``) the cam's radius alone.
+* Form-closed trains (yoke on a constant-breadth cam, conjugate cams): no spring; the net
+  force ``Q`` is carried by contact 1 (pushing along +q) where ``Q > 0`` and by contact 2 where
+  ``Q < 0``; there is no jump, both contacts are Hertz-checked.
+
+Units: at the edge (the dataclass fields) kg, kg*m^2, N/mm, N*s/m, GPa, m/s^2 as documented;
+inside mm, rad, s, N, N*mm, MPa, converted with the named constants below.  Results: forces
+N, torque N*m, power W, stress MPa, speeds rpm.
+"""
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from camgen.checks import CheckResult, _deg, _run_ends, information, limited
+from camgen.errors import GeometryError, ParameterError, require_finite
+
+TWO_PI = 2.0 * math.pi
+MOTIONS = ("translating", "oscillating")
+CLOSURES = ("force", "form")
+
+#: kg * mm/s^2 -> N (1 N = 1 kg*m/s^2 = 1e3 kg*mm/s^2).
+KG_MM_PER_S2_TO_N = 1e-3
+#: kg*m^2 * rad/s^2 -> N*mm (1 kg*m^2/s^2 = 1 N*m = 1e3 N*mm).
+KG_M2_PER_S2_TO_N_MM = 1e3
+#: N*s/m * mm/s -> N.
+N_S_PER_M_TIMES_MM_PER_S_TO_N = 1e-3
+#: N*m*s/rad * rad/s -> N*mm.
+N_M_TO_N_MM = 1e3
+#: N*mm -> N*m.
+N_MM_TO_N_M = 1e-3
+#: GPa -> MPa.
+GPA_TO_MPA = 1e3
+#: rev/min -> rad/s.
+RPM_TO_RAD_PER_S = TWO_PI / 60.0
+#: Standard gravity, m/s^2 (the default of :attr:`FollowerTrain.gravity`).
+STANDARD_GRAVITY = 9.80665
+
+
+def _nonnegative(name: str, value: Any, unit: str) -> float:
+    number = require_finite(name, value)
+    if number < 0:
+        raise ParameterError(name, value, f"{name} >= 0 {unit}")
+    return number
+
+
+# --------------------------------------------------------------------------------------------
+# Inputs
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class FollowerTrain:
+    """The follower train: inertia, spring, damping, loads, gravity.
+
+    Attributes
+    ----------
+    motion : ``"translating"`` or ``"oscillating"``.
+    closure : ``"force"`` (a spring keeps the follower on the cam) or ``"form"`` (yoke on a
+        constant-breadth cam, conjugate cams: two contacts, no spring).
+    mass : kg.  Translating: the effective moving mass (follower, roller, a third of the
+        spring), used for inertia and weight.  Oscillating: the arm's mass, used for its weight
+        only (its inertia is ``inertia``).
+    inertia : kg*m^2, oscillating: moment of inertia of the arm (with roller) about the pivot.
+    arm_length : mm, oscillating: pivot to the roller centre (or contact point).
+    cg_distance : mm, oscillating: pivot to the arm's centre of mass, measured along the arm
+        towards the roller (for its weight).
+    spring_rate : translating N/mm; oscillating N*mm/rad (torsional).
+    preload : translating N; oscillating N*mm: the spring force (torque) at the follower's
+        lowest position.  None: from the spring lengths, or 0.
+    spring_free_length, spring_installed_length : mm, translating: the spring's free length
+        and its length with the follower at its lowest position (preload
+        ``rate * (free - installed)``); give these or ``preload``, not both.
+    damping : translating N*s/m; oscillating N*m*s/rad (viscous, on the follower coordinate).
+    load : the external load against the motion (pressing the follower onto the cam):
+        translating N, oscillating N*mm; a constant, or a table ``(angles, values)`` over cam
+        angle (rad, strictly increasing in [0, 2 pi); interpolated linearly, periodically).
+    gravity : m/s^2 (0 to ignore weight).
+    gravity_angle : rad, direction of gravity in the fixed frame, counter-clockwise from +x
+        (default -pi/2: down, -y).
+    """
+
+    motion: str = "translating"
+    closure: str = "force"
+    mass: float = 0.0
+    inertia: float = 0.0
+    arm_length: float = 0.0
+    cg_distance: float = 0.0
+    spring_rate: float = 0.0
+    preload: float | None = None
+    spring_free_length: float | None = None
+    spring_installed_length: float | None = None
+    damping: float = 0.0
+    load: float | tuple[Sequence[float], Sequence[float]] = 0.0
+    gravity: float = STANDARD_GRAVITY
+    gravity_angle: float = -math.pi / 2
+
+    def __post_init__(self) -> None:
+        if self.motion not in MOTIONS:
+            raise ParameterError("follower_motion", self.motion, f"one of {MOTIONS}")
+        if self.closure not in CLOSURES:
+            raise ParameterError("closure", self.closure, f"one of {CLOSURES}")
+        _nonnegative("mass", self.mass, "kg")
+        _nonnegative("inertia", self.inertia, "kg*m^2")
+        _nonnegative("spring_rate", self.spring_rate, "N/mm" if self.motion == "translating" else "N*mm/rad")
+        _nonnegative("damping", self.damping, "N*s/m" if self.motion == "translating" else "N*m*s/rad")
+        _nonnegative("gravity", self.gravity, "m/s^2")
+        require_finite("gravity_angle", self.gravity_angle)
+        require_finite("cg_distance", self.cg_distance)
+        if self.motion == "oscillating" and not require_finite("arm_length", self.arm_length) > 0:
+            raise ParameterError("arm_length", self.arm_length, "arm_length > 0 mm for an oscillating follower")
+        lengths = (self.spring_free_length, self.spring_installed_length)
+        if any(v is not None for v in lengths):
+            if self.motion != "translating":
+                raise ParameterError("spring_free_length", self.spring_free_length,
+                                     "absent for an oscillating follower (give the preload torque, N*mm)")
+            if None in lengths:
+                raise ParameterError("spring_installed_length", self.spring_installed_length,
+                                     "given together with spring_free_length (both mm)")
+            if self.preload is not None:
+                raise ParameterError("preload", self.preload, "absent when the spring lengths are given (they set the preload)")
+            free = _nonnegative("spring_free_length", self.spring_free_length, "mm")
+            installed = _nonnegative("spring_installed_length", self.spring_installed_length, "mm")
+            if installed > free:
+                raise ParameterError("spring_installed_length", installed,
+                                     f"<= spring_free_length = {free:g} mm (a compression spring is shorter when installed)")
+        elif self.preload is not None:
+            _nonnegative("preload", self.preload, "N" if self.motion == "translating" else "N*mm")
+        if self.closure == "form" and (self.spring_rate != 0 or self.spring_preload != 0):
+            raise ParameterError("spring_rate", self.spring_rate,
+                                 "0 with no preload for a form-closed train (yoke, conjugate cams: the second contact holds the follower)")
+        if not isinstance(self.load, (int, float)) or isinstance(self.load, bool):
+            try:
+                angles, values = (np.asarray(a, dtype=float) for a in self.load)  # type: ignore[misc]
+            except (TypeError, ValueError):
+                raise ParameterError("load", self.load, "a number or a table (angles rad, values)") from None
+            if angles.ndim != 1 or angles.shape != values.shape or angles.size < 1:
+                raise ParameterError("load", f"table of shapes {angles.shape}, {values.shape}", "two 1-D arrays of one length >= 1")
+            if not (np.all(np.isfinite(angles)) and np.all(np.isfinite(values))):
+                raise ParameterError("load", "a table with non-finite entries", "finite angles and values")
+            if angles[0] < 0 or angles[-1] >= TWO_PI or np.any(np.diff(angles) <= 0):
+                raise ParameterError("load", "table angles", "strictly increasing cam angles in [0, 2 pi) rad")
+            object.__setattr__(self, "load", (tuple(angles.tolist()), tuple(values.tolist())))
+        else:
+            require_finite("load", self.load)
+
+    @property
+    def spring_preload(self) -> float:
+        """Spring force at the follower's lowest position: N (translating) or N*mm (oscillating)."""
+        if self.spring_free_length is not None and self.spring_installed_length is not None:
+            return self.spring_rate * (self.spring_free_length - self.spring_installed_length)
+        return 0.0 if self.preload is None else float(self.preload)
+
+    @property
+    def force_unit(self) -> str:
+        """Unit of the generalised force (spring, preload, load): "N" or "N*mm"."""
+        return "N" if self.motion == "translating" else "N*mm"
+
+    def load_at(self, theta: np.ndarray) -> np.ndarray:
+        """External load (N or N*mm) at cam angles ``theta`` (rad)."""
+        if isinstance(self.load, tuple):
+            angles, values = self.load
+            return np.interp(np.mod(theta, TWO_PI), angles, values, period=TWO_PI)
+        return np.full(np.shape(theta), float(self.load))
+
+
+@dataclass(frozen=True)
+class ContactMaterial:
+    """Elastic constants of cam and follower, the contact width and the allowable stress.
+
+    Attributes
+    ----------
+    width : mm, the length of the contact line (cam thickness or roller width, the smaller).
+    cam_modulus, follower_modulus : GPa (default 210, steel).
+    cam_poisson, follower_poisson : Poisson's ratios (default 0.3).
+    allowable_stress : MPa, the allowable Hertz stress; None: the stress is information.
+    """
+
+    width: float
+    cam_modulus: float = 210.0
+    cam_poisson: float = 0.3
+    follower_modulus: float = 210.0
+    follower_poisson: float = 0.3
+    allowable_stress: float | None = None
+
+    def __post_init__(self) -> None:
+        for name, unit in (("width", "mm"), ("cam_modulus", "GPa"), ("follower_modulus", "GPa")):
+            if not require_finite(name, getattr(self, name)) > 0:
+                raise ParameterError(name, getattr(self, name), f"{name} > 0 {unit}")
+        for name in ("cam_poisson", "follower_poisson"):
+            nu = require_finite(name, getattr(self, name))
+            if not -1.0 < nu < 0.5:
+                raise ParameterError(name, nu, "-1 < Poisson's ratio < 0.5")
+        if self.allowable_stress is not None and not require_finite("allowable_stress", self.allowable_stress) > 0:
+            raise ParameterError("allowable_stress", self.allowable_stress, "allowable_stress > 0 MPa")
+
+    @property
+    def compliance(self) -> float:
+        """``(1 - nu_c^2)/E_c + (1 - nu_f^2)/E_f`` in 1/MPa."""
+        return ((1.0 - self.cam_poisson**2) / (self.cam_modulus * GPA_TO_MPA)
+                + (1.0 - self.follower_poisson**2) / (self.follower_modulus * GPA_TO_MPA))
+
+
+def _array(name: str, value: Any, n: int | None, allow_inf: bool = False) -> np.ndarray:
+    arr = np.asarray(value, dtype=float)
+    if arr.ndim != 1 or (n is not None and arr.size != n):
+        raise ParameterError(name, f"array of shape {arr.shape}", f"a 1-D array of {n} samples (one per cam angle)")
+    bad = np.isnan(arr) if allow_inf else ~np.isfinite(arr)
+    if bad.any():
+        raise ParameterError(name, f"non-finite value at sample {int(np.argmax(bad))}",
+                             "finite values" + (" (+-inf allowed)" if allow_inf else ""))
+    return arr
+
+
+@dataclass(frozen=True, eq=False)
+class Kinematics:
+    """The follower's kinematics and the contact geometry over one cam turn (arrays of shape (N,)).
+
+    Attributes
+    ----------
+    theta : rad, cam angles, strictly increasing in [0, 2 pi) (uniform for plots; any spacing
+        works: peaks are sample maxima, RMS and work use periodic trapezoid weights).
+    s, ds, d2s : the follower coordinate and its derivatives per rad of cam angle:
+        translating mm, mm/rad, mm/rad^2; oscillating (arm angle) rad, rad/rad, rad/rad^2.
+    pressure_angle : rad, between the contact normal and the velocity of the contact point
+        (translating) or the roller centre (oscillating); |phi| < pi/2.
+    rho_cam : mm, signed radius of curvature of the cam profile at the contact point
+        (convex > 0, concave < 0, +inf on a straight flank).
+    follower_radius : mm, radius of the follower's surface at the contact: the roller radius,
+        ``math.inf`` for a flat face, a knife's tip radius (0: a sharp knife, no Hertz stress).
+    direction : rad, fixed-frame direction in which the contact point (translating) or the
+        roller centre (oscillating) moves when ``s`` increases: a number, or an array (N,) for
+        an oscillating arm.  Used for the weight only.  Default pi/2 (+y).
+    pressure_angle_2, rho_cam_2, follower_radius_2 : the second contact of a form-closed
+        train (the one pushing towards -s): yoke face or conjugate roller.
+    """
+
+    theta: np.ndarray
+    s: np.ndarray
+    ds: np.ndarray
+    d2s: np.ndarray
+    pressure_angle: np.ndarray
+    rho_cam: np.ndarray
+    follower_radius: float
+    direction: float | np.ndarray = math.pi / 2
+    pressure_angle_2: np.ndarray | None = None
+    rho_cam_2: np.ndarray | None = None
+    follower_radius_2: float | None = None
+
+    def __post_init__(self) -> None:
+        theta = _array("theta", self.theta, None)
+        n = theta.size
+        if n < 3:
+            raise ParameterError("theta", f"{n} samples", "at least 3 cam angles")
+        if theta[0] < 0 or theta[-1] >= TWO_PI or np.any(np.diff(theta) <= 0):
+            raise ParameterError("theta", "cam angles", "strictly increasing cam angles in [0, 2 pi) rad")
+        object.__setattr__(self, "theta", theta)
+        for name in ("s", "ds", "d2s", "pressure_angle"):
+            object.__setattr__(self, name, _array(name, getattr(self, name), n))
+        for name in ("rho_cam", "rho_cam_2"):
+            rho = getattr(self, name)
+            if rho is None:
+                continue
+            rho = _array(name, rho, n, allow_inf=True)
+            if np.any(rho == 0):
+                raise ParameterError(name, f"0 at cam angle {math.degrees(theta[int(np.argmax(rho == 0))]):.6g} deg",
+                                     "a nonzero radius of curvature (a cusp has no contact stress)")
+            object.__setattr__(self, name, rho)
+        for name in ("pressure_angle", "pressure_angle_2"):
+            phi = getattr(self, name)
+            if phi is None:
+                continue
+            phi = _array(name, phi, n)
+            object.__setattr__(self, name, phi)
+            if np.any(np.abs(phi) >= math.pi / 2):
+                i = int(np.argmax(np.abs(phi)))
+                raise ParameterError(name, f"{math.degrees(phi[i]):.6g} deg at cam angle {math.degrees(theta[i]):.6g} deg",
+                                     "|pressure angle| < 90 deg (the contact transmits no force along the motion)")
+        for name in ("follower_radius", "follower_radius_2"):
+            r = getattr(self, name)
+            if r is None:
+                continue
+            if isinstance(r, bool) or not isinstance(r, (int, float, np.floating)) or math.isnan(r) or r < 0:
+                raise ParameterError(name, r, f"{name} >= 0 mm (math.inf for a flat face)")
+        if np.ndim(self.direction) == 0:
+            require_finite("direction", float(self.direction))
+        else:
+            object.__setattr__(self, "direction", _array("direction", self.direction, n))
+
+
+# --------------------------------------------------------------------------------------------
+# The physics
+# --------------------------------------------------------------------------------------------
+def _rpm_to_omega(rpm: float) -> float:
+    rpm = require_finite("rpm", rpm)
+    if rpm <= 0:
+        raise ParameterError("rpm", rpm, "rpm > 0 (the cam turns counter-clockwise at constant speed)")
+    return rpm * RPM_TO_RAD_PER_S
+
+
+def _lever(train: FollowerTrain) -> float:
+    """mm per unit of the follower coordinate: 1 (translating, Q in N) or the arm (Q in N*mm)."""
+    return 1.0 if train.motion == "translating" else float(train.arm_length)
+
+
+def force_coefficients(kin: Kinematics, train: FollowerTrain) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(A, B, C)`` with ``Q(theta, w) = A + B w + C w^2`` (N or N*mm; ``w`` in rad/s).
+
+    ``A``: spring, preload, external load and weight; ``B``: viscous damping; ``C``: inertia.
+    """
+    if train.motion == "translating":
+        inertia = train.mass * KG_MM_PER_S2_TO_N  # N per (mm/s^2)
+        damping = train.damping * N_S_PER_M_TIMES_MM_PER_S_TO_N  # N per (mm/s)
+        weight_lever = 1.0
+    else:
+        inertia = train.inertia * KG_M2_PER_S2_TO_N_MM  # N*mm per (rad/s^2)
+        damping = train.damping * N_M_TO_N_MM  # N*mm per (rad/s)
+        weight_lever = train.cg_distance  # mm
+    # the weight's component along +q, with the sign that resists the motion: -m g . e_q
+    weight = -train.mass * train.gravity * weight_lever * np.cos(train.gravity_angle - np.asarray(kin.direction, dtype=float))
+    a = train.spring_rate * (kin.s - kin.s.min()) + train.spring_preload + train.load_at(kin.theta) + weight
+    return np.broadcast_to(a, kin.theta.shape).astype(float), damping * kin.ds, inertia * kin.d2s
+
+
+def _contact_projection(kin: Kinematics, train: FollowerTrain, second: bool = False) -> np.ndarray:
+    """``lever * cos(phi)``: the generalised force per newton along the contact normal."""
+    phi = kin.pressure_angle_2 if second else kin.pressure_angle
+    return _lever(train) * np.cos(phi)
+
+
+def smallest_positive_root(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """Smallest ``w > 0`` with ``a + b w + c w^2 = 0`` where ``a > 0``, elementwise; inf where none.
+
+    ``w = 2a / (-b + sqrt(b^2 - 4ac))`` covers every case without cancellation: for ``c < 0``
+    it is the one positive root, for ``c > 0`` (then ``b < 0``) the smaller of two, for
+    ``c = 0`` it is ``-a/b``.
+    """
+    disc = b * b - 4.0 * a * c
+    ok = disc >= 0
+    den = -b + np.sqrt(np.where(ok, disc, 0.0))
+    ok &= den > 0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(ok, 2.0 * a / np.where(ok, den, 1.0), np.inf)
+
+
+def jump_speed(kin: Kinematics, train: FollowerTrain, margin: float = 0.0) -> float:
+    """Cam speed (rpm) at which the smallest contact force first falls to ``margin`` (N).
+
+    Exact for the samples given: per cam angle the force ``(A + B w + C w^2) / (lever cos phi)``
+    reaches the margin at the smallest positive root of a quadratic; the jump speed is the
+    smallest over the samples.  0 when the force is below the margin at rest, ``math.inf``
+    when it never gets there (e.g. a follower that only decelerates against the spring).
+    Form-closed trains do not jump: ``math.inf``.
+    """
+    if train.closure == "form":
+        return math.inf
+    margin = require_finite("margin", margin)
+    a, b, c = force_coefficients(kin, train)
+    a = a - margin * _contact_projection(kin, train)
+    if np.any(a <= 0):
+        return 0.0
+    w = float(np.min(smallest_positive_root(a, b, c)))
+    return w / RPM_TO_RAD_PER_S if math.isfinite(w) else math.inf
+
+
+def hertz_line_stress(force: np.ndarray | float, rho_cam: np.ndarray | float, rho_follower: float,
+                      material: ContactMaterial) -> np.ndarray:
+    """Largest Hertz pressure (MPa) of a line contact, elementwise.
+
+    Rothbart, *Cam Design Handbook* (McGraw-Hill 2004), eq. (9.11), the two-cylinder formula:
+    ``p_max = sqrt(F (1/rho_cam + 1/rho_follower) / (pi b K))`` with
+    ``K = (1-nu_c^2)/E_c + (1-nu_f^2)/E_f``.  ``force`` N (negative values, a contact that
+    has lifted, count as 0); radii mm, signed (concave < 0, ``inf`` flat).
+
+    Raises :class:`GeometryError` where the combined curvature is negative: a concave profile
+    tighter than the follower (the follower cannot sit in it).  Zero combined curvature (a
+    flat face on a straight flank) gives 0: the force spreads over the face, no line contact.
+    """
+    force, rho = np.broadcast_arrays(np.asarray(force, dtype=float), np.asarray(rho_cam, dtype=float))
+    if not rho_follower > 0:
+        raise ParameterError("follower_radius", rho_follower, "> 0 mm (a sharp knife edge has no finite contact stress)")
+    curvature = 1.0 / rho + 1.0 / rho_follower  # 1/inf = 0: a straight flank or a flat face
+    if np.any(curvature < 0):
+        worst = float(np.max(rho[curvature < 0]))
+        what = ("a flat face cannot touch a concave profile: the cam must be convex" if math.isinf(rho_follower)
+                else f"use a follower radius below {-worst:.6g} mm")
+        raise GeometryError(
+            f"a concave part of the profile (radius of curvature {-worst:.6g} mm) is tighter than the follower "
+            f"(radius {rho_follower:g} mm), which cannot touch it: {what}")
+    load = np.maximum(force, 0.0)
+    return np.sqrt(load * curvature / (math.pi * material.width * material.compliance))
+
+
+@dataclass(frozen=True, eq=False)
+class DynamicsResult:
+    """Forces, torque, power and contact stress at one cam speed (arrays of shape (N,)).
+
+    Attributes
+    ----------
+    rpm, omega : the cam speed, rev/min and rad/s.
+    theta : rad, the cam angles of :class:`Kinematics`.
+    train : the :class:`FollowerTrain` analysed.
+    generalised_force : ``Q``, N (translating) or N*mm (oscillating, about the pivot).
+    contact_force : N, along the common normal at contact 1 (force closure: < 0 where the
+        follower would have to be pulled, i.e. it jumps; form closure: >= 0).
+    contact_force_2 : N, contact 2 of a form-closed train, else None.
+    pressure_angle : rad, the direction of the contact force (from the contact point's velocity).
+    follower_force, side_force : N, the contact force's components along the follower's
+        motion (``F cos phi``) and across it (``F sin phi``: guide or pivot load).
+    torque : N*m, camshaft torque (> 0: the shaft drives the cam); power : W.
+    hertz_stress, hertz_stress_2 : MPa, or None without a material (or a sharp knife).
+    jump_rpm : rpm at which the contact force first reaches 0 (inf: never; 0: at rest).
+    jump_ranges_deg : start/end cam angles (deg) of the runs where the force <= 0.
+    min_preload : the smallest preload (N or N*mm) that keeps the force >= the margin at this
+        speed with the given rate (0 if none is needed); None for form closure.
+    min_spring_rate : the smallest rate (N/mm or N*mm/rad) that does it with the given
+        preload; None if no rate can (the force falls short where the spring is at its
+        lowest) or for form closure.
+    jump_margin : N, the margin the checks hold the contact force to.
+    checks : the :class:`~camgen.checks.CheckResult` list: "jump" (or "contact_force" for
+        form closure), "hertz_stress" (with a material), "camshaft_torque".
+    """
+
+    rpm: float
+    omega: float
+    theta: np.ndarray
+    train: FollowerTrain
+    generalised_force: np.ndarray
+    contact_force: np.ndarray
+    contact_force_2: np.ndarray | None
+    pressure_angle: np.ndarray
+    follower_force: np.ndarray
+    side_force: np.ndarray
+    torque: np.ndarray
+    power: np.ndarray
+    hertz_stress: np.ndarray | None
+    hertz_stress_2: np.ndarray | None
+    jump_rpm: float
+    jump_ranges_deg: list[float]
+    min_preload: float | None
+    min_spring_rate: float | None
+    jump_margin: float
+    checks: list[CheckResult] = field(default_factory=list)
+
+    # ---- scalar summaries -------------------------------------------------------------------
+    @property
+    def weights(self) -> np.ndarray:
+        """Periodic trapezoid weights (rad) of the samples: ``sum(weights * f)`` ~ ``int f dtheta``."""
+        nxt = np.append(self.theta[1:], self.theta[0] + TWO_PI)
+        prv = np.insert(self.theta[:-1], 0, self.theta[-1] - TWO_PI)
+        return 0.5 * (nxt - prv)
+
+    def _rms(self, values: np.ndarray) -> float:
+        return float(np.sqrt(np.sum(self.weights * values**2) / TWO_PI))
+
+    @property
+    def torque_peak(self) -> float:
+        """Largest |torque|, N*m."""
+        return float(np.max(np.abs(self.torque)))
+
+    @property
+    def torque_rms(self) -> float:
+        """RMS torque over one turn, N*m."""
+        return self._rms(self.torque)
+
+    @property
+    def power_peak(self) -> float:
+        """Largest |power|, W."""
+        return float(np.max(np.abs(self.power)))
+
+    @property
+    def power_rms(self) -> float:
+        """RMS power over one turn, W."""
+        return self._rms(self.power)
+
+    @property
+    def energy_per_turn(self) -> float:
+        """Work the shaft does per turn, J (``int T dtheta``): the energy the damping dissipates."""
+        return float(np.sum(self.weights * self.torque))
+
+    @property
+    def mean_power(self) -> float:
+        """Mean input power, W."""
+        return self.energy_per_turn * self.omega / TWO_PI
+
+    @property
+    def min_contact_force(self) -> float:
+        """Smallest contact force, N (form closure: the smaller contact's smallest force, 0)."""
+        forces = self.contact_force if self.contact_force_2 is None else np.minimum(self.contact_force, self.contact_force_2)
+        return float(np.min(forces))
+
+    @property
+    def hertz_peak(self) -> float | None:
+        """Largest Hertz stress over both contacts, MPa."""
+        stresses = [h for h in (self.hertz_stress, self.hertz_stress_2) if h is not None]
+        return float(max(np.max(h) for h in stresses)) if stresses else None
+
+    def curves(self) -> dict[str, np.ndarray]:
+        """The arrays a report draws against cam angle, keyed with their unit."""
+        out = {
+            "cam_angle_deg": np.degrees(self.theta),
+            "contact_force_N": self.contact_force,
+            "pressure_angle_deg": np.degrees(self.pressure_angle),
+            "follower_force_N": self.follower_force,
+            "side_force_N": self.side_force,
+            "torque_Nm": self.torque,
+            "power_W": self.power,
+        }
+        if self.contact_force_2 is not None:
+            out["contact_force_2_N"] = self.contact_force_2
+        if self.hertz_stress is not None:
+            out["hertz_stress_MPa"] = self.hertz_stress
+        if self.hertz_stress_2 is not None:
+            out["hertz_stress_2_MPa"] = self.hertz_stress_2
+        return out
+
+    def figures(self) -> dict[str, Any]:
+        """Scalar results for report.json (keys carry their unit; no inf or NaN: None instead)."""
+        unit = "N" if self.train.motion == "translating" else "Nmm"
+        rate_unit = "N_per_mm" if self.train.motion == "translating" else "Nmm_per_rad"
+        out: dict[str, Any] = {
+            "rpm": self.rpm,
+            "min_contact_force_N": self.min_contact_force,
+            "max_contact_force_N": float(np.max(self.contact_force if self.contact_force_2 is None
+                                                else np.maximum(self.contact_force, self.contact_force_2))),
+            "torque_peak_Nm": self.torque_peak,
+            "torque_rms_Nm": self.torque_rms,
+            "power_peak_W": self.power_peak,
+            "power_rms_W": self.power_rms,
+            "mean_power_W": self.mean_power,
+            "energy_per_turn_J": self.energy_per_turn,
+        }
+        if self.train.closure == "force":
+            out.update({
+                "jump_rpm": self.jump_rpm if math.isfinite(self.jump_rpm) else None,
+                "jump_margin_N": self.jump_margin,
+                "jump_ranges_deg": self.jump_ranges_deg,
+                f"min_preload_{unit}": self.min_preload,
+                f"min_spring_rate_{rate_unit}": self.min_spring_rate,
+            })
+        if self.hertz_peak is not None:
+            out["hertz_stress_peak_MPa"] = self.hertz_peak
+        return out
+
+
+def _required_spring(a: np.ndarray, b: np.ndarray, c: np.ndarray, omega: float, projection: np.ndarray,
+                     margin: float, train: FollowerTrain, lift: np.ndarray, position_tol: float) -> tuple[float, float | None]:
+    """Smallest preload (given rate) and smallest rate (given preload) that keep the contact
+    force >= ``margin`` at ``omega``: both follow from ``Q`` being linear in each."""
+    need = margin * projection - (b * omega + c * omega**2)  # what A must reach
+    without_preload = a - train.spring_preload
+    min_preload = max(0.0, float(np.max(need - without_preload)))
+    without_spring = a - train.spring_rate * lift
+    short = need - without_spring  # what rate * lift must cover
+    lifted = lift > position_tol
+    if np.any((short > 0) & ~lifted):
+        return min_preload, None
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(lifted & (short > 0), short / np.where(lifted, lift, 1.0), 0.0)
+    return min_preload, float(np.max(ratio))
+
+
+def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: ContactMaterial | None = None, *,
+            jump_margin: float = 0.0, torque_limit: float | None = None, position_tol: float = 1e-9) -> DynamicsResult:
+    """Contact forces, camshaft torque and power, Hertz stress and the jump checks at ``rpm``.
+
+    Parameters
+    ----------
+    kin : the follower's kinematics and contact geometry (:class:`Kinematics`).
+    train : the follower train (:class:`FollowerTrain`).
+    rpm : cam speed, rev/min (> 0, constant, counter-clockwise).
+    material : elastic constants, contact width, allowable stress; None: no Hertz stress.
+    jump_margin : N, the contact force the "jump" check requires everywhere (>= 0).
+    torque_limit : N*m, the largest |camshaft torque| allowed; None: the torque is information.
+    position_tol : mm (rad for an oscillating arm): samples within it of the lowest position
+        count as lowest when finding the smallest spring rate (the spring adds nothing there).
+
+    Returns
+    -------
+    DynamicsResult
+    """
+    omega = _rpm_to_omega(rpm)
+    margin = _nonnegative("jump_margin", jump_margin, "N")
+    if torque_limit is not None and not require_finite("torque_limit", torque_limit) > 0:
+        raise ParameterError("torque_limit", torque_limit, "torque_limit > 0 N*m")
+    position_tol = _nonnegative("position_tol", position_tol, "mm")
+    form = train.closure == "form"
+    if form and (kin.pressure_angle_2 is None or kin.rho_cam_2 is None):
+        raise ParameterError("pressure_angle_2", None, "arrays for the second contact of a form-closed train (and rho_cam_2)")
+    a, b, c = force_coefficients(kin, train)
+    q = a + b * omega + c * omega**2
+    projection = _contact_projection(kin, train)
+    if form:
+        force_1 = np.maximum(q, 0.0) / projection
+        force_2 = np.maximum(-q, 0.0) / _contact_projection(kin, train, second=True)
+        # the follower-direction component carried by whichever contact is loaded (signed: + pushes along +s)
+        along = q / _lever(train)
+        side = force_1 * np.sin(kin.pressure_angle) - force_2 * np.sin(kin.pressure_angle_2)
+    else:
+        force_1 = q / projection
+        force_2 = None
+        along = force_1 * np.cos(kin.pressure_angle)
+        side = force_1 * np.sin(kin.pressure_angle)
+    torque = q * kin.ds * N_MM_TO_N_M  # power balance, T w = Q w q'
+    power = torque * omega
+    hertz = hertz_2 = None
+    if material is not None and kin.follower_radius > 0:
+        hertz = hertz_line_stress(force_1, kin.rho_cam, kin.follower_radius, material)
+        if form:
+            r2 = kin.follower_radius if kin.follower_radius_2 is None else kin.follower_radius_2
+            hertz_2 = hertz_line_stress(force_2, kin.rho_cam_2, r2, material) if r2 > 0 else None
+    if form:
+        jump_rpm, ranges, min_preload, min_rate = math.inf, [], None, None
+    else:
+        jump_rpm = jump_speed(kin, train)
+        ranges = _run_ends(force_1 <= 0, kin.theta)
+        min_preload, min_rate = _required_spring(a, b, c, omega, projection, margin, train, kin.s - kin.s.min(), position_tol)
+    result = DynamicsResult(rpm, omega, kin.theta, train, q, force_1, force_2, kin.pressure_angle, along, side, torque, power,
+                            hertz, hertz_2, jump_rpm, ranges, min_preload, min_rate, margin)
+    object.__setattr__(result, "checks", dynamics_checks(result, kin, material, torque_limit))
+    return result
+
+
+# --------------------------------------------------------------------------------------------
+# Checks
+# --------------------------------------------------------------------------------------------
+def dynamics_checks(result: DynamicsResult, kin: Kinematics, material: ContactMaterial | None,
+                    torque_limit: float | None) -> list[CheckResult]:
+    """The "jump" (or "contact_force"), "hertz_stress" and "camshaft_torque" checks of ``result``."""
+    theta = result.theta
+    train = result.train
+    unit = train.force_unit
+    rate_unit = "N/mm" if train.motion == "translating" else "N*mm/rad"
+    checks: list[CheckResult] = []
+    if train.closure == "force":
+        force = result.contact_force
+        i = int(np.argmin(force))
+        bad = force < result.jump_margin
+        where = _run_ends(bad, theta) if bad.any() else _deg(theta[i])
+        jump = ("never (the contact force does not fall with speed)" if math.isinf(result.jump_rpm)
+                else "at rest (the force is not positive even standing still)" if result.jump_rpm == 0
+                else f"at {result.jump_rpm:.6g} rpm ({result.jump_rpm / result.rpm:.4g} x this speed)")
+        note = (f"smallest contact force {force[i]:.6g} N at cam angle {math.degrees(theta[i]):.6g} deg at {result.rpm:g} rpm "
+                f"against a margin of {result.jump_margin:g} N; the follower jumps {jump}; to keep the margin at this speed: "
+                f"preload >= {result.min_preload:.6g} {unit} (rate {train.spring_rate:g} {rate_unit})")
+        note += (f" or rate >= {result.min_spring_rate:.6g} {rate_unit} (preload {train.spring_preload:g} {unit})"
+                 if result.min_spring_rate is not None else "; no spring rate alone can (the force falls short at the lowest position)")
+        if result.jump_ranges_deg:
+            note += "; the follower leaves the cam between the listed pairs of cam angles"
+        checks.append(limited("jump", float(force[i]), ">=", result.jump_margin, "N", where, note))
+    else:
+        f1, f2 = result.contact_force, result.contact_force_2
+        assert f2 is not None
+        # where the load passes from one contact to the other (zero-force stretches skipped)
+        loaded = np.nonzero(result.generalised_force != 0)[0]
+        sign = np.sign(result.generalised_force[loaded])
+        takes_over = loaded[np.nonzero(sign != np.roll(sign, 1))[0]] if loaded.size > 1 else loaded[:0]
+        where = _deg(theta[takes_over])
+        note = (f"form-closed train (no spring, no jump): contact 1 carries up to {np.max(f1):.6g} N, contact 2 up to "
+                f"{np.max(f2):.6g} N; the load crosses from one contact to the other at {len(where)} cam angles (listed): "
+                "any backlash there gives a knock")
+        checks.append(information("contact_force", float(max(np.max(f1), np.max(f2))), "N", where[:24], note))
+    if material is not None:
+        peak = result.hertz_peak
+        if peak is None:
+            checks.append(information("hertz_stress", "unbounded", "MPa", [],
+                                      "a sharp knife edge (tip radius 0) has no finite contact stress: give its tip radius"))
+        else:
+            stress = result.hertz_stress if result.hertz_stress is not None else np.zeros_like(theta)
+            if result.hertz_stress_2 is not None:
+                stress = np.maximum(stress, result.hertz_stress_2)
+            i = int(np.argmax(stress))
+            note = (f"largest Hertz line-contact stress {peak:.6g} MPa at cam angle {math.degrees(theta[i]):.6g} deg "
+                    f"(contact width {material.width:g} mm; two-cylinder formula, Rothbart eq. 9.11"
+                    + (", both contacts" if result.hertz_stress_2 is not None else "") + ")")
+            if material.allowable_stress is None:
+                checks.append(information("hertz_stress", peak, "MPa", _deg(theta[i]),
+                                          note + "; give an allowable stress to check it"))
+            else:
+                bad = stress > material.allowable_stress
+                where = _run_ends(bad, theta) if bad.any() else _deg(theta[i])
+                checks.append(limited("hertz_stress", peak, "<=", material.allowable_stress, "MPa", where, note))
+    i = int(np.argmax(np.abs(result.torque)))
+    note = (f"camshaft torque peak {result.torque_peak:.6g} N*m at cam angle {math.degrees(theta[i]):.6g} deg, "
+            f"RMS {result.torque_rms:.6g} N*m; power peak {result.power_peak:.6g} W, RMS {result.power_rms:.6g} W, "
+            f"mean {result.mean_power:.6g} W at {result.rpm:g} rpm (frictionless contact, power balance T w = Q v)")
+    if torque_limit is None:
+        checks.append(information("camshaft_torque", result.torque_peak, "N*m", _deg(theta[i]), note + "; no torque limit given"))
+    else:
+        bad = np.abs(result.torque) > torque_limit
+        where = _run_ends(bad, theta) if bad.any() else _deg(theta[i])
+        checks.append(limited("camshaft_torque", result.torque_peak, "<=", float(torque_limit), "N*m", where, note))
+    return checks
