@@ -142,13 +142,13 @@ class Follower:
         return math.radians(30.0 if (self.motion == "translating" and self.kind != "yoke") else 45.0)
 
 
-def _deg(angles: np.ndarray) -> list[float]:
+def where_degrees(angles: np.ndarray) -> list[float]:
     return [round(float(a), 6) for a in np.mod(np.degrees(np.atleast_1d(angles)), 360.0)]
 
 
 def _polar_deg(points: np.ndarray) -> list[float]:
     points = np.atleast_2d(points)
-    return _deg(np.arctan2(points[:, 1], points[:, 0]))
+    return where_degrees(np.arctan2(points[:, 1], points[:, 0]))
 
 
 def run_ends(mask: np.ndarray, angles: np.ndarray) -> list[float]:
@@ -158,10 +158,10 @@ def run_ends(mask: np.ndarray, angles: np.ndarray) -> list[float]:
     if not mask.any():
         return []
     if mask.all():
-        return _deg(angles[[0, -1]])
+        return where_degrees(angles[[0, -1]])
     starts = np.nonzero(mask & ~np.roll(mask, 1))[0]
     ends = np.nonzero(mask & ~np.roll(mask, -1))[0]
-    return [v for s, e in zip(starts, ends) for v in _deg(angles[[s, e]])]
+    return [v for s, e in zip(starts, ends) for v in where_degrees(angles[[s, e]])]
 
 
 def _samples(contour: Contour, per_segment: int = 512) -> np.ndarray:
@@ -188,7 +188,7 @@ def constant_breadth_check(contour: Contour, breadth: float, tol: float = 1e-6) 
     """Constant breadth for a yoke (double flat-faced) follower: error against ``tol`` mm."""
     err, psi = breadth_error(contour, breadth)
     return limited(
-        "constant_breadth", err, "<=", tol, "mm", _deg(psi),
+        "constant_breadth", err, "<=", tol, "mm", where_degrees(psi),
         f"distance between the parallel yoke faces stays {breadth:g} mm within {err:.3g} mm over 3600 directions",
     )
 
@@ -253,14 +253,14 @@ def machinability_check(contour: Contour, tool_radius: float, tool_is_limit: boo
     out = []
     if convex.any():
         i = int(np.argmin(np.where(convex, rho, np.inf)))
-        out.append(information("min_convex_radius", float(rho[i]), "mm", _deg(angle[i]),
+        out.append(information("min_convex_radius", float(rho[i]), "mm", where_degrees(angle[i]),
                                f"smallest convex radius of the profile (no limit; the tool radius is {tool_radius:g} mm)"))
     concave = rho < 0
     if concave.any():
         i = int(np.argmax(np.where(concave, rho, -np.inf)))
         value = float(-rho[i])
         bad = concave & (-rho < tool_radius)
-        where = run_ends(bad, angle) if bad.any() else _deg(angle[i])
+        where = run_ends(bad, angle) if bad.any() else where_degrees(angle[i])
         note = ("a concave radius below the tool radius cannot be cut without gouging"
                 + (" (between the listed pairs of cam angles)" if bad.any() else ""))
         if tool_is_limit:
@@ -360,7 +360,7 @@ def pressure_angle_check(values: np.ndarray, cam_angle: np.ndarray, limit: float
     mag = np.abs(values)
     i = int(np.argmax(mag))
     bad = mag > limit
-    where = run_ends(bad, cam_angle) if bad.any() else _deg(cam_angle[i])
+    where = run_ends(bad, cam_angle) if bad.any() else where_degrees(cam_angle[i])
     return CheckResult("pressure_angle", float(np.degrees(mag[i])), float(np.degrees(limit)), "<=", "deg", bool(not bad.any()),
                        where, f"largest pressure angle of the {what}" + (" (above the limit between the listed pairs of cam angles)" if bad.any() else ""))
 
@@ -411,7 +411,7 @@ def flat_motion(contour: Contour, follower: Follower, samples: int = 3600) -> tu
     finite = ~(impulses | np.roll(impulses, 1))
     jerk = np.where(finite, jerk, np.nan)
     jerk = np.where(np.isnan(jerk), np.interp(theta, theta[finite], jerk[finite]), jerk)
-    motion = Motion(theta, h, -dh, acc, jerk, "mm", _deg(theta[impulses] + 0.5 * step))
+    motion = Motion(theta, h, -dh, acc, jerk, "mm", where_degrees(theta[impulses] + 0.5 * step))
     return motion, dh
 
 
@@ -434,11 +434,11 @@ def face_length_check(offsets: np.ndarray, cam_angle: np.ndarray, half_length: f
     mag = np.abs(offsets)
     i = int(np.argmax(mag))
     if half_length is None:
-        return information("face_length", float(mag[i]), "mm", _deg(cam_angle[i]),
+        return information("face_length", float(mag[i]), "mm", where_degrees(cam_angle[i]),
                            "largest contact offset along the face: the face must reach this far from its centre "
                            "(give face_half_length_mm to check it)")
     bad = mag > half_length
-    where = run_ends(bad, cam_angle) if bad.any() else _deg(cam_angle[i])
+    where = run_ends(bad, cam_angle) if bad.any() else where_degrees(cam_angle[i])
     return CheckResult("face_length", float(mag[i]), half_length, "<=", "mm", bool(not bad.any()), where,
                        "largest contact offset along the face against the face half-length")
 

@@ -49,7 +49,7 @@ from typing import Any
 
 import numpy as np
 
-from camgen.checks import CheckResult, _deg, _run_ends, information, limited
+from camgen.checks import CheckResult, information, limited, run_ends, where_degrees
 from camgen.errors import GeometryError, ParameterError, require_finite
 
 TWO_PI = 2.0 * math.pi
@@ -648,7 +648,7 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
         jump_rpm, ranges, min_preload, min_rate = math.inf, [], None, None
     else:
         jump_rpm = jump_speed(kin, train)
-        ranges = _run_ends(force_1 <= 0, kin.theta)
+        ranges = run_ends(force_1 <= 0, kin.theta)
         min_preload, min_rate = _required_spring(a, b, c, omega, projection, margin, train, kin.s - kin.s.min(), position_tol)
     result = DynamicsResult(rpm, omega, kin.theta, train, q, force_1, force_2, kin.pressure_angle, along, side, torque, power,
                             hertz, hertz_2, jump_rpm, ranges, min_preload, min_rate, margin)
@@ -671,7 +671,7 @@ def dynamics_checks(result: DynamicsResult, kin: Kinematics, material: ContactMa
         force = result.contact_force
         i = int(np.argmin(force))
         bad = force < result.jump_margin
-        where = _run_ends(bad, theta) if bad.any() else _deg(theta[i])
+        where = run_ends(bad, theta) if bad.any() else where_degrees(theta[i])
         jump = ("never (the contact force does not fall with speed)" if math.isinf(result.jump_rpm)
                 else "at rest (the force is not positive even standing still)" if result.jump_rpm == 0
                 else f"at {result.jump_rpm:.6g} rpm ({result.jump_rpm / result.rpm:.4g} x this speed)")
@@ -690,7 +690,7 @@ def dynamics_checks(result: DynamicsResult, kin: Kinematics, material: ContactMa
         loaded = np.nonzero(result.generalised_force != 0)[0]
         sign = np.sign(result.generalised_force[loaded])
         takes_over = loaded[np.nonzero(sign != np.roll(sign, 1))[0]] if loaded.size > 1 else loaded[:0]
-        where = _deg(theta[takes_over])
+        where = where_degrees(theta[takes_over])
         note = (f"form-closed train (no spring, no jump): contact 1 carries up to {np.max(f1):.6g} N, contact 2 up to "
                 f"{np.max(f2):.6g} N; the load crosses from one contact to the other at {len(where)} cam angles (listed): "
                 "any backlash there gives a knock")
@@ -709,20 +709,20 @@ def dynamics_checks(result: DynamicsResult, kin: Kinematics, material: ContactMa
                     f"(contact width {material.width:g} mm; two-cylinder formula, Rothbart eq. 9.11"
                     + (", both contacts" if result.hertz_stress_2 is not None else "") + ")")
             if material.allowable_stress is None:
-                checks.append(information("hertz_stress", peak, "MPa", _deg(theta[i]),
+                checks.append(information("hertz_stress", peak, "MPa", where_degrees(theta[i]),
                                           note + "; give an allowable stress to check it"))
             else:
                 bad = stress > material.allowable_stress
-                where = _run_ends(bad, theta) if bad.any() else _deg(theta[i])
+                where = run_ends(bad, theta) if bad.any() else where_degrees(theta[i])
                 checks.append(limited("hertz_stress", peak, "<=", material.allowable_stress, "MPa", where, note))
     i = int(np.argmax(np.abs(result.torque)))
     note = (f"camshaft torque peak {result.torque_peak:.6g} N*m at cam angle {math.degrees(theta[i]):.6g} deg, "
             f"RMS {result.torque_rms:.6g} N*m; power peak {result.power_peak:.6g} W, RMS {result.power_rms:.6g} W, "
             f"mean {result.mean_power:.6g} W at {result.rpm:g} rpm (frictionless contact, power balance T w = Q v)")
     if torque_limit is None:
-        checks.append(information("camshaft_torque", result.torque_peak, "N*m", _deg(theta[i]), note + "; no torque limit given"))
+        checks.append(information("camshaft_torque", result.torque_peak, "N*m", where_degrees(theta[i]), note + "; no torque limit given"))
     else:
         bad = np.abs(result.torque) > torque_limit
-        where = _run_ends(bad, theta) if bad.any() else _deg(theta[i])
+        where = run_ends(bad, theta) if bad.any() else where_degrees(theta[i])
         checks.append(limited("camshaft_torque", result.torque_peak, "<=", float(torque_limit), "N*m", where, note))
     return checks

@@ -131,8 +131,10 @@ def machining_keys() -> tuple[Key, ...]:
             default=d("dialect")),
         Key("cutter_compensation", Flag(), "Program the profile itself with G41.1/G42.1 (LinuxCNC) instead of the tool-centre path.",
             ("gcode",), default=d("cutter_compensation")),
-        Key("lead_mm", Number("mm", 0.0, 1000.0, low_open=True), "Length of the lead-in and lead-out moves (default: tool radius + 3 mm).",
+        Key("lead_mm", Number("mm", 0.0, 1000.0, low_open=True), "Length of the tangent lead-in and lead-out moves (default: tool radius + 3 mm).",
             ("gcode",)),
+        Key("breakthrough_mm", Number("mm", 0.0, 100.0), "How far the last pass goes below the stock bottom (Z = -thickness), so "
+            "no skin or burr is left.", ("gcode",), default=d("breakthrough")),
         Key("spline_mode", Choice(SPLINE_MODES), "Spline segments as G2/G3 biarcs or G1 chords, within chord_tol_mm.", ("gcode",),
             default=d("spline_mode")),
         Key("decimals", Count(3, 6), "Decimal places of the coordinates in the program.", ("gcode",), default=d("decimals")),

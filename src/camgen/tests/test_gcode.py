@@ -31,13 +31,18 @@ def needs_rs274():
 @pytest.fixture(scope="module")
 def template_cams():
     """Every cam of every bundled template, built by the pipeline: {template: [(cam, spec)]}."""
-    from camgen.pipeline import _machining, build_cams
+    import dataclasses
+
+    from camgen.pipeline import Plan, compute
     from camgen.scene import load_template
 
     out = {}
     for name in TEMPLATES:
         scene = load_template(name)
-        out[name] = [(cam, _machining(scene, cam)) for cam in build_cams(scene)]
+        cams = compute(scene, Plan((), frozenset())).cams
+        # the machining spec the ngc writer uses (camgen.writers.gcode)
+        out[name] = [(cam, dataclasses.replace(scene.machining, thickness=cam.body.thickness, chord_tol=scene.output.chord_tol))
+                     for cam in cams]
     return out
 
 
