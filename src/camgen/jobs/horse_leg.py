@@ -103,7 +103,13 @@ def sweep_values(sweep_deg: tuple[float, float, float]) -> np.ndarray:
 
 def run(spec: HorseLegSpec, cams: Mapping[str, "BuiltCam"], stages: frozenset[str], scene_name: str) -> JobResult:
     """Leg paths per inclination, Section 6.1 figures, the cams' pressure-angle checks and,
-    with ``analysis``, the inclination sweep."""
+    with ``analysis``, the inclination sweep; errors name the mechanism's table."""
+    from camgen.kinds.base import with_cam
+
+    return with_cam("mechanisms.horse_leg", lambda: _run(spec, cams, stages, scene_name))
+
+
+def _run(spec: HorseLegSpec, cams: Mapping[str, "BuiltCam"], stages: frozenset[str], scene_name: str) -> JobResult:
     from camgen.export.tables import csv_table
     from camgen.mechanisms import horse_leg as hl
 

@@ -428,7 +428,8 @@ def gait_figures(leg: HorseLeg, sol: LegSolution) -> dict[str, Any]:
     if crossings.size != 2:
         raise GeometryError(
             f"alpha1 = {math.degrees(sol.alpha1):.3f} deg: the foot path crosses the ground line y = {ground:g} mm "
-            f"{crossings.size} times (need 2: one swing, one stance)"
+            f"{crossings.size} times (need 2: one swing, one stance): ground_y_mm must lie between the foot path's lowest "
+            f"and highest points, {float(y.min()):.1f} < ground_y_mm < {float(y.max()):.1f} mm"
         )
 
     def cross(i: int) -> np.ndarray:  # linear interpolation between samples i and i + 1

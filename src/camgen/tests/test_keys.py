@@ -1,0 +1,283 @@
+"""Every scene key changes what its documentation says it changes (issue "Trust", item 3).
+
+For every key of every cam kind, of [output], [machining] and of every mechanism, the walk
+builds a working scene, changes that one key (to another valid value), runs the pipeline and
+compares the files: every output class the key's ``affects`` names must change, and no
+manufacturing file outside them may change.  A key that changes nothing where it is accepted
+would fail here; keys that only make sense with another setting are refused without it
+(checked by ``test_conditional_keys_are_refused_where_they_do_nothing``).
+"""
+from __future__ import annotations
+
+import copy
+
+import pytest
+
+from camgen.jobs import get_job, job_names
+from camgen.kinds import get_kind, kind_names
+from camgen.outputs import machining_keys, output_keys
+from camgen.schema import Choice, Count, Flag, Key, Number, Text
+
+#: Which files each effect may change, and which of them must change (at least one).
+MAY = {
+    "profile": {"dxf", "points", "lift", "stl", "ngc", "json", "ride"},
+    "pitch": {"dxf", "json"},
+    "body": {"dxf", "stl", "json"},
+    "thickness": {"stl", "ngc", "json"},
+    "gcode": {"ngc"},
+    "dxf": {"dxf"},
+    "tables": {"lift"},
+    "tolerance": {"dxf", "points", "stl", "ngc", "json"},
+    "report": {"json"},
+    "files": {"dxf", "points", "lift", "stl", "ngc", "json", "obj", "ride"},
+    "mechanism": {"json", "legs"},
+}
+MUST = {
+    "profile": {"dxf", "points"}, "pitch": {"dxf"}, "body": {"dxf", "stl"}, "thickness": {"stl", "ngc"}, "gcode": {"ngc"},
+    "dxf": {"dxf"}, "tables": {"lift"}, "tolerance": {"points", "dxf", "stl", "ngc"}, "report": {"json"}, "files": {"obj"},
+    "mechanism": {"legs", "json"},
+}
+MANUFACTURING = {"dxf", "points", "lift", "stl", "ngc", "obj"}
+#: kinds whose keys test_disk_cams.py walks
+DISK_KINDS = {"motion_law", "lift_table"}
+
+
+def classify(name: str) -> str:
+    for suffix, kind in (("_points.csv", "points"), ("_lift.csv", "lift"), ("_ride.csv", "ride"), (".dxf", "dxf"), (".stl", "stl"),
+                         (".ngc", "ngc"), (".obj", "obj"), ("report.json", "json")):
+        if name.endswith(suffix):
+            return kind
+    return "legs" if name.startswith("leg_path") else name
+
+
+def run(scene_table: dict, tmp_path) -> dict[str, bytes]:
+    from camgen.pipeline import execute, plan_run
+    from camgen.scene import parse_scene
+
+    scene = parse_scene(copy.deepcopy(scene_table), "walk", source="walk.toml", base_dir=tmp_path)
+    files = execute(scene, plan_run(scene)).files
+    out: dict[str, bytes] = {}
+    for name, data in files.items():
+        out.setdefault(classify(name), b"")
+        out[classify(name)] += name.encode() + b"\0" + (data.encode() if isinstance(data, str) else data)
+    return out
+
+
+def scene(cam: dict, formats=("dxf", "points", "lift", "ngc"), machining=None, **extra) -> dict:
+    table = {"output": {"formats": list(formats)}, "cams": {"c": cam}, **extra}
+    if "ngc" in formats:
+        table["machining"] = machining or {"tool_diameter_mm": 6.0}
+    return table
+
+
+# --------------------------------------------------------------------------------------------
+# Working bases and, per key, how to change it
+# --------------------------------------------------------------------------------------------
+THREE_ARC = {"kind": "three_arc", "a_mm": 220.0, "b_mm": 160.0, "c_mm": 25.0, "bore_diameter_mm": 20.0, "keyway_width_mm": 6.0,
+             "keyway_depth_mm": 2.8, "thickness_mm": 10.0}
+ROLLER = {"follower": "roller", "roller_radius_mm": 10.0}
+OSCILLATING = {**ROLLER, "follower_motion": "oscillating", "pivot_distance_mm": 400.0, "arm_length_mm": 380.0}
+TRAJECTORY = {"kind": "trajectory", "expression": "202.4396*sin(pi*x/1000)", "period_mm": 2000.0, "samples": 180,
+              "bore_diameter_mm": 8.0, "thickness_mm": 8.0}
+
+#: key -> (changes to the base, changes for the altered run), where a generic change does not fit
+OVERRIDES: dict[str, dict[str, tuple[dict, dict]]] = {
+    "three_arc": {
+        "follower": ({}, ROLLER),
+        "follower_motion": (ROLLER, OSCILLATING),
+        "pivot_angle_deg": (OSCILLATING, {"pivot_angle_deg": 20.0}),
+        "pivot_distance_mm": (OSCILLATING, {"pivot_distance_mm": 390.0}),
+        "arm_length_mm": (OSCILLATING, {"arm_length_mm": 370.0}),
+        "roller_radius_mm": (ROLLER, {"roller_radius_mm": 12.0}),
+        "follower_offset_mm": (ROLLER, {"follower_offset_mm": 5.0}),
+        "face_half_length_mm": ({}, {"face_half_length_mm": 400.0}),
+        "b_mm": ({}, {"b_mm": 150.0}),
+    },
+    "trajectory": {
+        "expression": ({}, {"expression": "190*sin(pi*x/1000)"}),
+        "trajectory_csv": ({"expression": None, "period_mm": None, "trajectory_csv": "a.csv"}, {"trajectory_csv": "b.csv"}),
+        "worm_teeth": ({"fit_tables": ["A1"]}, {"worm_teeth": 60}),
+        "fit_tables": ({}, {"fit_tables": ["A1"]}),
+        "curvature": ({}, {"curvature": "central"}),
+        "period_mm": ({}, {"period_mm": 4000.0}),  # two periods of the path per cam turn: still periodic
+        "keyway_width_mm": ({"keyway_width_mm": 2.0, "keyway_depth_mm": 1.0}, {"keyway_width_mm": 2.5}),
+        "keyway_depth_mm": ({"keyway_width_mm": 2.0, "keyway_depth_mm": 1.0}, {"keyway_depth_mm": 1.2}),
+        "keyway_angle_deg": ({"keyway_width_mm": 2.0, "keyway_depth_mm": 1.0}, {"keyway_angle_deg": 45.0}),
+    },
+}
+
+
+def _changed(value, key: Key):
+    """Another valid value of ``key`` near ``value`` (scene units)."""
+    kind = key.type
+    if isinstance(kind, Flag):
+        return not value
+    if isinstance(kind, Choice):
+        return next(v for v in kind.values if v != value)
+    if isinstance(kind, Count):
+        return value + 1 if value + 1 <= kind.high else value - 1
+    if isinstance(kind, Text):
+        return (value or "note") + " (changed)"
+    if isinstance(kind, Number):
+        if value is None:
+            return 1.0 if kind.low < 1.0 < kind.high else (kind.low + kind.high) / 2
+        if kind.scale != 1.0 or kind.unit == "deg":  # angles: turn a little
+            for new in (value + 10.0, value - 10.0, value * 1.5, value * 0.5):
+                if kind.low <= new * kind.scale / kind.scale <= kind.high and new != value:
+                    return new
+        new = value * 1.1 if value else 1.0
+        return new if kind.low <= new <= kind.high else value * 0.9
+    raise AssertionError(f"no generic change for {key.name} ({type(kind).__name__}): add an override")
+
+
+def _apply(table: dict, changes: dict) -> dict:
+    out = dict(table)
+    for k, v in changes.items():
+        if v is None:
+            out.pop(k, None)
+        else:
+            out[k] = v
+    return out
+
+
+def _key_cases():
+    cases = []
+    for kind_name in kind_names():
+        if kind_name in DISK_KINDS:
+            continue  # test_disk_cams.py walks their keys
+        for key in get_kind(kind_name).keys:
+            cases.append(pytest.param(kind_name, key.name, id=f"{kind_name}.{key.name}"))
+    return cases
+
+
+def _assert_effect(key: Key, before: dict, after: dict) -> None:
+    changed = {k for k in set(before) | set(after) if before.get(k) != after.get(k)}
+    allowed = set().union(*(MAY[e] for e in key.affects))
+    for effect in key.affects:
+        assert changed & MUST[effect], f"{key.name}: documented to change {effect} ({sorted(MUST[effect])}), changed {sorted(changed)}"
+    stray = (changed & MANUFACTURING) - allowed
+    assert not stray, f"{key.name}: changed {sorted(stray)}, documented only {list(key.affects)}"
+
+
+@pytest.mark.parametrize("kind_name, key_name", _key_cases())
+def test_every_cam_key_changes_what_it_documents(kind_name, key_name, tmp_path):
+    key = next(k for k in get_kind(kind_name).keys if k.name == key_name)
+    base_cam = {"three_arc": THREE_ARC, "trajectory": TRAJECTORY}[kind_name]
+    if kind_name == "trajectory" and key_name == "trajectory_csv":
+        _write_tables(tmp_path)
+    base_changes, alt_changes = OVERRIDES.get(kind_name, {}).get(key_name, ({}, None))
+    base = _apply(base_cam, base_changes)
+    if alt_changes is None:
+        current = base.get(key.name, key.default)
+        alt_changes = {key.name: _changed(current, key)}
+    alt = _apply(base, alt_changes)
+    formats = ("dxf", "points", "lift", "ngc") + (("stl",) if {"body", "thickness", "tolerance"} & set(key.affects) else ())
+    _assert_effect(key, run(scene(base, formats), tmp_path), run(scene(alt, formats), tmp_path))
+
+
+def _write_tables(folder) -> None:
+    """Two periodic trajectory tables (x, y mm) of different amplitude."""
+    import numpy as np
+
+    x = np.linspace(0.0, 2000.0, 201)
+    for name, amplitude in (("a.csv", 200.0), ("b.csv", 190.0)):
+        y = amplitude * np.sin(np.pi * x / 1000.0)
+        y[-1] = y[0]
+        (folder / name).write_text("x_mm,y_mm\n" + "".join(f"{a:.12g},{b:.12g}\n" for a, b in zip(x, y)))
+
+
+SPLINE_CAM = dict(TRAJECTORY)
+
+
+@pytest.mark.parametrize("key_name", [k.name for k in output_keys()])
+def test_every_output_key_changes_what_it_documents(key_name, tmp_path):
+    key = next(k for k in output_keys() if k.name == key_name)
+    base_output = {"formats": ["dxf", "points", "lift", "stl", "ngc"]}
+    base = scene(SPLINE_CAM, base_output["formats"])
+    current = {"formats": base_output["formats"], "dxf_splines": "biarc", "dxf_pitch": True, "chord_tol_mm": 0.001,
+               "lift_step_deg": 1.0}[key_name]
+    alt = copy.deepcopy(base)
+    alt["output"][key_name] = base_output["formats"] + ["obj"] if key_name == "formats" else _changed(current, key)
+    _assert_effect(key, run(base, tmp_path), run(alt, tmp_path))
+
+
+@pytest.mark.parametrize("key_name", [k.name for k in machining_keys()])
+def test_every_machining_key_changes_what_it_documents(key_name, tmp_path):
+    key = next(k for k in machining_keys() if k.name == key_name)
+    machining = {"tool_diameter_mm": 6.0}
+    base = scene(SPLINE_CAM, ("dxf", "points", "ngc"), machining)
+    alt = copy.deepcopy(base)
+    value = alt["machining"].get(key_name, key.default)
+    alt["machining"][key_name] = {"lead_mm": 5.0, "cutter_compensation": True}.get(key_name, _changed(value, key))
+    _assert_effect(key, run(base, tmp_path), run(alt, tmp_path))
+
+
+LEG_SCENE = {
+    "output": {"formats": ["dxf"]},
+    "cams": {"stride": {"kind": "three_arc", "a_mm": 220.0, "b_mm": 160.0, "c_mm": 25.0},
+             "stride_copy": {"kind": "three_arc", "a_mm": 220.0, "b_mm": 160.0, "c_mm": 25.0},
+             "height": {"kind": "three_arc", "a_mm": 220.0, "b_mm": 220.0, "c_mm": 10.0}},
+    "mechanisms": {"horse_leg": {"stride_cam": "stride", "height_cam": "height", "inclinations_deg": [12.5], "sweep_deg": [12.0, 13.0, 0.5]}},
+}
+
+
+@pytest.mark.parametrize("job_name, key_name", [(j, k.name) for j in job_names() for k in get_job(j).keys])
+def test_every_mechanism_key_changes_what_it_documents(job_name, key_name, tmp_path):
+    key = next(k for k in get_job(job_name).keys if k.name == key_name)
+    base = copy.deepcopy(LEG_SCENE)
+    alt = copy.deepcopy(LEG_SCENE)
+    table = alt["mechanisms"][job_name]
+    special = {"stride_cam": "stride_copy", "inclinations_deg": [14.5], "sweep_deg": [12.0, 13.0, 1.0], "ground_y_mm": -2070.0}
+    if key_name == "height_cam":  # another three-arc cam of the same size: only the naming in the report changes
+        alt["cams"]["height_copy"] = dict(alt["cams"]["height"])
+        base["cams"]["height_copy"] = dict(base["cams"]["height"])
+        table[key_name] = "height_copy"
+    elif special.get(key_name) is not None:
+        table[key_name] = special[key_name]
+    else:
+        table[key_name] = _changed(table.get(key_name, key.default), key)
+    _assert_effect(key, run(base, tmp_path), run(alt, tmp_path))
+
+
+# --------------------------------------------------------------------------------------------
+# Keys that would do nothing are refused
+# --------------------------------------------------------------------------------------------
+REFUSED = [
+    ({**THREE_ARC, "roller_radius_mm": 10.0}, "cams.c.roller_radius_mm", "follower"),  # yoke: no roller
+    ({**THREE_ARC, **ROLLER, "face_half_length_mm": 30.0}, "cams.c.face_half_length_mm", "follower"),
+    ({**THREE_ARC, **ROLLER, "pivot_distance_mm": 300.0}, "cams.c.pivot_distance_mm", "follower_motion"),
+    ({**THREE_ARC, **OSCILLATING, "follower_offset_mm": 5.0}, "cams.c.follower_offset_mm", "follower_motion"),
+    ({**THREE_ARC, **OSCILLATING, "follower_direction_deg": 5.0}, "cams.c.follower_direction_deg", "follower_motion"),
+    ({**THREE_ARC, "keyway_width_mm": 0.0}, "cams.c.keyway_depth_mm", "width"),
+    ({**TRAJECTORY, "worm_teeth": 40}, "cams.c.worm_teeth", "fit_tables"),
+]
+
+
+@pytest.mark.parametrize("cam, key, why", REFUSED)
+def test_conditional_keys_are_refused_where_they_do_nothing(cam, key, why, tmp_path):
+    from camgen.errors import CamgenError
+    from camgen.scene import parse_scene
+
+    with pytest.raises(CamgenError, match=rf"{key}.*{why}|{why}.*{key}") as caught:
+        parse_scene(scene(cam, ("dxf",)), "walk")
+    assert key in str(caught.value)
+
+
+@pytest.mark.parametrize("table, key", [
+    ({"output": {"formats": ["dxf"], "lift_step_deg": 2.0}}, "output.lift_step_deg"),
+    ({"output": {"formats": ["points"], "dxf_splines": "bspline"}}, "output.dxf_splines"),
+    ({"output": {"formats": ["dxf"]}, "machining": {"feed_mm_per_min": 300.0}}, "machining.feed_mm_per_min"),
+])
+def test_output_and_machining_keys_without_their_file_are_refused(table, key):
+    from camgen.errors import ParameterError
+    from camgen.scene import parse_scene
+
+    with pytest.raises(ParameterError, match=key.replace(".", r"\.")):
+        parse_scene({**table, "cams": {"c": dict(THREE_ARC)}}, "walk")
+
+
+def test_the_walk_covers_every_kind():
+    """Every registered kind is walked here or, for the disk-cam kinds, in test_disk_cams.py."""
+    walked = {c.values[0] for c in _key_cases()}
+    assert set(kind_names()) - walked <= DISK_KINDS
+
