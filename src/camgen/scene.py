@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Mapping
 
 from camgen.errors import ParameterError, SceneError
-from camgen.schema import Choice, Key, Text, check_keys, nesting_depth, parse_table
+from camgen.schema import Choice, Key, Text, check_keys, parse_table, too_deep
 
 if TYPE_CHECKING:
     from camgen.export.gcode import MachiningSpec
@@ -131,8 +131,9 @@ def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", ba
     ``name`` is the scene's name when the table has none (the file's stem); ``base_dir`` is
     where relative file names in the scene point.
     """
-    if nesting_depth(data, MAX_NESTING) > MAX_NESTING:
-        raise SceneError(f"scene: tables and lists nest more than {MAX_NESTING} levels deep")
+    deep = too_deep(data, MAX_NESTING)
+    if deep is not None:
+        raise SceneError(f"{deep}: tables and lists nest more than {MAX_NESTING} levels deep (the limit of a scene)")
     top = [Key("name", Text(64), "", ()), Key("output", Text(), "", ()), Key("machining", Text(), "", ()),
            Key("cams", Text(), "", ()), Key("mechanisms", Text(), "", ())]
     check_keys("scene", data, top)
@@ -153,19 +154,14 @@ def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", ba
 
 
 def read_text_bounded(path: Path, what: str, limit: int = MAX_SCENE_BYTES) -> str:
-    """The UTF-8 text of ``path``, read to at most ``limit`` bytes (never more: /dev/zero or a
-    huge file fails at once); errors name ``what`` and the file."""
+    """The UTF-8 text of ``path``, read to at most ``limit`` bytes (:mod:`camgen.textfile`);
+    errors name ``what`` and the file."""
+    from camgen.textfile import TextFileError, read_text_file
+
     try:
-        with open(path, "rb") as handle:
-            data = handle.read(limit + 1)
-    except OSError as exc:
-        raise SceneError(f"cannot read {what} '{path}': {exc.strerror or exc}") from None
-    if len(data) > limit:
-        raise SceneError(f"{what} '{path}' is larger than {limit} bytes")
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError:
-        raise SceneError(f"{what} '{path}' is not UTF-8 text") from None
+        return read_text_file(path, limit)
+    except TextFileError as exc:
+        raise SceneError(f"cannot read {what} '{path}': {exc}") from None
 
 
 def load_scene(path: str | Path, display: str | None = None) -> Scene:

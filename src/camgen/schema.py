@@ -105,8 +105,12 @@ class Number(ValueType):
         return None if value is None else value / self.scale
 
 
-def Length(low: float = 0.0, high: float = 1e5, low_open: bool = True) -> Number:
-    """A length in mm, by default 0 < x <= 100 m."""
+#: Smallest length a scene may give, mm (1 nm): below it lengths are rounding noise.
+MIN_LENGTH = 1e-6
+
+
+def Length(low: float = MIN_LENGTH, high: float = 1e5, low_open: bool = False) -> Number:
+    """A length in mm, by default 1 nm <= x <= 100 m."""
     return Number("mm", low, high, low_open=low_open)
 
 
@@ -353,22 +357,22 @@ def parse_table(where: str, table: object, keys: Sequence[Key]) -> dict[str, Any
     return out
 
 
-def nesting_depth(value: object, limit: int) -> int:
-    """Depth of nested lists/tables in a decoded TOML value, counting up to ``limit + 1``
-    (iterative: deep input cannot exhaust the interpreter's stack)."""
-    depth = 0
-    level = [value]
-    while level and depth <= limit:
+def too_deep(value: object, limit: int, path: str = "scene") -> str | None:
+    """The path (``cams.x.a_mm[0][0]``) of the first place where lists/tables in a decoded TOML
+    value nest more than ``limit`` levels, or None (iterative: deep input cannot exhaust the
+    interpreter's stack)."""
+    level = [(path, value)]
+    for _ in range(limit + 1):
         children = []
-        for item in level:
+        for where, item in level:
             if isinstance(item, dict):
-                children.extend(item.values())
+                children.extend((f"{where}.{k}" if where != "scene" else str(k), v) for k, v in item.items())
             elif isinstance(item, list):
-                children.extend(item)
-        if children:
-            depth += 1
+                children.extend((f"{where}[{i}]", v) for i, v in enumerate(item))
+        if not children:
+            return None
         level = children
-    return depth
+    return level[0][0]
 
 
 def key_reference_rows(keys: Sequence[Key]) -> list[tuple[str, str, str, str, str]]:

@@ -123,7 +123,7 @@ def _solid_default(name: str) -> Any:
 def body_keys() -> tuple[Key, ...]:
     """Keys of the cam body (every kind): thickness, bore, keyway, minimum wall."""
     return (
-        Key("thickness_mm", Length(0.0, 1e4), "Thickness of the cam plate.", ("thickness",), default=_solid_default("thickness")),
+        Key("thickness_mm", Length(high=1e4), "Thickness of the cam plate.", ("thickness",), default=_solid_default("thickness")),
         Key("bore_diameter_mm", Length(0.0, 1e4, low_open=False), "Diameter of the shaft bore; 0: no bore.", ("body",),
             default=_solid_default("bore_diameter")),
         Key("keyway_width_mm", Length(0.0, 1e4, low_open=False), "Width of the keyway in the bore; 0: no keyway.", ("body",),

@@ -115,14 +115,16 @@ def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = 
     if "expression" in parsed:
         if "period" not in parsed:
             raise SceneError(f"[{where}]: 'expression' needs 'period_mm'")
-        traj = rename_errors(where, lambda: tr.trajectory_from_expression(parsed["expression"], parsed["period"]), KEYS)
+        traj = rename_errors(where, lambda: tr.trajectory_from_expression(parsed["expression"], parsed["period"]),
+                             KEYS + (Key("expression", Text(), "", (), attr="trajectory"),))
     else:
         if "period" in parsed:
             raise ParameterError(f"{where}.period_mm", parsed["period"], "only with expression",
                                  "a table's period is its last x minus its first")
         path = Path(parsed["trajectory_csv"])
         path = path if path.is_absolute() or base_dir is None else base_dir / path
-        traj = rename_errors(where, lambda: tr.read_trajectory_csv(str(path)), KEYS)
+        traj = rename_errors(where, lambda: tr.read_trajectory_csv(str(path)),
+                             KEYS + (Key("trajectory_csv", Text(), "", (), attr="trajectory table"),))
     if "worm_teeth" in parsed and not parsed.get("fit_tables"):
         raise ParameterError(f"{where}.worm_teeth", parsed["worm_teeth"], "only with fit_tables",
                              "Z3 enters only the fitted error model's worm-knob advice")

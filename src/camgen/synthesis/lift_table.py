@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import math
 import os
-import stat
 from collections.abc import Sequence
 
 import numpy as np
@@ -280,26 +279,13 @@ def read_lift_table(path: str | os.PathLike[str], degree: int = 5, unit: str = "
     ParameterError
         Naming ``lift_table_csv``, the file and the offending line.
     """
+    from camgen.textfile import TextFileError, read_text_file
+
     name = str(path)
     try:
-        info = os.stat(path)
-    except OSError as exc:
-        raise _bad(name, "", "a readable lift-table CSV file", exc.strerror or str(exc)) from None
-    if not stat.S_ISREG(info.st_mode):
-        raise _bad(name, "", "a regular file (not a directory, device or pipe)")
-    if info.st_size > max_bytes:
-        raise _bad(name, f"{info.st_size} bytes", f"a file of at most {max_bytes} bytes")
-    try:
-        with open(path, "rb") as handle:
-            data = handle.read(max_bytes + 1)
-    except OSError as exc:
-        raise _bad(name, "", "a readable lift-table CSV file", exc.strerror or str(exc)) from None
-    if len(data) > max_bytes:
-        raise _bad(name, f"more than {max_bytes} bytes", f"a file of at most {max_bytes} bytes")
-    try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise _bad(name, f"byte {exc.start}", "UTF-8 text") from None
+        text = read_text_file(path, max_bytes)
+    except TextFileError as exc:
+        raise _bad(name, "", f"a readable regular UTF-8 file of at most {max_bytes} bytes", str(exc)) from None
     if "\x00" in text:
         raise _bad(name, f"character {text.index(chr(0))}", "text without NUL characters")
     angles, lifts, labels = parse_lift_table(text, name, max_rows)

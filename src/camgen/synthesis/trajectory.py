@@ -34,6 +34,8 @@ from camgen.errors import GeometryError, ParameterError, require_positive
 Func = Callable[[np.ndarray], np.ndarray]
 
 SCHEMES = ("exact", "forward", "central")
+#: Largest trajectory table read, bytes.
+MAX_TABLE_BYTES = 8 << 20
 _GL_NODES, _GL_WEIGHTS = np.polynomial.legendre.leggauss(20)
 
 
@@ -274,11 +276,15 @@ def read_trajectory_csv(path: str) -> Trajectory:
     import csv
     from pathlib import Path
 
+    from camgen.textfile import TextFileError, read_text_file
+
     file = Path(path)
     try:
-        lines = [ln for ln in file.read_text(encoding="utf-8").splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ParameterError("trajectory_csv", str(path), "a readable UTF-8 CSV file of x, y rows", str(exc)) from None
+        text = read_text_file(file, MAX_TABLE_BYTES)
+    except TextFileError as exc:
+        raise ParameterError("trajectory_csv", str(path), f"a readable UTF-8 CSV file of x, y rows, at most {MAX_TABLE_BYTES} bytes",
+                             str(exc)) from None
+    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
     rows = list(csv.reader(lines))
     try:
         float(rows[0][0])

@@ -1,0 +1,39 @@
+"""Reading users' text files (scenes, tables) safely: a regular file, at most a stated number of
+bytes (never more is read: /dev/zero, a pipe or a huge file fail at once), UTF-8."""
+from __future__ import annotations
+
+import os
+import stat
+
+
+class TextFileError(Exception):
+    """Why a user's file could not be read (the caller turns it into its own CamgenError)."""
+
+
+def read_text_file(path: str | os.PathLike[str], limit: int) -> str:
+    """The UTF-8 text of the regular file ``path`` (a leading BOM dropped), at most ``limit`` bytes.
+
+    Raises
+    ------
+    TextFileError
+        Saying why: missing or unreadable, not a regular file, larger than ``limit``, not UTF-8.
+    """
+    try:
+        info = os.stat(path)
+    except OSError as exc:
+        raise TextFileError(exc.strerror or str(exc)) from None
+    if not stat.S_ISREG(info.st_mode):
+        raise TextFileError("not a regular file (a directory, device or pipe)")
+    if info.st_size > limit:
+        raise TextFileError(f"{info.st_size} bytes, more than the {limit} bytes allowed")
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read(limit + 1)
+    except OSError as exc:
+        raise TextFileError(exc.strerror or str(exc)) from None
+    if len(data) > limit:
+        raise TextFileError(f"more than the {limit} bytes allowed")
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        raise TextFileError("not UTF-8 text") from None
