@@ -136,7 +136,7 @@ def _cases():
     def add(scene, key_text, label):
         cases.append(pytest.param(scene, key_text, id=f"{label}-{len(cases)}"))
 
-    groups = [(f"cams.x", kind, get_kind(kind).keys) for kind in kind_names() if kind in CAMS]
+    groups = [("cams.x", kind, get_kind(kind).keys) for kind in kind_names() if kind in CAMS]
     groups += [("output", None, output_keys()), ("machining", None, machining_keys())]
     groups += [(f"mechanisms.{j}", "leg", get_job(j).keys) for j in job_names()]
     for where, kind, keys in groups:
