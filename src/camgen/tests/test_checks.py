@@ -155,3 +155,18 @@ def test_oscillating_roller_on_an_eccentric_circle():
     closed = np.arccos(np.clip(np.abs(np.sum(normal * velocity, 1)), 0, 1))
     assert np.max(np.abs(np.abs(kin.pressure_angle) - closed)) <= 1e-9
     assert follower.limit == pytest.approx(math.radians(45.0))
+
+
+def test_motion_at_speed_scales_with_w_w2_w3():
+    """s = 5 sin(theta) mm per unit cam speed: at n rpm (w = 2 pi n / 60 rad/s) the peaks are
+    5 w mm/s, 5 w^2 mm/s^2 and 5 w^3 mm/s^3 (chain rule, closed form)."""
+    from camgen.checks import Motion
+
+    theta = np.linspace(0, 2 * math.pi, 3601)
+    motion = Motion(theta, 5 * np.sin(theta), 5 * np.cos(theta), -5 * np.sin(theta), -5 * np.cos(theta))
+    for rpm in (60.0, 150.0):
+        w = 2 * math.pi * rpm / 60
+        at = motion.at_rpm(rpm)
+        assert at["max_velocity_mm_per_s"] == pytest.approx(5 * w, rel=1e-12)
+        assert at["max_acceleration_mm_per_s2"] == pytest.approx(5 * w**2, rel=1e-6)
+        assert at["max_jerk_mm_per_s3"] == pytest.approx(5 * w**3, rel=1e-12)

@@ -48,9 +48,9 @@ def test_flatten_deviation_never_exceeds_chord_tol(name, tol):
     contour = CONTOURS[name]()
     deviation = chord_deviation(contour, tol)
     assert deviation <= tol * (1 + 1e-9)
-    # and the bound is not wildly conservative for exact arcs (sagitta formula is tight)
-    if name in ("stride", "height"):
-        assert deviation >= 0.5 * tol
+    # and the bound is not wildly conservative: the sagitta formula is tight for arcs, and the
+    # second-derivative bound of a cubic piece (|P''| is linear on it) comes within a factor of 2
+    assert deviation >= 0.5 * tol
     pts = contour.flatten(tol)
     assert pts.ndim == 2 and pts.shape[1] == 2 and len(pts) >= 3
 
@@ -65,20 +65,26 @@ def test_area_matches_shoelace_of_fine_flattening(name):
     assert contour.area > shoelace(poly) - 1e-9 or name == "periodic"
 
 
-def test_three_arc_area_closed_form():
-    # area of a three-arc cam = sum of the six sectors + the kite triangles: computed here
-    # from the sector formula of each arc about its own centre minus the triangles O-centre-ends
-    a, b, c = 220.0, 160.0, 25.0
-    cam = camgen.three_arc_cam(a, b, c)
-    total = 0.0
-    for seg in cam.segments:
-        p0, p1 = seg.start_point, seg.end_point
-        cx, cy = seg.center
-        sector = 0.5 * seg.radius**2 * seg.sweep
-        # signed area of triangle (origin, p0, centre) + (origin, centre, p1) shifts the sector to the origin
-        tri = 0.5 * ((p0[0] * cy - p0[1] * cx) + (cx * p1[1] - cy * p1[0]))
-        total += sector + tri
-    assert cam.area == pytest.approx(total, rel=1e-13)
+def test_three_arc_area_from_table_1():
+    """Area = (1/2) integral of R(phi)^2 d phi, with the polar radius R(phi) of paper 000's
+    Table 1 typed in literally (helpers.table1_paper), integrated region by region with
+    scipy's adaptive quadrature: an area from the paper's formulas, not from the arcs."""
+    from scipy.integrate import quad
+
+    from camgen.tests.helpers import table1_paper
+
+    for a, b, c in ((220.0, 160.0, 25.0), (220.0, 220.0, 10.0), (100.0, 40.0, 30.0)):
+        cam = camgen.three_arc_cam(a, b, c)
+        b1 = math.asin(b / (2 * a))
+        b2 = math.pi / 2 + math.atan(math.sqrt(a * a - b * b / 4) / (a + c - b / 2))
+        b3 = math.pi - b1
+        edges = [0.0, b1, b2, b3, math.pi]
+
+        def r2(phi: float) -> float:
+            return float(table1_paper(a, b, c, np.array([phi]))[1][0]) ** 2
+
+        half = sum(quad(r2, lo + 1e-12, hi - 1e-12, epsabs=1e-12, epsrel=1e-13)[0] for lo, hi in zip(edges[:-1], edges[1:]))
+        assert cam.area == pytest.approx(half, rel=1e-9)  # symmetric about the x axis: 2 x (1/2) x half
 
 
 @pytest.mark.parametrize("name", CONTOURS)
@@ -164,6 +170,42 @@ def test_offset_is_exact_for_arcs_and_checks_undercut():
     assert inner.segments[0].radius == pytest.approx(5.0)
     with pytest.raises(GeometryError, match=r"segment 0 .*radius 25 mm.*cam angle 0\.000 deg.*undercut"):
         cam.offset(-25.0)
+
+
+def test_offset_of_concave_arcs_is_exact():
+    """Four convex lobes (radius 15) joined by concave arcs (radius 10): offsetting by +4 mm makes
+    the concave arcs radius 6 about the same centres, every point 4 mm from the original
+    (distances from the circle equations); +10 mm is the concave arcs' undercut."""
+    from camgen.contour import Arc
+
+    n, distance, lobe, valley = 4, 30.0, 15.0, 10.0
+    centres = [distance * np.array([math.cos(2 * math.pi * k / n), math.sin(2 * math.pi * k / n)]) for k in range(n)]
+    segments = []
+    for k in range(n):
+        u = np.array([math.cos(2 * math.pi * (k + 0.5) / n), math.sin(2 * math.pi * (k + 0.5) / n)])
+        bq, cq = -2 * u @ centres[k], centres[k] @ centres[k] - (valley + lobe) ** 2
+        valley_centre = (-bq + math.sqrt(bq * bq - 4 * cq)) / 2 * u  # tangent to lobes k and k + 1
+        nxt = centres[(k + 1) % n]
+        a_in = math.atan2(*(valley_centre - centres[k])[::-1])
+        a_out = math.atan2(*(valley_centre - nxt)[::-1])
+        segments.append((k, a_in, a_out, valley_centre))
+    arcs = []
+    for k, a_in, a_out, vc in segments:
+        prev_out = segments[k - 1][2]
+        start = prev_out
+        sweep = (a_in - start) % (2 * math.pi)
+        arcs.append(Arc(tuple(centres[k]), lobe, start, sweep))
+        v_start = math.atan2(*(centres[k] - vc)[::-1])
+        v_end = math.atan2(*(centres[(k + 1) % n] - vc)[::-1])
+        arcs.append(Arc(tuple(vc), valley, v_start, -((v_start - v_end) % (2 * math.pi))))
+    contour = Contour(arcs, closure_tol=1e-9)
+    out = contour.offset(4.0)
+    concave = [s for s in out.segments if s.sweep < 0]
+    assert len(concave) == n and all(s.radius == pytest.approx(valley - 4.0, abs=1e-12) for s in concave)
+    dist = distance_to_arcs(out.flatten(1e-4), contour.segments)
+    assert np.max(np.abs(dist - 4.0)) <= 1e-9
+    with pytest.raises(GeometryError, match=r"concave.*undercut"):
+        contour.offset(10.0)
 
 
 def test_offset_of_spline_within_tolerance_and_undercut_error():

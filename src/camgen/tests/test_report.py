@@ -25,6 +25,26 @@ def test_report_json_follows_the_documented_layout(default_run):
         jsonschema.validate(broken, REPORT_SCHEMA)
 
 
+def test_report_json_holds_the_papers_numbers(default_run):
+    """report.json's figures against numbers from outside camgen: paper 000 (Section 6: yoke
+    widths 2 e2 = 330 and 2 e5 = 240 mm; Section 6.1: the leg figures within 3 %, the stride-cam
+    pressure angle below 26 deg), paper 004 (S = 2189.0270 mm, eq. 9) and the drive-wheel
+    diameter d = S Z1 / (pi Z2) (the paper prints 116.19 mm with pi = 3.14)."""
+    report = json.loads((default_run / "report.json").read_text())
+    cams = report["cams"]
+    assert cams["stride_length"]["figures"]["breadth_mm"] == 330.0 and cams["stride_height"]["figures"]["breadth_mm"] == 240.0
+    steering = cams["steering"]["figures"]
+    assert steering["arc_length_mm"] == pytest.approx(2189.0270, abs=5e-5)
+    assert steering["drive_wheel_diameter_mm"] == pytest.approx(2189.0270 * 20 / (3.14 * 120), rel=0.001)
+    from camgen.tests.test_horse_leg import KEYS, PAPER  # Section 6.1, typed from the paper
+
+    leg = report["mechanisms"]["horse_leg"]
+    for alpha, values in PAPER.items():
+        for key, value in zip(KEYS, values):
+            assert leg[f"alpha_{alpha:g}"][key] == pytest.approx(value, rel=0.03), (alpha, key)
+        assert leg[f"alpha_{alpha:g}"]["max_pressure_angle_deg"] < 26.0
+
+
 def test_report_html_is_self_contained(default_run):
     """(Byte-identical across processes: tests/test_run.py compares every output file.)"""
     page = (default_run / "report.html").read_text()
