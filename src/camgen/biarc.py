@@ -20,6 +20,7 @@ import numpy as np
 
 from camgen.contour import Arc, Contour, Spline
 from camgen.errors import GeometryError, require_positive
+from camgen.geometry import angle_in_sweep
 
 CHECK_SAMPLES = 33
 SAMPLING_MARGIN = 0.05
@@ -73,8 +74,7 @@ def _distance_to_arc(points: np.ndarray, start: np.ndarray, centre: np.ndarray, 
         radius = 1.0 / np.abs(kappa)
         ang = np.arctan2(rel[..., 1], rel[..., 0])
         a0 = np.arctan2(start[:, 1] - centre[:, 1], start[:, 0] - centre[:, 0])
-        lo = np.where(sweep > 0, a0, a0 + sweep)
-        inside = np.mod(ang - lo[:, None], 2 * math.pi) <= np.abs(sweep)[:, None] + 1e-12
+        inside = angle_in_sweep(ang, a0[:, None], sweep[:, None])
         radial = np.abs(np.linalg.norm(rel, axis=-1) - radius[:, None])
         ends = np.minimum(np.linalg.norm(points - start[:, None], axis=-1), np.linalg.norm(points - end[:, None], axis=-1))
         arc_dist = np.where(inside, radial, ends)

@@ -196,6 +196,84 @@ class Arc:
 # --------------------------------------------------------------------------------------------
 # Spline
 # --------------------------------------------------------------------------------------------
+#: Relative size below which the couplings of parallel cyclic reduction count as eliminated.
+PCR_TOL = 1e-17
+
+
+def solve_tridiagonal(lower: np.ndarray, diag: np.ndarray, upper: np.ndarray, rhs: np.ndarray, cyclic: bool) -> np.ndarray:
+    """Solve ``lower[i] x[i-1] + diag[i] x[i] + upper[i] x[i+1] = rhs[i]`` (rhs (n, k)) by parallel
+    cyclic reduction, vectorised over the rows (Hockney 1965; each step eliminates the neighbours
+    at distance s with the rows i -+ s and doubles s).  ``cyclic``: indices wrap (the periodic
+    system); else ``lower[0]`` and ``upper[-1]`` must be 0.
+
+    Needs strict diagonal dominance, ``|lower| + |upper| <= q |diag|`` with q < 1: the couplings
+    then shrink like q^(2^k), so a handful of steps reach :data:`PCR_TOL` whatever ``n`` (the
+    loop runs over those steps, never over rows).  Cubic-spline moment systems have q = 1/2.
+    """
+    a, b, c = (np.asarray(v, dtype=float).copy() for v in (lower, diag, upper))
+    d = np.asarray(rhs, dtype=float).copy()
+    n = b.size
+    if not cyclic:
+        a[0] = c[-1] = 0.0
+    ratio = float(np.max((np.abs(a) + np.abs(c)) / np.abs(b)))
+    if not ratio < 1.0:
+        raise GeometryError(f"tridiagonal system not diagonally dominant (ratio {ratio:.3g}): cannot solve it by cyclic reduction")
+    step = 1
+    while np.max((np.abs(a) + np.abs(c)) / np.abs(b)) > PCR_TOL:
+        if cyclic:
+            below, above = (np.roll(np.arange(n), step), np.roll(np.arange(n), -step))
+        else:
+            below, above = np.arange(n) - step, np.arange(n) + step
+        valid_b = below >= 0
+        valid_a = above < n
+        below, above = np.clip(below, 0, n - 1), np.clip(above, 0, n - 1)
+        alpha = np.where(valid_b, -a / b[below], 0.0)
+        gamma = np.where(valid_a, -c / b[above], 0.0)
+        b, d, a, c = (b + alpha * c[below] + gamma * a[above],
+                      d + alpha[:, None] * d[below] + gamma[:, None] * d[above],
+                      alpha * a[below], gamma * c[above])
+        step *= 2
+        if step > 4 * n + 64:  # cannot happen for a dominant system (the ratio squares each step)
+            raise GeometryError("cyclic reduction did not converge")
+    return d / b[:, None]
+
+
+def _moment_system(t: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Spans h (n-1,), slopes (n-1, k) and the rhs (n-2, k) of the interior moment equations
+    ``h[i-1] M[i-1] + 2 (h[i-1] + h[i]) M[i] + h[i] M[i+1] = 6 (slope[i] - slope[i-1])``
+    (de Boor, A Practical Guide to Splines, ch. IV)."""
+    h = np.diff(t)
+    slope = np.diff(y, axis=0) / h[:, None]
+    return h, slope, 6.0 * np.diff(slope, axis=0)
+
+
+def _periodic_moments(t: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Second derivatives (n, k) of the periodic C2 cubic spline through ``y`` (``y[-1] == y[0]``)."""
+    h, slope, _ = _moment_system(t, y)
+    hp = np.roll(h, 1)  # h[i-1], cyclic
+    rhs = 6.0 * (slope - np.roll(slope, 1, axis=0))
+    m = solve_tridiagonal(hp, 2.0 * (hp + h), h, rhs, cyclic=True)
+    return np.vstack([m, m[:1]])
+
+
+def _clamped_moments(t: np.ndarray, y: np.ndarray, d0: np.ndarray, d1: np.ndarray) -> np.ndarray:
+    """Second derivatives (n, k) of the C2 cubic spline through ``y`` with end first derivatives ``d0``, ``d1``."""
+    h, slope, inner = _moment_system(t, y)
+    lower = np.concatenate([[0.0], h])
+    upper = np.concatenate([h, [0.0]])
+    diag = 2.0 * np.concatenate([h[:1], h[:-1] + h[1:], h[-1:]])
+    rhs = np.vstack([6.0 * (slope[:1] - d0), inner, 6.0 * (d1 - slope[-1:])])
+    return solve_tridiagonal(lower, diag, upper, rhs, cyclic=False)
+
+
+def _cubic_coefficients(t: np.ndarray, y: np.ndarray, moments: np.ndarray) -> np.ndarray:
+    """PPoly coefficients (4, n-1, k), highest power first, from the knot moments."""
+    h = np.diff(t)[:, None]
+    m0, m1 = moments[:-1], moments[1:]
+    slope = np.diff(y, axis=0) / h
+    return np.stack([(m1 - m0) / (6.0 * h), 0.5 * m0, slope - h * (2.0 * m0 + m1) / 6.0, y[:-1]])
+
+
 class Spline:
     """A parametric piecewise cubic ``P(t) = (x(t), y(t))`` on ``breaks[0] <= t <= breaks[-1]``.
 
@@ -240,24 +318,25 @@ class Spline:
         otherwise the ends are clamped to ``end_derivatives`` (dP/dt at both ends), or use the
         not-a-knot condition when those are not given.
         """
-        from scipy.interpolate import (
-            CubicSpline,  # lazy: scipy.interpolate costs ~0.6 s to import
-        )
-
         t = _as_array(t)
         points = _as_array(points)
+        if t.ndim != 1 or t.size < 3 or points.shape != (t.size, 2) or not np.all(np.diff(t) > 0):
+            raise ParameterError("t", f"{t.size} parameters for points of shape {points.shape}",
+                                 "strictly increasing parameters, one per point (n, 2), n >= 3")
         if periodic:
             if not np.allclose(points[0], points[-1], rtol=0, atol=1e-9):
                 raise GeometryError("a periodic spline needs its last point equal to its first")
             points = points.copy()
             points[-1] = points[0]
-            spline = CubicSpline(t, points, bc_type="periodic")
+            moments = _periodic_moments(t, points)
         elif end_derivatives is not None:
-            d0, d1 = (np.asarray(d, dtype=float) for d in end_derivatives)
-            spline = CubicSpline(t, points, bc_type=((1, d0), (1, d1)))
+            moments = _clamped_moments(t, points, *(np.asarray(d, dtype=float) for d in end_derivatives))
         else:
+            from scipy.interpolate import CubicSpline  # lazy: scipy.interpolate costs ~0.5 s to import
+
             spline = CubicSpline(t, points, bc_type="not-a-knot")
-        return cls(spline.x, spline.c)
+            return cls(spline.x, spline.c)
+        return cls(t, _cubic_coefficients(t, points, moments))
 
     @classmethod
     def hermite(cls, t: np.ndarray, points: np.ndarray, derivatives: np.ndarray) -> "Spline":

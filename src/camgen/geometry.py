@@ -22,12 +22,13 @@ def wrap_pi(angle: np.ndarray) -> np.ndarray:
     return np.mod(np.asarray(angle, dtype=float) + math.pi, TWO_PI) - math.pi
 
 
-def angle_in_sweep(angle: np.ndarray, start: float, sweep: float, tol: float = SWEEP_TOL) -> np.ndarray:
+def angle_in_sweep(angle: np.ndarray, start: float | np.ndarray, sweep: float | np.ndarray, tol: float = SWEEP_TOL) -> np.ndarray:
     """True where ``angle`` (rad) lies on the arc of directions from ``start`` over the signed
-    ``sweep`` (> 0 counter-clockwise), ends included within ``tol`` rad."""
-    lo, width = (start, sweep) if sweep >= 0 else (start + sweep, -sweep)
+    ``sweep`` (> 0 counter-clockwise), ends included within ``tol`` rad (arrays broadcast)."""
+    start, sweep = np.asarray(start, dtype=float), np.asarray(sweep, dtype=float)
+    lo = np.where(sweep >= 0, start, start + sweep)
     rel = np.mod(np.asarray(angle, dtype=float) - lo, TWO_PI)
-    return (rel <= width + tol) | (rel >= TWO_PI - tol)
+    return (rel <= np.abs(sweep) + tol) | (rel >= TWO_PI - tol)
 
 
 def unit_vectors(angle: np.ndarray) -> np.ndarray:

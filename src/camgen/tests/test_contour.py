@@ -268,3 +268,38 @@ def test_support_maximum_exactly_on_a_knot_is_found():
     rho = d2h + h  # = radius of curvature at the contact point
     kappa = contour.curvature(psi / (2 * math.pi))
     assert np.allclose(rho, 1.0 / kappa, rtol=1e-9)
+
+
+@pytest.mark.parametrize("n", [4, 37, 720, 5001])
+def test_numpy_cubic_splines_equal_scipys(n):
+    """camgen's periodic and clamped cubic splines (moments by cyclic reduction, no scipy import)
+    have scipy.interpolate.CubicSpline's coefficients, for random uneven knots."""
+    from scipy.interpolate import CubicSpline
+
+    rng = np.random.default_rng(n)
+    t = np.concatenate([[0.0], np.cumsum(rng.uniform(0.01, 3.0, n - 1))])
+    y = rng.normal(size=(n, 2)) * 50
+    y[-1] = y[0]
+    mine, theirs = Spline.interpolate(t, y), CubicSpline(t, y, bc_type="periodic")
+    assert np.max(np.abs(mine.coeffs - theirs.c)) <= 1e-12 * np.max(np.abs(theirs.c))
+    d0, d1 = rng.normal(size=2) * 50, rng.normal(size=2) * 50
+    mine = Spline.interpolate(t, y, periodic=False, end_derivatives=(d0, d1))
+    theirs = CubicSpline(t, y, bc_type=((1, d0), (1, d1)))
+    assert np.max(np.abs(mine.coeffs - theirs.c)) <= 1e-12 * np.max(np.abs(theirs.c))
+
+
+@pytest.mark.parametrize("cyclic", [False, True])
+def test_cyclic_reduction_against_a_dense_solve(cyclic):
+    from camgen.contour import solve_tridiagonal
+
+    rng = np.random.default_rng(3 + cyclic)
+    n = 257
+    lower, upper = rng.uniform(-1, 1, n), rng.uniform(-1, 1, n)
+    diag = (np.abs(lower) + np.abs(upper)) * rng.uniform(1.1, 3.0, n) * rng.choice([-1, 1], n)
+    if not cyclic:
+        lower[0] = upper[-1] = 0.0
+    dense = np.diag(diag) + np.diag(lower[1:], -1) + np.diag(upper[:-1], 1)
+    if cyclic:
+        dense[0, -1], dense[-1, 0] = lower[0], upper[-1]
+    rhs = rng.normal(size=(n, 3))
+    assert np.allclose(solve_tridiagonal(lower, diag, upper, rhs, cyclic), np.linalg.solve(dense, rhs), rtol=0, atol=1e-10)
