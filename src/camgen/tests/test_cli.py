@@ -196,3 +196,36 @@ def test_a_kind_registered_from_outside_runs_end_to_end(tmp_path):
         assert checks["undercut"]["status"] == "pass" and checks["undercut"]["value"] == pytest.approx(1 / 30.0)
     finally:
         unregister("disc")
+
+
+def _run_on_terminal(args, tmp_path):
+    """stderr of `camgen run` with stderr on a pseudo-terminal (what a user's shell gives it)."""
+    import os
+    import pty
+
+    leader, follower = pty.openpty()
+    proc = subprocess.Popen([sys.executable, "-m", "camgen", "run", *args, "-o", str(tmp_path)], stdin=subprocess.DEVNULL,
+                            stdout=subprocess.DEVNULL, stderr=follower, env={**os.environ, "COLUMNS": "100", "TERM": "xterm"})
+    os.close(follower)
+    chunks = []
+    while True:
+        try:
+            data = os.read(leader, 4096)
+        except OSError:  # the child closed the terminal
+            break
+        if not data:
+            break
+        chunks.append(data)
+    os.close(leader)
+    assert proc.wait(timeout=300) == 0
+    return b"".join(chunks).decode("utf-8", "replace")
+
+
+def test_progress_is_shown_on_a_terminal_for_long_runs_only(tmp_path):
+    """The default scene takes longer than a second: on a terminal its steps show on stderr;
+    with --quiet, or with stderr not a terminal, nothing is printed there."""
+    shown = _run_on_terminal([], tmp_path / "a")
+    assert "report.html" in shown or "building cam" in shown or "checking cam" in shown, shown[-500:]
+    assert _run_on_terminal(["--quiet"], tmp_path / "b").strip() == ""
+    piped = subprocess.run([sys.executable, "-m", "camgen", "run", "-o", str(tmp_path / "c")], capture_output=True, text=True)
+    assert piped.returncode == 0 and piped.stderr == ""
