@@ -338,3 +338,22 @@ def test_fine_tuning_equations_16_and_17():
     assert tc.worm_teeth_for(0.019) == 53 and tc.worm_teeth_for(0.05) == 20
     with pytest.raises(ParameterError, match="step_deg"):
         tc.worm_teeth_for(0.0)
+
+
+@pytest.mark.parametrize("name", ["A1", "A2"])
+def test_one_start_finds_the_multi_start_minimum(name):
+    """The default single-start fit and the six-start fit agree within the fit's own 1-sigma
+    uncertainty on every parameter (the start phase modulo 360 deg) and in residual."""
+    from camgen.mechanisms import tricycle as tc
+    from camgen.mechanisms.tricycle_fit import fit_error_model
+    from camgen.synthesis.trajectory import trajectory_from_expression
+
+    cam = tc.tricycle_cam(trajectory_from_expression("202.4396*sin(pi*x/1000)", 2000.0))
+    table = tc.load_measured_table(name)
+    one, every = fit_error_model(cam, table), fit_error_model(cam, table, starts="all")
+    for key, value in every.values.items():
+        diff = abs(one.values[key] - value)
+        if key == "start_phase_deg":
+            diff = min(diff, 360.0 - diff)
+        assert diff <= every.uncertainty[key], key
+    assert one.residual_rms_mm == pytest.approx(every.residual_rms_mm, rel=1e-6)
