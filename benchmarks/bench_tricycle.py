@@ -29,6 +29,29 @@ def main() -> None:
             e10 = np.max(np.abs(tc.lateral_error(traj, ten.x, ten.y)))
             rows.append([scheme, n, f"{synth * 1e3:.2f}", f"{ride_t * 1e3:.2f}", f"{(synth + ride_t) * 1e3:.2f}", f"{e1:.3e}", f"{e10:.3e}"])
     print_table(["scheme", "N", "synthesis_ms", "ride_ms", "total_ms", "max_error_1_period_mm", "max_error_10_periods_mm"], rows)
+    fits(traj)
+
+
+def fits(traj) -> None:
+    """The error-model fit: one start (default) against six starts, on Tables A1 and A2."""
+    from camgen.mechanisms.tricycle_fit import PARAMETERS, fit_error_model
+
+    cam = tc.tricycle_cam(traj)
+    rows = []
+    for name in ("A1", "A2"):
+        table = tc.load_measured_table(name)
+        one, every = fit_error_model(cam, table), fit_error_model(cam, table, starts="all")
+        t_one = median_time(lambda: fit_error_model(cam, table), repeats=5)
+        t_all = median_time(lambda: fit_error_model(cam, table, starts="all"), repeats=5)
+        worst = 0.0
+        for key in PARAMETERS:
+            diff = abs(one.values[key] - every.values[key])
+            diff = min(diff, 360.0 - diff) if key == "start_phase_deg" else diff
+            worst = max(worst, diff / every.uncertainty[key])
+        rows.append([name, f"{t_one * 1e3:.0f}", f"{t_all * 1e3:.0f}", f"{t_all / t_one:.1f}", f"{worst:.2e}",
+                     f"{one.residual_rms_mm:.6f}", f"{every.residual_rms_mm:.6f}"])
+    print("\nError-model fit: one start against six (difference of the parameters in units of their 1-sigma uncertainty)\n")
+    print_table(["table", "one_start_ms", "six_starts_ms", "ratio", "max_diff_sigma", "rms_one_mm", "rms_six_mm"], rows)
 
 
 if __name__ == "__main__":
