@@ -64,27 +64,18 @@ _HEX = re.compile(r"#(?:[0-9a-fA-F]{3}|[0-9a-fA-F]{6})\Z")
 _ID = re.compile(r"[A-Za-z][A-Za-z0-9_-]*\Z")
 _FMT = re.compile(r"(?P<line>--|-\.|-|:)|(?P<marker>[.o+xs])|(?P<color>[krgbcmyw])")
 
-# average glyph widths (em) of a sans-serif face, for layout only (DejaVu Sans is the widest common one)
-_NARROW = set("ijlI.,:;'|!` ")
-_SEMI = set("frt()[]{}-/\\\"")
-_WIDE = set("mwMW%@")
+# advance widths (em) of DejaVu Sans, the widest common system sans-serif face (measured in
+# Chromium with getComputedTextLength); for layout only, so other faces come out a little narrower
+_GLYPH_WIDTHS = {c: w for w, chars in (
+    (0.28, "'ijlIJ"), (0.32, " ,."), (0.34, "/:;\\|"), (0.35, "f"), (0.36, "-"), (0.39, "()[]t"), (0.40, "!"), (0.41, "r"),
+    (0.46, '"'), (0.50, "*_`"), (0.52, "sz"), (0.53, "?"), (0.55, "c"), (0.56, "L"), (0.59, "Fkvxy"), (0.61, "PTYoae"),
+    (0.64, "EhnuSbdgpq0123456789${}"), (0.66, "K"), (0.69, "AVXZBRC"), (0.73, "U"), (0.75, "NH"), (0.78, "DGOQ&"),
+    (0.82, "w"), (0.84, "#+<=>^~\u2212\u00d7"), (0.86, "M"), (0.95, "%"), (0.97, "m"), (0.99, "W@")) for c in chars}
 
 
 def _text_width(s: str, font_px: float) -> float:
-    """Estimated advance width of ``s`` (px) at ``font_px``; generous rather than tight."""
-    em = 0.0
-    for ch in s:
-        if ch in _NARROW:
-            em += 0.3
-        elif ch in _SEMI:
-            em += 0.4
-        elif ch in _WIDE:
-            em += 0.9
-        elif ch.isupper():
-            em += 0.7
-        else:
-            em += 0.62
-    return em * font_px
+    """Estimated advance width of ``s`` (px) at ``font_px`` (0.7 em for a glyph not in the table)."""
+    return sum(_GLYPH_WIDTHS.get(ch, 0.7) for ch in s) * font_px
 
 
 def _esc(s: str) -> str:
@@ -515,7 +506,7 @@ class Axes:
         _, typ = self._px(np.zeros_like(yt), yt)
         if self._grid:
             d = "".join(f"M{_n(v)},{_n(top)}V{_n(bottom)}" for v in txp) + "".join(f"M{_n(left)},{_n(v)}H{_n(right)}" for v in typ)
-            out.append(f'<path class="grid" d="{d}" stroke="#dddddd" stroke-width="{_n(0.8 * PX_PER_PT)}"/>')
+            out.append(f'<path class="grid" d="{d}" fill="none" stroke="#dddddd" stroke-width="{_n(0.8 * PX_PER_PT)}"/>')
         # data: curves and reference lines in the order they were added, clipped to the plot area
         out.append(f'<g class="data" clip-path="url(#{clip_id})" fill="none" stroke-linejoin="round">')
         drawn: list[tuple[np.ndarray, np.ndarray]] = []  # vertices in px (legend placement)
@@ -564,7 +555,7 @@ class Axes:
         # ticks and their labels
         tl, tp = 3.5 * PX_PER_PT, 3.5 * PX_PER_PT
         d = "".join(f"M{_n(v)},{_n(bottom)}v{_n(tl)}" for v in txp) + "".join(f"M{_n(left)},{_n(v)}h{_n(-tl)}" for v in typ)
-        out.append(f'<path class="ticks" d="{d}" stroke="#000000" stroke-width="{_n(0.8 * PX_PER_PT)}"/>')
+        out.append(f'<path class="ticks" d="{d}" fill="none" stroke="#000000" stroke-width="{_n(0.8 * PX_PER_PT)}"/>')
         ty = bottom + tl + tp + 0.8 * fs
         out.append('<g class="xticks" text-anchor="middle">' + "".join(
             f'<text x="{_n(v)}" y="{_n(ty)}">{s}</text>' for v, s in zip(txp, xl)) + "</g>")
@@ -592,8 +583,9 @@ class Axes:
         if self._title:
             s, size = self._title
             tf = (size or font) * PX_PER_PT
-            cell = self._figure._cell_width
-            tf = min(tf, max(6 * PX_PER_PT, tf * cell / max(_text_width(s, tf), 1.0)))  # shrink a title wider than its cell
+            cw, cx = self._figure._cell_width, left + w / 2
+            room = 2 * min(cx - self._col * cw, (self._col + 1) * cw - cx) - 8.0  # centred over the plot area, inside the cell
+            tf = min(tf, max(6 * PX_PER_PT, tf * room / max(_text_width(s, tf), 1.0)))  # shrink a title wider than that
             out.append(f'<text class="title" x="{_n(left + w / 2)}" y="{_n(top - 0.5 * fs - 4.0 - 0.25 * tf - (1.3 * fs if yp else 0))}" '
                        f'text-anchor="middle"{_size_attr(tf, fs)}>{_esc(s)}</text>')
         for x, y, s, coords, anchor, valign, color, size in self._texts:
@@ -757,6 +749,7 @@ class Figure:
                f'style="max-width:100%;height:auto" font-family="{FONT_FAMILY}" font-size="{_n(fs)}" fill="#222222">',
                f'<rect width="{w}" height="{h}" fill="#ffffff"/>']
         if self._suptitle:
+            sup_fs = min(sup_fs, max(6 * PX_PER_PT, sup_fs * (self.width - 8.0) / max(_text_width(self._suptitle[0], sup_fs), 1.0)))
             out.append(f'<text class="suptitle" x="{_n(self.width / 2)}" y="{_n(4.0 + 1.1 * sup_fs)}" text-anchor="middle"'
                        f'{_size_attr(sup_fs, fs)}>{_esc(self._suptitle[0])}</text>')
         for ax in self._axes:

@@ -102,7 +102,7 @@ def test_data_to_pixel_mapping_with_explicit_limits():
     ax.plot(x, y)
     ax.hline(2.5, color="tab:red")
     ax.vline(3.0, color="tab:red")
-    ax.text(0.5, 0.5, "centre", coords="axes", anchor="middle")
+    ax.text(0.25, 0.75, "a quarter in, a quarter down", coords="axes", anchor="middle")
     ax.text(7.0, -2.0, "at (7, -2)")
     ax.xlim(0, 10)
     ax.ylim(-5, 5)
@@ -118,9 +118,10 @@ def test_data_to_pixel_mapping_with_explicit_limits():
     assert float(re.match(rf"M{NUM},({NUM})H", refs[0]).group(1)) == pytest.approx(hy, abs=COORD_TOL)
     assert float(re.match(rf"M({NUM}),{NUM}V", refs[1]).group(1)) == pytest.approx(vx, abs=COORD_TOL)
     notes = info["group"].findall("s:text[@class='note']", NS)
-    assert float(notes[0].get("x")) == pytest.approx(info["left"] + info["w"] / 2, abs=COORD_TOL)
-    nx, _ = expected_px(info, lim, 7.0, -2.0)
-    assert float(notes[1].get("x")) == pytest.approx(nx, abs=COORD_TOL)
+    assert float(notes[0].get("x")) == pytest.approx(info["left"] + info["w"] / 4, abs=COORD_TOL)
+    assert float(notes[0].get("y")) == pytest.approx(info["top"] + info["h"] / 4, abs=COORD_TOL)  # baseline
+    nx, ny = expected_px(info, lim, 7.0, -2.0)
+    assert (float(notes[1].get("x")), float(notes[1].get("y"))) == pytest.approx((nx, ny), abs=COORD_TOL)
     # the tick labels sit where their values map: the same affine map read from the ticks
     a, b = fit_axis(info["xpos"], info["xlabels"], info["xfactor"])
     assert (a, a + 10 * b) == pytest.approx((info["left"], info["left"] + info["w"]), abs=COORD_TOL)
@@ -128,17 +129,22 @@ def test_data_to_pixel_mapping_with_explicit_limits():
     assert (a - 5 * b, a + 5 * b) == pytest.approx((info["top"] + info["h"], info["top"]), abs=COORD_TOL)
 
 
-def test_automatic_limits_add_five_percent_each_side():
+@pytest.mark.parametrize("limit_line", [False, True])
+def test_automatic_limits_add_five_percent_each_side(limit_line):
     """matplotlib's default margins (axes.xmargin = axes.ymargin = 0.05): data [2, 12] x [-1, 3]
-    shows [1.5, 12.5] x [-1.2, 3.2]; read back through the tick marks and their labels."""
+    shows [1.5, 12.5] x [-1.2, 3.2]; a limit line at y = 7 is data too: [-1.4, 7.4].  Read
+    back through the tick marks and their labels."""
     fig = Figure(figsize=(6, 4))
     ax = fig.add_subplot()
     ax.plot([2, 7, 12], [3, -1, 0])
+    if limit_line:
+        ax.hline(7.0, dash="--")
     info = all_axes(fig.to_svg())[0]
     a, b = fit_axis(info["xpos"], info["xlabels"], info["xfactor"])
     assert ((info["left"] - a) / b, (info["left"] + info["w"] - a) / b) == pytest.approx((1.5, 12.5), abs=1e-3)
     a, b = fit_axis(info["ypos"], info["ylabels"], info["yfactor"])
-    assert ((info["top"] + info["h"] - a) / b, (info["top"] - a) / b) == pytest.approx((-1.2, 3.2), abs=1e-3)
+    expect = (-1.4, 7.4) if limit_line else (-1.2, 3.2)
+    assert ((info["top"] + info["h"] - a) / b, (info["top"] - a) / b) == pytest.approx(expect, abs=1e-3)
 
 
 # ------------------------------------------------------------------------------------ ticks
