@@ -21,7 +21,6 @@ import time
 from pathlib import Path
 
 import numpy as np
-
 from _common import median_time, print_table
 
 ROOT = Path(__file__).resolve().parent.parent

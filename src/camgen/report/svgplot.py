@@ -26,7 +26,8 @@ from __future__ import annotations
 import hashlib
 import math
 import re
-from typing import Any, Sequence
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
@@ -297,7 +298,7 @@ class Axes:
     ``area`` = (left, top, width, height) of the plot area, px.
     """
 
-    def __init__(self, figure: "Figure", row: int, col: int) -> None:
+    def __init__(self, figure: Figure, row: int, col: int) -> None:
         self._figure, self._row, self._col = figure, row, col
         self._artists: list[Line | _Ref] = []
         self._texts: list[tuple[float, float, str, str, str, str, str, float | None]] = []
@@ -479,7 +480,10 @@ class Axes:
         self._yt = nice_ticks(y0, y1, h, lambda labels: max(2.0 * fs, 24.0))
         tick = 3.5 * PX_PER_PT * 2  # tick length + pad
         pad = 4.0
-        lab = lambda t: (t[1] if t[1] is not None else self._figure.font_size) * PX_PER_PT * 1.25 + 4.0  # noqa: E731
+
+        def lab(t: tuple[str, float | None]) -> float:  # height of a label line and its pad, px
+            return (t[1] if t[1] is not None else self._figure.font_size) * PX_PER_PT * 1.25 + 4.0
+
         need_l = pad + tick + max(_text_width(s, fs) for s in self._yt[1]) + (lab(self._ylabel) if self._ylabel else 0.0)
         x_last = left + (self._xt[0][-1] - x0) / (x1 - x0) * w
         need_r = pad + max(0.0, _text_width(self._xt[1][-1], fs) / 2 - (left + w - x_last))
@@ -497,7 +501,6 @@ class Axes:
     # ---- drawing
     def _svg(self, clip_id: str, fs: float, max_vertices: int) -> str:
         left, top, w, h = self.area
-        x0, x1, y0, y1 = self.limits
         right, bottom = left + w, top + h
         out = [f'<g class="axes"><clipPath id="{clip_id}"><rect x="{_n(left)}" y="{_n(top)}" width="{_n(w)}" height="{_n(h)}"/></clipPath>']
         xt, xl, xp = self._xt
@@ -634,8 +637,8 @@ class Axes:
                       for bx, by in (spots[k] for k in LEGEND_LOCATIONS)]
             loc = LEGEND_LOCATIONS[int(np.argmin(counts))]  # first of the least covered, in matplotlib's order
         bx, by = spots[loc]
-        out = [f'<g class="legend"{_size_attr(lf, fs)}><rect x="{_n(bx)}" y="{_n(by)}" width="{_n(bw)}" height="{_n(bh)}" rx="2" '
-               f'fill="#ffffff" fill-opacity="0.85" stroke="#cccccc" stroke-width="{_n(0.8 * PX_PER_PT)}"/>']
+        out = [(f'<g class="legend"{_size_attr(lf, fs)}><rect x="{_n(bx)}" y="{_n(by)}" width="{_n(bw)}" height="{_n(bh)}" rx="2" '
+                f'fill="#ffffff" fill-opacity="0.85" stroke="#cccccc" stroke-width="{_n(0.8 * PX_PER_PT)}"/>')]
         x = bx + bpad
         for col, cw in zip(cols, widths):
             for i, a in enumerate(col):
@@ -745,8 +748,8 @@ class Figure:
             # first pass: take what is needed; then only grow (converges)
             margins = need if it == 0 else [tuple(max(a, b) for a, b in zip(n, m)) for n, m in zip(need, margins)]
         w, h = _n(self.width), _n(self.height)
-        out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" '
-               f'style="max-width:100%;height:auto" font-family="{FONT_FAMILY}" font-size="{_n(fs)}" fill="#222222">',
+        out = [(f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" '
+                f'style="max-width:100%;height:auto" font-family="{FONT_FAMILY}" font-size="{_n(fs)}" fill="#222222">'),
                f'<rect width="{w}" height="{h}" fill="#ffffff"/>']
         if self._suptitle:
             sup_fs = min(sup_fs, max(6 * PX_PER_PT, sup_fs * (self.width - 8.0) / max(_text_width(self._suptitle[0], sup_fs), 1.0)))

@@ -10,6 +10,7 @@ import subprocess
 import sys
 import xml.etree.ElementTree as ET
 from decimal import Decimal
+from itertools import pairwise
 
 import numpy as np
 import pytest
@@ -83,7 +84,7 @@ def fit_axis(positions: np.ndarray, labels: list[str], power: int) -> tuple[floa
 
 def test_svg_is_well_formed_inline_svg_of_the_figure_size():
     fig = Figure(figsize=(10, 3.2), id_prefix="a")
-    ax1, ax2 = fig.subplots(1, 2)
+    ax1, _ = fig.subplots(1, 2)
     ax1.plot([0, 1], [0, 1], label="a & b < c")
     ax1.title('title with "quotes"')
     svg = fig.to_svg()
@@ -155,7 +156,7 @@ def check_ticks(labels: list[str], positions: np.ndarray, power: int, lo: float,
     Decimal arithmetic (no floats).  Returns the step."""
     assert 4 <= len(labels) <= 10, labels
     values = [label_value(s, power) for s in labels]
-    steps = {b - a for a, b in zip(values, values[1:])}
+    steps = {b - a for a, b in pairwise(values)}
     assert len(steps) == 1, labels  # evenly spaced
     step = steps.pop()
     mantissa, exponent = step.normalize().as_tuple().digits, step.normalize().as_tuple().exponent
@@ -329,7 +330,7 @@ def test_thinning_keeps_spikes_and_extremes_of_100k_points():
     assert all(np.any(np.abs(py[a:b] - v) <= COORD_TOL) for a, b, v in zip(first, last, drawn[:, 1]))
     # the envelope survives: in every 25-px window the drawn span covers the data's span
     edges = np.arange(info["left"], info["left"] + info["w"], 25.0)
-    for lo, hi in zip(edges[:-1], edges[1:]):
+    for lo, hi in pairwise(edges):
         d = drawn[(drawn[:, 0] >= lo) & (drawn[:, 0] < hi), 1]
         o = py[(px >= lo + 5) & (px < hi - 5)]  # away from bin edges shared with the neighbours
         assert d.min() <= o.min() + COORD_TOL and d.max() >= o.max() - COORD_TOL
@@ -474,7 +475,7 @@ def test_page_of_figures_renders_in_headless_chromium(tmp_path):
          "--disable-background-networking", "--disable-component-update", "--disable-sync", "--hide-scrollbars",
          f"--user-data-dir={tmp_path / 'profile'}", "--force-device-scale-factor=1",
          "--window-size=700,700", f"--screenshot={shot}", page.as_uri()],
-        capture_output=True, text=True, timeout=120,
+        check=False, capture_output=True, text=True, timeout=120,
     )
     assert shot.exists(), proc.stderr[-2000:]
     from PIL import Image
