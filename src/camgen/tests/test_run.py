@@ -173,7 +173,8 @@ def test_console_script_entry_point(tmp_path):
     assert proc.returncode == 2 and "Traceback" not in proc.stderr
 
 
-@pytest.mark.parametrize("template", ["tricycle", "horse_leg", "motion_law"])
+@pytest.mark.parametrize("template", ["tricycle", "horse_leg", "motion_law", "plate_cam", "flat_follower", "knife_follower",
+                                      "oscillating_roller", "oscillating_flat", "lift_table"])
 def test_bundled_templates_run(template, tmp_path):
     from camgen.scene import template_path
 
