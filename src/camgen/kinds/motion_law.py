@@ -79,8 +79,9 @@ def read_program(where: str, segments: tuple[dict[str, Any], ...], motion: str):
     for i, seg in enumerate(segments):
         path = f"{where}.segments[{i}]"
         if other_field in seg:
-            raise ParameterError(f"{path}.{other}", seg[other_field], f"{key} for a {motion} follower",
-                                 f"a {motion} follower's segments give {'the swing in deg' if oscillating else 'the lift in mm'}")
+            article = "an" if oscillating else "a"
+            raise ParameterError(f"{path}.{other}", seg[other_field], f"{key} for {article} {motion} follower",
+                                 f"{article} {motion} follower's segments give {'the swing in deg' if oscillating else 'the lift in mm'}")
         law = seg["law"]
         lift = seg.get(field)
         shown = math.degrees(lift) if oscillating and lift is not None else lift
