@@ -105,7 +105,7 @@ def output_keys() -> tuple[Key, ...]:
             "(every reader takes them), or exact clamped B-spline SPLINEs (for CAD).", ("dxf",), default=d.dxf_splines),
         Key("dxf_pitch", Flag(), "Draw the follower-centre path of roller followers on the DXF's PITCH layer.", ("dxf",),
             default=d.dxf_pitch),
-        Key("lift_step_deg", Angle(0.01, 10.0), "Cam-angle step of the lift table (<cam>_lift.csv).", ("tables",),
+        Key("lift_step_deg", Angle(0.01, 10.0), "Polar-angle step of the lift table (<cam>_lift.csv).", ("tables",),
             default=math.degrees(d.lift_step)),
     )
 

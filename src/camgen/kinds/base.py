@@ -161,9 +161,10 @@ def check_keys() -> tuple[Key, ...]:
     """Keys of the design checks (every kind)."""
     return (
         Key("pressure_angle_limit_deg", Angle(0.0, 90.0, low_open=True, high_open=True),
-            "Largest pressure angle allowed (default: 30 deg translating roller/flat, 45 deg oscillating and yoke).", ("report",)),
-        Key("rpm", Number("rev/min", 0.0, 1e6, low_open=True), "Cam speed for the follower motion figures (velocity, acceleration, jerk at speed).",
-            ("report",)),
+            "Largest pressure angle allowed (default: 30 deg translating followers, 45 deg oscillating ones and yokes); disk cams "
+            "with sizing are sized to it.", ("report",)),
+        Key("rpm", Number("rev/min", 0.0, 1e6, low_open=True), "Cam speed: the follower's velocity, acceleration and jerk at speed in "
+            "the report, and the follower table (<cam>_follower.csv, which needs it).", ("report", "motion")),
     )
 
 

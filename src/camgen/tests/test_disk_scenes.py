@@ -430,6 +430,18 @@ def test_follower_table_is_the_law_in_time_at_the_scene_rpm():
         assert np.allclose(fast[:, column], 2.0**power * slow[:, column], atol=1e-8 * 2.0**power)
 
 
+def test_motion_figures_at_rpm_are_the_cycloidal_peaks():
+    """Cycloidal rise h over beta at omega: peak velocity 2 h omega / beta, acceleration
+    2 pi h omega^2 / beta^2, jerk 4 pi^2 h omega^3 / beta^3 (Norton, Table 8-3: Cv 2, Ca 2 pi, Cj 4 pi^2)."""
+    rpm, h, beta = 300.0, 20.0, D(120)
+    at = run(plate(rpm=rpm))[1]["cams"]["c"]["figures"]["motion_at_rpm"]
+    omega = rpm * TWO_PI / 60.0
+    assert at["rpm"] == rpm
+    assert at["max_velocity_mm_per_s"] == pytest.approx(2 * h * omega / beta, rel=1e-9)
+    assert at["max_acceleration_m_per_s2"] == pytest.approx(1e-3 * TWO_PI * h * omega**2 / beta**2, rel=1e-9)
+    assert at["max_jerk_m_per_s3"] == pytest.approx(1e-3 * TWO_PI**2 * h * omega**3 / beta**3, rel=1e-9)
+
+
 def test_oscillating_follower_table_is_in_degrees_and_radians_per_second():
     files, _ = run(oscillating(rpm=120.0))
     header, data = _table(files["c_follower.csv"])
@@ -488,6 +500,17 @@ def test_report_of_an_oscillating_follower_turns_the_arm_about_its_pivot():
     assert np.allclose(angles[:-1][rising], 15.0 * (tau - np.sin(TWO_PI * tau) / TWO_PI)[rising], atol=1e-4)  # ccw swing turn
 
 
+def test_animation_turns_a_cw_arm_the_other_way():
+    scene = oscillating(swing_turn="cw", pivot_x_mm=-90.0)
+    scene["output"]["formats"] = ["html"]
+    page = run(scene)[0]["report.html"]
+    angles = np.array([float(v.split()[0]) for v in re.search(r"type='rotate' values='([^']+)'", page).group(1).split(";")])
+    theta = TWO_PI * np.arange(180) / 180
+    tau = np.clip(theta / D(100), 0.0, 1.0)
+    rising = theta < D(100)
+    assert np.allclose(angles[:-1][rising], -15.0 * (tau - np.sin(TWO_PI * tau) / TWO_PI)[rising], atol=1e-4)
+
+
 def test_generic_curvature_plot_is_against_the_polar_angle(default_run):
     page = (default_run / "report.html").read_text()
     assert "polar angle on the cam (deg)" in page
@@ -510,3 +533,13 @@ def test_polynomial_end_conditions_are_per_degree_of_cam_angle():
     assert data[row, 3] == pytest.approx(0.1 * 180 / math.pi * omega, rel=1e-9)
     assert data[row, 4] == pytest.approx(0.002 * (180 / math.pi) ** 2 * omega**2 * 1e-3, rel=1e-9)
     assert data[int(np.argmin(np.abs(data[:, 0] - 150.0))), 3] == pytest.approx(0.1 * 180 / math.pi * omega, rel=1e-9)
+
+
+def test_the_kinds_key_lists_are_the_librarys():
+    """The kinds name the laws and the default tolerance without importing the library; they agree."""
+    from camgen.kinds.disk import DEFAULT_FIT_TOL
+    from camgen.kinds.motion_law import LAW_NAMES
+    from camgen.synthesis.followers import DEFAULT_FIT_TOL as LIBRARY_FIT_TOL
+    from camgen.synthesis.laws import LAWS
+
+    assert sorted(LAW_NAMES) == sorted(LAWS) and DEFAULT_FIT_TOL == LIBRARY_FIT_TOL
