@@ -76,7 +76,9 @@ def main() -> None:
     profile = camgen_profile()
     e_camgen = float(np.max(np.abs(ride.translating_roller(profile, THETA, 0.0, ROLLER) - required(THETA))))
     pieces = sum(seg.n_pieces for seg in profile.segments)
-    rows.append([f"camgen {importlib.metadata.version('camgen') if _installed('camgen') else 'src'}: exact envelope "
+    import camgen
+
+    rows.append([f"camgen {camgen.__version__}: exact envelope "
                  f"(cubic spline, {pieces} pieces, fit_tol {DEFAULT_FIT_TOL:g} mm)", f"{t_camgen * 1e3:.3f}", f"{e_camgen:.2e}"])
     # the same exact envelope as N points at uniform cam angles, ridden as a polygon like the peer's points
     params = np.linspace(0.0, profile.n_segments, N, endpoint=False)
@@ -105,14 +107,6 @@ def main() -> None:
     print()
     print_table(["ratio", "value"], [["time camgen / mechanism", f"{t_camgen / t_peer:.2f}"],
                                      ["ride error mechanism / camgen", f"{e_peer / e_camgen:.3g}"]])
-
-
-def _installed(name: str) -> bool:
-    try:
-        importlib.metadata.version(name)
-    except importlib.metadata.PackageNotFoundError:
-        return False
-    return True
 
 
 if __name__ == "__main__":
