@@ -302,7 +302,8 @@ def follower_shapes(f: "FollowerSpec", s: float, size: float, face: tuple[float,
         foot = np.asarray(f.pivot) - f.face_offset * w
         lo, hi = face if face is not None else (-0.3 * size, 0.3 * size)
         out.append(("follower face", np.stack([foot + lo * jw, foot + hi * jw])))
-        out.append(("arm", np.stack([np.asarray(f.pivot), foot])))
+        near = 0.0 if lo <= 0.0 <= hi else (lo if abs(lo) < abs(hi) else hi)  # the face's end nearer the pivot's foot
+        out.append(("arm", np.stack([np.asarray(f.pivot), foot, foot + near * jw])))
         out.append(("pivot", _circle(np.asarray(f.pivot), 0.03 * size, 25)))
         return out
     c = k.follower_point[0]
@@ -358,7 +359,7 @@ def build_disk(spec: CamSpec, stages: frozenset[str]) -> DiskCam:
     if sizing is not None:
         figures["sizing"] = {"method": p.sizing, "base_radius_mm": sizing.base_radius,
                              **({"offset_mm": sizing.offset} if p.sizing == "base_radius_and_offset" else {}),
-                             "pressure_angle_limit_deg": math.degrees(pressure_limit(spec)),
+                             "pressure_angle_limit_deg": round(math.degrees(pressure_limit(spec)), 9),
                              "min_concave_radius_mm": spec.checks.tool_radius or 0.0}
     figures["fit_tol_mm"] = p.fit_tol
     if profile is not None:
@@ -376,9 +377,9 @@ def build_disk(spec: CamSpec, stages: frozenset[str]) -> DiskCam:
                   envelope=env, law=p.law, spec_follower=follower, sizing=sizing, motion=_motion(follower, p.law))
     size = follower.prime_radius + (p.law.stroke if unit == "mm" else 0.0)
     face = _face_extent(follower, env.data, p.face_half_length) if follower.kind == "flat" else None
-    s0 = float(p.law(np.zeros(1))[0][0])
-    cam.drawing = follower_shapes(follower, s0, size, face)
-    if "plots" in stages:
+    if "plots" in stages:  # what report.html draws: the follower at cam angle 0, the animation
+        s0 = float(p.law(np.zeros(1))[0][0])
+        cam.drawing = follower_shapes(follower, s0, size, face)
         cam.animation = _animation(cam, follower, p.law, size, face)
     return cam
 
@@ -424,7 +425,6 @@ def _animation(cam: DiskCam, f: "FollowerSpec", law: Any, size: float, face: tup
 # --------------------------------------------------------------------------------------------
 # Checks
 # --------------------------------------------------------------------------------------------
-_LEVEL = {0: "G0", 1: "G1"}
 _ORDER = ["none", "G0", "G1", "G2"]
 
 
@@ -541,7 +541,7 @@ def _base_radius_advice(cam: DiskCam, spec: CamSpec, tool_radius: float, tool_is
     from camgen.synthesis import sizing as sz
 
     p: DiskParams = spec.params
-    limit = math.degrees(pressure_limit(spec))
+    limit = round(math.degrees(pressure_limit(spec)), 9)
     tool = f" and concave radii >= the tool radius {tool_radius:g} mm" if tool_is_limit else ""
     if cam.sizing is not None:
         found = cam.sizing
@@ -577,6 +577,7 @@ def evaluate_disk(cam: DiskCam, spec: CamSpec, tool_radius: float, tool_is_limit
     checks.append(undercut)
     what = f"{f.motion} {f.kind} follower" + (f" (offset {f.offset:g} mm)" if f.motion == "translating" and f.offset else "")
     pressure = pressure_angle_check(k.pressure_angle, theta, pressure_limit(spec), what)
+    pressure = replace(pressure, limit=round(pressure.limit, 9))  # the scene's degrees, not their radian round trip
     if f.kind == "flat" and f.motion == "translating":
         pressure = replace(pressure, note="a translating flat face moves along its own normal: pressure angle 0 at every cam angle")
     checks.append(pressure)

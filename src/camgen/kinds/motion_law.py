@@ -86,7 +86,7 @@ def read_program(where: str, segments: tuple[dict[str, Any], ...], motion: str):
         lift = seg.get(field)
         shown = math.degrees(lift) if oscillating and lift is not None else lift
         if law == "dwell" and lift not in (None, 0.0):
-            raise ParameterError(f"{path}.{key}", shown, f"0 (or leave it out) for a dwell")
+            raise ParameterError(f"{path}.{key}", shown, "0 (or leave it out) for a dwell")
         if law not in ("dwell", "polynomial") and not lift:
             raise ParameterError(f"{path}.{key}", shown, f"a non-zero {key} for a {law} segment (a segment without motion is a dwell)")
         for name, allowed in (("blend", "constant_velocity"), ("start", "polynomial"), ("end", "polynomial")):
@@ -112,11 +112,11 @@ def read_program(where: str, segments: tuple[dict[str, Any], ...], motion: str):
 def _segment_figures(segments: tuple[dict[str, Any], ...], oscillating: bool) -> list[dict[str, Any]]:
     out = []
     for seg in segments:
-        item: dict[str, Any] = {"law": seg["law"], "span_deg": math.degrees(seg["span"])}
+        item: dict[str, Any] = {"law": seg["law"], "span_deg": round(math.degrees(seg["span"]), 9)}
         if "lift" in seg:
             item["lift_mm"] = seg["lift"]
         if "swing" in seg:
-            item["swing_deg"] = math.degrees(seg["swing"])
+            item["swing_deg"] = round(math.degrees(seg["swing"]), 9)
         for name in ("blend", "start", "end"):
             if name in seg:
                 item[name] = list(seg[name]) if name != "blend" else seg[name]

@@ -543,3 +543,37 @@ def test_the_kinds_key_lists_are_the_librarys():
     from camgen.synthesis.laws import LAWS
 
     assert sorted(LAW_NAMES) == sorted(LAWS) and DEFAULT_FIT_TOL == LIBRARY_FIT_TOL
+
+
+@pytest.mark.parametrize("follower", ["roller", "flat"])
+def test_an_undercut_cam_is_report_only_and_the_advised_base_radius_cures_it(follower):
+    """Too small a base radius: the undercut fails (blocks manufacture, no DXF), the report still
+    follows the documented layout, and the base radius the advice names passes when used."""
+    import jsonschema
+
+    from camgen.report import REPORT_SCHEMA
+
+    keys = {"follower": "flat", "roller_radius_mm": None} if follower == "flat" else {"roller_radius_mm": 25.0}
+    segments = [{"law": "cycloidal", "span_deg": 60.0, "lift_mm": 30.0}, {"law": "dwell", "span_deg": 120.0},
+                {"law": "cycloidal", "span_deg": 60.0, "lift_mm": -30.0}, {"law": "dwell", "span_deg": 120.0}]
+    files, report = run(plate(base_radius_mm=20.0, segments=segments, **keys))
+    jsonschema.validate(report, REPORT_SCHEMA)
+    checks = checks_of(report)
+    assert checks["undercut"]["status"] == "fail" and checks["undercut"]["blocks_manufacture"]
+    assert len(checks["undercut"]["where_deg"]) >= 2 and "c.dxf" not in files and "c_follower.csv" in files
+    advised = checks["min_base_radius"]["value"]
+    assert advised > 20.0 and f"increase base_radius_mm to at least {advised:.3f}" in checks["min_base_radius"]["note"]
+    cured = checks_of(run(plate(base_radius_mm=advised, segments=segments, **keys))[1])
+    assert cured["undercut"]["status"] == "pass" and cured["pressure_angle"]["status"] == "pass"
+    below = checks_of(run(plate(base_radius_mm=advised - 0.05, segments=segments, **keys))[1])
+    assert "fail" in (below["undercut"]["status"], below["pressure_angle"]["status"])
+
+
+def test_new_lift_table_copies_its_table_and_runs(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "designs").mkdir()
+    assert main(["new", "lift_table", "designs"]) == 0
+    assert sorted(p.name for p in (tmp_path / "designs").iterdir()) == ["lift_table.csv", "lift_table.toml"]
+    assert main(["run", "designs/lift_table.toml", "-o", "out", "--quiet"]) == 0
+    assert main(["new", "lift_table", "designs/again.toml"]) == 2  # the table is there: never overwritten
+    assert "lift_table.csv' exists already" in capsys.readouterr().err
