@@ -577,3 +577,26 @@ def test_new_lift_table_copies_its_table_and_runs(tmp_path, monkeypatch, capsys)
     assert main(["run", "designs/lift_table.toml", "-o", "out", "--quiet"]) == 0
     assert main(["new", "lift_table", "designs/again.toml"]) == 2  # the table is there: never overwritten
     assert "lift_table.csv' exists already" in capsys.readouterr().err
+
+
+def test_disk_report_renders_in_headless_chromium(tmp_path):
+    """The animated SVG is valid: Chromium renders the page without console errors."""
+    import subprocess
+
+    from camgen.tests.helpers import require_tool
+
+    browser = require_tool("chromium")
+    scene = oscillating()
+    scene["output"]["formats"] = ["html"]
+    page = tmp_path / "report.html"
+    page.write_text(run(scene)[0]["report.html"])
+    shot = tmp_path / "shot.png"
+    proc = subprocess.run(
+        [browser, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+         "--disable-background-networking", "--disable-component-update", "--disable-sync",
+         f"--user-data-dir={tmp_path / 'profile'}", "--enable-logging=stderr", "--v=0",
+         "--window-size=1200,3000", f"--screenshot={shot}", page.as_uri()],
+        capture_output=True, text=True, timeout=120,
+    )
+    assert shot.exists(), proc.stderr[-2000:]
+    assert not [line for line in proc.stderr.splitlines() if "CONSOLE" in line and ("ERROR" in line or "Uncaught" in line)]
