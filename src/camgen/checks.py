@@ -2,8 +2,11 @@
 
 Every check returns a :class:`CheckResult` (``name``, ``value``, ``limit``, ``unit``,
 ``passed``, ``where_deg``, ``note``) that report.json and report.html show as they are.
-Angles in results are cam angles in degrees: the polar angle in the cam frame of the point
-concerned, counter-clockwise from +x (for motion and pressure angle: the cam rotation angle).
+Angles in results are degrees.  "Cam angle" means one thing everywhere: the cam's rotation from
+cam angle 0 (motion, pressure angle, and every check of a kind that evaluates its follower in
+closed form).  The geometric checks of a bare contour (continuity, undercut, convexity,
+curvature) give the *polar angle on the cam* of the point concerned (cam frame,
+counter-clockwise from +x) and say so.
 
 Followers (:class:`Follower`): a translating or oscillating roller (radius > 0, the steering
 rod of the tricycle is one), a translating flat face, or a translating yoke (two parallel flat
@@ -246,11 +249,20 @@ def machinability_check(contour: Contour, tool_radius: float, tool_is_limit: boo
     A concave radius below the tool radius cannot be cut (the tool would gouge): with
     ``tool_is_limit`` (the scene names its tool or writes G-code) that fails the check and blocks
     the manufacturing files; otherwise it is information.  A convex radius has no lower limit
-    but is reported for the machinist.
+    but is reported for the machinist.  ``where_deg``: polar angles of the points on the cam.
     """
     rho, angle = radius_of_curvature(contour)
+    return machinability_from_radii(rho, angle, tool_radius, tool_is_limit)
+
+
+def machinability_from_radii(rho: np.ndarray, angle: np.ndarray, tool_radius: float, tool_is_limit: bool = True,
+                             where: str = "polar angles on the cam") -> list[CheckResult]:
+    """:func:`machinability_check` from signed radii of curvature ``rho`` (mm, < 0 concave) at
+    ``angle`` (rad, in curve order: polar angles, or cam angles for a kind that knows them);
+    ``where`` names what the angles are in the notes (e.g. "cam angles")."""
     convex = rho > 0
     out = []
+    pairs = f" (between the listed pairs of {where})"
     if convex.any():
         i = int(np.argmin(np.where(convex, rho, np.inf)))
         out.append(information("min_convex_radius", float(rho[i]), "mm", where_degrees(angle[i]),
@@ -260,13 +272,12 @@ def machinability_check(contour: Contour, tool_radius: float, tool_is_limit: boo
         i = int(np.argmax(np.where(concave, rho, -np.inf)))
         value = float(-rho[i])
         bad = concave & (-rho < tool_radius)
-        where = run_ends(bad, angle) if bad.any() else where_degrees(angle[i])
-        note = ("a concave radius below the tool radius cannot be cut without gouging"
-                + (" (between the listed pairs of cam angles)" if bad.any() else ""))
+        where_deg = run_ends(bad, angle) if bad.any() else where_degrees(angle[i])
+        note = "a concave radius below the tool radius cannot be cut without gouging" + (pairs if bad.any() else "")
         if tool_is_limit:
-            out.append(limited("min_concave_radius", value, ">", tool_radius, "mm", where, note, blocks_manufacture=True))
+            out.append(limited("min_concave_radius", value, ">", tool_radius, "mm", where_deg, note, blocks_manufacture=True))
         else:
-            out.append(information("min_concave_radius", value, "mm", where,
+            out.append(information("min_concave_radius", value, "mm", where_deg,
                                    note + f"; no tool is named (machining.tool_diameter_mm), {tool_radius:g} mm is the default radius"))
     elif tool_is_limit:
         out.append(CheckResult("min_concave_radius", "none", tool_radius, ">", "mm", True, [], "no concave parts: any tool radius cuts the profile"))
@@ -297,7 +308,7 @@ def undercut_check(pitch: Contour, follower: Follower) -> CheckResult:
     return CheckResult(
         "undercut", float(rho[i]), follower.roller_radius, ">", "mm", bool(not bad.any()), where,
         "smallest convex radius of the pitch curve against the roller radius"
-        + ("" if not bad.any() else ": the profile undercuts (cusps) between the listed pairs of cam angles"),
+        + ("" if not bad.any() else ": the profile undercuts (cusps) between the listed pairs of polar angles on the cam"),
         blocks_manufacture=True,
     )
 
@@ -374,7 +385,9 @@ class Motion:
 
     ``displacement`` mm (or rad for an oscillating arm), ``velocity`` per rad,
     ``acceleration`` per rad^2, ``jerk`` per rad^3 (finite part: impulses at curvature jumps
-    are listed in ``jerk_impulses_deg``).
+    are listed in ``jerk_impulses_deg``).  ``lift_zero``: the displacement of zero lift (None:
+    the lowest displacement); ``peaks``: exact largest |velocity|, |acceleration|, |jerk| per
+    rad^n when the kind knows them in closed form (None: the grid's).
     """
 
     cam_angle: np.ndarray
@@ -384,15 +397,40 @@ class Motion:
     jerk: np.ndarray
     unit: str = "mm"
     jerk_impulses_deg: list[float] = field(default_factory=list)
+    lift_zero: float | None = None
+    peaks: tuple[float, float, float] | None = None
+
+    @property
+    def lift(self) -> np.ndarray:
+        """Displacement from zero lift (``lift_zero``, else the lowest displacement), mm or rad."""
+        zero = float(np.min(self.displacement)) if self.lift_zero is None else self.lift_zero
+        return self.displacement - zero
+
+    def peak_values(self) -> tuple[float, float, float]:
+        """Largest |velocity| (per rad), |acceleration| (per rad^2), |jerk| (per rad^3)."""
+        if self.peaks is not None:
+            return self.peaks
+        return (float(np.max(np.abs(self.velocity))), float(np.max(np.abs(self.acceleration))), float(np.max(np.abs(self.jerk))))
+
+    def rates(self, rpm: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[str, str]]:
+        """Velocity, acceleration and jerk at ``rpm`` in the report's units and those units:
+        mm/s, m/s^2, m/s^3 (translating) or rad/s, rad/s^2, rad/s^3 (oscillating)."""
+        omega = 2.0 * math.pi * rpm / 60.0
+        scale = 1e-3 if self.unit == "mm" else 1.0  # mm/s^2 -> m/s^2
+        units = {"velocity": f"{self.unit}/s", "acceleration": "m/s^2" if self.unit == "mm" else "rad/s^2",
+                 "jerk": "m/s^3" if self.unit == "mm" else "rad/s^3"}
+        return self.velocity * omega, self.acceleration * (omega**2 * scale), self.jerk * (omega**3 * scale), units
 
     def at_rpm(self, rpm: float) -> dict[str, float]:
-        """Largest |velocity|, |acceleration|, |jerk| at ``rpm`` (per s, s^2, s^3)."""
+        """Largest |velocity| (mm/s or rad/s), |acceleration| (m/s^2 or rad/s^2), |jerk| (m/s^3 or
+        rad/s^3) at ``rpm``: translating followers in mm and m, oscillating ones in rad."""
         omega = 2.0 * math.pi * rpm / 60.0
-        return {
-            f"max_velocity_{self.unit}_per_s": float(np.max(np.abs(self.velocity)) * omega),
-            f"max_acceleration_{self.unit}_per_s2": float(np.max(np.abs(self.acceleration)) * omega**2),
-            f"max_jerk_{self.unit}_per_s3": float(np.max(np.abs(self.jerk)) * omega**3),
-        }
+        v, a, j = self.peak_values()
+        if self.unit == "mm":
+            return {"max_velocity_mm_per_s": v * omega, "max_acceleration_m_per_s2": a * omega**2 * 1e-3,
+                    "max_jerk_m_per_s3": j * omega**3 * 1e-3}
+        return {f"max_velocity_{self.unit}_per_s": v * omega, f"max_acceleration_{self.unit}_per_s2": a * omega**2,
+                f"max_jerk_{self.unit}_per_s3": j * omega**3}
 
 
 def flat_motion(contour: Contour, follower: Follower, samples: int = 3600) -> tuple[Motion, np.ndarray]:
@@ -445,13 +483,10 @@ def face_length_check(offsets: np.ndarray, cam_angle: np.ndarray, half_length: f
 
 def motion_check(motion: Motion, rpm: float | None) -> CheckResult:
     """Summary of the follower motion (largest |v|, |a|, |jerk| per unit cam speed), informational."""
-    figures = {
-        "max_velocity_per_rad": float(np.max(np.abs(motion.velocity))),
-        "max_acceleration_per_rad2": float(np.max(np.abs(motion.acceleration))),
-        "max_jerk_per_rad3": float(np.max(np.abs(motion.jerk))),
-    }
-    note = (f"stroke {np.ptp(motion.displacement):.6g} {motion.unit}; largest |velocity| {figures['max_velocity_per_rad']:.6g} {motion.unit}/rad, "
-            f"|acceleration| {figures['max_acceleration_per_rad2']:.6g} {motion.unit}/rad^2, |jerk| {figures['max_jerk_per_rad3']:.6g} {motion.unit}/rad^3 (finite part)")
+    v, a, j = motion.peak_values()
+    u = motion.unit
+    note = (f"stroke {np.ptp(motion.displacement):.6g} {u}; largest |velocity| {v:.6g} {u}/rad, "
+            f"|acceleration| {a:.6g} {u}/rad^2, |jerk| {j:.6g} {u}/rad^3 (finite part)")
     if rpm:
         at = motion.at_rpm(rpm)
         note += f"; at {rpm:g} rpm: " + ", ".join(f"{k} {v:.6g}" for k, v in at.items())
@@ -468,14 +503,17 @@ class CamEvaluation:
     """The checks of one cam and the curves report.html draws (cam angles in rad)."""
 
     checks: list[CheckResult]
-    follower: Follower
+    follower: Follower | None  # the generic follower model; None for kinds with their own (disk cams)
     motion: Motion | None
     pressure_angle: tuple[np.ndarray, np.ndarray] | None  # (cam angle, rad)
-    curvature_radius: tuple[np.ndarray, np.ndarray] | None  # (cam angle, signed radius mm)
+    curvature_radius: tuple[np.ndarray, np.ndarray] | None  # (angle, signed radius mm): see curvature_angle_label
     pitch: Contour | None = None
     pressure_angle_label: str = ""
     curvature_label: str = "radius of curvature (mm, < 0 concave)"
     curvature_limit: float | None = None  # the radius the curvature plot is held to (roller radius)
+    curvature_angle_label: str = "polar angle on the cam (deg)"  # what the curvature curve's angles are
+    follower_drawing: list[tuple[str, np.ndarray]] | None = None  # (label, polyline (n, 2) mm) at cam angle 0
+    animation: Any = None  # camgen.report.animation.RideAnimation: the follower riding the cam
 
 
 def evaluate_cam(contour: Contour | None, follower: Follower, tool_radius: float | None = None, rpm: float | None = None,

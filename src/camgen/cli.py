@@ -29,7 +29,8 @@ EXAMPLES = {
     "templates": """examples:
   camgen templates                            the bundled scenes with a line each""",
     "new": """examples:
-  camgen new motion_law                       copy templates/motion_law.toml to ./motion_law.toml
+  camgen new plate_cam                        copy templates/plate_cam.toml to ./plate_cam.toml
+  camgen new lift_table                       copy templates/lift_table.toml and its lift_table.csv here
   camgen new tricycle designs/steering.toml   copy it under another name""",
     "keys": """examples:
   camgen keys                                 every scene key: type, range, default, what it changes
@@ -112,11 +113,17 @@ def _cmd_new(args: argparse.Namespace) -> int:
     dest = Path(args.dest) if args.dest else Path(f"{args.template}.toml")
     if dest.is_dir():
         dest = dest / f"{args.template}.toml"
-    if dest.exists():
-        raise SceneError(f"'{dest}' exists already: camgen new does not overwrite files")
+    data = source.with_suffix(".csv")  # a template's table (lift_table.csv), named in it relative to the scene
+    data_dest = dest.parent / data.name
+    for path in (dest, data_dest) if data.is_file() else (dest,):
+        if path.exists():
+            raise SceneError(f"'{path}' exists already: camgen new does not overwrite files")
     from camgen.export.atomic import write_atomic
 
     write_atomic(dest, source.read_text(encoding="utf-8"))
+    if data.is_file():
+        write_atomic(data_dest, data.read_text(encoding="utf-8"))
+        print(f"{data_dest}: copied from template '{args.template}' (the scene reads it)")
     print(f"{dest}: copied from template '{args.template}'; run it with: camgen run {dest}")
     return 0
 

@@ -28,6 +28,7 @@ import numpy as np
 from camgen.errors import GeometryError, ParameterError, require_positive
 from camgen.geometry import (
     angle_in_sweep,
+    cross,
     outward_normal,
     signed_curvature,
     unit_vectors,
@@ -818,36 +819,58 @@ class Contour:
         """True if the signed curvature is >= 0 everywhere (exact for arcs and cubic pieces)."""
         return all(seg.sweep > 0 if isinstance(seg, Arc) else seg.min_turning() >= 0 for seg in self.segments)
 
-    def self_intersection(self, chord_tol: float | None = None, block: int = 512) -> np.ndarray | None:
+    def self_intersection(self, chord_tol: float | None = None, block: int = 1 << 22) -> np.ndarray | None:
         """A point (2,) where two non-adjacent chords of the flattened contour cross, else None.
 
         ``chord_tol`` defaults to 1e-6 of the contour size (at least 1e-6 mm): parts of the
-        curve closer than twice that may be reported as crossing.
+        curve closer than twice that may be reported as crossing.  Of several crossings, the one
+        on the lowest-numbered chord (then the lowest-numbered other chord) is returned.  Only
+        chords whose x ranges overlap are tested (sweep and prune: sorted by their smallest x),
+        ``block`` pairs at a time.
         """
         tol = chord_tol if chord_tol is not None else max(1e-6, 1e-6 * self.size)
         a = self.flatten(tol)
         b = np.roll(a, -1, axis=0)
         n = len(a)
         d = b - a
-        for lo in range(0, n, block):
-            i = np.arange(lo, min(lo + block, n))[:, None]
-            j = np.arange(n)[None, :]
-            ai, di = a[i[:, 0]][:, None, :], d[i[:, 0]][:, None, :]
-            aj, dj = a[None], d[None]
-
-            def cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-                return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
-
-            o1 = cross(di, aj - ai)
-            o2 = cross(di, aj + dj - ai)
-            o3 = cross(dj, ai - aj)
-            o4 = cross(dj, ai + di - aj)
-            hit = (o1 * o2 < 0) & (o3 * o4 < 0) & (np.abs(i - j) > 1) & (np.abs(i - j) < n - 1)
+        lo_x, hi_x = np.minimum(a[:, 0], b[:, 0]), np.maximum(a[:, 0], b[:, 0])
+        lo_y, hi_y = np.minimum(a[:, 1], b[:, 1]), np.maximum(a[:, 1], b[:, 1])
+        order = np.argsort(lo_x, kind="stable")
+        sorted_lo = lo_x[order]
+        # chord order[p] against the chords after it in x order that start within its x range
+        stop = np.searchsorted(sorted_lo, hi_x[order], side="right")
+        count = np.maximum(stop - np.arange(n) - 1, 0)
+        best: tuple[int, int] | None = None
+        first = 0
+        cumulative = np.cumsum(count)
+        while first < n:
+            last = int(np.searchsorted(cumulative, (cumulative[first - 1] if first else 0) + block, side="right"))
+            last = min(n, max(last, first + 1))
+            pos = np.arange(first, last)
+            reps = count[first:last]
+            p = np.repeat(pos, reps)
+            offset = np.arange(int(reps.sum())) - np.repeat(np.cumsum(reps) - reps, reps)
+            i, j = order[p], order[p + 1 + offset]
+            keep = (lo_y[i] <= hi_y[j]) & (lo_y[j] <= hi_y[i])
+            gap = np.abs(i - j)
+            keep &= (gap > 1) & (gap < n - 1)
+            i, j = np.minimum(i[keep], j[keep]), np.maximum(i[keep], j[keep])
+            o1 = cross(d[i], a[j] - a[i])
+            o2 = cross(d[i], a[j] + d[j] - a[i])
+            o3 = cross(d[j], a[i] - a[j])
+            o4 = cross(d[j], a[i] + d[i] - a[j])
+            hit = (o1 * o2 < 0) & (o3 * o4 < 0)
             if hit.any():
-                k, m = np.argwhere(hit)[0]
-                t = o3[k, m] / (o3[k, m] - o4[k, m])
-                return a[i[k, 0]] + t * d[i[k, 0]]
-        return None
+                k = int(np.lexsort((j[hit], i[hit]))[0])
+                pair = (int(i[hit][k]), int(j[hit][k]))
+                best = pair if best is None or pair < best else best
+            first = last
+        if best is None:
+            return None
+        i, j = best
+        o3 = float(cross(d[j], a[i] - a[j]))
+        o4 = float(cross(d[j], a[i] + d[i] - a[j]))
+        return a[i] + o3 / (o3 - o4) * d[i]
 
     # -- support function -----------------------------------------------------------------------
     def _support(self, psi: object, chunk: int = 2048) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

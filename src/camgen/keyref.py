@@ -10,8 +10,9 @@ Generated from the schema by `camgen keys` (do not edit by hand). Lengths are mi
 angles degrees in scene files. "changes" names what a key changes: profile (every file of the
 cam's shape: DXF, point and lift tables, meshes, STEP, G-code), pitch (the DXF PITCH layer),
 body (bore and keyway: DXF, meshes, STEP), thickness (meshes, STEP, G-code depth), gcode,
-dxf, tables (the lift table), tolerance (every flattened output), files, mechanism (its
-report section and files), report (report.json and report.html only). A key given where it
+dxf, tables (the lift table), motion (the follower table at speed), tolerance (every flattened
+output), files, mechanism (its report section and files), report (report.json and report.html
+only). A key given where it
 would change nothing is refused with an error that says why.
 """
 

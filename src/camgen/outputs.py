@@ -46,10 +46,13 @@ class OutputFormat:
 
 
 _FORMATS = (
-    OutputFormat("dxf", "{cam}.dxf", "2-D drawing: PROFILE (exact ARCs, B-splines or biarcs), PITCH, BORE, KEYWAY, CENTER layers; R2010, mm",
-                 "camgen.writers:dxf"),
+    OutputFormat("dxf", "{cam}.dxf", "2-D drawing: PROFILE (exact ARCs, B-splines or biarcs), PITCH, BORE, KEYWAY, CENTER, ZERO "
+                 "(disk cams: cam angle 0 and the rotation) layers; R2010, mm", "camgen.writers:dxf"),
     OutputFormat("points", "{cam}_points.csv", "XY point list of the profile at the chord tolerance", "camgen.writers:points"),
-    OutputFormat("lift", "{cam}_lift.csv", "polar lift table: cam angle -> radius, lift above the base radius", "camgen.writers:lift"),
+    OutputFormat("lift", "{cam}_lift.csv", "polar lift table of the profile: polar angle on the cam -> radius, lift above the base radius",
+                 "camgen.writers:lift"),
+    OutputFormat("follower", "{cam}_follower.csv", "follower inspection table at the cam's rpm: cam angle, time, lift, velocity, "
+                 "acceleration, jerk (needs rpm)", "camgen.writers:follower", manufacturing=False),
     OutputFormat("stl", "{cam}.stl", "binary STL of the extruded body", "camgen.writers:mesh", MESH),
     OutputFormat("stl_ascii", "{cam}_ascii.stl", "ASCII STL of the extruded body", "camgen.writers:mesh", MESH),
     OutputFormat("3mf", "{cam}.3mf", "3MF mesh of the body (units mm)", "camgen.writers:mesh", MESH),
@@ -102,7 +105,7 @@ def output_keys() -> tuple[Key, ...]:
             "(every reader takes them), or exact clamped B-spline SPLINEs (for CAD).", ("dxf",), default=d.dxf_splines),
         Key("dxf_pitch", Flag(), "Draw the follower-centre path of roller followers on the DXF's PITCH layer.", ("dxf",),
             default=d.dxf_pitch),
-        Key("lift_step_deg", Angle(0.01, 10.0), "Cam-angle step of the lift table (<cam>_lift.csv).", ("tables",),
+        Key("lift_step_deg", Angle(0.01, 10.0), "Polar-angle step of the lift table (<cam>_lift.csv).", ("tables",),
             default=math.degrees(d.lift_step)),
     )
 

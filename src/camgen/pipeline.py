@@ -8,6 +8,7 @@ when an output needs it, and its libraries are imported only then.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -59,6 +60,11 @@ def plan_run(scene: "Scene", only: Sequence[str] | None = None) -> Plan:
         wanted = list(only) + ["json"]
         full = "json" in only
     formats = tuple(f for f in OUTPUTS if f in wanted)
+    if "follower" in formats:  # the follower table is the motion at the cam's speed
+        for spec in scene.cams:
+            if spec.checks.rpm is None:
+                raise ParameterError(f"cams.{spec.name}.rpm", None, "a cam speed in rev/min (> 0)",
+                                     'the "follower" output (<cam>_follower.csv) tabulates the follower motion at the cam speed')
     stages: set[str] = set()
     for name in formats:
         if name != "json" or full:
@@ -114,6 +120,7 @@ def check_cam(cam: "BuiltCam", spec: "CamSpec", tool_radius: float, tool_is_limi
             cam.evaluation.curvature_label = "radius of curvature of the envelope (mm)"
             cam.evaluation.curvature_limit = exc.limit
     cam.checks.extend(cam.evaluation.checks)
+    cam.rpm = spec.checks.rpm
     if own is None:  # a kind with its own checks reports its follower itself
         cam.figures["follower"] = {"kind": follower.kind, "motion": follower.motion, "roller_radius_mm": follower.roller_radius,
                                    "offset_mm": follower.offset, "pressure_angle_limit_deg": math.degrees(follower.limit)}
@@ -167,6 +174,8 @@ def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> RunResul
     tool_is_limit = scene.machining_given or "ngc" in scene.output.formats or "ngc" in plan.formats
     cams: list[BuiltCam] = []
     for spec in scene.cams:
+        if tool_is_limit:  # a kind that sizes its cam holds the concave radii to the named tool
+            spec = dataclasses.replace(spec, checks=dataclasses.replace(spec.checks, tool_radius=tool_radius))
         progress(f"building cam '{spec.name}' ({spec.kind})")
         cam = get_kind(spec.kind).build(spec, plan.stages)
         progress(f"checking cam '{spec.name}'")

@@ -32,6 +32,7 @@ EFFECTS = {
     "files": "which files are written and their names",
     "mechanism": "the mechanism's report section and files (leg paths)",
     "tables": "the lift table (<cam>_lift.csv)",
+    "motion": "the follower table at the cam's speed (<cam>_follower.csv)",
     "tolerance": "every flattened output: DXF biarcs, point lists, meshes, G-code",
 }
 

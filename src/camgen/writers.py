@@ -29,7 +29,7 @@ def dxf(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
     pitch = None
     if run.output.dxf_pitch:  # the synthesis' follower-centre path, else the roller checks' pitch curve
         pitch = cam.pitch if cam.pitch is not None else (cam.evaluation.pitch if cam.evaluation is not None else None)
-    return contour_to_dxf(cam.contour, cam.body, pitch, options)
+    return contour_to_dxf(cam.contour, cam.body, pitch, options, cam.zero_mark)
 
 
 def points(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
@@ -42,6 +42,16 @@ def lift(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
     from camgen.export.points import lift_csv
 
     return lift_csv(cam.contour, run.output.lift_step, cam.name, run.scene_name)
+
+
+def follower(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
+    from camgen.errors import GeometryError
+    from camgen.export.motion import follower_csv
+
+    motion = cam.evaluation.motion if cam.evaluation is not None else None
+    if motion is None or cam.rpm is None:
+        raise GeometryError("the follower motion of this cam is not known (its profile cannot be made): no follower table")
+    return follower_csv(motion, cam.rpm, cam.name, run.scene_name)
 
 
 def mesh(cam: "BuiltCam", run: RunSettings, fmt: str) -> bytes:

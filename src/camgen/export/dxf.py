@@ -9,7 +9,10 @@ Spline segments are written in one of two ways (:class:`DxfOptions` ``splines``)
   programs (fit-point-only or raw periodic-knot SPLINEs are misread by independent readers, see
   ``shared/research/ecosystem.md`` section 3).
 
-Arc segments (three-arc cams) are exact ARCs in both modes.  The header extents ($EXTMIN,
+Arc segments (three-arc cams) are exact ARCs in both modes.  Cams that know their cam angle 0
+(disk cams) get a ``ZERO`` layer: a LINE from the rotation axis to the point of the profile the
+follower touches at cam angle 0, and an ARC about the axis (half that radius, 40 deg) ending in
+an arrow head (two LINEs) in the direction the cam turns.  The header extents ($EXTMIN,
 $EXTMAX, and $LIMMIN/$LIMMAX) are the exact bounding box of everything drawn; the spline mode
 and tolerance are stated in the header's custom properties (``camgen_splines``,
 ``camgen_biarc_tol_mm``).
@@ -157,13 +160,38 @@ def _add_contour(msp, contour: Contour, layer: str) -> None:
             msp.add_open_spline(controls, degree=3, knots=knots, dxfattribs={"layer": layer})
 
 
-def contour_to_dxf(contour: Contour, body: Any = None, pitch: Contour | None = None, options: DxfOptions = DxfOptions()) -> str:
+#: Sweep of the ZERO layer's rotation arrow (rad) and its radius as a fraction of the mark's length.
+ZERO_ARROW_SWEEP = math.radians(40.0)
+ZERO_ARROW_RADIUS = 0.5
+
+
+def zero_mark_geometry(mark: Any) -> tuple[list[tuple[np.ndarray, np.ndarray]], tuple[float, float, float]]:
+    """The ZERO layer of ``mark`` (a :class:`camgen.kinds.base.ZeroMark`): LINEs (start, end) and
+    the arrow's ARC (radius, start angle, signed sweep in rad; centre on the axis)."""
+    p = np.asarray(mark.point, dtype=float)
+    length = float(np.hypot(*p))
+    a0 = math.atan2(p[1], p[0])
+    r = ZERO_ARROW_RADIUS * length
+    sweep = mark.sigma * ZERO_ARROW_SWEEP
+    end_angle = a0 + sweep
+    tip = r * np.array([math.cos(end_angle), math.sin(end_angle)])
+    along = mark.sigma * np.array([-math.sin(end_angle), math.cos(end_angle)])  # direction of travel at the tip
+    out = np.array([math.cos(end_angle), math.sin(end_angle)])
+    head = 0.12 * length
+    wings = [tip - head * along + 0.5 * head * out, tip - head * along - 0.5 * head * out]
+    lines = [(np.zeros(2), p)] + [(w, tip) for w in wings]
+    return lines, (r, a0, sweep)
+
+
+def contour_to_dxf(contour: Contour, body: Any = None, pitch: Contour | None = None, options: DxfOptions = DxfOptions(),
+                   zero_mark: Any = None) -> str:
     """DXF text (R2010, $INSUNITS = 4 mm) of a cam drawing.
 
     Layers: ``PROFILE`` (the contour), ``BORE`` (circle, or the arc outside the keyway) and
     ``KEYWAY`` (its three sides outside the bore) from ``body`` (a
-    :class:`camgen.export.solid.SolidSpec`), ``PITCH`` (the follower-centre path, when given)
-    and ``CENTER`` (a centre mark on the rotation axis).  Spline segments follow
+    :class:`camgen.export.solid.SolidSpec`), ``PITCH`` (the follower-centre path, when given),
+    ``CENTER`` (a centre mark on the rotation axis) and ``ZERO`` (cam angle 0 and the direction
+    of rotation, when ``zero_mark`` is given: see the module notes).  Spline segments follow
     ``options.splines`` (default: biarcs within ``options.biarc_tol`` mm).
     """
     import ezdxf
@@ -171,7 +199,7 @@ def contour_to_dxf(contour: Contour, body: Any = None, pitch: Contour | None = N
     previous = ezdxf.options.write_fixed_meta_data_for_testing
     ezdxf.options.write_fixed_meta_data_for_testing = True  # fixed dates, GUIDs and marker string
     try:
-        return _contour_to_dxf(contour, body, pitch, options)
+        return _contour_to_dxf(contour, body, pitch, options, zero_mark)
     finally:
         ezdxf.options.write_fixed_meta_data_for_testing = previous
 
@@ -185,7 +213,8 @@ def _bore_and_keyway(body: Any) -> tuple[float, np.ndarray | None]:
     return r, (body.keyway_outside_bore() if body.keyway_width > 0 else None)
 
 
-def drawing_bounds(contour: Contour, body: Any = None, pitch: Contour | None = None, center_mark: float = 0.0) -> tuple[float, float, float, float]:
+def drawing_bounds(contour: Contour, body: Any = None, pitch: Contour | None = None, center_mark: float = 0.0,
+                   zero_mark: Any = None) -> tuple[float, float, float, float]:
     """Exact bounding box ``(xmin, ymin, xmax, ymax)``, mm, of the entities of a drawing.
 
     ``contour`` and ``pitch`` are the contours as drawn (after any biarc conversion); arcs
@@ -206,12 +235,17 @@ def drawing_bounds(contour: Contour, body: Any = None, pitch: Contour | None = N
             boxes.append(np.array([pts.min(axis=0), pts.max(axis=0)]))
     if center_mark > 0:
         boxes.append(np.array([[-center_mark, -center_mark], [center_mark, center_mark]]))
+    if zero_mark is not None:
+        lines, (r, a0, sweep) = zero_mark_geometry(zero_mark)
+        boxes.append(np.concatenate([np.stack(pair) for pair in lines]))
+        pts = Arc((0.0, 0.0), r, a0, sweep).extreme_points()
+        boxes.append(np.array([pts.min(axis=0), pts.max(axis=0)]))
     stack = np.concatenate(boxes)
     lo, hi = stack.min(axis=0), stack.max(axis=0)
     return float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])
 
 
-def _contour_to_dxf(contour: Contour, body: Any, pitch: Contour | None, options: DxfOptions) -> str:
+def _contour_to_dxf(contour: Contour, body: Any, pitch: Contour | None, options: DxfOptions, zero_mark: Any = None) -> str:
     import ezdxf
     from ezdxf import units
 
@@ -222,7 +256,7 @@ def _contour_to_dxf(contour: Contour, body: Any, pitch: Contour | None, options:
     doc.header["$MEASUREMENT"] = 1
     doc.header["$LUNITS"] = 2
     doc.header["$LUPREC"] = 6
-    xmin, ymin, xmax, ymax = drawing_bounds(contour, body, pitch, options.center_mark)
+    xmin, ymin, xmax, ymax = drawing_bounds(contour, body, pitch, options.center_mark, zero_mark)
     # readers zoom to $EXTMIN/$EXTMAX, which ezdxf leaves at +-1e20; it copies the modelspace
     # layout's extents and limits into the header ($EXTMIN ... $LIMMAX) when it writes the file
     msp = doc.modelspace()
@@ -235,6 +269,8 @@ def _contour_to_dxf(contour: Contour, body: Any, pitch: Contour | None, options:
         doc.header.custom_vars.append("camgen_biarc_tol_mm", repr(float(options.biarc_tol)))
     for name, color in ((PROFILE_LAYER, 7), ("BORE", 2), ("KEYWAY", 3), ("PITCH", 4), ("CENTER", 1)):
         doc.layers.add(name, color=color)
+    if zero_mark is not None:
+        doc.layers.add("ZERO", color=6)
     _add_contour(msp, contour, PROFILE_LAYER)
     if pitch is not None:
         _add_contour(msp, pitch, "PITCH")
@@ -252,6 +288,12 @@ def _contour_to_dxf(contour: Contour, body: Any, pitch: Contour | None, options:
     if m > 0:
         msp.add_line((-m, 0.0), (m, 0.0), dxfattribs={"layer": "CENTER"})
         msp.add_line((0.0, -m), (0.0, m), dxfattribs={"layer": "CENTER"})
+    if zero_mark is not None:
+        lines, (r, a0, sweep) = zero_mark_geometry(zero_mark)
+        for a, b in lines:
+            msp.add_line(tuple(a), tuple(b), dxfattribs={"layer": "ZERO"})
+        start, end = (a0, a0 + sweep) if sweep > 0 else (a0 + sweep, a0)  # DXF arcs run counter-clockwise
+        msp.add_arc((0.0, 0.0), r, math.degrees(start), math.degrees(end), dxfattribs={"layer": "ZERO"})
     # ezdxf adds CLASS entries from a set of the entity types in use, so their order follows
     # Python's hash seed; add them now and sort them so every process writes the same bytes
     doc.classes.add_required_classes(doc.dxfversion)

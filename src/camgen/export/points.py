@@ -29,7 +29,7 @@ def write_points_csv(contour: Contour, path: str | Path, chord_tol: float, cam: 
 
 
 def lift_csv(contour: Contour, step: float, cam: str, scene: str) -> str:
-    """Polar lift table as cam grinders take it: cam angle -> radius and lift above the base radius.
+    """Polar lift table of the profile: polar angle on the cam -> radius and lift above the base radius.
 
     ``step`` is the angle step (rad).  The radius is the exact distance from the rotation axis
     to the profile along the ray at that polar angle (:meth:`Contour.polar_radius`); the base
@@ -46,11 +46,11 @@ def lift_csv(contour: Contour, step: float, cam: str, scene: str) -> str:
     base = base_radius(contour)
     comments = [
         f"camgen polar lift table of cam '{cam}' (scene '{scene}')",
-        "units: deg, mm; cam_angle_deg = polar angle in the cam frame, counter-clockwise from +x",
+        "units: deg, mm; polar_angle_deg = polar angle on the cam (cam frame, counter-clockwise from +x), not a cam rotation",
         f"radius_mm = distance from the rotation axis to the profile; lift_mm = radius_mm - base radius {base:.9f} mm",
         f"angle step: {math.degrees(2.0 * math.pi / count):g} deg; {count} rows",
     ]
-    return csv_table(comments, {"cam_angle_deg": np.degrees(angle), "radius_mm": radius, "lift_mm": radius - base})
+    return csv_table(comments, {"polar_angle_deg": np.degrees(angle), "radius_mm": radius, "lift_mm": radius - base})
 
 
 def base_radius(contour: Contour) -> float:

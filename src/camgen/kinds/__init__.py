@@ -15,6 +15,7 @@ KIND_MODULES: dict[str, str] = {
     "three_arc": "camgen.kinds.three_arc",
     "trajectory": "camgen.kinds.trajectory",
     "motion_law": "camgen.kinds.motion_law",
+    "lift_table": "camgen.kinds.lift_table",
 }
 
 _EXTRA: dict[str, CamKind] = {}

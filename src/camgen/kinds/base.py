@@ -35,10 +35,28 @@ def field_default(cls: type, name: str) -> Any:
 
 @dataclass(frozen=True)
 class CheckSettings:
-    """Limits and conditions of the design checks (rad, rev/min)."""
+    """Limits and conditions of the design checks (rad, rev/min, mm).
+
+    ``tool_radius``: the cutting tool's radius when the scene names a tool or writes G-code (the
+    pipeline fills it in before building; a kind that sizes its cam holds the concave radii to it).
+    """
 
     pressure_angle_limit: float | None = None
     rpm: float | None = None
+    tool_radius: float | None = None
+
+
+@dataclass(frozen=True)
+class ZeroMark:
+    """Where cam angle 0 is on the part and which way the cam turns (the DXF ZERO layer, the report).
+
+    ``point``: the point of the profile the follower touches at cam angle 0 (cam frame, mm); the
+    mark is the line from the rotation axis to it.  ``sigma``: +1 the cam turns counter-clockwise
+    (seen from +z, as the DXF is drawn), -1 clockwise.
+    """
+
+    point: tuple[float, float]
+    sigma: float
 
 
 @dataclass(frozen=True)
@@ -76,6 +94,8 @@ class BuiltCam:
     solid: "CamSolid | None" = None
     undercut: "UndercutError | None" = None  # why the profile could not be made (contour None)
     withheld: list[str] = field(default_factory=list)  # manufacturing files not written
+    zero_mark: ZeroMark | None = None  # cam angle 0 and the rotation sense (kinds that know them)
+    rpm: float | None = None  # the cam speed of the motion figures (set by the pipeline from the scene)
 
     @property
     def manufacturable(self) -> bool:
@@ -141,9 +161,10 @@ def check_keys() -> tuple[Key, ...]:
     """Keys of the design checks (every kind)."""
     return (
         Key("pressure_angle_limit_deg", Angle(0.0, 90.0, low_open=True, high_open=True),
-            "Largest pressure angle allowed (default: 30 deg translating roller/flat, 45 deg oscillating and yoke).", ("report",)),
-        Key("rpm", Number("rev/min", 0.0, 1e6, low_open=True), "Cam speed for the follower motion figures (velocity, acceleration, jerk at speed).",
-            ("report",)),
+            "Largest pressure angle allowed (default: 30 deg translating followers, 45 deg oscillating ones and yokes); disk cams "
+            "with sizing are sized to it.", ("report",)),
+        Key("rpm", Number("rev/min", 0.0, 1e6, low_open=True), "Cam speed: the follower's velocity, acceleration and jerk at speed in "
+            "the report, and the follower table (<cam>_follower.csv, which needs it).", ("report", "motion")),
     )
 
 

@@ -1,137 +1,151 @@
 """Cam kind ``motion_law``: a disk cam from a motion program (rise, dwell, return segments).
 
-The profile is the exact envelope of the follower (:mod:`camgen.synthesis.motion_law`): a
-translating roller (with offset) or a translating flat face, moving along +y.  Oscillating
-followers for this kind are not implemented yet: ``follower_motion`` accepts only
-"translating" and says so.
+The segments follow the laws of :mod:`camgen.synthesis.laws` (closed-form displacement,
+velocity, acceleration and jerk on normalised segments); the follower, the exact envelope,
+sizing and the checks are the disk cams' (:mod:`camgen.kinds.disk`).  Segment keys:
+``law``, ``span_deg``, ``lift_mm`` (translating followers) or ``swing_deg`` (oscillating ones),
+``blend`` (constant_velocity) and ``start`` / ``end`` (polynomial: the displacement, velocity,
+acceleration and jerk at the segment's ends, per degree of cam angle; converted to per rad).
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-from camgen.errors import ParameterError, UndercutError
-from camgen.kinds.base import (
-    BuiltCam,
-    CamKind,
-    CamSpec,
-    body_keys,
-    check_keys,
-    read_body,
-    read_checks,
-    rename_errors,
-    source_key,
-    with_cam,
-)
-from camgen.schema import REQUIRED, Angle, Choice, Count, Key, Length, Number, TableList
+from camgen.errors import ParameterError
+from camgen.kinds.base import CamKind, CamSpec, body_keys, check_keys, source_key
+from camgen.kinds.disk import build_disk, disk_spec, evaluate_disk, follower_keys, read_follower
+from camgen.schema import REQUIRED, Angle, Choice, Key, Number, NumberList, TableList
 
-if TYPE_CHECKING:
-    from camgen.synthesis.motion_law import MotionProgram
-
-#: Largest number of samples per cam turn.
-MAX_SAMPLES = 20000
-
-SEGMENT_KEYS = (
-    Key("law", Choice(("cycloidal", "harmonic", "poly345", "poly4567", "dwell")),
-        "Motion law of the segment (dwell: no motion).", ("profile",), default=REQUIRED),
-    Key("span_deg", Angle(0.0, 360.0, low_open=True), "Cam angle the segment spans.", ("profile",), default=REQUIRED),
-    Key("lift_mm", Number("mm", -1e4, 1e4), "Follower travel over the segment: > 0 rise, < 0 return, 0 for a dwell.", ("profile",),
-        default=0.0),
-)
-
-KEYS = (
-    Key("base_radius_mm", Length(), "Smallest radius of the cam on the follower's side (roller: prime radius minus the roller).",
-        ("profile",), default=REQUIRED),
-    Key("segments", TableList(SEGMENT_KEYS, what="[[segments]] tables"),
-        "The motion program: [[cams.<name>.segments]] tables in order from cam angle 0; spans add up to 360 deg, lifts to 0.",
-        ("profile",), default=REQUIRED),
-    Key("samples", Count(36, MAX_SAMPLES), "Cam angles per turn at which the envelope is computed.", ("profile",), default=720),
-    source_key(),
-) + body_keys() + (
-    Key("follower", Choice(("roller", "flat")), "Translating roller or translating flat face, moving along +y.", ("profile",),
-        default="roller"),
-    Key("follower_motion", Choice(("translating",)),
-        "Translating (oscillating followers of motion-law cams are not implemented yet).", ("profile",), default="translating"),
-    Key("roller_radius_mm", Length(), "Roller radius.", ("profile", "pitch"), default=10.0, requires={"follower": ("roller",)}),
-    Key("follower_offset_mm", Length(-1e5, 1e5, low_open=False),
-        "Offset of the roller's axis from the cam axis: the axis is the line x = -offset.", ("profile",),
-        requires={"follower": ("roller",)}),
-    Key("face_half_length_mm", Length(), "Flat face: usable half-length of the face (checked against the contact's reach).",
-        ("report",), requires={"follower": ("flat",)}),
-) + check_keys()
+#: Law names scene files may use (camgen.synthesis.laws.LAWS, kept here so reading the key
+#: reference imports no synthesis module; a test keeps them equal), and the refused ones.
+LAW_NAMES = ("constant_velocity", "cycloidal", "double_harmonic", "dwell", "harmonic", "modified_sine", "modified_trapezoid",
+             "poly345", "poly4567", "polynomial", "simple_harmonic")
 
 
 @dataclass(frozen=True)
-class MotionLawParams:
-    """The motion program, base radius (mm), samples per turn and follower (mm, rad)."""
+class LawChoice(Choice):
+    """A law name; the names camgen refuses on purpose (laws.NOT_IMPLEMENTED) say why."""
 
-    program: "MotionProgram"
-    segments: tuple[dict[str, Any], ...]
-    base_radius: float
-    samples: int
-    follower: str
-    roller_radius: float
-    offset: float
-    source: str | None = None
+    def parse(self, path: str, value: object) -> str:
+        if isinstance(value, str) and value not in self.values:
+            from camgen.synthesis.laws import NOT_IMPLEMENTED
+
+            if value in NOT_IMPLEMENTED:
+                raise ParameterError(path, value, self.describe(), NOT_IMPLEMENTED[value])
+        return super().parse(path, value)
+
+
+_CONDITIONS = NumberList(Number(""), 1, 4)
+
+SEGMENT_KEYS = (
+    Key("law", LawChoice(LAW_NAMES), "Motion law of the segment (dwell: no motion; harmonic is simple_harmonic; see "
+        "camgen/synthesis/laws.py for each law's formula and source).", ("profile",), default=REQUIRED),
+    Key("span_deg", Angle(0.0, 360.0, low_open=True), "Cam angle the segment spans.", ("profile",), default=REQUIRED),
+    Key("lift_mm", Number("mm", -1e4, 1e4), "Translating follower: travel over the segment (> 0 rise, < 0 return; 0 or left out "
+        "for a dwell; a polynomial's follows from its start and end).", ("profile",)),
+    Key("swing_deg", Angle(-180.0, 180.0), "Oscillating follower: swing of the arm over the segment (> 0 away from the cam, "
+        "< 0 back; 0 or left out for a dwell).", ("profile",)),
+    Key("blend", Number("", 0.0, 0.5), "constant_velocity only: fraction of the span in each end blend that ramps the velocity "
+        "(0: plain constant velocity, whose velocity jumps at the ends: a knife follower only).", ("profile",)),
+    Key("start", _CONDITIONS, "polynomial only: [s, v, a] (optionally j) at the segment's start: lift mm (oscillating: swing deg), "
+        "velocity per degree of cam angle, acceleration per degree^2, jerk per degree^3 (converted to per rad).", ("profile",)),
+    Key("end", _CONDITIONS, "polynomial only: [s, v, a] (optionally j) at the segment's end, in the units of start.", ("profile",)),
+)
+
+KEYS = (
+    Key("segments", TableList(SEGMENT_KEYS, what="[[segments]] tables"),
+        "The motion program: [[cams.<name>.segments]] tables in order from cam angle 0; spans add up to 360 deg and the "
+        "follower returns to where it started.", ("profile",), default=REQUIRED),
+) + follower_keys() + (source_key(),) + body_keys() + check_keys()
+
+
+def _per_rad(values: tuple[float, ...], oscillating: bool) -> tuple[float, ...]:
+    """[s, v, a, j] per degree^k of cam angle (s in mm, or deg of swing) -> per rad^k (mm or rad)."""
+    factor = math.pi / 180.0 if oscillating else 1.0  # deg of swing -> rad
+    return tuple(v * factor * (180.0 / math.pi) ** k for k, v in enumerate(values))
+
+
+def read_program(where: str, segments: tuple[dict[str, Any], ...], motion: str):
+    """The :class:`~camgen.synthesis.laws.MotionProgram` of the ``[[segments]]`` tables."""
+    from camgen.synthesis import laws
+
+    oscillating = motion == "oscillating"
+    key, other = ("swing_deg", "lift_mm") if oscillating else ("lift_mm", "swing_deg")
+    field, other_field = key.rsplit("_", 1)[0], other.rsplit("_", 1)[0]
+    built = []
+    for i, seg in enumerate(segments):
+        path = f"{where}.segments[{i}]"
+        if other_field in seg:
+            article = "an" if oscillating else "a"
+            raise ParameterError(f"{path}.{other}", seg[other_field], f"{key} for {article} {motion} follower",
+                                 f"{article} {motion} follower's segments give {'the swing in deg' if oscillating else 'the lift in mm'}")
+        law = seg["law"]
+        lift = seg.get(field)
+        shown = math.degrees(lift) if oscillating and lift is not None else lift
+        if law == "dwell" and lift not in (None, 0.0):
+            raise ParameterError(f"{path}.{key}", shown, "0 (or leave it out) for a dwell")
+        if law not in ("dwell", "polynomial") and not lift:
+            raise ParameterError(f"{path}.{key}", shown, f"a non-zero {key} for a {law} segment (a segment without motion is a dwell)")
+        for name, allowed in (("blend", "constant_velocity"), ("start", "polynomial"), ("end", "polynomial")):
+            if name in seg and law != allowed:
+                raise ParameterError(f"{path}.{name}", seg[name], f"no {name} for a {law} segment", f"only for {allowed}")
+        if law == "polynomial" and ("start" not in seg or "end" not in seg):
+            raise ParameterError(f"{path}.{'start' if 'start' not in seg else 'end'}", None,
+                                 "[s, v, a] (optionally j) at both ends of a polynomial segment")
+        start = _per_rad(seg["start"], oscillating) if "start" in seg else None
+        end = _per_rad(seg["end"], oscillating) if "end" in seg else None
+        try:
+            built.append(laws.Segment(law, seg["span"], lift, seg.get("blend"), start, end, where=path))
+        except ParameterError as exc:
+            name = exc.name.replace(".lift", f".{key}").replace(".span", ".span_deg")
+            raise ParameterError(name, exc.value, exc.valid, exc.why) from None
+    try:
+        return laws.MotionProgram(built, unit="rad" if oscillating else "mm")
+    except ParameterError as exc:
+        name = exc.name if exc.name.startswith(where) else f"{where}.{exc.name}"
+        raise ParameterError(name, exc.value, exc.valid, exc.why) from None
+
+
+def _segment_figures(segments: tuple[dict[str, Any], ...], oscillating: bool) -> list[dict[str, Any]]:
+    out = []
+    for seg in segments:
+        item: dict[str, Any] = {"law": seg["law"], "span_deg": round(math.degrees(seg["span"]), 9)}
+        if "lift" in seg:
+            item["lift_mm"] = seg["lift"]
+        if "swing" in seg:
+            item["swing_deg"] = round(math.degrees(seg["swing"]), 9)
+        for name in ("blend", "start", "end"):
+            if name in seg:
+                item[name] = list(seg[name]) if name != "blend" else seg[name]
+        out.append(item)
+    return out
 
 
 def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = None) -> CamSpec:
     """The typed spec of a ``motion_law`` cam table."""
-    from camgen.checks import Follower
-    from camgen.synthesis import motion_law as ml
-
-    segments = parsed["segments"]
-    for i, seg in enumerate(segments):
-        if (seg["law"] == "dwell") != (seg["lift"] == 0.0):
-            what = "lift_mm = 0 (or leave it out) for a dwell" if seg["law"] == "dwell" else f"lift_mm != 0 for a {seg['law']} segment (a segment without lift is a dwell)"
-            raise ParameterError(f"{where}.segments[{i}].lift_mm", seg["lift"], what)
-    program = rename_errors(where, lambda: ml.MotionProgram([ml.MotionSegment(s["law"], s["span"], s["lift"]) for s in segments]), KEYS)
-    checks = read_checks(parsed)
-    kind = parsed["follower"]
-    roller = parsed.get("roller_radius", 10.0) if kind == "roller" else 0.0
-    offset = parsed.get("follower_offset", 0.0)
-    if kind == "roller" and abs(offset) >= parsed["base_radius"] + roller:
-        raise ParameterError(f"{where}.follower_offset_mm", offset, f"|offset| < base radius + roller radius = {parsed['base_radius'] + roller:g} mm")
-    follower = rename_errors(where, lambda: Follower(kind, roller_radius=roller, offset=offset, direction=math.pi / 2,
-                                                     face_half_length=parsed.get("face_half_length"),
-                                                     pressure_angle_limit=checks.pressure_angle_limit), KEYS)
-    params = MotionLawParams(program, segments, parsed["base_radius"], parsed["samples"], kind, roller, offset, parsed.get("source"))
-    return CamSpec(name, "motion_law", params, read_body(where, parsed), checks, follower)
-
-
-def build(spec: CamSpec, stages: frozenset[str]) -> BuiltCam:
-    """The exact envelope of the follower for the motion program."""
-    from camgen.synthesis import motion_law as ml
-
-    p: MotionLawParams = spec.params
-    try:
-        if p.follower == "roller":
-            profile, pitch = with_cam(f"cams.{spec.name}", lambda: ml.roller_cam(p.program, p.base_radius, p.roller_radius, p.offset, p.samples))
-        else:
-            profile, pitch = with_cam(f"cams.{spec.name}", lambda: ml.flat_cam(p.program, p.base_radius, p.samples)), None
-    except UndercutError as exc:  # the follower cannot ride this cam: the report shows where and why
-        figures = {"base_radius_mm": p.base_radius, "stroke_mm": p.program.stroke}
-        return BuiltCam(spec.name, spec.kind, None, figures, spec.body, spec.follower, pitch=exc.pitch, undercut=exc)
-    figures: dict[str, Any] = {
-        "base_radius_mm": p.base_radius,
-        "stroke_mm": p.program.stroke,
-        "segments": [{"law": s["law"], "span_deg": math.degrees(s["span"]), "lift_mm": s["lift"]} for s in p.segments],
-        "samples": p.samples,
-        "area_mm2": profile.area,
-        "perimeter_mm": profile.length,
-        "bounds_mm": list(profile.bounds),
-    }
-    if p.source is not None:
-        figures["source"] = p.source
-    return BuiltCam(spec.name, spec.kind, profile, figures, spec.body, spec.follower, pitch=pitch)
+    follower, sizing = read_follower(where, parsed)
+    program = read_program(where, parsed["segments"], follower.motion)
+    if follower.kind != "knife":
+        for join in program.joins():
+            if join.continuity < 1:
+                raise ParameterError(
+                    f"{where}.segments[{join.after}].law", parsed["segments"][join.after]["law"],
+                    f"a law whose velocity at {math.degrees(join.angle):.6g} deg matches the end of segments[{join.before}]",
+                    f"the velocity jumps by {join.jumps[0]:.6g} {program.unit}/rad there: a {follower.kind} follower cannot follow the "
+                    "corner this makes in its path; blend it (constant_velocity with blend > 0) or use a knife follower")
+    figures = {"segments": _segment_figures(parsed["segments"], follower.motion == "oscillating")}
+    return disk_spec(where, name, "motion_law", parsed, program, follower, sizing, figures)
 
 
 KIND = CamKind(
     name="motion_law",
-    summary="disk cam from a motion program (cycloidal, harmonic, 3-4-5, 4-5-6-7, dwell) for a translating roller or flat face",
+    summary="disk cam from a motion program (cycloidal, harmonic, modified trapezoid/sine, polynomials, ... per segment) for a "
+            "translating or oscillating roller, flat face or knife, as the exact envelope",
     keys=KEYS,
     read=read,
-    build=build,
+    build=build_disk,
+    evaluate=evaluate_disk,
 )

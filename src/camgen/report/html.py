@@ -114,25 +114,33 @@ def _profile_figure(Figure: Any, cam: Any) -> str:
     if outline is None:  # nothing to draw to scale: the checks table says why
         ax.text(0.5, 0.5, "the profile cannot be made (see the checks)", ha="center", transform=ax.transAxes)
         return _svg(fig)
-    xmin, ymin, xmax, ymax = outline.bounds
-    span = max(xmax - xmin, ymax - ymin)
-    d = np.array([math.cos(follower.direction), math.sin(follower.direction)])
-    side = np.array([-d[1], d[0]])
     if cam.contour is None:
         ax.set_title(f"{cam.name}: pitch curve to scale; the profile cannot be made (undercut)")
-    elif follower.kind in ("yoke", "flat"):
-        h = float(cam.contour.support(np.array([follower.direction]))[0])
-        faces = [h] + ([h - cam.breadth] if follower.kind == "yoke" and cam.breadth is not None else [])
-        for k, dist in enumerate(faces):
-            line = np.array([dist * d - 0.6 * span * side, dist * d + 0.6 * span * side])
-            ax.plot(line[:, 0], line[:, 1], color="tab:red", lw=1.0, label="follower face at cam angle 0" if k == 0 else None)
-    elif ev.motion is not None:
-        pos = ev.motion.displacement
-        if follower.motion == "translating":
-            centre = pos[0] * d + follower.offset * side
+    if ev.follower_drawing is not None:  # the kind drew its follower at cam angle 0
+        colours = {"roller": "tab:red", "knife": "tab:red", "follower face": "tab:red"}
+        seen: set[str] = set()
+        for label, poly in ev.follower_drawing:
+            ax.plot(poly[:, 0], poly[:, 1], color=colours.get(label, "0.45"), lw=1.0,
+                    label=None if label in seen else f"{label} at cam angle 0")
+            seen.add(label)
+    elif follower is not None and cam.contour is not None:
+        xmin, ymin, xmax, ymax = outline.bounds
+        span = max(xmax - xmin, ymax - ymin)
+        d = np.array([math.cos(follower.direction), math.sin(follower.direction)])
+        side = np.array([-d[1], d[0]])
+        if follower.kind in ("yoke", "flat"):
+            h = float(cam.contour.support(np.array([follower.direction]))[0])
+            faces = [h] + ([h - cam.breadth] if follower.kind == "yoke" and cam.breadth is not None else [])
+            for k, dist in enumerate(faces):
+                line = np.array([dist * d - 0.6 * span * side, dist * d + 0.6 * span * side])
+                ax.plot(line[:, 0], line[:, 1], color="tab:red", lw=1.0, label="follower face at cam angle 0" if k == 0 else None)
+        elif ev.motion is not None and follower.motion == "translating":
+            centre = ev.motion.displacement[0] * d + follower.offset * side
             a = np.linspace(0, 2 * math.pi, 91)
             ax.plot(centre[0] + follower.roller_radius * np.cos(a), centre[1] + follower.roller_radius * np.sin(a), color="tab:red", lw=1.0,
                     label="follower at cam angle 0")
+    if cam.zero_mark is not None:
+        _zero_mark(ax, cam.zero_mark)
     ax.plot([0], [0], "+", color="k", ms=10)
     ax.set_aspect("equal")
     ax.set_xlabel("x (mm)")
@@ -141,6 +149,21 @@ def _profile_figure(Figure: Any, cam: Any) -> str:
         ax.set_title(f"{cam.name}: profile to scale (cam frame)")
     ax.legend(loc="upper right", fontsize=7)
     return _svg(fig)
+
+
+def _zero_mark(ax: Any, mark: Any) -> None:
+    """Cam angle 0 (a line from the axis to the point the follower touches then) and an arrow
+    showing the direction of rotation."""
+    p = np.asarray(mark.point, dtype=float)
+    r = float(np.hypot(*p))
+    ax.plot([0.0, p[0]], [0.0, p[1]], color="tab:purple", lw=1.0, label="cam angle 0 (contact point)")
+    a0 = math.atan2(p[1], p[0])
+    a = a0 + mark.sigma * np.linspace(0.0, math.radians(50.0), 40)
+    arc = 0.45 * r * np.stack([np.cos(a), np.sin(a)], axis=1)
+    ax.plot(arc[:-1, 0], arc[:-1, 1], color="tab:purple", lw=1.0)
+    ax.annotate("", xy=tuple(arc[-1]), xytext=tuple(arc[-4]), arrowprops={"arrowstyle": "-|>", "color": "tab:purple", "lw": 1.0})
+    ax.text(*(0.55 * r * np.array([math.cos(a[20]), math.sin(a[20])])), "ccw" if mark.sigma > 0 else "cw", color="tab:purple",
+            fontsize=7, ha="center", va="center")
 
 
 def _curves_figure(Figure: Any, cam: Any, tool_radius: float) -> str:
@@ -152,11 +175,12 @@ def _curves_figure(Figure: Any, cam: Any, tool_radius: float) -> str:
         return _svg(fig)
     angle, pressure = ev.pressure_angle
     pa_check = next((c for c in cam.checks if c.name == "pressure_angle"), None)
-    limit = float(pa_check.limit) if pa_check is not None else math.degrees(ev.follower.limit)
+    limit = float(pa_check.limit) if pa_check is not None else math.degrees(ev.follower.limit) if ev.follower is not None else None
     keep = _thin(angle.size, 900)
     ax1.plot(np.degrees(angle)[keep], np.degrees(pressure)[keep], color="tab:blue", lw=1)
     for sign in (1, -1):
-        ax1.axhline(sign * limit, color="tab:red", ls="--", lw=0.8)
+        if limit is not None:
+            ax1.axhline(sign * limit, color="tab:red", ls="--", lw=0.8)
     ax1.set_xlabel("cam angle (deg)")
     ax1.set_ylabel("pressure angle (deg)")
     title = "pressure angle, limit dashed"
@@ -177,27 +201,58 @@ def _curves_figure(Figure: Any, cam: Any, tool_radius: float) -> str:
         for sign in (1, -1):
             ax2.axhline(sign * tool_radius, color="tab:red", ls="--", lw=0.8)
         ax2.set_title(f"radius of curvature; tool radius {tool_radius:g} mm dashed", fontsize=8)
-    ax2.set_xlabel("cam angle (deg)")
+    ax2.set_xlabel(ev.curvature_angle_label)
     ax2.set_ylabel(ev.curvature_label)
     return _svg(fig)
 
 
 def _motion_figure(Figure: Any, cam: Any) -> str:
+    """Lift (from zero), velocity, acceleration and jerk against cam angle: at the scene's rpm in
+    mm, mm/s, m/s^2, m/s^3 (rad, rad/s ... for an oscillating arm; lift in deg) with the time on a
+    second axis, else per unit cam speed (per rad of cam angle)."""
     m = cam.evaluation.motion
-    fig = Figure(figsize=(10, 4.2))
+    rpm = getattr(cam, "rpm", None)
+    fig = Figure(figsize=(10, 4.6))
     axes = fig.subplots(2, 2).ravel()
     keep = _thin(m.cam_angle.size, 720)
     deg = np.degrees(m.cam_angle)[keep]
-    for ax, values, label in zip(axes, (m.displacement[keep], m.velocity[keep], m.acceleration[keep], m.jerk[keep]),
-                                 (f"displacement ({m.unit})", f"velocity ({m.unit}/rad)", f"acceleration ({m.unit}/rad^2)", f"jerk ({m.unit}/rad^3)")):
-        ax.plot(deg, values, lw=1, color="tab:purple")
+    lift = np.degrees(m.lift) if m.unit == "rad" else m.lift
+    lift_unit = "deg" if m.unit == "rad" else m.unit
+    if rpm:
+        v, a, j, units = m.rates(rpm)
+        values = (lift[keep], v[keep], a[keep], j[keep])
+        labels = (f"lift ({lift_unit})", f"velocity ({units['velocity']})", f"acceleration ({units['acceleration']})",
+                  f"jerk ({units['jerk']})")
+        title = f"{cam.name}: follower motion at {rpm:g} rpm (one turn {60.0 / rpm:.4g} s)"
+    else:
+        values = (lift[keep], m.velocity[keep], m.acceleration[keep], m.jerk[keep])
+        labels = (f"lift ({lift_unit})", f"velocity ({m.unit}/rad)", f"acceleration ({m.unit}/rad^2)", f"jerk ({m.unit}/rad^3)")
+        title = f"{cam.name}: follower motion per unit cam speed (give rpm for the motion at speed)"
+    for ax, value, label in zip(axes, values, labels):
+        ax.plot(deg, value, lw=1, color="tab:purple")
         ax.set_ylabel(label, fontsize=8)
+    if rpm:  # the same curves against time: a time axis above the top row (the columns share the cam angle)
+        seconds = 60.0 / rpm / 360.0
+        for ax in axes[:2]:
+            top = ax.secondary_xaxis("top", functions=(lambda d, k=seconds: d * k, lambda t, k=seconds: t / k))
+            top.tick_params(labelsize=7)
+            top.set_xlabel("time (s)", fontsize=8)
     for angle in m.jerk_impulses_deg:
         axes[3].axvline(angle, color="tab:red", lw=0.6, ls=":")
     axes[2].set_xlabel("cam angle (deg)")
     axes[3].set_xlabel("cam angle (deg)" + (" (dotted: jerk impulses)" if m.jerk_impulses_deg else ""))
-    fig.suptitle(f"{cam.name}: follower motion per unit cam speed", fontsize=9)
+    fig.suptitle(title, fontsize=9)
     return _svg(fig)
+
+
+def _animation(cam: Any) -> str:
+    from camgen.report.animation import animation_svg
+
+    anim = cam.evaluation.animation
+    speed = f"; the cam runs at {cam.rpm:g} rpm" if getattr(cam, "rpm", None) else ""
+    svg = animation_svg(anim, html.escape(f"{cam.name}: the follower riding the cam"))
+    return (f"<div class='fig'>{svg}<p class='note'>The follower riding the cam, one turn in {anim.seconds:g} s on screen{speed}; "
+            "the purple line marks cam angle 0 on the cam.</p></div>")
 
 
 def report_html(result: "RunResult") -> str:
@@ -239,6 +294,8 @@ def report_html(result: "RunResult") -> str:
             parts.append(f"<div class='fig'>{_curves_figure(Figure, cam, tool_radius)}</div>")
             if cam.evaluation.motion is not None:
                 parts.append(f"<div class='fig'>{_motion_figure(Figure, cam)}</div>")
+            if cam.evaluation.animation is not None:
+                parts.append(_animation(cam))
         parts.append("<h3>Checks</h3>" + _checks_table(cam.checks))
         parts.append("<h3>Figures</h3>" + _figures_table(cam.figures))
         kind_section = get_kind(cam.kind).report_section

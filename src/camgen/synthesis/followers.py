@@ -91,7 +91,7 @@ DEFAULT_FIT_TOL = 1e-7
 #: Default spacing (rad) of the dense cam-angle grid of the undercut and curvature data (0.05 deg).
 DEFAULT_CHECK_STEP = math.radians(0.05)
 #: Step (rad of cam angle) of the one-sided extrapolation of the tangents at a break.
-_ONE_SIDED_STEP = 1e-6
+_ONE_SIDED_STEP = 1e-5
 
 
 class Displacement(Protocol):
@@ -274,9 +274,9 @@ class FollowerSpec:
 # --------------------------------------------------------------------------------------------
 # Closed-form kinematics
 # --------------------------------------------------------------------------------------------
-def _rot(angle: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Rotate vectors ``v`` (n, 2) by ``angle`` (n,) rad."""
-    c, s = np.cos(angle), np.sin(angle)
+def _rot(angle: np.ndarray | tuple[np.ndarray, np.ndarray], v: np.ndarray) -> np.ndarray:
+    """Rotate vectors ``v`` (n, 2) by ``angle`` (n,) rad, or by the angle whose (cos, sin) are given."""
+    c, s = angle if isinstance(angle, tuple) else (np.cos(angle), np.sin(angle))
     return np.stack([c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1]], axis=-1)
 
 
@@ -374,7 +374,7 @@ def _centre(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s
 
 def _kinematics_from(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s) -> Kinematics:
     sigma = f.sigma
-    back = -sigma * theta  # fixed -> cam frame: R(-sigma theta)
+    back = (np.cos(theta), -sigma * np.sin(theta))  # fixed -> cam frame: R(-sigma theta), as (cos, sin)
     if f.kind == "flat":
         n = theta.size
         if f.motion == "translating":
@@ -510,38 +510,31 @@ def check_grid(law: Displacement, check_step: float = DEFAULT_CHECK_STEP) -> np.
 _PROBES = np.array([0.25, 0.5, 0.75])
 
 
-def _c2_spline(t: np.ndarray, q: np.ndarray, start: tuple[np.ndarray, np.ndarray], end: tuple[np.ndarray, np.ndarray]) -> Spline:
-    """C2 cubic spline through ``q`` (n, 2) at ``t`` (n,), n >= 3, with the given first and second
-    derivatives (dQ/dt, d2Q/dt2) at both ends; an extra knot in the first and in the last interval
-    gives the two degrees of freedom the second-derivative conditions need."""
+def _c2_spline(t: np.ndarray, q: np.ndarray, start: tuple[np.ndarray, np.ndarray], end: tuple[np.ndarray, np.ndarray]):
+    """C2 cubic spline through ``q`` (n, d) at ``t`` (n,), n >= 3, with the given first and second
+    derivatives (dQ/dt, d2Q/dt2, each (d,)) at both ends; an extra knot in the first and in the
+    last interval gives the two degrees of freedom the second-derivative conditions need.
+    Returns the break points (p + 1,) and the coefficients (4, p, d), highest power first."""
     from scipy.interpolate import make_interp_spline  # lazy: ~0.6 s import
 
-    extra = [0.5 * (t[0] + t[1]), 0.5 * (t[-2] + t[-1])]
-    knots = np.concatenate([np.full(4, t[0]), np.sort(np.concatenate([t[1:-1], extra])), np.full(4, t[-1])])
+    knots = np.concatenate([np.full(4, t[0]), _inner_knots(t), np.full(4, t[-1])])
     bs = make_interp_spline(t, q, k=3, t=knots, bc_type=([(1, start[0]), (2, start[1])], [(1, end[0]), (2, end[1])]))
     x = np.unique(knots)
     left = x[:-1]
-    return Spline(x, np.stack([bs(left, 3) / 6.0, bs(left, 2) / 2.0, bs(left, 1), bs(left)]))
+    return x, np.stack([bs(left, 3) / 6.0, bs(left, 2) / 2.0, bs(left, 1), bs(left)])
 
 
-def _fit_segment(exact: Callable, lo: float, hi: float, start: tuple, end: tuple, count: int, fit_tol: float,
-                 max_rounds: int = 12, max_pieces: int = 100_000) -> tuple[Spline, float]:
-    """:func:`_c2_spline` through exact points ``exact(t)`` on ``count`` uniform pieces of
-    ``[lo, hi]``, with more pieces (its error falls as h^4) until its largest distance to the exact
-    curve at the quarter and mid points of every piece is <= ``fit_tol`` (mm)."""
-    for _ in range(max_rounds):
-        t = np.linspace(lo, hi, count + 1)
-        spline = _c2_spline(t, exact(t), start, end)
-        x = spline.breaks
-        probe = (x[:-1, None] + _PROBES[None, :] * np.diff(x)[:, None]).ravel()
-        err = float(np.max(np.hypot(*(spline.eval_t(probe) - exact(probe)).T)))
-        if err <= fit_tol:
-            return spline, err
-        if count >= max_pieces:
-            break
-        count = min(max_pieces, math.ceil(count * min(16.0, max(1.25, (err / (0.5 * fit_tol)) ** 0.25))))
-    raise GeometryError(f"the spline representation does not reach fit_tol = {fit_tol:g} mm (error {err:.3g} mm with "
-                        f"{count} pieces): the curve is too close to a cusp; increase fit_tol or the base radius")
+def _inner_knots(t: np.ndarray) -> np.ndarray:
+    """Interior knots of :func:`_c2_spline`: the inner samples and the midpoints of the first and last intervals."""
+    return np.sort(np.concatenate([t[1:-1], [0.5 * (t[0] + t[1]), 0.5 * (t[-2] + t[-1])]]))
+
+
+def _eval_pieces(x: np.ndarray, coeffs: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Values (m, d) at ``t`` (m,) of the piecewise cubic (breaks ``x``, coefficients (4, p, d))."""
+    i = np.clip(np.searchsorted(x, t, side="right") - 1, 0, x.size - 2)
+    h = (t - x[i])[:, None]
+    c = coeffs[:, i]
+    return ((c[0] * h + c[1]) * h + c[2]) * h + c[3]
 
 
 def _breaks_of(law: Displacement) -> tuple[np.ndarray, np.ndarray]:
@@ -552,44 +545,85 @@ def _breaks_of(law: Displacement) -> tuple[np.ndarray, np.ndarray]:
     return brk, cont
 
 
-def _one_sided(exact: Callable, t: float, side: float, step: float = 1e-5) -> tuple[np.ndarray, np.ndarray]:
-    """dQ/dt and d2Q/dt2 at ``t`` from one side (``side`` = +1: from above), extrapolated from the
-    exact values at ``t + side * (1, 2, 3) * step`` (quadratic, error O(step^3))."""
-    _, d1, d2 = exact(t + side * step * np.array([1.0, 2.0, 3.0]))
-    weights = np.array([3.0, -3.0, 1.0])[:, None]
-    return (weights * d1).sum(axis=0), (weights * d2).sum(axis=0)
+#: Weights of the one-sided extrapolation of the derivatives at a break from 1, 2, 3 steps away
+#: (quadratic, error O(step^3)).
+_ONE_SIDED_WEIGHTS = np.array([3.0, -3.0, 1.0])
 
 
-def _spline_contour(exact_theta: Callable, sigma: float, law: Displacement, fit_tol: float,
-                    initial_step: float = math.radians(5.0)) -> tuple[Contour, float]:
-    """Contour of the exact curve ``exact_theta(theta) -> (Q, dQ/dtheta, d2Q/dtheta2)``: one cubic
-    spline segment per interval between the law's breaks (one segment from cam angle 0 when there are none).
+def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement, fit_tol: float,
+                     initial_step: float = math.radians(5.0), max_rounds: int = 12,
+                     max_pieces: int = 100_000) -> tuple[list[Contour], list[float]]:
+    """Contours of ``dims`` exact curves at once: ``exact(theta) -> (Q, dQ/dtheta, d2Q/dtheta2)``, each
+    (n, 2 dims) (the curves side by side), one cubic spline segment per interval between the law's
+    breaks (one segment from cam angle 0 when there are none); the curves share their knots.
 
     The spline parameter is ``t = -sigma theta`` (the contour runs counter-clockwise).  Every
-    segment is C2 inside and takes the exact one-sided position, tangent and second derivative at
-    both ends, so neighbours join with the exact curve's own continuity: G2 where the law's ``s''``
-    is continuous, G1 (the exact curvature jump) where it jumps, G0 where ``s'`` jumps.
+    segment is a C2 cubic spline through exact points on ``count`` uniform pieces (plus the two
+    extra knots of :func:`_c2_spline`) that takes the exact one-sided tangent and second derivative
+    at both ends, so neighbours join with the exact curve's own continuity: G2 where the law's
+    ``s''`` is continuous, G1 (the exact curvature jump) where it jumps, G0 where ``s'`` jumps.  A
+    segment gets more pieces (its error falls as h^4) until the distance of every curve from its
+    exact points at the quarter and mid points of every piece is <= ``fit_tol`` mm.  The exact
+    curves are evaluated for all segments in one call per refinement round.
+    Returns the contours and the largest measured distance of each.
     """
-
-    def exact(t: np.ndarray):
-        q, d1, d2 = exact_theta(-sigma * t)
-        return q, -sigma * d1, d2
-
     brk, _ = _breaks_of(law)
     tb = np.unique(np.mod(-sigma * brk, TWO_PI))
     if tb.size == 0:
         tb = np.zeros(1)
     cuts = np.append(tb, tb[0] + TWO_PI)
-    segments = []
-    worst = 0.0
-    for lo, hi in zip(cuts[:-1], cuts[1:]):
-        count = max(4, math.ceil((hi - lo) / initial_step))
-        spline, err = _fit_segment(lambda t: exact(t)[0], lo, hi, _one_sided(exact, lo, 1.0), _one_sided(exact, hi, -1.0),
-                                   count, fit_tol)
-        segments.append(spline)
-        worst = max(worst, err)
-    return Contour(segments), worst
+    lo, hi = cuts[:-1], cuts[1:]
+    nseg = lo.size
 
+    def at_t(t: np.ndarray):
+        q, d1, d2 = exact(-sigma * t)
+        return q, -sigma * d1, d2
+
+    # one-sided dQ/dt and d2Q/dt2 at every segment's two ends, in one evaluation
+    steps = _ONE_SIDED_STEP * np.array([1.0, 2.0, 3.0])
+    probe_ends = np.concatenate([lo[:, None] + steps[None, :], hi[:, None] - steps[None, :]], axis=1).ravel()
+    _, e1, e2 = at_t(probe_ends)
+    w = _ONE_SIDED_WEIGHTS[None, :, None]
+    e1, e2 = e1.reshape(nseg, 2, 3, -1), e2.reshape(nseg, 2, 3, -1)
+    ends1, ends2 = (w * e1).sum(axis=2), (w * e2).sum(axis=2)  # (nseg, 2 [start, end], 2 dims)
+    count = np.maximum(4, np.ceil((hi - lo) / initial_step)).astype(int)
+    fits: list[tuple[np.ndarray, np.ndarray] | None] = [None] * nseg
+    errors = np.zeros((nseg, dims))
+    todo = list(range(nseg))
+    for _ in range(max_rounds):
+        grids, probes = [], []
+        for k in todo:
+            t = np.linspace(lo[k], hi[k], count[k] + 1)
+            x = np.concatenate([[t[0]], _inner_knots(t), [t[-1]]])
+            grids.append(t)
+            probes.append((x[:-1, None] + _PROBES[None, :] * np.diff(x)[:, None]).ravel())
+        sizes = [g.size + p.size for g, p in zip(grids, probes)]
+        q_all = at_t(np.concatenate([np.concatenate([g, p]) for g, p in zip(grids, probes)]))[0]
+        parts = np.split(q_all, np.cumsum(sizes)[:-1])
+        left = []
+        for k, t, probe, q in zip(todo, grids, probes, parts):
+            x, coeffs = _c2_spline(t, q[: t.size], (ends1[k, 0], ends2[k, 0]), (ends1[k, 1], ends2[k, 1]))
+            diff = _eval_pieces(x, coeffs, probe) - q[t.size:]
+            err = np.array([float(np.max(np.hypot(diff[:, 2 * c], diff[:, 2 * c + 1]))) for c in range(dims)])
+            fits[k], errors[k] = (x, coeffs), err
+            worst = float(err.max())
+            if worst > fit_tol:
+                if count[k] >= max_pieces:
+                    raise GeometryError(f"the spline representation does not reach fit_tol = {fit_tol:g} mm (error {worst:.3g} mm "
+                                        f"with {count[k]} pieces): the curve is too close to a cusp; increase fit_tol or the base radius")
+                count[k] = min(max_pieces, math.ceil(count[k] * min(16.0, max(1.25, (worst / (0.5 * fit_tol)) ** 0.25))))
+                left.append(k)
+        todo = left
+        if not todo:
+            break
+    if todo:
+        worst = float(errors[todo].max())
+        raise GeometryError(f"the spline representation does not reach fit_tol = {fit_tol:g} mm (error {worst:.3g} mm "
+                            f"with {int(count[todo].max())} pieces): the curve is too close to a cusp; increase fit_tol or the base radius")
+    contours = []
+    for c in range(dims):
+        contours.append(Contour([Spline(x, coeffs[:, :, 2 * c: 2 * c + 2]) for x, coeffs in fits]))  # type: ignore[misc]
+    return contours, [float(v) for v in errors.max(axis=0)]
 
 
 # --------------------------------------------------------------------------------------------
@@ -679,27 +713,35 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
         raise GeometryError(_failure_message(f, failures))
 
     sigma = f.sigma
-
-    def exact_profile(th: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        k = kinematics(f, law, th)
-        return k.contact_point, k.contact_d1, k.contact_d2
-
-    def exact_pitch(th: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        k = kinematics(f, law, th)
-        return k.pitch_point, k.pitch_d1, k.pitch_d2
-
     pitch = profile = None
     error = float("nan")
     pitch_ok = f.kind != "flat" and not any(item["reason"].startswith(("cusp", "the follower passes")) for item in failures)
+    # the curves to represent: roller: pitch and profile (pitch only when the profile cannot be made);
+    # knife: its pitch curve is its profile; flat: the profile
+    want = [] if failures else ["profile"]
     if pitch_ok and f.kind == "roller":
+        want.insert(0, "pitch")
+
+    def exact(th: np.ndarray):
+        k = kinematics(f, law, th)
+        out = []
+        for name in want:
+            out.append((k.pitch_point, k.pitch_d1, k.pitch_d2) if name == "pitch" else (k.contact_point, k.contact_d1, k.contact_d2))
+        return tuple(np.concatenate([o[i] for o in out], axis=1) for i in range(3))
+
+    if want:
         try:
-            pitch, error = _spline_contour(exact_pitch, sigma, law, fit_tol)
+            curves, errors = _spline_contours(exact, len(want), sigma, law, fit_tol)
         except GeometryError as exc:  # report-only: show what failed instead of the pitch curve
             if not failures:
                 raise
             failures.append({"reason": f"pitch curve: {exc}", "ranges_deg": [], "worst_deg": float("nan")})
-    if not failures:
-        profile, error = _spline_contour(exact_profile, sigma, law, fit_tol)
-        if f.kind == "knife":
-            pitch = profile
+            curves, errors = [], []
+        made = dict(zip(want, zip(curves, errors)))
+        if "pitch" in made:
+            pitch, error = made["pitch"]
+        if "profile" in made:
+            profile, error = made["profile"]
+            if f.kind == "knife":
+                pitch = profile
     return CamEnvelope(f, profile, pitch, data, failures, fit_tol, error)

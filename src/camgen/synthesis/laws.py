@@ -329,15 +329,21 @@ class Law:
 
     # -- variants -----------------------------------------------------------------------------
     def reversed(self) -> Law:
-        """The time-reversed law ``R(tau) = S(1) - S(1 - tau)`` (a return runs the rise backwards)."""
+        """The time-reversed law ``R(tau) = S(1) - S(1 - tau)`` (a return runs the rise backwards);
+        made once per law (a law is immutable; its peaks take a few ms to find)."""
+        cached = self.__dict__.get("_reversed")
+        if cached is not None:
+            return cached
         rise = self.end[0]
         s, e = self.start, self.end
         sign = (0, 1, -1, 1)  # R^(n)(0) = -(-1)^n S^(n)(1) for n >= 1
         start = (0.0,) + tuple(sign[n] * e[n] for n in (1, 2, 3))
         end = (rise,) + tuple(sign[n] * s[n] for n in (1, 2, 3))
-        return Law(self.name, tuple(p.reversed(rise) for p in reversed(self.pieces)),
-                   tuple(LawBreak(1.0 - b.tau, b.jumps) for b in reversed(self.breaks)), self.source,
-                   dict(self.options, reversed=True), (start, end), None)
+        out = Law(self.name, tuple(p.reversed(rise) for p in reversed(self.pieces)),
+                  tuple(LawBreak(1.0 - b.tau, b.jumps) for b in reversed(self.breaks)), self.source,
+                  dict(self.options, reversed=True), (start, end), None)
+        object.__setattr__(self, "_reversed", out)
+        return out
 
     def configure(self, **options: object) -> Law:
         """This law with ``options`` (e.g. ``blend`` for constant_velocity; ``start``/``end`` for

@@ -268,8 +268,10 @@ def parse_lift_table(text: str, path: str = "<text>", max_rows: int = MAX_ROWS) 
 
 
 def read_lift_table(path: str | os.PathLike[str], degree: int = 5, unit: str = "mm", close_tol: float = 1e-9,
-                    max_rows: int = MAX_ROWS, max_bytes: int = MAX_BYTES) -> LiftTable:
+                    max_rows: int = MAX_ROWS, max_bytes: int = MAX_BYTES, lift_scale: float = 1.0) -> LiftTable:
     """Read a lift-table CSV (format in the module docstring) and return its :class:`LiftTable`.
+
+    ``lift_scale`` multiplies the lift column (e.g. pi/180: a swing given in degrees, ``unit="rad"``).
 
     The file must be a regular file of at most ``max_bytes`` bytes, UTF-8 text; at most
     ``max_bytes`` + 1 bytes are ever read.
@@ -289,5 +291,5 @@ def read_lift_table(path: str | os.PathLike[str], degree: int = 5, unit: str = "
     if "\x00" in text:
         raise _bad(name, f"character {text.index(chr(0))}", "text without NUL characters")
     angles, lifts, labels = parse_lift_table(text, name, max_rows)
-    return LiftTable(angles, lifts, degree=degree, unit=unit, close_tol=close_tol, max_rows=max_rows,
+    return LiftTable(angles, lifts * lift_scale, degree=degree, unit=unit, close_tol=close_tol, max_rows=max_rows,
                      key="lift_table_csv", rows=labels)

@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from camgen.contour import Contour
+from camgen.contour import Arc, Contour
 
 #: chord tolerance (mm) of the polygon that seeds the Newton steps
 SEED_CHORD_TOL = 2e-3
@@ -46,17 +46,41 @@ def _rot1(angle: np.ndarray, v: np.ndarray) -> np.ndarray:
 
 
 def contour_derivatives(contour: Contour, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Point, d/dt and d2/dt2 (each (M, 2)) of the contour at global parameters ``t`` (M,)."""
+    """Point, d/dt and d2/dt2 (each (M, 2)) of the contour at global parameters ``t`` (M,).
+
+    Arc segments are evaluated together from a table of their centres, radii and angles (a
+    biarc chain read back from a DXF has thousands); other segments one by one."""
     n = contour.n_segments
     flat = np.mod(np.asarray(t, dtype=float), n)
     idx = np.minimum(np.floor(flat).astype(int), n - 1)
     u = flat - idx
     p, d1, d2 = (np.empty((flat.size, 2)) for _ in range(3))
-    for i, seg in enumerate(contour.segments):
+    table = _arc_table(contour)
+    is_arc = table[5][idx]
+    if is_arc.any():
+        cx, cy, r, a0, sweep = (col[idx[is_arc]] for col in table[:5])
+        a = a0 + sweep * u[is_arc]
+        c, s = np.cos(a), np.sin(a)
+        p[is_arc] = np.stack([cx + r * c, cy + r * s], axis=1)
+        d1[is_arc] = (r * sweep)[:, None] * np.stack([-s, c], axis=1)
+        d2[is_arc] = -(r * sweep**2)[:, None] * np.stack([c, s], axis=1)
+    for i in np.unique(idx[~is_arc]):
         m = idx == i
-        if m.any():
-            p[m], d1[m], d2[m] = seg.point(u[m]), seg.derivative(u[m]), seg.second_derivative(u[m])
+        seg = contour.segments[i]
+        p[m], d1[m], d2[m] = seg.point(u[m]), seg.derivative(u[m]), seg.second_derivative(u[m])
     return p, d1, d2
+
+
+def _arc_table(contour: Contour) -> tuple[np.ndarray, ...]:
+    """Columns (cx, cy, radius, start angle, sweep, is_arc) over the contour's segments (cached)."""
+    cached = getattr(contour, "_ride_arc_table", None)
+    if cached is not None:
+        return cached
+    rows = [(seg.center[0], seg.center[1], seg.radius, seg.start_angle, seg.sweep, 1.0) if isinstance(seg, Arc) else (0.0,) * 6
+            for seg in contour.segments]
+    cols = np.array(rows, dtype=float).T
+    contour._ride_arc_table = (cols[0], cols[1], cols[2], cols[3], cols[4], cols[5] > 0)  # type: ignore[attr-defined]
+    return contour._ride_arc_table  # type: ignore[attr-defined]
 
 
 def _seed(cam: Contour | np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:

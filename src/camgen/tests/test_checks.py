@@ -159,7 +159,7 @@ def test_oscillating_roller_on_an_eccentric_circle():
 
 def test_motion_at_speed_scales_with_w_w2_w3():
     """s = 5 sin(theta) mm per unit cam speed: at n rpm (w = 2 pi n / 60 rad/s) the peaks are
-    5 w mm/s, 5 w^2 mm/s^2 and 5 w^3 mm/s^3 (chain rule, closed form)."""
+    5 w mm/s, 5 w^2 mm/s^2 = 5e-3 w^2 m/s^2 and 5e-3 w^3 m/s^3 (chain rule, closed form)."""
     from camgen.checks import Motion
 
     theta = np.linspace(0, 2 * math.pi, 3601)
@@ -168,5 +168,5 @@ def test_motion_at_speed_scales_with_w_w2_w3():
         w = 2 * math.pi * rpm / 60
         at = motion.at_rpm(rpm)
         assert at["max_velocity_mm_per_s"] == pytest.approx(5 * w, rel=1e-12)
-        assert at["max_acceleration_mm_per_s2"] == pytest.approx(5 * w**2, rel=1e-6)
-        assert at["max_jerk_mm_per_s3"] == pytest.approx(5 * w**3, rel=1e-12)
+        assert at["max_acceleration_m_per_s2"] == pytest.approx(5e-3 * w**2, rel=1e-6)
+        assert at["max_jerk_m_per_s3"] == pytest.approx(5e-3 * w**3, rel=1e-6)

@@ -17,7 +17,8 @@ from camgen.export.dxf import DxfOptions, contour_to_dxf
 from camgen.tests.cams import BODIES, radial_error
 from camgen.tests.helpers import distance_to_arcs, require_tool
 
-TEMPLATES = ("default", "horse_leg", "motion_law", "tricycle")
+TEMPLATES = ("default", "horse_leg", "motion_law", "tricycle", "plate_cam", "flat_follower", "knife_follower", "oscillating_roller",
+             "oscillating_flat", "lift_table")
 GDAL_STEP_DEG = 0.05  # OGR_ARC_STEPSIZE: GDAL samples arcs every 0.05 deg
 
 
@@ -279,7 +280,15 @@ def test_template_dxf_has_no_spline_and_reads_back_within_chord_tol(template, te
             assert radii == pytest.approx(sorted(s.radius for s in cam.contour.segments), abs=1e-12)
 
 
-@pytest.mark.parametrize("template", ["motion_law", "tricycle"])
+def _roller_radius(spec):
+    """The roller radius the scene gives a cam (disk cams: their follower spec), else None."""
+    follower = getattr(spec.params, "follower", None)
+    if follower is not None and hasattr(follower, "roller_radius"):
+        return follower.roller_radius if follower.kind == "roller" else None
+    return spec.follower.roller_radius if spec.follower is not None and spec.follower.kind == "roller" else None
+
+
+@pytest.mark.parametrize("template", ["motion_law", "tricycle", "plate_cam", "oscillating_roller"])
 def test_pitch_layer_is_the_roller_centre_path(template, template_dxfs):
     """Every PITCH point lies one roller radius (from the scene file) outside the exact profile,
     and every point of the profile's parallel curve (GEOS buffer) lies on the PITCH layer."""
@@ -290,7 +299,7 @@ def test_pitch_layer_is_the_roller_centre_path(template, template_dxfs):
     tol = scene.output.chord_tol
     for spec in scene.cams:
         cam, text = cams[spec.name]
-        roller = spec.follower.roller_radius if spec.follower is not None and spec.follower.kind == "roller" else None
+        roller = _roller_radius(spec)
         doc = read_dxf(text)
         chain, points, _ = dxf_layer(doc, "PITCH")
         profile = exact_chain(cam.contour)

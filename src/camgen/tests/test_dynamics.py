@@ -13,7 +13,8 @@ import pytest
 
 from camgen import dynamics as dy
 from camgen.errors import GeometryError, ParameterError
-from camgen.synthesis.motion_law import MotionProgram, MotionSegment
+from camgen.synthesis.laws import MotionProgram
+from camgen.synthesis.laws import Segment as MotionSegment
 
 D = math.radians
 N_SAMPLES = 3600

@@ -11,31 +11,20 @@ import pytest
 
 from camgen.errors import GeometryError, ParameterError
 from camgen.synthesis.followers import FollowerSpec, cam_envelope, kinematics
-from camgen.synthesis.motion_law import LAWS, MotionProgram, MotionSegment
+from camgen.synthesis.laws import MotionProgram
+from camgen.synthesis.laws import Segment as MotionSegment
 from camgen.tests import ride
 
 D = math.radians
 TWO_PI = 2 * math.pi
+#: The laws of this module's ride matrix (the motion-law library's every law rides the exported
+#: cams of the scene-level tests in test_disk_cams.py).
+LAWS = ("cycloidal", "harmonic", "poly345", "poly4567")
 
 
-class Adapted:
-    """Today's MotionProgram as a Displacement: breaks = segment starts, continuity from the laws' end values."""
-
-    def __init__(self, segments):
-        self.program = MotionProgram(segments)
-        self.breaks = np.asarray(self.program.starts, dtype=float)
-        ends = [[seg.lift * np.ravel(LAWS[seg.law](np.array([x])))[1:] / seg.span ** np.arange(1, 4) if seg.lift else np.zeros(3)
-                 for x in (0.0, 1.0)] for seg in self.program.segments]
-        same = [np.isclose(ends[k - 1][1], ends[k][0], rtol=1e-12, atol=1e-12) for k in range(len(ends))]
-        self.break_continuity = np.array([int(np.argmin(np.append(m, False))) for m in same])  # first derivative that jumps - 1
-
-    def __call__(self, theta):
-        return self.program(theta)
-
-
-def program(law: str, lift: float, rise=D(100), ret=D(110), dwell=D(80)) -> Adapted:
-    return Adapted([MotionSegment(law, rise, lift), MotionSegment("dwell", dwell, 0.0), MotionSegment(law, ret, -lift),
-                    MotionSegment("dwell", TWO_PI - rise - ret - dwell, 0.0)])
+def program(law: str, lift: float, rise=D(100), ret=D(110), dwell=D(80)) -> MotionProgram:
+    return MotionProgram([MotionSegment(law, rise, lift), MotionSegment("dwell", dwell, 0.0), MotionSegment(law, ret, -lift),
+                          MotionSegment("dwell", TWO_PI - rise - ret - dwell, 0.0)])
 
 
 FOLLOWERS = {
@@ -183,7 +172,7 @@ MIXED = [MotionSegment("harmonic", D(90), 15.0), MotionSegment("dwell", D(50), 0
 def test_joints_are_g1_exactly_where_the_acceleration_jumps(name, rotation):
     segments = MIXED if FOLLOWERS[name].get("motion") != "oscillating" else [
         MotionSegment(s.law, s.span, s.lift / 75.0) for s in MIXED]
-    motion = Adapted(segments)
+    motion = MotionProgram(segments)
     f = spec(name, rotation)
     cam = cam_envelope(f, motion).profile
     brk = motion.breaks
@@ -224,7 +213,7 @@ def test_flat_follower_jerk_and_acceleration_are_the_laws():
     """Riding the cam as made: the flat follower's jerk is the law's s''' (e.g. the cycloidal
     return's peak 4 pi^2 L / beta^3 = 4 pi^2 15 / (110 deg)^3 = 83.68 mm/rad^3), and the
     harmonic rise's acceleration steps from pi^2 L / (2 beta^2) to 0 at its end without overshoot."""
-    motion = Adapted(MIXED)
+    motion = MotionProgram(MIXED)
     f = FollowerSpec("flat", 50.0)
     cam = cam_envelope(f, motion, fit_tol=1e-10).profile
     centre = np.linspace(D(145), D(245), 21)  # inside the cycloidal return (140..250 deg)

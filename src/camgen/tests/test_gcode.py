@@ -19,7 +19,8 @@ from camgen.export.gcode import MachiningSpec, gcode_program
 from camgen.tests.cutting import CUT_TOL, ExactProfile, _passes, part_left, sample_moves, simulate
 from camgen.tests.helpers import distance_to_arcs, require_tool, rs274_canon
 
-TEMPLATES = ("default", "tricycle", "horse_leg", "motion_law")
+TEMPLATES = ("default", "tricycle", "horse_leg", "motion_law", "plate_cam", "flat_follower", "knife_follower", "oscillating_roller",
+             "oscillating_flat", "lift_table")
 MODES = [(comp, direction) for comp in (False, True) for direction in ("climb", "conventional")]
 
 

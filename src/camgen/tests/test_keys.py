@@ -31,11 +31,13 @@ MAY = {
     "report": {"json"},
     "files": {"dxf", "points", "lift", "stl", "ngc", "json", "obj", "ride"},
     "mechanism": {"json", "legs"},
+    "motion": {"json", "follower"},
 }
 MUST = {
     "profile": {"dxf", "points"}, "pitch": {"dxf"}, "body": {"dxf", "stl"}, "thickness": {"stl", "ngc"}, "gcode": {"ngc"},
     "dxf": {"dxf"}, "tables": {"lift"}, "tolerance": {"points", "dxf", "stl", "ngc"}, "report": {"json"}, "files": {"obj"},
     "mechanism": {"legs", "json"},
+    "motion": {"json"},
 }
 MANUFACTURING = {"dxf", "points", "lift", "stl", "ngc", "obj"}
 #: kinds whose keys test_disk_cams.py walks
@@ -44,7 +46,7 @@ DISK_KINDS = {"motion_law", "lift_table"}
 
 def classify(name: str) -> str:
     for suffix, kind in (("_points.csv", "points"), ("_lift.csv", "lift"), ("_ride.csv", "ride"), (".dxf", "dxf"), (".stl", "stl"),
-                         (".ngc", "ngc"), (".obj", "obj"), ("report.json", "json")):
+                         (".ngc", "ngc"), (".obj", "obj"), ("report.json", "json"), ("_follower.csv", "follower")):
         if name.endswith(suffix):
             return kind
     return "legs" if name.startswith("leg_path") else name

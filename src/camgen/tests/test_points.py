@@ -16,7 +16,7 @@ def test_lift_table_against_table_1():
     text = lift_csv(cam, math.radians(0.5), "stride", "test")
     assert "units: deg, mm" in text and "base radius 25.000000000 mm" in text
     rows = [line for line in text.splitlines() if not line.startswith("#")]
-    assert rows[0] == "cam_angle_deg,radius_mm,lift_mm"
+    assert rows[0] == "polar_angle_deg,radius_mm,lift_mm"
     data = np.loadtxt(rows[1:], delimiter=",")
     assert data.shape == (720, 3)
     _, radius = camgen.yoke_law(*STRIDE, np.radians(data[:, 0]))  # Table 1's radius vector R

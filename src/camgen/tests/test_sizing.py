@@ -10,15 +10,16 @@ import pytest
 
 from camgen.errors import GeometryError, ParameterError
 from camgen.synthesis.followers import FollowerSpec
-from camgen.synthesis.motion_law import MotionSegment
+from camgen.synthesis.laws import MotionProgram
+from camgen.synthesis.laws import Segment as MotionSegment
 from camgen.synthesis.sizing import DesignLimits, face_width, min_base_radius, min_base_radius_and_offset, require_design
 from camgen.tests import ride
-from camgen.tests.test_followers import Adapted, rest_arm_angle
+from camgen.tests.test_followers import rest_arm_angle
 
 D = math.radians
 TWO_PI = 2 * math.pi
 THETA = np.linspace(0.0, TWO_PI, 7200, endpoint=False)  # the code checks a 0.05 deg grid too, plus the breaks
-LAW = Adapted([MotionSegment("cycloidal", D(100), 20.0), MotionSegment("dwell", D(60), 0.0),
+LAW = MotionProgram([MotionSegment("cycloidal", D(100), 20.0), MotionSegment("dwell", D(60), 0.0),
                MotionSegment("poly345", D(120), -20.0), MotionSegment("dwell", D(80), 0.0)])
 
 
@@ -102,7 +103,7 @@ def test_offset_and_base_radius_against_a_grid():
 
 
 def test_oscillating_roller_against_finite_differences_of_the_geometry():
-    law = Adapted([MotionSegment("cycloidal", D(100), 0.3), MotionSegment("dwell", D(60), 0.0),
+    law = MotionProgram([MotionSegment("cycloidal", D(100), 0.3), MotionSegment("dwell", D(60), 0.0),
                    MotionSegment("poly345", D(120), -0.3), MotionSegment("dwell", D(80), 0.0)])
     template = FollowerSpec("roller", 40.0, motion="oscillating", roller_radius=8.0, pivot=(110.0, 0.0), arm_length=90.0)
     limits = DesignLimits(max_pressure_angle=D(35), min_convex_radius=3.0)
@@ -148,7 +149,7 @@ def test_require_design_says_what_to_change():
     assert require_design(FollowerSpec("roller", need, roller_radius=10.0), LAW, limits).max_pressure_angle <= D(30)
     # no base radius can work: the pivot is too close for a 10 deg pressure-angle limit
     osc = FollowerSpec("roller", 40.0, motion="oscillating", roller_radius=8.0, pivot=(110.0, 0.0), arm_length=90.0)
-    swing = Adapted([MotionSegment("cycloidal", D(100), 0.3), MotionSegment("cycloidal", D(260), -0.3)])
+    swing = MotionProgram([MotionSegment("cycloidal", D(100), 0.3), MotionSegment("cycloidal", D(260), -0.3)])
     with pytest.raises(GeometryError, match="move the pivot"):
         require_design(osc, swing, DesignLimits(max_pressure_angle=D(10)))
 
@@ -172,7 +173,7 @@ def test_face_width_against_the_ride(rotation):
     if rotation == "ccw":
         assert width.right == pytest.approx(v.max() - 3.0, abs=1e-9) and width.left == pytest.approx(3.0 - v.min(), abs=1e-9)
     osc = FollowerSpec("flat", 60.0, motion="oscillating", pivot=(130.0, 50.0), face_offset=20.0, lift_turn="cw", rotation=rotation)
-    swing = Adapted([MotionSegment("harmonic", D(100), 0.15), MotionSegment("dwell", D(60), 0.0),
+    swing = MotionProgram([MotionSegment("harmonic", D(100), 0.15), MotionSegment("dwell", D(60), 0.0),
                      MotionSegment("cycloidal", D(120), -0.15), MotionSegment("dwell", D(80), 0.0)])
     cam = cam_envelope(osc, swing).profile
     from camgen.tests.test_followers import rest_face_angle

@@ -14,7 +14,8 @@ import pathlib
 import sys
 import tempfile
 
-TEMPLATES = ("default", "horse_leg", "motion_law", "tricycle")
+TEMPLATES = ("default", "horse_leg", "motion_law", "tricycle", "plate_cam", "flat_follower", "knife_follower", "oscillating_roller",
+             "oscillating_flat", "lift_table")
 LIBRARIES = ("numpy", "scipy", "ezdxf", "manifold3d", "trimesh", "meshio", "matplotlib")
 
 
