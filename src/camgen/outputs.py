@@ -64,7 +64,7 @@ _FORMATS = (
     OutputFormat("step", "{cam}.step", "exact solid (circles and B-splines), AP214, mm; needs the step extra (cadquery-ocp-novtk)",
                  "camgen.writers:step"),
     OutputFormat("ngc", "{cam}.ngc", "RS274/NGC G-code milling the outside profile (LinuxCNC or GRBL)", "camgen.writers:gcode"),
-    OutputFormat("html", "report.html", "the design-check report with plots, one self-contained page (needs the report extra: matplotlib)",
+    OutputFormat("html", "report.html", "the design-check report with plots, one self-contained page",
                  "camgen.writers:html", frozenset({"analysis", "plots"}), manufacturing=False, scope="run"),
     OutputFormat("json", "report.json", "the machine-readable report: figures and checks of every cam and mechanism (always written)",
                  None, ANALYSIS, manufacturing=False, scope="run", implied=True),

@@ -591,7 +591,7 @@ def evaluate_disk(cam: DiskCam, spec: CamSpec, tool_radius: float, tool_is_limit
     if advice is not None:
         checks.append(advice)
     if cam.contour is not None:
-        rho, label, limit = k.profile_radius, "radius of curvature of the profile at the contact (mm, < 0 concave)", None
+        rho, label, limit = k.profile_radius, "profile radius of curvature (mm, < 0 concave)", None
     elif f.kind == "roller":
         rho, label, limit = k.pitch_radius, "radius of curvature of the pitch curve (mm)", f.roller_radius
     else:

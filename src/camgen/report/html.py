@@ -6,19 +6,18 @@ For the horse leg: foot and body paths, pressure angle curves, the inclination s
 tricycle: target path against the ride on the cam as made, the error types, and the measured
 tables against the fitted model.
 
-Needs matplotlib (``pip install "camgen[report]"``).  The same input gives the same bytes:
-SVG hash salt fixed, no dates, text kept as text.
+Plots are drawn by :mod:`camgen.report.svgplot` (numpy only).  The same input gives the same
+bytes: no dates, figures numbered in page order.
 """
 from __future__ import annotations
 
 import html
-import io
+import itertools
 import math
-from typing import TYPE_CHECKING, Any, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Sequence
 
 import numpy as np
 
-from camgen.errors import ExportError
 
 if TYPE_CHECKING:
     from camgen.pipeline import RunResult
@@ -32,27 +31,17 @@ th{background:#f3f3f3}.pass{color:#0a0;font-weight:bold}.fail{color:#c00;font-we
 """
 
 
-def _matplotlib():
-    try:
-        import matplotlib
-    except ImportError:  # pragma: no cover - depends on the install
-        raise ExportError("report.html needs matplotlib: install camgen with the report extra (pip install \".[report]\")") from None
-    matplotlib.use("Agg")
-    matplotlib.rcParams.update({"svg.hashsalt": "camgen", "svg.fonttype": "none", "font.size": 9, "axes.grid": True, "grid.alpha": 0.3})
-    from matplotlib.figure import Figure
+def _figure_factory() -> Callable[..., Any]:
+    """A maker of :class:`camgen.report.svgplot.Figure`s numbered in page order, so every
+    figure's clip-path ids are unique on the page and the same run gives the same bytes."""
+    from camgen.report.svgplot import Figure
 
-    return Figure
+    ids = itertools.count(1)
 
+    def make(figsize: tuple[float, float]) -> Any:
+        return Figure(figsize=figsize, id_prefix=f"f{next(ids)}")
 
-def _svg(fig: Any) -> str:
-    buf = io.StringIO()
-    fig.savefig(buf, format="svg", metadata={"Date": None, "Creator": None}, bbox_inches="tight")
-    text = buf.getvalue()
-    text = text[text.index("<svg"):]
-    start, end = text.find("<metadata>"), text.find("</metadata>")
-    if start >= 0 and end > start:  # RDF creator/date block: nothing a reader needs
-        text = text[:start] + text[end + len("</metadata>"):]
-    return text
+    return make
 
 
 def _thin(n: int, most: int = 900) -> slice:
@@ -96,31 +85,31 @@ def _profile_figure(Figure: Any, cam: Any) -> str:
     if cam.contour is not None:
         pts = cam.contour.flatten(0.01)
         closed = np.vstack([pts, pts[:1]])
-        ax.plot(closed[:, 0], closed[:, 1], color="k", lw=1.2, label="profile")
+        ax.plot(closed[:, 0], closed[:, 1], color="k", width=1.2, label="profile")
     if ev.pitch is not None:
         pitch = ev.pitch.flatten(0.01)
         pitch = np.vstack([pitch, pitch[:1]])
-        ax.plot(pitch[:, 0], pitch[:, 1], "--", color="tab:blue", lw=0.8, label="pitch curve (roller centre)")
+        ax.plot(pitch[:, 0], pitch[:, 1], "--", color="tab:blue", width=0.8, label="pitch curve (roller centre)")
     body = cam.body
     if body is not None and body.bore_diameter > 0:
         a = np.linspace(0, 2 * math.pi, 181)
         r = body.bore_diameter / 2
-        ax.plot(r * np.cos(a), r * np.sin(a), color="tab:orange", lw=0.8, label="bore")
+        ax.plot(r * np.cos(a), r * np.sin(a), color="tab:orange", width=0.8, label="bore")
         if body.keyway_width > 0:
             rect = body.keyway_corners()
             rect = np.vstack([rect, rect[:1]])
-            ax.plot(rect[:, 0], rect[:, 1], color="tab:green", lw=0.8, label="keyway")
+            ax.plot(rect[:, 0], rect[:, 1], color="tab:green", width=0.8, label="keyway")
     follower = ev.follower
     if outline is None:  # nothing to draw to scale: the checks table says why
-        ax.text(0.5, 0.5, "the profile cannot be made (see the checks)", ha="center", transform=ax.transAxes)
-        return _svg(fig)
+        ax.text(0.5, 0.5, "the profile cannot be made (see the checks)", anchor="middle", coords="axes")
+        return fig.to_svg()
     if cam.contour is None:
-        ax.set_title(f"{cam.name}: pitch curve to scale; the profile cannot be made (undercut)")
+        ax.title(f"{cam.name}: pitch curve to scale; the profile cannot be made (undercut)")
     if ev.follower_drawing is not None:  # the kind drew its follower at cam angle 0
         colours = {"roller": "tab:red", "knife": "tab:red", "follower face": "tab:red"}
         seen: set[str] = set()
         for label, poly in ev.follower_drawing:
-            ax.plot(poly[:, 0], poly[:, 1], color=colours.get(label, "0.45"), lw=1.0,
+            ax.plot(poly[:, 0], poly[:, 1], color=colours.get(label, "#737373"), width=1.0,
                     label=None if label in seen else f"{label} at cam angle 0")
             seen.add(label)
     elif follower is not None and cam.contour is not None:
@@ -133,22 +122,22 @@ def _profile_figure(Figure: Any, cam: Any) -> str:
             faces = [h] + ([h - cam.breadth] if follower.kind == "yoke" and cam.breadth is not None else [])
             for k, dist in enumerate(faces):
                 line = np.array([dist * d - 0.6 * span * side, dist * d + 0.6 * span * side])
-                ax.plot(line[:, 0], line[:, 1], color="tab:red", lw=1.0, label="follower face at cam angle 0" if k == 0 else None)
+                ax.plot(line[:, 0], line[:, 1], color="tab:red", width=1.0, label="follower face at cam angle 0" if k == 0 else None)
         elif ev.motion is not None and follower.motion == "translating":
             centre = ev.motion.displacement[0] * d + follower.offset * side
             a = np.linspace(0, 2 * math.pi, 91)
-            ax.plot(centre[0] + follower.roller_radius * np.cos(a), centre[1] + follower.roller_radius * np.sin(a), color="tab:red", lw=1.0,
+            ax.plot(centre[0] + follower.roller_radius * np.cos(a), centre[1] + follower.roller_radius * np.sin(a), color="tab:red", width=1.0,
                     label="follower at cam angle 0")
     if cam.zero_mark is not None:
         _zero_mark(ax, cam.zero_mark)
-    ax.plot([0], [0], "+", color="k", ms=10)
-    ax.set_aspect("equal")
-    ax.set_xlabel("x (mm)")
-    ax.set_ylabel("y (mm)")
+    ax.plot([0], [0], "+", color="k", marker_size=10)
+    ax.equal_aspect()
+    ax.xlabel("x (mm)")
+    ax.ylabel("y (mm)")
     if cam.contour is not None:
-        ax.set_title(f"{cam.name}: profile to scale (cam frame)")
-    ax.legend(loc="upper right", fontsize=7)
-    return _svg(fig)
+        ax.title(f"{cam.name}: profile to scale (cam frame)")
+    ax.legend("upper right", font_size=7)
+    return fig.to_svg()
 
 
 def _zero_mark(ax: Any, mark: Any) -> None:
@@ -156,14 +145,20 @@ def _zero_mark(ax: Any, mark: Any) -> None:
     showing the direction of rotation."""
     p = np.asarray(mark.point, dtype=float)
     r = float(np.hypot(*p))
-    ax.plot([0.0, p[0]], [0.0, p[1]], color="tab:purple", lw=1.0, label="cam angle 0 (contact point)")
+    ax.plot([0.0, p[0]], [0.0, p[1]], color="tab:purple", width=1.0, label="cam angle 0 (contact point)")
     a0 = math.atan2(p[1], p[0])
     a = a0 + mark.sigma * np.linspace(0.0, math.radians(50.0), 40)
     arc = 0.45 * r * np.stack([np.cos(a), np.sin(a)], axis=1)
-    ax.plot(arc[:-1, 0], arc[:-1, 1], color="tab:purple", lw=1.0)
-    ax.annotate("", xy=tuple(arc[-1]), xytext=tuple(arc[-4]), arrowprops={"arrowstyle": "-|>", "color": "tab:purple", "lw": 1.0})
+    ax.plot(arc[:, 0], arc[:, 1], color="tab:purple", width=1.0)
+    # the arrow head: two strokes back from the arc's end at +-25 deg to its direction
+    tip, back = arc[-1], arc[-1] - arc[-4]
+    back = 0.08 * r * back / np.hypot(*back)
+    for turn in (math.radians(155.0), math.radians(-155.0)):
+        c, s_ = math.cos(turn), math.sin(turn)
+        end = tip + np.array([c * back[0] - s_ * back[1], s_ * back[0] + c * back[1]])
+        ax.plot([tip[0], end[0]], [tip[1], end[1]], color="tab:purple", width=1.0)
     ax.text(*(0.55 * r * np.array([math.cos(a[20]), math.sin(a[20])])), "ccw" if mark.sigma > 0 else "cw", color="tab:purple",
-            fontsize=7, ha="center", va="center")
+            font_size=7, anchor="middle", valign="middle")
 
 
 def _curves_figure(Figure: Any, cam: Any, tool_radius: float) -> str:
@@ -171,39 +166,39 @@ def _curves_figure(Figure: Any, cam: Any, tool_radius: float) -> str:
     fig = Figure(figsize=(10, 3.2))
     ax1, ax2 = fig.subplots(1, 2)
     if ev.pressure_angle is None or ev.curvature_radius is None:
-        ax1.text(0.5, 0.5, "no curves: the profile cannot be made (see the checks)", ha="center", transform=ax1.transAxes)
-        return _svg(fig)
+        ax1.text(0.5, 0.5, "no curves: the profile cannot be made (see the checks)", anchor="middle", coords="axes")
+        return fig.to_svg()
     angle, pressure = ev.pressure_angle
     pa_check = next((c for c in cam.checks if c.name == "pressure_angle"), None)
     limit = float(pa_check.limit) if pa_check is not None else math.degrees(ev.follower.limit) if ev.follower is not None else None
     keep = _thin(angle.size, 900)
-    ax1.plot(np.degrees(angle)[keep], np.degrees(pressure)[keep], color="tab:blue", lw=1)
+    ax1.plot(np.degrees(angle)[keep], np.degrees(pressure)[keep], color="tab:blue", width=1)
     for sign in (1, -1):
         if limit is not None:
-            ax1.axhline(sign * limit, color="tab:red", ls="--", lw=0.8)
-    ax1.set_xlabel("cam angle (deg)")
-    ax1.set_ylabel("pressure angle (deg)")
+            ax1.hline(sign * limit, color="tab:red", dash="--", width=0.8)
+    ax1.xlabel("cam angle (deg)")
+    ax1.ylabel("pressure angle (deg)")
     title = "pressure angle, limit dashed"
     if ev.pressure_angle_label:
         title += f" ({ev.pressure_angle_label})"
-    ax1.set_title(title, fontsize=8)
+    ax1.title(title, font_size=8)
     rho_angle, rho = ev.curvature_radius
     order = np.argsort(np.mod(rho_angle, 2 * math.pi))
     outline = cam.contour if cam.contour is not None else ev.pitch
     size = max(abs(v) for v in outline.bounds) if outline is not None else float(np.max(np.abs(rho[np.isfinite(rho)])))
     clipped = np.clip(rho[order], -3 * size, 3 * size)
     keep = _thin(order.size, 1200)
-    ax2.plot(np.degrees(np.mod(rho_angle[order], 2 * math.pi))[keep], clipped[keep], ".", ms=1.5, color="tab:blue")
+    ax2.plot(np.degrees(np.mod(rho_angle[order], 2 * math.pi))[keep], clipped[keep], ".", marker_size=1.5, color="tab:blue")
     if ev.curvature_limit is not None:  # the radius the curve must stay above (roller radius, or 0)
-        ax2.axhline(ev.curvature_limit, color="tab:red", ls="--", lw=0.8)
-        ax2.set_title(f"{ev.curvature_label}; must stay above {ev.curvature_limit:g} mm (dashed)", fontsize=8)
+        ax2.hline(ev.curvature_limit, color="tab:red", dash="--", width=0.8)
+        ax2.title(f"{ev.curvature_label}; must stay above {ev.curvature_limit:g} mm (dashed)", font_size=8)
     else:
         for sign in (1, -1):
-            ax2.axhline(sign * tool_radius, color="tab:red", ls="--", lw=0.8)
-        ax2.set_title(f"radius of curvature; tool radius {tool_radius:g} mm dashed", fontsize=8)
-    ax2.set_xlabel(ev.curvature_angle_label)
-    ax2.set_ylabel(ev.curvature_label)
-    return _svg(fig)
+            ax2.hline(sign * tool_radius, color="tab:red", dash="--", width=0.8)
+        ax2.title(f"radius of curvature; tool radius {tool_radius:g} mm dashed", font_size=8)
+    ax2.xlabel(ev.curvature_angle_label)
+    ax2.ylabel(ev.curvature_label)
+    return fig.to_svg()
 
 
 def _motion_figure(Figure: Any, cam: Any) -> str:
@@ -229,20 +224,18 @@ def _motion_figure(Figure: Any, cam: Any) -> str:
         labels = (f"lift ({lift_unit})", f"velocity ({m.unit}/rad)", f"acceleration ({m.unit}/rad^2)", f"jerk ({m.unit}/rad^3)")
         title = f"{cam.name}: follower motion per unit cam speed (give rpm for the motion at speed)"
     for ax, value, label in zip(axes, values, labels):
-        ax.plot(deg, value, lw=1, color="tab:purple")
-        ax.set_ylabel(label, fontsize=8)
+        ax.plot(deg, value, width=1, color="tab:purple")
+        ax.ylabel(label, font_size=8)
     if rpm:  # the same curves against time: a time axis above the top row (the columns share the cam angle)
         seconds = 60.0 / rpm / 360.0
         for ax in axes[:2]:
-            top = ax.secondary_xaxis("top", functions=(lambda d, k=seconds: d * k, lambda t, k=seconds: t / k))
-            top.tick_params(labelsize=7)
-            top.set_xlabel("time (s)", fontsize=8)
+            ax.top_axis(seconds, "time (s)", font_size=8)
     for angle in m.jerk_impulses_deg:
-        axes[3].axvline(angle, color="tab:red", lw=0.6, ls=":")
-    axes[2].set_xlabel("cam angle (deg)")
-    axes[3].set_xlabel("cam angle (deg)" + (" (dotted: jerk impulses)" if m.jerk_impulses_deg else ""))
-    fig.suptitle(title, fontsize=9)
-    return _svg(fig)
+        axes[3].vline(angle, color="tab:red", width=0.6, dash=":")
+    axes[2].xlabel("cam angle (deg)")
+    axes[3].xlabel("cam angle (deg)" + (" (dotted: jerk impulses)" if m.jerk_impulses_deg else ""))
+    fig.suptitle(title, font_size=9)
+    return fig.to_svg()
 
 
 def _animation(cam: Any) -> str:
@@ -263,7 +256,7 @@ def report_html(result: "RunResult") -> str:
     from camgen.jobs import get_job
     from camgen.kinds import get_kind
 
-    Figure = _matplotlib()
+    Figure = _figure_factory()
     scene, cams = result.scene, result.cams
     tool_radius = scene.machining.tool_radius
     summary = "".join(

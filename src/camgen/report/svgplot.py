@@ -406,6 +406,11 @@ class Axes:
             raise ParameterError("ncol", ncol, "an integer >= 1")
         self._legend = (loc, font_size, int(ncol))
 
+    def top_axis(self, scale: float, label: str, *, font_size: float | None = None) -> None:
+        """A second x scale along the top edge: the bottom's x times ``scale`` (e.g. cam angle in
+        deg to time in s at a constant speed), with its own nice ticks and ``label``."""
+        self._top = (_positive("scale", scale), str(label), font_size)
+
     def equal_aspect(self, on: bool = True) -> None:
         """Same scale in x and y (1 mm in x is as long as 1 mm in y).  With automatic limits the
         limits grow to fill the plot area; with an explicit limit the plot area shrinks."""
@@ -477,6 +482,10 @@ class Axes:
                 x0, x1, y0, y1 = cx - hx, cx + hx, cy - hy, cy + hy
         self.area, self.limits = (left, top, w, h), (x0, x1, y0, y1)
         self._xt = nice_ticks(x0, x1, w, lambda labels: max(_text_width(s, fs) for s in labels) + 1.2 * fs)
+        top_axis = getattr(self, "_top", None)
+        if top_axis is not None:
+            k = top_axis[0]
+            self._tt = nice_ticks(x0 * k, x1 * k, w, lambda labels: max(_text_width(s, fs) for s in labels) + 1.2 * fs)
         self._yt = nice_ticks(y0, y1, h, lambda labels: max(2.0 * fs, 24.0))
         tick = 3.5 * PX_PER_PT * 2  # tick length + pad
         pad = 4.0
@@ -488,8 +497,30 @@ class Axes:
         x_last = left + (self._xt[0][-1] - x0) / (x1 - x0) * w
         need_r = pad + max(0.0, _text_width(self._xt[1][-1], fs) / 2 - (left + w - x_last))
         need_t = pad + 0.5 * fs + (lab(self._title) if self._title else 0.0) + (1.3 * fs if self._yt[2] else 0.0)
+        if getattr(self, "_top", None) is not None:
+            need_t += self._top_height(fs)
         need_b = pad + tick + 1.1 * fs + (lab(self._xlabel) if self._xlabel else 0.0) + (1.3 * fs if self._xt[2] and not self._xlabel else 0.0)
         return need_l, need_r, need_t, need_b
+
+    def _top_height(self, fs: float) -> float:
+        """Height (px) of the top axis: ticks, their labels and the axis label."""
+        size = self._top[2] if self._top[2] is not None else self._figure.font_size
+        return 3.5 * PX_PER_PT * 2 + 1.1 * fs + size * PX_PER_PT * 1.25 + 4.0
+
+    def _top_svg(self, fs: float) -> str:
+        left, top, w, _ = self.area
+        x0, x1 = self.limits[0], self.limits[1]
+        k, label, size = self._top
+        ticks, labels, _ = self._tt
+        px = left + (ticks / k - x0) * (w / (x1 - x0))
+        tl = 3.5 * PX_PER_PT
+        d = "".join(f"M{_n(v)},{_n(top)}v{_n(-tl)}" for v in px)
+        ty = top - 2 * tl
+        lf = (size or self._figure.font_size) * PX_PER_PT
+        return (f'<path class="topticks" d="{d}" fill="none" stroke="#000000" stroke-width="{_n(0.8 * PX_PER_PT)}"/>'
+                + '<g class="topticks" text-anchor="middle">' + "".join(f'<text x="{_n(v)}" y="{_n(ty)}">{t}</text>' for v, t in zip(px, labels))
+                + f'</g><text class="toplabel" x="{_n(left + w / 2)}" y="{_n(ty - 1.1 * fs)}" text-anchor="middle"{_size_attr(lf, fs)}>'
+                f'{_esc(label)}</text>')
 
     def _px(self, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         left, top, w, h = self.area
@@ -566,6 +597,10 @@ class Axes:
             f'<text x="{_n(left - tl - tp)}" y="{_n(v + 0.35 * fs)}">{s}</text>' for v, s in zip(typ, yl)) + "</g>")
         if yp:
             out.append(f'<text class="yfactor" x="{_n(left)}" y="{_n(top - 0.4 * fs)}">{_power(yp)}</text>')
+        top_shift = 0.0
+        if getattr(self, "_top", None) is not None:
+            out.append(self._top_svg(fs))
+            top_shift = self._top_height(fs)
         if xp:
             yy = ty + 1.3 * fs if not self._xlabel else ty + 1.25 * fs + 4.0
             out.append(f'<text class="xfactor" x="{_n(right)}" y="{_n(yy)}" text-anchor="end">{_power(xp)}</text>')
@@ -589,7 +624,7 @@ class Axes:
             cw, cx = self._figure._cell_width, left + w / 2
             room = 2 * min(cx - self._col * cw, (self._col + 1) * cw - cx) - 8.0  # centred over the plot area, inside the cell
             tf = min(tf, max(6 * PX_PER_PT, tf * room / max(_text_width(s, tf), 1.0)))  # shrink a title wider than that
-            out.append(f'<text class="title" x="{_n(left + w / 2)}" y="{_n(top - 0.5 * fs - 4.0 - 0.25 * tf - (1.3 * fs if yp else 0))}" '
+            out.append(f'<text class="title" x="{_n(left + w / 2)}" y="{_n(top - 0.5 * fs - 4.0 - 0.25 * tf - (1.3 * fs if yp else 0) - top_shift)}" '
                        f'text-anchor="middle"{_size_attr(tf, fs)}>{_esc(s)}</text>')
         for x, y, s, coords, anchor, valign, color, size in self._texts:
             tf = (size or font) * PX_PER_PT

@@ -4,7 +4,7 @@ golden/template_outputs.json holds the sha256 of every file of every template as
 code its "commit" names.  It proved the cam-kind/output registry refactor (b99c518) byte-identical
 to the code before it (5a3620e), and guards every later change since: it is re-recorded only when
 outputs change on purpose (golden/regenerate.py; the commit message says why).  Files written through a
-third-party writer (DXF: ezdxf; STL, 3MF: manifold3d, trimesh; report.html: matplotlib;
+third-party writer (DXF: ezdxf; STL, 3MF: manifold3d, trimesh;
 report.json holds manifold3d's triangle count) are compared when the installed library versions
 are the recorded ones; the CSV tables and G-code always.
 """
