@@ -1,23 +1,31 @@
-"""Extruded cam solids: profile minus shaft bore and keyway, with manifold3d; mesh files.
+"""Extruded cam solids: profile minus shaft bore and keyway; mesh files.
 
-The profile is flattened at the chord tolerance, turned into a manifold3d ``CrossSection``
-(counter-clockwise outer contour), the bore (a polygon inscribed in the bore circle at the same
-chord tolerance) and the keyway (a rectangle from the axis out to ``bore radius + depth``) are
-subtracted, and the result is extruded to the cam thickness.  Before any of that the wall left
-between bore/keyway and profile is measured; less than ``min_wall`` is a :class:`GeometryError`.
+The profile is flattened at the chord tolerance; the hole is the bore circle's inscribed
+polygon at the same chord tolerance united with the keyway rectangle (from the axis out to
+``bore radius + depth``; :func:`bore_polygon`).  Before anything the wall left between
+bore/keyway and profile is measured; less than ``min_wall`` is a :class:`GeometryError`.
+
+The section between the two loops is triangulated in linear time by
+:mod:`camgen.export.section_fill` (rings of interior vertices between profile and bore; it
+relies on both loops being star-shaped about the axis and on a circle separating them, and
+checks both); the prism over it (bottom cap, top cap, two triangles per outline edge) is handed
+to manifold3d, whose status and genus guarantee a closed, consistently oriented 2-manifold.
+Where the fill's assumptions fail, manifold3d triangulates the cross-section itself (time about
+N^1.9).  The vertex coordinates are the flattened polygons' own values either way.
 
 Surface meshes (the boundary of the solid): binary and ASCII STL with numpy (no trimesh import),
 3MF, OBJ and PLY through trimesh.  Mind: STL stores float32 (~1e-5 mm at 300 mm).
 
 FEA volume meshes (VTU, Gmsh MSH 2.2, Abaqus/CalculiX INP): the cam is an extrusion, so the
-cross-section triangulation (the bottom cap of the manifold3d extrusion) is extruded into
-``layers`` layers of 6-node wedges (VTK_WEDGE 13, Gmsh prism 6, Abaqus/CalculiX C3D6; default
+cross-section triangulation (the bottom cap of the solid) is extruded into ``layers`` layers of
+6-node wedges (VTK_WEDGE 13, Gmsh prism 6, Abaqus/CalculiX C3D6; default
 :data:`DEFAULT_FEA_LAYERS`).  Every wedge has its bottom triangle counter-clockwise seen from
 its top (positive Jacobian in all three formats), so the element volumes add up to the section
 area times the thickness.  The INP also holds node sets for boundary conditions (see
-:func:`inp_text`).  The in-plane triangles are the triangulation of the flattened section
-(long, thin triangles between profile and bore): fine for stiffness and load-path checks;
-refine in an FEA pre-processor for stress peaks.
+:func:`inp_text`).  The ring fill's triangles are graded from the outline's spacing inwards
+(about square log-polar cells, median shape longest edge^2 / (2 area) 2...6 against 100...2000
+for manifold3d's long slivers): fine for stiffness and load-path checks; refine in an FEA
+pre-processor for stress peaks.
 """
 from __future__ import annotations
 
