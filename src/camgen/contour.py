@@ -649,7 +649,7 @@ class Joint:
 # --------------------------------------------------------------------------------------------
 # Vectorised evaluation over many segments
 # --------------------------------------------------------------------------------------------
-def grouped_searchsorted(values: np.ndarray, starts: np.ndarray, groups: np.ndarray, queries: np.ndarray) -> np.ndarray:
+def _grouped_searchsorted(values: np.ndarray, starts: np.ndarray, groups: np.ndarray, queries: np.ndarray) -> np.ndarray:
     """``np.searchsorted(values[starts[g]:starts[g + 1]], q, side="right")`` for every query
     ``q`` of group ``g`` at once (``values`` sorted within each group, groups in order; ``starts``
     (G + 1,)).  Exact: one stable sort of values and queries together, no arithmetic on them."""
@@ -711,7 +711,7 @@ class _SegmentTables:
     def locate(self, spline: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Rows (into ``self.rows``) and offsets of spline parameters ``t`` of splines
         ``spline``: Spline._locate for many splines at once."""
-        local = grouped_searchsorted(self.breaks, self.break_start, spline, t) - 1
+        local = _grouped_searchsorted(self.breaks, self.break_start, spline, t) - 1
         local = np.clip(local, 0, self.n_pieces[spline] - 1)
         return self.piece_start[spline] + local, t - self.breaks[self.break_start[spline] + local]
 
@@ -752,13 +752,13 @@ class _StarTable:
                 # P x P' = r s (r + c . u(a)) along the arc (s: sign of the sweep) keeps its
                 # sign iff the polar angle is monotonic there: check its extremes over the sweep
                 cx, cy = seg.center
-                lengths = math.hypot(cx, cy)
+                distance = math.hypot(cx, cy)
                 candidates = [seg.start_angle, seg.start_angle + seg.sweep]
                 toward = math.atan2(cy, cx)
                 for extreme in (toward, toward + math.pi):
                     if angle_in_sweep(np.array([extreme]), seg.start_angle, seg.sweep)[0]:
                         candidates.append(extreme)
-                cu = lengths * np.cos(np.array(candidates) - toward)
+                cu = distance * np.cos(np.array(candidates) - toward)
                 if not np.all(np.sign(seg.sweep) * (seg.radius + cu) > 0):
                     return None
                 parts = max(1, math.ceil(abs(seg.sweep) / (math.pi / 4)))

@@ -10,27 +10,32 @@ holds the axis, so their union is star-shaped about it).  What the fill relies o
 2. a circle about the axis separates the two loops: every hole vertex is closer to the axis
    than every profile vertex.
 
-Construction (every step O(N) numpy, no loop over points):
+Construction (every step O(N) numpy; the loops run over rings, about 20 to 60 of them):
 
-* rings of *radial copies*: each ring is a subset of the previous ring's rays (rays from the
-  axis through the loop's vertices), at radii ``rho (R0 / rho) ** w`` with ``R0`` the loop's
-  radius on that ray and ``w`` falling ring by ring from 1 to 0: the profile's rings end on a
-  circle of radius ``rho_p``, the hole's on a circle ``rho_q < rho_p``.  Each ring keeps about
-  one ray in :data:`DECIMATION` until the rays are :data:`SEAM_SEGMENTS` to the turn, then all of
-  them; the radial step of a ring is :data:`RING_ASPECT` times its angular step (log-polar cells,
-  about square), so the vertex count is about N (1 + 1/3) plus a constant.
+* rings of *radial copies*: each ring holds copies of some of the previous ring's vertices, on
+  the same rays from the axis, one log-polar step closer to a circle about the axis: the
+  profile's rings move inwards to a circle of radius ``rho_p``, the hole's outwards to one of
+  ``rho_q < rho_p`` (the free annulus between hole and profile split in the middle, in log
+  radius).  The step of a vertex is :data:`RING_ASPECT` times the angular spacing of its rays
+  (log-polar cells of that aspect); a vertex that reaches its circle stays there and is shared
+  by the later rings.  Each ring keeps the first ray of every bin of ``2 pi / SEAM_SEGMENTS``
+  and every :data:`DECIMATION`-th ray inside a crowded bin, so a fine ring is thinned
+  DECIMATION to one per ring until its rays are about SEAM_SEGMENTS to the turn: the interior
+  vertices add up to about N / (DECIMATION - 1) plus a constant.
 * between two rings, the run of edges of the outer ring between two kept rays fans to the two
-  copies, and the inner ring's edge to the run's middle vertex.  A run of one edge (a quad with
-  two radial sides) is always valid: a point on the segment from the axis to a vertex lies
-  strictly on the axis's side of both edges at that vertex.  Longer runs are checked; a run with
-  a triangle of non-positive area keeps all its rays (quads) instead.
-* between the two circles, the two rings are merged by polar angle (a zipper).  Both are convex;
-  the zipper is valid when the ratio of the radii beats the angular steps, which is checked.
-* without a hole the profile's rings end on a circle, then rings of halving counts and a fan
-  from the axis.
+  copies, and the inner ring's edge takes a vertex of the run as apex (the middle one, else
+  the second or the last but one).  A run of one edge (a quad with two radial sides) is always
+  valid: a point on the segment from the axis to a vertex lies strictly on the axis's side of
+  both edges at that vertex.  Longer runs are checked triangle by triangle; a run that stays
+  bad keeps all its rays (quads) instead.  Triangles with a shared vertex twice are dropped:
+  their edges cancel, the band's boundary is unchanged.
+* between the two circles the two rings are merged by polar angle (a zipper); both are convex
+  and close together, the zipper is valid when the ratio of the radii beats the angular steps.
+* without a hole the profile's rings end on a circle of half the profile's smallest radius,
+  then rings of halving counts and a fan from the axis.
 
-Every triangle's signed area is then checked positive (sine of its angle above
-:data:`MIN_SINE`).  The triangles' boundary is the two loops by construction (every inner edge is
+Every triangle's signed area is then checked positive (twice its area over its longest edge
+squared above :data:`MIN_SINE`).  The triangles' boundary is the two loops by construction (every inner edge is
 shared by two triangles in opposite directions), so positive triangles cover every point of the
 section exactly once (the count of triangles over a point is the winding number of the
 boundary about it): a valid triangulation.  :func:`fill_section` returns None when an
@@ -44,14 +49,17 @@ import numpy as np
 
 TWO_PI = 2.0 * math.pi
 #: About one ray in DECIMATION is kept from one ring to the next while the rings are finer than
-#: the seam circles: the Steiner vertices add up to about N / (DECIMATION - 1).
+#: the seam circles: the interior vertices add up to about N / (DECIMATION - 1).
 DECIMATION = 6
 #: Segments of the two seam circles (at most; fewer when the loops are coarser).
 SEAM_SEGMENTS = 48
 #: Radial step of a ring over its angular step (1: about square log-polar cells).
 RING_ASPECT = 1.5
-#: Smallest sine of a triangle's angle (2 area / longest edge^2) accepted as non-degenerate.
+#: Smallest 2 area / longest edge^2 of a triangle (its height over its longest edge, in units
+#: of that edge) accepted as non-degenerate.
 MIN_SINE = 1e-12
+#: A vertex this close to its circle (log radius) goes onto it: closer, its copy could round to it.
+LAST_STEP = 1e-9
 #: Fewest segments of the innermost ring before the fan from the axis (no hole).
 CENTRE_SEGMENTS = 8
 
@@ -75,7 +83,7 @@ def star_angles(loop: np.ndarray, tol: float = 1e-9) -> np.ndarray | None:
 
 
 def _positive(points: np.ndarray, tris: np.ndarray) -> np.ndarray:
-    """True for triangles (t, 3) that run counter-clockwise with an angle sine above MIN_SINE."""
+    """True for triangles (t, 3) that run counter-clockwise, 2 area / longest edge^2 > MIN_SINE."""
     a, b, c = points[tris[:, 0]], points[tris[:, 1]], points[tris[:, 2]]
     ab, ac, bc = b - a, c - a, c - b
     twice = ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0]
@@ -147,13 +155,20 @@ def _band(ring: _Ring, keep: np.ndarray, rho: float, inward: bool, first_id: int
     if a triangle is still bad.
     """
     m = len(ring.ids)
-    spacing_a = _spacing(ring.theta)
     target = math.log(rho) if rho > 0 else -math.inf
+    log_new = np.full(m, np.nan)  # log radius of each ray's copy, fixed once chosen
+
+    def place(rays: np.ndarray, spacing: np.ndarray) -> None:
+        step = RING_ASPECT * spacing
+        left = np.abs(ring.log_r[rays] - target)
+        # onto the circle when close: no sliver of a last step, and none the radius would not show
+        arrive = left <= 1.5 * step + LAST_STEP
+        log_new[rays] = np.where(arrive, target, ring.log_r[rays] - step if inward else ring.log_r[rays] + step)
+
+    spacing_a = _spacing(ring.theta)
+    place(keep, 0.5 * (spacing_a[keep] + _spacing(ring.theta[keep])))
     for attempt in range(2):
-        step = RING_ASPECT * 0.5 * (spacing_a[keep] + _spacing(ring.theta[keep]))
-        left = np.abs(ring.log_r[keep] - target)
-        step = np.where(left <= 1.5 * step, left, step)  # no sliver of a last step
-        new = np.maximum(ring.log_r[keep] - step, target) if inward else np.minimum(ring.log_r[keep] + step, target)
+        new = log_new[keep]
         done = ring.done[keep]
         fresh = ~done
         ids = ring.ids[keep].copy()
@@ -177,7 +192,10 @@ def _band(ring: _Ring, keep: np.ndarray, rho: float, inward: bool, first_id: int
                 return nxt, glob[real], points[fresh]
         if attempt:
             return None
-        keep = np.union1d(keep, np.flatnonzero(np.repeat(bad, width)))  # every ray of a bad run
+        # every ray of a bad run (quads); the copies kept so far stay where they are
+        added = np.setdiff1d(np.flatnonzero(np.repeat(bad, width)), keep)
+        place(added, spacing_a[added])
+        keep = np.union1d(keep, added)
     return None
 
 
@@ -235,6 +253,8 @@ def _centre(ring: _Ring, first_id: int) -> tuple[list[np.ndarray], list[np.ndarr
     points, tris = [], []
     while len(ring.ids) > CENTRE_SEGMENTS:
         keep = _select(ring.theta, 0.99 * TWO_PI / (len(ring.ids) // 2), 2)
+        if keep.size == len(ring.ids):  # nothing to thin out (a very uneven ring): fan from here
+            break
         result = _band(ring, keep, 0.0, True, first_id)
         if result is None:
             return None

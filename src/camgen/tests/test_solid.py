@@ -489,3 +489,43 @@ def test_concave_cam_stl_passes_admesh(tmp_path):
         assert int(figures[key]) == 0, (key, out)
     assert re.search(r"Total disconnected facets\s*:\s*0\s+0", out), out
     assert float(re.search(r"Volume\s*:\s*([\d.]+)", out).group(1)) == pytest.approx(solid.volume, rel=len(solid.triangles) * 2.0**-24)
+
+
+def test_ring_fill_of_random_star_shaped_sections():
+    """Random star-shaped outlines (Fourier radius functions, even and uneven ray spacing) with
+    random bores and keyways: every fill covers GEOS's section exactly (triangle areas and
+    their union), with positive triangles; the fill declines only without a free annulus."""
+    import shapely
+    from shapely.geometry import Polygon
+
+    from camgen.export.section_fill import fill_section
+    from camgen.export.solid import bore_polygon
+
+    rng = np.random.default_rng(2024)
+    filled = 0
+    for _ in range(16):
+        n = int(rng.integers(30, 1500))
+        theta = np.unique(rng.uniform(0, 2 * math.pi, n)) if rng.random() < 0.5 else 2 * math.pi * np.arange(n) / n
+        k = np.arange(1, 9)
+        a, b = rng.normal(size=(2, 8)) / k ** rng.uniform(0.5, 2)
+        r = 1 + rng.uniform(0.1, 0.5) * (np.cos(np.outer(theta, k)) @ a + np.sin(np.outer(theta, k)) @ b)
+        r = np.maximum(r, 0.05) * rng.uniform(10, 300)
+        outer = np.stack([r * np.cos(theta), r * np.sin(theta)], 1)
+        bore = rng.uniform(0.1, 1.0) * r.min()
+        width = rng.uniform(0.1, 0.8) * bore if rng.random() < 0.7 else 0.0
+        body = BodySpec(bore_diameter=bore, keyway_width=width, keyway_depth=rng.uniform(0.02, 0.3) * bore if width else 0.0,
+                        keyway_angle=rng.uniform(0, 2 * math.pi), min_wall=0.0)
+        hole = bore_polygon(body, 10 ** rng.uniform(-5, -2))
+        result = fill_section(outer, hole)
+        if result is None:
+            assert np.hypot(*hole.T).max() >= 0.99 * r.min()
+            continue
+        filled += 1
+        points, triangles = result
+        section = Polygon(outer, [hole[::-1]])
+        areas = _triangle_areas(points, triangles)
+        assert np.all(areas > 0) and areas.sum() == pytest.approx(section.area, rel=1e-9)
+        union = shapely.union_all(shapely.polygons(points[triangles]))
+        assert union.area == pytest.approx(section.area, rel=1e-9)
+        assert union.symmetric_difference(section).area <= 1e-9 * section.area
+    assert filled >= 12
