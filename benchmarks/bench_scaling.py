@@ -24,7 +24,6 @@ from __future__ import annotations
 import math
 import os
 import platform
-import time
 import tracemalloc
 
 import _common  # noqa: F401  (puts the repository root on sys.path)
