@@ -452,6 +452,10 @@ def test_fill_falls_back_to_manifold_for_a_profile_not_star_shaped_about_the_axi
     solid = cam_solid(disc, BodySpec(thickness=5.0), 1e-3)
     assert solid.fill == "manifold" and solid.genus == 0
     assert math.pi * 100 * 5.0 - 2 * math.pi * 10 * 1e-3 * 5.0 <= solid.volume < math.pi * 100 * 5.0
+    from camgen.errors import ParameterError
+
+    with pytest.raises(ParameterError, match="fill"):
+        cam_solid(disc, BodySpec(thickness=5.0), 1e-3, fill="rings")  # "auto" or "manifold"
 
 
 def test_star_angles_and_fill_inputs():
