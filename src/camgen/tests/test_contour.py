@@ -303,3 +303,195 @@ def test_cyclic_reduction_against_a_dense_solve(cyclic):
         dense[0, -1], dense[-1, 0] = lower[0], upper[-1]
     rhs = rng.normal(size=(n, 3))
     assert np.allclose(solve_tridiagonal(lower, diag, upper, rhs, cyclic), np.linalg.solve(dense, rhs), rtol=0, atol=1e-10)
+
+
+# --------------------------------------------------------------------------------------------
+# Vectorised evaluation, polar radius and self-intersection against per-segment and brute force
+# --------------------------------------------------------------------------------------------
+def many_splines_contour() -> Contour:
+    """The trefoil r = 40 + 8 cos(3 theta) as 12 spline segments of 4 pieces each (breaks at
+    t = 0, 1/4, 1/2, 3/4, 1: exact binary fractions, so parameters land exactly on breaks), each
+    through 5 points of the curve with its exact end derivatives."""
+    def curve(theta):
+        r, dr = 40.0 + 8.0 * np.cos(3.0 * theta), -24.0 * np.sin(3.0 * theta)
+        c, s_ = np.cos(theta), np.sin(theta)
+        return np.stack([r * c, r * s_], -1), np.stack([dr * c - r * s_, dr * s_ + r * c], -1)
+
+    span = 2 * math.pi / 12
+    t = np.array([0.0, 0.25, 0.5, 0.75, 1.0])
+    segments = []
+    for k in range(12):
+        pts, der = curve(k * span + t * span)
+        segments.append(Spline.interpolate(t, pts, periodic=False, end_derivatives=(der[0] * span, der[-1] * span)))
+    return Contour(segments, closure_tol=1e-9)
+
+
+def concave_arcs_contour() -> Contour:
+    """Four convex lobes (radius 15, centres 30 mm out) joined by concave arcs (radius 10)
+    tangent to both neighbours: the contour of test_offset_of_concave_arcs_is_exact."""
+    n, distance, lobe, valley = 4, 30.0, 15.0, 10.0
+    centres = [distance * np.array([math.cos(2 * math.pi * k / n), math.sin(2 * math.pi * k / n)]) for k in range(n)]
+    valleys = []
+    for k in range(n):
+        u = np.array([math.cos(2 * math.pi * (k + 0.5) / n), math.sin(2 * math.pi * (k + 0.5) / n)])
+        bq, cq = -2 * u @ centres[k], centres[k] @ centres[k] - (valley + lobe) ** 2
+        valleys.append((-bq + math.sqrt(bq * bq - 4 * cq)) / 2 * u)
+    arcs = []
+    for k in range(n):
+        vc, prev = valleys[k], valleys[k - 1]
+        start = math.atan2(*(prev - centres[k])[::-1])
+        arcs.append(Arc(tuple(centres[k]), lobe, start, (math.atan2(*(vc - centres[k])[::-1]) - start) % (2 * math.pi)))
+        v_start = math.atan2(*(centres[k] - vc)[::-1])
+        v_end = math.atan2(*(centres[(k + 1) % n] - vc)[::-1])
+        arcs.append(Arc(tuple(vc), valley, v_start, -((v_start - v_end) % (2 * math.pi))))
+    return Contour(arcs, closure_tol=1e-9)
+
+
+@pytest.fixture(scope="module")
+def biarc_tricycle(steering):
+    """The tricycle steering cam as arcs within 1 um (camgen.biarc.to_arc_spline): 572 arcs."""
+    from camgen.biarc import to_arc_spline
+
+    contour = to_arc_spline(steering.profile, 1e-6)
+    assert contour.n_segments > 500 and all(isinstance(s, Arc) for s in contour.segments)
+    return contour
+
+
+def _evaluation_cases(biarc_tricycle, steering):
+    return {**{k: f() for k, f in CONTOURS.items()}, "many_splines": many_splines_contour(), "concave_arcs": concave_arcs_contour(),
+            "biarc_tricycle": biarc_tricycle, "steering": steering.profile,
+            "mixed_offset": mixed_contour().offset(3.0)}
+
+
+@pytest.mark.parametrize("name", list(CONTOURS) + ["many_splines", "concave_arcs", "biarc_tricycle", "steering", "mixed_offset"])
+def test_evaluation_equals_each_segments_own_methods(name, biarc_tricycle, steering):
+    """evaluate / tangent / curvature (one vectorised pass per kind of segment) give bit for bit
+    what each segment's own point / derivative / curvature give for its points (the per-segment
+    loop, computed here), at random parameters, at every segment start and quarter (the spline
+    breaks of many_splines: a piece located by the grouped search) and just before the end."""
+    contour = _evaluation_cases(biarc_tricycle, steering)[name]
+    n = contour.n_segments
+    rng = np.random.default_rng(7)
+    quarters = np.arange(4 * n) / 4.0  # on the breaks of many_splines
+    t = np.concatenate([rng.uniform(0, n, 20000), quarters, [n - 1e-12, n, -0.25, 2 * n + 0.5]])
+    flat = np.mod(t, n)
+    idx = np.minimum(np.floor(flat).astype(int), n - 1)
+    u = flat - idx
+    point, deriv, kappa = np.empty((t.size, 2)), np.empty((t.size, 2)), np.empty(t.size)
+    for i, seg in enumerate(contour.segments):
+        at = idx == i
+        point[at], deriv[at], kappa[at] = seg.point(u[at]), seg.derivative(u[at]), seg.curvature(u[at])
+    assert np.array_equal(contour.evaluate(t), point)
+    assert np.array_equal(contour.tangent(t), deriv / np.linalg.norm(deriv, axis=1, keepdims=True))
+    assert np.array_equal(contour.curvature(t), kappa)
+    assert contour.evaluate(t[:20000].reshape(4, -1)).shape == (4, 5000, 2)
+
+
+def _brute_polar_radius(points: np.ndarray, phi: np.ndarray, chunk: int = 16) -> np.ndarray:
+    """Distance along each ray to the closed polygon ``points``: every ray against every chord
+    (u x a + s u x d = 0 with 0 <= s <= 1, distance along u > 0); the nearest hit."""
+    a = points
+    d = np.roll(points, -1, axis=0) - points
+    out = np.empty(phi.size)
+    for lo in range(0, phi.size, chunk):
+        u = np.stack([np.cos(phi[lo : lo + chunk]), np.sin(phi[lo : lo + chunk])], 1)[:, None, :]
+        ua = u[..., 0] * a[None, :, 1] - u[..., 1] * a[None, :, 0]
+        ud = u[..., 0] * d[None, :, 1] - u[..., 1] * d[None, :, 0]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s = -ua / ud
+            dist = np.einsum("rck,rk->rc", a[None] + s[..., None] * d[None], u[:, 0, :])
+        ok = (s >= 0) & (s <= 1) & (dist > 0)
+        out[lo : lo + chunk] = np.where(ok, dist, np.inf).min(axis=1)
+    return out
+
+
+@pytest.mark.parametrize("name", list(CONTOURS) + ["many_splines", "concave_arcs", "biarc_tricycle", "steering"])
+def test_polar_radius_against_brute_force_and_at_every_joint(name, biarc_tricycle, steering):
+    """polar_radius (sorted search, one piece per ray) against every ray intersected with every
+    chord of a 1e-6 mm flattening (within 1e-5 mm: the chords are within 1e-6 of the curve, the
+    rays cross it at angles far from grazing), and on rays exactly through every segment joint
+    and every spline break (1e-11 relative to the point's own distance from the axis)."""
+    contour = _evaluation_cases(biarc_tricycle, steering)[name]
+    phi = np.linspace(-math.pi, math.pi, 721)
+    brute = _brute_polar_radius(contour.flatten(1e-6), phi)
+    assert np.max(np.abs(contour.polar_radius(phi) - brute)) <= 1e-5
+    joints = [seg.start_point for seg in contour.segments]
+    joints += [p for seg in contour.segments if isinstance(seg, Spline) for p in seg.eval_t(seg.breaks)]
+    joints = np.array(joints)
+    radius = contour.polar_radius(np.arctan2(joints[:, 1], joints[:, 0]))
+    assert np.max(np.abs(radius / np.hypot(joints[:, 0], joints[:, 1]) - 1)) <= 1e-11
+    assert contour.polar_radius(phi.reshape(7, 103)).shape == (7, 103)
+
+
+def test_polar_radius_memory_is_linear_in_the_rays(biarc_tricycle):
+    """2e5 rays on the 572-arc contour: the peak of new allocations (tracemalloc, numpy's arrays
+    included) stays under 1 kB per ray, where a table of rays x pieces would take 9 kB per ray
+    (572 arcs x 2 roots x 8 bytes)."""
+    import tracemalloc
+
+    phi = np.linspace(0.0, 2 * math.pi, 200000, endpoint=False)
+    biarc_tricycle.polar_radius(phi[:10])  # the contour's tables, built once
+    tracemalloc.start()
+    biarc_tricycle.polar_radius(phi)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    assert peak < 1000 * phi.size
+
+
+def test_polar_radius_of_a_contour_not_star_shaped_is_an_error():
+    disc = Contour([Arc((30.0, 0.0), 10.0, 0.0, 2 * math.pi)])  # rays miss it or meet it twice
+    with pytest.raises(GeometryError, match="not star-shaped about the rotation axis: the ray at cam angle"):
+        disc.polar_radius(np.array([0.0]))
+    # a disc of radius 40 with a rectangular notch [15, 40] x [-10, 10] cut in: the ray at 20 deg
+    # leaves through the notch's bottom, re-enters through its side and leaves at the circle
+    def line(p, q):
+        p, q = np.asarray(p, float), np.asarray(q, float)
+        return Spline([0.0, 1.0], np.stack([np.zeros(2), np.zeros(2), q - p, p])[:, None, :])
+
+    start = math.asin(10 / 40)
+    corner = 40 * math.cos(start)
+    notched = Contour([Arc((0.0, 0.0), 40.0, start, 2 * math.pi - 2 * start), line((corner, -10), (15, -10)),
+                       line((15, -10), (15, 10)), line((15, 10), (corner, 10))], closure_tol=1e-9)
+    assert notched.polar_radius(np.radians([90.0, 180.0])) == pytest.approx([40.0, 40.0], abs=1e-12)  # rays meeting it once
+    with pytest.raises(GeometryError, match="not star-shaped.*cam angle 20.000 deg"):
+        notched.polar_radius(np.radians([90.0, 20.0]))
+
+
+def _brute_crossing(points: np.ndarray):
+    """All pairs of non-adjacent chords of the closed polygon: the crossing with the smallest
+    (i, j), i < j, as the point on chord i; None without one."""
+    n = len(points)
+    a, d = points, np.roll(points, -1, axis=0) - points
+
+    def cross(u, v):
+        return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+
+    for i in range(n):
+        j = np.arange(i + 2, n - (1 if i == 0 else 0))
+        if not j.size:
+            continue
+        o1, o2 = cross(d[i], a[j] - a[i]), cross(d[i], a[j] + d[j] - a[i])
+        o3, o4 = cross(d[j], a[i] - a[j]), cross(d[j], a[i] + d[i] - a[j])
+        hit = (o1 * o2 < 0) & (o3 * o4 < 0)
+        if hit.any():
+            k = np.argmax(hit)
+            return a[i] + o3[k] / (o3[k] - o4[k]) * d[i]
+    return None
+
+
+@pytest.mark.parametrize("distance", [-4.0, -6.0, -9.0, 0.2])
+def test_self_intersection_equals_all_pairs(distance):
+    """The x sweep finds the crossing of the all-pairs scan (the same pair, the same point) on
+    the peanut's offsets: none at -4 and +0.2 mm, the neck crossing at -6 and -9 mm."""
+    theta = np.linspace(0.0, 2 * math.pi, 121)
+    r = 30 + 25 * np.cos(2 * theta)
+    peanut = Spline.interpolate(theta, np.stack([r * np.cos(theta), r * np.sin(theta)], 1))
+    offset = Contour([peanut.offset(distance, tol=1e-5)], closure_tol=1e-4)
+    tol = 1e-3
+    expected = _brute_crossing(offset.flatten(tol))
+    found = offset.self_intersection(tol)
+    assert (expected is None) == (distance in (-4.0, 0.2))
+    if expected is None:
+        assert found is None
+    else:
+        assert np.array_equal(found, expected)
