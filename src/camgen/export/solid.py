@@ -46,7 +46,7 @@ from camgen.errors import (
 MESH_FORMATS = {
     "stl": "binary STL (numpy writer)",
     "stl_ascii": "ASCII STL (numpy writer)",
-    "3mf": "3MF (trimesh; units mm)",
+    "3mf": "3MF (camgen writer; units mm)",
     "obj": "Wavefront OBJ (trimesh)",
     "ply": "binary PLY (trimesh)",
     "vtu": "VTK unstructured grid of wedge volume elements (meshio)",
@@ -272,14 +272,16 @@ def mesh_bytes(solid: CamSolid, fmt: str, name: str = "camgen", layers: int = DE
         return stl_binary(solid, name)
     if fmt == "stl_ascii":
         return stl_ascii(solid, name).encode("ascii")
-    if fmt in ("3mf", "obj", "ply"):
+    if fmt == "3mf":
+        return three_mf(solid, name)
+    if fmt in ("obj", "ply"):
         import trimesh
 
         mesh = trimesh.Trimesh(solid.vertices, solid.triangles, process=False)
         mesh.units = "mm"
         data = mesh.export(file_type=fmt)
         data = data.encode("utf-8") if isinstance(data, str) else bytes(data)
-        return _deterministic_zip(data) if fmt == "3mf" else data
+        return data
     if fmt in VOLUME_FORMATS:
         volume = volume_mesh(solid, layers)
         if fmt == "inp":
@@ -451,23 +453,44 @@ def vtu_bytes(mesh: VolumeMesh, name: str = "camgen") -> bytes:
         return path.read_bytes()
 
 
-def _deterministic_zip(data: bytes) -> bytes:
-    """Rewrite a 3MF (zip) so the same mesh gives the same bytes: fixed entry dates and the
-    random UUIDs trimesh writes replaced by name-based ones (uuid5, in order of appearance)."""
-    import io
-    import re
-    import uuid
-    import zipfile
+_3MF_TYPES = (
+    '<?xml version="1.0" encoding="UTF-8"?>\n<Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">'
+    '<Default Extension="rels" ContentType="application/vnd.openxmlformats-package.relationships+xml"/>'
+    '<Default Extension="model" ContentType="application/vnd.ms-package.3dmanufacturing-3dmodel+xml"/></Types>\n'
+)
+_3MF_RELS = (
+    '<?xml version="1.0" encoding="UTF-8"?>\n<Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">'
+    '<Relationship Target="/3D/3dmodel.model" Id="rel0" Type="http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel"/>'
+    "</Relationships>\n"
+)
 
-    pattern = re.compile(rb"[0-9a-f]{8}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{12}")
-    counter = iter(range(1 << 30))
+
+def three_mf(solid: CamSolid, name: str = "camgen") -> bytes:
+    """3MF package (3MF Core Specification 1.2: a zip of the content types, the relationship and
+    the model part) of ``solid``: one mesh object in millimetres, vertices printed with 15
+    significant digits, triangles counter-clockwise seen from outside.  Deterministic: fixed
+    entry dates and order."""
+    import io
+    import zipfile
+    from xml.sax.saxutils import quoteattr
+
+    vertices = io.StringIO()
+    np.savetxt(vertices, solid.vertices + 0.0, fmt='<vertex x="%.15g" y="%.15g" z="%.15g"/>')
+    triangles = io.StringIO()
+    np.savetxt(triangles, solid.triangles, fmt='<triangle v1="%d" v2="%d" v3="%d"/>')
+    model = (
+        '<?xml version="1.0" encoding="UTF-8"?>\n'
+        '<model unit="millimeter" xml:lang="en-US" xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02">\n'
+        f'<metadata name="Title">{quoteattr(name)[1:-1]}</metadata>\n<metadata name="Application">camgen</metadata>\n'
+        f'<resources>\n<object id="1" type="model" name={quoteattr(name)}>\n<mesh>\n<vertices>\n{vertices.getvalue()}</vertices>\n'
+        f"<triangles>\n{triangles.getvalue()}</triangles>\n</mesh>\n</object>\n</resources>\n"
+        '<build>\n<item objectid="1"/>\n</build>\n</model>\n'
+    )
     out = io.BytesIO()
-    with zipfile.ZipFile(io.BytesIO(data)) as src, zipfile.ZipFile(out, "w") as dst:
-        for info in src.infolist():
-            content = src.read(info.filename)
-            content = pattern.sub(lambda _: str(uuid.uuid5(uuid.NAMESPACE_URL, f"camgen/{next(counter)}")).encode(), content)
-            entry = zipfile.ZipInfo(info.filename, date_time=(1980, 1, 1, 0, 0, 0))
-            entry.compress_type = zipfile.ZIP_DEFLATED
-            entry.external_attr = 0o644 << 16
-            dst.writestr(entry, content)
+    with zipfile.ZipFile(out, "w") as package:
+        for entry, text in (("[Content_Types].xml", _3MF_TYPES), ("_rels/.rels", _3MF_RELS), ("3D/3dmodel.model", model)):
+            info = zipfile.ZipInfo(entry, date_time=(1980, 1, 1, 0, 0, 0))
+            info.compress_type = zipfile.ZIP_DEFLATED
+            info.external_attr = 0o644 << 16
+            package.writestr(info, text.encode("utf-8"))
     return out.getvalue()

@@ -357,3 +357,35 @@ def test_one_start_finds_the_multi_start_minimum(name):
             diff = min(diff, 360.0 - diff)
         assert diff <= every.uncertainty[key], key
     assert one.residual_rms_mm == pytest.approx(every.residual_rms_mm, rel=1e-6)
+
+
+@pytest.mark.parametrize("name", ["A1", "A2"])
+def test_levenberg_marquardt_matches_scipys_least_squares(name):
+    """camgen's Levenberg-Marquardt and scipy's MINPACK-based least_squares(method="lm"), from
+    the same start on the same residuals, agree within the fit's 1-sigma uncertainty."""
+    from scipy.optimize import least_squares
+
+    from camgen.errors import GeometryError
+    from camgen.mechanisms import tricycle as tc
+    from camgen.mechanisms.tricycle_fit import PARAMETER_SCALE, PARAMETERS, fit_error_model, model_y
+    from camgen.synthesis.trajectory import trajectory_from_expression
+
+    cam = tc.tricycle_cam(trajectory_from_expression("202.4396*sin(pi*x/1000)", 2000.0))
+    table = tc.load_measured_table(name)
+    geom = tc.ride_geometry(cam.profile, cam.device.rod_radius, 4)
+    x, y = table.x[1:], table.measured[1:]
+
+    def residual(p):
+        try:
+            return model_y(cam, geom, p, x) - y
+        except GeometryError:
+            return np.full(x.shape, 1e3)
+
+    theirs = least_squares(residual, np.array([0.0, 1.0, 1.0, 0.0, 0.0]), x_scale=PARAMETER_SCALE, method="lm", max_nfev=400)
+    ours = fit_error_model(cam, table)
+    for key, value in zip(PARAMETERS, theirs.x):
+        diff = abs(ours.values[key] - value)
+        if key == "start_phase_deg":
+            diff = min(diff % 360.0, 360.0 - diff % 360.0)
+        assert diff <= ours.uncertainty[key], key
+    assert ours.residual_rms_mm == pytest.approx(math.sqrt(2 * theirs.cost / x.size), rel=1e-6)
