@@ -5,11 +5,12 @@ Cams: the stride-length three-arc cam (exact arcs) and the tricycle steering cam
 """
 from __future__ import annotations
 
-import _common  # noqa: F401  (puts the repository root on sys.path)
+import _common  # noqa: F401  (shared helpers: median_time, print_table)
 from _common import median_time, print_table
 
 import camgen
-from camgen.body import BodySpec, cam_solid, mesh_bytes
+from camgen.body import BodySpec
+from camgen.export.solid import cam_solid, mesh_bytes
 from camgen.export.dxf import DxfOptions, contour_to_dxf
 from camgen.export.gcode import MachiningSpec, gcode_program
 from camgen.export.points import lift_csv, points_csv
@@ -32,8 +33,8 @@ def main() -> None:
                 "points csv": lambda: points_csv(contour, tol, name, "bench"),
                 "lift csv (1 deg)": lambda: lift_csv(contour, 0.017453292519943295, name, "bench"),
                 "solid (manifold)": lambda: cam_solid(contour, body, tol),
-                "ngc (biarcs)": lambda: gcode_program(contour, MachiningSpec(thickness=body.thickness, chord_tol=tol)),
-                "ngc (lines)": lambda: gcode_program(contour, MachiningSpec(thickness=body.thickness, chord_tol=tol, spline_mode="lines")),
+                "ngc (biarcs)": lambda: gcode_program(contour, MachiningSpec(thickness=body.thickness, chord_tol=tol, decimals=6)),
+                "ngc (lines)": lambda: gcode_program(contour, MachiningSpec(thickness=body.thickness, chord_tol=tol, spline_mode="lines", decimals=6)),
             }
             try:
                 import OCP  # noqa: F401

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 
-import _common  # noqa: F401  (puts the repository root on sys.path)
+import _common  # noqa: F401  (shared helpers: median_time, print_table)
 import numpy as np
 from _common import median_time, print_table
 

@@ -26,7 +26,7 @@ import os
 import platform
 import tracemalloc
 
-import _common  # noqa: F401  (puts the repository root on sys.path)
+import _common  # noqa: F401  (shared helpers: median_time, print_table)
 import numpy as np
 from _common import median_time, print_table
 

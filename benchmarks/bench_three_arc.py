@@ -5,7 +5,7 @@ Target (issue #2): 1 um tolerance in under 1 ms for the stride cam.
 """
 from __future__ import annotations
 
-import _common  # noqa: F401  (puts the repository root on sys.path)
+import _common  # noqa: F401  (shared helpers: median_time, print_table)
 from _common import median_time, print_table
 
 import camgen

@@ -7,7 +7,7 @@ Target (issue #3): exact curvature <= 1e-6 mm over one period at N = 720, synthe
 """
 from __future__ import annotations
 
-import _common  # noqa: F401  (puts the repository root on sys.path)
+import _common  # noqa: F401  (shared helpers: median_time, print_table)
 import numpy as np
 from _common import median_time, print_table
 

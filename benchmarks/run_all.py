@@ -1,0 +1,86 @@
+"""Run every benchmark and write benchmarks/RESULTS.md (and the summary block of README.md).
+
+    python benchmarks/run_all.py            # with camgen installed (pip install -e ".[test]")
+
+Each ``bench_*.py`` runs in its own process; its printed tables go into RESULTS.md under its
+name.  The header names the machine, the commit and the SHA-256 of the benchmark sources: a test
+(camgen/tests/test_benchmarks.py) checks that RESULTS.md was produced by the current scripts and
+that README.md's block between the ``benchmarks:summary`` markers is the summary written here.
+"""
+from __future__ import annotations
+
+import hashlib
+import re
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+#: The order of the sections (the others follow alphabetically).
+ORDER = ("bench_cli", "bench_three_arc", "bench_tricycle", "bench_motion_laws", "bench_peers", "bench_horse_leg",
+         "bench_exports", "bench_scaling", "bench_report", "bench_step")
+START, END = "<!-- benchmarks:summary:start -->", "<!-- benchmarks:summary:end -->"
+
+
+def sources_digest(folder: Path = HERE) -> str:
+    """SHA-256 over the benchmark sources (every .py in the folder, by name)."""
+    digest = hashlib.sha256()
+    for path in sorted(folder.glob("*.py")):
+        digest.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
+    return digest.hexdigest()
+
+
+def machine() -> str:
+    sys.path.insert(0, str(HERE))
+    from bench_cli import machine as describe
+
+    return describe()
+
+
+def commit() -> str:
+    try:
+        return subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+
+
+def summary(sections: dict[str, str]) -> str:
+    """The README's summary: the whole-process run times (bench_cli's table)."""
+    cli = sections.get("bench_cli", "")
+    table = "\n".join(line for line in cli.splitlines() if line.startswith("|"))
+    return f"Whole-process `camgen run` times (medians, from benchmarks/RESULTS.md):\n\n{table}\n"
+
+
+def main() -> None:
+    scripts = sorted(HERE.glob("bench_*.py"), key=lambda p: (ORDER.index(p.stem) if p.stem in ORDER else len(ORDER), p.stem))
+    sections: dict[str, str] = {}
+    for script in scripts:
+        start = time.perf_counter()
+        proc = subprocess.run([sys.executable, str(script)], cwd=HERE, capture_output=True, text=True)
+        took = time.perf_counter() - start
+        body = proc.stdout.strip() if proc.returncode == 0 else f"FAILED (exit {proc.returncode}):\n{proc.stderr[-2000:]}"
+        sections[script.stem] = body
+        print(f"{script.name}: {took:.0f} s{'' if proc.returncode == 0 else ' FAILED'}", flush=True)
+    head = [
+        "# camgen benchmark results",
+        "",
+        f"Written by `benchmarks/run_all.py` on {machine()}; commit {commit()}.",
+        f"Benchmark sources SHA-256: `{sources_digest()}`",
+        "",
+        "Times are medians of repeated runs measured in one process per script (ratios within a table are measured in one run).",
+        "",
+    ]
+    body = [f"## {name}\n\n{text}\n" for name, text in sections.items()]
+    summary_text = summary(sections)
+    (HERE / "RESULTS.md").write_text("\n".join(head) + "\n".join(body) + f"\n## Summary\n\n{summary_text}", encoding="utf-8")
+    readme = ROOT / "README.md"
+    text = readme.read_text(encoding="utf-8")
+    if START in text and END in text:
+        text = re.sub(re.escape(START) + ".*?" + re.escape(END), f"{START}\n{summary_text}{END}", text, flags=re.S)
+        readme.write_text(text, encoding="utf-8")
+
+
+if __name__ == "__main__":
+    main()
