@@ -4,6 +4,7 @@ from __future__ import annotations
 import math
 import os
 import shutil
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -174,3 +175,22 @@ def rs274_toolpath(program: str, workdir) -> tuple[int, str, list[tuple[float, n
             ang = a0 + sweep * w
             moves.append((end[2], np.stack([cx + radius * np.cos(ang), cy + radius * np.sin(ang)], axis=1)))
     return status, message, moves
+
+
+def source_tree() -> Path | None:
+    """The checkout camgen was installed from: ``CAMGEN_SOURCE_TREE`` (.ci/run sets it) or, for a
+    development install, the folder above ``src/``; None for an installed package alone."""
+    given = os.environ.get("CAMGEN_SOURCE_TREE")
+    if given:
+        return Path(given)
+    here = Path(__file__).resolve().parents[3]  # src/camgen/tests -> the checkout
+    return here if (here / "benchmarks" / "run_all.py").is_file() else None
+
+
+@pytest.fixture
+def tree() -> Path:
+    """The source tree, or skip: README.md and benchmarks/ are not part of the installed package."""
+    root = source_tree()
+    if root is None:
+        pytest.skip("no source tree: README.md and benchmarks/ are not installed (set CAMGEN_SOURCE_TREE)")
+    return root

@@ -7,27 +7,10 @@ package; with neither (an installed package alone) there is nothing to check.
 from __future__ import annotations
 
 import hashlib
-import os
 import re
 from pathlib import Path
 
-import pytest
-
-
-def _tree() -> Path | None:
-    given = os.environ.get("CAMGEN_SOURCE_TREE")
-    if given:
-        return Path(given)
-    here = Path(__file__).resolve().parents[3]  # src/camgen/tests -> the checkout
-    return here if (here / "benchmarks" / "run_all.py").is_file() else None
-
-
-@pytest.fixture
-def tree() -> Path:
-    root = _tree()
-    if root is None:
-        pytest.skip("no source tree: benchmarks are not part of the installed package (set CAMGEN_SOURCE_TREE)")
-    return root
+from camgen.tests.helpers import tree  # noqa: F401  (fixture)
 
 
 def _digest(folder: Path) -> str:

@@ -1,0 +1,91 @@
+"""README.md says what the installed program does: its examples parse, its tables list what the
+registries hold, and its plate-cam example is the bundled template.
+
+README.md is not part of the installed package: these tests find the checkout through
+``CAMGEN_SOURCE_TREE`` (.ci/run sets it) or a development install, else skip.
+"""
+from __future__ import annotations
+
+import re
+import tomllib
+
+import pytest
+
+from camgen.cli import build_parser
+from camgen.errors import CamgenError
+from camgen.outputs import OUTPUTS
+from camgen.scene import load_template, parse_scene, template_names, template_path
+from camgen.tests.helpers import tree  # noqa: F401  (fixture)
+
+
+def _readme(tree) -> str:
+    return (tree / "README.md").read_text(encoding="utf-8")
+
+
+def _blocks(text: str, language: str) -> list[str]:
+    return re.findall(rf"```{language}\n(.*?)```", text, re.S)
+
+
+def _section(text: str, title: str) -> str:
+    match = re.search(rf"^## {re.escape(title)}\n(.*?)(?=^## |\Z)", text, re.S | re.M)
+    assert match, f"README.md has no section '## {title}'"
+    return match.group(1)
+
+
+def test_the_first_block_is_the_two_commands_ci_runs(tree):
+    first = _blocks(_readme(tree), "sh")[0].strip().splitlines()
+    assert first == ['python3 -m pip install . && camgen run',
+                     'python3 -m pip install ".[test]" && python3 -m pytest -q --pyargs camgen']
+
+
+def test_every_toml_example_is_a_valid_scene(tree):
+    examples = _blocks(_readme(tree), "toml")
+    assert len(examples) >= 2
+    for number, text in enumerate(examples):
+        try:
+            scene = parse_scene(tomllib.loads(text), name=f"readme_{number}")
+        except CamgenError as error:  # pragma: no cover - the message is the diagnosis
+            pytest.fail(f"README toml example {number} is refused: {error}")
+        assert scene.cams
+
+
+def test_the_plate_cam_example_is_the_template(tree):
+    example = next(t for t in _blocks(_readme(tree), "toml") if "[cams.plate]" in t)
+    assert tomllib.loads(example) == tomllib.loads(template_path("plate_cam").read_text(encoding="utf-8"))
+
+
+def test_the_outputs_table_lists_every_registered_format(tree):
+    table = _section(_readme(tree), "Outputs")
+    first_column = " ".join(row.split("|")[1] for row in table.splitlines() if row.startswith("| "))
+    named = set(re.findall(r"`([a-z0-9_]+)`", first_column))
+    listed = {name for name, fmt in OUTPUTS.items() if not fmt.implied}
+    assert listed - named == set(), "formats missing from README's Outputs table"
+    assert named - set(OUTPUTS) == set(), "README lists formats camgen does not have"
+    for fmt in OUTPUTS.values():
+        if not fmt.implied:
+            assert fmt.files.replace("{cam}", "<cam>") in table, fmt.files
+
+
+def test_every_template_and_command_is_named(tree):
+    text = _readme(tree)
+    scenes = _section(text, "Scene files")
+    assert [name for name in template_names() if f"`{name}`" not in scenes] == []
+    parser = build_parser()
+    commands = next(a for a in parser._subparsers._group_actions).choices  # noqa: SLF001
+    usage = _section(text, "Command line and exit status")
+    assert [name for name in commands if f"camgen {name}" not in usage] == []
+    for status in ("| 0 |", "| 1 |", "| 2 |"):
+        assert status in usage
+
+
+def test_the_plate_cam_figures_quoted_are_the_programs(tree):
+    """The README quotes the plate cam's pressure angle and pitch radius: they must be current."""
+    from camgen.pipeline import Plan, compute
+
+    text = _section(_readme(tree), "Example: a plate cam")
+    quoted_angle = float(re.search(r"pressure angle ([0-9.]+) deg", text).group(1))
+    quoted_radius = float(re.search(r"pitch curve ([0-9.]+) mm", text).group(1))
+    result = compute(load_template("plate_cam"), Plan((), frozenset(), full_report=False))
+    checks = {c.name: c for cam in result.cams for c in cam.checks}
+    assert abs(checks["pressure_angle"].value - quoted_angle) < 0.01
+    assert abs(checks["undercut"].value - quoted_radius) < 0.1  # smallest convex pitch radius
