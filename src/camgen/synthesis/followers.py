@@ -77,7 +77,7 @@ from typing import Callable, Protocol
 
 import numpy as np
 
-from camgen.contour import Contour, Spline
+from camgen.contour import Contour, Spline, cubic_with_end_derivatives
 from camgen.errors import GeometryError, ParameterError, require_finite, require_positive
 
 TWO_PI = 2.0 * math.pi
@@ -511,17 +511,12 @@ _PROBES = np.array([0.25, 0.5, 0.75])
 
 
 def _c2_spline(t: np.ndarray, q: np.ndarray, start: tuple[np.ndarray, np.ndarray], end: tuple[np.ndarray, np.ndarray]):
-    """C2 cubic spline through ``q`` (n, d) at ``t`` (n,), n >= 3, with the given first and second
+    """C2 cubic spline through ``q`` (n, d) at ``t`` (n,), n >= 4, with the given first and second
     derivatives (dQ/dt, d2Q/dt2, each (d,)) at both ends; an extra knot in the first and in the
-    last interval gives the two degrees of freedom the second-derivative conditions need.
+    last interval gives the two degrees of freedom the second-derivative conditions need
+    (:func:`camgen.contour.cubic_with_end_derivatives`, numpy only).
     Returns the break points (p + 1,) and the coefficients (4, p, d), highest power first."""
-    from scipy.interpolate import make_interp_spline  # lazy: ~0.6 s import
-
-    knots = np.concatenate([np.full(4, t[0]), _inner_knots(t), np.full(4, t[-1])])
-    bs = make_interp_spline(t, q, k=3, t=knots, bc_type=([(1, start[0]), (2, start[1])], [(1, end[0]), (2, end[1])]))
-    x = np.unique(knots)
-    left = x[:-1]
-    return x, np.stack([bs(left, 3) / 6.0, bs(left, 2) / 2.0, bs(left, 1), bs(left)])
+    return cubic_with_end_derivatives(t, q, start, end)
 
 
 def _inner_knots(t: np.ndarray) -> np.ndarray:
