@@ -33,6 +33,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from camgen.errors import ParameterError
+from camgen.ppoly import periodic_spline
 from camgen.synthesis.laws import SMOOTH, Peaks
 
 TWO_PI = 2.0 * math.pi
@@ -107,8 +108,6 @@ class LiftTable:
             a, s = a[:-1], s[:-1]
             if a.size < MIN_ROWS:
                 raise ParameterError(key, f"{a.size} rows besides the closing row", f"at least {MIN_ROWS} rows")
-        from scipy.interpolate import PPoly, make_interp_spline
-
         self.degree = int(degree)
         self.unit = unit
         self.angles = np.radians(a)  # rad, rows (closing row dropped)
@@ -116,8 +115,7 @@ class LiftTable:
         self._origin = float(self.angles[0])
         x = np.append(self.angles - self._origin, TWO_PI)
         y = np.append(s, s[0])
-        spline = make_interp_spline(x, y, k=self.degree, bc_type="periodic")
-        pp = PPoly.from_spline(spline, extrapolate="periodic")
+        pp = periodic_spline(x, y, self.degree)  # numpy: no scipy import
         self._pp = [pp] + [pp.derivative(n) for n in (1, 2, 3)]
         self._build_buckets()
         self.breaks = np.sort(np.mod(self.angles, TWO_PI))
@@ -180,8 +178,8 @@ class LiftTable:
     def _extremes(self, n: int) -> tuple[float, float, float, float]:
         """(min, where, max, where) of the n-th derivative: breakpoints and roots of the next."""
         x = self._pp[0].x
-        roots = self._pp[0].derivative(n + 1).roots(extrapolate=False) if n + 1 < self.degree else np.empty(0)
-        cand = np.concatenate([x[:-1], roots[np.isfinite(roots)]])
+        roots = self._pp[0].derivative(n + 1).roots() if n + 1 < self.degree else np.empty(0)
+        cand = np.concatenate([x[:-1], roots[roots < x[-1]]])
         f = self._pp[n](cand)
         i, j = int(np.argmin(f)), int(np.argmax(f))
         at = np.mod(cand + self._origin, TWO_PI)
