@@ -101,6 +101,25 @@ class DesignMeasures:
         return out
 
 
+class _SampledLaw:
+    """``law`` with its values on the last cam-angle grid kept: a sizing search evaluates the same
+    law on the same grid for every base radius and offset it tries (the law does not depend on them)."""
+
+    def __init__(self, law: Displacement) -> None:
+        self._law = law
+        self._theta: np.ndarray | None = None
+        self._values: tuple | None = None
+
+    def __call__(self, theta: np.ndarray):
+        theta = np.asarray(theta, dtype=float)
+        if self._theta is None or self._theta.shape != theta.shape or not np.array_equal(self._theta, theta):
+            self._theta, self._values = theta.copy(), tuple(np.asarray(v, dtype=float) for v in self._law(theta))
+        return self._values
+
+    def __getattr__(self, name: str):  # breaks, break_continuity, peak values ... of the law itself
+        return getattr(self._law, name)
+
+
 def measure(follower: FollowerSpec, law: Displacement, check_step: float = DEFAULT_CHECK_STEP,
             theta: np.ndarray | None = None) -> DesignMeasures:
     """Largest pressure angle, smallest convex / concave radii of curvature of the profile and the
@@ -182,6 +201,7 @@ def min_base_radius(follower: FollowerSpec, law: Displacement, limits: DesignLim
     :class:`GeometryError` when no base radius works, naming what else to change.
     """
     tol = require_positive("tol", tol)
+    law = law if isinstance(law, _SampledLaw) else _SampledLaw(law)
     theta = check_grid(law, limits.check_step)
     offset = follower.offset
     lo, hi = _base_range(follower, offset)
@@ -245,6 +265,7 @@ def min_base_radius_and_offset(follower: FollowerSpec, law: Displacement, limits
     if follower.motion != "translating" or follower.kind == "flat":
         raise ParameterError("follower", f"{follower.motion} {follower.kind}", "a translating roller or knife (the offset of a flat face does not change the cam)")
     tol = require_positive("tol", tol)
+    law = _SampledLaw(law)
     centred = min_base_radius(replace(follower, offset=0.0), law, limits, tol=tol)
     if offset_range is None:
         offset_range = (-centred.base_radius, centred.base_radius)
