@@ -55,6 +55,7 @@ import numpy as np
 
 from camgen.contour import Arc, Contour, Spline
 from camgen.errors import GeometryError, ParameterError, require_finite, require_positive
+from camgen.export.tables import format_rows
 
 DIALECTS = ("linuxcnc", "grbl")
 DIRECTIONS = ("climb", "conventional")
@@ -349,7 +350,7 @@ class _Writer:
         keep = np.any(q != np.vstack([self.current[None], q[:-1]]), axis=1)
         q = q[keep]
         if len(q):
-            np.savetxt(self.out, q, fmt=f"G1 X%.{self.d}f Y%.{self.d}f")
+            self.out.write(format_rows(q, f"G1 X%.{self.d}f Y%.{self.d}f"))
             self.current = q[-1]
 
     def arc(self, arc: Arc) -> None:

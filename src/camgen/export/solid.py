@@ -37,6 +37,7 @@ import numpy as np
 
 from camgen.body import BodySpec, wall_left
 from camgen.contour import Contour
+from camgen.export.tables import format_rows
 from camgen.errors import (
     GeometryError,
     ParameterError,
@@ -249,17 +250,13 @@ def stl_binary(solid: CamSolid, name: str = "camgen") -> bytes:
 
 def stl_ascii(solid: CamSolid, name: str = "camgen") -> str:
     """ASCII STL text (coordinates printed with 9 significant digits, mm)."""
-    import io
-
     tri, normal = _facets(solid.vertices, solid.triangles)
     rows = np.concatenate([normal, tri.reshape(-1, 9)], axis=1)
     fmt = (
         "  facet normal %.9e %.9e %.9e\n    outer loop\n      vertex %.9e %.9e %.9e\n"
         "      vertex %.9e %.9e %.9e\n      vertex %.9e %.9e %.9e\n    endloop\n  endfacet"
     )
-    body = io.StringIO()
-    np.savetxt(body, rows + 0.0, fmt=fmt)
-    return f"solid {name}\n{body.getvalue()}endsolid {name}\n"
+    return f"solid {name}\n{format_rows(rows + 0.0, fmt)}endsolid {name}\n"
 
 
 def mesh_bytes(solid: CamSolid, fmt: str, name: str = "camgen", layers: int = DEFAULT_FEA_LAYERS) -> bytes:
@@ -396,15 +393,9 @@ def inp_text(mesh: VolumeMesh, name: str = "camgen") -> str:
     field width CalculiX reads a coordinate with.  Add material, section, steps and loads in
     the analysis deck (``*INCLUDE, INPUT=<cam>.inp``).
     """
-    import io
-
-    body = io.StringIO()
     ids = np.arange(1, len(mesh.nodes) + 1)
-    np.savetxt(body, np.column_stack([ids, _numbers(mesh.nodes)]), fmt=["%d", "%.14g", "%.14g", "%.14g"], delimiter=", ")
-    nodes = body.getvalue()
-    body = io.StringIO()
-    np.savetxt(body, np.column_stack([np.arange(1, len(mesh.wedges) + 1), mesh.wedges + 1]), fmt="%d", delimiter=", ")
-    elements = body.getvalue()
+    nodes = format_rows(np.column_stack([ids, _numbers(mesh.nodes)]), "%d, %.14g, %.14g, %.14g")
+    elements = format_rows(np.column_stack([np.arange(1, len(mesh.wedges) + 1), mesh.wedges + 1]), ", ".join(["%d"] * 7))
     parts = [
         "*HEADING\n",
         f"camgen cam '{name}': {len(mesh.wedges)} C3D6 wedges in {mesh.layers} layers through {mesh.thickness:g} mm; units mm\n",
@@ -422,22 +413,17 @@ def inp_text(mesh: VolumeMesh, name: str = "camgen") -> str:
 def msh_text(mesh: VolumeMesh, name: str = "camgen") -> str:
     """Gmsh MSH 2.2 (ASCII) of the wedges: element type 6 (6-node prism), physical volume 1
     named after the cam; coordinates with 17 significant digits (exact round trip)."""
-    import io
-
-    body = io.StringIO()
-    np.savetxt(body, np.column_stack([np.arange(1, len(mesh.nodes) + 1), _numbers(mesh.nodes)]), fmt=["%d", "%.17g", "%.17g", "%.17g"], delimiter=" ")
-    nodes = body.getvalue()
-    body = io.StringIO()
+    nodes = format_rows(np.column_stack([np.arange(1, len(mesh.nodes) + 1), _numbers(mesh.nodes)]), "%d %.17g %.17g %.17g")
     m = len(mesh.wedges)
     # id, type 6 (prism), 2 tags (physical 1, elementary 1), six nodes
     rows = np.column_stack([np.arange(1, m + 1), np.full(m, 6), np.full(m, 2), np.ones(m, int), np.ones(m, int), mesh.wedges + 1])
-    np.savetxt(body, rows, fmt="%d", delimiter=" ")
+    elements = format_rows(rows, " ".join(["%d"] * rows.shape[1]))
     label = name.replace('"', "'")
     return (
         "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
         f'$PhysicalNames\n1\n3 1 "{label}"\n$EndPhysicalNames\n'
         f"$Nodes\n{len(mesh.nodes)}\n{nodes}$EndNodes\n"
-        f"$Elements\n{m}\n{body.getvalue()}$EndElements\n"
+        f"$Elements\n{m}\n{elements}$EndElements\n"
     )
 
 
@@ -474,16 +460,14 @@ def three_mf(solid: CamSolid, name: str = "camgen") -> bytes:
     import zipfile
     from xml.sax.saxutils import quoteattr
 
-    vertices = io.StringIO()
-    np.savetxt(vertices, solid.vertices + 0.0, fmt='<vertex x="%.15g" y="%.15g" z="%.15g"/>')
-    triangles = io.StringIO()
-    np.savetxt(triangles, solid.triangles, fmt='<triangle v1="%d" v2="%d" v3="%d"/>')
+    vertices = format_rows(solid.vertices + 0.0, '<vertex x="%.15g" y="%.15g" z="%.15g"/>')
+    triangles = format_rows(solid.triangles, '<triangle v1="%d" v2="%d" v3="%d"/>')
     model = (
         '<?xml version="1.0" encoding="UTF-8"?>\n'
         '<model unit="millimeter" xml:lang="en-US" xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02">\n'
         f'<metadata name="Title">{quoteattr(name)[1:-1]}</metadata>\n<metadata name="Application">camgen</metadata>\n'
-        f'<resources>\n<object id="1" type="model" name={quoteattr(name)}>\n<mesh>\n<vertices>\n{vertices.getvalue()}</vertices>\n'
-        f"<triangles>\n{triangles.getvalue()}</triangles>\n</mesh>\n</object>\n</resources>\n"
+        f'<resources>\n<object id="1" type="model" name={quoteattr(name)}>\n<mesh>\n<vertices>\n{vertices}</vertices>\n'
+        f"<triangles>\n{triangles}</triangles>\n</mesh>\n</object>\n</resources>\n"
         '<build>\n<item objectid="1"/>\n</build>\n</model>\n'
     )
     out = io.BytesIO()

@@ -2,7 +2,6 @@
 row, then the rows; plain decimal numbers, '\\n' line ends, deterministic."""
 from __future__ import annotations
 
-import io
 from typing import Mapping, Sequence
 
 import numpy as np
@@ -19,6 +18,16 @@ def csv_table(comments: Sequence[str], columns: Mapping[str, np.ndarray], decima
         from camgen.errors import ExportError
 
         raise ExportError(f"table with columns {list(columns)} holds non-finite values")
-    body = io.StringIO()
-    np.savetxt(body, np.round(data, decimals) + 0.0, fmt=f"%.{decimals}f", delimiter=",")
-    return head + body.getvalue()
+    return head + format_rows(np.round(data, decimals) + 0.0, ",".join([f"%.{decimals}f"] * data.shape[1]))
+
+
+def format_rows(rows: np.ndarray, row_format: str) -> str:
+    """Text of ``rows`` (n, k), each formatted by the printf-style ``row_format`` (k conversions)
+    and ended by '\\n': the same text as ``numpy.savetxt``, formatted in one operation instead of
+    one Python call per row."""
+    rows = np.asarray(rows)
+    if rows.ndim == 1:
+        rows = rows[:, None]
+    if rows.shape[0] == 0:
+        return ""
+    return ((row_format + "\n") * rows.shape[0]) % tuple(rows.ravel().tolist())
