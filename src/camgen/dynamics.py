@@ -268,6 +268,10 @@ class Kinematics:
         an oscillating arm.  Used for the weight only.  Default pi/2 (+y).
     pressure_angle_2, rho_cam_2, follower_radius_2 : the second contact of a form-closed
         train (the one pushing towards -s): yoke face or conjugate roller.
+    lever : mm, oscillating followers whose pressure angle refers to a point that moves along
+        the arm: the distance from the pivot to that point at each cam angle, an array (N,)
+        (an oscillating flat face: pivot to contact point, so that ``lever cos(phi)`` is the
+        moment arm of the contact normal about the pivot).  None: the train's ``arm_length``.
     """
 
     theta: np.ndarray
@@ -281,6 +285,7 @@ class Kinematics:
     pressure_angle_2: np.ndarray | None = None
     rho_cam_2: np.ndarray | None = None
     follower_radius_2: float | None = None
+    lever: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         theta = _array("theta", self.theta, None)
@@ -321,6 +326,11 @@ class Kinematics:
             require_finite("direction", float(self.direction))
         else:
             object.__setattr__(self, "direction", _array("direction", self.direction, n))
+        if self.lever is not None:
+            lever = _array("lever", self.lever, n)
+            if not np.all(lever > 0):
+                raise ParameterError("lever", f"{float(np.min(lever)):g} mm", "lever > 0 mm at every cam angle")
+            object.__setattr__(self, "lever", lever)
 
 
 # --------------------------------------------------------------------------------------------
@@ -333,9 +343,12 @@ def _rpm_to_omega(rpm: float) -> float:
     return rpm * RPM_TO_RAD_PER_S
 
 
-def _lever(train: FollowerTrain) -> float:
-    """mm per unit of the follower coordinate: 1 (translating, Q in N) or the arm (Q in N*mm)."""
-    return 1.0 if train.motion == "translating" else float(train.arm_length)
+def _lever(train: FollowerTrain, kin: Kinematics | None = None) -> float | np.ndarray:
+    """mm per unit of the follower coordinate: 1 (translating, Q in N) or the arm (Q in N*mm):
+    ``kin.lever`` where the kinematics give it per cam angle, else the train's arm length."""
+    if train.motion == "translating":
+        return 1.0
+    return kin.lever if kin is not None and kin.lever is not None else float(train.arm_length)
 
 
 def force_coefficients(kin: Kinematics, train: FollowerTrain) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -360,7 +373,7 @@ def force_coefficients(kin: Kinematics, train: FollowerTrain) -> tuple[np.ndarra
 def _contact_projection(kin: Kinematics, train: FollowerTrain, second: bool = False) -> np.ndarray:
     """``lever * cos(phi)``: the generalised force per newton along the contact normal."""
     phi = kin.pressure_angle_2 if second else kin.pressure_angle
-    return _lever(train) * np.cos(phi)
+    return _lever(train, kin) * np.cos(phi)
 
 
 def smallest_positive_root(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
@@ -396,6 +409,25 @@ def jump_speed(kin: Kinematics, train: FollowerTrain, margin: float = 0.0) -> fl
         return 0.0
     w = float(np.min(smallest_positive_root(a, b, c)))
     return w / RPM_TO_RAD_PER_S if math.isfinite(w) else math.inf
+
+
+def min_contact_force(kin: Kinematics, train: FollowerTrain, rpm: np.ndarray) -> np.ndarray:
+    """Smallest contact force over the turn (N) at each cam speed of ``rpm`` (rev/min, >= 0), shape of ``rpm``.
+
+    The force at every cam angle is ``(A + B w + C w^2) / (lever cos phi)``
+    (:func:`force_coefficients`); this is its minimum over the samples, for the report's plot
+    of the jump margin against speed (it reaches the margin at :func:`jump_speed`).  Force
+    closure only (a form-closed train does not jump).
+    """
+    if train.closure == "form":
+        raise ParameterError("closure", train.closure, '"force" (a form-closed train has no jump margin)')
+    rpm = np.asarray(rpm, dtype=float)
+    if not (np.all(np.isfinite(rpm)) and np.all(rpm >= 0)):
+        raise ParameterError("rpm", "a speed array", "finite speeds >= 0 rpm")
+    a, b, c = force_coefficients(kin, train)
+    w = rpm.reshape(-1, 1) * RPM_TO_RAD_PER_S
+    q = a + b * w + c * w**2  # (R, N)
+    return np.min(q / _contact_projection(kin, train), axis=1).reshape(rpm.shape)
 
 
 def hertz_line_stress(force: np.ndarray | float, rho_cam: np.ndarray | float, rho_follower: float,
@@ -629,7 +661,7 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
         force_1 = np.maximum(q, 0.0) / projection
         force_2 = np.maximum(-q, 0.0) / _contact_projection(kin, train, second=True)
         # the follower-direction component carried by whichever contact is loaded (signed: + pushes along +s)
-        along = q / _lever(train)
+        along = q / _lever(train, kin)
         side = force_1 * np.sin(kin.pressure_angle) - force_2 * np.sin(kin.pressure_angle_2)
     else:
         force_1 = q / projection

@@ -180,6 +180,11 @@ def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> RunResul
         cam = get_kind(spec.kind).build(spec, plan.stages)
         progress(f"checking cam '{spec.name}'")
         with_cam(f"cams.{spec.name}", lambda: check_cam(cam, spec, tool_radius, tool_is_limit))
+        if spec.dynamics is not None:  # forces, jump, torque, contact stress: checks like the geometric ones
+            from camgen.kinds.dynamics import run_dynamics
+
+            progress(f"dynamics of cam '{spec.name}'")
+            with_cam(f"cams.{spec.name}", lambda: run_dynamics(cam, spec, plan.stages))
         cams.append(cam)
     by_name = {c.name: c for c in cams}
     result = RunResult(scene, plan, cams)

@@ -331,13 +331,31 @@ def check_keys(where: str, table: Mapping[str, Any], keys: Sequence[Key]) -> Non
         raise SceneError(f"[{where}]: missing key(s) {', '.join(map(repr, missing))}")
 
 
-def parse_table(where: str, table: object, keys: Sequence[Key]) -> dict[str, Any]:
+class Parsed(dict):
+    """What :func:`parse_table` returns: ``{field: value}`` in internal units, and ``given``: the
+    scene names of the keys the table itself gave (a default filled in is not given), for
+    keys refused unless another is given (e.g. the dynamics keys without a mass)."""
+
+    given: frozenset[str] = frozenset()
+
+
+def given_keys(parsed: Mapping[str, Any], keys: Sequence[Key]) -> frozenset[str]:
+    """The scene names of ``keys`` given in ``parsed`` (a :class:`Parsed`; for a plain mapping,
+    the keys whose fields are present)."""
+    if isinstance(parsed, Parsed):
+        return parsed.given
+    return frozenset(k.name for k in keys if k.field in parsed)
+
+
+def parse_table(where: str, table: object, keys: Sequence[Key]) -> Parsed:
     """Validate ``table`` against ``keys``; return ``{field: value}`` in internal units, the
-    defaults filled in (keys without a default and not given are absent)."""
+    defaults filled in (keys without a default and not given are absent), as a :class:`Parsed`
+    that knows which keys were given."""
     if not isinstance(table, dict):
         raise SceneError(f"[{where}] must be a table, not {type(table).__name__}")
     check_keys(where, table, keys)
-    out: dict[str, Any] = {}
+    out = Parsed()
+    out.given = frozenset(k.name for k in keys if k.name in table)
     for key in keys:
         if key.name in table:
             out[key.field] = key.type.parse(f"{where}.{key.name}", table[key.name])

@@ -69,6 +69,7 @@ class CamSpec:
     body: "BodySpec"
     checks: CheckSettings
     follower: "Follower | None" = None
+    dynamics: Any = None  # camgen.kinds.dynamics.DynamicsSpec: the follower train, when the scene gives one
 
 
 @dataclass
@@ -96,6 +97,7 @@ class BuiltCam:
     withheld: list[str] = field(default_factory=list)  # manufacturing files not written
     zero_mark: ZeroMark | None = None  # cam angle 0 and the rotation sense (kinds that know them)
     rpm: float | None = None  # the cam speed of the motion figures (set by the pipeline from the scene)
+    dynamics: Any = None  # camgen.kinds.dynamics.DynamicsOutcome: forces, torque, stress at rpm (scenes with a follower train)
 
     @property
     def manufacturable(self) -> bool:
@@ -120,6 +122,9 @@ class CamKind:
     evaluate : ``(cam, spec, tool_radius, tool_is_limit) -> CamEvaluation``: the kind's own design
         checks (e.g. closed-form kinematics of its follower); None: the generic checks of the
         contour with ``spec.follower`` (:func:`camgen.checks.evaluate_cam`).
+    follower_dynamics : ``(cam, spec) -> (camgen.dynamics.Kinematics, arm_length_mm)``: the
+        follower's kinematics and contact geometry for the dynamics stage
+        (:mod:`camgen.kinds.dynamics`); None: the kind has no dynamics keys.
     """
 
     name: str
@@ -129,6 +134,7 @@ class CamKind:
     build: Callable[[CamSpec, frozenset[str]], BuiltCam]
     report_section: str = ""
     evaluate: "Callable[[BuiltCam, CamSpec, float, bool], CamEvaluation] | None" = None
+    follower_dynamics: "Callable[[BuiltCam, CamSpec], tuple[Any, float]] | None" = None
 
 
 # --------------------------------------------------------------------------------------------

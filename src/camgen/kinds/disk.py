@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
@@ -183,12 +184,17 @@ def read_follower(where: str, parsed: Mapping[str, Any]) -> tuple["FollowerSpec"
 
 
 def disk_spec(where: str, name: str, kind: str, parsed: Mapping[str, Any], law: Any, follower: "FollowerSpec", sizing: str,
-              law_figures: Mapping[str, Any]) -> CamSpec:
-    """The :class:`CamSpec` of a disk cam (no generic follower model: the kind checks its own)."""
+              law_figures: Mapping[str, Any], base_dir: Path | None = None) -> CamSpec:
+    """The :class:`CamSpec` of a disk cam (no generic follower model: the kind checks its own),
+    with its follower train when the table gives one (:mod:`camgen.kinds.dynamics`)."""
     from camgen.kinds.base import read_body, read_checks
+    from camgen.kinds.dynamics import read_dynamics
 
     params = DiskParams(law, follower, sizing, parsed["fit_tol"], parsed.get("face_half_length"), dict(law_figures), parsed.get("source"))
-    return CamSpec(name, kind, params, read_body(where, parsed), read_checks(parsed), None)
+    body, checks = read_body(where, parsed), read_checks(parsed)
+    dynamics = read_dynamics(where, parsed, motion=follower.motion, follower=follower.kind, rpm=checks.rpm, thickness=body.thickness,
+                             base_dir=base_dir)
+    return CamSpec(name, kind, params, body, checks, None, dynamics)
 
 
 def pressure_limit(spec: CamSpec) -> float:

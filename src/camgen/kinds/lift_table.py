@@ -14,13 +14,14 @@ from typing import Any
 from camgen.errors import ParameterError
 from camgen.kinds.base import CamKind, CamSpec, body_keys, check_keys, source_key
 from camgen.kinds.disk import build_disk, disk_spec, evaluate_disk, follower_keys, read_follower
+from camgen.kinds.dynamics import disk_kinematics, dynamics_keys
 from camgen.schema import REQUIRED, Key, Text
 
 KEYS = (
     Key("lift_table_csv", Text(), "CSV file of rows 'angle_deg, lift' (cam angle in deg; lift in mm, or deg of swing for an "
         "oscillating follower), relative to the scene file; one turn, closed automatically; '#' comments and a header row allowed.",
         ("profile",), default=REQUIRED),
-) + follower_keys() + (source_key(),) + body_keys() + check_keys()
+) + follower_keys() + (source_key(),) + body_keys() + check_keys() + dynamics_keys()
 
 
 def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = None) -> CamSpec:
@@ -36,7 +37,7 @@ def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = 
     except ParameterError as exc:
         raise ParameterError(f"{where}.{exc.name}", exc.value, exc.valid, exc.why) from None
     figures = {"lift_table_csv": parsed["lift_table_csv"], "table_rows": int(table.angles.size), "table_spline_degree": table.degree}
-    return disk_spec(where, name, "lift_table", parsed, table, follower, sizing, figures)
+    return disk_spec(where, name, "lift_table", parsed, table, follower, sizing, figures, base_dir)
 
 
 KIND = CamKind(
@@ -47,4 +48,5 @@ KIND = CamKind(
     read=read,
     build=build_disk,
     evaluate=evaluate_disk,
+    follower_dynamics=disk_kinematics,
 )

@@ -17,6 +17,7 @@ from typing import Any
 from camgen.errors import ParameterError
 from camgen.kinds.base import CamKind, CamSpec, body_keys, check_keys, source_key
 from camgen.kinds.disk import build_disk, disk_spec, evaluate_disk, follower_keys, read_follower
+from camgen.kinds.dynamics import disk_kinematics, dynamics_keys
 from camgen.schema import REQUIRED, Angle, Choice, Key, Number, NumberList, TableList
 
 #: Law names scene files may use (camgen.synthesis.laws.LAWS, kept here so reading the key
@@ -59,7 +60,7 @@ KEYS = (
     Key("segments", TableList(SEGMENT_KEYS, what="[[segments]] tables"),
         "The motion program: [[cams.<name>.segments]] tables in order from cam angle 0; spans add up to 360 deg and the "
         "follower returns to where it started.", ("profile",), default=REQUIRED),
-) + follower_keys() + (source_key(),) + body_keys() + check_keys()
+) + follower_keys() + (source_key(),) + body_keys() + check_keys() + dynamics_keys()
 
 
 def _per_rad(values: tuple[float, ...], oscillating: bool) -> tuple[float, ...]:
@@ -137,7 +138,7 @@ def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = 
                     f"the velocity jumps by {join.jumps[0]:.6g} {program.unit}/rad there: a {follower.kind} follower cannot follow the "
                     "corner this makes in its path; blend it (constant_velocity with blend > 0) or use a knife follower")
     figures = {"segments": _segment_figures(parsed["segments"], follower.motion == "oscillating")}
-    return disk_spec(where, name, "motion_law", parsed, program, follower, sizing, figures)
+    return disk_spec(where, name, "motion_law", parsed, program, follower, sizing, figures, base_dir)
 
 
 KIND = CamKind(
@@ -148,4 +149,5 @@ KIND = CamKind(
     read=read,
     build=build_disk,
     evaluate=evaluate_disk,
+    follower_dynamics=disk_kinematics,
 )

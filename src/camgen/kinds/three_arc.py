@@ -23,6 +23,7 @@ from camgen.kinds.base import (
     rename_errors,
     source_key,
 )
+from camgen.kinds.dynamics import dynamics_keys, read_dynamics, three_arc_kinematics
 from camgen.schema import REQUIRED, Angle, Choice, Key, Length
 
 
@@ -65,7 +66,7 @@ _FOLLOWER = (
         ("report",), requires={"follower": ("flat", "yoke")}),
 )
 
-KEYS = _PARAMS + body_keys() + _FOLLOWER + check_keys()
+KEYS = _PARAMS + body_keys() + _FOLLOWER + check_keys() + dynamics_keys(oscillating=False)  # yoke and flat face: translating
 
 
 def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = None) -> CamSpec:
@@ -87,7 +88,14 @@ def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = 
         face_half_length=parsed.get("face_half_length"),
         pressure_angle_limit=checks.pressure_angle_limit,
     ), KEYS)
-    return CamSpec(name, "three_arc", ThreeArcParams(a, b, c, parsed.get("source")), read_body(where, parsed), checks, follower)
+    body = read_body(where, parsed)
+    # a roller's kinematics on this cam are sampled from the contour, not closed-form: no dynamics for it
+    dynamics = read_dynamics(where, parsed, motion=follower.motion, follower=follower.kind, rpm=checks.rpm, thickness=body.thickness,
+                             base_dir=base_dir, unavailable=(
+                                 "the follower dynamics of a three_arc cam are computed for its yoke or a flat face (their motion "
+                                 "follows exactly from the arcs' support function); a roller's is not available here"
+                                 if follower.kind == "roller" else None))
+    return CamSpec(name, "three_arc", ThreeArcParams(a, b, c, parsed.get("source")), body, checks, follower, dynamics)
 
 
 def build(spec: CamSpec, stages: frozenset[str]) -> BuiltCam:
@@ -124,4 +132,5 @@ KIND = CamKind(
     keys=KEYS,
     read=read,
     build=build,
+    follower_dynamics=three_arc_kinematics,
 )

@@ -5,7 +5,7 @@ Layout (:data:`REPORT_SCHEMA`)::
     {"scene": str, "camgen_version": str, "source_file": str, "chord_tol_mm": float,
      "status": "pass" | "fail", "stages": [str, ...], "files": [str, ...],
      "cams": {name: {"kind": str, "manufacturable": bool, "withheld_files": [str, ...],
-              "figures": {...},
+              "figures": {..., "dynamics": {...}},
               "checks": [{"name", "status": "pass" | "fail" | "info", "value", "limit",
                           "comparison", "unit", "where_deg", "note", "blocks_manufacture"}, ...]}},
      "mechanisms": {...}}
@@ -14,6 +14,14 @@ A check passes when ``value comparison limit`` holds (``"<="``, ``"<"``, ``">="`
 ``"at least"`` for continuity levels); ``"info"`` checks have no limit and never pass or fail.
 ``status`` is "fail" when any check failed (the run's exit status is then 1).  Keys carry
 their unit (``_mm``, ``_deg``, ``_mm2``, ``_s``); numbers are finite.
+
+``figures.dynamics`` (cams with a follower train, :mod:`camgen.kinds.dynamics`): the cam speed,
+the smallest and largest contact force (N) and where, the camshaft torque's peak and RMS (N*m)
+and where it peaks, the power's peak, RMS and mean (W), the work per turn (J); force-closed
+trains: the jump speed (rpm, null: never), the jump margin (N), the cam-angle ranges where the
+follower leaves the cam, the smallest preload and spring rate that keep the margin at this
+speed (translating N and N/mm, oscillating N*mm and N*mm/rad); form-closed ones (a yoke): the
+largest force on each face; with a contact material: the peak Hertz stress (MPa) and where.
 """
 from __future__ import annotations
 
@@ -48,6 +56,27 @@ _CHECK = {
     "else": {"properties": {"limit": {"type": ["number", "string"]}, "comparison": {"enum": ["<=", "<", ">=", ">", "at least"]}}},
 }
 _NUMBERS = {"type": "object", "additionalProperties": {"type": ["number", "string", "boolean", "array", "object"]}}
+_ANGLE = {"type": "number", "minimum": 0, "maximum": 360}
+_DYNAMICS = {
+    "type": "object",
+    "required": ["closure", "follower_motion", "rpm", "min_contact_force_N", "max_contact_force_N", "max_contact_force_deg",
+                 "torque_peak_Nm", "torque_rms_Nm", "torque_peak_deg", "power_peak_W", "power_rms_W", "mean_power_W",
+                 "energy_per_turn_J"],
+    "properties": {
+        "closure": {"enum": ["force", "form"]},
+        "follower_motion": {"enum": ["translating", "oscillating"]},
+        "rpm": {"type": "number", "exclusiveMinimum": 0},
+        "jump_rpm": {"type": ["number", "null"], "minimum": 0},
+        "jump_ranges_deg": {"type": "array", "items": _ANGLE},
+        "max_contact_force_deg": _ANGLE, "min_contact_force_deg": _ANGLE, "torque_peak_deg": _ANGLE, "hertz_stress_peak_deg": _ANGLE,
+        "hertz_stress_peak_MPa": {"type": "number", "minimum": 0},
+    },
+    "additionalProperties": {"type": ["number", "string", "null", "array"]},
+    # a spring-loaded train states its jump speed and the spring that keeps the margin; a yoke its two faces' forces
+    "if": {"properties": {"closure": {"const": "force"}}},
+    "then": {"required": ["jump_rpm", "jump_margin_N", "jump_ranges_deg"]},
+    "else": {"required": ["max_contact_force_1_N", "max_contact_force_2_N"]},
+}
 
 #: The documented layout of report.json, as a JSON Schema (draft 2020-12).
 REPORT_SCHEMA = {
@@ -71,7 +100,7 @@ REPORT_SCHEMA = {
                     "kind": {"type": "string"},
                     "manufacturable": {"type": "boolean"},
                     "withheld_files": {"type": "array", "items": {"type": "string"}},
-                    "figures": _NUMBERS,
+                    "figures": {**_NUMBERS, "properties": {"dynamics": _DYNAMICS}},
                     "checks": {"type": "array", "items": _CHECK},
                 },
                 "additionalProperties": False,

@@ -289,6 +289,10 @@ def report_html(result: "RunResult") -> str:
                 parts.append(f"<div class='fig'>{_motion_figure(Figure, cam)}</div>")
             if cam.evaluation.animation is not None:
                 parts.append(_animation(cam))
+        if getattr(cam, "dynamics", None) is not None:
+            from camgen.report.dynamics import dynamics_section
+
+            parts.append(dynamics_section(Figure, cam))
         parts.append("<h3>Checks</h3>" + _checks_table(cam.checks))
         parts.append("<h3>Figures</h3>" + _figures_table(cam.figures))
         kind_section = get_kind(cam.kind).report_section

@@ -441,3 +441,38 @@ def test_bad_kinematics_and_speed_are_refused():
         dy.analyse(_kin(program), dy.FollowerTrain(), 0.0)
     with pytest.raises(ParameterError, match="second contact"):
         dy.analyse(_kin(program), dy.FollowerTrain(closure="form"), 100.0)
+
+
+def test_smallest_force_against_speed_reaches_zero_at_the_jump_speed():
+    """min_contact_force is the smallest force of the analysis at each speed: the harmonic
+    program's closed-form jump speed (above) is where it reaches 0."""
+    rise, ret, h_mm = D(120), D(90), 8.0
+    m, k, f0 = 0.6, 1.5, 15.0
+    kin = _kin(_program("harmonic", rise, h_mm, D(60), ret), phi=np.full(N_SAMPLES, D(25)))
+    train = dy.FollowerTrain(mass=m, spring_rate=k, preload=f0, gravity=0.0)
+    h = h_mm / 1000
+    jump = ret * math.sqrt(2 * (k * 1000 * h + f0) / (math.pi**2 * m * h)) * 60 / (2 * math.pi)
+    rpm = np.array([0.0, 100.0, 0.5 * jump, jump, 1.2 * jump])
+    smallest = dy.min_contact_force(kin, train, rpm)
+    assert smallest[3] == pytest.approx(0.0, abs=1e-9 * f0)
+    assert smallest[0] == pytest.approx(f0 / math.cos(D(25)), rel=1e-12)  # at rest: the preload at the dwell
+    for r, value in zip(rpm[1:], smallest[1:]):
+        assert value == pytest.approx(dy.analyse(kin, train, float(r)).min_contact_force, rel=1e-12, abs=1e-12)
+    with pytest.raises(ParameterError):
+        dy.min_contact_force(kin, dy.FollowerTrain(closure="form"), rpm)
+
+
+def test_a_per_sample_lever_replaces_the_arm_length():
+    """An oscillating follower whose pressure angle refers to a point moving along the arm (a flat
+    face's contact) gives its distance from the pivot per sample: a constant lever L is an arm of L."""
+    program = _program("harmonic", D(90), 0.2, D(90), D(90))
+    s, ds, d2s, _ = program(THETA)
+    phi = 0.2 * np.cos(THETA)
+    args = (THETA, s, ds, d2s, phi, np.full_like(THETA, 40.0), math.inf)
+    train = dy.FollowerTrain(motion="oscillating", inertia=2e-3, arm_length=60.0, spring_rate=4000.0, preload=2000.0, gravity=0.0)
+    as_arm = dy.analyse(dy.Kinematics(*args), train, 300.0)
+    as_lever = dy.analyse(dy.Kinematics(*args, lever=np.full_like(THETA, 60.0)), dy.FollowerTrain(
+        motion="oscillating", inertia=2e-3, arm_length=1.0, spring_rate=4000.0, preload=2000.0, gravity=0.0), 300.0)
+    assert np.array_equal(as_arm.contact_force, as_lever.contact_force) and as_arm.jump_rpm == as_lever.jump_rpm
+    with pytest.raises(ParameterError, match="lever"):
+        dy.Kinematics(*args, lever=np.zeros_like(THETA))

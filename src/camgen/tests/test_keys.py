@@ -82,9 +82,36 @@ OSCILLATING = {**ROLLER, "follower_motion": "oscillating", "pivot_distance_mm": 
 TRAJECTORY = {"kind": "trajectory", "expression": "202.4396*sin(pi*x/1000)", "period_mm": 2000.0, "samples": 180,
               "bore_diameter_mm": 8.0, "thickness_mm": 8.0}
 
+#: the yoke's dynamics (form closure) and a spring-loaded flat face's, on the three-arc cam
+YOKE_DYNAMICS = {"rpm": 30.0, "mass_kg": 20.0}
+FLAT_DYNAMICS = {"follower": "flat", "rpm": 30.0, "mass_kg": 20.0, "spring_rate_n_per_mm": 1.0, "spring_preload_n": 100.0}
+VERTICAL_YOKE = {**YOKE_DYNAMICS, "follower_direction_deg": 90.0}  # its weight loads the faces
+SPRING_LENGTHS = {**FLAT_DYNAMICS, "spring_preload_n": None, "spring_free_length_mm": 150.0, "spring_installed_length_mm": 50.0}
+DYNAMICS_WALK = {
+    "mass_kg": (YOKE_DYNAMICS, {"mass_kg": 25.0}),
+    "spring_rate_n_per_mm": (FLAT_DYNAMICS, {"spring_rate_n_per_mm": 1.5}),
+    "spring_preload_n": (FLAT_DYNAMICS, {"spring_preload_n": 120.0}),
+    "spring_free_length_mm": (SPRING_LENGTHS, {"spring_free_length_mm": 160.0}),
+    "spring_installed_length_mm": (SPRING_LENGTHS, {"spring_installed_length_mm": 40.0}),
+    "damping_n_s_per_m": (YOKE_DYNAMICS, {"damping_n_s_per_m": 50.0}),
+    "external_load_n": (YOKE_DYNAMICS, {"external_load_n": 10.0}),
+    "external_load_csv": ({**YOKE_DYNAMICS, "external_load_csv": "load_a.csv"}, {"external_load_csv": "load_b.csv"}),
+    "gravity": (VERTICAL_YOKE, {"gravity": False}),
+    "gravity_deg": (VERTICAL_YOKE, {"gravity_deg": -80.0}),
+    "contact_width_mm": (YOKE_DYNAMICS, {"contact_width_mm": 15.0}),
+    "cam_modulus_gpa": (YOKE_DYNAMICS, {"cam_modulus_gpa": 200.0}),
+    "cam_poisson": (YOKE_DYNAMICS, {"cam_poisson": 0.28}),
+    "follower_modulus_gpa": (YOKE_DYNAMICS, {"follower_modulus_gpa": 200.0}),
+    "follower_poisson": (YOKE_DYNAMICS, {"follower_poisson": 0.28}),
+    "allowable_contact_stress_mpa": (YOKE_DYNAMICS, {"allowable_contact_stress_mpa": 10.0}),
+    "jump_margin_n": (FLAT_DYNAMICS, {"jump_margin_n": 5.0}),
+    "torque_limit_n_m": (YOKE_DYNAMICS, {"torque_limit_n_m": 1.0}),
+}
+
 #: key -> (changes to the base, changes for the altered run), where a generic change does not fit
 OVERRIDES: dict[str, dict[str, tuple[dict, dict]]] = {
     "three_arc": {
+        **DYNAMICS_WALK,
         "follower": ({}, ROLLER),
         "follower_motion": (ROLLER, OSCILLATING),
         "pivot_angle_deg": (OSCILLATING, {"pivot_angle_deg": 20.0}),
@@ -167,6 +194,9 @@ def test_every_cam_key_changes_what_it_documents(kind_name, key_name, tmp_path):
     base_cam = {"three_arc": THREE_ARC, "trajectory": TRAJECTORY}[kind_name]
     if kind_name == "trajectory" and key_name == "trajectory_csv":
         _write_tables(tmp_path)
+    if key_name == "external_load_csv":  # two load tables over cam angle (N)
+        for name, load in (("load_a.csv", 10.0), ("load_b.csv", 12.0)):
+            (tmp_path / name).write_text("cam_angle_deg,load_n\n0,0\n180," + str(load) + "\n")
     base_changes, alt_changes = OVERRIDES.get(kind_name, {}).get(key_name, ({}, None))
     base = _apply(base_cam, base_changes)
     if alt_changes is None:

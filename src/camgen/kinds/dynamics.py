@@ -1,0 +1,412 @@
+"""Cam-follower dynamics at scene level: the keys, reading them, and the stage that runs them.
+
+The keys (:func:`dynamics_keys`, shared by the disk kinds and ``three_arc``) describe the
+follower train in SI-friendly units: a translating follower in kg, N/mm, N, N*s/m; an
+oscillating arm in kg*m^2, N*mm/rad, N*mm, N*m*s/rad (about its pivot); the contact's materials
+in GPa; the limits in N, MPa, N*m.  The dynamics run when the cam gives its speed (``rpm``) and
+the moving mass (``mass_kg``, translating) or the arm's moment of inertia (``inertia_kg_m2``,
+oscillating); any other dynamics key without them is refused naming the missing key, and a key
+that does not apply to the follower (a torsional spring on a translating follower, a spring on
+a form-closed yoke, a contact stress on a knife edge) is refused saying why.
+
+The stage (:func:`run_dynamics`) takes the follower's kinematics from the kind's own closed
+forms (:attr:`camgen.kinds.base.CamKind.follower_dynamics`: :func:`disk_kinematics`,
+:func:`three_arc_kinematics`), runs :func:`camgen.dynamics.analyse` at the scene's speed and
+adds its checks ("jump", or "contact_force" for a yoke; "hertz_stress"; "camshaft_torque") to
+the cam: a failed one fails the run (exit 1) like every design check, none withholds a file.
+Its figures go to report.json (``figures.dynamics``), its curves to report.html.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Mapping
+
+import numpy as np
+
+from camgen.errors import GeometryError, ParameterError
+from camgen.schema import Angle, Flag, Key, Length, Number, Text, given_keys
+
+if TYPE_CHECKING:
+    from camgen.dynamics import ContactMaterial, DynamicsResult, FollowerTrain, Kinematics
+    from camgen.kinds.base import BuiltCam, CamSpec
+
+_T = {"follower_motion": ("translating",)}
+_O = {"follower_motion": ("oscillating",)}
+_R = ("report",)
+
+#: Samples per turn of a three-arc cam's follower kinematics (0.05 deg, the disk cams' check grid).
+THREE_ARC_SAMPLES = 7200
+#: Points of the report's curve of the smallest contact force against cam speed.
+SPEED_SAMPLES = 241
+#: The speed curve runs to this multiple of the scene's rpm (or a little past the jump speed).
+SPEED_SPAN = 2.0
+#: ... but never beyond this multiple of the scene's rpm (a jump speed far above it is stated in figures).
+SPEED_SPAN_MAX = 20.0
+
+#: Spring keys (refused on a form-closed yoke).
+SPRING_KEYS = ("spring_rate_n_per_mm", "spring_preload_n", "spring_free_length_mm", "spring_installed_length_mm",
+               "spring_rate_n_mm_per_rad", "spring_preload_n_mm")
+#: Contact-stress keys (refused on a knife edge).
+CONTACT_KEYS = ("contact_width_mm", "cam_modulus_gpa", "cam_poisson", "follower_modulus_gpa", "follower_poisson",
+                "allowable_contact_stress_mpa")
+
+
+def dynamics_keys(oscillating: bool = True) -> tuple[Key, ...]:
+    """The keys of the follower train, the contact materials and the dynamic limits;
+    ``oscillating`` False leaves out the keys of an oscillating arm (for kinds whose dynamics
+    are for translating followers only).
+
+    Each is stored under its own name (``spring_rate_n_per_mm``: no unit suffix is stripped,
+    they are part of the name), ``gravity_deg`` in radians under ``gravity_angle``."""
+    return tuple(k if k.attr is not None else replace(k, attr=k.name) for k in _keys()
+                 if oscillating or k.requires.get("follower_motion") != ("oscillating",))
+
+
+def _keys() -> tuple[Key, ...]:
+    return (
+        Key("mass_kg", Number("kg", 0.0, 1e5), "Translating follower: its effective moving mass (follower, roller and about a "
+            "third of the spring), for its inertia and weight; with rpm it turns the dynamics on (contact force, jump, camshaft "
+            "torque, Hertz stress). Oscillating follower: the arm's mass, for its weight only (with cg_distance_mm).", _R,
+            example=0.5),
+        Key("inertia_kg_m2", Number("kg*m^2", 0.0, 1e4), "Oscillating follower: moment of inertia of the arm with its roller "
+            "about the pivot; with rpm it turns the dynamics on.", _R, example=1e-3, requires=_O),
+        Key("cg_distance_mm", Length(-1e5, 1e5, low_open=False), "Oscillating follower with mass_kg: distance from the pivot to "
+            "the arm's centre of mass, along the arm towards the roller (a flat face: perpendicular to the face, from the pivot "
+            "towards the cam; < 0 beyond the pivot), for its weight.", _R, example=30.0, requires=_O),
+        Key("spring_rate_n_per_mm", Number("N/mm", 0.0, 1e7), "Translating follower: rate of the spring pressing it onto the "
+            "cam (default 0).", _R, example=2.0, requires=_T),
+        Key("spring_preload_n", Number("N", 0.0, 1e8), "Translating follower: the spring force with the follower at its lowest "
+            "position (default 0); or give spring_free_length_mm and spring_installed_length_mm.", _R, example=50.0, requires=_T),
+        Key("spring_free_length_mm", Length(), "Translating follower: the spring's free length; with spring_installed_length_mm "
+            "it sets the preload, rate x (free - installed).", _R, example=60.0, requires=_T),
+        Key("spring_installed_length_mm", Length(), "Translating follower: the spring's length with the follower at its lowest "
+            "position (<= spring_free_length_mm).", _R, example=50.0, requires=_T),
+        Key("spring_rate_n_mm_per_rad", Number("N*mm/rad", 0.0, 1e10), "Oscillating follower: rate of the torsional spring "
+            "about the pivot (default 0).", _R, example=5000.0, requires=_O),
+        Key("spring_preload_n_mm", Number("N*mm", 0.0, 1e10), "Oscillating follower: the spring torque about the pivot with the "
+            "arm at its lowest position (default 0).", _R, example=2000.0, requires=_O),
+        Key("damping_n_s_per_m", Number("N*s/m", 0.0, 1e7), "Translating follower: viscous damping of its motion (default 0).",
+            _R, example=20.0, requires=_T),
+        Key("damping_n_m_s_per_rad", Number("N*m*s/rad", 0.0, 1e7), "Oscillating follower: viscous damping of the arm's "
+            "rotation (default 0).", _R, example=0.05, requires=_O),
+        Key("external_load_n", Number("N", -1e8, 1e8), "Translating follower: a constant external load pressing it onto the cam "
+            "(< 0 pulls it off; default 0); or external_load_csv.", _R, example=20.0, requires=_T),
+        Key("external_load_n_mm", Number("N*mm", -1e10, 1e10), "Oscillating follower: a constant external torque about the pivot "
+            "pressing the arm onto the cam (< 0 pulls it off; default 0); or external_load_csv.", _R, example=500.0, requires=_O),
+        Key("external_load_csv", Text(), "CSV file of rows 'cam_angle_deg, load' relative to the scene file: the external load "
+            "pressing the follower onto the cam against cam angle (N; oscillating: N*mm about the pivot), interpolated linearly "
+            "and periodically; cam angles increasing in [0, 360); '#' comments and a header row allowed.", _R),
+        Key("gravity", Flag(), "The follower's weight acts in the plane of the cam, along gravity_deg (false: the cam plane is "
+            "horizontal and the weight does not load the contact).", _R, default=True),
+        Key("gravity_deg", Angle(), "Direction of gravity in the fixed frame, counter-clockwise from +x (-90: down the drawing, "
+            "-y).", _R, default=-90.0, requires={"gravity": (True,)}, attr="gravity_angle"),
+        Key("contact_width_mm", Length(), "Length of the contact line for the Hertz stress: the smaller of the cam's thickness and "
+            "the roller's (or face's) width; default: thickness_mm.", _R, example=8.0),
+        Key("cam_modulus_gpa", Number("GPa", 0.0, 1e4, low_open=True), "Young's modulus of the cam material (steel: 210).", _R,
+            default=210.0),
+        Key("cam_poisson", Number("", -1.0, 0.5, low_open=True, high_open=True), "Poisson's ratio of the cam material (steel: "
+            "0.3).", _R, default=0.3),
+        Key("follower_modulus_gpa", Number("GPa", 0.0, 1e4, low_open=True), "Young's modulus of the follower (roller or face) "
+            "material (steel: 210).", _R, default=210.0),
+        Key("follower_poisson", Number("", -1.0, 0.5, low_open=True, high_open=True), "Poisson's ratio of the follower material "
+            "(steel: 0.3).", _R, default=0.3),
+        Key("allowable_contact_stress_mpa", Number("MPa", 0.0, 1e6, low_open=True), "Allowable Hertz contact stress: the "
+            "hertz_stress check fails above it (left out: the stress is information).", _R, example=1200.0),
+        Key("jump_margin_n", Number("N", 0.0, 1e8), "Smallest contact force the jump check requires at every cam angle (0: the "
+            "follower must only stay on the cam).", _R, default=0.0),
+        Key("torque_limit_n_m", Number("N*m", 0.0, 1e8, low_open=True), "Largest camshaft torque allowed: the camshaft_torque "
+            "check fails above it (left out: the torque is information).", _R, example=5.0),
+    )
+
+
+@dataclass(frozen=True)
+class DynamicsSpec:
+    """The dynamics a scene asks for: the follower train (an oscillating one's arm length is
+    filled in by the stage from the follower geometry), the contact material (None for a knife
+    edge), the jump margin (N), the torque limit (N*m or None) and the keys given."""
+
+    train: "FollowerTrain"
+    material: "ContactMaterial | None"
+    jump_margin: float
+    torque_limit: float | None
+    given: tuple[str, ...]
+
+
+#: FollowerTrain / ContactMaterial parameters -> scene keys (error messages), per follower motion
+_NAMES = {
+    "translating": {"mass": "mass_kg", "spring_rate": "spring_rate_n_per_mm", "preload": "spring_preload_n",
+                    "spring_free_length": "spring_free_length_mm", "spring_installed_length": "spring_installed_length_mm",
+                    "damping": "damping_n_s_per_m", "load": "external_load_n"},
+    "oscillating": {"mass": "mass_kg", "inertia": "inertia_kg_m2", "cg_distance": "cg_distance_mm",
+                    "spring_rate": "spring_rate_n_mm_per_rad", "preload": "spring_preload_n_mm", "damping": "damping_n_m_s_per_rad",
+                    "load": "external_load_n_mm"},
+}
+_MATERIAL_NAMES = {"width": "contact_width_mm", "cam_modulus": "cam_modulus_gpa", "cam_poisson": "cam_poisson",
+                   "follower_modulus": "follower_modulus_gpa", "follower_poisson": "follower_poisson",
+                   "allowable_stress": "allowable_contact_stress_mpa"}
+
+
+def _renamed(where: str, names: Mapping[str, str], make: Any) -> Any:
+    try:
+        return make()
+    except ParameterError as exc:
+        raise ParameterError(f"{where}.{names.get(exc.name, exc.name)}", exc.value, exc.valid, exc.why) from None
+
+
+def read_dynamics(where: str, parsed: Mapping[str, Any], *, motion: str, follower: str, rpm: float | None, thickness: float,
+                  base_dir: Path | None = None, unavailable: str | None = None) -> DynamicsSpec | None:
+    """The dynamics of a cam table, or None when it gives no dynamics key.
+
+    Parameters
+    ----------
+    where : the cam's scene path (``cams.<name>``), for errors.
+    parsed : the parsed table (:class:`camgen.schema.Parsed`: it knows which keys were given).
+    motion : ``"translating"`` or ``"oscillating"``.
+    follower : ``"roller"``, ``"flat"``, ``"knife"`` or ``"yoke"`` (form closure: no spring, no jump).
+    rpm : the cam speed (rev/min) or None.
+    thickness : mm, the cam thickness (the default contact width).
+    base_dir : where ``external_load_csv`` is relative to.
+    unavailable : why this follower has no dynamics (every dynamics key is then refused), or None.
+
+    Raises
+    ------
+    ParameterError
+        Naming the scene key: a dynamics key without ``rpm`` and the mass (inertia), a key that
+        does not apply to the follower, an inconsistent spring or load.
+    """
+    keys = dynamics_keys()
+    by_name = {k.name: k for k in keys}
+    given_set = given_keys(parsed, keys)
+    given = tuple(k.name for k in keys if k.name in given_set)
+    if not given:
+        return None
+
+    def shown(name: str) -> Any:
+        key = by_name[name]
+        return key.type.to_scene(parsed.get(key.field))
+
+    def refuse(name: str, valid: str, why: str) -> None:
+        raise ParameterError(f"{where}.{name}", shown(name), valid, why)
+
+    if unavailable:
+        refuse(given[0], "no dynamics keys for this follower", unavailable)
+    translating = motion == "translating"
+    trigger = "mass_kg" if translating else "inertia_kg_m2"
+    if trigger not in given:
+        what = "moving mass in kg (>= 0)" if translating else "moment of inertia about the pivot in kg*m^2 (>= 0)"
+        raise ParameterError(f"{where}.{trigger}", None, f"the follower's {what}",
+                             f"the dynamics keys given ({', '.join(given)}) need the {'follower' if translating else 'arm'}'s "
+                             f"{'mass' if translating else 'moment of inertia'} (and rpm)")
+    if rpm is None:
+        raise ParameterError(f"{where}.rpm", None, "a cam speed in rev/min (> 0)",
+                             f"the follower dynamics ({trigger} given) are computed at the cam speed")
+    if follower == "yoke":
+        for name in (*SPRING_KEYS, "jump_margin_n"):
+            if name in given:
+                refuse(name, "left out for a yoke follower", "a yoke is form-closed: its second face holds it on the cam, so it "
+                       "has no spring and cannot jump (both contacts are checked instead)")
+    if follower == "knife":
+        for name in CONTACT_KEYS:
+            if name in given:
+                refuse(name, "left out for a knife follower", "a sharp knife edge touches the cam along a line of zero radius: "
+                       "its Hertz contact stress is unbounded (use a roller to have it checked)")
+    lengths = ("spring_free_length_mm", "spring_installed_length_mm")
+    if (lengths[0] in given) != (lengths[1] in given):
+        missing = lengths[1] if lengths[0] in given else lengths[0]
+        raise ParameterError(f"{where}.{missing}", None, "a length in mm",
+                             f"{lengths[0]} and {lengths[1]} are given together (they set the spring preload)")
+    if lengths[0] in given and "spring_preload_n" in given:
+        refuse("spring_preload_n", "left out when the spring lengths are given",
+               "spring_free_length_mm and spring_installed_length_mm set the preload, rate x (free - installed)")
+    if not translating and ("mass_kg" in given) != ("cg_distance_mm" in given):
+        missing = "cg_distance_mm" if "mass_kg" in given else "mass_kg"
+        raise ParameterError(f"{where}.{missing}", None, "a length in mm" if missing == "cg_distance_mm" else "a mass in kg",
+                             "an oscillating arm's weight needs its mass_kg and where its centre of mass is, cg_distance_mm")
+    constant = "external_load_n" if translating else "external_load_n_mm"
+    if constant in given and "external_load_csv" in given:
+        refuse("external_load_csv", f"left out when {constant} is given", f"give one external load: {constant} (constant) or "
+               "external_load_csv (a table over cam angle)")
+
+    from camgen import dynamics as dy
+
+    load: Any = parsed.get(constant, 0.0)
+    if "external_load_csv" in given:
+        load = read_load_table(f"{where}.external_load_csv", parsed["external_load_csv"], base_dir)
+    names = _NAMES[motion]
+    get = parsed.get
+    train = _renamed(where, names, lambda: dy.FollowerTrain(
+        motion=motion, closure="form" if follower == "yoke" else "force", mass=get("mass_kg", 0.0), inertia=get("inertia_kg_m2", 0.0),
+        arm_length=0.0 if translating else 1.0,  # placeholder: the stage sets the arm from the follower geometry
+        cg_distance=get("cg_distance_mm", 0.0), spring_rate=get(names["spring_rate"], 0.0), preload=get(names["preload"]),
+        spring_free_length=get("spring_free_length_mm"), spring_installed_length=get("spring_installed_length_mm"),
+        damping=get(names["damping"], 0.0), load=load, gravity=dy.STANDARD_GRAVITY if parsed.get("gravity", True) else 0.0,
+        gravity_angle=get("gravity_angle", -math.pi / 2)))
+    material = None
+    if follower != "knife":
+        material = _renamed(where, _MATERIAL_NAMES, lambda: dy.ContactMaterial(
+            width=get("contact_width_mm", thickness), cam_modulus=get("cam_modulus_gpa", 210.0), cam_poisson=get("cam_poisson", 0.3),
+            follower_modulus=get("follower_modulus_gpa", 210.0), follower_poisson=get("follower_poisson", 0.3),
+            allowable_stress=get("allowable_contact_stress_mpa")))
+    return DynamicsSpec(train, material, get("jump_margin_n", 0.0), get("torque_limit_n_m"), given)
+
+
+def read_load_table(key: str, name: str, base_dir: Path | None) -> tuple[list[float], list[float]]:
+    """The external-load table of ``name`` (CSV rows 'cam_angle_deg, load'): (angles rad, loads).
+
+    Raises :class:`ParameterError` naming ``key`` (the scene path), the file and the line."""
+    from camgen.synthesis.lift_table import MAX_BYTES, MAX_ROWS, parse_lift_table
+    from camgen.textfile import TextFileError, read_text_file
+
+    path = Path(name)
+    path = path if path.is_absolute() or base_dir is None else base_dir / path
+    try:
+        text = read_text_file(path, MAX_BYTES)
+    except TextFileError as exc:
+        raise ParameterError(key, str(path), f"a readable regular UTF-8 file of at most {MAX_BYTES} bytes", str(exc)) from None
+    if "\x00" in text:
+        raise ParameterError(key, str(path), "text without NUL characters")
+    try:
+        angles, loads, labels = parse_lift_table(text, str(path), MAX_ROWS)
+    except ParameterError as exc:
+        raise ParameterError(key, exc.value, exc.valid.replace("lift", "load"), exc.why) from None
+    if angles.size == 0:
+        raise ParameterError(key, str(path), "at least one row 'cam_angle_deg, load'")
+    bad = np.flatnonzero((angles < 0) | (angles >= 360.0) | np.append(False, np.diff(angles) <= 0))
+    if bad.size:
+        raise ParameterError(key, labels[int(bad[0])], "cam angles strictly increasing in [0, 360) deg")
+    return np.radians(angles).tolist(), loads.tolist()
+
+
+# --------------------------------------------------------------------------------------------
+# The follower kinematics of the kinds (closed forms)
+# --------------------------------------------------------------------------------------------
+def disk_kinematics(cam: "BuiltCam", spec: "CamSpec") -> tuple["Kinematics", float]:
+    """The dynamics kinematics of a disk cam from its closed-form data (the envelope's dense
+    check grid: the law's s, s', s'', the pressure angle, the profile's radius of curvature at
+    the contact) and the arm length (mm) of an oscillating follower (0 translating)."""
+    from camgen import dynamics as dy
+
+    f = cam.spec_follower  # type: ignore[attr-defined]
+    k = cam.envelope.data  # type: ignore[attr-defined]
+    radius = f.roller_radius if f.kind == "roller" else math.inf if f.kind == "flat" else 0.0
+    lever = None
+    if f.motion == "translating":
+        direction: Any = math.pi / 2  # the follower moves along fixed +y
+        arm = 0.0
+    elif f.kind == "flat":
+        # the face normal w (away from the cam) turns by tau per unit swing: the centre of mass, on
+        # the perpendicular from the pivot towards the cam (-w), moves along -tau J w; the pressure angle
+        # arctan(f / xi) refers to the contact point, hypot(xi, f) from the pivot
+        direction = k.arm_angle - f.tau * math.pi / 2
+        lever = np.hypot(k.face_position, f.face_offset)
+        arm = float(np.max(lever))
+    else:
+        direction = k.arm_angle + f.tau * math.pi / 2  # the roller centre moves along tau J u(arm angle)
+        arm = f.arm_length
+    kin = _kinematics(lambda: dy.Kinematics(k.theta, k.s, k.ds, k.d2s, k.pressure_angle, k.profile_radius, radius, direction,
+                                            lever=lever))
+    return kin, arm
+
+
+def three_arc_kinematics(cam: "BuiltCam", spec: "CamSpec", samples: int = THREE_ARC_SAMPLES) -> tuple["Kinematics", float]:
+    """The dynamics kinematics of a three-arc cam's translating flat face or yoke from the
+    contour's support function h (exact on its arcs): with psi = direction - theta the face
+    moves s = h(psi), s' = -h'(psi), s'' = h''(psi), and the cam's radius of curvature at the
+    face's contact is h + h''; a yoke's second face (normal psi + pi) touches where
+    h(psi + pi) + h''(psi + pi) is the radius."""
+    from camgen import dynamics as dy
+
+    follower, contour = cam.follower, cam.contour
+    theta = 2.0 * math.pi * np.arange(samples) / samples
+    psi = follower.direction - theta
+    h, dh, d2h = contour.support_derivatives(psi)
+    zero = np.zeros(samples)
+    second: dict[str, Any] = {}
+    if follower.kind == "yoke":
+        h2, _, d2h2 = contour.support_derivatives(psi + math.pi)
+        second = {"pressure_angle_2": zero, "rho_cam_2": h2 + d2h2, "follower_radius_2": math.inf}
+    return _kinematics(lambda: dy.Kinematics(theta, h, -dh, d2h, zero, h + d2h, math.inf, follower.direction, **second)), 0.0
+
+
+def _kinematics(make: Any) -> "Kinematics":
+    try:
+        return make()
+    except ParameterError as exc:  # valid parameters, geometry the contact cannot drive
+        raise GeometryError(f"the follower dynamics cannot be computed: {exc} (the contact normal passes through the pivot or "
+                            "the contact has a cusp there; change the follower's geometry)") from None
+
+
+# --------------------------------------------------------------------------------------------
+# The stage
+# --------------------------------------------------------------------------------------------
+@dataclass
+class DynamicsOutcome:
+    """What the stage computed for one cam: the result at the scene's speed, the kinematics it
+    used, and (plots stage) the smallest contact force against cam speed (rpm, N)."""
+
+    result: "DynamicsResult"
+    kinematics: "Kinematics"
+    speed_rpm: np.ndarray | None = None
+    speed_min_force: np.ndarray | None = None
+
+
+def run_dynamics(cam: "BuiltCam", spec: "CamSpec", stages: frozenset[str]) -> None:
+    """Run the dynamics of ``spec`` on the built ``cam``: checks, figures and (``plots`` in
+    ``stages``) the report's curves, on ``cam.dynamics``."""
+    from camgen import dynamics as dy
+    from camgen.checks import information
+    from camgen.kinds import get_kind
+
+    dyn: DynamicsSpec | None = getattr(spec, "dynamics", None)
+    if dyn is None:
+        return
+    if cam.contour is None:
+        cam.checks.append(information("dynamics", "not computed", "", [], "the profile cannot be made (see the undercut check): "
+                                      "the contact forces, jump and contact stress are computed for a cam that can be made"))
+        return
+    rpm = spec.checks.rpm
+    kin, arm = get_kind(spec.kind).follower_dynamics(cam, spec)
+    train = replace(dyn.train, arm_length=arm) if dyn.train.motion == "oscillating" else dyn.train
+    result = dy.analyse(kin, train, rpm, dyn.material, jump_margin=dyn.jump_margin, torque_limit=dyn.torque_limit)
+    outcome = DynamicsOutcome(result, kin)
+    if "plots" in stages and train.closure == "force":
+        top = SPEED_SPAN * rpm
+        if math.isfinite(result.jump_rpm) and result.jump_rpm > 0:
+            top = min(max(top, 1.2 * result.jump_rpm), SPEED_SPAN_MAX * rpm)
+        outcome.speed_rpm = np.linspace(0.0, top, SPEED_SAMPLES)
+        outcome.speed_min_force = dy.min_contact_force(kin, train, outcome.speed_rpm)
+    cam.dynamics = outcome
+    cam.checks.extend(result.checks)
+    cam.figures["dynamics"] = dynamics_figures(result, dyn, train)
+
+
+def dynamics_figures(result: "DynamicsResult", dyn: DynamicsSpec, train: "FollowerTrain") -> dict[str, Any]:
+    """report.json's ``figures.dynamics``: :meth:`DynamicsResult.figures` and where the peaks are,
+    the effective spring preload, the contact width, the limits given."""
+    out: dict[str, Any] = {"closure": train.closure, "follower_motion": train.motion}
+    out.update(result.figures())
+    theta = np.degrees(result.theta)
+    force = result.contact_force if result.contact_force_2 is None else np.maximum(result.contact_force, result.contact_force_2)
+    out["max_contact_force_deg"] = round(float(theta[int(np.argmax(force))]), 6)
+    if train.closure == "force":
+        out["min_contact_force_deg"] = round(float(theta[int(np.argmin(result.contact_force))]), 6)
+        unit = "N" if train.motion == "translating" else "Nmm"
+        out[f"spring_preload_{unit}"] = train.spring_preload
+    else:
+        out["max_contact_force_1_N"] = float(np.max(result.contact_force))
+        out["max_contact_force_2_N"] = float(np.max(result.contact_force_2))
+    out["torque_peak_deg"] = round(float(theta[int(np.argmax(np.abs(result.torque)))]), 6)
+    if dyn.torque_limit is not None:
+        out["torque_limit_Nm"] = dyn.torque_limit
+    if result.hertz_peak is not None:
+        stress = result.hertz_stress if result.hertz_stress is not None else np.zeros_like(result.theta)
+        if result.hertz_stress_2 is not None:
+            stress = np.maximum(stress, result.hertz_stress_2)
+        out["hertz_stress_peak_deg"] = round(float(theta[int(np.argmax(stress))]), 6)
+    if dyn.material is not None:
+        out["contact_width_mm"] = dyn.material.width
+        if dyn.material.allowable_stress is not None:
+            out["allowable_contact_stress_MPa"] = dyn.material.allowable_stress
+    return out

@@ -1,0 +1,116 @@
+"""report.html's cam-follower dynamics of one cam: the curves the dynamics stage computed
+(:class:`camgen.kinds.dynamics.DynamicsOutcome`), drawn with :mod:`camgen.report.svgplot`.
+
+Six panels against cam angle at the scene's speed: the contact force (both faces of a yoke)
+with the jump margin; its direction, the pressure angle; the camshaft torque with its limit;
+the power; the Hertz contact stress with the allowable; and the smallest contact force against
+cam speed, which crosses the jump margin at the jump speed (a yoke: the follower force and the
+side force on the guide instead).  Nothing is computed here beyond unit-free thinning.
+"""
+from __future__ import annotations
+
+import html
+import math
+from typing import Any
+
+import numpy as np
+
+from camgen.report.html import _fmt, _thin
+
+_LIMIT = {"color": "tab:red", "dash": "--", "width": 0.8}
+#: A mean power below this fraction of the peak is shown as 0 in the plot's title (rounding of a zero integral).
+ROUNDING = 1e-9
+
+
+def dynamics_section(Figure: Any, cam: Any) -> str:
+    """The dynamics part of a cam's section of report.html (an empty string without dynamics)."""
+    outcome = getattr(cam, "dynamics", None)
+    if outcome is None:
+        return ""
+    res = outcome.result
+    train = res.train
+    form = train.closure == "form"
+    figures = cam.figures.get("dynamics", {})
+    keep = _thin(res.theta.size, 1200)
+    deg = np.degrees(res.theta)[keep]
+    fig = Figure(figsize=(10, 8.4))
+    axes = fig.subplots(3, 2)
+    (ax_f, ax_p), (ax_t, ax_w), (ax_h, ax_s) = axes
+    # contact force
+    if form:
+        ax_f.plot(deg, res.contact_force[keep], color="tab:blue", width=1, label="face 1 (pushes the follower out)")
+        ax_f.plot(deg, res.contact_force_2[keep], color="tab:orange", width=1, label="face 2 (pulls it back)")
+        ax_f.title("contact force on the yoke's two faces", font_size=8)
+        ax_f.legend(font_size=7)
+    else:
+        ax_f.plot(deg, res.contact_force[keep], color="tab:blue", width=1, label="contact force")
+        ax_f.hline(res.jump_margin, label=f"jump margin {res.jump_margin:g} N", **_LIMIT)
+        jump = ("never jumps" if math.isinf(res.jump_rpm) else "off the cam at rest" if res.jump_rpm == 0
+                else f"jumps at {res.jump_rpm:.5g} rpm")
+        ax_f.title(f"contact force at {res.rpm:g} rpm (margin dashed); {jump}", font_size=8)
+    ax_f.hline(0.0, color="#737373", width=0.6)
+    ax_f.ylabel("contact force (N)", font_size=8)
+    # its direction
+    ax_p.plot(deg, np.degrees(res.pressure_angle)[keep], color="tab:purple", width=1)
+    ax_p.ylabel("pressure angle (deg)", font_size=8)
+    ax_p.title("direction of the contact force: the pressure angle (from the follower's motion)", font_size=8)
+    # torque and power
+    ax_t.plot(deg, res.torque[keep], color="tab:green", width=1)
+    limit = figures.get("torque_limit_Nm")
+    if limit is not None:
+        for sign in (1, -1):
+            ax_t.hline(sign * limit, **_LIMIT)
+    ax_t.hline(0.0, color="#737373", width=0.6)
+    ax_t.ylabel("camshaft torque (N*m)", font_size=8)
+    ax_t.title(f"camshaft torque: peak {res.torque_peak:.4g}, RMS {res.torque_rms:.4g} N*m"
+               + (f"; limit {limit:g} N*m dashed" if limit is not None else ""), font_size=8)
+    ax_w.plot(deg, res.power[keep], color="tab:brown", width=1)
+    ax_w.hline(0.0, color="#737373", width=0.6)
+    ax_w.ylabel("power (W)", font_size=8)
+    mean = res.mean_power if abs(res.mean_power) > ROUNDING * res.power_peak else 0.0  # no damping: 0 up to rounding
+    ax_w.title(f"shaft power: peak {res.power_peak:.4g} W, RMS {res.power_rms:.4g} W, mean {mean:.4g} W", font_size=8)
+    # contact stress
+    if res.hertz_stress is None and res.hertz_stress_2 is None:
+        ax_h.text(0.5, 0.5, "no Hertz stress: a sharp knife edge (or no material)", anchor="middle", coords="axes")
+    else:
+        if res.hertz_stress is not None:
+            ax_h.plot(deg, res.hertz_stress[keep], color="tab:blue", width=1, label="face 1" if form else None)
+        if res.hertz_stress_2 is not None:
+            ax_h.plot(deg, res.hertz_stress_2[keep], color="tab:orange", width=1, label="face 2")
+        allowable = figures.get("allowable_contact_stress_MPa")
+        if allowable is not None:
+            ax_h.hline(allowable, label=f"allowable {allowable:g} MPa", **_LIMIT)
+        ax_h.title(f"Hertz contact stress: peak {res.hertz_peak:.4g} MPa"
+                   + (f"; allowable {allowable:g} MPa dashed" if allowable is not None else ""), font_size=8)
+        if form:
+            ax_h.legend(font_size=7)
+    ax_h.ylabel("contact stress (MPa)", font_size=8)
+    ax_h.xlabel("cam angle (deg)", font_size=8)
+    # the jump margin against speed (force closure) or the follower and side forces (yoke)
+    if outcome.speed_rpm is not None:
+        ax_s.plot(outcome.speed_rpm, outcome.speed_min_force, color="tab:blue", width=1)
+        ax_s.hline(res.jump_margin, **_LIMIT)
+        ax_s.vline(res.rpm, color="k", dash=":", width=0.8)
+        if math.isfinite(res.jump_rpm) and 0 < res.jump_rpm <= outcome.speed_rpm[-1]:
+            ax_s.vline(res.jump_rpm, color="tab:red", dash=":", width=0.8)
+        ax_s.xlabel("cam speed (rpm)", font_size=8)
+        ax_s.ylabel("smallest contact force (N)", font_size=8)
+        ax_s.title(f"jump margin against speed: this speed {res.rpm:g} rpm dotted"
+                   + (f", jump at {res.jump_rpm:.5g} rpm" if math.isfinite(res.jump_rpm) and res.jump_rpm > 0 else ""), font_size=8)
+    else:
+        ax_s.plot(deg, res.follower_force[keep], color="tab:blue", width=1, label="along the motion")
+        ax_s.plot(deg, res.side_force[keep], color="tab:orange", width=1, label="across it (guide load)")
+        ax_s.ylabel("force on the follower (N)", font_size=8)
+        ax_s.xlabel("cam angle (deg)", font_size=8)
+        ax_s.title("net force of the cam on the follower", font_size=8)
+        ax_s.legend(font_size=7)
+    for ax in (ax_f, ax_p, ax_t, ax_w):
+        ax.xlabel("cam angle (deg)", font_size=8)
+    fig.suptitle(f"{cam.name}: follower dynamics at {res.rpm:g} rpm ({train.motion}, "
+                 f"{'form-closed yoke' if form else 'spring-loaded'})", font_size=9)
+    rows = "".join(f"<tr><td>{html.escape(k)}</td><td>{_fmt(v)}</td></tr>" for k, v in figures.items())
+    return (f"<h3>Dynamics at {res.rpm:g} rpm</h3><div class='fig'>{fig.to_svg()}</div>"
+            "<p class='note'>Rigid follower train, frictionless contact (Rothbart, Cam Design Handbook, ch. 8): contact force "
+            "= (inertia + damping + spring + preload + load + weight) over the cosine of the pressure angle; torque from the power "
+            "balance; Hertz line-contact stress (Rothbart eq. 9.11) with the profile's radius of curvature at the contact.</p>"
+            f"<table><tr><th>dynamics figure</th><th>value</th></tr>{rows}</table>")
