@@ -38,12 +38,21 @@ def test_the_first_block_is_the_two_commands_ci_runs(tree):
                      'python3 -m pip install ".[test]" && python3 -m pytest -q --pyargs camgen']
 
 
+CAM_KEYS_MARK = "# keys of a cam table"
+
+
 def test_every_toml_example_is_a_valid_scene(tree):
+    """Whole scenes parse; a fragment marked as keys of a cam table parses inside the plate cam's table."""
     examples = _blocks(_readme(tree), "toml")
-    assert len(examples) >= 2
+    assert len(examples) >= 3
     for number, text in enumerate(examples):
+        data = tomllib.loads(text)
+        if text.startswith(CAM_KEYS_MARK):
+            scene_data = tomllib.loads(template_path("plate_cam").read_text(encoding="utf-8"))
+            scene_data["cams"]["plate"].update(data)
+            data = scene_data
         try:
-            scene = parse_scene(tomllib.loads(text), name=f"readme_{number}")
+            scene = parse_scene(data, name=f"readme_{number}")
         except CamgenError as error:  # pragma: no cover - the message is the diagnosis
             pytest.fail(f"README toml example {number} is refused: {error}")
         assert scene.cams
