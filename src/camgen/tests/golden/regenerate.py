@@ -16,7 +16,7 @@ import tempfile
 
 TEMPLATES = ("default", "horse_leg", "motion_law", "tricycle", "plate_cam", "flat_follower", "knife_follower", "oscillating_roller",
              "oscillating_flat", "lift_table")
-LIBRARIES = ("numpy", "scipy", "ezdxf", "manifold3d", "trimesh", "meshio", "matplotlib")
+LIBRARIES = ("numpy", "scipy", "manifold3d", "trimesh", "meshio", "matplotlib")
 
 
 def template_hashes(outdir: str | pathlib.Path) -> dict[str, dict[str, str]]:
