@@ -1,4 +1,8 @@
-"""2-D DXF export with ezdxf: R2010, units mm, ARC and LINE entities every reader takes.
+"""2-D DXF export: R2010, units mm, ARC and LINE entities every reader takes.
+
+The file is written by camgen's own DXF writer (:mod:`camgen.export.dxfwriter`): no third-party
+library is imported at run time, numbers are the exact doubles (``repr``), and the same drawing
+always gives the same bytes (no time stamps or GUIDs).
 
 Spline segments are written in one of two ways (:class:`DxfOptions` ``splines``):
 
@@ -16,15 +20,10 @@ an arrow head (two LINEs) in the direction the cam turns.  The header extents ($
 $EXTMAX, and $LIMMIN/$LIMMAX) are the exact bounding box of everything drawn; the spline mode
 and tolerance are stated in the header's custom properties (``camgen_splines``,
 ``camgen_biarc_tol_mm``).
-
-Files are deterministic: ezdxf's fixed-metadata mode replaces the creation time stamps and
-random GUIDs, and the CLASSES section is sorted (ezdxf fills it in hash-seed order).
 """
 from __future__ import annotations
 
-import io
 import math
-from collections import OrderedDict
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -34,6 +33,7 @@ import numpy as np
 from camgen.contour import DEFAULT_CHORD_TOL, Arc, Contour, Spline
 from camgen.errors import ParameterError, require_finite, require_positive
 from camgen.export.atomic import write_atomic
+from camgen.export.dxfwriter import DxfDocument
 
 PROFILE_LAYER = "PROFILE"
 
@@ -145,19 +145,19 @@ def _arc_spline(contour: Contour, tol: float) -> Contour:
     return Contour(segments, closure_tol=1e-6)
 
 
-def _add_contour(msp, contour: Contour, layer: str) -> None:
+def _add_contour(msp: DxfDocument, contour: Contour, layer: str) -> None:
     for seg in contour.segments:
         if isinstance(seg, Arc):
             start = math.degrees(seg.start_angle)
             end = math.degrees(seg.start_angle + seg.sweep)
             if seg.sweep < 0:  # DXF arcs always run counter-clockwise from start to end
                 start, end = end, start
-            msp.add_arc(seg.center, seg.radius, start, end, dxfattribs={"layer": layer})
+            msp.add_arc(seg.center, seg.radius, start, end, layer)
         elif _is_line(seg):
-            msp.add_line(tuple(seg.start_point), tuple(seg.end_point), dxfattribs={"layer": layer})
+            msp.add_line(tuple(seg.start_point), tuple(seg.end_point), layer)
         else:
             knots, controls = spline_bspline(seg)
-            msp.add_open_spline(controls, degree=3, knots=knots, dxfattribs={"layer": layer})
+            msp.add_spline(controls, knots, 3, layer)
 
 
 #: Sweep of the ZERO layer's rotation arrow (rad) and its radius as a fraction of the mark's length.
@@ -194,14 +194,7 @@ def contour_to_dxf(contour: Contour, body: Any = None, pitch: Contour | None = N
     of rotation, when ``zero_mark`` is given: see the module notes).  Spline segments follow
     ``options.splines`` (default: biarcs within ``options.biarc_tol`` mm).
     """
-    import ezdxf
-
-    previous = ezdxf.options.write_fixed_meta_data_for_testing
-    ezdxf.options.write_fixed_meta_data_for_testing = True  # fixed dates, GUIDs and marker string
-    try:
-        return _contour_to_dxf(contour, body, pitch, options, zero_mark)
-    finally:
-        ezdxf.options.write_fixed_meta_data_for_testing = previous
+    return _contour_to_dxf(contour, body, pitch, options, zero_mark)
 
 
 def _bore_and_keyway(body: Any) -> tuple[float, np.ndarray | None]:
@@ -246,31 +239,19 @@ def drawing_bounds(contour: Contour, body: Any = None, pitch: Contour | None = N
 
 
 def _contour_to_dxf(contour: Contour, body: Any, pitch: Contour | None, options: DxfOptions, zero_mark: Any = None) -> str:
-    import ezdxf
-    from ezdxf import units
-
     if options.splines == "biarc":
         contour = _arc_spline(contour, options.biarc_tol)
         pitch = _arc_spline(pitch, options.biarc_tol) if pitch is not None else None
-    doc = ezdxf.new("R2010", units=units.MM)
-    doc.header["$MEASUREMENT"] = 1
-    doc.header["$LUNITS"] = 2
-    doc.header["$LUPREC"] = 6
-    xmin, ymin, xmax, ymax = drawing_bounds(contour, body, pitch, options.center_mark, zero_mark)
-    # readers zoom to $EXTMIN/$EXTMAX, which ezdxf leaves at +-1e20; it copies the modelspace
-    # layout's extents and limits into the header ($EXTMIN ... $LIMMAX) when it writes the file
-    msp = doc.modelspace()
-    msp.dxf.extmin = (xmin, ymin, 0.0)
-    msp.dxf.extmax = (xmax, ymax, 0.0)
-    msp.dxf.limmin = (xmin, ymin)
-    msp.dxf.limmax = (xmax, ymax)
-    doc.header.custom_vars.append("camgen_splines", options.splines)
+    msp = DxfDocument(insunits=4, measurement=1, lunits=2, luprec=6)  # mm, metric, decimal, 6 places
+    # readers zoom to $EXTMIN/$EXTMAX: the exact bounds; the limits are the same box
+    msp.set_extents(*drawing_bounds(contour, body, pitch, options.center_mark, zero_mark))
+    msp.add_custom_property("camgen_splines", options.splines)
     if options.splines == "biarc":
-        doc.header.custom_vars.append("camgen_biarc_tol_mm", repr(float(options.biarc_tol)))
+        msp.add_custom_property("camgen_biarc_tol_mm", repr(float(options.biarc_tol)))
     for name, color in ((PROFILE_LAYER, 7), ("BORE", 2), ("KEYWAY", 3), ("PITCH", 4), ("CENTER", 1)):
-        doc.layers.add(name, color=color)
+        msp.add_layer(name, color)
     if zero_mark is not None:
-        doc.layers.add("ZERO", color=6)
+        msp.add_layer("ZERO", 6)
     _add_contour(msp, contour, PROFILE_LAYER)
     if pitch is not None:
         _add_contour(msp, pitch, "PITCH")
@@ -278,29 +259,23 @@ def _contour_to_dxf(contour: Contour, body: Any, pitch: Contour | None, options:
     if r > 0 and keyway is not None:
         # keyway: two sides from the bore circle out to the keyway bottom, and the bottom; the
         # bore arc closes the loop outside the keyway
-        msp.add_lwpolyline([tuple(p) for p in keyway], dxfattribs={"layer": "KEYWAY"})
+        msp.add_lwpolyline([tuple(p) for p in keyway], False, "KEYWAY")
         gap = math.degrees(math.asin(body.keyway_width / 2 / r))
         key = math.degrees(body.keyway_angle)
-        msp.add_arc((0.0, 0.0), r, key + gap, key + 360.0 - gap, dxfattribs={"layer": "BORE"})
+        msp.add_arc((0.0, 0.0), r, key + gap, key + 360.0 - gap, "BORE")
     elif r > 0:
-        msp.add_circle((0.0, 0.0), r, dxfattribs={"layer": "BORE"})
+        msp.add_circle((0.0, 0.0), r, "BORE")
     m = options.center_mark
     if m > 0:
-        msp.add_line((-m, 0.0), (m, 0.0), dxfattribs={"layer": "CENTER"})
-        msp.add_line((0.0, -m), (0.0, m), dxfattribs={"layer": "CENTER"})
+        msp.add_line((-m, 0.0), (m, 0.0), "CENTER")
+        msp.add_line((0.0, -m), (0.0, m), "CENTER")
     if zero_mark is not None:
         lines, (r, a0, sweep) = zero_mark_geometry(zero_mark)
         for a, b in lines:
-            msp.add_line(tuple(a), tuple(b), dxfattribs={"layer": "ZERO"})
+            msp.add_line(tuple(a), tuple(b), "ZERO")
         start, end = (a0, a0 + sweep) if sweep > 0 else (a0 + sweep, a0)  # DXF arcs run counter-clockwise
-        msp.add_arc((0.0, 0.0), r, math.degrees(start), math.degrees(end), dxfattribs={"layer": "ZERO"})
-    # ezdxf adds CLASS entries from a set of the entity types in use, so their order follows
-    # Python's hash seed; add them now and sort them so every process writes the same bytes
-    doc.classes.add_required_classes(doc.dxfversion)
-    doc.classes.classes = OrderedDict(sorted(doc.classes.classes.items()))
-    stream = io.StringIO()
-    doc.write(stream)
-    return stream.getvalue()
+        msp.add_arc((0.0, 0.0), r, math.degrees(start), math.degrees(end), "ZERO")
+    return msp.to_text()
 
 
 def write_dxf(contour: Contour, path: str | Path, **kwargs: Any) -> Path:

@@ -18,6 +18,7 @@ VALIDATOR_PACKAGES = {
     "ccx": "calculix-ccx",
     "gmsh": "gmsh",
     "openscad": "openscad",
+    "librecad": "librecad",
 }
 
 

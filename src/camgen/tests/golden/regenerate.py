@@ -16,7 +16,7 @@ import tempfile
 
 TEMPLATES = ("default", "horse_leg", "motion_law", "tricycle", "plate_cam", "flat_follower", "knife_follower", "oscillating_roller",
              "oscillating_flat", "lift_table")
-LIBRARIES = ("numpy", "scipy", "ezdxf", "manifold3d", "trimesh", "meshio", "matplotlib")
+LIBRARIES = ("numpy", "scipy", "manifold3d", "trimesh", "meshio")
 
 
 def template_hashes(outdir: str | pathlib.Path) -> dict[str, dict[str, str]]:
@@ -33,7 +33,14 @@ def template_hashes(outdir: str | pathlib.Path) -> dict[str, dict[str, str]]:
 
 
 def library_versions() -> dict[str, str]:
-    return {name: metadata.version(name) for name in LIBRARIES}
+    """Versions of the libraries whose results reach the files ("missing" where not installed)."""
+    versions = {}
+    for name in LIBRARIES:
+        try:
+            versions[name] = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            versions[name] = "missing"
+    return versions
 
 
 def main() -> None:
