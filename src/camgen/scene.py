@@ -90,7 +90,13 @@ def _machining(table: object, output: "OutputSpec") -> "MachiningSpec":
     if "ngc" not in output.formats:  # the tool diameter also sets the machinability check's limit
         for key in sorted(set(table) - {"tool_diameter_mm"}, key=str):
             raise ParameterError(f"machining.{key}", table[key], 'only with "ngc" in output.formats', "it changes only the G-code")
-    return rename_errors("machining", lambda: MachiningSpec(**p), keys)
+        return rename_errors("machining", lambda: MachiningSpec(**p), keys)
+    try:  # the G-code's error budget needs the chord tolerance: checked now, before anything is computed
+        return rename_errors("machining", lambda: MachiningSpec(**p, chord_tol=output.chord_tol), keys)
+    except ParameterError as exc:
+        if exc.name == "machining.chord_tol":
+            raise ParameterError("output.chord_tol_mm", exc.value, exc.valid, exc.why) from None
+        raise
 
 
 def _cam(name: str, table: object, base_dir: Path | None) -> "CamSpec":

@@ -89,6 +89,10 @@ def rounding_error(decimals: int) -> float:
     return 3.0 * math.sqrt(2.0) / 2.0 * 10.0 ** (-decimals)
 
 
+#: The finest chord tolerance (mm) the G-code's error budget allows: 6 printed decimals.
+MIN_GCODE_CHORD_TOL = rounding_error(6) / ROUNDING_SHARE
+
+
 @dataclass(frozen=True)
 class MachiningSpec:
     """Cutting parameters (mm, mm/min, rev/min).
@@ -136,7 +140,11 @@ class MachiningSpec:
         budget = ROUNDING_SHARE * self.chord_tol
         if rounding_error(self.decimals) > budget:
             lowest = next((d for d in range(3, 7) if rounding_error(d) <= budget), None)
-            valid = f"an integer {lowest}..6" if lowest is not None else "none for this chord_tol (raise chord_tol to >= 8.5e-06 mm)"
+            if lowest is None:
+                raise ParameterError("chord_tol", self.chord_tol, f">= {MIN_GCODE_CHORD_TOL:.2g} mm for G-code",
+                                     f"6 printed decimals may move an arc by {rounding_error(6):.2g} mm, more than "
+                                     f"{ROUNDING_SHARE:g} x chord_tol = {budget:.2g} mm")
+            valid = f"an integer {lowest}..6"
             raise ParameterError(
                 "decimals", self.decimals, valid,
                 f"printed coordinates may move an arc by {rounding_error(self.decimals):.2g} mm, more than "

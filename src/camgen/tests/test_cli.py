@@ -5,6 +5,7 @@ from outside the package."""
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 from importlib.resources import files
@@ -222,9 +223,19 @@ def _run_on_terminal(args, tmp_path):
 
 
 def test_progress_is_shown_on_a_terminal_for_long_runs_only(tmp_path):
-    """The default scene takes longer than a second: on a terminal its steps show on stderr;
-    with --quiet, or with stderr not a terminal, nothing is printed there."""
-    shown = _run_on_terminal([], tmp_path / "a")
+    """A long run (the default scene at a 10 nm chord tolerance with every mesh format: several
+    seconds) shows its steps on stderr on a terminal; with --quiet, or with stderr not a
+    terminal, nothing is printed there."""
+    from camgen.outputs import OUTPUTS
+    from camgen.scene import template_path
+
+    formats = ", ".join(f'"{name}"' for name, fmt in OUTPUTS.items() if not fmt.implied and name not in ("step", "follower"))
+    text = template_path("default").read_text(encoding="utf-8")
+    text = re.sub(r"(?m)^formats = .*$", f"formats = [{formats}]", text)
+    text = text.replace("chord_tol_mm = 0.001", "chord_tol_mm = 0.00001").replace("tool_diameter_mm = 8.0", "tool_diameter_mm = 8.0\ndecimals = 6")
+    scene = tmp_path / "long.toml"
+    scene.write_text(text, encoding="utf-8")
+    shown = _run_on_terminal([str(scene)], tmp_path / "a")
     assert "report.html" in shown or "building cam" in shown or "checking cam" in shown, shown[-500:]
     assert _run_on_terminal(["--quiet"], tmp_path / "b").strip() == ""
     piped = subprocess.run([sys.executable, "-m", "camgen", "run", "-o", str(tmp_path / "c")], capture_output=True, text=True)

@@ -370,6 +370,29 @@ def test_decimals_too_coarse_for_the_tolerance_are_refused():
             MachiningSpec(chord_tol=tol, decimals=d)
 
 
+def test_a_tolerance_the_program_cannot_print_is_refused_before_anything_is_computed(tmp_path):
+    """Scene level: 6 decimals round an arc by up to 3 sqrt(2)/2 10^-6 mm (its centre and ends),
+    more than a quarter of chord_tol below 8.49e-6 mm: `camgen run` exits 2 at once naming
+    output.chord_tol_mm and writes nothing; a coarse decimals names machining.decimals and 5..6."""
+    import subprocess
+    import sys
+
+    from camgen.scene import template_path
+
+    base = template_path("default").read_text(encoding="utf-8")
+    cases = ((base.replace("chord_tol_mm = 0.001", "chord_tol_mm = 0.000008"), "output.chord_tol_mm", ">= 8.5e-06 mm"),
+             (base.replace("chord_tol_mm = 0.001", "chord_tol_mm = 0.0001"), "machining.decimals", "an integer 5..6"))
+    assert 3 * math.sqrt(2) / 2 * 1e-6 / 0.25 == pytest.approx(8.485e-6, rel=1e-3)
+    for number, (text, key, valid) in enumerate(cases):
+        scene = tmp_path / f"fine{number}.toml"
+        scene.write_text(text, encoding="utf-8")
+        run = subprocess.run([sys.executable, "-m", "camgen", "run", str(scene), "-o", str(tmp_path / "out")],
+                             capture_output=True, text=True, timeout=60)
+        assert run.returncode == 2, run.stderr
+        assert key in run.stderr and valid in run.stderr and run.stderr.count("\n") == 1
+        assert not (tmp_path / "out").exists()
+
+
 def test_breakthrough_is_checked():
     for bad in (-0.1, math.nan, math.inf):
         with pytest.raises(ParameterError, match="breakthrough"):
