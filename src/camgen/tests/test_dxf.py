@@ -420,7 +420,7 @@ def test_bspline_entities_match_the_contour_by_ezdxf(name, contours, steering):
     assert len([e for e in msp if e.dxf.layer == "KEYWAY"]) == 1
     assert len([e for e in msp if e.dxf.layer == "CENTER"]) == 2
     assert bool([e for e in msp if e.dxf.layer == "PITCH"]) == (pitch is not None)
-    assert dict(doc.header.custom_vars) == {"camgen_splines": "bspline"}
+    assert dict(doc.header.custom_vars) == {"camgen_splines": "bspline", "camgen_bspline_tol_mm": "1e-08"}  # the stated tolerance
 
 
 @pytest.mark.parametrize("name", ["stride", "steering"])

@@ -37,8 +37,11 @@ def test_bspline_form_has_the_fewest_knots_and_is_exact(steering):
     from scipy.interpolate import BSpline
 
     from camgen.export.dxf import spline_bspline
+    from camgen.mechanisms import tricycle as tc
 
-    for contour, per_piece in ((steering.pitch, 1), (steering.profile, 2)):  # C2 pitch, C1 refitted offset
+    # the earlier ("cartesian") form has a C2 pitch and a C1 refitted offset; the polar form's are both C2
+    cartesian = tc.tricycle_cam(steering.trajectory, form="cartesian")
+    for contour, per_piece in ((cartesian.pitch, 1), (cartesian.profile, 2), (steering.pitch, 1), (steering.profile, 1)):
         seg = contour.segments[0]
         knots, controls = spline_bspline(seg)
         assert len(controls) == per_piece * seg.n_pieces + (3 if per_piece == 1 else 2)

@@ -1,0 +1,262 @@
+"""Least-squares cubic B-spline fits within a tolerance, with as few knots as the tolerance needs.
+
+Two fits, both returning piecewise cubics (breaks and coefficients in the layout of
+:class:`camgen.contour.Spline`) that are **C2 at every break**, so that a B-spline with simple
+interior knots holds them exactly (``pieces + 3`` control points):
+
+* :func:`fit_periodic`: a closed curve ``P(t)``, ``t0 <= t < t0 + period``, by a periodic cubic
+  spline;
+* :func:`fit_clamped`: an open curve on ``[a, b]`` by a clamped cubic spline that keeps the
+  curve's point, first and second derivative at both ends exactly (so neighbouring segments
+  keep their G1 / G2 joints).
+
+Method: the weighted least-squares (L2) projection onto the spline space of the current knots,
+with Gauss-Legendre nodes and weights on every knot interval as the samples (de Boor, *A
+Practical Guide to Splines*, ch. XIV).  Unlike interpolation at the knots, whose error is
+one-signed where the curve's fourth derivative keeps its sign (a cubic spline through points of
+a circle lies inside it), the L2 error is orthogonal to the spline space, constants included:
+it changes sign inside every few pieces and its local mean is of higher order.  The distance to
+the curve is measured at the probe fractions :data:`PROBES` of every piece; where it exceeds the
+tolerance, the knots are redistributed by equidistribution of ``h (err / tol)^(1/4)`` (the
+error of a cubic falls as ``h^4``), then bisected where it still does.
+
+Only numpy at import; scipy (sparse solver, B-spline design matrix) inside the functions.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from camgen.errors import GeometryError, ParameterError, require_positive
+
+Curve = Callable[[np.ndarray], np.ndarray]
+
+#: Fractions of every piece at which the fit's distance to the curve is measured (the break
+#: itself, eighths, and the Gauss nodes of the fit).
+PROBES = np.arange(8) / 8.0
+#: Gauss-Legendre nodes per knot interval of the least-squares samples.
+GAUSS_NODES = 6
+#: The redistribution aims at this fraction of the tolerance (margin for the nonlocal error).
+TARGET = 0.5
+#: Fewest and most pieces of a fit.
+MIN_PIECES = 4
+MAX_PIECES = 200_000
+#: Rounds of redistribution (then bisection) before the fit gives up.
+MAX_ROUNDS = 24
+#: Smallest tolerance relative to the curve's size: below it rounding decides.
+RELATIVE_FLOOR = 1e-13
+
+
+@dataclass(frozen=True)
+class Fit:
+    """A fitted piecewise cubic: ``breaks`` (K + 1,), ``coeffs`` (4, K, d) highest power first,
+    the B-spline ``knots`` and ``controls`` that hold it exactly, and the largest measured
+    distance ``error`` (mm) from the curve at the probe points."""
+
+    breaks: np.ndarray
+    coeffs: np.ndarray
+    knots: np.ndarray
+    controls: np.ndarray
+    error: float
+
+
+def _gauss(nodes: int) -> tuple[np.ndarray, np.ndarray]:
+    x, w = np.polynomial.legendre.leggauss(nodes)
+    return 0.5 * (x + 1.0), 0.5 * w
+
+
+def _samples(breaks: np.ndarray, fractions: np.ndarray) -> np.ndarray:
+    h = np.diff(breaks)
+    return (breaks[:-1, None] + fractions[None, :] * h[:, None]).ravel()
+
+
+def _pieces_from_bspline(knots: np.ndarray, controls: np.ndarray, breaks: np.ndarray) -> np.ndarray:
+    """PPoly coefficients (4, K, d) of the B-spline on the pieces starting at ``breaks[:-1]``."""
+    from scipy.interpolate import BSpline
+
+    bs = BSpline(knots, controls, 3, extrapolate=False)
+    left = breaks[:-1]
+    return np.stack([bs(left, 3) / 6.0, bs(left, 2) / 2.0, bs(left, 1), bs(left)])
+
+
+def _eval(breaks: np.ndarray, coeffs: np.ndarray, t: np.ndarray) -> np.ndarray:
+    i = np.clip(np.searchsorted(breaks, t, side="right") - 1, 0, breaks.size - 2)
+    tau = (t - breaks[i])[:, None]
+    c = coeffs[:, i]
+    return ((c[0] * tau + c[1]) * tau + c[2]) * tau + c[3]
+
+
+def _redistribute(breaks: np.ndarray, err: np.ndarray, tol: float, max_pieces: int) -> np.ndarray:
+    """New breaks equidistributing ``h (err / (TARGET tol))^(1/4)`` (pieces needed per piece), the
+    density changing by at most a factor 2 between neighbours (a quasi-uniform knot sequence)."""
+    h = np.diff(breaks)
+    need = np.maximum((np.maximum(err, 1e-300) / (TARGET * tol)) ** 0.25, 1e-3)
+    density = need / h
+    for _ in range(64):  # limit the ratio of neighbouring densities to 2 (a few sweeps suffice)
+        smoothed = np.maximum(density, 0.5 * np.maximum(np.roll(density, 1), np.roll(density, -1)))
+        if np.array_equal(smoothed, density):
+            break
+        density = smoothed
+    cumulative = np.concatenate([[0.0], np.cumsum(density * h)])
+    count = int(min(max_pieces, max(MIN_PIECES, math.ceil(cumulative[-1]))))
+    return np.interp(np.linspace(0.0, cumulative[-1], count + 1), cumulative, breaks)
+
+
+def _bisect(breaks: np.ndarray, bad: np.ndarray) -> np.ndarray:
+    mids = 0.5 * (breaks[:-1] + breaks[1:])[bad]
+    return np.sort(np.concatenate([breaks, mids]))
+
+
+def _refine(fit_on: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]], curve: Curve,
+            breaks: np.ndarray, tol: float, max_pieces: int, what: str) -> Fit:
+    """Fit on ``breaks``, measure, redistribute / bisect until within ``tol``.  The columns of
+    the curve are taken in pairs (several planar curves on shared knots): the distance of a
+    piece is the largest over the pairs."""
+    best: Fit | None = None
+    for round_ in range(MAX_ROUNDS):
+        knots, controls, coeffs = fit_on(breaks)
+        probe = _samples(breaks, PROBES)
+        diff = _eval(breaks, coeffs, probe) - curve(probe)
+        diff = diff.reshape(diff.shape[0], -1, 2)
+        dist = np.sqrt(np.sum(diff * diff, axis=2)).max(axis=1).reshape(-1, PROBES.size).max(axis=1)
+        err = float(dist.max())
+        if not np.isfinite(err):
+            raise GeometryError(f"{what}: the curve is not finite where it is sampled")
+        if err <= tol:
+            return Fit(breaks, coeffs, knots, controls, err)
+        if best is None or err < best.error:
+            best = Fit(breaks, coeffs, knots, controls, err)
+        if breaks.size - 1 >= max_pieces:
+            break
+        if round_ < MAX_ROUNDS // 2:
+            new = _redistribute(breaks, dist, tol, max_pieces)
+            if new.size <= breaks.size:  # no progress by redistribution: add pieces where needed
+                new = _bisect(breaks, dist > TARGET * tol)
+        else:
+            new = _bisect(breaks, dist > TARGET * tol)
+        breaks = new[: max_pieces + 1] if new.size > max_pieces + 1 else new
+    assert best is not None
+    raise GeometryError(f"{what}: the cubic spline fit does not reach tol = {tol:g} mm (error {best.error:.3g} mm with "
+                        f"{best.breaks.size - 1} pieces): the curve is too close to a cusp; increase the tolerance or "
+                        "move the curve away from the cusp (larger radii)")
+
+
+def _check_tol(tol: float, scale: float, what: str) -> float:
+    tol = require_positive("tol", tol, "mm")
+    if tol < RELATIVE_FLOOR * max(1.0, scale):
+        raise ParameterError("tol", tol, f"tol >= {RELATIVE_FLOOR * max(1.0, scale):.3g} mm for a curve of size {scale:.4g} mm",
+                             f"{what}: below that, rounding decides the fit")
+    return tol
+
+
+def fit_periodic(curve: Curve, t0: float, period: float, tol: float, initial_pieces: int = 16,
+                 max_pieces: int = MAX_PIECES, what: str = "periodic curve") -> Fit:
+    """Periodic C2 cubic spline within ``tol`` mm of the closed curve ``curve``.
+
+    Parameters
+    ----------
+    curve : callable
+        ``curve(t)`` -> points (n, 2 m), mm (``m`` planar curves side by side, fitted on
+        shared knots), for parameters ``t`` (n,) in ``[t0, t0 + period)``; periodic:
+        ``curve(t0) == curve(t0 + period)`` with matching derivatives.
+    t0, period : float
+        Start and length of the parameter interval.
+    tol : float
+        Largest distance (mm) of the fit from each curve at the probe points of every piece.
+    initial_pieces : int
+        Uniform pieces of the first fit.
+    max_pieces : int
+        The fit raises :class:`GeometryError` rather than use more pieces.
+
+    Returns
+    -------
+    Fit
+        Breaks ``t0 .. t0 + period``, coefficients (4, K, d), and the periodic B-spline form:
+        ``knots`` (K + 7,) (the breaks extended by three on either side, shifted by the period)
+        and ``controls`` (K + 3, d) (the last three repeat the first three).
+    """
+    require_positive("period", period)
+    scale = float(np.max(np.abs(curve(np.array([t0, t0 + period / 3, t0 + 2 * period / 3])))))
+    tol = _check_tol(tol, scale, what)
+    gx, gw = _gauss(GAUSS_NODES)
+
+    def fit_on(breaks: np.ndarray):
+        from scipy.interpolate import BSpline
+        from scipy.sparse import csc_array, diags_array
+        from scipy.sparse.linalg import spsolve
+
+        k = breaks.size - 1
+        if k < MIN_PIECES:
+            raise ParameterError("pieces", k, f">= {MIN_PIECES}")
+        knots = np.concatenate([breaks[k - 3 : k] - period, breaks, breaks[1:4] + period])
+        t = _samples(breaks, gx)
+        w = (np.diff(breaks)[:, None] * gw[None, :]).ravel()
+        design = BSpline.design_matrix(t, knots, 3).tocoo()  # (M, K + 3)
+        cols = np.where(design.col >= k, design.col - k, design.col)  # the last three basis functions wrap
+        d = csc_array((design.data, (design.row, cols)), shape=(t.size, k))
+        normal = (d.T @ diags_array(w) @ d).tocsc()
+        rhs = d.T @ (w[:, None] * curve(t))
+        controls = spsolve(normal, rhs)
+        controls = controls.reshape(k, -1)
+        full = np.concatenate([controls, controls[:3]])
+        return knots, full, _pieces_from_bspline(knots, full, breaks)
+
+    breaks = t0 + period * np.arange(max(MIN_PIECES, initial_pieces) + 1) / max(MIN_PIECES, initial_pieces)
+    return _refine(fit_on, curve, breaks, tol, max_pieces, what)
+
+
+def fit_clamped(curve: Curve, a: float, b: float, tol: float, ends: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                np.ndarray, np.ndarray], initial_pieces: int = 4, max_pieces: int = MAX_PIECES, what: str = "curve") -> Fit:
+    """Clamped C2 cubic spline within ``tol`` mm of ``curve`` on ``[a, b]``, keeping the end
+    conditions ``ends = (P(a), P'(a), P''(a), P(b), P'(b), P''(b))`` (each (d,)) exactly.
+
+    The three first and three last control points follow from the end conditions (de Boor,
+    ch. IX: derivatives of a B-spline from its control points); the others are the
+    least-squares fit.  Returns the breaks, coefficients (4, K, d), the knots (K + 7,: ends of
+    multiplicity 4) and the control points (K + 3, d).
+    """
+    if not b > a:
+        raise ParameterError("interval", (a, b), "a < b")
+    p0, d0, s0, p1, d1, s1 = (np.asarray(e, dtype=float) for e in ends)
+    scale = float(max(np.max(np.abs(p0)), np.max(np.abs(p1))))
+    tol = _check_tol(tol, scale, what)
+    gx, gw = _gauss(GAUSS_NODES)
+
+    def fit_on(breaks: np.ndarray):
+        from scipy.interpolate import BSpline
+        from scipy.sparse import diags_array
+        from scipy.sparse.linalg import spsolve
+
+        k = breaks.size - 1
+        knots = np.concatenate([[a] * 3, breaks, [b] * 3])
+        n = k + 3
+        # end controls from P, P', P'' (clamped cubic: knots a,a,a,a,x1,x2 ...)
+        u1, u2 = breaks[1] - a, breaks[2] - a
+        c0 = p0
+        c1 = p0 + d0 * u1 / 3.0
+        c2 = c1 + u2 * (s0 * u1 / 6.0 + (c1 - c0) / u1)
+        v1, v2 = b - breaks[-2], b - breaks[-3]
+        e0 = p1
+        e1 = p1 - d1 * v1 / 3.0
+        e2 = e1 + v2 * (s1 * v1 / 6.0 - (e0 - e1) / v1)
+        fixed_idx = np.array([0, 1, 2, n - 3, n - 2, n - 1])
+        fixed = np.stack([c0, c1, c2, e2, e1, e0])
+        t = _samples(breaks, gx)
+        w = (np.diff(breaks)[:, None] * gw[None, :]).ravel()
+        design = BSpline.design_matrix(t, knots, 3).tocsc()
+        free = np.setdiff1d(np.arange(n), fixed_idx)
+        controls = np.empty((n, p0.size))
+        controls[fixed_idx] = fixed
+        if free.size:
+            dfree = design[:, free]
+            resid = curve(t) - design[:, fixed_idx] @ fixed
+            normal = (dfree.T @ diags_array(w) @ dfree).tocsc()
+            sol = spsolve(normal, dfree.T @ (w[:, None] * resid))
+            controls[free] = sol.reshape(free.size, -1)
+        return knots, controls, _pieces_from_bspline(knots, controls, breaks)
+
+    breaks = np.linspace(a, b, max(3, initial_pieces) + 1)
+    return _refine(fit_on, curve, breaks, tol, max_pieces, what)
