@@ -87,6 +87,7 @@ def spline_bspline(spline: Spline, tol: float = 1e-9) -> tuple[np.ndarray, np.nd
     knots = np.concatenate([[t[0]] * 4, np.repeat(inner, mult), [t[-1]] * 4])
     count = knots.size - 4
     greville = (knots[1 : count + 1] + knots[2 : count + 2] + knots[3 : count + 3]) / 3.0
+    greville[0], greville[-1] = t[0], t[-1]  # (3 a) / 3 may round to just outside [a, b]: make_interp_spline refuses that
     try:
         fit = make_interp_spline(greville, spline.eval_t(greville), k=3, t=knots)
     except (ValueError, np.linalg.LinAlgError):
