@@ -20,7 +20,7 @@ the curve is measured at the probe fractions :data:`PROBES` of every piece; wher
 tolerance, the knots are redistributed by equidistribution of ``h (err / tol)^(1/4)`` (the
 error of a cubic falls as ``h^4``), then bisected where it still does.
 
-Only numpy at import; scipy (sparse solver, B-spline design matrix) inside the functions.
+The periodic fit is numpy only (the tricycle's synthesis imports no scipy); the clamped fit (an\nexport step) uses scipy's B-spline design matrix and sparse solver, imported inside it.
 """
 from __future__ import annotations
 
@@ -41,8 +41,9 @@ PROBES = np.arange(8) / 8.0
 GAUSS_NODES = 6
 #: The redistribution aims at this fraction of the tolerance (margin for the nonlocal error).
 TARGET = 0.5
-#: Fewest and most pieces of a fit.
+#: Fewest and most pieces of a fit (a periodic fit needs 7: its band of half-width 3 must not wrap).
 MIN_PIECES = 4
+MIN_PERIODIC_PIECES = 8
 MAX_PIECES = 200_000
 #: Rounds of redistribution (then bisection) before the fit gives up.
 MAX_ROUNDS = 24
@@ -80,6 +81,102 @@ def _pieces_from_bspline(knots: np.ndarray, controls: np.ndarray, breaks: np.nda
     bs = BSpline(knots, controls, 3, extrapolate=False)
     left = breaks[:-1]
     return np.stack([bs(left, 3) / 6.0, bs(left, 2) / 2.0, bs(left, 1), bs(left)])
+
+
+def _cubic_basis(knots: np.ndarray, piece: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """The four cubic B-splines nonzero on piece ``i`` at ``t`` (M,): (M, 4), ``N_{i-3} .. N_i``
+    (Cox-de Boor recursion, Piegl and Tiller, *The NURBS Book*, A2.2), ``knots[m + 3] = u_m``."""
+    i = piece + 3  # position of u_i in knots
+    left = [None] + [t - knots[i + 1 - j] for j in (1, 2, 3)]
+    right = [None] + [knots[i + j] - t for j in (1, 2, 3)]
+    n = [np.ones_like(t)]
+    for j in (1, 2, 3):
+        saved = np.zeros_like(t)
+        new = []
+        for r in range(j):
+            temp = n[r] / (right[r + 1] + left[j - r])
+            new.append(saved + right[r + 1] * temp)
+            saved = left[j - r] * temp
+        new.append(saved)
+        n = new
+    return np.stack(n, axis=1)
+
+
+def _pieces_from_controls(knots: np.ndarray, controls: np.ndarray, breaks: np.ndarray) -> np.ndarray:
+    """PPoly coefficients (4, K, d) of the B-spline (``controls[m + 3]`` of basis ``N_m``,
+    ``knots[m + 3] = u_m``, m = -3 ..): value and derivatives at the start of every piece from the
+    control points' differences (the derivative of a B-spline is a B-spline of one degree less,
+    Piegl and Tiller, eq. 3.3), so that neighbouring pieces agree to rounding (C2)."""
+    k = breaks.size - 1
+    i = np.arange(k)
+    u = [knots[i + 3 + j] for j in range(-2, 4)]  # u[j + 2] = u_{i + j}, j = -2 .. 3
+    p = [controls[i + a] for a in range(4)]  # P_{i-3} .. P_i
+
+    def d(a: int, b: int) -> np.ndarray:  # u_{i+a} - u_{i+b}
+        return (u[a + 2] - u[b + 2])[:, None]
+
+    q1_3 = 3.0 * (p[1] - p[0]) / d(1, -2)  # Q1_{i-3}
+    q1_2 = 3.0 * (p[2] - p[1]) / d(2, -1)  # Q1_{i-2}
+    q1_1 = 3.0 * (p[3] - p[2]) / d(3, 0)  # Q1_{i-1}
+    q2_3 = 2.0 * (q1_2 - q1_3) / d(1, -1)  # Q2_{i-3}
+    q2_2 = 2.0 * (q1_1 - q1_2) / d(2, 0)  # Q2_{i-2}
+    third = (q2_2 - q2_3) / d(1, 0)
+    first = (q1_3 * d(1, 0) + q1_2 * d(0, -1)) / d(1, -1)
+    basis = _cubic_basis(knots, i, breaks[:-1])
+    value = np.einsum("ka,akd->kd", basis, np.stack(p))
+    return np.stack([third / 6.0, 0.5 * q2_3, first, value])
+
+
+#: Relative residual at which the conjugate-gradient solve of the normal equations stops, and its
+#: largest number of iterations (the Gram matrix of B-splines on quasi-uniform knots is well
+#: conditioned: tens of iterations).
+CG_TOL = 1e-15
+CG_MAX_ITER = 2000
+
+
+def _solve_periodic_normal(index: np.ndarray, basis: np.ndarray, w: np.ndarray, values: np.ndarray, k: int) -> np.ndarray:
+    """Least-squares controls (K, d): the normal equations ``sum w N_a N_b c_b = sum w N_a y`` of
+    the periodic basis, a cyclic band of half-width 3, solved by Jacobi-preconditioned conjugate
+    gradients (numpy only: the tricycle's synthesis imports no scipy), all columns at once."""
+    band = np.zeros((4, k))  # band[d, j] = A[j, j + d mod K]
+    for a in range(4):
+        for b in range(a, 4):
+            np.add.at(band[b - a], index[:, a], w * basis[:, a] * basis[:, b])
+    rhs = np.zeros((k, values.shape[1]))
+    for a in range(4):
+        np.add.at(rhs, index[:, a], (w * basis[:, a])[:, None] * values)
+
+    upper = band[1:, :, None]
+
+    def matvec(x: np.ndarray) -> np.ndarray:
+        # A x: the diagonal, x[j + d] above it and (band_d x)[j - d] below it, indices mod K
+        xp = np.concatenate([x[-3:], x, x[:3]])
+        bx = upper * x[None]
+        bxp = np.concatenate([bx[:, -3:], bx, bx[:, :3]], axis=1)
+        out = band[0][:, None] * x
+        for d in (1, 2, 3):
+            out += upper[d - 1] * xp[3 + d : 3 + d + k] + bxp[d - 1, 3 - d : 3 - d + k]
+        return out
+
+    diag = band[0][:, None]
+    x = rhs / diag
+    r = rhs - matvec(x)
+    z = r / diag
+    p = z.copy()
+    rz = np.sum(r * z, axis=0)
+    stop = CG_TOL * np.sqrt(np.sum(rhs * rhs, axis=0))
+    for _ in range(CG_MAX_ITER):
+        if np.all(np.sqrt(np.sum(r * r, axis=0)) <= stop):
+            break
+        ap = matvec(p)
+        alpha = rz / np.where(np.sum(p * ap, axis=0) != 0, np.sum(p * ap, axis=0), 1.0)
+        x = x + alpha * p
+        r = r - alpha * ap
+        z = r / diag
+        rz_new = np.sum(r * z, axis=0)
+        p = z + (rz_new / np.where(rz != 0, rz, 1.0)) * p
+        rz = rz_new
+    return x
 
 
 def _eval(breaks: np.ndarray, coeffs: np.ndarray, t: np.ndarray) -> np.ndarray:
@@ -184,27 +281,22 @@ def fit_periodic(curve: Curve, t0: float, period: float, tol: float, initial_pie
     gx, gw = _gauss(GAUSS_NODES)
 
     def fit_on(breaks: np.ndarray):
-        from scipy.interpolate import BSpline
-        from scipy.sparse import csc_array, diags_array
-        from scipy.sparse.linalg import spsolve
-
         k = breaks.size - 1
-        if k < MIN_PIECES:
-            raise ParameterError("pieces", k, f">= {MIN_PIECES}")
-        knots = np.concatenate([breaks[k - 3 : k] - period, breaks, breaks[1:4] + period])
+        if k < MIN_PERIODIC_PIECES:
+            raise ParameterError("pieces", k, f">= {MIN_PERIODIC_PIECES}")
+        knots = np.concatenate([breaks[k - 3 : k] - period, breaks, breaks[1:4] + period])  # u_-3 .. u_K+3
+        piece = np.repeat(np.arange(k), gx.size)
         t = _samples(breaks, gx)
         w = (np.diff(breaks)[:, None] * gw[None, :]).ravel()
-        design = BSpline.design_matrix(t, knots, 3).tocoo()  # (M, K + 3)
-        cols = np.where(design.col >= k, design.col - k, design.col)  # the last three basis functions wrap
-        d = csc_array((design.data, (design.row, cols)), shape=(t.size, k))
-        normal = (d.T @ diags_array(w) @ d).tocsc()
-        rhs = d.T @ (w[:, None] * curve(t))
-        controls = spsolve(normal, rhs)
-        controls = controls.reshape(k, -1)
-        full = np.concatenate([controls, controls[:3]])
-        return knots, full, _pieces_from_bspline(knots, full, breaks)
+        basis = _cubic_basis(knots, piece, t)  # (M, 4): N_{i-3} .. N_i on piece i
+        index = (piece[:, None] + np.arange(-3, 1)[None, :]) % k
+        controls = _solve_periodic_normal(index, basis, w, curve(t), k)
+        # basis function m (support u_m .. u_m+4) is control m mod K; the B-spline form starts at u_-3
+        ordered = np.concatenate([controls[-3:], controls])
+        return knots, ordered, _pieces_from_controls(knots, ordered, breaks)
 
-    breaks = t0 + period * np.arange(max(MIN_PIECES, initial_pieces) + 1) / max(MIN_PIECES, initial_pieces)
+    first = max(MIN_PERIODIC_PIECES, initial_pieces)
+    breaks = t0 + period * np.arange(first + 1) / first
     return _refine(fit_on, curve, breaks, tol, max_pieces, what)
 
 

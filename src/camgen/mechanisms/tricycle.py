@@ -126,21 +126,27 @@ class PolarCurves:
     @classmethod
     def interpolate(cls, radius: np.ndarray, degree: int, rod_radius: float) -> "PolarCurves":
         """``R`` through ``radius`` (N + 1,) at ``phi_j = 2 pi j / N`` (``radius[N] == radius[0]``)."""
-        from scipy.interpolate import BSpline
-
         n = radius.size - 1
         h = 2.0 * math.pi / n
-        # uniform periodic interpolation is a circulant system: solve it by FFT (de Boor, ch. XIII);
-        # the centred B-spline of odd degree k takes the values kernel[m] at the samples m = -(k-1)/2 ... (k-1)/2
-        half = (degree - 1) // 2
-        kernel = BSpline.basis_element(np.arange(degree + 2.0))(np.arange(1.0, degree + 1.0))
+        k = degree
+        # the cardinal B-spline of degree k on [0, k + 1], on its unit interval i as a polynomial in
+        # s = x - i (truncated powers: N(x) = sum_j (-1)^j C(k+1, j) (x - j)_+^k / k!, de Boor ch. IX)
+        poly = np.zeros((k + 1, k + 1))  # poly[i, p]: coefficient of s^p on interval i
+        for i in range(k + 1):
+            for j in range(i + 1):
+                for p in range(k + 1):
+                    poly[i, p] += (-1) ** j * math.comb(k + 1, j) * math.comb(k, p) * float(i - j) ** (k - p)
+        poly /= math.factorial(k)
+        # the B-spline centred on sample m covers interval j as its interval i = j - m + (k + 1) / 2;
+        # interpolation at the samples is a circulant system: solved by FFT (de Boor, ch. XIII)
+        centre = (k + 1) // 2
         column = np.zeros(n)
-        column[np.arange(-half, half + 1) % n] = kernel
+        column[(np.arange(k + 1) - centre) % n] += poly[:, 0]
         controls = np.real(np.fft.ifft(np.fft.fft(radius[:-1]) / np.fft.fft(column)))
-        knots = h * np.arange(-degree, n + degree + 1)
-        spline = BSpline(knots, controls[(np.arange(n + degree) - half) % n], degree)
-        left = h * np.arange(n)
-        return cls(np.stack([spline(left, nu) / math.factorial(nu) for nu in range(degree + 1)]), rod_radius)
+        j = np.arange(n)
+        gathered = controls[(j[None, :] + centre - np.arange(k + 1)[:, None]) % n]  # (k + 1, N)
+        in_s = poly.T @ gathered  # (k + 1, N): powers of s
+        return cls(in_s / h ** np.arange(k + 1)[:, None], rod_radius)
 
     def derivatives(self, phi: np.ndarray, orders: int = 2) -> list[np.ndarray]:
         """``R, R', ..., R^(orders)`` at polar angles ``phi`` (rad), mm and mm/rad^k (Horner)."""
