@@ -31,7 +31,7 @@ from camgen.contour import Arc, Contour, Spline
 from camgen.errors import ExportError
 
 #: Most knot spans of one B-spline edge (see the module notes: OCCT's volume integration).
-EDGE_SPANS = 32
+EDGE_SPANS = 64
 
 
 def _ocp():
@@ -41,18 +41,19 @@ def _ocp():
         raise ExportError('STEP export needs OpenCASCADE bindings: pip install ".[step]" (cadquery-ocp-novtk)') from None
 
 
-def _edge_parts(seg: Spline, bspline_tol: float) -> list[Spline]:
-    """The compact form of ``seg`` cut into near-equal runs of at most :data:`EDGE_SPANS` pieces."""
+def _edge_parts(seg: Spline, bspline_tol: float | None, edge_spans: int | None) -> list[Spline]:
+    """The compact form of ``seg`` (``bspline_tol`` None: ``seg`` itself) cut into near-equal runs
+    of at most ``edge_spans`` pieces (None: one run)."""
     from camgen.export.dxf import compact_spline
 
-    compact = compact_spline(seg, bspline_tol)
+    compact = seg if bspline_tol is None else compact_spline(seg, bspline_tol)
     k = compact.n_pieces
-    count = -(-k // EDGE_SPANS)
+    count = 1 if edge_spans is None else -(-k // edge_spans)
     cuts = (np.arange(count + 1) * k) // count
     return [Spline(compact.breaks[lo : hi + 1], compact.coeffs[:, lo:hi]) for lo, hi in zip(cuts[:-1], cuts[1:])]
 
 
-def _edges(contour: Contour, bspline_tol: float) -> list[Any]:
+def _edges(contour: Contour, bspline_tol: float | None, edge_spans: int | None) -> list[Any]:
     from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge
     from OCP.collections import Array1_double, Array1_gp_Pnt, Array1_int
     from OCP.GC import GC_MakeArcOfCircle
@@ -68,7 +69,7 @@ def _edges(contour: Contour, bspline_tol: float) -> list[Any]:
             curve = GC_MakeArcOfCircle(gp_Pnt(a[0], a[1], 0.0), gp_Pnt(m[0], m[1], 0.0), gp_Pnt(b[0], b[1], 0.0)).Value()
             edges.append(BRepBuilderAPI_MakeEdge(curve).Edge())
             continue
-        for part in _edge_parts(seg, bspline_tol):
+        for part in _edge_parts(seg, bspline_tol, edge_spans):
             knots, controls = spline_bspline(part)
             unique = sorted(set(knots.tolist()))
             poles = Array1_gp_Pnt(1, len(controls))
@@ -83,16 +84,22 @@ def _edges(contour: Contour, bspline_tol: float) -> list[Any]:
     return edges
 
 
-def step_bytes(contour: Contour, body: Any, name: str = "cam", bspline_tol: float | None = None) -> bytes:
+def step_bytes(contour: Contour, body: Any, name: str = "cam", bspline_tol: float | None = None, *, exact: bool = False,
+               edge_spans: int | None = EDGE_SPANS) -> bytes:
     """STEP file content of the extruded cam body (``body``: :class:`camgen.export.solid.SolidSpec`).
 
     Spline segments are written within ``bspline_tol`` mm of the contour (default
-    :data:`camgen.export.dxf.DEFAULT_BSPLINE_TOL`), stated in the header's FILE_DESCRIPTION.
+    :data:`camgen.export.dxf.DEFAULT_BSPLINE_TOL`), stated in the header's FILE_DESCRIPTION, as
+    edges of at most ``edge_spans`` knot spans.  ``exact=True`` writes every segment's own
+    pieces (no compact form) and ``edge_spans=None`` one edge per segment: together the earlier
+    form (benchmarks/bench_step.py compares them).
     """
-    from camgen.errors import require_positive
+    from camgen.errors import ParameterError, require_positive
     from camgen.export.dxf import DEFAULT_BSPLINE_TOL
 
     tol = require_positive("bspline_tol", DEFAULT_BSPLINE_TOL if bspline_tol is None else bspline_tol, "mm")
+    if edge_spans is not None and (isinstance(edge_spans, bool) or not isinstance(edge_spans, int) or edge_spans < 1):
+        raise ParameterError("edge_spans", edge_spans, "a whole number >= 1, or None")
     _ocp()
     from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut
     from OCP.BRepBuilderAPI import (
@@ -108,7 +115,7 @@ def step_bytes(contour: Contour, body: Any, name: str = "cam", bspline_tol: floa
     from OCP.TopoDS import TopoDS
 
     wire = BRepBuilderAPI_MakeWire()
-    for edge in _edges(contour, tol):
+    for edge in _edges(contour, None if exact else tol, edge_spans):
         wire.Add(edge)
     if not wire.IsDone():
         raise ExportError(f"cam '{name}': the profile edges do not form a closed wire for STEP")
@@ -146,8 +153,8 @@ def step_bytes(contour: Contour, body: Any, name: str = "cam", bspline_tol: floa
         text = path.read_text(encoding="ascii", errors="replace")
     # the tolerance of the spline edges in the header (FILE_DESCRIPTION)
     splines = any(isinstance(seg, Spline) for seg in contour.segments)
-    what = (f"camgen cam {name}: B-spline edges within {tol!r} mm of the contour"
-            if splines else f"camgen cam {name}: exact arcs and lines")
+    what = (f"camgen cam {name}: B-spline edges within {tol!r} mm of the contour" if splines and not exact
+            else f"camgen cam {name}: exact arcs, lines and B-splines")
     text = re.sub(r"FILE_DESCRIPTION\(\('[^']*'\)", f"FILE_DESCRIPTION(('{what}')", text, count=1)
     # fixed time stamp and names in the header (FILE_NAME): the same cam gives the same bytes
     text = re.sub(r"FILE_NAME\('[^']*','[^']*'", f"FILE_NAME('{name}.step','2000-01-01T00:00:00'", text, count=1)
