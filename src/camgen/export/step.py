@@ -12,7 +12,7 @@ Why edges of a few spans: OCCT's (and so FreeCAD's) default mass properties inte
 with one Gauss rule of at most 61 points over the face's whole parameter range
 (``BRepGProp_Gauss::Compute``, no subdivision at the knots), so a side wall over one edge of
 hundreds of spans came out up to ~1e-3 relative off in volume (~1e-6 for a smooth cam); over
-edges of at most 16 spans it is within ~1e-9 (``test_step.py``).
+edges of at most 64 spans it is within ~1e-8 (``test_step.py``, ``benchmarks/bench_step.py``).
 
 Optional: ``pip install "camgen[step]"`` (cadquery-ocp-novtk, Apache-2.0 bindings of OCCT).  The
 file's time stamp is fixed so the same cam gives the same bytes.
