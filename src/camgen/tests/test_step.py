@@ -200,7 +200,7 @@ def test_occt_volume_of_every_template_step_is_within_1e6(template_cams):
     for name, cam in template_cams:
         data = step_bytes(cam.contour, cam.body, cam.name)
         exact = _exact_volume(cam.contour, cam.body)
-        assert step_volume(data) == pytest.approx(exact, rel=1e-6), (name, cam.name)
+        assert step_volume(data) == pytest.approx(exact, rel=1e-7), (name, cam.name)  # issue: 1e-6; measured <= 6e-9
         text = data.decode("ascii")
         if any(seg.kind == "spline" for seg in cam.contour.segments):
             assert f"FILE_DESCRIPTION(('camgen cam {cam.name}: B-spline edges within 1e-08 mm of the contour')" in text
