@@ -45,6 +45,9 @@ TARGET = 0.5
 MIN_PIECES = 4
 MIN_PERIODIC_PIECES = 8
 MAX_PIECES = 200_000
+#: A fit within tolerance is redistributed onto fewer pieces when they would be below this
+#: fraction of its pieces.
+COARSEN = 0.7
 #: Rounds of redistribution (then bisection) before the fit gives up.
 MAX_ROUNDS = 24
 #: Smallest tolerance relative to the curve's size: below it rounding decides.
@@ -208,8 +211,10 @@ def _bisect(breaks: np.ndarray, bad: np.ndarray) -> np.ndarray:
 
 
 def _refine(fit_on: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]], curve: Curve,
-            breaks: np.ndarray, tol: float, max_pieces: int, what: str) -> Fit:
-    """Fit on ``breaks``, measure, redistribute / bisect until within ``tol``.  The columns of
+            breaks: np.ndarray, tol: float, max_pieces: int, what: str, coarsen: bool = True) -> Fit:
+    """Fit on ``breaks``, measure, redistribute / bisect until within ``tol``; a first fit within
+    ``tol`` on far more pieces than its errors call for is redistributed once onto fewer (kept if
+    that is within ``tol`` too).  The columns of
     the curve are taken in pairs (several planar curves on shared knots): the distance of a
     piece is the largest over the pairs."""
     best: Fit | None = None
@@ -223,7 +228,14 @@ def _refine(fit_on: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndar
         if not np.isfinite(err):
             raise GeometryError(f"{what}: the curve is not finite where it is sampled")
         if err <= tol:
-            return Fit(breaks, coeffs, knots, controls, err)
+            done = Fit(breaks, coeffs, knots, controls, err)
+            fewer = _redistribute(breaks, dist, tol, max_pieces)
+            if coarsen and fewer.size < COARSEN * breaks.size:  # far more pieces than the tolerance needs
+                try:
+                    return _refine(fit_on, curve, fewer, tol, max_pieces, what, coarsen=False)
+                except GeometryError:
+                    pass
+            return done
         if best is None or err < best.error:
             best = Fit(breaks, coeffs, knots, controls, err)
         if breaks.size - 1 >= max_pieces:

@@ -96,6 +96,9 @@ SPLINE_FORMS = ("polar", "cartesian")
 RHO_DEGREES = (3, 5)
 #: Default largest distance (mm) of the cam's cubic pieces from the exact polar curves.
 DEFAULT_FIT_TOL = 1e-9
+#: The polar form's fit tolerance is at least this many times the rounding noise of the finite-
+#: difference curvature schemes (``forward``/``central`` at large N; :func:`_difference_noise`).
+NOISE_FACTOR = 10.0
 #: Points per sample interval at which the undercut condition 1 - r_d kappa > 0 is checked.
 UNDERCUT_GRID = 16
 
@@ -201,7 +204,8 @@ class TricycleCam:
     profile : Contour of the cam itself: ``pitch`` offset inward by ``r_d`` (what is made).
     form : ``"polar"`` (default) or ``"cartesian"`` (the earlier form), see :func:`tricycle_cam`.
     curves : the exact polar curves the contours are fitted to (``"polar"`` form), else None.
-    fit_tol : the stated tolerance of the contours' cubic pieces, mm.
+    fit_tol : the stated tolerance of the contours' cubic pieces, mm (the requested one, or for
+        eq. (12)'s finite differences at large N ten times their rounding noise where larger).
     fit_error : the largest distance of the contours from the exact curves measured at the probe
         points of every piece, mm (``"polar"``; NaN for ``"cartesian"``).
     """
@@ -275,6 +279,20 @@ def tricycle_cam(
     return _polar_cam(synth, phi, radius, device, trajectory, rho_degree, fit_tol)
 
 
+def _difference_noise(synth: CamSynthesis, trajectory: Trajectory, device: Tricycle) -> float:
+    """Rounding noise (mm) of the cam radius from eq. (12)'s finite differences (0 for the exact
+    scheme): second differences of coordinates up to ``c`` mm over steps ``h`` carry rounding
+    ``4 eps c / h^2`` in the curvature, times ``d L`` in rho (eq. 13, with ``1 + D k`` at its
+    smallest).  A fit tolerance below it would make the spline follow the noise."""
+    if synth.scheme == "exact":
+        return 0.0
+    x = synth.x
+    h = float(np.min(np.diff(x))) if x.size > 1 else trajectory.period
+    size = max(float(np.max(np.abs(x))) + trajectory.period, float(np.max(np.abs(trajectory.f(x)))))
+    gain = device.lever * device.wheelbase / float(np.min(1.0 + device.half_track * synth.curvature)) ** 2
+    return 4.0 * np.finfo(float).eps * size / h**2 * gain
+
+
 def _polar_cam(synth: CamSynthesis, phi: np.ndarray, radius: np.ndarray, device: Tricycle, trajectory: Trajectory,
                degree: int, fit_tol: float) -> TricycleCam:
     """The ``"polar"`` form of :func:`tricycle_cam`."""
@@ -284,6 +302,7 @@ def _polar_cam(synth: CamSynthesis, phi: np.ndarray, radius: np.ndarray, device:
     radius = radius.copy()
     radius[-1] = radius[0]
     curves = PolarCurves.interpolate(radius, degree, device.rod_radius)
+    fit_tol = max(fit_tol, NOISE_FACTOR * _difference_noise(synth, trajectory, device))
     rd = device.rod_radius
     dense = np.linspace(0.0, 2.0 * math.pi, UNDERCUT_GRID * n, endpoint=False)
     factor = 1.0 - rd * curves.pitch_curvature(dense)  # |Q'| (1 - r_d kappa) is the profile's speed
