@@ -579,3 +579,27 @@ def test_finite_difference_noise_sets_a_floor_under_the_fit_tolerance(traj):
     sigma = math.sqrt(np.mean(d * d) / math.comb(16, 8))
     assert 1e-9 < 4 * sigma <= cam.fit_tol and cam.fit_error <= cam.fit_tol
     assert tc.tricycle_cam(traj, n_samples=20000).fit_tol == 1e-9
+
+
+def test_polar_form_reports_the_undercut_where_the_rod_centre_path_is_sharper_than_the_rod():
+    """A rod of radius 34.4 mm on the two-sine path: the rod-centre path (independent of r_d:
+    R = d L k / (1 + D k) + L) turns convex with a radius of about 34.1 mm, so the profile would
+    have a cusp there.  The error names the cam angle where the radius of curvature of the path
+    is smallest, found here from the fitted pitch contour's points by central differences."""
+    from camgen.errors import UndercutError
+
+    path = trajectory_from_expression("202.4396*sin(pi*x/1000) + 210*sin(2*pi*x/1000)", 2000.0)
+    with pytest.raises(UndercutError) as info:
+        tc.tricycle_cam(path, tc.Tricycle(rod_radius=34.4))
+    pitch = info.value.pitch
+    assert pitch is not None and info.value.limit == 34.4
+    phi = np.linspace(0, 2 * math.pi, 200_001)[:-1]
+    p = pitch.segments[0].eval_t(phi)
+    d1 = (np.roll(p, -1, axis=0) - np.roll(p, 1, axis=0)) / 2
+    d2 = np.roll(p, -1, axis=0) - 2 * p + np.roll(p, 1, axis=0)
+    kappa = (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / np.hypot(*d1.T) ** 3
+    worst = int(np.argmax(kappa))
+    assert 1 / kappa[worst] < 34.4
+    angle = float(info.value.args[0].split("at cam angle ")[1].split(" deg")[0])
+    assert abs(math.remainder(angle - math.degrees(2 * math.pi - phi[worst]), 360.0)) < 0.5
+    assert f"{1 / kappa[worst]:.3g}"[:3] in info.value.args[0]
