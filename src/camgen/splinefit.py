@@ -20,13 +20,14 @@ the curve is measured at the probe fractions :data:`PROBES` of every piece; wher
 tolerance, the knots are redistributed by equidistribution of ``h (err / tol)^(1/4)`` (the
 error of a cubic falls as ``h^4``), then bisected where it still does.
 
-The periodic fit is numpy only (the tricycle's synthesis imports no scipy); the clamped fit (an\nexport step) uses scipy's B-spline design matrix and sparse solver, imported inside it.
+The periodic fit is numpy only (the tricycle's synthesis imports no scipy); the clamped fit (an
+export step) uses scipy's B-spline design matrix and sparse solver, imported inside it.
 """
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 
@@ -34,8 +35,8 @@ from camgen.errors import GeometryError, ParameterError, require_positive
 
 Curve = Callable[[np.ndarray], np.ndarray]
 
-#: Fractions of every piece at which the fit's distance to the curve is measured (the break
-#: itself, eighths, and the Gauss nodes of the fit).
+#: Fractions of every piece at which the fit's distance to the curve is measured (its start and
+#: the eighths; the tests measure between them too).
 PROBES = np.arange(8) / 8.0
 #: Gauss-Legendre nodes per knot interval of the least-squares samples.
 GAUSS_NODES = 6

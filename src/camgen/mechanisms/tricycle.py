@@ -127,7 +127,7 @@ class PolarCurves:
     rod_radius: float
 
     @classmethod
-    def interpolate(cls, radius: np.ndarray, degree: int, rod_radius: float) -> "PolarCurves":
+    def interpolate(cls, radius: np.ndarray, degree: int, rod_radius: float) -> PolarCurves:
         """``R`` through ``radius`` (N + 1,) at ``phi_j = 2 pi j / N`` (``radius[N] == radius[0]``)."""
         n = radius.size - 1
         h = 2.0 * math.pi / n

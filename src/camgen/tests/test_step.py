@@ -204,7 +204,7 @@ def test_occt_volume_of_every_template_step_is_within_1e6(template_cams):
         text = data.decode("ascii")
         if any(seg.kind == "spline" for seg in cam.contour.segments):
             assert f"FILE_DESCRIPTION(('camgen cam {cam.name}: B-spline edges within 1e-08 mm of the contour')" in text
-            for knots in re.findall(r"B_SPLINE_CURVE_WITH_KNOTS\('',3,\(.*?\),\s*\.UNSPECIFIED\.,\s*\.F\.,\s*\.F\.,\s*\(([^)]*)\)", text, re.S):
+            for knots in re.findall(r"B_SPLINE_CURVE_WITH_KNOTS\('',3,\(.*?\),\s*\.UNSPECIFIED\.,\s*\.F\.,\s*\.F\.,\s*\(([^)]*)\)", text, re.DOTALL):
                 assert len(knots.split(",")) - 1 <= EDGE_SPANS
 
 
@@ -250,11 +250,11 @@ def test_step_edges_are_within_the_stated_tolerance_both_ways(template, template
         splines = [seg for seg in cam.contour.segments if isinstance(seg, Spline) and seg.n_pieces > 1]
         assert edges and splines
         # an edge is a run of its segment's compact form: same parameter range, same end points
-        def owner(knots, controls):
+        def owner(knots, controls, splines=splines):
             for i, seg in enumerate(splines):
-                if seg.breaks[0] - 1e-9 <= knots[0] and knots[-1] <= seg.breaks[-1] + 1e-9:
-                    if np.hypot(*(seg.eval_t(knots[:1])[0] - controls[0])) <= 1e-6:
-                        return i
+                inside = seg.breaks[0] - 1e-9 <= knots[0] and knots[-1] <= seg.breaks[-1] + 1e-9
+                if inside and np.hypot(*(seg.eval_t(knots[:1])[0] - controls[0])) <= 1e-6:
+                    return i
             raise AssertionError("an edge that starts on no spline segment")
 
         by_segment = {i: [] for i in range(len(splines))}
@@ -266,7 +266,7 @@ def test_step_edges_are_within_the_stated_tolerance_both_ways(template, template
             # every edge point within tol of its segment
             for knots, controls in mine:
                 pts = BSpline(knots, controls, 3)(np.linspace(knots[0], knots[-1], 801))
-                assert np.max(curve_distance(pts, lambda t, o: seg.eval_t(t, o), seg.breaks[0], seg.breaks[-1])) <= tol * (1 + 1e-6)
+                assert np.max(curve_distance(pts, lambda t, o, seg=seg: seg.eval_t(t, o), seg.breaks[0], seg.breaks[-1])) <= tol * (1 + 1e-6)
             # every point of the segment within tol of its edges
             pts = seg.eval_t(np.linspace(seg.breaks[0], seg.breaks[-1], 4001))
             dist = []
