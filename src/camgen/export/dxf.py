@@ -9,17 +9,19 @@ Spline segments are written in one of two ways (:class:`DxfOptions` ``splines``)
 * ``"biarc"`` (default): G1 chains of circular ARCs (and LINEs where the curve is straight)
   within ``biarc_tol`` mm of the exact curve (:mod:`camgen.biarc`).  OpenSCAD, laser and CAM
   programs import these; many of them ignore or reject SPLINE entities.
-* ``"bspline"``: clamped cubic B-splines, an exact representation of the piecewise cubic for CAD
-  programs (fit-point-only or raw periodic-knot SPLINEs are misread by independent readers, see
-  ``shared/research/ecosystem.md`` section 3).
+* ``"bspline"``: clamped cubic B-splines for CAD programs (fit-point-only or raw periodic-knot
+  SPLINEs are misread by independent readers, see ``shared/research/ecosystem.md`` section 3):
+  the compact form of every spline segment (:func:`compact_spline`: the fewest C2 pieces within
+  ``bspline_tol`` mm of the contour, with its ends and joints kept exactly; the segment itself,
+  exactly, where that has no fewer pieces), written exactly with simple interior knots.
 
 Arc segments (three-arc cams) are exact ARCs in both modes.  Cams that know their cam angle 0
 (disk cams) get a ``ZERO`` layer: a LINE from the rotation axis to the point of the profile the
 follower touches at cam angle 0, and an ARC about the axis (half that radius, 40 deg) ending in
 an arrow head (two LINEs) in the direction the cam turns.  The header extents ($EXTMIN,
 $EXTMAX, and $LIMMIN/$LIMMAX) are the exact bounding box of everything drawn; the spline mode
-and tolerance are stated in the header's custom properties (``camgen_splines``,
-``camgen_biarc_tol_mm``).
+and tolerance are stated in the header's custom properties (``camgen_splines`` and
+``camgen_biarc_tol_mm`` or ``camgen_bspline_tol_mm``).
 """
 from __future__ import annotations
 
@@ -85,6 +87,7 @@ def spline_bspline(spline: Spline, tol: float = 1e-9) -> tuple[np.ndarray, np.nd
     knots = np.concatenate([[t[0]] * 4, np.repeat(inner, mult), [t[-1]] * 4])
     count = knots.size - 4
     greville = (knots[1 : count + 1] + knots[2 : count + 2] + knots[3 : count + 3]) / 3.0
+    greville[0], greville[-1] = t[0], t[-1]  # (3 a) / 3 may round to just outside [a, b]: make_interp_spline refuses that
     try:
         fit = make_interp_spline(greville, spline.eval_t(greville), k=3, t=knots)
     except (ValueError, np.linalg.LinAlgError):
@@ -93,6 +96,65 @@ def spline_bspline(spline: Spline, tol: float = 1e-9) -> tuple[np.ndarray, np.nd
     if np.max(np.abs(fit(probe) - spline.eval_t(probe))) > tol:
         return spline_bezier_controls(spline)
     return knots, np.asarray(fit.c)
+
+
+#: Default tolerance (mm) of the compact B-spline form of spline segments (:func:`compact_spline`)
+#: in DXF (``splines = "bspline"``) and STEP files.
+DEFAULT_BSPLINE_TOL = 1e-8
+
+
+def _c2_breaks(spline: Spline) -> np.ndarray:
+    """Which interior breaks (K - 1,) of ``spline`` are C2 (the test of :func:`spline_bspline`)."""
+    t = spline.breaks
+    inner = t[1:-1].size
+    if not inner:
+        return np.zeros(0, dtype=bool)
+    scale = max(1.0, float(np.max(np.abs(spline.coeffs[3]))))
+    left, right = np.arange(inner), np.arange(1, inner + 1)
+    h = np.diff(t)[:-1]
+    d1 = spline.eval_piece(left, h, 1) - spline.eval_piece(right, np.zeros(inner), 1)
+    d2 = spline.eval_piece(left, h, 2) - spline.eval_piece(right, np.zeros(inner), 2)
+    return (np.max(np.abs(d1), axis=1) <= 1e-10 * scale) & (np.max(np.abs(d2), axis=1) <= 1e-8 * scale)
+
+
+def compact_spline(spline: Spline, tol: float = DEFAULT_BSPLINE_TOL) -> Spline:
+    """``spline`` with as few cubic pieces as ``tol`` (mm) allows: C2 inside, same ends.
+
+    Every run of pieces between breaks where ``spline`` is not C2 is refitted by a clamped C2
+    cubic spline that keeps the run's end points, first and second derivatives exactly (so the
+    joints keep their continuity: G2 stays G2) and lies within ``tol`` mm of the run at the
+    probe points of every new piece (least squares with knots placed by the error,
+    :func:`camgen.splinefit.fit_clamped`); a run keeps its own pieces where the refit would not
+    have fewer.  The parameter range is unchanged (the parameter along the new pieces is not
+    the old one: compare curves by distance, not at equal parameters).
+    """
+    from camgen.errors import GeometryError
+    from camgen.splinefit import fit_clamped
+
+    tol = require_positive("bspline_tol", tol, "mm")
+    c2 = _c2_breaks(spline)
+    cuts = np.concatenate([[0], np.flatnonzero(~c2) + 1, [spline.n_pieces]])
+    breaks: list[np.ndarray] = []
+    coeffs: list[np.ndarray] = []
+    for lo, hi in zip(cuts[:-1], cuts[1:]):
+        run = Spline(spline.breaks[lo : hi + 1], spline.coeffs[:, lo:hi])
+        a, b = float(run.breaks[0]), float(run.breaks[-1])
+        ends = [run.eval_piece(np.array([i]), np.array([tau]), order)[0]
+                for i, tau in ((0, 0.0), (run.n_pieces - 1, float(np.diff(run.breaks)[-1]))) for order in (0, 1, 2)]
+        fit = None
+        if run.n_pieces > 3:
+            try:
+                fit = fit_clamped(run.eval_t, a, b, tol, tuple(ends), initial_pieces=max(3, run.n_pieces // 8),
+                                  max_pieces=run.n_pieces - 1, what="compact B-spline")
+            except GeometryError:
+                fit = None  # no fewer pieces within tol: keep the run as it is
+        if fit is None:
+            breaks.append(run.breaks[:-1])
+            coeffs.append(run.coeffs)
+        else:
+            breaks.append(fit.breaks[:-1])
+            coeffs.append(fit.coeffs)
+    return Spline(np.append(np.concatenate(breaks), spline.breaks[-1]), np.concatenate(coeffs, axis=1))
 
 
 #: Spline modes of :class:`DxfOptions`.
@@ -107,11 +169,13 @@ class DxfOptions:
     ----------
     splines : {"biarc", "bspline"}
         ``"biarc"`` (default): spline segments of PROFILE and PITCH become ARCs and LINEs within
-        ``biarc_tol`` mm (every DXF reader takes them); ``"bspline"``: exact clamped cubic
-        B-spline SPLINEs (for CAD programs).
+        ``biarc_tol`` mm (every DXF reader takes them); ``"bspline"``: clamped cubic B-spline
+        SPLINEs within ``bspline_tol`` mm (for CAD programs).
     biarc_tol : float
         Largest distance between a spline segment and its biarcs, mm (the pipeline passes the
         scene's ``chord_tol_mm``).
+    bspline_tol : float
+        Largest distance between a spline segment and its written B-spline (``"bspline"``), mm.
     center_mark : float
         Half-length of the centre cross on the rotation axis, mm (0: no centre mark).
     """
@@ -119,11 +183,13 @@ class DxfOptions:
     splines: str = "biarc"
     biarc_tol: float = DEFAULT_CHORD_TOL
     center_mark: float = 5.0
+    bspline_tol: float = DEFAULT_BSPLINE_TOL
 
     def __post_init__(self) -> None:
         if self.splines not in SPLINE_MODES:
             raise ParameterError("dxf_splines", self.splines, f"one of {', '.join(SPLINE_MODES)}")
         require_positive("biarc_tol", self.biarc_tol)
+        require_positive("bspline_tol", self.bspline_tol)
         if require_finite("center_mark", self.center_mark) < 0:
             raise ParameterError("center_mark", self.center_mark, "center_mark >= 0 mm")
 
@@ -145,7 +211,7 @@ def _arc_spline(contour: Contour, tol: float) -> Contour:
     return Contour(segments, closure_tol=1e-6)
 
 
-def _add_contour(msp: DxfDocument, contour: Contour, layer: str) -> None:
+def _add_contour(msp: DxfDocument, contour: Contour, layer: str, bspline_tol: float = DEFAULT_BSPLINE_TOL) -> None:
     for seg in contour.segments:
         if isinstance(seg, Arc):
             start = math.degrees(seg.start_angle)
@@ -156,7 +222,7 @@ def _add_contour(msp: DxfDocument, contour: Contour, layer: str) -> None:
         elif _is_line(seg):
             msp.add_line(tuple(seg.start_point), tuple(seg.end_point), layer)
         else:
-            knots, controls = spline_bspline(seg)
+            knots, controls = spline_bspline(compact_spline(seg, bspline_tol))
             msp.add_spline(controls, knots, 3, layer)
 
 
@@ -248,13 +314,15 @@ def _contour_to_dxf(contour: Contour, body: Any, pitch: Contour | None, options:
     msp.add_custom_property("camgen_splines", options.splines)
     if options.splines == "biarc":
         msp.add_custom_property("camgen_biarc_tol_mm", repr(float(options.biarc_tol)))
+    else:
+        msp.add_custom_property("camgen_bspline_tol_mm", repr(float(options.bspline_tol)))
     for name, color in ((PROFILE_LAYER, 7), ("BORE", 2), ("KEYWAY", 3), ("PITCH", 4), ("CENTER", 1)):
         msp.add_layer(name, color)
     if zero_mark is not None:
         msp.add_layer("ZERO", 6)
-    _add_contour(msp, contour, PROFILE_LAYER)
+    _add_contour(msp, contour, PROFILE_LAYER, options.bspline_tol)
     if pitch is not None:
-        _add_contour(msp, pitch, "PITCH")
+        _add_contour(msp, pitch, "PITCH", options.bspline_tol)
     r, keyway = _bore_and_keyway(body)
     if r > 0 and keyway is not None:
         # keyway: two sides from the bore circle out to the keyway bottom, and the bottom; the

@@ -1,11 +1,21 @@
 """STEP (AP214, mm) of the cam body with exact geometry, through OpenCASCADE (OCP).
 
-Arcs become circles (``GC_MakeArcOfCircle`` through start, middle and end points); spline
-segments become B-spline curves with the same knots and poles as the DXF export (the exact
-piecewise cubic, knots of multiplicity 3 inside).  The face (profile minus bore) is extruded to
-the thickness and the keyway's prism (camgen.body's one keyway shape) is cut.  Optional: ``pip install "camgen[step]"``
-(cadquery-ocp-novtk, Apache-2.0 bindings of OCCT).  The file's time stamp is fixed so the same
-cam gives the same bytes.
+Arcs become circles (``GC_MakeArcOfCircle`` through start, middle and end points).  Spline
+segments become clamped cubic B-spline curves: the segment in its compact form
+(:func:`camgen.export.dxf.compact_spline`: the fewest C2 pieces within ``bspline_tol`` mm of the
+contour, ends and joints kept exactly; the segment itself where that has no fewer pieces), cut
+into edges of at most :data:`EDGE_SPANS` knot spans, each written exactly (simple knots inside).
+The face (profile minus bore) is extruded to the thickness and the keyway's prism (camgen.body's
+one keyway shape) is cut.  The header's FILE_DESCRIPTION states the tolerance.
+
+Why edges of a few spans: OCCT's (and so FreeCAD's) default mass properties integrate every face
+with one Gauss rule of at most 61 points over the face's whole parameter range
+(``BRepGProp_Gauss::Compute``, no subdivision at the knots), so a side wall over one edge of
+hundreds of spans came out up to ~1e-3 relative off in volume (~1e-6 for a smooth cam); over
+edges of at most 64 spans it is within ~1e-8 (``test_step.py``, ``benchmarks/bench_step.py``).
+
+Optional: ``pip install "camgen[step]"`` (cadquery-ocp-novtk, Apache-2.0 bindings of OCCT).  The
+file's time stamp is fixed so the same cam gives the same bytes.
 """
 from __future__ import annotations
 
@@ -15,8 +25,13 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-from camgen.contour import Arc, Contour
+import numpy as np
+
+from camgen.contour import Arc, Contour, Spline
 from camgen.errors import ExportError
+
+#: Most knot spans of one B-spline edge (see the module notes: OCCT's volume integration).
+EDGE_SPANS = 64
 
 
 def _ocp():
@@ -26,7 +41,19 @@ def _ocp():
         raise ExportError('STEP export needs OpenCASCADE bindings: pip install ".[step]" (cadquery-ocp-novtk)') from None
 
 
-def _edges(contour: Contour) -> list[Any]:
+def _edge_parts(seg: Spline, bspline_tol: float | None, edge_spans: int | None) -> list[Spline]:
+    """The compact form of ``seg`` (``bspline_tol`` None: ``seg`` itself) cut into near-equal runs
+    of at most ``edge_spans`` pieces (None: one run)."""
+    from camgen.export.dxf import compact_spline
+
+    compact = seg if bspline_tol is None else compact_spline(seg, bspline_tol)
+    k = compact.n_pieces
+    count = 1 if edge_spans is None else -(-k // edge_spans)
+    cuts = (np.arange(count + 1) * k) // count
+    return [Spline(compact.breaks[lo : hi + 1], compact.coeffs[:, lo:hi]) for lo, hi in zip(cuts[:-1], cuts[1:])]
+
+
+def _edges(contour: Contour, bspline_tol: float | None, edge_spans: int | None) -> list[Any]:
     from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge
     from OCP.collections import Array1_double, Array1_gp_Pnt, Array1_int
     from OCP.GC import GC_MakeArcOfCircle
@@ -40,8 +67,10 @@ def _edges(contour: Contour) -> list[Any]:
         if isinstance(seg, Arc):
             a, m, b = (seg.point([u])[0] for u in (0.0, 0.5, 1.0))
             curve = GC_MakeArcOfCircle(gp_Pnt(a[0], a[1], 0.0), gp_Pnt(m[0], m[1], 0.0), gp_Pnt(b[0], b[1], 0.0)).Value()
-        else:
-            knots, controls = spline_bspline(seg)
+            edges.append(BRepBuilderAPI_MakeEdge(curve).Edge())
+            continue
+        for part in _edge_parts(seg, bspline_tol, edge_spans):
+            knots, controls = spline_bspline(part)
             unique = sorted(set(knots.tolist()))
             poles = Array1_gp_Pnt(1, len(controls))
             for i, (x, y) in enumerate(controls, 1):
@@ -51,13 +80,26 @@ def _edges(contour: Contour) -> list[Any]:
             for i, k in enumerate(unique, 1):
                 kn.SetValue(i, k)
                 mu.SetValue(i, int((knots == k).sum()))
-            curve = Geom_BSplineCurve(poles, kn, mu, 3)
-        edges.append(BRepBuilderAPI_MakeEdge(curve).Edge())
+            edges.append(BRepBuilderAPI_MakeEdge(Geom_BSplineCurve(poles, kn, mu, 3)).Edge())
     return edges
 
 
-def step_bytes(contour: Contour, body: Any, name: str = "cam") -> bytes:
-    """STEP file content of the extruded cam body (``body``: :class:`camgen.export.solid.SolidSpec`)."""
+def step_bytes(contour: Contour, body: Any, name: str = "cam", bspline_tol: float | None = None, *, exact: bool = False,
+               edge_spans: int | None = EDGE_SPANS) -> bytes:
+    """STEP file content of the extruded cam body (``body``: :class:`camgen.export.solid.SolidSpec`).
+
+    Spline segments are written within ``bspline_tol`` mm of the contour (default
+    :data:`camgen.export.dxf.DEFAULT_BSPLINE_TOL`), stated in the header's FILE_DESCRIPTION, as
+    edges of at most ``edge_spans`` knot spans.  ``exact=True`` writes every segment's own
+    pieces (no compact form) and ``edge_spans=None`` one edge per segment: together the earlier
+    form (benchmarks/bench_step.py compares them).
+    """
+    from camgen.errors import ParameterError, require_positive
+    from camgen.export.dxf import DEFAULT_BSPLINE_TOL
+
+    tol = require_positive("bspline_tol", DEFAULT_BSPLINE_TOL if bspline_tol is None else bspline_tol, "mm")
+    if edge_spans is not None and (isinstance(edge_spans, bool) or not isinstance(edge_spans, int) or edge_spans < 1):
+        raise ParameterError("edge_spans", edge_spans, "a whole number >= 1, or None")
     _ocp()
     from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut
     from OCP.BRepBuilderAPI import (
@@ -73,7 +115,7 @@ def step_bytes(contour: Contour, body: Any, name: str = "cam") -> bytes:
     from OCP.TopoDS import TopoDS
 
     wire = BRepBuilderAPI_MakeWire()
-    for edge in _edges(contour):
+    for edge in _edges(contour, None if exact else tol, edge_spans):
         wire.Add(edge)
     if not wire.IsDone():
         raise ExportError(f"cam '{name}': the profile edges do not form a closed wire for STEP")
@@ -109,6 +151,11 @@ def step_bytes(contour: Contour, body: Any, name: str = "cam") -> bytes:
         if not path.exists() or int(status) != 1:  # IFSelect_RetDone
             raise ExportError(f"cam '{name}': OpenCASCADE could not write the STEP file (status {status})")
         text = path.read_text(encoding="ascii", errors="replace")
+    # the tolerance of the spline edges in the header (FILE_DESCRIPTION)
+    splines = any(isinstance(seg, Spline) for seg in contour.segments)
+    what = (f"camgen cam {name}: B-spline edges within {tol!r} mm of the contour" if splines and not exact
+            else f"camgen cam {name}: exact arcs, lines and B-splines")
+    text = re.sub(r"FILE_DESCRIPTION\(\('[^']*'\)", f"FILE_DESCRIPTION(('{what}')", text, count=1)
     # fixed time stamp and names in the header (FILE_NAME): the same cam gives the same bytes
     text = re.sub(r"FILE_NAME\('[^']*','[^']*'", f"FILE_NAME('{name}.step','2000-01-01T00:00:00'", text, count=1)
     # the product is named after a per-process counter of OCCT's translator: name it after the cam

@@ -90,6 +90,109 @@ class Tricycle:
 # --------------------------------------------------------------------------------------------
 # The cam
 # --------------------------------------------------------------------------------------------
+#: Spline forms of :func:`tricycle_cam`.
+SPLINE_FORMS = ("polar", "cartesian")
+#: Degrees of the polar interpolant rho(phi) (odd: knots at the samples).
+RHO_DEGREES = (3, 5)
+#: Default largest distance (mm) of the cam's cubic pieces from the exact polar curves.
+DEFAULT_FIT_TOL = 1e-9
+#: The polar form's fit tolerance is at least this many times the rounding noise of the finite-
+#: difference curvature schemes (``forward``/``central`` at large N; :func:`_difference_noise`).
+NOISE_FACTOR = 10.0
+#: Points per sample interval at which the undercut condition 1 - r_d kappa > 0 is checked.
+UNDERCUT_GRID = 16
+
+
+@dataclass(frozen=True)
+class PolarCurves:
+    """The exact cam curves of the polar form, as functions of the polar angle ``phi`` (rad).
+
+    The rod-centre path is ``Q(phi) = R(phi) u(phi)`` with ``u = (cos phi, sin phi)`` and
+    ``R = rho + r_d`` a periodic interpolating spline of odd degree ``k`` through the samples
+    ``(phi_j, rho_j + r_d)`` (knots at the samples); the profile is ``Q - r_d n`` with ``n`` the
+    outward unit normal of ``Q``:
+
+        n = (R u - R' u_perp) / W,  W = sqrt(R^2 + R'^2),  u_perp = (-sin phi, cos phi).
+
+    Attributes
+    ----------
+    coeffs : array (k + 1, N)
+        Polynomial coefficients of ``R`` on the N uniform intervals of ``[0, 2 pi)``, lowest
+        power first, in ``phi - phi_j`` (rad), mm.
+    rod_radius : float
+        ``r_d``, mm.
+    """
+
+    coeffs: np.ndarray
+    rod_radius: float
+
+    @classmethod
+    def interpolate(cls, radius: np.ndarray, degree: int, rod_radius: float) -> PolarCurves:
+        """``R`` through ``radius`` (N + 1,) at ``phi_j = 2 pi j / N`` (``radius[N] == radius[0]``)."""
+        n = radius.size - 1
+        h = 2.0 * math.pi / n
+        k = degree
+        # the cardinal B-spline of degree k on [0, k + 1], on its unit interval i as a polynomial in
+        # s = x - i (truncated powers: N(x) = sum_j (-1)^j C(k+1, j) (x - j)_+^k / k!, de Boor ch. IX)
+        poly = np.zeros((k + 1, k + 1))  # poly[i, p]: coefficient of s^p on interval i
+        for i in range(k + 1):
+            for j in range(i + 1):
+                for p in range(k + 1):
+                    poly[i, p] += (-1) ** j * math.comb(k + 1, j) * math.comb(k, p) * float(i - j) ** (k - p)
+        poly /= math.factorial(k)
+        # the B-spline centred on sample m covers interval j as its interval i = j - m + (k + 1) / 2;
+        # interpolation at the samples is a circulant system: solved by FFT (de Boor, ch. XIII)
+        centre = (k + 1) // 2
+        column = np.zeros(n)
+        column[(np.arange(k + 1) - centre) % n] += poly[:, 0]
+        controls = np.real(np.fft.ifft(np.fft.fft(radius[:-1]) / np.fft.fft(column)))
+        j = np.arange(n)
+        gathered = controls[(j[None, :] + centre - np.arange(k + 1)[:, None]) % n]  # (k + 1, N)
+        in_s = poly.T @ gathered  # (k + 1, N): powers of s
+        return cls(in_s / h ** np.arange(k + 1)[:, None], rod_radius)
+
+    def derivatives(self, phi: np.ndarray, orders: int = 2) -> list[np.ndarray]:
+        """``R, R', ..., R^(orders)`` at polar angles ``phi`` (rad), mm and mm/rad^k (Horner)."""
+        c = self.coeffs
+        n = c.shape[1]
+        h = 2.0 * math.pi / n
+        x = np.mod(np.asarray(phi, dtype=float), 2.0 * math.pi)
+        j = np.minimum((x / h).astype(np.int64), n - 1)
+        tau = x - j * h
+        rows = c.T[j]  # (M, k + 1): one gather
+        deg = c.shape[0] - 1
+        out = []
+        for nu in range(orders + 1):
+            value = rows[:, deg] * (math.factorial(deg) / math.factorial(deg - nu))
+            for p in range(deg - 1, nu - 1, -1):  # d^nu/dtau^nu of sum c_p tau^p
+                value = value * tau + rows[:, p] * (math.factorial(p) / math.factorial(p - nu))
+            out.append(value)
+        return out
+
+    def pitch_point(self, phi: np.ndarray) -> np.ndarray:
+        """Points (n, 2) of the rod-centre path ``Q(phi)``, mm."""
+        return self.both(phi)[:, :2]
+
+    def profile_point(self, phi: np.ndarray) -> np.ndarray:
+        """Points (n, 2) of the profile ``Q - r_d n`` (the rod touches it where its centre is at ``Q(phi)``), mm."""
+        return self.both(phi)[:, 2:]
+
+    def both(self, phi: np.ndarray) -> np.ndarray:
+        """Pitch and profile points side by side (n, 4), mm (one fit for both, shared knots)."""
+        r, dr = self.derivatives(phi, 1)
+        phi = np.asarray(phi, dtype=float)
+        w = np.hypot(r, dr)
+        a = r - self.rod_radius * r / w  # profile along u
+        b = self.rod_radius * dr / w  # profile along u_perp
+        c, s = np.cos(phi), np.sin(phi)
+        return np.stack([r * c, r * s, a * c - b * s, a * s + b * c], axis=1)
+
+    def pitch_curvature(self, phi: np.ndarray) -> np.ndarray:
+        """Signed curvature of ``Q`` (1/mm, > 0 convex): ``(R^2 + 2 R'^2 - R R'') / W^3``."""
+        r, dr, d2r = self.derivatives(phi, 2)
+        return (r * r + 2.0 * dr * dr - r * d2r) / np.hypot(r, dr) ** 3
+
+
 @dataclass(frozen=True)
 class TricycleCam:
     """A synthesised tricycle cam.
@@ -99,6 +202,12 @@ class TricycleCam:
     synthesis : the eq. (9)-(13) samples (theta, x, k, rho).
     pitch : Contour of the rod-centre path, polar radius ``rho + r_d`` (periodic C2 spline).
     profile : Contour of the cam itself: ``pitch`` offset inward by ``r_d`` (what is made).
+    form : ``"polar"`` (default) or ``"cartesian"`` (the earlier form), see :func:`tricycle_cam`.
+    curves : the exact polar curves the contours are fitted to (``"polar"`` form), else None.
+    fit_tol : the stated tolerance of the contours' cubic pieces, mm (the requested one, or for
+        eq. (12)'s finite differences at large N ten times their rounding noise where larger).
+    fit_error : the largest distance of the contours from the exact curves measured at the probe
+        points of every piece, mm (``"polar"``; NaN for ``"cartesian"``).
     """
 
     synthesis: CamSynthesis
@@ -106,6 +215,10 @@ class TricycleCam:
     profile: Contour
     device: Tricycle
     trajectory: Trajectory = field(repr=False)
+    form: str = "cartesian"
+    curves: PolarCurves | None = field(default=None, repr=False)
+    fit_tol: float = DEFAULT_FIT_TOL
+    fit_error: float = float("nan")
 
 
 def tricycle_cam(
@@ -114,13 +227,37 @@ def tricycle_cam(
     n_samples: int = 720,
     scheme: str = "exact",
     offset_tol: float = 1e-9,
+    form: str = "polar",
+    rho_degree: int = 5,
+    fit_tol: float = DEFAULT_FIT_TOL,
 ) -> TricycleCam:
     """Synthesise the steering cam for ``trajectory`` (paper 004, Section 3).
 
-    The rod-centre path is a periodic C2 cubic spline through the points of polar radius
-    ``rho_i + r_d`` at polar angles ``-theta_i``; the cam profile is its inward offset by the
-    rod radius, refitted within ``offset_tol`` mm.
+    ``form="polar"`` (default): the rod-centre distance ``R = rho + r_d`` is a periodic
+    interpolating spline of degree ``rho_degree`` (5: quintic, error O(h^6); 3: cubic, O(h^4))
+    in the polar angle ``phi`` through the samples (the rod at polar angle ``phi_j = -theta_j``
+    sits at ``rho_j + r_d``), so the curve has no one-signed radial bias between the samples.
+    The exact rod-centre path ``R(phi) u(phi)`` and the profile (its inward offset by ``r_d``,
+    closed form in ``R, R'``: :class:`PolarCurves`) are represented by one periodic C2 cubic
+    spline each, least-squares fits on shared knots placed by the tolerance (not by ``N``):
+    within ``fit_tol`` mm of the exact curves at the probe points of every piece
+    (:func:`camgen.splinefit.fit_periodic`).  Their spline parameter is ``phi``.
+
+    ``form="cartesian"``: the earlier form, kept for comparison: a periodic C2 *parametric*
+    cubic through the points at polar angles ``phi_j`` with radius ``rho_j + r_d`` (its radial
+    error is one-signed where the curve is convex, so the ride's heading drifts), offset inward
+    by ``r_d`` and refitted within ``offset_tol`` mm (C1 cubic Hermite pieces).
+
+    Raises :class:`UndercutError` (with the rod-centre path) where the rod cannot follow the
+    profile: the rod-centre path is convex with a radius of curvature <= ``r_d``.
     """
+    from camgen.errors import require_positive as _positive
+
+    if form not in SPLINE_FORMS:
+        raise ParameterError("form", form, f"one of {', '.join(SPLINE_FORMS)}")
+    if rho_degree not in RHO_DEGREES:
+        raise ParameterError("rho_degree", rho_degree, f"one of {RHO_DEGREES}")
+    _positive("fit_tol", fit_tol, "mm")
     synth = synthesize_rho(trajectory, n_samples, device.lever, device.wheelbase, device.half_track, device.base_radius, scheme)
     n = synth.theta.size
     if np.min(synth.rho) <= 0.0:
@@ -129,15 +266,68 @@ def tricycle_cam(
     order = (-np.arange(n)) % n
     phi = 2.0 * math.pi * np.arange(n + 1) / n
     radius = np.append(synth.rho[order], synth.rho[0]) + device.rod_radius
-    points = np.stack([radius * np.cos(phi), radius * np.sin(phi)], axis=1)
-    points[-1] = points[0]
-    pitch = Contour([Spline.interpolate(phi, points, periodic=True)])
-    try:
-        profile = pitch.offset(-device.rod_radius, spline_tol=offset_tol)
-    except GeometryError as exc:
-        raise UndercutError(f"the steering rod (r_d = {device.rod_radius:g} mm) cannot follow this cam: {exc}", pitch=pitch,
-                            limit=device.rod_radius) from None
-    return TricycleCam(synth, pitch, profile, device, trajectory)
+    if form == "cartesian":
+        points = np.stack([radius * np.cos(phi), radius * np.sin(phi)], axis=1)
+        points[-1] = points[0]
+        pitch = Contour([Spline.interpolate(phi, points, periodic=True)])
+        try:
+            profile = pitch.offset(-device.rod_radius, spline_tol=offset_tol)
+        except GeometryError as exc:
+            raise UndercutError(f"the steering rod (r_d = {device.rod_radius:g} mm) cannot follow this cam: {exc}", pitch=pitch,
+                                limit=device.rod_radius) from None
+        return TricycleCam(synth, pitch, profile, device, trajectory, "cartesian", None, offset_tol)
+    return _polar_cam(synth, phi, radius, device, trajectory, rho_degree, fit_tol)
+
+
+def _difference_noise(synth: CamSynthesis, trajectory: Trajectory, device: Tricycle) -> float:
+    """Rounding noise (mm) of the cam radius from eq. (12)'s finite differences (0 for the exact
+    scheme): second differences of coordinates up to ``c`` mm over steps ``h`` carry rounding
+    ``4 eps c / h^2`` in the curvature, times ``d L`` in rho (eq. 13, with ``1 + D k`` at its
+    smallest).  A fit tolerance below it would make the spline follow the noise."""
+    if synth.scheme == "exact":
+        return 0.0
+    x = synth.x
+    h = float(np.min(np.diff(x))) if x.size > 1 else trajectory.period
+    size = max(float(np.max(np.abs(x))) + trajectory.period, float(np.max(np.abs(trajectory.f(x)))))
+    gain = device.lever * device.wheelbase / float(np.min(1.0 + device.half_track * synth.curvature)) ** 2
+    return 4.0 * np.finfo(float).eps * size / h**2 * gain
+
+
+def _polar_cam(synth: CamSynthesis, phi: np.ndarray, radius: np.ndarray, device: Tricycle, trajectory: Trajectory,
+               degree: int, fit_tol: float) -> TricycleCam:
+    """The ``"polar"`` form of :func:`tricycle_cam`."""
+    from camgen.splinefit import fit_periodic
+
+    n = phi.size - 1
+    radius = radius.copy()
+    radius[-1] = radius[0]
+    curves = PolarCurves.interpolate(radius, degree, device.rod_radius)
+    fit_tol = max(fit_tol, NOISE_FACTOR * _difference_noise(synth, trajectory, device))
+    rd = device.rod_radius
+    dense = np.linspace(0.0, 2.0 * math.pi, UNDERCUT_GRID * n, endpoint=False)
+    factor = 1.0 - rd * curves.pitch_curvature(dense)  # |Q'| (1 - r_d kappa) is the profile's speed
+    if np.any(factor <= 0.0):
+        worst = int(np.argmin(factor))
+        pitch_fit = fit_periodic(curves.pitch_point, 0.0, 2.0 * math.pi, fit_tol, initial_pieces=max(16, n // 8),
+                                 what="rod-centre path")
+        pitch = Contour([Spline(pitch_fit.breaks, pitch_fit.coeffs)])
+        kappa = float(curves.pitch_curvature(dense[worst : worst + 1])[0])
+        raise UndercutError(
+            f"the steering rod (r_d = {rd:g} mm) cannot follow this cam: the rod-centre path turns with radius "
+            f"{1.0 / kappa:.6g} mm <= r_d at cam angle {math.degrees(2.0 * math.pi - dense[worst]) % 360.0:.3f} deg "
+            "(undercut: the profile would have a cusp there)", pitch=pitch, limit=rd)
+    fit = fit_periodic(curves.both, 0.0, 2.0 * math.pi, fit_tol, initial_pieces=max(16, n // 8),
+                       what="tricycle cam (rod-centre path and profile)")
+    pitch = Contour([Spline(fit.breaks, fit.coeffs[..., :2])])
+    profile = Contour([Spline(fit.breaks, fit.coeffs[..., 2:])])
+    if not pitch.is_convex():
+        crossing = profile.self_intersection()
+        if crossing is not None:
+            polar = math.degrees(math.atan2(crossing[1], crossing[0])) % 360.0
+            raise UndercutError(
+                f"the steering rod (r_d = {rd:g} mm) cannot follow this cam: the profile crosses itself near polar angle "
+                f"{polar:.3f} deg: a neck of the rod-centre path is narrower than 2 r_d", pitch=pitch, limit=rd)
+    return TricycleCam(synth, pitch, profile, device, trajectory, "polar", curves, fit_tol, fit.error)
 
 
 def contact_vs_rho(cam: TricycleCam) -> float:

@@ -518,3 +518,116 @@ def test_self_intersection_equals_all_pairs(distance):
         assert found is None
     else:
         assert np.array_equal(found, expected)
+
+
+# --------------------------------------------------------------------------------------------
+# Least-squares fits within a tolerance (camgen.splinefit)
+# --------------------------------------------------------------------------------------------
+def _ellipse(a: float = 50.0, b: float = 30.0):
+    def curve(t):
+        return np.stack([a * np.cos(t), b * np.sin(t)], axis=1)
+
+    return curve
+
+
+def _ellipse_distance(points: np.ndarray, a: float = 50.0, b: float = 30.0) -> np.ndarray:
+    """Distance of points to the ellipse x^2/a^2 + y^2/b^2 = 1 by Newton on the foot point's
+    parameter (closed-form curve, independent of the fit)."""
+    t = np.arctan2(points[:, 1] / b, points[:, 0] / a)
+    for _ in range(30):
+        p = np.stack([a * np.cos(t), b * np.sin(t)], 1)
+        d1 = np.stack([-a * np.sin(t), b * np.cos(t)], 1)
+        d2 = -p
+        g = np.einsum("ij,ij->i", p - points, d1)
+        dg = np.einsum("ij,ij->i", d1, d1) + np.einsum("ij,ij->i", p - points, d2)
+        t = t - g / dg
+    p = np.stack([a * np.cos(t), b * np.sin(t)], 1)
+    return np.hypot(*(p - points).T)
+
+
+@pytest.mark.parametrize("tol", [1e-5, 1e-7, 1e-9])
+def test_periodic_fit_is_within_tol_between_the_probes_and_c2(tol):
+    from camgen.splinefit import fit_periodic
+
+    fit = fit_periodic(_ellipse(), 0.0, 2 * math.pi, tol)
+    spline = Spline(fit.breaks, fit.coeffs)
+    t = np.random.default_rng(7).uniform(0, 2 * math.pi, 200_000)
+    assert np.max(_ellipse_distance(spline.eval_t(t))) <= tol
+    assert fit.error <= tol
+    contour = Contour([spline])
+    assert contour.continuity() == "G2"
+    # the B-spline form holds the pieces exactly (scipy evaluates it independently)
+    from scipy.interpolate import BSpline
+
+    assert np.max(np.abs(BSpline(fit.knots, fit.controls, 3)(t) - spline.eval_t(t))) <= 1e-10
+
+
+def test_periodic_fit_pieces_scale_as_tol_to_the_minus_quarter():
+    """A cubic's error falls as h^4, so the fewest pieces within tol grow as tol^(-1/4)."""
+    from camgen.splinefit import fit_periodic
+
+    tols = np.array([1e-4, 1e-6, 1e-8, 1e-10])
+    pieces = np.array([fit_periodic(_ellipse(), 0.0, 2 * math.pi, tol).breaks.size - 1 for tol in tols])
+    slope = np.polyfit(np.log(tols), np.log(pieces), 1)[0]
+    assert -0.28 <= slope <= -0.22, (pieces, slope)
+
+
+def test_least_squares_fit_has_no_one_signed_radial_error():
+    """Why the fits are least squares: a cubic spline interpolating a circle at its knots lies
+    inside it between them (radial error one-signed, mean about -half its extreme); the L2 fit's
+    error changes sign, its mean is ~1e-3 of its extreme (circle of radius 50 mm, closed form)."""
+    from camgen.splinefit import fit_periodic
+
+    r = 50.0
+    fit = fit_periodic(lambda t: np.stack([r * np.cos(t), r * np.sin(t)], 1), 0.0, 2 * math.pi, 1e-7)
+    lsq = Spline(fit.breaks, fit.coeffs)
+    pts = r * np.stack([np.cos(fit.breaks), np.sin(fit.breaks)], 1)
+    pts[-1] = pts[0]
+    interp = Spline.interpolate(fit.breaks, pts, periodic=True)
+    t = np.linspace(0.0, 2 * math.pi, 400_001)[:-1]
+    radial_lsq = np.hypot(*lsq.eval_t(t).T) - r
+    radial_int = np.hypot(*interp.eval_t(t).T) - r
+    assert np.max(radial_int) <= 1e-12 and np.mean(radial_int) < -0.4 * np.max(np.abs(radial_int))
+    assert np.min(radial_lsq) < 0 < np.max(radial_lsq)
+    assert abs(np.mean(radial_lsq)) <= 1e-3 * np.max(np.abs(radial_lsq))
+
+
+def test_clamped_fit_keeps_the_end_conditions_exactly():
+    """A quarter of the ellipse (closed-form point, first and second derivative at both ends)."""
+    from camgen.splinefit import fit_clamped
+
+    a, b = 50.0, 30.0
+    lo, hi = 0.2, 1.9
+
+    def ends(t):
+        return (np.array([a * math.cos(t), b * math.sin(t)]), np.array([-a * math.sin(t), b * math.cos(t)]),
+                np.array([-a * math.cos(t), -b * math.sin(t)]))
+
+    fit = fit_clamped(_ellipse(a, b), lo, hi, 1e-8, ends(lo) + ends(hi))
+    spline = Spline(fit.breaks, fit.coeffs)
+    h = float(np.diff(fit.breaks)[-1])
+    for (piece, tau, t) in ((0, 0.0, lo), (spline.n_pieces - 1, h, hi)):
+        for order, want in enumerate(ends(t)):
+            got = spline.eval_piece(np.array([piece]), np.array([tau]), order)[0]
+            assert np.allclose(got, want, rtol=0, atol=1e-9 * (1 + np.max(np.abs(want))))
+    t = np.random.default_rng(8).uniform(lo, hi, 100_000)
+    assert np.max(_ellipse_distance(spline.eval_t(t), a, b)) <= 1e-8
+    inner = np.arange(1, spline.n_pieces)
+    for order in (0, 1, 2):  # C2 at every inner break
+        left = spline.eval_piece(inner - 1, np.diff(fit.breaks)[:-1], order)
+        right = spline.eval_piece(inner, np.zeros(inner.size), order)
+        assert np.max(np.abs(left - right)) <= 1e-7 * 10**order
+
+
+def test_fits_reject_bad_tolerances_and_give_up_with_a_clear_error():
+    from camgen.splinefit import fit_clamped, fit_periodic
+
+    with pytest.raises(ParameterError, match="tol"):
+        fit_periodic(_ellipse(), 0.0, 2 * math.pi, 1e-15)
+    with pytest.raises(ParameterError, match="tol"):
+        fit_periodic(_ellipse(), 0.0, 2 * math.pi, -1.0)
+    # a corner (|t|) cannot be fitted within 1e-9 by a C2 cubic with at most 50 pieces
+    z = np.zeros(2)
+    with pytest.raises(GeometryError, match="does not reach tol"):
+        fit_clamped(lambda t: np.stack([t, np.abs(t)], 1), -1.0, 1.0, 1e-9, (np.array([-1.0, 1.0]), np.array([1.0, -1.0]), z,
+                    np.array([1.0, 1.0]), np.array([1.0, 1.0]), z), max_pieces=50)

@@ -420,7 +420,7 @@ def test_bspline_entities_match_the_contour_by_ezdxf(name, contours, steering):
     assert len([e for e in msp if e.dxf.layer == "KEYWAY"]) == 1
     assert len([e for e in msp if e.dxf.layer == "CENTER"]) == 2
     assert bool([e for e in msp if e.dxf.layer == "PITCH"]) == (pitch is not None)
-    assert dict(doc.header.custom_vars) == {"camgen_splines": "bspline"}
+    assert dict(doc.header.custom_vars) == {"camgen_splines": "bspline", "camgen_bspline_tol_mm": "1e-08"}  # the stated tolerance
 
 
 @pytest.mark.parametrize("name", ["stride", "steering"])
@@ -461,3 +461,106 @@ def test_dxf_options_are_checked():
     with pytest.raises(ParameterError, match="biarc_tol"):
         DxfOptions(biarc_tol=0.0)
     assert DxfOptions().splines == "biarc"
+
+
+# --------------------------------------------------------------------------------------------
+# Compact B-splines within bspline_tol, measured both ways against the contour
+# --------------------------------------------------------------------------------------------
+def curve_distance(points: np.ndarray, curve, t_lo: float, t_hi: float, seeds: int = 20_001) -> np.ndarray:
+    """Distance (mm) of every point (n, 2) to a parametric curve ``curve(t, order)`` (points,
+    first and second derivatives, (m, 2)) on [t_lo, t_hi]: the nearest of ``seeds`` samples,
+    then Newton steps on (C(t) - p) . C'(t) = 0 (the foot point)."""
+    from scipy.spatial import cKDTree
+
+    grid = np.linspace(t_lo, t_hi, seeds)
+    _, nearest = cKDTree(curve(grid, 0)).query(points)
+    t = grid[nearest]
+    for _ in range(8):
+        p, d1, d2 = curve(t, 0), curve(t, 1), curve(t, 2)
+        g = np.einsum("ij,ij->i", p - points, d1)
+        dg = np.einsum("ij,ij->i", d1, d1) + np.einsum("ij,ij->i", p - points, d2)
+        t = np.clip(t - g / dg, t_lo, t_hi)
+    return np.hypot(*(curve(t, 0) - points).T)
+
+
+def _spline_curve(seg):
+    return lambda t, order: seg.eval_t(t, order)
+
+
+def _bspline_curve(knots, controls):
+    from scipy.interpolate import BSpline
+
+    b = BSpline(knots, controls, 3)
+    ders = [b, b.derivative(1), b.derivative(2)]
+    return lambda t, order: ders[order](t)
+
+
+def _two_way(seg, other, other_range, count: int = 5_001) -> tuple[float, float]:
+    """Largest distance from ``other`` (curve(t, order) on other_range) to the segment, and
+    from the segment to ``other``, both at ``count`` points."""
+    t_other = np.linspace(*other_range, count)
+    t_seg = np.linspace(seg.breaks[0], seg.breaks[-1], count)
+    there = curve_distance(other(t_other, 0), _spline_curve(seg), seg.breaks[0], seg.breaks[-1])
+    back = curve_distance(seg.eval_t(t_seg), other, *other_range)
+    return float(there.max()), float(back.max())
+
+
+@pytest.mark.parametrize("template", ["tricycle", "motion_law", "lift_table"])
+@pytest.mark.parametrize("tol", [1e-6, 1e-8])
+def test_compact_spline_is_within_tol_both_ways_with_fewer_pieces(template, tol, template_dxfs):
+    """The compact form of every spline segment: within tol of the segment both ways, no more
+    pieces (fewer where the tolerance allows: a looser tolerance, fewer pieces), the same end
+    points, tangents and second derivatives (so joints keep their G1/G2 continuity), C2 inside."""
+    from camgen.contour import Contour, Spline
+    from camgen.export.dxf import compact_spline
+
+    _, cams = template_dxfs[template]
+    for cam, _ in cams.values():
+        new_segments = []
+        for seg in cam.contour.segments:
+            if not isinstance(seg, Spline):
+                new_segments.append(seg)
+                continue
+            new = compact_spline(seg, tol)
+            new_segments.append(new)
+            assert new.n_pieces <= seg.n_pieces
+            there, back = _two_way(seg, _spline_curve(new), (new.breaks[0], new.breaks[-1]))
+            assert there <= tol * (1 + 1e-6) and back <= tol * (1 + 1e-6), (there, back)
+            for order in (0, 1, 2):
+                for t, piece, tau in ((seg.breaks[0], 0, 0.0), (seg.breaks[-1], -1, None)):
+                    want = seg.eval_piece(np.array([seg.n_pieces - 1 if piece else 0]),
+                                          np.array([np.diff(seg.breaks)[-1] if piece else 0.0]), order)[0]
+                    got = new.eval_piece(np.array([new.n_pieces - 1 if piece else 0]),
+                                         np.array([np.diff(new.breaks)[-1] if piece else 0.0]), order)[0]
+                    assert np.allclose(got, want, rtol=0, atol=1e-9 * (1 + np.max(np.abs(want)))), (order, got, want)
+        compact = Contour(new_segments)
+        assert [j.continuity for j in compact.joints()] == [j.continuity for j in cam.contour.joints()]
+        if tol == 1e-6:  # the compact form saves pieces at a looser tolerance
+            splines = [s for s in cam.contour.segments if isinstance(s, Spline)]
+            assert sum(compact_spline(s, 1e-6).n_pieces for s in splines) < 0.8 * sum(s.n_pieces for s in splines)
+
+
+@pytest.mark.parametrize("template", ["tricycle", "motion_law"])
+def test_bspline_dxf_is_within_the_stated_tolerance_both_ways(template, template_dxfs):
+    """The B-spline DXF read back by ezdxf: every SPLINE (knots and control points, evaluated by
+    scipy) lies within the header's camgen_bspline_tol_mm of its contour segment and the segment
+    within it of the SPLINE; C2 runs are written with simple knots (fewer control points than
+    the segment's exact form wherever the tolerance allows)."""
+    from camgen.contour import Spline
+
+    _, cams = template_dxfs[template]
+    for cam, _ in cams.values():
+        doc = read_dxf(contour_to_dxf(cam.contour, options=DxfOptions(splines="bspline")))
+        tol = float(doc.header.custom_vars.get("camgen_bspline_tol_mm"))
+        assert tol == 1e-8
+        entities = [e for e in doc.modelspace() if e.dxf.layer == "PROFILE"]
+        assert len(entities) == cam.contour.n_segments
+        for entity, seg in zip(entities, cam.contour.segments):
+            if not isinstance(seg, Spline) or entity.dxftype() != "SPLINE":
+                continue
+            knots, controls = np.array(entity.knots), np.array(entity.control_points)[:, :2]
+            inner = knots[4:-4]
+            assert np.all(np.diff(inner) > 0)  # simple interior knots: C2 everywhere inside
+            there, back = _two_way(seg, _bspline_curve(knots, controls), (knots[0], knots[-1]))
+            assert there <= tol * (1 + 1e-6) and back <= tol * (1 + 1e-6), (there, back)
+            assert len(controls) <= seg.n_pieces + 3

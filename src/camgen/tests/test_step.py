@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import replace
 
 import numpy as np
@@ -28,17 +29,20 @@ def test_step_solid_is_exact(name, contours):
     r, h = body.bore_diameter / 2, body.keyway_width / 2
     keyway = 2 * h * (r + body.keyway_depth) - (h * math.sqrt(r * r - h * h) + r * r * math.asin(h / r))
     exact = (contour.area - math.pi * r * r - keyway) * body.thickness
-    # OCCT integrates planar faces bounded by circles exactly; on B-spline boundaries its default
-    # integration is approximate (shared/research/ecosystem.md section 6)
-    assert step_volume(data) == pytest.approx(exact, rel=1e-9 if name == "stride" else 1e-4)
+    # OCCT integrates planar faces bounded by circles exactly; B-spline edges of a few spans each
+    # (camgen.export.step.EDGE_SPANS) keep its one-rule-per-face integration within 1e-6
+    assert step_volume(data) == pytest.approx(exact, rel=1e-9 if name == "stride" else 1e-6)
 
 
 def test_bspline_form_has_the_fewest_knots_and_is_exact(steering):
     from scipy.interpolate import BSpline
 
     from camgen.export.dxf import spline_bspline
+    from camgen.mechanisms import tricycle as tc
 
-    for contour, per_piece in ((steering.pitch, 1), (steering.profile, 2)):  # C2 pitch, C1 refitted offset
+    # the earlier ("cartesian") form has a C2 pitch and a C1 refitted offset; the polar form's are both C2
+    cartesian = tc.tricycle_cam(steering.trajectory, form="cartesian")
+    for contour, per_piece in ((cartesian.pitch, 1), (cartesian.profile, 2), (steering.pitch, 1), (steering.profile, 1)):
         seg = contour.segments[0]
         knots, controls = spline_bspline(seg)
         assert len(controls) == per_piece * seg.n_pieces + (3 if per_piece == 1 else 2)
@@ -156,3 +160,120 @@ def test_keyway_and_profile_orientation_agree_in_stl_dxf_and_step(angle_deg, con
     direction, reach = _notch(vertices, body)
     assert same_angle(direction) and reach == pytest.approx(corner, abs=1e-7)
     assert np.allclose(step_centroid, centroid, atol=1e-3)
+
+
+# --------------------------------------------------------------------------------------------
+# Every bundled template: compact exact geometry, OCCT's volume, the stated tolerance
+# --------------------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def template_cams():
+    """Every manufacturable cam of every bundled template (synthesis and checks only)."""
+    from camgen.pipeline import Plan, compute
+    from camgen.scene import load_template, template_names
+
+    cams = []
+    for name in template_names():
+        for cam in compute(load_template(name), Plan((), frozenset())).cams:
+            if cam.manufacturable:
+                cams.append((name, cam))
+    return cams
+
+
+def _exact_volume(contour, body) -> float:
+    """area x thickness: the profile's area (Green's theorem, exact for arcs and cubics) less the
+    bore circle and the keyway's part outside it (circular segment, closed form)."""
+    r, h = body.bore_diameter / 2, body.keyway_width / 2
+    area = contour.area - math.pi * r * r
+    if h > 0:
+        area -= 2 * h * (r + body.keyway_depth) - (h * math.sqrt(r * r - h * h) + r * r * math.asin(h / r))
+    return area * body.thickness
+
+
+def test_occt_volume_of_every_template_step_is_within_1e6(template_cams):
+    """Issue "Accuracy and numerical stability", item 2: OCCT's default volume (what FreeCAD
+    shows) of every bundled template's STEP within 1e-6 relative of area x thickness (before:
+    up to 8.5e-7, and 1e-3 for the motion-law cam of the issue); every spline edge has at most
+    EDGE_SPANS knot spans; the header states the tolerance."""
+    from camgen.export.step import EDGE_SPANS, step_bytes, step_volume
+
+    assert len(template_cams) >= 12
+    for name, cam in template_cams:
+        data = step_bytes(cam.contour, cam.body, cam.name)
+        exact = _exact_volume(cam.contour, cam.body)
+        assert step_volume(data) == pytest.approx(exact, rel=1e-7), (name, cam.name)  # issue: 1e-6; measured <= 6e-9
+        text = data.decode("ascii")
+        if any(seg.kind == "spline" for seg in cam.contour.segments):
+            assert f"FILE_DESCRIPTION(('camgen cam {cam.name}: B-spline edges within 1e-08 mm of the contour')" in text
+            for knots in re.findall(r"B_SPLINE_CURVE_WITH_KNOTS\('',3,\(.*?\),\s*\.UNSPECIFIED\.,\s*\.F\.,\s*\.F\.,\s*\(([^)]*)\)", text, re.DOTALL):
+                assert len(knots.split(",")) - 1 <= EDGE_SPANS
+
+
+def _step_bspline_edges(shape, z: float = 0.0):
+    """(knots, controls) of the cubic B-spline edges of ``shape`` in the plane ``z`` (each once)."""
+    from OCP.BRepAdaptor import BRepAdaptor_Curve
+    from OCP.GeomAbs import GeomAbs_BSplineCurve
+    from OCP.TopAbs import TopAbs_EDGE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+
+    found = {}
+    explorer = TopExp_Explorer(shape, TopAbs_EDGE)
+    while explorer.More():
+        curve = BRepAdaptor_Curve(TopoDS.Edge(explorer.Current()))
+        if curve.GetType() == GeomAbs_BSplineCurve:
+            b = curve.BSpline()
+            poles = np.array([[b.Pole(i).X(), b.Pole(i).Y(), b.Pole(i).Z()] for i in range(1, b.NbPoles() + 1)])
+            if b.Degree() == 3 and np.allclose(poles[:, 2], z):
+                knots = np.repeat([b.Knot(i) for i in range(1, b.NbKnots() + 1)], [b.Multiplicity(i) for i in range(1, b.NbKnots() + 1)])
+                found[(round(knots[0], 12), round(knots[-1], 12))] = (knots, poles[:, :2])
+        explorer.Next()
+    return list(found.values())
+
+
+@pytest.mark.parametrize("template", ["tricycle", "motion_law", "lift_table"])
+def test_step_edges_are_within_the_stated_tolerance_both_ways(template, template_cams, tmp_path):
+    """The STEP read back by OCCT: its B-spline edges (poles and knots evaluated by scipy) lie
+    within 1e-8 mm (the header's tolerance) of the contour, and every point of the contour
+    within 1e-8 mm of an edge; together they have fewer control points than the old exact form
+    (pieces + 3 per segment) wherever the tolerance allows."""
+    from scipy.interpolate import BSpline
+
+    from camgen.contour import Spline
+    from camgen.export.step import step_bytes
+    from camgen.tests.test_dxf import curve_distance
+
+    tol = 1e-8
+    for name, cam in template_cams:
+        if name != template:
+            continue
+        edges = _step_bspline_edges(_step_shape(step_bytes(cam.contour, cam.body, cam.name), tmp_path))
+        splines = [seg for seg in cam.contour.segments if isinstance(seg, Spline) and seg.n_pieces > 1]
+        assert edges and splines
+        # an edge is a run of its segment's compact form: same parameter range, same end points
+        def owner(knots, controls, splines=splines):
+            for i, seg in enumerate(splines):
+                inside = seg.breaks[0] - 1e-9 <= knots[0] and knots[-1] <= seg.breaks[-1] + 1e-9
+                if inside and np.hypot(*(seg.eval_t(knots[:1])[0] - controls[0])) <= 1e-6:
+                    return i
+            raise AssertionError("an edge that starts on no spline segment")
+
+        by_segment = {i: [] for i in range(len(splines))}
+        for knots, controls in edges:
+            by_segment[owner(knots, controls)].append((knots, controls))
+        for i, seg in enumerate(splines):
+            mine = by_segment[i]
+            assert mine
+            # every edge point within tol of its segment
+            for knots, controls in mine:
+                pts = BSpline(knots, controls, 3)(np.linspace(knots[0], knots[-1], 801))
+                assert np.max(curve_distance(pts, lambda t, o, seg=seg: seg.eval_t(t, o), seg.breaks[0], seg.breaks[-1])) <= tol * (1 + 1e-6)
+            # every point of the segment within tol of its edges
+            pts = seg.eval_t(np.linspace(seg.breaks[0], seg.breaks[-1], 4001))
+            dist = []
+            for knots, controls in mine:
+                b = BSpline(knots, controls, 3)
+                ders = (b, b.derivative(1), b.derivative(2))
+                dist.append(curve_distance(pts, lambda t, o, d=ders: d[o](t), knots[0], knots[-1], seeds=2001))
+            assert np.max(np.min(dist, axis=0)) <= tol * (1 + 1e-6)
+        if template == "tricycle":
+            assert sum(len(c) for _, c in edges) < 0.8 * sum(s.n_pieces + 3 for s in splines)
