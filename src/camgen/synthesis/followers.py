@@ -62,7 +62,8 @@ from the support function ``h(psi)`` (contact ``h u + h' u_perp``, radius of cur
 ``h + h''``).  Both curves are represented by cubic :class:`~camgen.contour.Spline` segments,
 one per law segment between breaks: C2 cubic splines through exact points, clamped to the exact
 tangents at every break where the law's acceleration (or velocity) jumps, knots at every break,
-refined until the spline is within ``fit_tol`` (mm) of the exact curve at the quarter and mid
+with the piece count from the error bound ``5/384 h^4 max|d4Q/dt4|`` (``d4Q/dt4`` from the check data)
+and refined until the spline is within ``fit_tol`` (mm) of the exact curve at the quarter and mid
 points of every piece.  The curve is therefore G2 at every break where ``s''`` is continuous and
 exactly G1 (a curvature jump) where ``s''`` jumps.  The contour has one segment per interval
 between the law's breaks (one segment from cam angle 0 round to itself when there are none), and
@@ -77,7 +78,7 @@ from typing import Callable, Protocol
 
 import numpy as np
 
-from camgen.contour import Contour, Spline, cubic_with_end_derivatives
+from camgen.contour import Contour, Spline, solve_tridiagonal
 from camgen.errors import GeometryError, ParameterError, require_finite, require_positive
 
 TWO_PI = 2.0 * math.pi
@@ -274,23 +275,22 @@ class FollowerSpec:
 # --------------------------------------------------------------------------------------------
 # Closed-form kinematics
 # --------------------------------------------------------------------------------------------
-def _rot(angle: np.ndarray | tuple[np.ndarray, np.ndarray], v: np.ndarray) -> np.ndarray:
-    """Rotate vectors ``v`` (n, 2) by ``angle`` (n,) rad, or by the angle whose (cos, sin) are given."""
-    c, s = angle if isinstance(angle, tuple) else (np.cos(angle), np.sin(angle))
-    return np.stack([c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1]], axis=-1)
+# The formulas work on the x and y components (real (n,) arrays); the curves in the cam frame are
+# complex arrays x + i y (turning them into the cam frame is one product with exp(-i sigma theta)),
+# and the (n, 2) arrays of :class:`Kinematics` are float views of those (no copies).
+def _xy(z: np.ndarray) -> np.ndarray:
+    """The (n, 2) float view ``(x, y)`` of the complex array ``z`` (n,) (no copy)."""
+    return z.view(np.float64).reshape(z.shape + (2,))
 
 
-def _perp(v: np.ndarray) -> np.ndarray:
-    """``J v``: vectors (n, 2) turned by +90 deg."""
-    return np.stack([-v[:, 1], v[:, 0]], axis=-1)
-
-
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
-
-
-def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1]
+def _to_cam(f: FollowerSpec, theta: np.ndarray) -> np.ndarray:
+    """``exp(-i sigma theta)`` (n,): the rotation R(-sigma theta) from the fixed to the cam frame."""
+    back = np.empty(theta.size, dtype=complex)
+    np.cos(theta, out=back.real)
+    np.sin(theta, out=back.imag)
+    if f.sigma > 0:
+        np.negative(back.imag, out=back.imag)
+    return back
 
 
 @dataclass(frozen=True)
@@ -352,97 +352,176 @@ class Kinematics:
 
 
 def _centre(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray):
-    """Roller centre C and dC/dtheta .. d3C/dtheta3 (fixed frame, (n, 2)), the unit direction of
-    motion m (n, 2) and the arm angle (oscillating) or None."""
-    n = s.size
+    """The roller centre C (fixed frame, mm) as (x, y), its velocity V = D C, acceleration A = D^2 C
+    and B = D^3 C relative to the cam (``D = d/dtheta - sigma J``, components (x, y) each), the
+    direction of motion m (x, y) (None for the translating ``+y``) and the arm angle (oscillating) or None."""
+    sigma = f.sigma
     if f.motion == "translating":
-        zero = np.zeros(n)
-        c = np.stack([np.full(n, f.offset), f.rest_height + s], axis=-1)
-        m = np.tile([0.0, 1.0], (n, 1))
-        return c, np.stack([zero, ds], -1), np.stack([zero, d2s], -1), np.stack([zero, d3s], -1), m, None
+        # C = (e, Y + s), dC = (0, s'), d2C = (0, s''), d3C = (0, s''')
+        e, y = f.offset, f.rest_height + s
+        v = (sigma * y, ds - sigma * e)
+        a = (2.0 * sigma * ds - e, d2s - y)
+        b = (sigma * (3.0 * d2s - y), d3s - 3.0 * ds + sigma * e)
+        return (e, y), v, a, b, None, None
     tau, arm = f.tau, f.arm_length
+    px, py = f.pivot  # type: ignore[misc]
     g = f.rest_arm_angle + tau * s
     g1, g2, g3 = tau * ds, tau * d2s, tau * d3s
-    u = np.stack([np.cos(g), np.sin(g)], axis=-1)
-    ju = _perp(u)
-    c = np.asarray(f.pivot) + arm * u
-    c1 = (arm * g1)[:, None] * ju
-    c2 = arm * (g2[:, None] * ju - (g1 * g1)[:, None] * u)
-    c3 = arm * ((g3 - g1**3)[:, None] * ju - (3.0 * g1 * g2)[:, None] * u)
-    return c, c1, c2, c3, tau * ju, g
+    cg, sg = np.cos(g), np.sin(g)  # u = (cg, sg), J u = (-sg, cg)
+    cx, cy = px + arm * cg, py + arm * sg
+    k1 = arm * g1  # dC = k1 J u
+    k2, l2 = arm * g2, arm * (g1 * g1)  # d2C = k2 J u - l2 u
+    k3, l3 = arm * (g3 - g1 * g1 * g1), arm * (3.0 * g1 * g2)  # d3C = k3 J u - l3 u
+    # V = dC - sigma J C, A = d2C - 2 sigma J dC - C, B = d3C - 3 sigma J d2C - 3 dC + sigma J C  (J J u = -u)
+    v = (-k1 * sg + sigma * cy, k1 * cg - sigma * cx)
+    a = (-k2 * sg - l2 * cg + 2.0 * sigma * k1 * cg - cx, k2 * cg - l2 * sg + 2.0 * sigma * k1 * sg - cy)
+    b = (-k3 * sg - l3 * cg + 3.0 * sigma * (k2 * cg - l2 * sg) + 3.0 * k1 * sg - sigma * cy,
+         k3 * cg - l3 * sg + 3.0 * sigma * (k2 * sg + l2 * cg) - 3.0 * k1 * cg + sigma * cx)
+    return (cx, cy), v, a, b, (-tau * sg, tau * cg), g
 
 
-def _kinematics_from(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s) -> Kinematics:
-    sigma = f.sigma
-    back = (np.cos(theta), -sigma * np.sin(theta))  # fixed -> cam frame: R(-sigma theta), as (cos, sin)
-    if f.kind == "flat":
-        n = theta.size
-        if f.motion == "translating":
-            psi_f = np.full(n, math.pi / 2)
-            h, h1, h2, h3 = f.base_radius + s, ds, d2s, d3s
-            psi1, psi2, psi3 = np.full(n, -sigma), np.zeros(n), np.zeros(n)
-        else:
-            tau, pivot, face = f.tau, np.asarray(f.pivot), f.face_offset
-            psi_f = f.rest_face_angle + tau * s
-            w = np.stack([np.cos(psi_f), np.sin(psi_f)], axis=-1)
-            p, q = w @ pivot, _perp(w) @ pivot
-            # h = pivot . w - f with d(pivot . w)/dpsi_f = pivot . J w = q, dq/dpsi_f = -p, dpsi_f = tau ds
-            h = p - face
-            h1 = tau * ds * q
-            h2 = tau * d2s * q - ds * ds * p
-            h3 = tau * (d3s - ds**3) * q - 3.0 * ds * d2s * p
-            psi1, psi2, psi3 = tau * ds - sigma, tau * d2s, tau * d3s
-        w = np.stack([np.cos(psi_f), np.sin(psi_f)], axis=-1)
-        jw = _perp(w)
+def _in_cam(back: np.ndarray, x: np.ndarray | float, y: np.ndarray | float, out: np.ndarray | None = None) -> np.ndarray:
+    """The fixed-frame vectors (x, y) in the cam frame: ``back (x + i y)``, complex (n,) (into ``out``)."""
+    z = np.empty(back.size, dtype=complex) if out is None else out
+    z.real = x
+    z.imag = y
+    z *= back
+    return z
+
+
+def _flat(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool):
+    """Flat face: the :class:`Kinematics` (``full``) or just the profile curve's (Q, dQ, d2Q) in the cam frame."""
+    sigma, n = f.sigma, theta.size
+    if f.motion == "translating":
+        # the face normal w = u(pi/2) is fixed: psi1 = -sigma, psi2 = psi3 = 0 in the formulas below
+        wx, wy = math.cos(math.pi / 2), math.sin(math.pi / 2)
+        h = f.base_radius + s
+        dh = ds / -sigma
+        rho = h + d2s
+        rho1 = ds + d3s
+        d1 = -sigma * rho  # dQ = d1 J w, d2Q = d2 J w - rho w (fixed frame, turned into the cam frame below)
+        d2 = -sigma * rho1
+        d1x, d1y, d2x, d2y = -wy * d1, wx * d1, -wy * d2 - wx * rho, wx * d2 - wy * rho
+        psi_f = q = None
+    else:
+        tau, face = f.tau, f.face_offset
+        px, py = f.pivot  # type: ignore[misc]
+        psi_f = f.rest_face_angle + tau * s
+        wx, wy = np.cos(psi_f), np.sin(psi_f)
+        p, q = wx * px + wy * py, wx * py - wy * px  # pivot . w and pivot . J w
+        # h = pivot . w - f with d(pivot . w)/dpsi_f = pivot . J w = q, dq/dpsi_f = -p, dpsi_f = tau ds
+        h = p - face
+        h1 = tau * ds * q
+        h2 = tau * d2s * q - ds * ds * p
+        h3 = tau * (d3s - ds * ds * ds) * q - 3.0 * ds * d2s * p
+        psi1, psi2, psi3 = tau * ds - sigma, tau * d2s, tau * d3s
         with np.errstate(divide="ignore", invalid="ignore"):
             # support function H(psi) of the cam, psi(theta) = psi_f - sigma theta (cam frame):
             # H = h, H_psi = h1 / psi1, H_psipsi = N / psi1^3 with N = h2 psi1 - h1 psi2;
             # the envelope's radius of curvature is rho = H + H_psipsi
             dh = h1 / psi1
             num = h2 * psi1 - h1 * psi2
-            rho = h + num / psi1**3
-            rho1 = h1 + (h3 * psi1 - h1 * psi3) / psi1**3 - 3.0 * num * psi2 / psi1**4  # d rho / d theta
-            kappa = 1.0 / rho
-        x_fixed = h[:, None] * w + dh[:, None] * jw
-        u_cam, ju_cam = _rot(back, w), _rot(back, jw)
+            cube = psi1 * psi1 * psi1
+            rho = h + num / cube
+            rho1 = h1 + (h3 * psi1 - h1 * psi3) / cube - 3.0 * num * psi2 / (cube * psi1)  # d rho / d theta
         # Q(theta) = H u(psi) + H_psi J u(psi): dQ/dtheta = psi1 rho J u, d2Q = (psi1 rho)' J u - psi1^2 rho u
-        d1 = (psi1 * rho)[:, None] * ju_cam
-        d2 = (psi2 * rho + psi1 * rho1)[:, None] * ju_cam - (psi1 * psi1 * rho)[:, None] * u_cam
-        if f.motion == "translating":
-            face_pos = x_fixed[:, 0] - f.offset
-            alpha = np.zeros(n)
-            arm_angle = None
+        d1 = psi1 * rho
+        d2 = psi2 * rho + psi1 * rho1
+        r2 = psi1 * psi1 * rho
+        d1x, d1y, d2x, d2y = -wy * d1, wx * d1, -wy * d2 - wx * r2, wx * d2 - wy * r2
+    # full: rows 0-3 the contact point in the fixed frame, in the cam frame and its two derivatives
+    cplx = np.empty((4, n), dtype=complex) if full else [None] * 4
+    x_fixed = (h * wx - dh * wy, h * wy + dh * wx)  # h w + dh J w
+    back = _to_cam(f, theta)
+    contact = _in_cam(back, *x_fixed, cplx[1])
+    q1, q2 = _in_cam(back, d1x, d1y, cplx[2]), _in_cam(back, d2x, d2y, cplx[3])
+    if not full:
+        return ((contact, q1, q2),)
+    cplx[0].real, cplx[0].imag = x_fixed
+    real = np.empty((4, n))  # curvature, face position, pressure angle, normal turn rate
+    with np.errstate(divide="ignore", invalid="ignore"):
+        kappa = np.divide(1.0, rho, out=real[0])
+        if psi_f is None:
+            face_pos = np.subtract(x_fixed[0], f.offset, out=real[1])
+            alpha, turn = real[2], real[3]
+            alpha.fill(0.0)
+            turn.fill(1.0)
         else:
-            face_pos = dh - jw @ np.asarray(f.pivot)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                alpha = np.where(face_pos != 0, np.arctan(f.face_offset / face_pos), math.copysign(math.pi / 2, f.face_offset or 1.0))
-            arm_angle = psi_f
-        return Kinematics(theta, s, ds, d2s, d3s, f.lift_unit, alpha, x_fixed, arm_angle, None, None, _rot(back, x_fixed),
-                          kappa, rho, face_pos, -sigma * psi1, None, None, d1, d2)
-    c, c1, c2, c3, m, g = _centre(f, s, ds, d2s, d3s)
-    # P = R(-sigma theta) C; with D = d/dtheta - sigma J on fixed-frame vectors ((sigma J)^2 = -1):
-    # P' = R V, P'' = R A, P''' = R B with V = D C, A = D^2 C, B = D^3 C
-    v = c1 - sigma * _perp(c)
-    a = c2 - 2.0 * sigma * _perp(c1) - c
-    b = c3 - 3.0 * sigma * _perp(c2) - 3.0 * c1 + sigma * _perp(c)
-    speed = np.hypot(v[:, 0], v[:, 1])
+            face_pos = np.subtract(dh, q, out=real[1])
+            alpha = real[2]
+            alpha[...] = np.where(face_pos != 0, np.arctan(face / face_pos), math.copysign(math.pi / 2, face or 1.0))
+            turn = np.multiply(-sigma, psi1, out=real[3])
+    return Kinematics(theta, s, ds, d2s, d3s, f.lift_unit, alpha, _xy(cplx[0]), psi_f, None, None, _xy(contact),
+                      kappa, rho, face_pos, turn, None, None, _xy(q1), _xy(q2))
+
+
+def _roller(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, want: tuple[str, ...] = ("pitch", "profile")):
+    """Roller / knife: the :class:`Kinematics` (``full``) or the (Q, dQ, d2Q) of the curves named in
+    ``want`` ("pitch", "profile") in the cam frame.  (The outputs share two blocks of memory and
+    temporaries are released as soon as they are used: fresh memory is much of the cost.)"""
+    sigma, r, n = f.sigma, f.roller_radius, theta.size
+    # full: rows 0-6 follower point, pitch curve and its two derivatives, profile and its two; rows
+    # 0-3 of `real`: pressure angle, pitch and profile curvature, profile radius of curvature
+    cplx = np.empty((7, n), dtype=complex) if full else [None] * 7
+    real = np.empty((4, n)) if full else [None] * 4
+    (cx, cy), (vx, vy), (ax, ay), (bx, by), m, g = _centre(f, s, ds, d2s, d3s)
+    # P = R(-sigma theta) C; P' = R V, P'' = R A, P''' = R B
+    back = _to_cam(f, theta)
+    out = {}
+    if "pitch" in want or full:
+        out["pitch"] = (_in_cam(back, cx, cy, cplx[1]), _in_cam(back, vx, vy, cplx[2]), _in_cam(back, ax, ay, cplx[3]))
+    if "profile" not in want and not full:
+        return (out["pitch"],)
     with np.errstate(divide="ignore", invalid="ignore"):
+        speed2 = vx * vx + vy * vy
+        dot = vx * ax + vy * ay
+        cross = vx * ay - vy * ax
+        cube = np.sqrt(speed2)
+        k = (sigma * r) / cube  # Q = P - r n with the outward normal n = (sigma / |V|) J V (n = -J t, t = -sigma V / |V|)
+        cube *= speed2
         # the counter-clockwise contour runs against theta for a ccw cam: signed curvature -sigma (V x A) / |V|^3
-        kappa_p = -sigma * _cross(v, a) / speed**3
-        kappa_p1 = -sigma * (_cross(v, b) / speed**3 - 3.0 * _cross(v, a) * _dot(v, a) / speed**5)
-        t_ccw = (-sigma / speed)[:, None] * v  # unit tangent along the counter-clockwise contour
-    n_out = np.stack([t_ccw[:, 1], -t_ccw[:, 0]], axis=-1)
-    r = f.roller_radius
-    x_fixed = c - r * n_out  # Q = P - r n: Q' = P' (1 - r kappa), Q'' = P'' (1 - r kappa) - r kappa' P'
-    factor = 1.0 - r * kappa_p
+        kappa_p = np.divide(-sigma * cross, cube, out=real[1])
+        kappa_p1 = vx * by - vy * bx
+        del bx, by
+        kappa_p1 /= cube
+        cross *= dot
+        del dot
+        cross *= 3.0
+        cube *= speed2
+        del speed2
+        cross /= cube
+        del cube
+        kappa_p1 -= cross
+        del cross
+        kappa_p1 *= -sigma  # d kappa_p / d theta
+    contact = _in_cam(back, cx + k * vy, cy - k * vx, cplx[4])
+    del k
+    factor = 1.0 - r * kappa_p  # Q' = P' (1 - r kappa), Q'' = P'' (1 - r kappa) - r kappa' P'
+    kappa_p1 *= r
+    q2 = _in_cam(back, ax * factor - kappa_p1 * vx, ay * factor - kappa_p1 * vy, cplx[6])
+    del kappa_p1, ax, ay
+    out["profile"] = (contact, _in_cam(back, vx * factor, vy * factor, cplx[5]), q2)
+    del back
+    if not full:
+        return tuple(out[name] for name in want)
+    if m is None:  # translating: m = (0, 1), V . m = Vy, V x m = Vx
+        alpha = np.arctan2(vy, np.abs(vx), out=real[0])
+    else:
+        alpha = np.arctan2(vx * m[0] + vy * m[1], np.abs(vx * m[1] - vy * m[0]), out=real[0])
+    del vx, vy
     with np.errstate(divide="ignore", invalid="ignore"):
-        kappa = kappa_p / factor  # profile: rho = rho_pitch - r
-        rho = np.where(kappa != 0, 1.0 / kappa, np.inf)
-    alpha = np.arctan2(_dot(v, m), np.abs(_cross(v, m)))
-    q1 = v * factor[:, None]
-    q2 = a * factor[:, None] - (r * kappa_p1)[:, None] * v
-    return Kinematics(theta, s, ds, d2s, d3s, f.lift_unit, alpha, c, g, _rot(back, c), kappa_p, _rot(back, x_fixed),
-                      kappa, rho, None, None, _rot(back, v), _rot(back, a), _rot(back, q1), _rot(back, q2))
+        kappa = np.divide(kappa_p, factor, out=real[2])  # profile: rho = rho_pitch - r
+        rho = np.divide(1.0, kappa, out=real[3])
+        rho[kappa == 0] = np.inf
+    cplx[0].real = cx
+    cplx[0].imag = cy
+    (pitch, p1, p2), (contact, q1, q2) = out["pitch"], out["profile"]
+    return Kinematics(theta, s, ds, d2s, d3s, f.lift_unit, alpha, _xy(cplx[0]), g, _xy(pitch), kappa_p,
+                      _xy(contact), kappa, rho, None, None, _xy(p1), _xy(p2), _xy(q1), _xy(q2))
+
+
+def _kinematics_from(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s) -> Kinematics:
+    return (_flat if f.kind == "flat" else _roller)(f, theta, s, ds, d2s, d3s, True)
 
 
 def kinematics(follower: FollowerSpec, law: Displacement, theta: object) -> Kinematics:
@@ -500,36 +579,97 @@ def check_grid(law: Displacement, check_step: float = DEFAULT_CHECK_STEP) -> np.
     require_positive("check_step", check_step, "rad")
     n = max(8, math.ceil(TWO_PI / check_step))
     brk = np.asarray(getattr(law, "breaks", np.zeros(0)), dtype=float)
-    extra = np.concatenate([brk, brk - 1e-9, brk + 1e-9])
-    return np.unique(np.mod(np.concatenate([np.arange(n) * (TWO_PI / n), extra]), TWO_PI))
+    grid = np.arange(n) * (TWO_PI / n)  # sorted, in [0, 2 pi) (np.mod leaves it as it is)
+    extra = np.unique(np.mod(np.concatenate([brk, brk - 1e-9, brk + 1e-9]), TWO_PI))
+    at = np.searchsorted(grid, extra)
+    new = (at == n) | (grid[np.minimum(at, n - 1)] != extra)  # the angles not on the grid already
+    return np.insert(grid, at[new], extra[new])
 
 
 # --------------------------------------------------------------------------------------------
 # The spline representation
 # --------------------------------------------------------------------------------------------
 _PROBES = np.array([0.25, 0.5, 0.75])
+#: Error constant of the first piece count: a C2 cubic spline interpolant clamped at its ends is
+#: within ``5/384 h^4 max|f''''|`` of ``f`` (Hall & Meyer 1976, J. Approx. Theory 16, eq. 1.4).
+_SPLINE_ERROR_CONSTANT = 5.0 / 384.0
 
 
-def _c2_spline(t: np.ndarray, q: np.ndarray, start: tuple[np.ndarray, np.ndarray], end: tuple[np.ndarray, np.ndarray]):
-    """C2 cubic spline through ``q`` (n, d) at ``t`` (n,), n >= 4, with the given first and second
-    derivatives (dQ/dt, d2Q/dt2, each (d,)) at both ends; an extra knot in the first and in the
-    last interval gives the two degrees of freedom the second-derivative conditions need
-    (:func:`camgen.contour.cubic_with_end_derivatives`, numpy only).
-    Returns the break points (p + 1,) and the coefficients (4, p, d), highest power first."""
-    return cubic_with_end_derivatives(t, q, start, end)
+def _knots(lo: np.ndarray, hi: np.ndarray, count: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Knots of the C2 splines of several segments, concatenated: segment k has ``count[k]``
+    uniform pieces on ``[lo[k], hi[k]]`` (its samples ``np.linspace(lo, hi, count + 1)``) plus
+    the midpoints of its first and last pieces (the two extra knots of :func:`_c2_splines`).
+    Returns the knots (sum(count + 3),), the index of every segment's first knot and of its last."""
+    n_t = count + 1
+    seg = np.repeat(np.arange(count.size), n_t)
+    j = np.arange(int(n_t.sum())) - np.repeat(np.cumsum(n_t) - n_t, n_t)
+    t = j * ((hi - lo) / count)[seg] + lo[seg]  # what np.linspace computes
+    t[np.cumsum(n_t) - 1] = hi
+    first = np.concatenate([[0], np.cumsum(count + 3)[:-1]])
+    last = first + count + 2
+    x = np.empty(int(last[-1]) + 1)
+    x[first[seg] + j + (j >= 1) + (j == count[seg])] = t
+    x[first + 1] = 0.5 * (x[first] + x[first + 2])
+    x[last - 1] = 0.5 * (x[last - 2] + x[last])
+    return x, first, last
 
 
-def _inner_knots(t: np.ndarray) -> np.ndarray:
-    """Interior knots of :func:`_c2_spline`: the inner samples and the midpoints of the first and last intervals."""
-    return np.sort(np.concatenate([t[1:-1], [0.5 * (t[0] + t[1]), 0.5 * (t[-2] + t[-1])]]))
-
-
-def _eval_pieces(x: np.ndarray, coeffs: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """Values (m, d) at ``t`` (m,) of the piecewise cubic (breaks ``x``, coefficients (4, p, d))."""
-    i = np.clip(np.searchsorted(x, t, side="right") - 1, 0, x.size - 2)
-    h = (t - x[i])[:, None]
-    c = coeffs[:, i]
-    return ((c[0] * h + c[1]) * h + c[2]) * h + c[3]
+def _c2_splines(x: np.ndarray, y: np.ndarray, first: np.ndarray, last: np.ndarray,
+                start: tuple[np.ndarray, np.ndarray], end: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+    """C2 cubic splines of several segments at once, each through ``y`` (n, d) at its knots
+    ``x[first[k]:last[k] + 1]`` except the two extra knots ``first[k] + 1`` and ``last[k] - 1``
+    (their ``y`` is ignored), with the given first and second derivatives (``start = (dQ/dt,
+    d2Q/dt2)``, each (segments, d)) at both ends: the spline of
+    :func:`camgen.contour.cubic_with_end_derivatives` (its moment equations, with the values at the
+    extra knots eliminated, de Boor, *A Practical Guide to Splines*, ch. IV), every segment's
+    tridiagonal system a block of one system solved once by cyclic reduction.
+    Returns the coefficients (4, x.size - 1, d), highest power first, of the pieces
+    ``[x[i], x[i + 1]]``; those between two segments (``i = last[k]``) are meaningless."""
+    h = np.diff(x)
+    h[last[:-1]] = 1.0  # between two segments
+    yy = y.copy()
+    yy[first + 1] = 0.0  # the unknowns, eliminated below
+    yy[last - 1] = 0.0
+    slope = np.diff(yy, axis=0) / h[:, None]
+    # the interior knots first + 1 .. last - 1 of every segment, one equation each:
+    # h[i-1] M[i-1] + 2 (h[i-1] + h[i]) M[i] + h[i] M[i+1] = 6 (slope[i] - slope[i-1])
+    rows = last - first - 1
+    row0 = np.concatenate([[0], np.cumsum(rows)[:-1]])
+    inner = np.arange(int(rows.sum())) + np.repeat(first + 1 - row0, rows)
+    lower, diag, upper = h[inner - 1], 2.0 * (h[inner - 1] + h[inner]), h[inner]
+    rhs = 6.0 * (slope[inner] - slope[inner - 1])
+    rowl = row0 + rows - 1
+    h0, h1, hl, hl2 = h[first], h[first + 1], h[last - 1], h[last - 2]
+    # the end conditions give the unknown values as y[first+1] = a0 + a1 M[first+1], y[last-1] = b0 + b1 M[last-1]
+    (d1s, d2s), (d1e, d2e) = start, end
+    a0 = yy[first] + h0[:, None] * d1s + h0[:, None] ** 2 * 2.0 * d2s / 6.0
+    a1 = h0**2 / 6.0
+    b0 = yy[last] - hl[:, None] * d1e + hl[:, None] ** 2 * 2.0 * d2e / 6.0
+    b1 = hl**2 / 6.0
+    gf0, gf1 = -6.0 * (1.0 / h0 + 1.0 / h1), 6.0 / h1  # d rhs / d y[first+1] in the first two rows
+    gl0, gl1 = -6.0 * (1.0 / hl + 1.0 / hl2), 6.0 / hl2  # d rhs / d y[last-1] in the last two rows
+    rhs[row0] += gf0[:, None] * a0
+    rhs[row0 + 1] += gf1[:, None] * a0
+    diag[row0] -= gf0 * a1
+    lower[row0 + 1] -= gf1 * a1
+    rhs[rowl] += gl0[:, None] * b0
+    rhs[rowl - 1] += gl1[:, None] * b0
+    diag[rowl] -= gl0 * b1
+    upper[rowl - 1] -= gl1 * b1
+    rhs[row0] -= h0[:, None] * d2s  # the known end moments
+    rhs[rowl] -= hl[:, None] * d2e
+    lower[row0] = 0.0  # the segments' systems are independent
+    upper[rowl] = 0.0
+    moments = np.empty_like(yy)
+    moments[inner] = solve_tridiagonal(lower, diag, upper, rhs, cyclic=False)
+    moments[first] = d2s
+    moments[last] = d2e
+    yy[first + 1] = a0 + a1[:, None] * moments[first + 1]
+    yy[last - 1] = b0 + b1[:, None] * moments[last - 1]
+    hh = h[:, None]
+    m0, m1 = moments[:-1], moments[1:]
+    slope = np.diff(yy, axis=0) / hh
+    return np.stack([(m1 - m0) / (6.0 * hh), 0.5 * m0, slope - hh * (2.0 * m0 + m1) / 6.0, yy[:-1]])
 
 
 def _breaks_of(law: Displacement) -> tuple[np.ndarray, np.ndarray]:
@@ -540,26 +680,56 @@ def _breaks_of(law: Displacement) -> tuple[np.ndarray, np.ndarray]:
     return brk, cont
 
 
+def _fourth_derivatives(theta: np.ndarray, d2: list[np.ndarray], brk: np.ndarray, spacing: float = math.radians(0.2)) -> np.ndarray:
+    """Largest ``|d4Q/dtheta4|`` (mm/rad^4) of the curves whose exact ``d2Q/dtheta2`` ((n, 2) each)
+    are given on the sorted grid ``theta`` (n,), per interval between the sorted breaks ``brk``
+    (interval k from ``brk[k]``; one interval when there are none): second divided differences of
+    ``d2Q`` over triples of grid angles about ``spacing`` (rad) apart (every k-th angle) that have
+    near-uniform spacing and that no break splits (the law is analytic inside an interval)."""
+    stride = max(1, int(spacing * theta.size / TWO_PI))
+    th = theta[::stride]
+    h0, h1 = th[1:-1] - th[:-2], th[2:] - th[1:-1]
+    where = np.searchsorted(brk, th, side="right")  # breaks <= theta
+    ok = (where[:-2] == where[2:]) & (np.minimum(h0, h1) >= 0.5 * np.maximum(h0, h1))
+    worst = np.zeros(th.size - 2)
+    for z in d2:
+        z = z.view(complex)[::stride, 0]  # (x, y) as x + i y: one long array, not pairs
+        dd = (z[2:] - z[1:-1]) / h1
+        dd -= (z[1:-1] - z[:-2]) / h0
+        np.maximum(worst, dd.real * dd.real + dd.imag * dd.imag, out=worst)
+    worst = 2.0 * np.sqrt(worst) / (h0 + h1)
+    # the triples are sorted by interval: the largest value in each run
+    interval = (where[:-2] - 1) % max(1, brk.size)
+    out = np.zeros(max(1, brk.size))
+    sel = np.flatnonzero(ok)
+    if sel.size:
+        starts = np.concatenate([[0], np.flatnonzero(np.diff(interval[sel])) + 1])
+        np.maximum.at(out, interval[sel][starts], np.maximum.reduceat(worst[sel], starts))
+    return out
+
+
 #: Weights of the one-sided extrapolation of the derivatives at a break from 1, 2, 3 steps away
 #: (quadratic, error O(step^3)).
 _ONE_SIDED_WEIGHTS = np.array([3.0, -3.0, 1.0])
 
 
 def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement, fit_tol: float,
-                     initial_step: float = math.radians(5.0), max_rounds: int = 12,
-                     max_pieces: int = 100_000) -> tuple[list[Contour], list[float]]:
+                     fourth: tuple[np.ndarray, list[np.ndarray]] | None = None, initial_step: float = math.radians(5.0),
+                     max_rounds: int = 12, max_pieces: int = 100_000) -> tuple[list[Contour], list[float]]:
     """Contours of ``dims`` exact curves at once: ``exact(theta) -> (Q, dQ/dtheta, d2Q/dtheta2)``, each
-    (n, 2 dims) (the curves side by side), one cubic spline segment per interval between the law's
-    breaks (one segment from cam angle 0 when there are none); the curves share their knots.
+    complex (n, dims) (the curves side by side), one cubic spline segment per interval between the
+    law's breaks (one segment from cam angle 0 when there are none); the curves share their knots.
 
     The spline parameter is ``t = -sigma theta`` (the contour runs counter-clockwise).  Every
     segment is a C2 cubic spline through exact points on ``count`` uniform pieces (plus the two
-    extra knots of :func:`_c2_spline`) that takes the exact one-sided tangent and second derivative
+    extra knots of :func:`_c2_splines`) that takes the exact one-sided tangent and second derivative
     at both ends, so neighbours join with the exact curve's own continuity: G2 where the law's
-    ``s''`` is continuous, G1 (the exact curvature jump) where it jumps, G0 where ``s'`` jumps.  A
-    segment gets more pieces (its error falls as h^4) until the distance of every curve from its
-    exact points at the quarter and mid points of every piece is <= ``fit_tol`` mm.  The exact
-    curves are evaluated for all segments in one call per refinement round.
+    ``s''`` is continuous, G1 (the exact curvature jump) where it jumps, G0 where ``s'`` jumps.  The
+    first count follows from the error bound ``5/384 h^4 max|Q''''|`` with ``Q''''`` from
+    ``fourth = (theta, [d2Q/dtheta2 of each curve])`` on a dense sorted grid (else one piece per
+    ``initial_step``); a segment gets more pieces (its error falls as h^4) until the distance of
+    every curve from its exact points at the quarter and mid points of every piece is <= ``fit_tol``
+    mm.  The exact curves are evaluated for all segments in one call per round.
     Returns the contours and the largest measured distance of each.
     """
     brk, _ = _breaks_of(law)
@@ -569,49 +739,73 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
     cuts = np.append(tb, tb[0] + TWO_PI)
     lo, hi = cuts[:-1], cuts[1:]
     nseg = lo.size
+    count = np.maximum(4, np.ceil((hi - lo) / initial_step)).astype(int)
+    if fourth is not None:
+        sorted_brk = np.unique(brk)
+        bound = _fourth_derivatives(fourth[0], fourth[1], sorted_brk)
+        # the law interval of every segment (t = -sigma theta): the one holding its middle
+        mid = np.mod(-sigma * 0.5 * (lo + hi), TWO_PI)
+        bound = bound[(np.searchsorted(sorted_brk, mid, side="right") - 1) % bound.size]
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            want = np.ceil((hi - lo) * (_SPLINE_ERROR_CONSTANT * bound / fit_tol) ** 0.25)
+        known = np.isfinite(want)
+        count[known] = np.clip(want[known], 4, max_pieces).astype(int)
 
-    def at_t(t: np.ndarray):
-        q, d1, d2 = exact(-sigma * t)
-        return q, -sigma * d1, d2
-
-    # one-sided dQ/dt and d2Q/dt2 at every segment's two ends, in one evaluation
+    # one-sided dQ/dt and d2Q/dt2 at every segment's two ends, evaluated with the first round
     steps = _ONE_SIDED_STEP * np.array([1.0, 2.0, 3.0])
     probe_ends = np.concatenate([lo[:, None] + steps[None, :], hi[:, None] - steps[None, :]], axis=1).ravel()
-    _, e1, e2 = at_t(probe_ends)
-    w = _ONE_SIDED_WEIGHTS[None, :, None]
-    e1, e2 = e1.reshape(nseg, 2, 3, -1), e2.reshape(nseg, 2, 3, -1)
-    ends1, ends2 = (w * e1).sum(axis=2), (w * e2).sum(axis=2)  # (nseg, 2 [start, end], 2 dims)
-    count = np.maximum(4, np.ceil((hi - lo) / initial_step)).astype(int)
+    ends1 = ends2 = None
     fits: list[tuple[np.ndarray, np.ndarray] | None] = [None] * nseg
     errors = np.zeros((nseg, dims))
-    todo = list(range(nseg))
+    todo = np.arange(nseg)
     for _ in range(max_rounds):
-        grids, probes = [], []
-        for k in todo:
-            t = np.linspace(lo[k], hi[k], count[k] + 1)
-            x = np.concatenate([[t[0]], _inner_knots(t), [t[-1]]])
-            grids.append(t)
-            probes.append((x[:-1, None] + _PROBES[None, :] * np.diff(x)[:, None]).ravel())
-        sizes = [g.size + p.size for g, p in zip(grids, probes)]
-        q_all = at_t(np.concatenate([np.concatenate([g, p]) for g, p in zip(grids, probes)]))[0]
-        parts = np.split(q_all, np.cumsum(sizes)[:-1])
+        x, first, last = _knots(lo[todo], hi[todo], count[todo])
+        # every knot, then the quarter, mid and three-quarter points of the piece it starts
+        t = np.empty(4 * x.size - 3)
+        t[::4] = x
+        span = np.diff(x)
+        for i, w in enumerate(_PROBES):
+            t[i + 1:: 4] = x[:-1] + w * span
+        if ends1 is None:
+            t = np.concatenate([probe_ends, t])
+        q, d1, d2 = exact(-sigma * t)  # complex (n, dims)
+        if ends1 is None:
+            w = _ONE_SIDED_WEIGHTS[None, :, None]
+            e1 = (-sigma * d1[: probe_ends.size]).view(np.float64).reshape(nseg, 2, 3, -1)
+            e2 = d2[: probe_ends.size].view(np.float64).reshape(nseg, 2, 3, -1)
+            ends1, ends2 = (w * e1).sum(axis=2), (w * e2).sum(axis=2)  # (nseg, 2 [start, end], 2 dims)
+            q, t = q[probe_ends.size:], t[probe_ends.size:]
+        knot_values = np.ascontiguousarray(q[::4]).view(np.float64)  # (knots, 2 dims): x and y of every curve
+        coeffs = _c2_splines(x, knot_values, first, last, (ends1[todo, 0], ends2[todo, 0]), (ends1[todo, 1], ends2[todo, 1]))
+        # distances of the splines from the exact curves at the probes, as long flat arrays
+        k = knot_values.shape[1]
+        c = [coeffs[i].ravel() for i in range(4)]
+        dist = None
+        for j in range(3):
+            tau = np.repeat(t[j + 1:: 4] - x[:-1], k)
+            diff = ((c[0] * tau + c[1]) * tau + c[2]) * tau + c[3]
+            diff -= np.ascontiguousarray(q[j + 1:: 4]).view(np.float64).ravel()
+            diff *= diff
+            d = diff[0::2] + diff[1::2]  # squared distance per piece and curve
+            dist = d if dist is None else np.maximum(dist, d, out=dist)
+        dist = np.sqrt(dist).reshape(-1, dims)  # (pieces, dims)
+        dist[last[:-1]] = 0.0  # between two segments
+        err = np.maximum.reduceat(dist, first, axis=0)
         left = []
-        for k, t, probe, q in zip(todo, grids, probes, parts):
-            x, coeffs = _c2_spline(t, q[: t.size], (ends1[k, 0], ends2[k, 0]), (ends1[k, 1], ends2[k, 1]))
-            diff = _eval_pieces(x, coeffs, probe) - q[t.size:]
-            err = np.array([float(np.max(np.hypot(diff[:, 2 * c], diff[:, 2 * c + 1]))) for c in range(dims)])
-            fits[k], errors[k] = (x, coeffs), err
-            worst = float(err.max())
+        for j, k in enumerate(todo):
+            fits[k] = (x[first[j]: last[j] + 1], coeffs[:, first[j]: last[j]])
+            errors[k] = err[j]
+            worst = float(err[j].max())
             if worst > fit_tol:
                 if count[k] >= max_pieces:
                     raise GeometryError(f"the spline representation does not reach fit_tol = {fit_tol:g} mm (error {worst:.3g} mm "
                                         f"with {count[k]} pieces): the curve is too close to a cusp; increase fit_tol or the base radius")
                 count[k] = min(max_pieces, math.ceil(count[k] * min(16.0, max(1.25, (worst / (0.5 * fit_tol)) ** 0.25))))
                 left.append(k)
-        todo = left
-        if not todo:
+        todo = np.array(left, dtype=int)
+        if not todo.size:
             break
-    if todo:
+    if todo.size:
         worst = float(errors[todo].max())
         raise GeometryError(f"the spline representation does not reach fit_tol = {fit_tol:g} mm (error {worst:.3g} mm "
                             f"with {int(count[todo].max())} pieces): the curve is too close to a cusp; increase fit_tol or the base radius")
@@ -717,16 +911,18 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
     if pitch_ok and f.kind == "roller":
         want.insert(0, "pitch")
 
-    def exact(th: np.ndarray):
-        k = kinematics(f, law, th)
-        out = []
-        for name in want:
-            out.append((k.pitch_point, k.pitch_d1, k.pitch_d2) if name == "pitch" else (k.contact_point, k.contact_d1, k.contact_d2))
-        return tuple(np.concatenate([o[i] for o in out], axis=1) for i in range(3))
+    def exact(th: np.ndarray):  # the wanted curves only, complex (n, len(want)) each
+        s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(th))
+        if f.kind == "flat":
+            curves = _flat(f, th, s, ds, d2s, d3s, False)
+        else:
+            curves = _roller(f, th, s, ds, d2s, d3s, False, tuple(want))
+        return tuple(np.stack([curve[i] for curve in curves], axis=1) for i in range(3))
 
     if want:
+        d2 = [data.pitch_d2 if name == "pitch" else data.contact_d2 for name in want]
         try:
-            curves, errors = _spline_contours(exact, len(want), sigma, law, fit_tol)
+            curves, errors = _spline_contours(exact, len(want), sigma, law, fit_tol, (theta, d2))
         except GeometryError as exc:  # report-only: show what failed instead of the pitch curve
             if not failures:
                 raise

@@ -764,36 +764,99 @@ class MotionProgram:
         self._piece_ref = piece_ref
 
     # -- the Displacement interface ----------------------------------------------------------
+    def _plan(self) -> list[tuple]:
+        """Per evaluation piece (in cam-angle order): its segment's start and span, the piece's
+        ``ref`` and ``sign_in``, the constant ``level + scale offset`` of ``s`` and, per derivative
+        order n = 0..3, the Horner coefficients (lowest power first) and the (sin, cos) amplitudes
+        with the factor ``scale sign_out sign_in^n / span^n`` folded in (made once per program)."""
+        plan = self.__dict__.get("_eval_plan")
+        if plan is None:
+            plan = []
+            for i, k in self._piece_ref:
+                seg = self.segments[i]
+                piece = seg.shape.pieces[k]
+                orders = []
+                for n in range(4):
+                    factor = seg.scale * piece.sign_out * piece.sign_in**n / seg.span**n
+                    poly = [factor * float(c) for c in piece._dpoly[n]]
+                    while len(poly) > 1 and poly[-1] == 0.0:
+                        poly.pop()
+                    amps = []
+                    for om, a, b in piece.trig:
+                        ca, cb = a, b
+                        for _ in range(n):  # d/dw (a sin + b cos) = (-b om) sin + (a om) cos
+                            ca, cb = -cb * om, ca * om
+                        amps.append((factor * ca, factor * cb))
+                    orders.append((tuple(poly), tuple(amps)))
+                plan.append((float(self.starts[i]), float(seg.span), float(piece.ref), piece.sign_in > 0,
+                             float(self.levels[i] + seg.scale * piece.offset), tuple(om for om, _, _ in piece.trig), tuple(orders)))
+            self.__dict__["_eval_plan"] = plan
+        return plan
+
     def __call__(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """s (unit), ds/dtheta (unit/rad), d2s/dtheta2 (unit/rad^2), d3s/dtheta3 (unit/rad^3) at cam
         angles ``theta`` (rad, any real, any shape; periodic); at a break the following piece."""
         theta = np.asarray(theta, dtype=float)
-        if not np.all(np.isfinite(theta)):
-            raise ParameterError("theta", "non-finite cam angles", "finite angles in rad")
-        th = np.mod(theta.ravel(), TWO_PI)
-        th[th >= TWO_PI] -= TWO_PI  # np.mod(-1e-300, 2 pi) == 2 pi
-        npieces = len(self._piece_ref)
-        if npieces <= 64:  # count the piece starts <= theta (the right-hand piece at a break)
-            idx = np.zeros(th.size, dtype=np.int16)
-            for lo in self._piece_lo[1:]:
-                idx += th >= lo
-        else:
-            idx = np.searchsorted(self._piece_lo, th, side="right") - 1
-        order, bounds = _grouped(idx, npieces)  # evaluate each piece once on its group of angles
+        shape = theta.shape
+        th = theta.ravel()
+        if th.size:
+            low, high = float(th.min()), float(th.max())
+            if not (math.isfinite(low) and math.isfinite(high)):
+                raise ParameterError("theta", "non-finite cam angles", "finite angles in rad")
+            # np.mod(theta, 2 pi) is theta itself on [0, 2 pi) and theta + 2 pi on [-2 pi, 0)
+            if low < 0.0 or high >= TWO_PI:
+                if low >= -TWO_PI and high < TWO_PI:
+                    th = np.where(th < 0.0, th + TWO_PI, th)
+                    th += 0.0  # np.mod gives +0.0 for -0.0
+                else:
+                    th = np.mod(th, TWO_PI)
+                th[th >= TWO_PI] -= TWO_PI  # np.mod(-1e-300, 2 pi) == 2 pi
+        plan = self._plan()
+        npieces = len(plan)
+        order = None
+        if npieces == 1:
+            bounds = np.array([0, th.size])
+        elif th.size > 1 and bool(np.all(th[1:] >= th[:-1])):  # sorted (a check grid): no regrouping
+            bounds = np.concatenate([[0], np.searchsorted(th, self._piece_lo[1:], side="left"), [th.size]])
+        else:  # the right-hand piece at a break: count the piece starts <= theta
+            order, bounds = _grouped(np.searchsorted(self._piece_lo, th, side="right") - 1, npieces)
         ths = th if order is None else th[order]
-        res = [np.empty(th.shape) for _ in range(4)]
-        for g, (i, k) in enumerate(self._piece_ref):
-            lo, hi = bounds[g], bounds[g + 1]
+        res = np.empty((4, th.size))  # s and its three derivatives in one block (one allocation)
+        for g, (start, span, ref, forward, const, omegas, orders) in enumerate(plan):
+            lo, hi = int(bounds[g]), int(bounds[g + 1])
             if lo == hi:
                 continue
-            seg = self.segments[i]
-            vals = seg.shape.pieces[k].values((ths[lo:hi] - self.starts[i]) / seg.span)
-            res[0][lo:hi] = self.levels[i] + seg.scale * vals[0]
-            for n in (1, 2, 3):
-                res[n][lo:hi] = (seg.scale / seg.span**n) * vals[n]
-        out = _ungroup(res, order)
-        shape = theta.shape
-        return out[0].reshape(shape), out[1].reshape(shape), out[2].reshape(shape), out[3].reshape(shape)
+            tau = ths[lo:hi] - start
+            tau /= span
+            w = tau if forward and ref == 0.0 else (tau - ref if forward else ref - tau)
+            trig = []
+            for om in omegas:
+                arg = om * w
+                trig.append((np.sin(arg), np.cos(arg)))
+            tmp = np.empty(hi - lo) if trig else None
+            for n, (poly, amps) in enumerate(orders):
+                acc = res[n][lo:hi]
+                if len(poly) == 1:
+                    acc.fill(poly[0])
+                else:  # Horner, in place
+                    np.multiply(w, poly[-1], out=acc)
+                    for j in range(len(poly) - 2, -1, -1):
+                        if poly[j] != 0.0:
+                            acc += poly[j]
+                        if j:
+                            acc *= w
+                for (sn, cs), (ca, cb) in zip(trig, amps):
+                    if ca:
+                        acc += np.multiply(sn, ca, out=tmp)
+                    if cb:
+                        acc += np.multiply(cs, cb, out=tmp)
+                if n == 0 and const:
+                    acc += const
+        if order is not None:
+            out = np.empty_like(res)
+            out[:, order] = res
+            res = out
+        return res[0].reshape(shape), res[1].reshape(shape), res[2].reshape(shape), res[3].reshape(shape)
 
     # -- reports ------------------------------------------------------------------------------
     def joins(self) -> list[Join]:

@@ -1,0 +1,192 @@
+"""The fast paths of the exact envelope, each against a number from outside the code under test.
+
+* the motion program's fast paths (a sorted grid in [0, 2 pi), angles in [-2 pi, 0)) against the
+  closed forms of its laws written out here;
+* the dense check grid against its definition (np.unique of the grid, the breaks and their
+  neighbours, computed here);
+* the C2 splines of several segments solved as one system against scipy's B-spline interpolant
+  with the same knots and end conditions, segment by segment;
+* the estimate of max |d4Q/dtheta4| from second differences of d2Q against a curve whose fourth
+  derivative is known in closed form;
+* the first piece count, from the error bound 5/384 h^4 max|f''''| of a clamped cubic spline
+  interpolant (Hall & Meyer 1976), meets fit_tol without a measured refinement round for every
+  follower, yet is not wasteful (the measured error is a sizeable part of fit_tol).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from camgen.synthesis.followers import (
+    DEFAULT_CHECK_STEP,
+    FollowerSpec,
+    _c2_splines,
+    _fourth_derivatives,
+    _knots,
+    cam_envelope,
+    check_grid,
+)
+from camgen.synthesis.laws import MotionProgram, Segment
+
+D = math.radians
+PI = math.pi
+TWO_PI = 2.0 * PI
+
+
+# --------------------------------------------------------------------------------------------
+# The motion program on the grids the envelope uses
+# --------------------------------------------------------------------------------------------
+def program_and_closed_forms():
+    """A program whose velocity jumps (constant velocity after a dwell) and whose jerk jumps, with
+    its s and s' written out here from the textbook formulas (Norton, ch. 8)."""
+    program = MotionProgram([Segment("cycloidal", D(120), 20.0), Segment("dwell", D(40)), Segment("constant_velocity", D(80), -12.0),
+                             Segment("poly345", D(60), -8.0), Segment("dwell", D(60))])
+
+    def closed(theta):
+        t = np.mod(theta, TWO_PI)
+        x1, x3, x4 = t / D(120), (t - D(160)) / D(80), (t - D(240)) / D(60)
+        conds = [t < D(120), t < D(160), t < D(240), t < D(300), t >= D(300)]
+        s = np.select(conds, [20 * (x1 - np.sin(2 * PI * x1) / (2 * PI)), 20 + 0 * t, 20 - 12 * x3,
+                              8 - 8 * (10 * x4**3 - 15 * x4**4 + 6 * x4**5), 0 * t])
+        v = np.select(conds, [20 / D(120) * (1 - np.cos(2 * PI * x1)), 0 * t, -12 / D(80) + 0 * t,
+                              -8 / D(60) * (30 * x4**2 - 60 * x4**3 + 30 * x4**4), 0 * t])
+        return s, v
+
+    return program, closed
+
+
+def test_program_on_the_check_grid_and_on_negative_angles_against_closed_forms():
+    """The sorted check grid (breaks and their neighbours included: at a break the following
+    piece) and the angles -t of a ccw envelope (in [-2 pi, 0], the exact ends included) give the
+    textbook values; so do angles far outside one turn."""
+    program, closed = program_and_closed_forms()
+    grid = check_grid(program)
+    assert np.all(np.diff(grid) > 0)
+    for theta in (grid, -grid, grid - TWO_PI, np.array([0.0, -0.0, -1e-300, -TWO_PI, TWO_PI, -D(160), D(160)]), grid + 14 * PI):
+        s, v, _, _ = program(theta)
+        ref_s, ref_v = closed(theta)
+        assert np.max(np.abs(s - ref_s)) <= 1e-12 * 20, theta[:3]
+        assert np.max(np.abs(v - ref_v)) <= 1e-11 * 20, theta[:3]
+    # at the break 160 deg the velocity jumps: the following piece's (constant velocity)
+    assert program(np.array([D(160), D(160) - TWO_PI]))[1] == pytest.approx([-12 / D(80)] * 2, rel=1e-12)
+
+
+def test_check_grid_is_the_uniform_grid_with_the_breaks_and_their_neighbours():
+    rng = np.random.default_rng(5)
+
+    class Law:
+        breaks = np.zeros(0)
+
+    for trial in range(300):
+        step = D(float(rng.choice([0.05, 0.3, 1.0, 45.0])))
+        n = max(8, math.ceil(TWO_PI / step))
+        special = np.array([0.0, (n // 3) * (TWO_PI / n), TWO_PI - 1e-9, (n // 2) * (TWO_PI / n) + 1e-9])  # on the grid, at its ends
+        brk = np.concatenate([rng.uniform(0.0, TWO_PI, int(rng.integers(0, 9))), special[: int(rng.integers(0, 5))]])
+        Law.breaks = np.sort(brk)
+        reference = np.unique(np.mod(np.concatenate([np.arange(n) * (TWO_PI / n), brk, brk - 1e-9, brk + 1e-9]), TWO_PI))
+        assert np.array_equal(check_grid(Law, step), reference), trial
+
+
+# --------------------------------------------------------------------------------------------
+# The splines of several segments in one solve
+# --------------------------------------------------------------------------------------------
+def test_batched_c2_splines_are_scipys_bspline_interpolants():
+    """Four segments of different spans and piece counts (4 to 57) solved together: each is the
+    B-spline interpolant of its samples with knots at the samples and the midpoints of its first
+    and last intervals, first and second derivatives imposed at both ends (scipy)."""
+    from scipy.interpolate import make_interp_spline
+
+    rng = np.random.default_rng(11)
+    lo = np.array([0.0, 0.7, 1.9, 2.0])
+    hi = np.array([0.7, 1.9, 2.0, 6.1])
+    count = np.array([9, 57, 4, 23])
+    x, first, last = _knots(lo, hi, count)
+    y = rng.normal(size=(x.size, 4)) * 30
+    start = (rng.normal(size=(4, 4)) * 30, rng.normal(size=(4, 4)) * 300)
+    end = (rng.normal(size=(4, 4)) * 30, rng.normal(size=(4, 4)) * 300)
+    coeffs = _c2_splines(x, y, first, last, start, end)
+    for k in range(4):
+        t = np.linspace(lo[k], hi[k], count[k] + 1)
+        xs = x[first[k]: last[k] + 1]
+        assert np.array_equal(np.delete(xs, [1, xs.size - 2]), t)  # the samples np.linspace gives
+        assert xs[1] == 0.5 * (t[0] + t[1]) and xs[-2] == 0.5 * (t[-2] + t[-1])
+        samples = np.delete(y[first[k]: last[k] + 1], [1, xs.size - 2], axis=0)
+        knots = np.concatenate([np.full(4, t[0]), xs[1:-1], np.full(4, t[-1])])
+        reference = make_interp_spline(t, samples, k=3, t=knots,
+                                       bc_type=([(1, start[0][k]), (2, start[1][k])], [(1, end[0][k]), (2, end[1][k])]))
+        left = xs[:-1]
+        theirs = np.stack([reference(left, 3) / 6.0, reference(left, 2) / 2.0, reference(left, 1), reference(left)])
+        ours = coeffs[:, first[k]: last[k]]
+        assert np.max(np.abs(ours - theirs)) <= 1e-11 * np.max(np.abs(theirs)), k
+
+
+# --------------------------------------------------------------------------------------------
+# The fourth derivative from the check data, and the first piece count
+# --------------------------------------------------------------------------------------------
+def test_fourth_derivative_estimate_against_a_closed_form_curve():
+    """Q = a_k e^{i theta} + b_k e^{3 i theta} with other (a_k, b_k) between each pair of breaks:
+    |d4Q/dtheta4| = |a_k e^{i theta} + 81 b_k e^{3 i theta}|, its largest value per interval
+    sampled densely here; the estimate must not mix the intervals (d2Q jumps at the breaks)."""
+    brk = np.array([0.0, D(100), D(130), D(250)])
+    coef = [(40.0, 0.5), (55.0, -1.2), (30.0, 0.1), (70.0, 2.0)]
+
+    class Law:
+        breaks = brk
+
+    theta = check_grid(Law, DEFAULT_CHECK_STEP)
+    k = np.searchsorted(brk, theta, side="right") - 1
+    a = np.array([c[0] for c in coef])[k]
+    b = np.array([c[1] for c in coef])[k]
+    d2 = -a * np.exp(1j * theta) - 9 * b * np.exp(3j * theta)
+    estimate = _fourth_derivatives(theta, [np.column_stack([d2.real, d2.imag])], brk)
+    ends = np.append(brk, TWO_PI)
+    for j, (aj, bj) in enumerate(coef):
+        # the differences use grid angles ~0.2 deg apart inside the interval: the largest value
+        # lies between the maximum over the interval without its last 0.5 deg at each end and the
+        # maximum over the whole interval (up to the O(h^2) error of the differences)
+        dense = np.linspace(ends[j], ends[j + 1], 200_001)
+        d4 = np.abs(aj * np.exp(1j * dense) + 81 * bj * np.exp(3j * dense))
+        inner = d4[(dense > ends[j] + D(0.5)) & (dense < ends[j + 1] - D(0.5))]
+        assert np.max(inner) * (1 - 1e-5) <= estimate[j] <= np.max(d4) * (1 + 1e-5), j
+
+
+FOLLOWERS = {
+    "roller_offset": dict(kind="roller", base_radius=40.0, roller_radius=10.0, offset=12.0),
+    "flat": dict(kind="flat", base_radius=80.0, offset=3.0),
+    "knife": dict(kind="knife", base_radius=40.0, offset=-6.0),
+    "osc_roller": dict(kind="roller", base_radius=40.0, motion="oscillating", roller_radius=8.0, pivot=(110.0, 40.0), arm_length=95.0),
+    "osc_flat": dict(kind="flat", base_radius=60.0, motion="oscillating", pivot=(130.0, 50.0), face_offset=20.0, lift_turn="cw"),
+}
+#: lift (mm) or swing (deg) of each follower's program: as much as its base radius allows
+LIFT = {"roller_offset": 16.0, "flat": 16.0, "knife": 16.0, "osc_roller": 12.0, "osc_flat": 7.0}
+
+
+class _Counted:
+    """A law that counts its evaluations (the envelope evaluates it once on the check grid and
+    once per round of spline fitting)."""
+
+    def __init__(self, law):
+        self.law, self.calls = law, 0
+        self.breaks, self.break_continuity = law.breaks, law.break_continuity
+
+    def __call__(self, theta):
+        self.calls += 1
+        return self.law(theta)
+
+
+@pytest.mark.parametrize("rotation", ["ccw", "cw"])
+@pytest.mark.parametrize("name", sorted(FOLLOWERS))
+@pytest.mark.parametrize("fit_tol", [1e-7, 1e-4])
+def test_first_piece_count_meets_fit_tol_in_one_round(name, rotation, fit_tol):
+    kind = FOLLOWERS[name]
+    oscillating = kind.get("motion") == "oscillating"
+    unit, lift = ("rad", D(LIFT[name])) if oscillating else ("mm", LIFT[name])
+    law = _Counted(MotionProgram([Segment("modified_sine", D(110), lift), Segment("dwell", D(50)),
+                                  Segment("double_harmonic", D(90), -lift), Segment("dwell", D(110))], unit=unit))
+    cam = cam_envelope(FollowerSpec(**kind, rotation=rotation), law, fit_tol=fit_tol)
+    assert law.calls == 2  # the check grid and one round of spline fitting: no measured refinement
+    assert cam.fit_error <= fit_tol
+    # the bound is not wasteful: the error reached is a sizeable part of fit_tol (pieces ~ error^(-1/4))
+    assert cam.fit_error >= 0.05 * fit_tol
