@@ -46,11 +46,21 @@ def commit() -> str:
         return "unknown"
 
 
+def _first_table(text: str) -> str:
+    lines = text.splitlines()
+    start = next((i for i, line in enumerate(lines) if line.startswith("|")), len(lines))
+    end = next((i for i in range(start, len(lines)) if not lines[i].startswith("|")), len(lines))
+    return "\n".join(lines[start:end])
+
+
 def summary(sections: dict[str, str]) -> str:
-    """The README's summary: the whole-process run times (bench_cli's table)."""
+    """The README's summary: the whole-process run times (bench_cli's first table) and camgen
+    against the peers (bench_peers' table and its ratio line), as RESULTS.md has them."""
     cli = sections.get("bench_cli", "")
-    table = "\n".join(line for line in cli.splitlines() if line.startswith("|"))
-    return f"Whole-process `camgen run` times (medians, from benchmarks/RESULTS.md):\n\n{table}\n"
+    peers = sections.get("bench_peers", "")
+    ratio = next((line for line in peers.splitlines() if line.startswith("camgen / ")), "")
+    return (f"Whole-process `camgen run` times (medians; targets of issue 13), from benchmarks/RESULTS.md:\n\n{_first_table(cli)}\n\n"
+            f"camgen against the `mechanism` package on the same cam, in one run:\n\n{_first_table(peers)}\n\n{ratio}\n")
 
 
 def main() -> None:
