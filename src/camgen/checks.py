@@ -559,8 +559,8 @@ def evaluate_cam(contour: Contour | None, follower: Follower, tool_radius: float
             motion = roller_motion(kin, unit="mm" if follower.motion == "translating" else "rad")
     if motion is not None:
         checks.append(motion_check(motion, rpm))
-    if tool_radius is not None:
-        checks.extend(machinability_check(contour, tool_radius, tool_is_limit))
+    if tool_radius is not None:  # the radii sampled above (machinability_check would sample them again)
+        checks.extend(machinability_from_radii(rho, rho_angle, tool_radius, tool_is_limit))
     return CamEvaluation(checks, follower, motion, pressure, (rho_angle, rho), pitch)
 
 
