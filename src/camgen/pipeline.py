@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable, Sequence
@@ -93,6 +94,17 @@ def _check_machining(scene: "Scene") -> None:
                                  "output.formats (G-code is printed with at most 6 decimals)", exc.why) from None
         key = {k.field: k.name for k in machining_keys()}.get(exc.name, exc.name)
         raise ParameterError(f"machining.{key}", exc.value, exc.valid, exc.why) from None
+    step = scene.machining.step_down
+    for spec in scene.cams:
+        depth = spec.body.thickness + scene.machining.breakthrough
+        if depth / step > MAX_PASSES:
+            raise ParameterError("machining.step_down_mm", step, f">= {depth / MAX_PASSES:.3g} mm for cam '{spec.name}'",
+                                 f"its {depth:g} mm (thickness + breakthrough) would take {depth / step:.3g} passes, more than "
+                                 f"the {MAX_PASSES} a program may hold")
+
+
+#: Most depth passes of a G-code program (thickness + breakthrough over step_down_mm).
+MAX_PASSES = 1000
 
 
 #: Largest number of vertices of one flattened contour in a file (point list, mesh, or the
@@ -304,6 +316,7 @@ def render(result: RunResult, progress: Progress = _quiet) -> None:
         for job in result.jobs.values():
             files.update(job.files)
     html = "html" in result.plan.formats
+    _check_finite(files)
     names = sorted(files) + ["report.json"] + (["report.html"] if html else [])
     mechanisms = {name: job.report for name, job in result.jobs.items()}
     files["report.json"] = report_json(report_dict(result.scene, result.cams, names, mechanisms, result.plan.stages))
@@ -311,6 +324,25 @@ def render(result: RunResult, progress: Progress = _quiet) -> None:
         progress("writing report.html")
         module, function = OUTPUTS["html"].writer.split(":")
         files["report.html"] = getattr(importlib.import_module(module), function)(result)
+
+
+#: A number that is not finite as a writer prints it (nan, inf, infinity; any case, alone).
+_NONFINITE = re.compile(r"(?<![A-Za-z_])(nan|inf|infinity)(?![A-Za-z_])", re.IGNORECASE)
+
+
+def _check_finite(files: dict[str, str | bytes]) -> None:
+    """The last guard before anything is written: no text file may hold NaN or inf (a machine
+    or CAD reader would take it for a coordinate, or fail on it).  Raises :class:`ExportError`
+    naming the file and the line."""
+    from camgen.errors import ExportError
+
+    for name, content in files.items():
+        if isinstance(content, str):
+            match = _NONFINITE.search(content)
+            if match is not None:
+                line = content.count("\n", 0, match.start()) + 1
+                raise ExportError(f"{name} would hold the non-finite number '{match.group(0)}' at line {line}: nothing written "
+                                  "(a bug: please report the scene)")
 
 
 def run_scene(scene: "Scene", outdir: str | Path = "outputs", only: Sequence[str] | None = None,
