@@ -369,9 +369,10 @@ def test_trajectory_cam_is_closed_smooth_and_rides_within_its_bound(path, sample
         counted("trajectory", "refused, named")
         return
     cam = compute(scene, Plan((), frozenset())).cams[0]
-    if cam.contour is None:  # the rod cannot follow: a failed undercut check saying where
+    if cam.contour is None:  # the rod cannot follow: a failed undercut check saying where (or why not)
         check = next(c for c in cam.checks if c.name == "undercut")
-        assert check.failed and "rod" in check.note and check.blocks_manufacture
+        assert check.failed and check.blocks_manufacture
+        assert (check.where_deg and check.value < check.limit) or "steering rod" in check.note, check
         counted("trajectory", "undercut named")
         return
     size = cam.contour.size
