@@ -167,11 +167,18 @@ def run_ends(mask: np.ndarray, angles: np.ndarray) -> list[float]:
     return [v for s, e in zip(starts, ends) for v in where_degrees(angles[[s, e]])]
 
 
+#: Most samples of the dense checks on one spline segment (a refitted offset can have 440,000
+#: pieces: 32 samples each took 6 s); above it fewer per piece, never fewer than 1.
+MAX_CHECK_SAMPLES = 1 << 20
+
+
 def _samples(contour: Contour, per_segment: int = 512) -> np.ndarray:
     """Global parameters for dense checks: ``per_segment`` per segment (32 per spline piece at
-    least), spline break points included (the curvature of a cubic spline peaks there)."""
+    least, fewer when that would pass :data:`MAX_CHECK_SAMPLES`), spline break points included
+    (the curvature of a cubic spline peaks there)."""
     if contour.n_segments == 1 and hasattr(contour.segments[0], "n_pieces"):
-        per_segment = max(per_segment, 32 * contour.segments[0].n_pieces)
+        pieces = contour.segments[0].n_pieces
+        per_segment = max(per_segment, max(1, min(32, MAX_CHECK_SAMPLES // pieces)) * pieces)
     u = np.arange(per_segment) / per_segment
     return (np.arange(contour.n_segments)[:, None] + u[None, :]).ravel()
 
@@ -559,8 +566,8 @@ def evaluate_cam(contour: Contour | None, follower: Follower, tool_radius: float
             motion = roller_motion(kin, unit="mm" if follower.motion == "translating" else "rad")
     if motion is not None:
         checks.append(motion_check(motion, rpm))
-    if tool_radius is not None:
-        checks.extend(machinability_check(contour, tool_radius, tool_is_limit))
+    if tool_radius is not None:  # the radii sampled above (machinability_check would sample them again)
+        checks.extend(machinability_from_radii(rho, rho_angle, tool_radius, tool_is_limit))
     return CamEvaluation(checks, follower, motion, pressure, (rho_angle, rho), pitch)
 
 

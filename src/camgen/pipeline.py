@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable, Sequence
@@ -65,11 +66,79 @@ def plan_run(scene: "Scene", only: Sequence[str] | None = None) -> Plan:
             if spec.checks.rpm is None:
                 raise ParameterError(f"cams.{spec.name}.rpm", None, "a cam speed in rev/min (> 0)",
                                      'the "follower" output (<cam>_follower.csv) tabulates the follower motion at the cam speed')
+    if "ngc" in formats:
+        _check_machining(scene)
     stages: set[str] = set()
     for name in formats:
         if name != "json" or full:
             stages |= OUTPUTS[name].stages
     return Plan(formats, frozenset(stages), full)
+
+
+def _check_machining(scene: "Scene") -> None:
+    """The G-code settings against the run's chord tolerance, before any cam is built: the
+    printed decimals must resolve a share of ``output.chord_tol_mm``
+    (:class:`camgen.export.gcode.MachiningSpec`); the error names the key to change."""
+    from camgen.outputs import machining_keys
+
+    tol = scene.output.chord_tol
+    try:
+        dataclasses.replace(scene.machining, chord_tol=tol)
+    except ParameterError as exc:
+        try:
+            dataclasses.replace(scene.machining, chord_tol=tol, decimals=6)
+        except ParameterError:  # not even 6 decimals resolve this tolerance
+            from camgen.export.gcode import ROUNDING_SHARE, rounding_error
+
+            raise ParameterError("output.chord_tol_mm", tol, f'>= {rounding_error(6) / ROUNDING_SHARE:.2g} mm with "ngc" in '
+                                 "output.formats (G-code is printed with at most 6 decimals)", exc.why) from None
+        key = {k.field: k.name for k in machining_keys()}.get(exc.name, exc.name)
+        raise ParameterError(f"machining.{key}", exc.value, exc.valid, exc.why) from None
+    step = scene.machining.step_down
+    for spec in scene.cams:
+        depth = spec.body.thickness + scene.machining.breakthrough
+        if depth / step > MAX_PASSES:
+            raise ParameterError("machining.step_down_mm", step, f">= {depth / MAX_PASSES:.3g} mm for cam '{spec.name}'",
+                                 f"its {depth:g} mm (thickness + breakthrough) would take {depth / step:.3g} passes, more than "
+                                 f"the {MAX_PASSES} a program may hold")
+
+
+#: Most depth passes of a G-code program (thickness + breakthrough over step_down_mm).
+MAX_PASSES = 1000
+
+
+#: Largest number of vertices of one flattened contour in a file (point list, mesh, or the
+#: spline parts of a DXF or G-code program): about 16 MB of coordinates, a 100 MB mesh.
+MAX_FLAT_POINTS = 500_000
+#: Formats that flatten the whole profile, and those that flatten only its spline segments
+#: (arcs are written as exact arcs).
+_FLAT_ALL = ("points",)
+_FLAT_SPLINES = ("dxf", "ngc")
+
+
+def _check_flat_size(cam: "BuiltCam", formats: Sequence[str], chord_tol: float) -> None:
+    """Refuse a chord tolerance that would flatten ``cam`` into more than :data:`MAX_FLAT_POINTS`
+    vertices in a planned file (a 200 m cam at 1e-7 mm: 3 million, a 2 GB mesh), naming
+    ``output.chord_tol_mm`` and the smallest tolerance that fits."""
+    from camgen.contour import Arc
+    from camgen.outputs import MESH_FORMATS
+
+    whole = any(f in _FLAT_ALL or f in MESH_FORMATS for f in formats)
+    if cam.contour is None or not (whole or any(f in _FLAT_SPLINES for f in formats)):
+        return
+    count = 0
+    for seg in cam.contour.segments:
+        if whole or not isinstance(seg, Arc):
+            count += seg.flatten_params(chord_tol).size
+    if whole and cam.body.bore_diameter > 0:  # the bore circle of the mesh
+        r = cam.body.bore_diameter / 2.0
+        count += math.ceil(2.0 * math.pi / (2.0 * math.acos(max(-1.0, 1.0 - chord_tol / r))))
+    if count > MAX_FLAT_POINTS:
+        # chords of arcs and splines: the vertex count grows as chord_tol^-1/2
+        need = chord_tol * (count / MAX_FLAT_POINTS) ** 2 * 1.01
+        raise ParameterError("output.chord_tol_mm", chord_tol, f">= {need:.2g} mm for cam '{cam.name}'",
+                             f"at {chord_tol:g} mm its flattened profile would have {count} vertices, more than the "
+                             f"{MAX_FLAT_POINTS} a file may hold")
 
 
 @dataclass
@@ -186,6 +255,9 @@ def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> RunResul
             progress(f"dynamics of cam '{spec.name}'")
             with_cam(f"cams.{spec.name}", lambda: run_dynamics(cam, spec, plan.stages))
         cams.append(cam)
+    for cam in cams:
+        if cam.manufacturable:
+            _check_flat_size(cam, plan.formats, scene.output.chord_tol)
     by_name = {c.name: c for c in cams}
     result = RunResult(scene, plan, cams)
     for mech in scene.mechanisms:
@@ -249,6 +321,7 @@ def render(result: RunResult, progress: Progress = _quiet) -> None:
         for job in result.jobs.values():
             files.update(job.files)
     html = "html" in result.plan.formats
+    _check_finite(files)
     names = sorted(files) + ["report.json"] + (["report.html"] if html else [])
     mechanisms = {name: job.report for name, job in result.jobs.items()}
     files["report.json"] = report_json(report_dict(result.scene, result.cams, names, mechanisms, result.plan.stages))
@@ -256,6 +329,25 @@ def render(result: RunResult, progress: Progress = _quiet) -> None:
         progress("writing report.html")
         module, function = OUTPUTS["html"].writer.split(":")
         files["report.html"] = getattr(importlib.import_module(module), function)(result)
+
+
+#: A number that is not finite as a writer prints it (nan, inf, infinity; any case, alone).
+_NONFINITE = re.compile(r"(?<![A-Za-z_])(nan|inf|infinity)(?![A-Za-z_])", re.IGNORECASE)
+
+
+def _check_finite(files: dict[str, str | bytes]) -> None:
+    """The last guard before anything is written: no text file may hold NaN or inf (a machine
+    or CAD reader would take it for a coordinate, or fail on it).  Raises :class:`ExportError`
+    naming the file and the line."""
+    from camgen.errors import ExportError
+
+    for name, content in files.items():
+        if isinstance(content, str):
+            match = _NONFINITE.search(content)
+            if match is not None:
+                line = content.count("\n", 0, match.start()) + 1
+                raise ExportError(f"{name} would hold the non-finite number '{match.group(0)}' at line {line}: nothing written "
+                                  "(a bug: please report the scene)")
 
 
 def run_scene(scene: "Scene", outdir: str | Path = "outputs", only: Sequence[str] | None = None,

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
 
-from camgen.errors import CamgenError, ParameterError
+from camgen.errors import CamgenError, GeometryError, ParameterError
 from camgen.jobs.base import JobResult, MechanismJob
 from camgen.schema import REQUIRED, Angle, Count, Key, Number, NumberList, Text
 
@@ -94,6 +94,56 @@ def _leg(spec: HorseLegSpec, cams: Mapping[str, "BuiltCam"]) -> "HorseLeg":
                     height_cam=(height["a_mm"], height["b_mm"], height["c_mm"]), ground_y=spec.ground_y)
 
 
+WHERE = "mechanisms.horse_leg"
+
+
+def label(alpha_deg: float) -> str:
+    """An inclination as written in file names and report keys: rounded to 6 decimals (the
+    precision at which ``inclinations_deg`` must be distinct), trailing zeros dropped; two
+    distinct inclinations never share a label (``f"{a:g}"`` keeps only 6 significant digits:
+    12.499999 and 12.500001 would both be "12.5")."""
+    text = f"{round(float(alpha_deg), 6):.6f}".rstrip("0").rstrip(".")
+    return "0" if text == "-0" else text
+
+
+def _degrees(ranges: list[tuple[float, float]]) -> str:
+    """Assembly intervals (rad) as text in deg, rounded inwards to 0.001 deg."""
+    return ", ".join(f"{math.ceil(math.degrees(lo) * 1000) / 1000:g} to {math.floor(math.degrees(hi) * 1000) / 1000:g}"
+                     for lo, hi in ranges)
+
+
+def _leg_error(leg: "HorseLeg", spec: HorseLegSpec, index: int, exc: GeometryError, cams: Any,
+               sol: "LegSolution | None" = None) -> ParameterError:
+    """The leg cannot be solved at ``spec.inclinations_deg[index]``: a ParameterError naming the
+    scene key to change (the inclination, the ground line or a cam) with the valid values."""
+    from camgen.mechanisms import horse_leg as hl
+
+    alpha_deg = spec.inclinations_deg[index]
+    key = f"{WHERE}.inclinations_deg[{index}]"
+    why = " ".join(str(exc).split())
+    if sol is not None:  # the leg assembles; the foot path and the ground line do not make one swing and one stance
+        y = sol.w[:, 1]
+        low, high = float(y.min()), float(y.max())
+        if not low < spec.ground_y < high:
+            return ParameterError(f"{WHERE}.ground_y_mm", spec.ground_y, f"{low:.1f} < ground_y_mm < {high:.1f} mm at alpha1 = "
+                                  f"{alpha_deg:g} deg (between the foot path's lowest and highest points)", why)
+        return ParameterError(key, alpha_deg, "an inclination whose foot path crosses the ground line twice (one swing, one "
+                              "stance)", why + "; or move ground_y_mm")
+    try:
+        ranges = hl.assembly_range(leg, spec.positions, cams=cams)
+    except GeometryError as side:  # the loops that do not depend on alpha1: the height cam does not fit
+        return ParameterError(f"{WHERE}.height_cam", spec.height_cam, "a three_arc cam of the scene that the leg's height fork "
+                              f"(half-width e5 = {leg.e5:g} mm, pivot O5) can ride", " ".join(str(side).split()))
+    if not ranges:
+        lo, hi = (math.degrees(a) for a in hl.ASSEMBLY_SCAN)
+        return ParameterError(f"{WHERE}.stride_cam", spec.stride_cam, "a three_arc cam of the scene with which the leg assembles "
+                              f"at some inclination alpha1", f"no alpha1 from {lo:g} to {hi:g} deg (steps of "
+                              f"{math.degrees(hl.ASSEMBLY_STEP):g} deg) closes every loop with cams '{spec.stride_cam}' and "
+                              f"'{spec.height_cam}'; at alpha1 = {alpha_deg:g} deg: {why}")
+    return ParameterError(key, alpha_deg, f"alpha1 at which the leg assembles with cams '{spec.stride_cam}' and '{spec.height_cam}': "
+                          f"{_degrees(ranges)} deg", why)
+
+
 def sweep_values(sweep_deg: tuple[float, float, float]) -> np.ndarray:
     """Inclinations (rad) of the sweep ``[from, to, step]`` (deg)."""
     start, stop, step = sweep_deg
@@ -125,17 +175,21 @@ def _run(spec: HorseLegSpec, cams: Mapping[str, "BuiltCam"], stages: frozenset[s
     }
     files: dict[str, str] = {}
     solutions = {}
-    for alpha_deg in spec.inclinations_deg:
-        sol = hl.solve_leg(leg, math.radians(alpha_deg), theta1, cams=cam_contours)
+    for index, alpha_deg in enumerate(spec.inclinations_deg):
+        sol = None
+        try:
+            sol = hl.solve_leg(leg, math.radians(alpha_deg), theta1, cams=cam_contours)
+            figures = hl.gait_figures(leg, sol)
+        except GeometryError as exc:
+            raise _leg_error(leg, spec, index, exc, cam_contours, sol) from None
         solutions[alpha_deg] = sol
-        figures = hl.gait_figures(leg, sol)
         figures["alpha1_deg"] = float(alpha_deg)
         figures["pressure_angle_within_limit"] = bool(np.max(sol.pressure_angle) <= limit)
-        label = f"{alpha_deg:g}"
-        report[f"alpha_{label}"] = figures
-        files[f"leg_path_alpha_{label}.csv"] = csv_table(
+        name = label(alpha_deg)
+        report[f"alpha_{name}"] = figures
+        files[f"leg_path_alpha_{name}.csv"] = csv_table(
             [
-                f"camgen horse-robot leg end point W (paper 000, eq. 18), alpha1 = {label} deg, scene '{scene_name}'",
+                f"camgen horse-robot leg end point W (paper 000, eq. 18), alpha1 = {name} deg, scene '{scene_name}'",
                 "units: deg, mm; frame: origin O1 at the stride-cam centre, x right, y up",
                 f"pressure_angle_deg: stride-cam pressure angle (eqs. 19-25 with the slide term of eq. 4); ground line y = {leg.ground_y:g} mm",
             ],
@@ -160,7 +214,7 @@ def _run(spec: HorseLegSpec, cams: Mapping[str, "BuiltCam"], stages: frozenset[s
         report["sweep"] = sweep
     checks, curves = _checks(leg, spec, solutions, limit)
     for alpha_deg, sol in solutions.items():  # how far along the stride fork's face the cam touches
-        report[f"alpha_{alpha_deg:g}"]["stride_fork_contact_offset_range_mm"] = [float(sol.h.min()), float(sol.h.max())]
+        report[f"alpha_{label(alpha_deg)}"]["stride_fork_contact_offset_range_mm"] = [float(sol.h.min()), float(sol.h.max())]
     plots = None
     if "plots" in stages:
         paths = {}
@@ -191,11 +245,11 @@ def _checks(leg: "HorseLeg", spec: HorseLegSpec, solutions: Mapping[float, "LegS
         check = CheckResult(
             "pressure_angle", float(np.degrees(angle[i])), float(np.degrees(limit)), "<=", "deg", bool(angle[i] <= limit),
             [round(float(np.degrees(worst_sol.theta1[i])), 6)],
-            f"largest pressure angle of the {what} over alpha1 = {', '.join(f'{a:g}' for a in solutions)} deg "
-            f"(worst at alpha1 = {worst_alpha:g} deg; where_deg is the stride-cam angle theta1)",
+            f"largest pressure angle of the {what} over alpha1 = {', '.join(label(a) for a in solutions)} deg "
+            f"(worst at alpha1 = {label(worst_alpha)} deg; where_deg is the stride-cam angle theta1)",
         )
         checks.setdefault(cam_name, []).append(check)
-        curves[cam_name] = (worst_sol.theta1, angle, f"in the horse leg, alpha1 = {worst_alpha:g} deg, against the stride-cam angle theta1")
+        curves[cam_name] = (worst_sol.theta1, angle, f"in the horse leg, alpha1 = {label(worst_alpha)} deg, against the stride-cam angle theta1")
     return checks, curves
 
 

@@ -142,6 +142,10 @@ def lead_screw_length(leg: HorseLeg, alpha1: float) -> float:
 # --------------------------------------------------------------------------------------------
 # Stride-length loop (eqs. 3-8)
 # --------------------------------------------------------------------------------------------
+#: |n . d| below which the stride fork's face counts as parallel to the slide (no slide position).
+PARALLEL_TOL = 1e-9
+
+
 def _stride_residual(leg: HorseLeg, cam: Contour, psi: np.ndarray, theta1: np.ndarray, alpha1: float, derivative: bool = True):
     """F(psi) = |R - O6|^2 - r6^2 and dF/dpsi, with Q, R, S, h for fork normals ``psi``."""
     n = _unit(psi)
@@ -150,7 +154,10 @@ def _stride_residual(leg: HorseLeg, cam: Contour, psi: np.ndarray, theta1: np.nd
     p = leg.point("o7") + leg.r_p * np.array([math.cos(alpha1 + math.pi / 2), math.sin(alpha1 + math.pi / 2)])
     h, dh, _ = cam.support_derivatives(psi - theta1)
     nd = n @ d
-    if np.any(np.abs(nd) < 1e-9):
+    parallel = np.abs(nd) < PARALLEL_TOL
+    if not derivative:  # the bracketing grid: no position there (NaN), the branch search goes around it
+        nd = np.where(parallel, np.nan, nd)
+    elif np.any(parallel):
         raise GeometryError("stride-length loop: the fork face is parallel to the slide (n . d = 0)")
     num = h - leg.e2 - n @ p
     s = num / nd
@@ -184,37 +191,53 @@ def solve_stride_loop(leg: HorseLeg, cam: Contour, theta1: np.ndarray, alpha1: f
     ``psi0`` selects the branch at theta1 = 0.  Continuation without a per-angle loop:
     ``F(psi)`` is evaluated at once on a grid of ``coarse_steps`` cam angles times psi values
     within ``window`` of ``psi0``; its sign changes bracket every root; the branch is followed
-    through the coarse angles by taking, at each, the root nearest the previous one; then all
-    positions are solved together by Newton from the interpolated coarse roots (tolerance
-    ``tol`` rad).  Raises :class:`GeometryError` naming the loop and cam angle where the
-    branch ends (beyond the assembly limit).
+    through the coarse angles by taking, at each, the root nearest the previous one among the
+    roots where F crosses zero in the same direction (the sign of dF/dpsi is constant along a
+    branch: at an assembly limit the branch meets a root of the other sign and ends there,
+    and following the nearest root of any sign would jump onto the other assembly, the foot
+    1.7 m higher); then all positions are solved together by Newton from the interpolated
+    coarse roots (tolerance ``tol`` rad) and each solution is checked to lie on the branch (the
+    sign of dF/dpsi) and the branch to close after a turn.  Raises :class:`GeometryError`
+    naming the loop and cam angle where the branch ends (beyond the assembly limit).
     """
+    def beyond(where: float) -> GeometryError:
+        return GeometryError(f"stride-length loop cannot close at cam angle theta1 = {math.degrees(where):.2f} deg for "
+                             f"alpha1 = {math.degrees(alpha1):.3f} deg (beyond the assembly limit of this branch)")
+
     coarse = np.linspace(0.0, 2.0 * math.pi, coarse_steps + 1)
     grid = psi0 + np.linspace(-window, window, 241)
     tt, pp = np.meshgrid(coarse, grid, indexing="ij")
     f, *_ = _stride_residual(leg, cam, pp, tt, alpha1, derivative=False)
     change = np.signbit(f[:, :-1]) != np.signbit(f[:, 1:])
+    rising = f[:, 1:] > f[:, :-1]
     with np.errstate(invalid="ignore", divide="ignore"):
         roots = pp[:, :-1] - f[:, :-1] * (pp[:, 1:] - pp[:, :-1]) / (f[:, 1:] - f[:, :-1])
     roots = np.where(change, roots, np.nan)
     psi_c = np.empty(coarse.size)
     current = psi0
+    direction = None  # F rising (True) or falling through the branch's root
     for i in range(coarse.size):  # branch following over the coarse angles (not per position)
-        distance = np.abs(roots[i] - current)
+        candidates = roots[i] if direction is None else np.where(rising[i] == direction, roots[i], np.nan)
+        distance = np.abs(candidates - current)
         if np.all(np.isnan(distance)) or np.nanmin(distance) > 0.35:
-            raise GeometryError(
-                f"stride-length loop cannot close at cam angle theta1 = {math.degrees(coarse[i]):.2f} deg for "
-                f"alpha1 = {math.degrees(alpha1):.3f} deg (beyond the assembly limit of this branch)"
-            )
-        current = roots[i, int(np.nanargmin(distance))]
+            raise beyond(coarse[i])
+        k = int(np.nanargmin(distance))
+        if direction is None:
+            direction = bool(rising[i, k])
+        current = roots[i, k]
         psi_c[i] = current
+    if abs(_wrap(psi_c[-1] - psi_c[0])) > 0.35:  # after a turn the branch must come back to where it started
+        raise beyond(coarse[-1])
     guess = np.interp(np.mod(theta1, 2.0 * math.pi), coarse, psi_c)
     psi, ok = _newton(leg, cam, guess, theta1, alpha1, tol)
-    f, *_ = _stride_residual(leg, cam, psi, theta1, alpha1, derivative=False)
+    f, df, *_ = _stride_residual(leg, cam, psi, theta1, alpha1)
     bad = ~np.isfinite(f) | (np.abs(f) > 1e-6) | (np.abs(_wrap(psi - guess)) > 0.1)
     if not ok or np.any(bad):
         where = float(theta1[np.argmax(bad)]) if np.any(bad) else float(theta1[0])
         raise GeometryError(f"stride-length loop: Newton did not converge at theta1 = {math.degrees(where):.2f} deg, alpha1 = {math.degrees(alpha1):.3f} deg")
+    off = (df > 0) != direction  # a root of the other sign: the other assembly (or the fold between them)
+    if np.any(off):
+        raise beyond(float(theta1[np.argmax(off)]))
     return psi
 
 
@@ -338,6 +361,35 @@ def _cams(leg: HorseLeg) -> tuple[Contour, Contour]:
     return three_arc_cam(*leg.stride_cam), three_arc_cam(*leg.height_cam)
 
 
+@dataclass(frozen=True)
+class _HeightSide:
+    """The parts of the leg that do not depend on alpha1: the four-bar, the lifting loop and
+    the point S of the leg loop, at the cam angles ``theta1`` (mm, rad)."""
+
+    a: np.ndarray
+    b: np.ndarray
+    theta4: np.ndarray
+    psi4: np.ndarray
+    k_cam: np.ndarray
+    theta5: np.ndarray
+    s_point: np.ndarray
+
+
+def _height_side(leg: HorseLeg, height: Contour, theta1: np.ndarray, branches: Branches) -> _HeightSide:
+    a, b, theta4 = four_bar(leg, theta1, branches.four_bar)
+    first = lifting_loop(leg, height, theta4[:1], branches.height_side)
+    ref = float(first[0]) if branches.height_side > 0 else float(first[0]) + math.pi
+    psi4 = lifting_loop(leg, height, theta4, reference=ref)
+    _, k_cam = height.support_point(psi4 - theta4)
+    theta5 = 1.5 * math.pi + psi4 - leg.gamma5
+    s_point = leg.point("o5") + leg.r5 * _unit(theta5)
+    return _HeightSide(a, b, theta4, psi4, k_cam, theta5, s_point)
+
+
+def _rocker_angle(leg: HorseLeg, r: np.ndarray) -> np.ndarray:
+    return np.arctan2(r[..., 1] - leg.o6[1], r[..., 0] - leg.o6[0])
+
+
 def solve_leg(leg: HorseLeg, alpha1: float, theta1: np.ndarray, branches: Branches = Branches(),
               cams: tuple[Contour, Contour] | None = None) -> LegSolution:
     """Solve all loops at the cam angles ``theta1`` (rad) for the inclination ``alpha1`` (rad)."""
@@ -352,18 +404,14 @@ def solve_leg(leg: HorseLeg, alpha1: float, theta1: np.ndarray, branches: Branch
     h = _dot(q + leg.e2 * _unit(psi) - contact, tangent)  # eq. (4): N + h t - e2 n = Q
     phi1 = _wrap(np.arctan2(contact_cam[..., 1], contact_cam[..., 0]))
     beta1 = np.abs(_wrap(psi - theta1 - phi1))
-    theta6 = np.arctan2(r[..., 1] - leg.o6[1], r[..., 0] - leg.o6[0])
-    a, b, theta4 = four_bar(leg, theta1, branches.four_bar)
-    first = lifting_loop(leg, height, theta4[:1], branches.height_side)
-    ref = float(first[0]) if branches.height_side > 0 else float(first[0]) + math.pi
-    psi4 = lifting_loop(leg, height, theta4, reference=ref)
-    _, k_cam = height.support_point(psi4 - theta4)
+    theta6 = _rocker_angle(leg, r)
+    side = _height_side(leg, height, theta1, branches)
+    a, b, theta4, psi4, k_cam = side.a, side.b, side.theta4, side.psi4, side.k_cam
     contact4 = leg.point("o4") + _rotate(k_cam, theta4)
     h4 = _dot(leg.point("o5") + leg.e5 * _unit(psi4) - contact4, _unit(psi4 + math.pi / 2))
     phi4 = _wrap(np.arctan2(k_cam[..., 1], k_cam[..., 0]))
     beta4 = np.abs(_wrap(psi4 - theta4 - phi4))
-    theta5 = 1.5 * math.pi + psi4 - leg.gamma5
-    s_point = leg.point("o5") + leg.r5 * _unit(theta5)
+    theta5, s_point = side.theta5, side.s_point
     t_point = leg.point("o6") + leg.r7 * _unit(theta6 + leg.gamma6)
     slider, theta8 = leg_loop(leg, s_point, t_point, theta1)
     u_point = t_point + leg.r8 * _unit(theta8)
@@ -375,6 +423,69 @@ def solve_leg(leg: HorseLeg, alpha1: float, theta1: np.ndarray, branches: Branch
     )
     sol.pressure_angle = pressure_angle(leg, sol)
     return sol
+
+
+#: Scan of :func:`assembly_range`: the inclinations tried (rad), the step (rad) and the positions
+#: per turn of the scan; the ends found are refined by bisection to ``ASSEMBLY_TOL`` (rad).
+ASSEMBLY_SCAN = (D(-90.0), D(90.0))
+ASSEMBLY_STEP = D(1.0)
+ASSEMBLY_SCAN_POSITIONS = 72
+ASSEMBLY_TOL = D(1e-3)
+
+
+def assembly_range(leg: HorseLeg, positions: int = 3600, branches: Branches = Branches(),
+                   cams: tuple[Contour, Contour] | None = None, scan: tuple[float, float] = ASSEMBLY_SCAN,
+                   step: float = ASSEMBLY_STEP, tol: float = ASSEMBLY_TOL) -> list[tuple[float, float]]:
+    """The intervals of alpha1 (rad) at which every loop of the leg closes on the branch
+    ``branches`` at ``positions`` cam angles per turn.
+
+    The inclinations ``scan[0], scan[0] + step, ...`` are tried at ``ASSEMBLY_SCAN_POSITIONS``
+    cam angles (an interval narrower than ``step`` may be missed); each end found is refined by
+    bisection to ``tol`` at ``positions`` cam angles, and returned on the side where the leg
+    assembles.  The alpha1-independent loops (four-bar, lifting loop) are solved once: when
+    they cannot close, their :class:`GeometryError` is raised (no inclination helps).
+    For the paper's leg and cams (Section 6): 9.134 to 20.216 deg.
+    """
+    stride, height = cams if cams is not None else _cams(leg)
+    grids = {n: cycle(n) for n in (ASSEMBLY_SCAN_POSITIONS, positions)}
+    sides = {n: _height_side(leg, height, theta1, branches) for n, theta1 in grids.items()}
+
+    def closes(alpha: float, n: int) -> bool:
+        theta1 = grids[n]
+        try:
+            psi = solve_stride_loop(leg, stride, theta1, alpha, branches.stride_psi0)
+            _, _, _, r, _, _ = _stride_residual(leg, stride, psi, theta1, alpha, derivative=False)
+            t_point = leg.point("o6") + leg.r7 * _unit(_rocker_angle(leg, r) + leg.gamma6)
+            leg_loop(leg, sides[n].s_point, t_point)
+        except GeometryError:
+            return False
+        return True
+
+    alphas = np.arange(scan[0], scan[1] + 0.5 * step, step)
+    ok = np.array([closes(float(a), ASSEMBLY_SCAN_POSITIONS) for a in alphas])
+
+    def refine(inside: float, outside: float) -> float:
+        for _ in range(60):
+            if abs(outside - inside) <= tol:
+                break
+            mid = 0.5 * (inside + outside)
+            inside, outside = (mid, outside) if closes(mid, positions) else (inside, mid)
+        return inside
+
+    out = []
+    i = 0
+    while i < alphas.size:
+        if not ok[i]:
+            i += 1
+            continue
+        j = i
+        while j + 1 < alphas.size and ok[j + 1]:
+            j += 1
+        lo = float(alphas[i]) if i == 0 else refine(float(alphas[i]), float(alphas[i - 1]))
+        hi = float(alphas[j]) if j == alphas.size - 1 else refine(float(alphas[j]), float(alphas[j + 1]))
+        out.append((lo, hi))
+        i = j + 1
+    return out
 
 
 def pressure_angle(leg: HorseLeg, sol: LegSolution, literal: bool = False) -> np.ndarray:
@@ -394,9 +505,14 @@ def pressure_angle(leg: HorseLeg, sol: LegSolution, literal: bool = False) -> np
     # O6 + l4 e6 = Q + l3 ep  ->  [e6, -ep] [l4, l3] = Q - O6
     rhs = q_used - leg.point("o6")
     det = e6[..., 0] * (-ep[..., 1]) - e6[..., 1] * (-ep[..., 0])
-    l4 = (rhs[..., 0] * (-ep[..., 1]) - rhs[..., 1] * (-ep[..., 0])) / det
+    num = rhs[..., 0] * (-ep[..., 1]) - rhs[..., 1] * (-ep[..., 0])
+    parallel = det == 0.0  # the rocker line parallel to the slide's normal: P' at infinity
+    l4 = num / np.where(parallel, 1.0, det)
     centre = leg.point("o6") + l4[..., None] * e6
-    theta_n = np.arctan2(sol.contact[..., 1] - centre[..., 1], sol.contact[..., 0] - centre[..., 0])
+    to_contact = sol.contact - centre
+    if np.any(parallel):  # N - P' is then along -num e6 (only its direction counts: the angle is folded below)
+        to_contact = np.where(parallel[..., None], -num[..., None] * e6, to_contact)
+    theta_n = np.arctan2(to_contact[..., 1], to_contact[..., 0])
     alpha = np.abs(_wrap(theta_n + math.pi / 2 - sol.psi))
     return np.minimum(alpha, math.pi - alpha)
 

@@ -46,3 +46,6 @@ def contours(steering):
     from camgen.tests.cams import HEIGHT, STRIDE
 
     return {"stride": camgen.three_arc_cam(*STRIDE), "height": camgen.three_arc_cam(*HEIGHT), "steering": steering.profile}
+
+
+from camgen.tests.test_properties import pytest_terminal_summary  # noqa: E402,F401  (prints the generated-case counts)

@@ -8,10 +8,12 @@ new key is covered the day it is added.
 """
 from __future__ import annotations
 
+import collections
 import datetime
 import json
 import math
 import random
+import re
 import subprocess
 import sys
 
@@ -21,6 +23,7 @@ from camgen.cli import main
 from camgen.jobs import get_job, job_names
 from camgen.kinds import get_kind, kind_names
 from camgen.outputs import machining_keys, output_keys
+from camgen.scene import template_dir
 from camgen.schema import Choice, ChoiceList, Count, Flag, Key, Number, NumberList, TableList, Text
 
 SEED = 20261123
@@ -209,32 +212,240 @@ def _cases():
     return cases
 
 
-CASES = _cases()
+# --------------------------------------------------------------------------------------------
+# More cases (issue "Accuracy and numerical stability", item 3): the lift_table kind's keys,
+# malformed tables, hostile expressions, mechanisms beyond their assembly, file sizes
+# --------------------------------------------------------------------------------------------
+MORE_SEED = 20261124
+#: A valid lift table (the template's), absolute: the scenes are written to temporary folders.
+LIFT_CSV = str(template_dir() / "lift_table.csv")
+LIFT_CAM = {"kind": "lift_table", "lift_table_csv": LIFT_CSV, "base_radius_mm": 40.0, "roller_radius_mm": 10.0}
+
+#: Table file contents that are not tables (written by the test; name -> text or bytes).
+_TRAJ_ROWS = [(2000.0 * i / 40, 202.4396 * math.sin(math.pi * i / 20)) for i in range(41)]
+_LIFT_ROWS = [(5.0 * i, 10.0 * (1 - math.cos(math.radians(5.0 * i)))) for i in range(72)]
+
+
+def _csv(rows) -> str:
+    return "".join(f"{a!r},{b!r}\n" for a, b in rows)
+
+
+def malformed_tables(rows: list[tuple[float, float]]) -> dict[str, str | bytes]:
+    """Contents of a table file (x or angle, y or lift) that camgen must refuse."""
+    good = _csv(rows)
+    swapped = rows[:]
+    swapped[3], swapped[4] = swapped[4], swapped[3]
+    return {
+        "empty": "",
+        "header-only": "x,y\n",
+        "comments-only": "# nothing\n# here\n",
+        "garbage": "lorem ipsum\ndolor, sit, amet\n" * 10,
+        "binary": bytes(range(256)) * 4,
+        "latin1": "x,y\n" + good.replace("0,", "\u00e9,").encode("latin-1", "replace").decode("latin-1") + "\u00ff",
+        "nul": good[:40] + "\x00" + good[40:],
+        "nan": good + "nan,nan\n",
+        "nan-in-row": _csv(rows[:5]) + f"{rows[5][0]!r},nan\n" + _csv(rows[6:]),
+        "inf": _csv(rows[:5]) + f"{rows[5][0]!r},inf\n" + _csv(rows[6:]),
+        "huge-number": _csv(rows[:5]) + f"{rows[5][0]!r},1e400\n" + _csv(rows[6:]),
+        "unsorted": _csv(swapped),
+        "duplicate": _csv(rows[:6] + rows[5:]),
+        "three-columns": "".join(f"{a!r},{b!r},1\n" for a, b in rows),
+        "one-column": "".join(f"{a!r}\n" for a, _ in rows),
+        "decimal-commas": "".join(f"{a!r},{b!r}\n".replace(".", ",") for a, b in rows),
+        "too-few": _csv(rows[:4]),
+        "too-many-rows": "".join(f"{i * 1e-4!r},0\n" for i in range(200_001)),
+        "too-large": "# " + "x" * (9 << 20) + "\n" + good,
+    }
+
+
+#: Cases that fail today in files this test's owner may not edit (the fix is described in each reason).
+KNOWN_BUGS = {
+    "trajectory-table-three-columns": "synthesis/trajectory.py read_trajectory_csv reads r[0], r[1] and ignores further "
+    "columns (an index column first silently shifts x and y); fix: refuse rows of != 2 fields, naming trajectory_csv and the line",
+    "trajectory-table-decimal-commas": "synthesis/trajectory.py read_trajectory_csv: '50,0,1,23' (decimal commas) is read "
+    "as x = 50, y = 0 and the run succeeds on a wrong path; fix: refuse rows of != 2 fields (as the lift table does)",
+    "trajectory-table-too-many-rows": "synthesis/trajectory.py has no row cap (lift tables: 100000): 200001 rows over a "
+    "20 mm period run ~1 s and end in 'report value report.cams.x.figures.fits.A1.uncertainty_1sigma... = inf'; fix: "
+    "MAX_ROWS = 100000 in read_trajectory_csv, and see test_limits.test_fit_of_an_unrelated_path_names_fit_tables",
+}
+
+
+def _more_cases():
+    rng = random.Random(MORE_SEED)
+    cases = []
+
+    def add(scene, key_text, label):
+        marks = [pytest.mark.xfail(strict=True, reason=KNOWN_BUGS[label])] if label in KNOWN_BUGS else []
+        cases.append(pytest.param(scene, key_text, id=f"more-{label}-{len(cases)}", marks=marks))
+
+    def lift_scene():
+        scene = base_scene()
+        scene["cams"] = {"x": dict(LIFT_CAM)}
+        return scene
+
+    for key in get_kind("lift_table").keys:  # the lift_table kind's keys, as _cases() does the others'
+        values = wrong_values(key, rng)
+        rng.shuffle(values)
+        for value in values[:PER_KEY]:
+            scene = lift_scene()
+            scene["cams"]["x"][key.name] = value
+            add(scene, key.name, f"cams.x.{key.name}")
+        if key.required:
+            scene = lift_scene()
+            del scene["cams"]["x"][key.name]
+            add(scene, key.name, f"cams.x.{key.name}-missing")
+    # malformed table files (written at run time: a "table:<name>" value)
+    for name in malformed_tables(_LIFT_ROWS):
+        scene = lift_scene()
+        scene["cams"]["x"]["lift_table_csv"] = f"table:{name}"
+        add(scene, "lift_table_csv", f"lift-table-{name}")
+    for name in malformed_tables(_TRAJ_ROWS):
+        scene = base_scene("trajectory")
+        del scene["cams"]["x"]["expression"], scene["cams"]["x"]["period_mm"]
+        scene["cams"]["x"]["trajectory_csv"] = f"table:{name}"
+        add(scene, "trajectory_csv", f"trajectory-table-{name}")
+    for path in ("/dev/zero", "/dev/urandom", "/", "/nonexistent/table.csv", "/proc/self/status"):
+        scene = lift_scene()
+        scene["cams"]["x"]["lift_table_csv"] = path
+        add(scene, "lift_table_csv", "lift-table-file")
+    # hostile and impossible expressions (the path: never evaluated as Python, never NaN)
+    for text in ("x**1e308", "exp(exp(exp(x)))", "1/0", "0/0", "x/0", "log(0*x)", "sqrt(-1-x*x)", "abs(x-1000)", "sqrt(x)",
+                 "(x-1000)**2", "1e308*sin(x)", "sin(x)**-1", "exp(710+0*x)", "x if x else 1", "x[0]", "{x}", "x;x", "x@x",
+                 "x^2", "x % 3", "x // 2", "not x", "x < 1", "f'{x}'", "'a'", "b'x'", "True", "None", "...", "x.real",
+                 "sin", "sin()", "sin(x=1)", "sin(*x)", "\u0445", "1_000*x", "0x10*x", "1j*x", "\x00", "x\n+1",
+                 "1e308*sin(2*pi*x/2000)", "cos(pi*x/1000)**(1/3)"):
+        scene = base_scene("trajectory")
+        scene["cams"]["x"]["expression"] = text
+        add(scene, "expression", "expression")
+    # numbers at the edge of the float range and of each type
+    for key, value in (("a_mm", 5e-324), ("a_mm", 1.7976931348623157e308), ("c_mm", -0.0), ("b_mm", 9.999999999e-7),
+                       ("thickness_mm", 1e4 * (1 + 1e-15) + 1e-9), ("rpm", 0.0), ("rpm", -1e-300)):
+        scene = base_scene()
+        scene["cams"]["x"][key] = value
+        add(scene, key, "edge-number")
+    for key, value in (("samples", 20001), ("samples", 15), ("samples", 1_000_000), ("period_mm", 1e-300), ("period_mm", 5e-7),
+                       ("ride_periods", 1001), ("worm_teeth", 0)):
+        scene = base_scene("trajectory")
+        scene["cams"]["x"][key] = value
+        add(scene, key, "edge-trajectory")
+    # the three-arc domain 0 < b < min(2a, a + c): on and beyond both bounds
+    for a, b, c, key in ((220.0, 440.0, 500.0, "b_mm"), (220.0, 245.0, 25.0, "b_mm"), (220.0, 440.0 * (1 + 1e-12), 500.0, "b_mm"),
+                         (1e-3, 1e-3 + 1e-6, 1e-6, "b_mm")):
+        scene = base_scene()
+        scene["cams"]["x"].update(a_mm=a, b_mm=b, c_mm=c, bore_diameter_mm=0.0, keyway_width_mm=0.0, keyway_depth_mm=0.0)
+        add(scene, key, "three-arc-domain")
+    # the leg beyond its assembly (alpha1 9.38 .. 20.11 deg for the paper's leg) and ground line
+    for alphas, key in (([25.0], "inclinations_deg[0]"), ([12.5, 60.0], "inclinations_deg[1]"), ([-90.0], "inclinations_deg[0]"),
+                        ([9.0], "inclinations_deg[0]"), ([12.5, 12.5000001], "inclinations_deg"), ([12.4999996, 12.5000004], "inclinations_deg")):
+        scene = leg_scene()
+        scene["mechanisms"]["horse_leg"]["inclinations_deg"] = alphas
+        add(scene, key, "leg-inclination")
+    for ground in (0.0, -5000.0, 1e5):
+        scene = leg_scene()
+        scene["mechanisms"]["horse_leg"]["ground_y_mm"] = ground
+        add(scene, "ground_y_mm", "leg-ground")
+    scene = leg_scene()  # a height cam the fork cannot ride
+    scene["cams"]["h"] = {"kind": "three_arc", "a_mm": 400.0, "b_mm": 300.0, "c_mm": 200.0}
+    add(scene, "height_cam", "leg-height-cam")
+    scene = leg_scene()  # a stride cam with which the leg assembles nowhere
+    scene["cams"]["s"] = {"kind": "three_arc", "a_mm": 500.0, "b_mm": 100.0, "c_mm": 300.0}
+    add(scene, "stride_cam", "leg-stride-cam")
+    # G-code settings the chord tolerance cannot hold, and flattened files too large
+    for output, machining, key in (({"formats": ["ngc"], "chord_tol_mm": 1e-7}, {}, "chord_tol_mm"),
+                                   ({"formats": ["ngc"], "chord_tol_mm": 5e-4}, {"decimals": 4}, "decimals"),
+                                   ({"formats": ["points"], "chord_tol_mm": 1e-7}, None, "chord_tol_mm")):
+        scene = base_scene()
+        scene["output"] = output
+        if machining is None:
+            del scene["machining"]
+        else:
+            scene["machining"] = {"tool_diameter_mm": 6.0, **machining}
+        scene["cams"]["x"].update(a_mm=1e5, b_mm=1e5, c_mm=10.0, bore_diameter_mm=0.0, keyway_width_mm=0.0, keyway_depth_mm=0.0)
+        add(scene, key, "output-size")
+    return cases
+
+
+CASES = _cases() + _more_cases()
 
 
 def test_there_are_enough_cases():
     assert len(CASES) >= 1000
 
 
+#: Longest a bad scene may take to be refused, s (imports excluded: see _warm).
+TIME_LIMIT = 1.0
+#: Bad cases run, by family (the terminal summary prints them: test_properties.pytest_terminal_summary).
+CASE_COUNTS: collections.Counter = collections.Counter()
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _warm():
+    """Import what the cases use once, so each case's time is its own work."""
+    import scipy.interpolate  # noqa: F401
+
+    import camgen.export.gcode  # noqa: F401
+    import camgen.jobs.horse_leg  # noqa: F401
+    import camgen.mechanisms.horse_leg  # noqa: F401
+    import camgen.mechanisms.tricycle  # noqa: F401
+    import camgen.pipeline  # noqa: F401
+    import camgen.synthesis.lift_table  # noqa: F401
+
+    for kind in kind_names():
+        get_kind(kind)
+
+
+def _write_tables(scene: dict, folder) -> list[str]:
+    """Materialise ``table:<name>`` values (malformed_tables) as files in ``folder``; their names."""
+    written = []
+    cams = scene.get("cams")
+    for table in cams.values() if isinstance(cams, dict) else ():
+        for key in ("lift_table_csv", "trajectory_csv"):
+            value = table.get(key) if isinstance(table, dict) else None
+            if isinstance(value, str) and value.startswith("table:"):
+                name = value.split(":", 1)[1]
+                content = malformed_tables(_LIFT_ROWS if key == "lift_table_csv" else _TRAJ_ROWS)[name]
+                path = folder / "table.csv"
+                path.write_bytes(content if isinstance(content, bytes) else content.encode("utf-8"))
+                table[key] = str(path)
+                written.append(path.name)
+    return written
+
+
 @pytest.mark.parametrize("scene, key", CASES)
 def test_bad_scene_is_one_line_naming_the_key_and_writes_nothing(scene, key, tmp_path, capsys):
+    import copy
+    import time
+
+    scene = copy.deepcopy(scene)
+    tables = _write_tables(scene, tmp_path)
     path = tmp_path / "scene.toml"
     path.write_text(toml_scene(scene), encoding="utf-8")
     parent = tmp_path / "parent"
     parent.mkdir()
+    start = time.perf_counter()
     status = main(["run", str(path), "-o", str(parent / "out")])
+    elapsed = time.perf_counter() - start
     err = capsys.readouterr().err
     assert status == 2, err
     assert err.startswith("camgen: error: ") and err.count("\n") == 1, err
     assert "Traceback" not in err
     assert key in err, f"the error does not name '{key}': {err}"
     assert list(parent.iterdir()) == []  # nothing written, not even OUTDIR
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["parent", "scene.toml"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["parent", "scene.toml"] + tables)
+    assert elapsed < TIME_LIMIT, f"{elapsed:.2f} s to refuse: {err}"
+    CASE_COUNTS[("bad_input", key.split(".")[-1].split("[")[0] if key else "?")] += 1
 
 
-@pytest.mark.parametrize("index", range(0, len(CASES), max(1, len(CASES) // 12)))
+_PLAIN = [i for i, case in enumerate(CASES) if not case.marks]
+
+
+@pytest.mark.parametrize("index", _PLAIN[:: max(1, len(_PLAIN) // 12)])
 def test_bad_scenes_in_a_process_exit_2_without_traceback(index, tmp_path):
+    import copy
+
     scene, key = CASES[index].values
+    scene = copy.deepcopy(scene)
+    _write_tables(scene, tmp_path)
     path = tmp_path / "scene.toml"
     path.write_text(toml_scene(scene), encoding="utf-8")
     proc = subprocess.run([sys.executable, "-m", "camgen", "run", str(path), "-o", str(tmp_path / "out")],
@@ -258,3 +469,89 @@ def test_a_scene_file_named_dot_dot_cannot_write_outside(tmp_path, capsys):
     parent.mkdir()
     assert main(["run", str(path), "-o", str(parent / "out")]) == 2
     assert "name" in capsys.readouterr().err and list(parent.iterdir()) == []
+
+
+# --------------------------------------------------------------------------------------------
+# Valid scenes at the edges of every range: they run (or end in one named line), and no file
+# they write holds NaN or inf
+# --------------------------------------------------------------------------------------------
+_NONFINITE = re.compile(rb"(?<![A-Za-z_])(nan|inf|infinity)(?![A-Za-z_])", re.IGNORECASE)
+
+
+def _edges(key: Key) -> list:
+    """The valid values at both ends of ``key``'s range (scene units)."""
+    kind = key.type
+    if isinstance(kind, Count):
+        return [kind.low, kind.high]
+    if not isinstance(kind, Number):
+        return []
+    out = []
+    for end, is_open, toward in ((kind.low, kind.low_open, math.inf), (kind.high, kind.high_open, -math.inf)):
+        if math.isfinite(end):
+            value = end / kind.scale
+            if is_open:
+                value = math.nextafter(value, toward) if value == 0 else value + (1e-9 if toward > 0 else -1e-9) * max(1.0, abs(value))
+            out.append(value)
+    return out
+
+
+#: Edge values that fail today in files this test's owner may not edit (the fix in each reason).
+EDGE_BUGS = {
+    "rpm": "kinds/base.py check_keys: rpm = Number('rev/min', 0, 1e6, low_open=True) admits 5e-324, for which omega = 2 pi rpm "
+    "/ 60 underflows to 0: export/motion.py divides by it (RuntimeWarning) and <cam>_follower.csv would hold time_s = inf "
+    "(pipeline._check_finite now refuses to write it); fix: a least rpm, e.g. Number('rev/min', 1e-3, 1e6)",
+}
+
+
+def _edge_cases():
+    cases = []
+    groups = [("cams.x", kind, get_kind(kind).keys) for kind in ("three_arc", "trajectory", "motion_law", "lift_table")]
+    groups += [("output", None, output_keys()), ("machining", None, machining_keys())]
+    groups += [(f"mechanisms.{j}", "leg", get_job(j).keys) for j in job_names()]
+    for where, kind, keys in groups:
+        for key in keys:
+            for value in _edges(key):
+                if kind == "leg":
+                    scene = leg_scene()
+                elif kind == "lift_table":
+                    scene = base_scene()
+                    scene["cams"] = {"x": dict(LIFT_CAM)}
+                else:
+                    scene = base_scene(kind or "three_arc")
+                scene["output"]["formats"] = ["dxf", "points", "lift", "ngc", "follower"]
+                for table in scene["cams"].values():
+                    table["rpm"] = 100.0
+                table = scene
+                for part in where.split("."):
+                    table = table[part]
+                table[key.name] = value
+                label = f"{where}.{key.name}={value:g}"
+                marks = [pytest.mark.xfail(strict=True, reason=EDGE_BUGS[key.name])] if key.name in EDGE_BUGS and value < 1e-300 else []
+                cases.append(pytest.param(scene, id=label, marks=marks))
+    return cases
+
+
+EDGE_CASES = _edge_cases()
+
+
+@pytest.mark.parametrize("scene", EDGE_CASES)
+def test_valid_edge_scene_runs_and_writes_no_nan(scene, tmp_path, capsys):
+    import json
+
+    path = tmp_path / "scene.toml"
+    path.write_text(toml_scene(scene), encoding="utf-8")
+    status = main(["run", str(path), "-q", "-o", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and "Warning" not in err
+    if status == 2:  # a combination the edge value makes impossible: one named line, nothing written
+        assert err.startswith("camgen: error: ") and err.count("\n") == 1 and not (tmp_path / "out").exists(), err
+        CASE_COUNTS[("edge_value", "refused, named")] += 1
+        return
+    assert status in (0, 1), err
+    files = list((tmp_path / "out").rglob("*.*"))
+    assert files
+    for file in files:
+        data = file.read_bytes()
+        assert not _NONFINITE.search(data), (file.name, _NONFINITE.search(data))
+    json.loads((tmp_path / "out" / "fuzz" / "report.json").read_text(), parse_constant=lambda c: pytest.fail(f"report.json holds {c}"))
+    CASE_COUNTS[("edge_value", "ran" if status == 0 else "ran, a check failed")] += 1

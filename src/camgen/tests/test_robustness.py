@@ -86,3 +86,137 @@ def test_fuzzed_cam_tables_end_in_a_camgen_error_or_a_cam(table):
         compute(scene, Plan((), frozenset()))
     except CamgenError:
         pass
+
+
+# --------------------------------------------------------------------------------------------
+# Nothing but camgen's own lines on stderr; never NaN in a file
+# --------------------------------------------------------------------------------------------
+_STDERR_SCENES = {
+    # every kind and the leg, succeeding (exit 0 with --quiet: stderr empty)
+    "ok": """
+[output]
+formats = ["dxf", "points", "lift", "ngc", "follower"]
+[cams.s]
+kind = "three_arc"
+a_mm = 220.0
+b_mm = 160.0
+c_mm = 25.0
+rpm = 30.0
+[cams.h]
+kind = "three_arc"
+a_mm = 220.0
+b_mm = 220.0
+c_mm = 10.0
+rpm = 30.0
+[cams.t]
+kind = "trajectory"
+expression = "202.4396*sin(pi*x/1000)"
+period_mm = 2000.0
+rpm = 30.0
+[cams.m]
+kind = "motion_law"
+base_radius_mm = 40.0
+rpm = 300.0
+[[cams.m.segments]]
+law = "cycloidal"
+span_deg = 180.0
+lift_mm = 20.0
+[[cams.m.segments]]
+law = "poly345"
+span_deg = 180.0
+lift_mm = -20.0
+[mechanisms.horse_leg]
+stride_cam = "s"
+height_cam = "h"
+inclinations_deg = [12.5, 18.5]
+""",
+    # design checks that fail: an undercut trajectory cam, a disk cam too small, the leg near its toggle (exit 1)
+    "checks": """
+[output]
+formats = ["dxf", "ngc"]
+[cams.t]
+kind = "trajectory"
+expression = "1e-6*sin(2*pi*10000*x/2000)"
+period_mm = 2000.0
+[cams.m]
+kind = "motion_law"
+base_radius_mm = 5.0
+follower = "flat"
+[[cams.m.segments]]
+law = "simple_harmonic"
+span_deg = 90.0
+lift_mm = 20.0
+[[cams.m.segments]]
+law = "cycloidal"
+span_deg = 270.0
+lift_mm = -20.0
+[cams.s]
+kind = "three_arc"
+a_mm = 220.0
+b_mm = 160.0
+c_mm = 25.0
+[cams.h]
+kind = "three_arc"
+a_mm = 220.0
+b_mm = 220.0
+c_mm = 10.0
+[mechanisms.horse_leg]
+stride_cam = "s"
+height_cam = "h"
+inclinations_deg = [20.1]
+ground_y_mm = -2000.0
+""",
+    # bad input (exit 2): the leg beyond its assembly
+    "bad": """
+[cams.s]
+kind = "three_arc"
+a_mm = 220.0
+b_mm = 160.0
+c_mm = 25.0
+[cams.h]
+kind = "three_arc"
+a_mm = 220.0
+b_mm = 220.0
+c_mm = 10.0
+[mechanisms.horse_leg]
+stride_cam = "s"
+height_cam = "h"
+inclinations_deg = [30.0]
+""",
+}
+
+
+@pytest.mark.parametrize("name, status", [("ok", 0), ("checks", 1), ("bad", 2)])
+def test_runs_print_nothing_but_camgen_lines_on_stderr(name, status, tmp_path):
+    """Every warning shown (-W always): a successful run prints nothing on stderr with --quiet,
+    a failed check only its 'camgen: check failed' lines, bad input its one error line."""
+    import subprocess
+    import sys
+
+    path = tmp_path / f"{name}.toml"
+    path.write_text(_STDERR_SCENES[name])
+    proc = subprocess.run([sys.executable, "-W", "always", "-m", "camgen", "run", str(path), "-q", "-o", str(tmp_path / "out")],
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == status, proc.stderr
+    lines = proc.stderr.splitlines()
+    prefix = {0: None, 1: "camgen: check failed: ", 2: "camgen: error: "}[status]
+    if prefix is None:
+        assert proc.stderr == ""
+    else:
+        assert lines and all(line.startswith(prefix) for line in lines), proc.stderr
+    assert status != 2 or len(lines) == 1
+
+
+def test_a_file_that_would_hold_nan_is_never_written(tmp_path, capsys, monkeypatch):
+    """The pipeline's last guard: a writer that produced NaN (a bug) makes the run fail naming the
+    file and line; nothing is written."""
+    from camgen import writers
+    from camgen.cli import main
+
+    monkeypatch.setattr(writers, "points", lambda cam, run, fmt: "x_mm,y_mm\n1.0,2.0\nNaN,3.0\n")
+    path = tmp_path / "scene.toml"
+    path.write_text('[output]\nformats = ["points"]\n[cams.x]\nkind = "three_arc"\na_mm = 2.0\nb_mm = 1.0\nc_mm = 1.0\n')
+    assert main(["run", str(path), "-q", "-o", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "x_points.csv" in err and "'NaN' at line 3" in err and err.count("\n") == 1
+    assert not (tmp_path / "out").exists()
