@@ -424,22 +424,28 @@ def test_disk_cams_at_their_scales(base, fit_tol):
 # --------------------------------------------------------------------------------------------
 # Solids: manifold3d's own triangulation moves vertices
 # --------------------------------------------------------------------------------------------
-@pytest.mark.xfail(strict=True, reason="export/solid.py says 'The vertex coordinates are the flattened polygons' own values either "
-                   "way', but with fill = 'manifold' (used where no circle separates bore and profile) manifold3d's Clipper2 "
-                   "cross-section snaps them to a grid: they move by up to 4.8e-9 mm (the volume by 2.5e-9 of a 0.4 mm cam); fix: "
-                   "state the bound in the docstring (and in test_properties.MANIFOLD_SNAP), or map the vertices back to the polygons'")
 def test_manifold_fill_keeps_the_polygon_vertices():
+    """manifold3d's own cross-section moves the polygon vertices (Clipper2's grid: by more than 0
+    and at most export.solid.MANIFOLD_SNAP), and cam_solid puts every one back: each polygon vertex
+    is a mesh vertex at both caps, bit for bit, and nothing else is."""
+    import manifold3d
     from scipy.spatial import cKDTree
 
     from camgen.body import BodySpec
-    from camgen.export.solid import bore_polygon, cam_solid
+    from camgen.export.solid import MANIFOLD_SNAP, bore_polygon, cam_solid
 
     cam = camgen.three_arc_cam(220.0, 160.0, 25.0)
     body = BodySpec(thickness=5.0, bore_diameter=20.0)
-    solid = cam_solid(cam, body, 1e-3, fill="manifold")
     outline = np.vstack([cam.flatten(1e-3), bore_polygon(body, 1e-3)])
-    distance, _ = cKDTree(solid.vertices[:, :2]).query(outline)
-    assert np.max(distance) == 0.0
+    raw = manifold3d.CrossSection([cam.flatten(1e-3), bore_polygon(body, 1e-3)[::-1]]).extrude(5.0).to_mesh64()
+    moved, _ = cKDTree(np.asarray(raw.vert_properties)[:, :2]).query(outline)
+    assert 0.0 < np.max(moved) <= MANIFOLD_SNAP
+    solid = cam_solid(cam, body, 1e-3, fill="manifold")
+    assert solid.fill == "manifold" and solid.snapped == 0.0
+    for z in (0.0, 5.0):
+        cap = solid.vertices[solid.vertices[:, 2] == z, :2]
+        assert len(cap) == len(outline)
+        assert {tuple(p) for p in cap.tolist()} == {tuple(p) for p in outline.tolist()}
 
 
 def test_rounding_of_inclinations_keeps_distinct_files(tmp_path):
