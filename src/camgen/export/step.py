@@ -1,12 +1,19 @@
 """STEP (AP214, mm) of the cam body with exact geometry, through OpenCASCADE (OCP).
 
-Arcs become circles (``GC_MakeArcOfCircle`` through start, middle and end points).  Spline
+Arcs become circles built from their centre, radius and turning sense (the circle's axis +z for a
+counter-clockwise arc, -z for a clockwise one) trimmed at their two end angles: never from three
+points on them, which OCCT refuses as collinear within ``Precision::Confusion`` (1e-7 mm) for a
+short arc on a large radius (a three-arc cam at b -> 2a: 4e-6 mm on 280 mm).  Spline
 segments become clamped cubic B-spline curves: the segment in its compact form
 (:func:`camgen.export.dxf.compact_spline`: the fewest C2 pieces within ``bspline_tol`` mm of the
 contour, ends and joints kept exactly; the segment itself where that has no fewer pieces), cut
 into edges of at most :data:`EDGE_SPANS` knot spans, each written exactly (simple knots inside).
-The face (profile minus bore) is extruded to the thickness and the keyway's prism (camgen.body's
-one keyway shape) is cut.  The header's FILE_DESCRIPTION states the tolerance.
+Consecutive edges share one vertex (the mean of the ends it joins), so the wire closes exactly;
+a piece shorter than :data:`FOLD_TOL` (a three-arc cam at a + c - b -> 0 has arcs of radius
+3e-14 mm) is folded into its neighbours' shared vertex.  The face (profile minus bore) is extruded to the thickness and the keyway's prism (camgen.body's
+one keyway shape) is cut.  The header's FILE_DESCRIPTION states the tolerance.  Whatever
+OCCT refuses while building the solid is a :class:`camgen.errors.GeometryError` naming the cam
+(the run reports it as a failed export check), never an OCCT exception.
 
 Why edges of a few spans: OCCT's (and so FreeCAD's) default mass properties integrate every face
 with one Gauss rule of at most 61 points over the face's whole parameter range
@@ -19,19 +26,25 @@ file's time stamp is fixed so the same cam gives the same bytes.
 """
 from __future__ import annotations
 
+import math
 import os
 import re
 import tempfile
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from camgen.contour import Arc, Contour, Spline
-from camgen.errors import ExportError
+from camgen.errors import ExportError, GeometryError
 
 #: Most knot spans of one B-spline edge (see the module notes: OCCT's volume integration).
 EDGE_SPANS = 64
+#: Pieces of the profile shorter than this (mm) are folded into their neighbours, and the least
+#: tolerance of a vertex: OCCT's ``Precision::Confusion()``, the distance below which it takes two
+#: points for one (an edge shorter than its vertices' tolerance is invalid).
+FOLD_TOL = 1e-7
 
 
 def _ocp():
@@ -39,6 +52,21 @@ def _ocp():
         import OCP  # noqa: F401
     except ImportError:  # pragma: no cover - depends on the install
         raise ExportError('STEP export needs OpenCASCADE bindings: pip install ".[step]" (cadquery-ocp-novtk)') from None
+
+
+@dataclass(frozen=True)
+class _Piece:
+    """One edge's curve: ``kind`` "arc" (data: centre (x, y), radius, +1 counter-clockwise or -1) or
+    "bspline" (data: knots, controls (n, 2)), over parameters ``p1 < p2`` from ``start`` to ``end``
+    ((2,), mm); ``length`` mm (a spline's: its control polygon's, an upper bound)."""
+
+    kind: str
+    data: tuple
+    p1: float
+    p2: float
+    start: np.ndarray
+    end: np.ndarray
+    length: float
 
 
 def _edge_parts(seg: Spline, bspline_tol: float | None, edge_spans: int | None) -> list[Spline]:
@@ -53,35 +81,140 @@ def _edge_parts(seg: Spline, bspline_tol: float | None, edge_spans: int | None) 
     return [Spline(compact.breaks[lo : hi + 1], compact.coeffs[:, lo:hi]) for lo, hi in zip(cuts[:-1], cuts[1:])]
 
 
-def _edges(contour: Contour, bspline_tol: float | None, edge_spans: int | None) -> list[Any]:
-    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge
-    from OCP.collections import Array1_double, Array1_gp_Pnt, Array1_int
-    from OCP.GC import GC_MakeArcOfCircle
-    from OCP.Geom import Geom_BSplineCurve
-    from OCP.gp import gp_Pnt
-
+def _pieces(contour: Contour, bspline_tol: float | None, edge_spans: int | None) -> list[_Piece]:
+    """The contour as the curves of its edges, in order: one per arc, one per run of spline pieces."""
     from camgen.export.dxf import spline_bspline
 
-    edges = []
+    pieces = []
     for seg in contour.segments:
         if isinstance(seg, Arc):
-            a, m, b = (seg.point([u])[0] for u in (0.0, 0.5, 1.0))
-            curve = GC_MakeArcOfCircle(gp_Pnt(a[0], a[1], 0.0), gp_Pnt(m[0], m[1], 0.0), gp_Pnt(b[0], b[1], 0.0)).Value()
-            edges.append(BRepBuilderAPI_MakeEdge(curve).Edge())
+            # the circle turns the arc's way (axis +z counter-clockwise, -z clockwise), so the edge
+            # runs over increasing parameters p1 < p2 = p1 + |sweep| (OCCT's circle parameter is the
+            # angle from the x axis about the circle's own axis)
+            sense = 1.0 if seg.sweep > 0 else -1.0
+            p1 = (sense * seg.start_angle) % (2.0 * math.pi)
+            ends = seg.point(np.array([0.0, 1.0]))
+            pieces.append(_Piece("arc", (seg.center, seg.radius, sense), p1, p1 + abs(seg.sweep), ends[0], ends[1], seg.length))
             continue
         for part in _edge_parts(seg, bspline_tol, edge_spans):
             knots, controls = spline_bspline(part)
-            unique = sorted(set(knots.tolist()))
-            poles = Array1_gp_Pnt(1, len(controls))
-            for i, (x, y) in enumerate(controls, 1):
-                poles.SetValue(i, gp_Pnt(float(x), float(y), 0.0))
-            kn = Array1_double(1, len(unique))
-            mu = Array1_int(1, len(unique))
-            for i, k in enumerate(unique, 1):
-                kn.SetValue(i, k)
-                mu.SetValue(i, int((knots == k).sum()))
-            edges.append(BRepBuilderAPI_MakeEdge(Geom_BSplineCurve(poles, kn, mu, 3)).Edge())
+            reach = float(np.sum(np.hypot(*np.diff(controls, axis=0).T)))  # the control polygon: >= the curve's length
+            pieces.append(_Piece("bspline", (knots, controls), float(knots[0]), float(knots[-1]), controls[0], controls[-1], reach))
+    return pieces
+
+
+def _curve(piece: _Piece) -> Any:
+    """The OCCT curve (Geom_Circle or cubic Geom_BSplineCurve) of ``piece``."""
+    from OCP.collections import Array1_double, Array1_gp_Pnt, Array1_int
+    from OCP.Geom import Geom_BSplineCurve, Geom_Circle
+    from OCP.gp import gp_Ax2, gp_Dir, gp_Pnt
+
+    if piece.kind == "arc":
+        (cx, cy), radius, sense = piece.data
+        return Geom_Circle(gp_Ax2(gp_Pnt(cx, cy, 0.0), gp_Dir(0.0, 0.0, sense), gp_Dir(1.0, 0.0, 0.0)), radius)
+    knots, controls = piece.data
+    unique = sorted(set(knots.tolist()))
+    poles = Array1_gp_Pnt(1, len(controls))
+    for i, (x, y) in enumerate(controls, 1):
+        poles.SetValue(i, gp_Pnt(float(x), float(y), 0.0))
+    kn = Array1_double(1, len(unique))
+    mu = Array1_int(1, len(unique))
+    for i, k in enumerate(unique, 1):
+        kn.SetValue(i, k)
+        mu.SetValue(i, int((knots == k).sum()))
+    return Geom_BSplineCurve(poles, kn, mu, 3)
+
+
+def fold_short(pieces: list[_Piece], fold_tol: float = FOLD_TOL) -> tuple[list[_Piece], list[np.ndarray], list[float]]:
+    """Drop the pieces shorter than ``fold_tol`` mm; the joints of the rest.
+
+    Returns the kept pieces, the point (2,) of the vertex each kept piece starts at (the mean of
+    every end met there: the previous kept piece's end, the folded pieces' ends, this piece's
+    start) and each vertex' tolerance, mm: ``max(fold_tol, 2 * d)``, ``d`` the largest distance from
+    the vertex to an end it joins (OCCT refuses an edge whose end is farther from its vertex than
+    the vertex' tolerance).  GeometryError when every piece is shorter than ``fold_tol``.
+    """
+    keep = [i for i, piece in enumerate(pieces) if piece.length >= fold_tol]
+    if not keep:
+        total = sum(piece.length for piece in pieces)
+        raise GeometryError(f"the contour is {total:.3g} mm long, below OpenCASCADE's confusion distance "
+                            f"{fold_tol:g} mm: scale the cam up")
+    points, tolerances = [], []
+    for j, i in enumerate(keep):
+        prev = keep[j - 1]
+        between = range(prev + 1, i) if prev < i else [*range(prev + 1, len(pieces)), *range(i)]
+        ends = np.array([pieces[prev].end] + [e for k in between for e in (pieces[k].start, pieces[k].end)] + [pieces[i].start])
+        point = ends.mean(axis=0)
+        points.append(point)
+        tolerances.append(max(fold_tol, 2.0 * float(np.max(np.hypot(*(ends - point).T)))))
+    return [pieces[i] for i in keep], points, tolerances
+
+
+def _edges(contour: Contour, bspline_tol: float | None, edge_spans: int | None, fold_tol: float = FOLD_TOL) -> list[Any]:
+    """The profile's edges, consecutive ones sharing one vertex (so the wire closes exactly)."""
+    from OCP.BRep import BRep_Builder
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge
+    from OCP.gp import gp_Pnt
+    from OCP.TopoDS import TopoDS_Vertex
+
+    pieces, points, tolerances = fold_short(_pieces(contour, bspline_tol, edge_spans), fold_tol)
+    builder = BRep_Builder()
+    vertices = []
+    for (x, y), tol in zip(points, tolerances):
+        vertex = TopoDS_Vertex()
+        builder.MakeVertex(vertex, gp_Pnt(float(x), float(y), 0.0), tol)
+        vertices.append(vertex)
+    edges = []
+    for i, piece in enumerate(pieces):
+        made = BRepBuilderAPI_MakeEdge(_curve(piece), vertices[i], vertices[(i + 1) % len(pieces)], piece.p1, piece.p2)
+        if not made.IsDone():
+            raise GeometryError(f"OpenCASCADE cannot make edge {i} ({piece.kind}, {piece.length:.6g} mm long) of the profile: "
+                                f"{made.Error()}")
+        edges.append(made.Edge())
     return edges
+
+
+def _solid(contour: Contour, body: Any, bspline_tol: float | None, edge_spans: int | None) -> Any:
+    """The OCCT solid: the profile face less the bore, extruded to ``body.thickness``, less the
+    keyway; GeometryError unless OCCT's checker (BRepCheck_Analyzer) finds it valid."""
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut
+    from OCP.BRepBuilderAPI import (
+        BRepBuilderAPI_MakeEdge,
+        BRepBuilderAPI_MakeFace,
+        BRepBuilderAPI_MakePolygon,
+        BRepBuilderAPI_MakeWire,
+    )
+    from OCP.BRepCheck import BRepCheck_Analyzer
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakePrism
+    from OCP.gp import gp_Ax2, gp_Circ, gp_Dir, gp_Pnt, gp_Vec
+    from OCP.TopoDS import TopoDS
+
+    wire = BRepBuilderAPI_MakeWire()
+    for edge in _edges(contour, bspline_tol, edge_spans):
+        wire.Add(edge)
+    if not wire.IsDone():
+        raise GeometryError(f"the profile's edges do not form a wire ({wire.Error()})")
+    face = BRepBuilderAPI_MakeFace(wire.Wire())
+    if body.bore_diameter > 0:
+        circle = gp_Circ(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), body.bore_diameter / 2)
+        bore = BRepBuilderAPI_MakeWire(BRepBuilderAPI_MakeEdge(circle).Edge()).Wire()
+        face.Add(TopoDS.Wire(bore.Reversed()))
+    solid = BRepPrimAPI_MakePrism(face.Face(), gp_Vec(0, 0, body.thickness)).Shape()
+    if body.keyway_width > 0:  # the keyway's prism, from the one keyway shape (camgen.body)
+        corners = body.keyway_corners()
+        outline = BRepBuilderAPI_MakePolygon()
+        for x, y in corners:
+            outline.Add(gp_Pnt(float(x), float(y), -1.0))
+        outline.Close()
+        key_face = BRepBuilderAPI_MakeFace(outline.Wire()).Face()
+        box = BRepPrimAPI_MakePrism(key_face, gp_Vec(0, 0, body.thickness + 2.0)).Shape()
+        cut = BRepAlgoAPI_Cut(solid, box)
+        if not cut.IsDone():
+            raise GeometryError("OpenCASCADE cannot cut the keyway from the body")
+        solid = cut.Shape()
+    if not BRepCheck_Analyzer(solid).IsValid():
+        raise GeometryError("OpenCASCADE finds the extruded profile invalid (BRepCheck_Analyzer)")
+    return solid
 
 
 def step_bytes(contour: Contour, body: Any, name: str = "cam", bspline_tol: float | None = None, *, exact: bool = False,
@@ -101,39 +234,19 @@ def step_bytes(contour: Contour, body: Any, name: str = "cam", bspline_tol: floa
     if edge_spans is not None and (isinstance(edge_spans, bool) or not isinstance(edge_spans, int) or edge_spans < 1):
         raise ParameterError("edge_spans", edge_spans, "a whole number >= 1, or None")
     _ocp()
-    from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut
-    from OCP.BRepBuilderAPI import (
-        BRepBuilderAPI_MakeEdge,
-        BRepBuilderAPI_MakeFace,
-        BRepBuilderAPI_MakePolygon,
-        BRepBuilderAPI_MakeWire,
-    )
-    from OCP.BRepPrimAPI import BRepPrimAPI_MakePrism
-    from OCP.gp import gp_Ax2, gp_Circ, gp_Dir, gp_Pnt, gp_Vec
     from OCP.Interface import Interface_Static
     from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
-    from OCP.TopoDS import TopoDS
 
-    wire = BRepBuilderAPI_MakeWire()
-    for edge in _edges(contour, None if exact else tol, edge_spans):
-        wire.Add(edge)
-    if not wire.IsDone():
-        raise ExportError(f"cam '{name}': the profile edges do not form a closed wire for STEP")
-    face = BRepBuilderAPI_MakeFace(wire.Wire())
-    if body.bore_diameter > 0:
-        circle = gp_Circ(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), body.bore_diameter / 2)
-        bore = BRepBuilderAPI_MakeWire(BRepBuilderAPI_MakeEdge(circle).Edge()).Wire()
-        face.Add(TopoDS.Wire(bore.Reversed()))
-    solid = BRepPrimAPI_MakePrism(face.Face(), gp_Vec(0, 0, body.thickness)).Shape()
-    if body.keyway_width > 0:  # the keyway's prism, from the one keyway shape (camgen.body)
-        corners = body.keyway_corners()
-        outline = BRepBuilderAPI_MakePolygon()
-        for x, y in corners:
-            outline.Add(gp_Pnt(float(x), float(y), -1.0))
-        outline.Close()
-        key_face = BRepBuilderAPI_MakeFace(outline.Wire()).Face()
-        box = BRepPrimAPI_MakePrism(key_face, gp_Vec(0, 0, body.thickness + 2.0)).Shape()
-        solid = BRepAlgoAPI_Cut(solid, box).Shape()
+    try:
+        solid = _solid(contour, body, None if exact else tol, edge_spans)
+    except GeometryError as exc:
+        raise GeometryError(f"cam '{name}': STEP: {exc}") from None
+    except Exception as exc:  # OCCT's exceptions (Standard_Failure, StdFail_NotDone, ...) share no Python base
+        if not type(exc).__module__.startswith("OCP"):
+            raise
+        raise GeometryError(f"cam '{name}': OpenCASCADE cannot build the STEP solid ({type(exc).__name__}: {exc}); "
+                            "check the profile for arcs or splines shorter than "
+                            f"{FOLD_TOL:g} mm or nearly touching itself") from None
     Interface_Static.SetCVal_s("write.step.unit", "MM")
     Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
     writer = STEPControl_Writer()

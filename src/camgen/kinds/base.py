@@ -27,6 +27,12 @@ if TYPE_CHECKING:  # the heavy modules stay unimported until a cam is built
 #: ``plots``: the data report.html draws.
 STAGES = ("analysis", "plots", "mesh")
 
+#: Least cam speed a scene may give, rev/min: one turn in 1000 min (16.7 h), slower than any
+#: machine cam.  Every number derived from it stays a normal float: omega = 2 pi rpm / 60 =
+#: 1.05e-4 rad/s, omega^3 = 1.15e-12 (jerk), one turn 6e4 s; a positive rpm near the float's
+#: least (5e-324) once made omega underflow to 0 and the follower table's time infinite.
+MIN_RPM = 1e-3
+
 
 def field_default(cls: type, name: str) -> Any:
     """The default of dataclass field ``name`` of ``cls``: one owner for every default."""
@@ -169,7 +175,7 @@ def check_keys() -> tuple[Key, ...]:
         Key("pressure_angle_limit_deg", Angle(0.0, 90.0, low_open=True, high_open=True),
             "Largest pressure angle allowed (default: 30 deg translating followers, 45 deg oscillating ones and yokes); disk cams "
             "with sizing are sized to it.", ("report",)),
-        Key("rpm", Number("rev/min", 0.0, 1e6, low_open=True), "Cam speed: the follower's velocity, acceleration and jerk at speed in "
+        Key("rpm", Number("rev/min", MIN_RPM, 1e6), "Cam speed: the follower's velocity, acceleration and jerk at speed in "
             "the report, and the follower table (<cam>_follower.csv, which needs it).", ("report", "motion")),
     )
 

@@ -108,23 +108,50 @@ def test_near_degenerate_three_arc_files_are_accepted(name, tmp_path):
     assert status == 0 and moves, message
 
 
-@pytest.mark.xfail(strict=True, reason="export/step.py _edges: GC_MakeArcOfCircle through three points fails (OCP StdFail_NotDone, "
-                   "a traceback) for arcs whose three points are collinear within Precision::Confusion (1e-7 mm): the flank arcs at "
-                   "b >= 2a (1 - 5e-16), 9.3e-6 mm long on a 280 mm radius, and an arc of radius 2.8e-14 mm; fix: build arcs from "
-                   "centre, radius and angles (GC_MakeArcOfCircle(gp_Circ, a1, a2, True)), fold arcs shorter than 1e-7 mm into "
-                   "their neighbours, and turn OCP's Standard_Failure into a GeometryError (an export check that fails, named)")
 @pytest.mark.parametrize("name", ["b->2a one ulp", "a+c-b->0 one ulp"])
-def test_step_of_a_near_degenerate_three_arc_cam_is_written_or_refused_by_name(name):
+def test_step_of_a_near_degenerate_three_arc_cam_is_a_valid_solid(name, tmp_path):
+    """The STEP of a three-arc cam at the edge of its domain is written (its arcs were once built
+    through three points, which OCCT refuses as collinear: flank arcs 4e-6 mm long on 280 mm at
+    b -> 2a, arcs of radius 3e-14 mm at a + c - b -> 0) and read back by OCCT as one valid solid:
+    its profile's circles have the constant-breadth radii c, a + c, a + c - b, 2a + c - b, a + c - b,
+    a + c (paper 000; opposite radii sum to the breadth 2a + 2c - b), those of arcs shorter than
+    OCCT's confusion distance (export.step.FOLD_TOL) folded away, and its volume is the contour's
+    area (Green's theorem, exact for arcs) times the thickness."""
     pytest.importorskip("OCP")
+    from OCP.BRepAdaptor import BRepAdaptor_Curve
+    from OCP.BRepCheck import BRepCheck_Analyzer
+    from OCP.GeomAbs import GeomAbs_Circle
+    from OCP.TopAbs import TopAbs_EDGE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+
     from camgen.body import BodySpec
-    from camgen.export.step import step_bytes
+    from camgen.export.step import FOLD_TOL, step_bytes, step_volume
+    from camgen.tests.test_step import _step_shape
 
     a, b, c = THREE_ARC_EDGES[name]
-    try:
-        data = step_bytes(camgen.three_arc_cam(a, b, c), BodySpec(), "x")
-    except GeometryError:
-        return
+    cam = camgen.three_arc_cam(a, b, c)
+    body = BodySpec()
+    data = step_bytes(cam, body, "x")
     assert data.startswith(b"ISO-10303-21")
+    shape = _step_shape(data, tmp_path)
+    assert BRepCheck_Analyzer(shape).IsValid()
+    radii = []
+    explorer = TopExp_Explorer(shape, TopAbs_EDGE)
+    seen = set()
+    while explorer.More():
+        curve = BRepAdaptor_Curve(TopoDS.Edge(explorer.Current()))
+        key = (round(curve.Value(curve.FirstParameter()).X(), 9), round(curve.Value(curve.FirstParameter()).Y(), 9))
+        if curve.GetType() == GeomAbs_Circle and abs(curve.Value(curve.FirstParameter()).Z()) < 1e-9 and key not in seen:
+            seen.add(key)
+            radii.append(curve.Circle().Radius())
+        explorer.Next()
+    closed_form = [c, a + c, a + c - b, 2 * a + c - b, a + c - b, a + c]
+    lengths = [r * abs(seg.sweep) for r, seg in zip(closed_form, cam.segments)]
+    kept = sorted(r for r, length in zip(closed_form, lengths) if length >= FOLD_TOL)
+    assert len(kept) == (6 if name.startswith("b->2a") else 4)
+    assert np.allclose(sorted(radii), kept, rtol=1e-12, atol=0)
+    assert step_volume(data) == pytest.approx(cam.area * body.thickness, rel=1e-9)
 
 
 # --------------------------------------------------------------------------------------------
@@ -397,22 +424,28 @@ def test_disk_cams_at_their_scales(base, fit_tol):
 # --------------------------------------------------------------------------------------------
 # Solids: manifold3d's own triangulation moves vertices
 # --------------------------------------------------------------------------------------------
-@pytest.mark.xfail(strict=True, reason="export/solid.py says 'The vertex coordinates are the flattened polygons' own values either "
-                   "way', but with fill = 'manifold' (used where no circle separates bore and profile) manifold3d's Clipper2 "
-                   "cross-section snaps them to a grid: they move by up to 4.8e-9 mm (the volume by 2.5e-9 of a 0.4 mm cam); fix: "
-                   "state the bound in the docstring (and in test_properties.MANIFOLD_SNAP), or map the vertices back to the polygons'")
 def test_manifold_fill_keeps_the_polygon_vertices():
+    """manifold3d's own cross-section moves the polygon vertices (Clipper2's grid: by more than 0
+    and at most export.solid.MANIFOLD_SNAP), and cam_solid puts every one back: each polygon vertex
+    is a mesh vertex at both caps, bit for bit, and nothing else is."""
+    import manifold3d
     from scipy.spatial import cKDTree
 
     from camgen.body import BodySpec
-    from camgen.export.solid import bore_polygon, cam_solid
+    from camgen.export.solid import MANIFOLD_SNAP, bore_polygon, cam_solid
 
     cam = camgen.three_arc_cam(220.0, 160.0, 25.0)
     body = BodySpec(thickness=5.0, bore_diameter=20.0)
-    solid = cam_solid(cam, body, 1e-3, fill="manifold")
     outline = np.vstack([cam.flatten(1e-3), bore_polygon(body, 1e-3)])
-    distance, _ = cKDTree(solid.vertices[:, :2]).query(outline)
-    assert np.max(distance) == 0.0
+    raw = manifold3d.CrossSection([cam.flatten(1e-3), bore_polygon(body, 1e-3)[::-1]]).extrude(5.0).to_mesh64()
+    moved, _ = cKDTree(np.asarray(raw.vert_properties)[:, :2]).query(outline)
+    assert 0.0 < np.max(moved) <= MANIFOLD_SNAP
+    solid = cam_solid(cam, body, 1e-3, fill="manifold")
+    assert solid.fill == "manifold" and solid.snapped == 0.0
+    for z in (0.0, 5.0):
+        cap = solid.vertices[solid.vertices[:, 2] == z, :2]
+        assert len(cap) == len(outline)
+        assert {tuple(p) for p in cap.tolist()} == {tuple(p) for p in outline.tolist()}
 
 
 def test_rounding_of_inclinations_keeps_distinct_files(tmp_path):

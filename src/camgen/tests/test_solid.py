@@ -561,3 +561,66 @@ def test_3mf_passes_the_reference_readers_strict_mode(contours, tmp_path):
     volume = np.sum(np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2]))) / 6.0
     assert volume == pytest.approx(solid.volume, rel=1e-7)  # lib3mf holds coordinates as float32
     assert not objects.MoveNext()
+
+
+# --------------------------------------------------------------------------------------------
+# manifold3d's fill: the polygons' own vertices back (export.solid.unsnap)
+# --------------------------------------------------------------------------------------------
+def _square_prism(offset: np.ndarray):
+    """The unit square's prism (z 0 and 1): 8 vertices (its corners moved by ``offset`` (8, 2)),
+    12 outward triangles; and the square."""
+    square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    vertices = np.column_stack([np.vstack([square, square]) + offset, np.repeat([0.0, 1.0], 4)])
+    caps = [[0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7]]
+    walls = [[i, (i + 1) % 4, (i + 1) % 4 + 4] for i in range(4)] + [[i, (i + 1) % 4 + 4, i + 4] for i in range(4)]
+    return vertices, np.array(caps + walls), square
+
+
+def test_unsnap_puts_vertices_back_or_declines():
+    """Vertices moved by 3e-9 mm go back to the square's corners bit for bit (z kept); a vertex
+    moved beyond MANIFOLD_SNAP, two vertices of one cap taking the same corner, or a cap triangle
+    the move would turn over (its apex 4e-9 mm on either side of its base) are declined."""
+    from camgen.export.solid import MANIFOLD_SNAP, unsnap
+
+    rng = np.random.default_rng(1)
+    vertices, triangles, square = _square_prism(rng.uniform(-3e-9, 3e-9, (8, 2)))
+    exact = unsnap(vertices, triangles, square)
+    assert np.array_equal(exact[:, :2], np.vstack([square, square])) and np.array_equal(exact[:, 2], vertices[:, 2])
+    far = vertices.copy()
+    far[5, 0] += 1.5 * MANIFOLD_SNAP
+    assert unsnap(far, triangles, square) is None
+    twice = np.vstack([vertices, [1.0, -1e-9, 0.0]])  # a ninth vertex at z = 0 also next to corner 1
+    assert unsnap(twice, triangles, square) is None
+    twice[8, 2] = 0.5  # at another height: one to one again
+    assert unsnap(twice, triangles, square) is not None
+    base = np.array([[0.0, 0.0], [2.0, 0.0], [1.0, -4e-9]])
+    raw = np.array([[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [1.0, 4e-9, 0.0]])
+    assert unsnap(raw, np.array([[0, 1, 2]]), base) is None
+    assert unsnap(raw, np.array([[0, 1, 2]]), base[[0, 1, 0]] + [[0, 0], [0, 0], [1.0, 4e-9]]) is not None
+
+
+def test_manifold_fill_states_what_it_could_not_put_back(monkeypatch):
+    """Where the mapping is declined the solid keeps manifold3d's vertices and says how far they
+    lie from the polygons (> 0, <= MANIFOLD_SNAP: trimesh and scipy measure it independently);
+    either way the mesh is a watertight volume of GEOS's section area x thickness."""
+    import trimesh
+    from scipy.spatial import cKDTree
+
+    import camgen
+    from camgen.export import solid as solid_module
+    from camgen.export.solid import MANIFOLD_SNAP, bore_polygon
+
+    cam = camgen.three_arc_cam(220.0, 160.0, 25.0)
+    body = BodySpec(thickness=5.0, bore_diameter=20.0)
+    outline = np.vstack([cam.flatten(1e-3), bore_polygon(body, 1e-3)])
+    area = _shapely_section(cam, body, 1e-3).area
+    exact = cam_solid(cam, body, 1e-3, fill="manifold")
+    monkeypatch.setattr(solid_module, "unsnap", lambda *args, **kw: None)
+    snapped = cam_solid(cam, body, 1e-3, fill="manifold")
+    off = cKDTree(outline).query(snapped.vertices[:, :2])[0]
+    assert exact.snapped == 0.0 and 0.0 < snapped.snapped == np.max(off) <= MANIFOLD_SNAP
+    for solid in (exact, snapped):
+        mesh = trimesh.Trimesh(solid.vertices, solid.triangles, process=False)
+        assert mesh.is_watertight and mesh.is_winding_consistent and mesh.is_volume and mesh.euler_number == 0
+        assert mesh.volume == pytest.approx(area * body.thickness, rel=1e-9)
+    assert exact.volume == pytest.approx(area * body.thickness, rel=1e-12)

@@ -277,3 +277,132 @@ def test_step_edges_are_within_the_stated_tolerance_both_ways(template, template
             assert np.max(np.min(dist, axis=0)) <= tol * (1 + 1e-6)
         if template == "tricycle":
             assert sum(len(c) for _, c in edges) < 0.8 * sum(s.n_pieces + 3 for s in splines)
+
+
+# --------------------------------------------------------------------------------------------
+# Arcs from their circles, shared vertices, OCCT's failures as named errors
+# --------------------------------------------------------------------------------------------
+def _bitten_disk(d: float = 14.0):
+    """A disk of radius 10 with a concave (clockwise) bite between its points at -30 and +30 deg,
+    on a circle centred at (d, 0); and its area in closed form: the disk less the big circle's
+    segment over the chord and the bite's segment (r^2 / 2 (t - sin t) for a segment of angle t)."""
+    from camgen.contour import Arc, Contour
+
+    R, half = 10.0, math.radians(30.0)
+    x, y = R * math.cos(half), R * math.sin(half)
+    rho = math.hypot(d - x, y)
+    phi = math.atan2(y, d - x)  # half the bite's angle at its centre
+    contour = Contour([Arc((0.0, 0.0), R, half, 2 * math.pi - 2 * half), Arc((d, 0.0), rho, math.pi + phi, -2 * phi)])
+
+    def segment(r, t):
+        return r * r / 2 * (t - math.sin(t))
+
+    return contour, math.pi * R * R - segment(R, 2 * half) - segment(rho, 2 * phi), rho
+
+
+def test_clockwise_arcs_are_written_on_their_own_circles(tmp_path):
+    """A concave arc is a circle of its own radius turning the other way: OCCT's volume of the
+    bitten disk is its closed-form area x thickness (a concave arc written the convex way would
+    add the bite's lens instead of removing it) and the read-back circles have the radii 10 and rho."""
+    from OCP.BRepAdaptor import BRepAdaptor_Curve
+    from OCP.BRepCheck import BRepCheck_Analyzer
+    from OCP.GeomAbs import GeomAbs_Circle
+    from OCP.TopAbs import TopAbs_EDGE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+
+    from camgen.body import BodySpec
+    from camgen.export.step import step_bytes, step_volume
+
+    contour, area, rho = _bitten_disk()
+    body = BodySpec(thickness=3.0, bore_diameter=4.0)
+    data = step_bytes(contour, body, "bite")
+    shape = _step_shape(data, tmp_path)
+    assert BRepCheck_Analyzer(shape).IsValid()
+    assert step_volume(data) == pytest.approx((area - math.pi * 4.0) * 3.0, rel=1e-12)
+    radii = set()
+    explorer = TopExp_Explorer(shape, TopAbs_EDGE)
+    while explorer.More():
+        curve = BRepAdaptor_Curve(TopoDS.Edge(explorer.Current()))
+        if curve.GetType() == GeomAbs_Circle:
+            radii.add(round(curve.Circle().Radius(), 12))
+        explorer.Next()
+    assert radii == {10.0, round(rho, 12), 2.0}
+
+
+def test_profile_edges_share_their_vertices(contours, tmp_path):
+    """The profile wire read back from STEP closes on shared vertices: as many distinct vertices
+    at z = 0 on the profile as edges (six arcs of the stride cam; none lost, none doubled)."""
+    from OCP.BRep import BRep_Tool
+    from OCP.TopAbs import TopAbs_VERTEX
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+
+    from camgen.body import BodySpec
+    from camgen.export.step import step_bytes
+
+    contour = contours["stride"]
+    shape = _step_shape(step_bytes(contour, BodySpec(thickness=5.0), "stride"), tmp_path)
+    points = set()
+    explorer = TopExp_Explorer(shape, TopAbs_VERTEX)
+    while explorer.More():
+        p = BRep_Tool.Pnt_s(TopoDS.Vertex(explorer.Current()))
+        if abs(p.Z()) < 1e-9:
+            points.add((round(p.X(), 6), round(p.Y(), 6)))
+        explorer.Next()
+    ends = {(round(x, 6), round(y, 6)) for x, y in (seg.start_point for seg in contour.segments)}
+    assert len(contour.segments) == 6 and points == ends
+
+
+def test_occt_failures_are_geometry_errors_naming_the_cam(monkeypatch, tmp_path):
+    """A profile shorter than OCCT's confusion distance, and any OCCT exception while building the
+    solid, are GeometryErrors naming the cam; in a run that is a failed 'step_export' check that
+    withholds the cam's manufacturing files (no traceback, nothing half written)."""
+    from OCP.StdFail import StdFail_NotDone
+
+    from camgen.body import BodySpec
+    from camgen.contour import Arc, Contour
+    from camgen.errors import GeometryError
+    from camgen.export import step
+    from camgen.pipeline import execute, plan_run
+    from camgen.scene import parse_scene
+
+    tiny = Contour([Arc((0.0, 0.0), 1e-9, 0.0, 2 * math.pi)])  # 6.3e-9 mm around
+    with pytest.raises(GeometryError, match=r"cam 'tiny'.*below OpenCASCADE's confusion distance 1e-07 mm"):
+        step.step_bytes(tiny, BodySpec(), "tiny")
+
+    def fails(*args):
+        raise StdFail_NotDone("no result")
+
+    monkeypatch.setattr(step, "_solid", fails)
+    with pytest.raises(GeometryError, match=r"cam 'x': OpenCASCADE cannot build the STEP solid \(StdFail_NotDone"):
+        step.step_bytes(_bitten_disk()[0], BodySpec(), "x")
+    scene = parse_scene({"output": {"formats": ["dxf", "step"]},
+                         "cams": {"x": {"kind": "three_arc", "a_mm": 220.0, "b_mm": 160.0, "c_mm": 25.0}}}, "fail")
+    result = execute(scene, plan_run(scene))
+    (check,) = [c for c in result.cams[0].checks if c.name == "step_export"]
+    assert check.failed and check.blocks_manufacture and "StdFail_NotDone" in check.note
+    assert not {"x.dxf", "x.step"} & set(result.files)
+
+
+def test_joints_within_the_closure_tolerance_close_the_wire(tmp_path):
+    """Segments that meet within the contour's closure tolerance but farther apart than OCCT's
+    confusion distance (the bite's radius 4e-7 mm too long: gaps of ~4e-7 mm at both joints, as
+    refitted offsets have) still give one valid closed solid: its volume is the exact bitten disk's
+    area x thickness within the band the longer radius sweeps (4e-7 mm x the bite's length) and the
+    slivers at the two joints (4e-7 mm x the disk's radius each), times the thickness."""
+    from OCP.BRepCheck import BRepCheck_Analyzer
+
+    from camgen.body import BodySpec
+    from camgen.contour import Arc, Contour
+    from camgen.export.step import step_bytes, step_volume
+
+    exact, area, rho = _bitten_disk()
+    big, bite = exact.segments
+    gapped = Contour([big, Arc(bite.center, rho + 4e-7, bite.start_angle, bite.sweep)], closure_tol=1e-6)
+    gap = np.hypot(*(gapped.segments[1].start_point - big.end_point))
+    assert 3e-7 < gap < 5e-7
+    data = step_bytes(gapped, BodySpec(thickness=2.0), "gap")
+    assert BRepCheck_Analyzer(_step_shape(data, tmp_path)).IsValid()
+    band = 4e-7 * (abs(bite.sweep) * rho + 2 * 10.0)
+    assert abs(step_volume(data) - area * 2.0) <= band * 2.0
