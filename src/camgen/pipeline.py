@@ -279,6 +279,8 @@ def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> RunResul
                 continue
             cam.figures["solid_volume_mm3"] = cam.solid.volume
             cam.figures["solid_triangles"] = int(len(cam.solid.triangles))
+            if cam.solid.snapped > 0.0:  # manifold3d's vertices kept (export/solid.py, unsnap): say how far off
+                cam.figures["solid_vertex_snap_mm"] = cam.solid.snapped
     return result
 
 

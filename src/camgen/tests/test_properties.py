@@ -136,12 +136,6 @@ def geos_area(points: np.ndarray) -> float:
     return float(poly.area)
 
 
-#: How far (mm) the vertices of a solid whose section manifold3d triangulated itself (fill
-#: "manifold", where no circle separates bore and profile) may move: its Clipper2 cross-section
-#: snaps them to a grid (measured 4.8e-9 mm; test_limits.py); the ring fill keeps them.
-MANIFOLD_SNAP = 1e-8
-
-
 def solid_properties(contour, body, tol: float) -> None:
     """The extruded solid: watertight and consistently wound (trimesh); its volume the GEOS area
     of the section (profile polygon minus bore and keyway) times the thickness."""
@@ -167,7 +161,10 @@ def solid_properties(contour, body, tol: float) -> None:
         assert mesh.euler_number == 0  # one hole through the body
     else:
         assert mesh.euler_number == 2
-    snap = MANIFOLD_SNAP * (section.length * body.thickness) if solid.fill == "manifold" else 0.0
+    # vertices are the polygons' own unless manifold3d's snapped ones could not be mapped back
+    # (solid.snapped, mm; bounded by Clipper2's 8 decimals: test_limits.py)
+    assert solid.snapped <= 1e-8
+    snap = solid.snapped * (section.length * body.thickness)
     assert solid.volume == pytest.approx(section.area * body.thickness, rel=1e-9, abs=snap)
     assert mesh.volume == pytest.approx(solid.volume, rel=1e-9)
     return solid
