@@ -36,6 +36,8 @@ Func = Callable[[np.ndarray], np.ndarray]
 SCHEMES = ("exact", "forward", "central")
 #: Largest trajectory table read, bytes.
 MAX_TABLE_BYTES = 8 << 20
+#: Largest number of rows of a trajectory table (the lift table's cap).
+MAX_ROWS = 100_000
 _GL_NODES, _GL_WEIGHTS = np.polynomial.legendre.leggauss(20)
 
 
@@ -270,30 +272,30 @@ def synthesize_rho(
     return CamSynthesis(theta, x, k, rho, length.total, scheme, length)
 
 
-def read_trajectory_csv(path: str) -> Trajectory:
-    """Trajectory from a CSV file of ``x, y`` rows (mm): ``#`` comments and one optional header
-    row are skipped; the rows cover one period, the last ``y`` equal to the first."""
-    import csv
+def read_trajectory_csv(path: str, max_rows: int = MAX_ROWS, max_bytes: int = MAX_TABLE_BYTES) -> Trajectory:
+    """Trajectory from a CSV file of ``x, y`` rows (mm) over one period, the last ``y`` equal to
+    the first.
+
+    The format is the lift table's (:func:`camgen.synthesis.lift_table.parse_two_column_table`,
+    one reader for both): exactly two fields a row, separated by a comma, a semicolon or blanks
+    (no decimal commas: ``50,0,1,23`` is four fields, refused); ``#`` comments and blank lines
+    skipped; one optional header row of two non-numeric fields; at most ``max_rows`` rows and
+    ``max_bytes`` bytes.
+
+    Raises
+    ------
+    ParameterError
+        Naming ``trajectory_csv``, the file, and for a bad row its line number and text.
+    """
     from pathlib import Path
 
-    from camgen.textfile import TextFileError, read_text_file
+    from camgen.synthesis.lift_table import read_two_column_table
 
-    file = Path(path)
-    try:
-        text = read_text_file(file, MAX_TABLE_BYTES)
-    except TextFileError as exc:
-        raise ParameterError("trajectory_csv", str(path), f"a readable UTF-8 CSV file of x, y rows, at most {MAX_TABLE_BYTES} bytes",
-                             str(exc)) from None
-    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
-    rows = list(csv.reader(lines))
-    try:
-        float(rows[0][0])
-    except (ValueError, IndexError):
-        rows = rows[1:]  # header row
-    try:
-        data = np.array([[float(r[0]), float(r[1])] for r in rows])
-    except (ValueError, IndexError):
-        raise ParameterError("trajectory_csv", str(path), "rows of two numbers x, y (mm)") from None
-    if data.ndim != 2 or len(data) < 8:
-        raise ParameterError("trajectory_csv", str(path), "at least 8 rows of x, y (mm)")
-    return trajectory_from_table(data[:, 0], data[:, 1], source=file.name)
+    x, y, labels = read_two_column_table(path, "trajectory_csv", ("x", "y"), max_rows, max_bytes)
+    if x.size < 8:
+        raise ParameterError("trajectory_csv", str(path), "at least 8 rows of x, y (mm)", f"{x.size} rows")
+    bad = np.flatnonzero(np.diff(x) <= 0.0)
+    if bad.size:
+        i = int(bad[0]) + 1
+        raise ParameterError("trajectory_csv", f"{labels[i]}: x = {x[i]!r} after {x[i - 1]!r}", "strictly increasing x (mm)")
+    return trajectory_from_table(x, y, source=Path(path).name)
