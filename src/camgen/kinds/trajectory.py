@@ -84,6 +84,9 @@ class TrajectoryParams:
     ride_periods: int
     fit_tables: tuple[str, ...] = ()
     source: str | None = None
+    #: the scene key that gave the path ("expression" or "trajectory_csv") and its value there
+    path_key: str = "expression"
+    path_value: str = ""
 
 
 @dataclass(frozen=True)
@@ -131,8 +134,9 @@ def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = 
     device = rename_errors(where, lambda: Tricycle(**{k: parsed[k] for k in _DEVICE if k in parsed}), KEYS)
     checks = read_checks(parsed)
     follower = Follower("roller", "translating", roller_radius=device.rod_radius, pressure_angle_limit=checks.pressure_angle_limit)
+    path_key = "expression" if "expression" in parsed else "trajectory_csv"
     params = TrajectoryParams(traj, device, parsed["samples"], parsed["curvature"], parsed["ride_periods"],
-                              parsed.get("fit_tables", ()), parsed.get("source"))
+                              parsed.get("fit_tables", ()), parsed.get("source"), path_key, str(parsed[path_key]))
     return CamSpec(name, "trajectory", params, read_body(where, parsed), checks, follower)
 
 
@@ -140,14 +144,19 @@ def build(spec: CamSpec, stages: frozenset[str]) -> TrajectoryCam:
     """Synthesis; with ``analysis`` the ride figures, the ride file and the fits; with
     ``plots`` the report's curves."""
     from camgen.mechanisms import tricycle as tc
+    from camgen.synthesis.trajectory import PathError
 
     p: TrajectoryParams = spec.params
     traj, device = p.trajectory, p.device
+    where = f"cams.{spec.name}"
     try:
-        cam = with_cam(f"cams.{spec.name}", lambda: tc.tricycle_cam(traj, device, p.samples, p.curvature))
+        cam = with_cam(where, lambda: tc.tricycle_cam(traj, device, p.samples, p.curvature))
     except UndercutError as exc:  # the rod cannot follow this cam: the report shows where and why
         figures = {"trajectory": traj.source, "period_mm": traj.period, "base_radius_mm": device.base_radius}
         return TrajectoryCam(spec.name, spec.kind, None, figures, spec.body, spec.follower, pitch=exc.pitch, undercut=exc)
+    except PathError as exc:  # a path this device cannot steer: the key that gave it, and which paths it can
+        why = str(exc).removeprefix(f"{where}: ")
+        raise ParameterError(f"{where}.{p.path_key}", p.path_value, exc.valid, why) from None
     synth = cam.synthesis
     figures: dict[str, Any] = {
         "trajectory": traj.source,

@@ -42,7 +42,7 @@ import numpy as np
 from camgen.contour import Contour, Spline
 from camgen.errors import GeometryError, ParameterError, UndercutError, require_positive
 from camgen.geometry import outward_normal, signed_curvature
-from camgen.synthesis.trajectory import CamSynthesis, Trajectory, synthesize_rho
+from camgen.synthesis.trajectory import CamSynthesis, PathError, Trajectory, steerable_paths, synthesize_rho
 
 
 @dataclass(frozen=True)
@@ -249,7 +249,10 @@ def tricycle_cam(
     by ``r_d`` and refitted within ``offset_tol`` mm (C1 cubic Hermite pieces).
 
     Raises :class:`UndercutError` (with the rod-centre path) where the rod cannot follow the
-    profile: the rod-centre path is convex with a radius of curvature <= ``r_d``.
+    profile: the rod-centre path is convex with a radius of curvature <= ``r_d``; and
+    :class:`~camgen.synthesis.trajectory.PathError` (saying which paths are valid) for a path the
+    device cannot steer: a right turn of radius <= ``D + d L / r_b`` (eq. 13 needs ``1 + D k > 0``
+    and ``rho > 0``), or one the arc-length quadrature does not resolve.
     """
     from camgen.errors import require_positive as _positive
 
@@ -261,7 +264,8 @@ def tricycle_cam(
     synth = synthesize_rho(trajectory, n_samples, device.lever, device.wheelbase, device.half_track, device.base_radius, scheme)
     n = synth.theta.size
     if np.min(synth.rho) <= 0.0:
-        raise GeometryError(f"cam radius rho reaches {np.min(synth.rho):.6g} mm <= 0: the path turns too sharply for r_b = {device.base_radius:g} mm")
+        raise PathError(f"cam radius rho reaches {np.min(synth.rho):.6g} mm <= 0: the path turns too sharply for r_b = {device.base_radius:g} mm",
+                        steerable_paths(device.lever, device.wheelbase, device.half_track, device.base_radius))
     # polar angle phi_j = 2 pi j / N (counter-clockwise) carries the sample of theta = -phi_j
     order = (-np.arange(n)) % n
     phi = 2.0 * math.pi * np.arange(n + 1) / n

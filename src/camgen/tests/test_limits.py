@@ -177,10 +177,6 @@ def test_a_sharp_peak_needs_samples_or_undercuts_by_name(width, samples, works):
     assert np.max(lateral) <= bound
 
 
-@pytest.mark.xfail(strict=True, reason="kinds/trajectory.py build: a GeometryError of tc.tricycle_cam other than the undercut "
-                   "(path curvature beyond 1/D; the arc-length inversion not converging) is re-raised as 'cams.x: ...' naming no "
-                   "key; fix: catch GeometryError around tc.tricycle_cam and raise ParameterError(f'{where}.expression' (or "
-                   "'.trajectory_csv'), source, 'a path whose right turns keep a radius > half_track_mm = D', str(exc))")
 @pytest.mark.parametrize("expression, period", [("5.0*exp(-((x-1000.0)/20.0)**2)", 2000.0), ("1e-7*sin(2*pi*x/1e-6)", 1e-6),
                                                 ("1e-3*sin(2*pi*1000000*x/2000)", 2000.0)])
 def test_a_path_too_sharp_to_steer_names_its_key(expression, period, tmp_path, capsys):
@@ -189,7 +185,11 @@ def test_a_path_too_sharp_to_steer_names_its_key(expression, period, tmp_path, c
     scene = tmp_path / "s.toml"
     scene.write_text(f'[cams.x]\nkind = "trajectory"\nexpression = "{expression}"\nperiod_mm = {period!r}\n')
     assert main(["run", str(scene), "-o", str(tmp_path / "out")]) == 2
-    assert "cams.x.expression" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "parameter 'cams.x.expression'" in err and expression in err
+    # eq. (13) rho = d L k / (1 + D k) + r_b > 0 for k = -1/R: R > D + d L / r_b (Table 2: D 50, d 30, L 77, r_b 77 - 1.5)
+    assert f"right turns keep a radius > {50 + 30 * 77 / 75.5:.6g} mm" in err
+    assert not (tmp_path / "out").exists()
 
 
 @pytest.mark.xfail(strict=True, reason="mechanisms/tricycle_fit.py / kinds/trajectory.py: the paper's measured tables A1/A2 fitted "
