@@ -204,11 +204,6 @@ def test_fit_of_an_unrelated_path_names_fit_tables(tmp_path, capsys):
     assert "inf" not in err.replace("is invalid", "") and not (tmp_path / "out").exists()
 
 
-@pytest.mark.xfail(strict=True, reason="kinds/trajectory.py build: simulate_cam(cam, periods=ride_periods) keeps every node of "
-                   "every period (samples x periods x 6): 400 MB at 720 samples x 1000 periods, 11 GB (46 s) at 20000 x 1000, "
-                   "both inside the stated ranges, for one number (the largest lateral error); fix: integrate period by period "
-                   "keeping only the running maximum (heading and position carry over), or refuse samples x ride_periods > 2e6 "
-                   "naming cams.x.ride_periods")
 def test_long_ride_memory_does_not_grow_with_the_periods():
     import tracemalloc
 
