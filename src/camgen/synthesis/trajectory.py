@@ -352,5 +352,5 @@ def read_trajectory_csv(path: str, max_rows: int = MAX_ROWS, max_bytes: int = MA
     bad = np.flatnonzero(np.diff(x) <= 0.0)
     if bad.size:
         i = int(bad[0]) + 1
-        raise ParameterError("trajectory_csv", f"{labels[i]}: x = {x[i]!r} after {x[i - 1]!r}", "strictly increasing x (mm)")
+        raise ParameterError("trajectory_csv", f"{labels[i]}: x = {float(x[i])!r} after {float(x[i - 1])!r}", "strictly increasing x (mm)")
     return trajectory_from_table(x, y, source=Path(path).name)

@@ -153,20 +153,29 @@ def _trajectory_cam(path: AnalyticPath, samples: int):
     return compute(parse_scene({"cams": {"x": table}}, "limits"), Plan((), frozenset())).cams[0]
 
 
-@pytest.mark.parametrize("width, samples, works", [(200.0, 720, True), (50.0, 720, False), (50.0, 2880, True), (20.0, 20000, False)])
+@pytest.mark.parametrize("width, samples, works", [(200.0, 720, True), (40.0, 90, False), (40.0, 180, True), (20.0, 20000, False)])
 def test_a_sharp_peak_needs_samples_or_undercuts_by_name(width, samples, works):
-    """A bump of peak curvature 0.01 1/mm (A = 0.005 w^2) on 2000 mm: at 720 samples a 50 mm wide
-    bump's spline overshoots into a rod undercut (named, as a failed check), at 2880 it rides within
-    the bound of test_properties.ride_bound; a 20 mm bump undercuts the 1.5 mm rod at any count."""
+    """A bump of peak curvature 0.01 1/mm (A = 0.005 w^2) on 2000 mm.  The exact rod-centre path
+    (no samples: test_trajectory_limits.exact_undercut_factor) of a 40 mm wide bump turns with
+    a smallest convex radius of 2.63 mm > r_d = 1.5 mm, but at 90 samples the polar spline
+    through the samples overshoots into a rod undercut (named, as a failed check); at 180 it
+    rides within the bound of test_properties.ride_bound.  A 20 mm bump's exact path turns with
+    0.685 mm < r_d: it undercuts at any count.  (Since the polar form, a 50 mm bump, exact
+    radius 4.03 mm, no longer undercuts at 720 samples, nor at 90.)"""
     from camgen.mechanisms import tricycle as tc
+    from camgen.tests.test_trajectory_limits import exact_undercut_factor
 
     path = GaussPath(0.005 * width**2, width)
+    exact_radius = 1.5 / (1.0 - float(exact_undercut_factor(width).min()))  # smallest convex radius, mm
+    assert (exact_radius > 1.5) == (width > 30.0)
     cam = _trajectory_cam(path, samples)
     if not works:
         check = next(c for c in cam.checks if c.name == "undercut")
         assert cam.contour is None and check.failed and check.blocks_manufacture
         if check.where_deg:  # the pitch curve's smallest convex radius against the rod, and where
             assert check.value < check.limit == 1.5
+            if exact_radius < 1.5:  # the true undercut: the spline's radius is the exact one
+                assert check.value == pytest.approx(exact_radius, rel=1e-3)
         else:  # the rod's offset cannot be refitted within 1e-9 mm near a (spline) cusp: said so
             assert "steering rod" in check.note and "cusp" in check.note
         return
