@@ -50,8 +50,12 @@ _DEVICE = ("wheelbase", "half_track", "lever", "rod_radius", "z_rear", "z_cam", 
 
 KEYS = (
     Key("expression", Text(2000), "The path y = f(x) over one period, mm: numbers, x, pi, + - * / **, sin cos tan exp log sqrt abs. "
-        "Give exactly one of expression (with period_mm) and trajectory_csv.", ("profile",)),
-    Key("trajectory_csv", Text(), "A CSV file of x, y rows (mm) over one period, relative to the scene file.", ("profile",)),
+        "Give exactly one of expression (with period_mm) and trajectory_csv. Right turns must keep a radius > "
+        "half_track_mm + lever_mm * wheelbase_mm / (wheelbase_mm - rod_radius_mm) (80.6 mm for Table 2), else the cam "
+        "radius of eq. (13) is <= 0: such a path is refused naming this key.", ("profile",)),
+    Key("trajectory_csv", Text(), "A CSV file of x, y rows (mm) over one period, relative to the scene file: two fields a row "
+        "(comma, semicolon or blanks; no decimal commas), # comments, one optional header row, at most 100000 rows. The path "
+        "obeys expression's limits.", ("profile",)),
     Key("period_mm", Length(), "Period of the expression's path: the distance travelled per cam turn along x.", ("profile",)),
     Key("samples", Count(16, MAX_SAMPLES), "Cam angles per turn at which the cam radius is computed (N).", ("profile",), default=720),
     Key("curvature", Choice(("exact", "forward", "central")),
@@ -68,7 +72,11 @@ KEYS = (
         default=_device_default("z_cam")),
     Key("worm_teeth", Count(1, 100000, "teeth"), "Z3: teeth of the fine-tuning worm wheel (eq. 17), for the fits' advice.", ("report",)),
     Key("ride_periods", Count(1, 1000), "Cam turns of the long ride simulation (its error in the report).", ("report",), default=10),
-    Key("fit_tables", ChoiceList(("A1", "A2")), "Fit the error model to the paper's measured trajectories (Appendix A).", ("report",)),
+    Key("fit_tables", ChoiceList(("A1", "A2")),
+        "Fit the error model to the paper's measured trajectories (Appendix A: rides of the paper's path "
+        "202.4396*sin(pi*x/1000), period 2000 mm). A table that does not determine the five parameters for this cam (the model's "
+        "ride does not reach the table's last x, 2296 mm for A1 and 2063 mm for A2, or the scaled Jacobian's condition number exceeds 1e6) is refused naming this "
+        "key: its uncertainties would be infinite and its adjustment advice meaningless.", ("report",)),
     source_key(),
 ) + body_keys() + check_keys()
 
@@ -84,6 +92,9 @@ class TrajectoryParams:
     ride_periods: int
     fit_tables: tuple[str, ...] = ()
     source: str | None = None
+    #: the scene key that gave the path ("expression" or "trajectory_csv") and its value there
+    path_key: str = "expression"
+    path_value: str = ""
 
 
 @dataclass(frozen=True)
@@ -131,8 +142,9 @@ def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = 
     device = rename_errors(where, lambda: Tricycle(**{k: parsed[k] for k in _DEVICE if k in parsed}), KEYS)
     checks = read_checks(parsed)
     follower = Follower("roller", "translating", roller_radius=device.rod_radius, pressure_angle_limit=checks.pressure_angle_limit)
+    path_key = "expression" if "expression" in parsed else "trajectory_csv"
     params = TrajectoryParams(traj, device, parsed["samples"], parsed["curvature"], parsed["ride_periods"],
-                              parsed.get("fit_tables", ()), parsed.get("source"))
+                              parsed.get("fit_tables", ()), parsed.get("source"), path_key, str(parsed[path_key]))
     return CamSpec(name, "trajectory", params, read_body(where, parsed), checks, follower)
 
 
@@ -140,14 +152,19 @@ def build(spec: CamSpec, stages: frozenset[str]) -> TrajectoryCam:
     """Synthesis; with ``analysis`` the ride figures, the ride file and the fits; with
     ``plots`` the report's curves."""
     from camgen.mechanisms import tricycle as tc
+    from camgen.synthesis.trajectory import PathError
 
     p: TrajectoryParams = spec.params
     traj, device = p.trajectory, p.device
+    where = f"cams.{spec.name}"
     try:
-        cam = with_cam(f"cams.{spec.name}", lambda: tc.tricycle_cam(traj, device, p.samples, p.curvature))
+        cam = with_cam(where, lambda: tc.tricycle_cam(traj, device, p.samples, p.curvature))
     except UndercutError as exc:  # the rod cannot follow this cam: the report shows where and why
         figures = {"trajectory": traj.source, "period_mm": traj.period, "base_radius_mm": device.base_radius}
         return TrajectoryCam(spec.name, spec.kind, None, figures, spec.body, spec.follower, pitch=exc.pitch, undercut=exc)
+    except PathError as exc:  # a path this device cannot steer: the key that gave it, and which paths it can
+        why = str(exc).removeprefix(f"{where}: ")
+        raise ParameterError(f"{where}.{p.path_key}", p.path_value, exc.valid, why) from None
     synth = cam.synthesis
     figures: dict[str, Any] = {
         "trajectory": traj.source,
@@ -169,24 +186,42 @@ def build(spec: CamSpec, stages: frozenset[str]) -> TrajectoryCam:
     one = None
     if "analysis" in stages:
         one = tc.simulate_cam(cam, periods=1)
-        many = tc.simulate_cam(cam, periods=p.ride_periods)
         figures["ride_max_error_mm"] = float(abs(tc.lateral_error(traj, one.x, one.y)).max())
-        figures[f"ride_max_error_{p.ride_periods}_periods_mm"] = float(abs(tc.lateral_error(traj, many.x, many.y)).max())
+        # one cam turn at a time, the running maximum only: memory O(samples) for any ride_periods
+        figures[f"ride_max_error_{p.ride_periods}_periods_mm"] = tc.ride_max_lateral_error(cam, p.ride_periods)
     figures["profile_pieces"] = int(cam.profile.segments[0].n_pieces)
     figures["area_mm2"] = cam.profile.area
     figures["perimeter_mm"] = cam.profile.length
     if p.source is not None:
         figures["source"] = p.source
     if "analysis" in stages and p.fit_tables:
-        from camgen.mechanisms.tricycle_fit import fit_error_model
-
-        figures["fits"] = {name: fit_error_model(cam, tc.load_measured_table(name)).as_dict() for name in p.fit_tables}
+        figures["fits"] = _fits(where, cam, p.fit_tables)
     if one is not None:
         files[f"{spec.name}_ride.csv"] = _ride_csv(spec.name, traj, one)
     built = TrajectoryCam(spec.name, spec.kind, cam.profile, figures, spec.body, spec.follower, pitch=cam.pitch, files=files, tricycle=cam)
     if "plots" in stages:
         built.plots = _plots(cam, figures.get("fits", {}), one)
     return built
+
+
+def _fits(where: str, cam: "TricycleCam", tables: tuple[str, ...]) -> dict[str, Any]:
+    """The error model fitted to each measured table; a table that does not determine it for
+    this cam is refused naming ``fit_tables`` (no infinite uncertainty, no advice from noise)."""
+    from camgen.mechanisms import tricycle as tc
+    from camgen.mechanisms.tricycle_fit import FIT_MAX_CONDITION, FitNotDetermined, fit_error_model
+
+    fits = {}
+    for name in tables:
+        try:
+            fits[name] = fit_error_model(cam, tc.load_measured_table(name)).as_dict()
+        except FitNotDetermined as exc:
+            raise ParameterError(
+                f"{where}.fit_tables", list(tables),
+                "tables that determine the error model for this cam: A1 and A2 are the paper's rides of its own path "
+                f"y = 202.4396 sin(pi x / 1000) (period 2000 mm) measured to x = 2296 mm (A1) and 2063 mm (A2) (scaled Jacobian condition number <= {FIT_MAX_CONDITION:g})",
+                f"table {name} fitted to this cam's path '{cam.trajectory.source}' does not determine the model: {exc.reason}",
+            ) from None
+    return fits
 
 
 def _ride_csv(name: str, traj: "Trajectory", one: "Ride") -> str:

@@ -42,7 +42,7 @@ import numpy as np
 from camgen.contour import Contour, Spline
 from camgen.errors import GeometryError, ParameterError, UndercutError, require_positive
 from camgen.geometry import outward_normal, signed_curvature
-from camgen.synthesis.trajectory import CamSynthesis, Trajectory, synthesize_rho
+from camgen.synthesis.trajectory import CamSynthesis, PathError, Trajectory, steerable_paths, synthesize_rho
 
 
 @dataclass(frozen=True)
@@ -249,7 +249,10 @@ def tricycle_cam(
     by ``r_d`` and refitted within ``offset_tol`` mm (C1 cubic Hermite pieces).
 
     Raises :class:`UndercutError` (with the rod-centre path) where the rod cannot follow the
-    profile: the rod-centre path is convex with a radius of curvature <= ``r_d``.
+    profile: the rod-centre path is convex with a radius of curvature <= ``r_d``; and
+    :class:`~camgen.synthesis.trajectory.PathError` (saying which paths are valid) for a path the
+    device cannot steer: a right turn of radius <= ``D + d L / r_b`` (eq. 13 needs ``1 + D k > 0``
+    and ``rho > 0``), or one the arc-length quadrature does not resolve.
     """
     from camgen.errors import require_positive as _positive
 
@@ -261,7 +264,8 @@ def tricycle_cam(
     synth = synthesize_rho(trajectory, n_samples, device.lever, device.wheelbase, device.half_track, device.base_radius, scheme)
     n = synth.theta.size
     if np.min(synth.rho) <= 0.0:
-        raise GeometryError(f"cam radius rho reaches {np.min(synth.rho):.6g} mm <= 0: the path turns too sharply for r_b = {device.base_radius:g} mm")
+        raise PathError(f"cam radius rho reaches {np.min(synth.rho):.6g} mm <= 0: the path turns too sharply for r_b = {device.base_radius:g} mm",
+                        steerable_paths(device.lever, device.wheelbase, device.half_track, device.base_radius))
     # polar angle phi_j = 2 pi j / N (counter-clockwise) carries the sample of theta = -phi_j
     order = (-np.arange(n)) % n
     phi = 2.0 * math.pi * np.arange(n + 1) / n
@@ -443,12 +447,15 @@ def ride_geometry(profile: Contour, rod_radius: float, nodes: int = 6) -> RideGe
 _outward = outward_normal
 
 
-def _cumulative(values: np.ndarray, geom: RideGeometry) -> np.ndarray:
+def _cumulative(values: np.ndarray, geom: RideGeometry, start: float | None = None) -> np.ndarray:
     """Integral over theta of ``values`` (P, K, m) from theta = 0 to every node and to the end
-    of every node interval: flattened (P K (m + 1),), the interval end after its nodes."""
+    of every node interval: flattened (P K (m + 1),), the interval end after its nodes.
+
+    ``start``: the integral before theta = 0 (a previous cam turn's end value); the running sum
+    is continued from it exactly as one cumulative sum over all the turns would (bit for bit)."""
     weighted = values * geom.scale
     per_interval = (weighted @ geom.weights).ravel()
-    ends = np.cumsum(per_interval)
+    ends = np.cumsum(per_interval) if start is None else np.cumsum(np.concatenate([[start], per_interval]))[1:]
     inner = np.einsum("jl,...l->...j", geom.integration, weighted).reshape(per_interval.size, -1)
     return np.concatenate([(ends - per_interval)[:, None] + inner, ends[:, None]], axis=1).ravel()
 
@@ -549,6 +556,50 @@ def ride(geom: RideGeometry, device: Tricycle, arc_length: float, errors: ErrorM
             speed,
         ).moved(0.0, 0.0, -float(h0[0]))
     return path.moved(0.0, 0.0, errors.start_heading)
+
+
+def ride_max_lateral_error(cam: TricycleCam, periods: int = 1, errors: ErrorModel = ErrorModel(), nodes: int = 6) -> float:
+    """Largest |lateral error| (mm) from the target path of the ride of ``cam`` over ``periods``
+    cam turns, started at cam angle 0 on the designed path.
+
+    The same number, bit for bit, as ``max |lateral_error(simulate_cam(cam, errors, periods))|``,
+    but integrated one cam turn at a time (the heading and the position carry over as the
+    running sums of the one-shot integration; :func:`_cumulative`), keeping only the running
+    maximum: memory O(K m) for K node intervals of m nodes, whatever ``periods`` (the one-shot
+    ride holds periods K (m + 1) values of six arrays: 11 GB at 20000 samples x 1000 turns).
+
+    ``errors.start_phase`` must be 0 (the ride of the report); other starts: :func:`simulate_cam`.
+    """
+    if isinstance(periods, bool) or not isinstance(periods, int) or not 1 <= periods <= 1000:
+        raise ParameterError("periods", periods, "an integer 1 <= periods <= 1000")
+    if errors.start_phase % (2.0 * math.pi) != 0.0:
+        raise ParameterError("start_phase", errors.start_phase, "0 rad (a ride started at theta = 0)", "use simulate_cam")
+    geom = ride_geometry(cam.profile, cam.device.rod_radius, nodes)
+    x0, y0, h0 = design_start(cam, errors.start_phase)
+    speed = errors.drive_scale * cam.synthesis.arc_length / (2.0 * math.pi)
+    rate = speed * steering_curvature(geom.rod, cam.device, errors)[None]  # (1, K, m): d heading / d theta
+    shape = rate.shape
+    at_nodes = np.ones(shape[:-1] + (shape[-1] + 1,), dtype=bool)
+    at_nodes[..., -1] = False
+    at_nodes = at_nodes.ravel()
+    # the two rigid moves of simulate_cam: ride() turns by the start-heading error, then onto the design
+    moves = [(math.cos(errors.start_heading), math.sin(errors.start_heading), 0.0, 0.0), (math.cos(h0), math.sin(h0), x0, y0)]
+
+    def worst(x: np.ndarray, y: np.ndarray) -> float:
+        for c, s, dx, dy in moves:  # as Ride.moved
+            x, y = c * x - s * y + dx, s * x + c * y + dy
+        return float(np.max(np.abs(lateral_error(cam.trajectory, x, y))))
+
+    largest = worst(np.zeros(1), np.zeros(1))
+    heading_end = x_end = y_end = 0.0
+    for _ in range(periods):
+        heading = _cumulative(rate, geom, heading_end)
+        heading_nodes = heading[at_nodes].reshape(shape)
+        x = _cumulative(speed * np.cos(heading_nodes), geom, x_end)
+        y = _cumulative(speed * np.sin(heading_nodes), geom, y_end)
+        heading_end, x_end, y_end = float(heading[-1]), float(x[-1]), float(y[-1])
+        largest = max(largest, worst(x, y))
+    return largest
 
 
 def lateral_error(trajectory: Trajectory, x: np.ndarray, y: np.ndarray) -> np.ndarray:

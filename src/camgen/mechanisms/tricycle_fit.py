@@ -11,6 +11,16 @@ Uncertainties are one standard deviation from the Gauss-Newton covariance
 ``s^2 (J^T J)^-1`` with ``s^2 = RSS / (n - p)`` (the measurement noise is not given in the
 paper; the residuals estimate it).
 
+A fit the table does not determine is refused (:class:`FitNotDetermined`), never reported with
+infinite, zero or meaningless uncertainties and adjustment advice: when the model's ride does
+not reach the table's x at the solution (it falls short or turns back: e.g. the paper's tables,
+measured to x = 2296 and 2063 mm, fitted to a cam of a 20 mm period), or when the Jacobian, its columns scaled by
+:data:`PARAMETER_SCALE`, has a condition number above ``max_condition``
+(:data:`FIT_MAX_CONDITION`): its forward differences carry a relative error of about
+``sqrt(eps) = 1.5e-8`` of its largest singular value, so a direction whose singular value is
+within a factor 100 of that noise is not determined by the data (the paper's path fitted to
+Tables A1/A2: condition numbers 55 and 69).
+
 Adjustments (paper 004, eqs. 16-17 and Fig. 8):
 
 * the worm knob turns the steering by ``1 / Z3`` deg per knob degree: removing ``delta``
@@ -97,6 +107,23 @@ START_PHASES_DEG = (0.0, 10.0, -10.0)
 PARAMETER_SCALE = np.array([0.1, 0.05, 0.02, 5.0, 1.0])
 #: Levenberg-Marquardt stops when the cost falls by less than this fraction in an accepted step.
 FIT_FTOL = 1e-12
+#: Largest condition number of the scaled Jacobian of a fit that is reported (module notes).
+FIT_MAX_CONDITION = 1e6
+
+
+class FitNotDetermined(GeometryError):
+    """The measured table does not determine the error model for this cam (module notes).
+
+    Attributes
+    ----------
+    table : the table's name.
+    reason : why, in words (for the message naming the scene key).
+    """
+
+    def __init__(self, table: str, reason: str) -> None:
+        super().__init__(f"the error model fitted to table {table} is not determined: {reason}")
+        self.table = table
+        self.reason = reason
 
 
 @dataclass(frozen=True)
@@ -165,16 +192,25 @@ def levenberg_marquardt(residual: Callable[[np.ndarray], np.ndarray], p0: np.nda
     return LeastSquares(p, r, jac, cost, nfev)
 
 
-def fit_error_model(cam: TricycleCam, table: MeasuredTable, nodes: int = 4, starts: str = "one") -> FitResult:
+def fit_error_model(cam: TricycleCam, table: MeasuredTable, nodes: int = 4, starts: str = "one",
+                    max_condition: float = FIT_MAX_CONDITION) -> FitResult:
     """Least-squares fit of the five error-model parameters to ``table``.
 
     ``starts="one"``: Levenberg-Marquardt from the design (no errors, drive scale 1, phase 0);
     ``"all"``: also from the measured period ratio and phases +-10 deg (:data:`START_PHASES_DEG`),
     keeping the lowest cost.  On Tables A1 and A2 every start reaches the same minimum (tested;
     benchmarks/bench_tricycle.py shows it), so one start is the default.
+
+    Raises
+    ------
+    FitNotDetermined
+        When the model's ride does not reach the table at the solution, or the scaled Jacobian's
+        condition number exceeds ``max_condition`` (module notes).
     """
     if starts not in ("one", "all"):
         raise ParameterError("starts", starts, '"one" or "all"')
+    if not max_condition > 1.0:
+        raise ParameterError("max_condition", max_condition, "> 1")
 
     geom = ride_geometry(cam.profile, cam.device.rod_radius, nodes)
     x, y = table.x[1:], table.measured[1:]  # row 1 is the start (0, 0)
@@ -196,6 +232,7 @@ def fit_error_model(cam: TricycleCam, table: MeasuredTable, nodes: int = 4, star
             if best is None or fit.cost < best.cost:
                 best = fit
     assert best is not None
+    _require_determined(cam, geom, best, x, table.name, max_condition)
     n, k = x.size, best.x.size
     rss = float(np.sum(best.fun**2))
     jac = best.jac
@@ -208,6 +245,29 @@ def fit_error_model(cam: TricycleCam, table: MeasuredTable, nodes: int = 4, star
     values["start_phase_deg"] %= 360.0
     uncertainty = dict(zip(PARAMETERS, (float(s) for s in sigma)))
     return FitResult(table.name, values, uncertainty, math.sqrt(rss / n), n, adjustment_advice(cam, values))
+
+
+def _require_determined(cam: TricycleCam, geom: Any, fit: LeastSquares, x: np.ndarray, table: str, max_condition: float) -> None:
+    """Raise :class:`FitNotDetermined` unless the ride reaches ``x`` (mm) at the solution and the
+    scaled Jacobian's condition number is at most ``max_condition``."""
+    errors = _errors(fit.x)
+    try:
+        _, _, heading0 = design_start(cam, errors.start_phase)
+        path = ride(geom, cam.device, cam.synthesis.arc_length, errors, 2).moved(0.0, 0.0, heading0)
+    except GeometryError as exc:
+        raise FitNotDetermined(table, f"the ride cannot be simulated at the solution ({exc})") from None
+    if not np.all(np.diff(path.x) > 0) or path.x[-1] < x.max():
+        raise FitNotDetermined(
+            table, f"the model's ride over two cam turns ({float(path.x[-1]):.6g} mm, period {cam.trajectory.period:g} mm) does not "
+            f"run forward through the table's x up to {float(x.max()):.6g} mm at the fitted parameters")
+    _, singular, vt = np.linalg.svd(fit.jac * PARAMETER_SCALE)
+    condition = float(singular[0] / singular[-1]) if singular[-1] > 0 else math.inf
+    if not condition <= max_condition:
+        weak = [name for name, c in zip(PARAMETERS, vt[-1]) if abs(c) >= 0.3]  # the least determined direction
+        what = weak[0] if len(weak) == 1 else f"a combination of {', '.join(weak)}"
+        raise FitNotDetermined(
+            table, f"the scaled Jacobian's condition number is {condition:.3g} > {max_condition:g}: {what} barely changes "
+            "the ride at the table's points")
 
 
 def adjustment_advice(cam: TricycleCam, values: dict[str, float]) -> dict[str, Any]:

@@ -218,8 +218,8 @@ def _wrap(theta: np.ndarray) -> np.ndarray:
     return u
 
 
-def _bad(path: str, where: str, valid: str, why: str = "") -> ParameterError:
-    return ParameterError("lift_table_csv", f"{path}{', ' + where if where else ''}", valid, why)
+def _bad(path: str, where: str, valid: str, why: str = "", key: str = "lift_table_csv") -> ParameterError:
+    return ParameterError(key, f"{path}{', ' + where if where else ''}", valid, why)
 
 
 def _fields(line: str) -> list[str]:
@@ -234,12 +234,25 @@ def _number(text: str) -> float | None:
         return None
 
 
-def parse_lift_table(text: str, path: str = "<text>", max_rows: int = MAX_ROWS) -> tuple[np.ndarray, np.ndarray, list[str]]:
-    """Rows of a lift-table CSV text: (angles_deg, lifts, labels "line k" for errors)."""
-    angles: list[float] = []
-    lifts: list[float] = []
+def parse_two_column_table(text: str, path: str = "<text>", key: str = "lift_table_csv",
+                           columns: tuple[str, str] = ("angle_deg", "lift"),
+                           max_rows: int = MAX_ROWS) -> tuple[np.ndarray, np.ndarray, list[str]]:
+    """Rows of a two-column CSV text (the format of the module docstring): (first column,
+    second column, labels "<path>, line k" for later errors), shapes (n,), (n,), n.
+
+    Shared by the lift table, the dynamics load table and the trajectory table (``x, y``).  A
+    row of other than two fields (a third column, decimal commas) is refused, never truncated.
+
+    Raises
+    ------
+    ParameterError
+        Naming ``key``, the file, the line number and the row.
+    """
+    first: list[float] = []
+    second: list[float] = []
     labels: list[str] = []
     seen_row = False
+    pair = f"'{columns[0]}, {columns[1]}'"
     for number, raw in enumerate(text.splitlines(), start=1):
         line = raw.split("#", 1)[0].strip()
         if not line:
@@ -247,22 +260,44 @@ def parse_lift_table(text: str, path: str = "<text>", max_rows: int = MAX_ROWS) 
         fields = _fields(line)
         where = f"line {number}: {raw.strip()!r}"
         if len(fields) != 2 or not all(fields):
-            raise _bad(path, where, "rows of two fields 'angle_deg, lift' (comma, semicolon or blank separated; no decimal commas)")
+            raise _bad(path, where, f"rows of two fields {pair} (comma, semicolon or blank separated; no decimal commas)",
+                       f"{len(fields)} fields", key)
         values = [_number(f) for f in fields]
         if values[0] is None and values[1] is None and not seen_row:
             seen_row = True  # the header row
             continue
         seen_row = True
         if values[0] is None or values[1] is None:
-            raise _bad(path, where, "two numbers 'angle_deg, lift'")
+            raise _bad(path, where, f"two numbers {pair}", key=key)
         if not (math.isfinite(values[0]) and math.isfinite(values[1])):
-            raise _bad(path, where, "finite numbers")
-        angles.append(values[0])
-        lifts.append(values[1])
+            raise _bad(path, where, "finite numbers", key=key)
+        first.append(values[0])
+        second.append(values[1])
         labels.append(f"{path}, line {number}")
-        if len(angles) > max_rows:
-            raise _bad(path, where, f"at most {max_rows} rows")
-    return np.array(angles), np.array(lifts), labels
+        if len(first) > max_rows:
+            raise _bad(path, where, f"at most {max_rows} rows", key=key)
+    return np.array(first), np.array(second), labels
+
+
+def parse_lift_table(text: str, path: str = "<text>", max_rows: int = MAX_ROWS) -> tuple[np.ndarray, np.ndarray, list[str]]:
+    """Rows of a lift-table CSV text: (angles_deg, lifts, labels "line k" for errors)."""
+    return parse_two_column_table(text, path, "lift_table_csv", ("angle_deg", "lift"), max_rows)
+
+
+def read_two_column_table(path: str | os.PathLike[str], key: str, columns: tuple[str, str], max_rows: int = MAX_ROWS,
+                          max_bytes: int = MAX_BYTES) -> tuple[np.ndarray, np.ndarray, list[str]]:
+    """Read a two-column CSV file (regular, UTF-8, at most ``max_bytes`` bytes, no NUL) and parse
+    it with :func:`parse_two_column_table`; errors name ``key``, the file and the line."""
+    from camgen.textfile import TextFileError, read_text_file
+
+    name = str(path)
+    try:
+        text = read_text_file(path, max_bytes)
+    except TextFileError as exc:
+        raise _bad(name, "", f"a readable regular UTF-8 file of at most {max_bytes} bytes", str(exc), key) from None
+    if "\x00" in text:
+        raise _bad(name, f"character {text.index(chr(0))}", "text without NUL characters", key=key)
+    return parse_two_column_table(text, name, key, columns, max_rows)
 
 
 def read_lift_table(path: str | os.PathLike[str], degree: int = 5, unit: str = "mm", close_tol: float = 1e-9,
@@ -279,15 +314,6 @@ def read_lift_table(path: str | os.PathLike[str], degree: int = 5, unit: str = "
     ParameterError
         Naming ``lift_table_csv``, the file and the offending line.
     """
-    from camgen.textfile import TextFileError, read_text_file
-
-    name = str(path)
-    try:
-        text = read_text_file(path, max_bytes)
-    except TextFileError as exc:
-        raise _bad(name, "", f"a readable regular UTF-8 file of at most {max_bytes} bytes", str(exc)) from None
-    if "\x00" in text:
-        raise _bad(name, f"character {text.index(chr(0))}", "text without NUL characters")
-    angles, lifts, labels = parse_lift_table(text, name, max_rows)
+    angles, lifts, labels = read_two_column_table(path, "lift_table_csv", ("angle_deg", "lift"), max_rows, max_bytes)
     return LiftTable(angles, lifts * lift_scale, degree=degree, unit=unit, close_tol=close_tol, max_rows=max_rows,
                      key="lift_table_csv", rows=labels)

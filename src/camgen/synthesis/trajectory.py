@@ -36,7 +36,43 @@ Func = Callable[[np.ndarray], np.ndarray]
 SCHEMES = ("exact", "forward", "central")
 #: Largest trajectory table read, bytes.
 MAX_TABLE_BYTES = 8 << 20
+#: Largest number of rows of a trajectory table (the lift table's cap).
+MAX_ROWS = 100_000
 _GL_NODES, _GL_WEIGHTS = np.polynomial.legendre.leggauss(20)
+#: Points of the uniform grid (one period) at which the exact curvature is checked besides the
+#: arc-length quadrature nodes.
+CHECK_GRID = 4001
+
+
+class PathError(GeometryError):
+    """The device is valid but the path cannot be steered (or resolved) with it.
+
+    ``valid`` states which paths can, for the scene key that gave the path (the cam kind turns
+    this into a :class:`~camgen.errors.ParameterError` naming ``expression`` or ``trajectory_csv``).
+    """
+
+    def __init__(self, message: str, valid: str = "a path the device can steer") -> None:
+        super().__init__(message)
+        self.valid = valid
+
+
+def steerable_radius(d: float, wheelbase: float, half_track: float, base_radius: float) -> float:
+    """Smallest radius (mm) of a right turn the device can steer: ``D + d L / r_b``.
+
+    Eq. (13), ``rho = d L k / (1 + D k) + r_b``, needs ``1 + D k > 0`` (a right turn, ``k < 0``,
+    of radius ``R = 1/|k| > D``) and ``rho > 0``; for ``k < 0`` the latter is
+    ``r_b > d L / (R - D)``, i.e. ``R > D + d L / r_b``, the stronger of the two.  Left turns
+    (``k > 0``) keep ``rho`` between ``r_b`` and ``r_b + d L / D`` at any radius.
+    """
+    return half_track + d * wheelbase / base_radius
+
+
+def steerable_paths(d: float, wheelbase: float, half_track: float, base_radius: float) -> str:
+    """The valid range of a path for the device, as the error messages state it."""
+    r_min = steerable_radius(d, wheelbase, half_track, base_radius)
+    return (f"a path whose right turns keep a radius > {r_min:.6g} mm = half_track_mm + lever_mm * wheelbase_mm / r_b "
+            f"(D = {half_track:g}, d = {d:g}, L = {wheelbase:g}, r_b = L - rod_radius_mm = {base_radius:g} mm), "
+            "features resolved by the arc-length quadrature (one period in at most 16384 panels)")
 
 
 @dataclass(frozen=True)
@@ -134,6 +170,11 @@ class ArcLength:
         slope = self.trajectory.df(x)
         return np.sqrt(1.0 + slope * slope)
 
+    def nodes(self) -> np.ndarray:
+        """The Gauss-Legendre nodes of every panel (M, 20), mm."""
+        half = 0.5 * np.diff(self.edges)
+        return self.edges[:-1, None] + half[:, None] * (_GL_NODES + 1.0)
+
     def __call__(self, x: np.ndarray) -> np.ndarray:
         """s(x), mm, for 0 <= x <= period (vectorised)."""
         x = np.asarray(x, dtype=float)
@@ -152,7 +193,9 @@ class ArcLength:
             if np.max(np.abs(residual), initial=0.0) <= newton_tol:
                 return x
             x = np.clip(x - residual / self.speed(x), 0.0, self.trajectory.period)
-        raise GeometryError(f"arc-length inversion did not converge to {newton_tol:g} mm in {max_iter} Newton steps")
+        raise PathError(f"arc-length inversion did not converge to {newton_tol:g} mm in {max_iter} Newton steps: the path has "
+                        "features finer than the arc-length quadrature resolves",
+                        "a path whose features the arc-length quadrature resolves (one period in at most 16384 panels)")
 
 
 def arc_length(trajectory: Trajectory, rel_tol: float = 1e-12, max_panels: int = 1 << 14) -> ArcLength:
@@ -169,7 +212,8 @@ def arc_length(trajectory: Trajectory, rel_tol: float = 1e-12, max_panels: int =
         if previous is not None and abs(cumulative[-1] - previous) <= rel_tol * cumulative[-1]:
             return ArcLength(trajectory, edges, cumulative)
         if panels >= max_panels:
-            raise GeometryError(f"arc length of '{trajectory.source}' did not converge to {rel_tol:g} relative")
+            raise PathError(f"arc length of '{trajectory.source}' did not converge to {rel_tol:g} relative in {max_panels} panels",
+                            f"a path whose features the arc-length quadrature resolves (one period in at most {max_panels} panels)")
         previous = cumulative[-1]
         panels *= 2
 
@@ -177,9 +221,11 @@ def arc_length(trajectory: Trajectory, rel_tol: float = 1e-12, max_panels: int =
 # --------------------------------------------------------------------------------------------
 # Curvature schemes and the cam radius
 # --------------------------------------------------------------------------------------------
-def sample_path(trajectory: Trajectory, n_samples: int, newton_tol: float = 1e-10) -> tuple[np.ndarray, np.ndarray, ArcLength]:
-    """Cam angles ``theta_i = 2 pi i / N`` (rad), path abscissae ``x_i = x(S theta_i / 2 pi)`` (mm), and the arc length."""
-    length = arc_length(trajectory)
+def sample_path(trajectory: Trajectory, n_samples: int, newton_tol: float = 1e-10,
+                length: ArcLength | None = None) -> tuple[np.ndarray, np.ndarray, ArcLength]:
+    """Cam angles ``theta_i = 2 pi i / N`` (rad), path abscissae ``x_i = x(S theta_i / 2 pi)`` (mm), and the arc length
+    (``length`` if given, else computed)."""
+    length = arc_length(trajectory) if length is None else length
     theta = 2.0 * math.pi * np.arange(n_samples) / n_samples
     x = length.inverse(length.total * theta / (2.0 * math.pi), newton_tol)
     return theta, x, length
@@ -206,16 +252,25 @@ def path_curvature(trajectory: Trajectory, x: np.ndarray, scheme: str = "exact")
 
 
 def cam_radius(k: np.ndarray, d: float, wheelbase: float, half_track: float, base_radius: float) -> np.ndarray:
-    """Paper 004, eq. (13): ``rho = d L k / (1 + D k) + r_b`` (mm), for path curvature ``k`` (1/mm)."""
+    """Paper 004, eq. (13): ``rho = d L k / (1 + D k) + r_b`` (mm), for path curvature ``k`` (1/mm).
+
+    Raises :class:`PathError` where ``1 + D k <= 0`` or ``rho <= 0`` (:func:`steerable_radius`).
+    """
+    valid = steerable_paths(d, wheelbase, half_track, base_radius)
     denom = 1.0 + half_track * k
     if np.any(denom <= 0.0):
         worst = float(k[np.argmin(denom)])
-        raise GeometryError(
+        raise PathError(
             f"path curvature k = {worst:.6g} 1/mm makes 1 + D k = {1.0 + half_track * worst:.6g} <= 0 "
-            f"(D = {half_track:g} mm): a right turn of radius {1.0 / abs(worst):.6g} mm <= D cannot be steered; "
-            "the path's radius must stay above D"
-        )
-    return d * wheelbase * k / denom + base_radius
+            f"(D = {half_track:g} mm): a right turn of radius {1.0 / abs(worst):.6g} mm <= D cannot be steered "
+            "(the rear-axle centre would have to turn about the drive wheel)", valid)
+    rho = d * wheelbase * k / denom + base_radius
+    if np.any(rho <= 0.0):
+        worst = int(np.argmin(rho))
+        raise PathError(
+            f"a right turn of radius {1.0 / abs(float(k[worst])):.6g} mm makes the cam radius rho = {float(rho[worst]):.6g} mm "
+            f"<= 0 (eq. 13): the path turns too sharply for r_b = {base_radius:g} mm", valid)
+    return rho
 
 
 @dataclass(frozen=True)
@@ -261,39 +316,41 @@ def synthesize_rho(
         raise ParameterError("samples", n_samples, "an integer 16 <= N <= 1000000", "the cam spline needs enough points per turn")
     if scheme not in SCHEMES:
         raise ParameterError("scheme", scheme, f"one of {SCHEMES}")
-    theta, x, length = sample_path(trajectory, int(n_samples), newton_tol)
-    # the exact curvature must also keep 1 + D k > 0 between the samples
-    dense = np.linspace(0.0, trajectory.period, 4001)
+    length = arc_length(trajectory)
+    # the exact curvature must also keep 1 + D k > 0 and rho > 0 between the samples: on a uniform
+    # grid and at the arc-length quadrature's nodes (as fine as the quadrature resolves the path)
+    dense = np.concatenate([np.linspace(0.0, trajectory.period, CHECK_GRID), length.nodes().ravel()])
     cam_radius(trajectory.curvature(dense), d, wheelbase, half_track, base_radius)
+    theta, x, length = sample_path(trajectory, int(n_samples), newton_tol, length)
     k = path_curvature(trajectory, x, scheme)
     rho = cam_radius(k, d, wheelbase, half_track, base_radius)
     return CamSynthesis(theta, x, k, rho, length.total, scheme, length)
 
 
-def read_trajectory_csv(path: str) -> Trajectory:
-    """Trajectory from a CSV file of ``x, y`` rows (mm): ``#`` comments and one optional header
-    row are skipped; the rows cover one period, the last ``y`` equal to the first."""
-    import csv
+def read_trajectory_csv(path: str, max_rows: int = MAX_ROWS, max_bytes: int = MAX_TABLE_BYTES) -> Trajectory:
+    """Trajectory from a CSV file of ``x, y`` rows (mm) over one period, the last ``y`` equal to
+    the first.
+
+    The format is the lift table's (:func:`camgen.synthesis.lift_table.parse_two_column_table`,
+    one reader for both): exactly two fields a row, separated by a comma, a semicolon or blanks
+    (no decimal commas: ``50,0,1,23`` is four fields, refused); ``#`` comments and blank lines
+    skipped; one optional header row of two non-numeric fields; at most ``max_rows`` rows and
+    ``max_bytes`` bytes.
+
+    Raises
+    ------
+    ParameterError
+        Naming ``trajectory_csv``, the file, and for a bad row its line number and text.
+    """
     from pathlib import Path
 
-    from camgen.textfile import TextFileError, read_text_file
+    from camgen.synthesis.lift_table import read_two_column_table
 
-    file = Path(path)
-    try:
-        text = read_text_file(file, MAX_TABLE_BYTES)
-    except TextFileError as exc:
-        raise ParameterError("trajectory_csv", str(path), f"a readable UTF-8 CSV file of x, y rows, at most {MAX_TABLE_BYTES} bytes",
-                             str(exc)) from None
-    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
-    rows = list(csv.reader(lines))
-    try:
-        float(rows[0][0])
-    except (ValueError, IndexError):
-        rows = rows[1:]  # header row
-    try:
-        data = np.array([[float(r[0]), float(r[1])] for r in rows])
-    except (ValueError, IndexError):
-        raise ParameterError("trajectory_csv", str(path), "rows of two numbers x, y (mm)") from None
-    if data.ndim != 2 or len(data) < 8:
-        raise ParameterError("trajectory_csv", str(path), "at least 8 rows of x, y (mm)")
-    return trajectory_from_table(data[:, 0], data[:, 1], source=file.name)
+    x, y, labels = read_two_column_table(path, "trajectory_csv", ("x", "y"), max_rows, max_bytes)
+    if x.size < 8:
+        raise ParameterError("trajectory_csv", str(path), "at least 8 rows of x, y (mm)", f"{x.size} rows")
+    bad = np.flatnonzero(np.diff(x) <= 0.0)
+    if bad.size:
+        i = int(bad[0]) + 1
+        raise ParameterError("trajectory_csv", f"{labels[i]}: x = {float(x[i])!r} after {float(x[i - 1])!r}", "strictly increasing x (mm)")
+    return trajectory_from_table(x, y, source=Path(path).name)

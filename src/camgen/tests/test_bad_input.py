@@ -260,13 +260,6 @@ def malformed_tables(rows: list[tuple[float, float]]) -> dict[str, str | bytes]:
 
 #: Cases that fail today in files this test's owner may not edit (the fix is described in each reason).
 KNOWN_BUGS = {
-    "trajectory-table-three-columns": "synthesis/trajectory.py read_trajectory_csv reads r[0], r[1] and ignores further "
-    "columns (an index column first silently shifts x and y); fix: refuse rows of != 2 fields, naming trajectory_csv and the line",
-    "trajectory-table-decimal-commas": "synthesis/trajectory.py read_trajectory_csv: '50,0,1,23' (decimal commas) is read "
-    "as x = 50, y = 0 and the run succeeds on a wrong path; fix: refuse rows of != 2 fields (as the lift table does)",
-    "trajectory-table-too-many-rows": "synthesis/trajectory.py has no row cap (lift tables: 100000): 200001 rows over a "
-    "20 mm period run ~1 s and end in 'report value report.cams.x.figures.fits.A1.uncertainty_1sigma... = inf'; fix: "
-    "MAX_ROWS = 100000 in read_trajectory_csv, and see test_limits.test_fit_of_an_unrelated_path_names_fit_tables",
 }
 
 

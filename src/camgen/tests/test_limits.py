@@ -180,20 +180,29 @@ def _trajectory_cam(path: AnalyticPath, samples: int):
     return compute(parse_scene({"cams": {"x": table}}, "limits"), Plan((), frozenset())).cams[0]
 
 
-@pytest.mark.parametrize("width, samples, works", [(200.0, 720, True), (50.0, 720, False), (50.0, 2880, True), (20.0, 20000, False)])
+@pytest.mark.parametrize("width, samples, works", [(200.0, 720, True), (40.0, 90, False), (40.0, 180, True), (20.0, 20000, False)])
 def test_a_sharp_peak_needs_samples_or_undercuts_by_name(width, samples, works):
-    """A bump of peak curvature 0.01 1/mm (A = 0.005 w^2) on 2000 mm: at 720 samples a 50 mm wide
-    bump's spline overshoots into a rod undercut (named, as a failed check), at 2880 it rides within
-    the bound of test_properties.ride_bound; a 20 mm bump undercuts the 1.5 mm rod at any count."""
+    """A bump of peak curvature 0.01 1/mm (A = 0.005 w^2) on 2000 mm.  The exact rod-centre path
+    (no samples: test_trajectory_limits.exact_undercut_factor) of a 40 mm wide bump turns with
+    a smallest convex radius of 2.63 mm > r_d = 1.5 mm, but at 90 samples the polar spline
+    through the samples overshoots into a rod undercut (named, as a failed check); at 180 it
+    rides within the bound of test_properties.ride_bound.  A 20 mm bump's exact path turns with
+    0.685 mm < r_d: it undercuts at any count.  (Since the polar form, a 50 mm bump, exact
+    radius 4.03 mm, no longer undercuts at 720 samples, nor at 90.)"""
     from camgen.mechanisms import tricycle as tc
+    from camgen.tests.test_trajectory_limits import exact_undercut_factor
 
     path = GaussPath(0.005 * width**2, width)
+    exact_radius = 1.5 / (1.0 - float(exact_undercut_factor(width).min()))  # smallest convex radius, mm
+    assert (exact_radius > 1.5) == (width > 30.0)
     cam = _trajectory_cam(path, samples)
     if not works:
         check = next(c for c in cam.checks if c.name == "undercut")
         assert cam.contour is None and check.failed and check.blocks_manufacture
         if check.where_deg:  # the pitch curve's smallest convex radius against the rod, and where
             assert check.value < check.limit == 1.5
+            if exact_radius < 1.5:  # the true undercut: the spline's radius is the exact one
+                assert check.value == pytest.approx(exact_radius, rel=1e-3)
         else:  # the rod's offset cannot be refitted within 1e-9 mm near a (spline) cusp: said so
             assert "steering rod" in check.note and "cusp" in check.note
         return
@@ -204,10 +213,6 @@ def test_a_sharp_peak_needs_samples_or_undercuts_by_name(width, samples, works):
     assert np.max(lateral) <= bound
 
 
-@pytest.mark.xfail(strict=True, reason="kinds/trajectory.py build: a GeometryError of tc.tricycle_cam other than the undercut "
-                   "(path curvature beyond 1/D; the arc-length inversion not converging) is re-raised as 'cams.x: ...' naming no "
-                   "key; fix: catch GeometryError around tc.tricycle_cam and raise ParameterError(f'{where}.expression' (or "
-                   "'.trajectory_csv'), source, 'a path whose right turns keep a radius > half_track_mm = D', str(exc))")
 @pytest.mark.parametrize("expression, period", [("5.0*exp(-((x-1000.0)/20.0)**2)", 2000.0), ("1e-7*sin(2*pi*x/1e-6)", 1e-6),
                                                 ("1e-3*sin(2*pi*1000000*x/2000)", 2000.0)])
 def test_a_path_too_sharp_to_steer_names_its_key(expression, period, tmp_path, capsys):
@@ -216,28 +221,25 @@ def test_a_path_too_sharp_to_steer_names_its_key(expression, period, tmp_path, c
     scene = tmp_path / "s.toml"
     scene.write_text(f'[cams.x]\nkind = "trajectory"\nexpression = "{expression}"\nperiod_mm = {period!r}\n')
     assert main(["run", str(scene), "-o", str(tmp_path / "out")]) == 2
-    assert "cams.x.expression" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "parameter 'cams.x.expression'" in err and expression in err
+    # eq. (13) rho = d L k / (1 + D k) + r_b > 0 for k = -1/R: R > D + d L / r_b (Table 2: D 50, d 30, L 77, r_b 77 - 1.5)
+    assert f"right turns keep a radius > {50 + 30 * 77 / 75.5:.6g} mm" in err
+    assert not (tmp_path / "out").exists()
 
 
-@pytest.mark.xfail(strict=True, reason="mechanisms/tricycle_fit.py / kinds/trajectory.py: the paper's measured tables A1/A2 fitted "
-                   "to an unrelated path (here a straight line) give an infinite uncertainty and the run ends in 'report value "
-                   "report.cams.x.figures.fits.A1.uncertainty_1sigma.steering_offset_deg = inf is not finite'; fix: refuse in "
-                   "kinds/trajectory.read/build with ParameterError('cams.x.fit_tables', ...) when the fit is singular (or "
-                   "report the uncertainty as not determined)")
 def test_fit_of_an_unrelated_path_names_fit_tables(tmp_path, capsys):
     from camgen.cli import main
 
     scene = tmp_path / "s.toml"
     scene.write_text('[cams.x]\nkind = "trajectory"\nexpression = "0*x"\nperiod_mm = 20.0\nfit_tables = ["A1"]\n')
     assert main(["run", str(scene), "-o", str(tmp_path / "out")]) == 2
-    assert "cams.x.fit_tables" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    # a 20 mm period rides 40 mm in the model's two cam turns: it cannot reach Table A1's last x, 2295.5 mm
+    assert "parameter 'cams.x.fit_tables'" in err and "not determine" in err and "2295.5 mm" in err
+    assert "inf" not in err.replace("is invalid", "") and not (tmp_path / "out").exists()
 
 
-@pytest.mark.xfail(strict=True, reason="kinds/trajectory.py build: simulate_cam(cam, periods=ride_periods) keeps every node of "
-                   "every period (samples x periods x 6): 400 MB at 720 samples x 1000 periods, 11 GB (46 s) at 20000 x 1000, "
-                   "both inside the stated ranges, for one number (the largest lateral error); fix: integrate period by period "
-                   "keeping only the running maximum (heading and position carry over), or refuse samples x ride_periods > 2e6 "
-                   "naming cams.x.ride_periods")
 def test_long_ride_memory_does_not_grow_with_the_periods():
     import tracemalloc
 
