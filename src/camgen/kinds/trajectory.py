@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from camgen.errors import ParameterError, SceneError, UndercutError
+from camgen.errors import GeometryError, ParameterError, SceneError, UndercutError
 from camgen.kinds.base import (
     BuiltCam,
     CamKind,
@@ -165,6 +165,22 @@ def build(spec: CamSpec, stages: frozenset[str]) -> TrajectoryCam:
     except PathError as exc:  # a path this device cannot steer: the key that gave it, and which paths it can
         why = str(exc).removeprefix(f"{where}: ")
         raise ParameterError(f"{where}.{p.path_key}", p.path_value, exc.valid, why) from None
+    try:
+        return _analysed(spec, cam, stages)
+    except GeometryError as exc:  # e.g. a profile folding back near a turn close to the steerable radius
+        why = str(exc).removeprefix(f"{where}: ")
+        raise ParameterError(f"{where}.{p.path_key}", p.path_value,
+                             "a path whose cam profile is star-shaped about the cam axis (each ray from the axis meets it once: "
+                             "the ride and the contact are measured along those rays); its sharpest right turns need a radius "
+                             "somewhat above the steerable one", why) from None
+
+
+def _analysed(spec: CamSpec, cam: "TricycleCam", stages: frozenset[str]) -> TrajectoryCam:
+    """The figures, files and plots of a synthesised steering cam."""
+    from camgen.mechanisms import tricycle as tc
+
+    p: TrajectoryParams = spec.params
+    traj, device = p.trajectory, p.device
     synth = cam.synthesis
     figures: dict[str, Any] = {
         "trajectory": traj.source,
@@ -195,7 +211,7 @@ def build(spec: CamSpec, stages: frozenset[str]) -> TrajectoryCam:
     if p.source is not None:
         figures["source"] = p.source
     if "analysis" in stages and p.fit_tables:
-        figures["fits"] = _fits(where, cam, p.fit_tables)
+        figures["fits"] = _fits(f"cams.{spec.name}", cam, p.fit_tables)
     if one is not None:
         files[f"{spec.name}_ride.csv"] = _ride_csv(spec.name, traj, one)
     built = TrajectoryCam(spec.name, spec.kind, cam.profile, figures, spec.body, spec.follower, pitch=cam.pitch, files=files, tricycle=cam)

@@ -171,6 +171,20 @@ def test_a_table_too_sharp_to_steer_names_trajectory_csv(tmp_path, capsys):
     assert "parameter 'cams.x.trajectory_csv' = 'path.csv'" in err and "right turns" in err, err
 
 
+def test_a_profile_that_folds_back_names_the_expression(tmp_path, capsys):
+    """y = 1200 sin(2 pi x / 2000): its sharpest turn, radius P^2 / (4 pi^2 A) = 84.4 mm, is above
+    Table 2's steerable radius (D + d L / r_b = 80.6 mm), but the profile folds back near it (a ray
+    from the axis meets it three times): refused naming the expression, nothing written."""
+    from camgen.cli import main
+
+    assert 2000.0**2 / (4 * math.pi**2 * 1200.0) == pytest.approx(84.43, abs=0.01)
+    (tmp_path / "s.toml").write_text('[cams.x]\nkind = "trajectory"\nexpression = "1200*sin(2*pi*x/2000)"\nperiod_mm = 2000.0\n')
+    assert main(["run", str(tmp_path / "s.toml"), "-o", str(tmp_path / "out"), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "parameter 'cams.x.expression' = '1200*sin(2*pi*x/2000)'" in err and "star-shaped" in err, err
+    assert not (tmp_path / "out").exists()
+
+
 # --------------------------------------------------------------------------------------------
 # The trajectory CSV reader
 # --------------------------------------------------------------------------------------------
