@@ -444,7 +444,8 @@ def assembly_range(leg: HorseLeg, positions: int = 3600, branches: Branches = Br
     bisection to ``tol`` at ``positions`` cam angles, and returned on the side where the leg
     assembles.  The alpha1-independent loops (four-bar, lifting loop) are solved once: when
     they cannot close, their :class:`GeometryError` is raised (no inclination helps).
-    For the paper's leg and cams (Section 6): 9.134 to 20.216 deg.
+    For the paper's leg and cams (Section 6): 9.382 to 20.111 deg (3600 positions; test_limits.py
+    checks both ends against an independent root count of the paper's eqs. 4-8).
     """
     stride, height = cams if cams is not None else _cams(leg)
     grids = {n: cycle(n) for n in (ASSEMBLY_SCAN_POSITIONS, positions)}

@@ -98,3 +98,33 @@ def test_the_plate_cam_figures_quoted_are_the_programs(tree):
     checks = {c.name: c for cam in result.cams for c in cam.checks}
     assert abs(checks["pressure_angle"].value - quoted_angle) < 0.01
     assert abs(checks["undercut"].value - quoted_radius) < 0.1  # smallest convex pitch radius
+
+
+def test_the_limits_quoted_are_the_codes(tree):
+    """The README's Limits section quotes camgen's caps and tolerances: each must be the value the
+    code enforces (the behaviour at each limit is tested in test_limits.py and its neighbours)."""
+    from camgen.export.gcode import MIN_GCODE_CHORD_TOL
+    from camgen.export.solid import MANIFOLD_SNAP
+    from camgen.export.step import FOLD_TOL
+    from camgen.kinds.base import MIN_RPM
+    from camgen.kinds.trajectory import MAX_SAMPLES
+    from camgen.mechanisms.tricycle_fit import FIT_MAX_CONDITION
+    from camgen.pipeline import MAX_FLAT_POINTS, MAX_PASSES
+    from camgen.synthesis import trajectory
+
+    def short(x: float) -> str:  # 8.5e-6, 1e6: as written by hand
+        return f"{x:.2g}".replace("e-0", "e-").replace("e+0", "e").replace("e+", "e")
+
+    text = " ".join(_section(_readme(tree), "Limits").split())
+    quoted = {
+        f"at most {MAX_FLAT_POINTS:,} vertices": True,
+        f"at most {MAX_PASSES:,} depth passes": True,
+        f">= {short(MIN_GCODE_CHORD_TOL)} mm": True,
+        f"at most {trajectory.MAX_ROWS:,} rows and {trajectory.MAX_TABLE_BYTES >> 20} MiB": True,
+        f"`samples` 16 to {MAX_SAMPLES:,}": True,
+        f"shorter than {short(FOLD_TOL)} mm": True,
+        f"`rpm >= {short(MIN_RPM)}`": True,
+        f"exceeds {short(FIT_MAX_CONDITION)}": True,
+        f"at most {short(MANIFOLD_SNAP)} mm off": True,
+    }
+    assert [phrase for phrase in quoted if phrase not in text] == []
