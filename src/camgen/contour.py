@@ -252,12 +252,12 @@ def _reduce(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray, steps: i
     size = n + 2 * pad
     mid = slice(pad, pad + n)
     # negated couplings A = -a, C = -c: then alpha = A[i] / b[i-s], a'[i] = -alpha a[i-s] = alpha A[i-s], ...
-    A, B, C, D = np.zeros((2, size)), np.ones((2, size)), np.zeros((2, size)), np.zeros((2, size, k))
+    A, B, C, D = np.zeros((2, size)), np.ones((2, size)), np.zeros((2, size)), np.zeros((2, k, size))  # D: columns as rows
     np.negative(a, out=A[0, mid])
     B[0, mid] = b
     np.negative(c, out=C[0, mid])
-    D[0, mid] = d
-    al, ga, tmp, tmpd = np.empty(n), np.empty(n), np.empty(n), np.empty((n, k))
+    D[0, :, mid] = d.T
+    al, ga, tmp, tmpd = np.empty(n), np.empty(n), np.empty(n), np.empty((k, n))
     s = 1
     for j in range(steps):
         o, w = j & 1, 1 - (j & 1)  # old and new buffers
@@ -270,16 +270,16 @@ def _reduce(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray, steps: i
         np.multiply(ga, Ao[hi], out=tmp)
         bn += tmp
         np.subtract(Bo[mid], bn, out=bn)
-        dn = D[w, mid]  # d + alpha d[i-s] + gamma d[i+s]
-        np.multiply(al[:, None], Do[lo], out=dn)
-        np.multiply(ga[:, None], Do[hi], out=tmpd)
+        dn = D[w, :, mid]  # d + alpha d[i-s] + gamma d[i+s]
+        np.multiply(al, Do[:, lo], out=dn)
+        np.multiply(ga, Do[:, hi], out=tmpd)
         dn += tmpd
-        dn += Do[mid]
+        dn += Do[:, mid]
         np.multiply(al, Ao[lo], out=A[w, mid])
         np.multiply(ga, Co[hi], out=C[w, mid])
         s *= 2
     last = steps & 1
-    return D[last, mid] / B[last, mid, None]
+    return (D[last, :, mid] / B[last, mid]).T
 
 
 def _moment_system(t: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -520,6 +520,48 @@ def _roller(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, wan
                       _xy(contact), kappa, rho, None, None, _xy(p1), _xy(p2), _xy(q1), _xy(q2))
 
 
+def _curve_points(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, want: tuple[str, ...]) -> np.ndarray:
+    """The points (cam frame) of the curves named in ``want`` ("pitch", "profile") at cam angles
+    ``theta`` (n,), complex (n, len(want)): what :func:`_roller` / :func:`_flat` give as the first
+    of (Q, dQ, d2Q), by the same arithmetic, from ``s`` and ``s'`` only."""
+    sigma = f.sigma
+    out = np.empty((theta.size, len(want)), dtype=complex)
+    back = _to_cam(f, theta)
+    if f.kind == "flat":
+        if f.motion == "translating":
+            wx, wy = math.cos(math.pi / 2), math.sin(math.pi / 2)
+            h = f.base_radius + s
+            dh = ds / -sigma
+        else:
+            px, py = f.pivot  # type: ignore[misc]
+            psi_f = f.rest_face_angle + f.tau * s
+            wx, wy = np.cos(psi_f), np.sin(psi_f)
+            p, q = wx * px + wy * py, wx * py - wy * px
+            h = p - f.face_offset
+            with np.errstate(divide="ignore", invalid="ignore"):
+                dh = (f.tau * ds * q) / (f.tau * ds - sigma)
+        _in_cam(back, h * wx - dh * wy, h * wy + dh * wx, out[:, 0])
+        return out
+    if f.motion == "translating":
+        cx, cy = f.offset, f.rest_height + s
+        vx, vy = sigma * cy, ds - sigma * f.offset
+    else:
+        px, py = f.pivot  # type: ignore[misc]
+        g = f.rest_arm_angle + f.tau * s
+        cg, sg = np.cos(g), np.sin(g)
+        cx, cy = px + f.arm_length * cg, py + f.arm_length * sg
+        k1 = f.arm_length * (f.tau * ds)
+        vx, vy = -k1 * sg + sigma * cy, k1 * cg - sigma * cx
+    for j, name in enumerate(want):
+        if name == "pitch":
+            _in_cam(back, cx, cy, out[:, j])
+        else:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                k = (sigma * f.roller_radius) / np.sqrt(vx * vx + vy * vy)
+            _in_cam(back, cx + k * vy, cy - k * vx, out[:, j])
+    return out
+
+
 def _kinematics_from(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s) -> Kinematics:
     return (_flat if f.kind == "flat" else _roller)(f, theta, s, ds, d2s, d3s, True)
 
@@ -622,48 +664,50 @@ def _c2_splines(x: np.ndarray, y: np.ndarray, first: np.ndarray, last: np.ndarra
     d2Q/dt2)``, each (segments, d)) at both ends: the spline of
     :func:`camgen.contour.cubic_with_end_derivatives` (its moment equations, with the values at the
     extra knots eliminated, de Boor, *A Practical Guide to Splines*, ch. IV), every segment's
-    tridiagonal system a block of one system solved once by cyclic reduction.
+    tridiagonal system a block of one system solved once by cyclic reduction.  The system has a
+    row per knot: the two end knots of a segment carry their known moments (identity rows), so
+    every array is a slice of the knot arrays (no gathers).
     Returns the coefficients (4, x.size - 1, d), highest power first, of the pieces
     ``[x[i], x[i + 1]]``; those between two segments (``i = last[k]``) are meaningless."""
+    n = x.size
     h = np.diff(x)
     h[last[:-1]] = 1.0  # between two segments
     yy = y.copy()
     yy[first + 1] = 0.0  # the unknowns, eliminated below
     yy[last - 1] = 0.0
-    slope = np.diff(yy, axis=0) / h[:, None]
-    # the interior knots first + 1 .. last - 1 of every segment, one equation each:
-    # h[i-1] M[i-1] + 2 (h[i-1] + h[i]) M[i] + h[i] M[i+1] = 6 (slope[i] - slope[i-1])
-    rows = last - first - 1
-    row0 = np.concatenate([[0], np.cumsum(rows)[:-1]])
-    inner = np.arange(int(rows.sum())) + np.repeat(first + 1 - row0, rows)
-    lower, diag, upper = h[inner - 1], 2.0 * (h[inner - 1] + h[inner]), h[inner]
-    rhs = 6.0 * (slope[inner] - slope[inner - 1])
-    rowl = row0 + rows - 1
+    slope = np.diff(yy, axis=0)
+    slope /= h[:, None]
+    # knot i inside a segment: h[i-1] M[i-1] + 2 (h[i-1] + h[i]) M[i] + h[i] M[i+1] = 6 (slope[i] - slope[i-1])
+    lower, diag, upper, rhs = np.zeros(n), np.empty(n), np.zeros(n), np.empty_like(yy)
+    lower[1:] = h
+    upper[:-1] = h
+    np.add(h[1:], h[:-1], out=diag[1:-1])
+    diag[1:-1] *= 2.0
+    np.subtract(slope[1:], slope[:-1], out=rhs[1:-1])
+    rhs[1:-1] *= 6.0
+    (d1s, d2s), (d1e, d2e) = start, end
+    ends = np.concatenate([first, last])
+    lower[ends] = upper[ends] = 0.0  # the segments' end knots: their known moments
+    diag[ends] = 1.0
+    rhs[first] = d2s
+    rhs[last] = d2e
     h0, h1, hl, hl2 = h[first], h[first + 1], h[last - 1], h[last - 2]
     # the end conditions give the unknown values as y[first+1] = a0 + a1 M[first+1], y[last-1] = b0 + b1 M[last-1]
-    (d1s, d2s), (d1e, d2e) = start, end
     a0 = yy[first] + h0[:, None] * d1s + h0[:, None] ** 2 * 2.0 * d2s / 6.0
     a1 = h0**2 / 6.0
     b0 = yy[last] - hl[:, None] * d1e + hl[:, None] ** 2 * 2.0 * d2e / 6.0
     b1 = hl**2 / 6.0
-    gf0, gf1 = -6.0 * (1.0 / h0 + 1.0 / h1), 6.0 / h1  # d rhs / d y[first+1] in the first two rows
-    gl0, gl1 = -6.0 * (1.0 / hl + 1.0 / hl2), 6.0 / hl2  # d rhs / d y[last-1] in the last two rows
-    rhs[row0] += gf0[:, None] * a0
-    rhs[row0 + 1] += gf1[:, None] * a0
-    diag[row0] -= gf0 * a1
-    lower[row0 + 1] -= gf1 * a1
-    rhs[rowl] += gl0[:, None] * b0
-    rhs[rowl - 1] += gl1[:, None] * b0
-    diag[rowl] -= gl0 * b1
-    upper[rowl - 1] -= gl1 * b1
-    rhs[row0] -= h0[:, None] * d2s  # the known end moments
-    rhs[rowl] -= hl[:, None] * d2e
-    lower[row0] = 0.0  # the segments' systems are independent
-    upper[rowl] = 0.0
-    moments = np.empty_like(yy)
-    moments[inner] = solve_tridiagonal(lower, diag, upper, rhs, cyclic=False)
-    moments[first] = d2s
-    moments[last] = d2e
+    gf0, gf1 = -6.0 * (1.0 / h0 + 1.0 / h1), 6.0 / h1  # d rhs / d y[first+1] in the rows first+1, first+2
+    gl0, gl1 = -6.0 * (1.0 / hl + 1.0 / hl2), 6.0 / hl2  # d rhs / d y[last-1] in the rows last-1, last-2
+    rhs[first + 1] += gf0[:, None] * a0
+    rhs[first + 2] += gf1[:, None] * a0
+    diag[first + 1] -= gf0 * a1
+    lower[first + 2] -= gf1 * a1
+    rhs[last - 1] += gl0[:, None] * b0
+    rhs[last - 2] += gl1[:, None] * b0
+    diag[last - 1] -= gl0 * b1
+    upper[last - 2] -= gl1 * b1
+    moments = solve_tridiagonal(lower, diag, upper, rhs, cyclic=False)
     yy[first + 1] = a0 + a1[:, None] * moments[first + 1]
     yy[last - 1] = b0 + b1[:, None] * moments[last - 1]
     hh = h[:, None]
@@ -716,9 +760,10 @@ _ONE_SIDED_WEIGHTS = np.array([3.0, -3.0, 1.0])
 def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement, fit_tol: float,
                      fourth: tuple[np.ndarray, list[np.ndarray]] | None = None, initial_step: float = math.radians(5.0),
                      max_rounds: int = 12, max_pieces: int = 100_000) -> tuple[list[Contour], list[float]]:
-    """Contours of ``dims`` exact curves at once: ``exact(theta) -> (Q, dQ/dtheta, d2Q/dtheta2)``, each
-    complex (n, dims) (the curves side by side), one cubic spline segment per interval between the
+    """Contours of ``dims`` exact curves at once, one cubic spline segment per interval between the
     law's breaks (one segment from cam angle 0 when there are none); the curves share their knots.
+    ``exact(theta, k)`` -> ``((Q, dQ/dtheta, d2Q/dtheta2) at the first k angles, Q at the others)``,
+    each complex (n, dims) (the curves side by side; None for the derivatives when k = 0).
 
     The spline parameter is ``t = -sigma theta`` (the contour runs counter-clockwise).  Every
     segment is a C2 cubic spline through exact points on ``count`` uniform pieces (plus the two
@@ -767,14 +812,13 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
         for i, w in enumerate(_PROBES):
             t[i + 1:: 4] = x[:-1] + w * span
         if ends1 is None:
-            t = np.concatenate([probe_ends, t])
-        q, d1, d2 = exact(-sigma * t)  # complex (n, dims)
-        if ends1 is None:
+            ends, q = exact(-sigma * np.concatenate([probe_ends, t]), probe_ends.size)
             w = _ONE_SIDED_WEIGHTS[None, :, None]
-            e1 = (-sigma * d1[: probe_ends.size]).view(np.float64).reshape(nseg, 2, 3, -1)
-            e2 = d2[: probe_ends.size].view(np.float64).reshape(nseg, 2, 3, -1)
+            e1 = (-sigma * ends[1]).view(np.float64).reshape(nseg, 2, 3, -1)
+            e2 = ends[2].view(np.float64).reshape(nseg, 2, 3, -1)
             ends1, ends2 = (w * e1).sum(axis=2), (w * e2).sum(axis=2)  # (nseg, 2 [start, end], 2 dims)
-            q, t = q[probe_ends.size:], t[probe_ends.size:]
+        else:
+            q = exact(-sigma * t, 0)[1]
         knot_values = np.ascontiguousarray(q[::4]).view(np.float64)  # (knots, 2 dims): x and y of every curve
         coeffs = _c2_splines(x, knot_values, first, last, (ends1[todo, 0], ends2[todo, 0]), (ends1[todo, 1], ends2[todo, 1]))
         # distances of the splines from the exact curves at the probes, as long flat arrays
@@ -911,13 +955,20 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
     if pitch_ok and f.kind == "roller":
         want.insert(0, "pitch")
 
-    def exact(th: np.ndarray):  # the wanted curves only, complex (n, len(want)) each
+    def exact(th: np.ndarray, ends: int):
+        """The wanted curves at cam angles ``th`` from one evaluation of the law: (Q, dQ, d2Q) at the
+        first ``ends`` angles (complex (ends, len(want)) each; None when ``ends`` is 0) and the
+        points Q at the others (complex (n - ends, len(want)))."""
         s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(th))
-        if f.kind == "flat":
-            curves = _flat(f, th, s, ds, d2s, d3s, False)
-        else:
-            curves = _roller(f, th, s, ds, d2s, d3s, False, tuple(want))
-        return tuple(np.stack([curve[i] for curve in curves], axis=1) for i in range(3))
+        derivs = None
+        if ends:
+            e = slice(0, ends)
+            if f.kind == "flat":
+                curves = _flat(f, th[e], s[e], ds[e], d2s[e], d3s[e], False)
+            else:
+                curves = _roller(f, th[e], s[e], ds[e], d2s[e], d3s[e], False, tuple(want))
+            derivs = tuple(np.stack([curve[i] for curve in curves], axis=1) for i in range(3))
+        return derivs, _curve_points(f, th[ends:], s[ends:], ds[ends:], tuple(want))
 
     if want:
         d2 = [data.pitch_d2 if name == "pitch" else data.contact_d2 for name in want]
