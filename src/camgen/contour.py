@@ -369,14 +369,6 @@ def _cubic_coefficients(t: np.ndarray, y: np.ndarray, moments: np.ndarray) -> np
     return np.stack([(m1 - m0) / (6.0 * h), 0.5 * m0, slope - h * (2.0 * m0 + m1) / 6.0, y[:-1]])
 
 
-#: The pairs (i, m), i < m, of the power-basis coefficients of a cubic piece in its Green's-theorem
-#: area, their power h^(i + m) and weight (m - i) / (i + m) (see :meth:`Spline.green_area`).
-_AREA_LO = np.array([0, 0, 0, 1, 1, 2])
-_AREA_HI = np.array([1, 2, 3, 2, 3, 3])
-_AREA_POWER = (_AREA_LO + _AREA_HI).astype(float)
-_AREA_WEIGHT = (_AREA_HI - _AREA_LO) / _AREA_POWER
-
-
 class Spline:
     """A parametric piecewise cubic ``P(t) = (x(t), y(t))`` on ``breaks[0] <= t <= breaks[-1]``.
 
@@ -578,13 +570,23 @@ class Spline:
         """(1/2) integral of (x dy - y dx) along the spline, mm^2 (exact polynomial integration).
 
         With ``P = sum_i p_i tau^i`` on a piece of length ``h``, ``x y' - y x' = sum_{i<m} (m - i)
-        (p_i x p_m) tau^(i+m-1)``, whose integral over ``[0, h]`` is ``sum (m - i) / (i + m) (p_i x p_m) h^(i+m)``.
+        (p_i x p_m) tau^(i+m-1)``, whose integral over ``[0, h]`` is ``sum (m - i) / (i + m) (p_i x p_m) h^(i+m)``;
+        with ``z_i = x_i + i y_i``, ``p_i x p_m = Im(conj(z_i) z_m)``.
         """
-        a = self.coeffs[::-1]  # (4, K, 2), lowest power first
-        lo, hi = a[_AREA_LO], a[_AREA_HI]  # the six pairs i < m, (6, K, 2)
-        cross = lo[..., 0] * hi[..., 1] - hi[..., 0] * lo[..., 1]
-        powers = np.diff(self.breaks)[None, :] ** _AREA_POWER[:, None]
-        return 0.5 * float(np.sum(_AREA_WEIGHT @ (cross * powers)))
+        z = self.coeffs.view(complex)[..., 0]  # (4, K): z[3 - i] = p_i
+        h = np.diff(self.breaks)
+        c0 = (np.conj(z[3]) * z[:3]).imag  # p0 x (p3, p2, p1)
+        c1 = (np.conj(z[2]) * z[:2]).imag  # p1 x (p3, p2)
+        c23 = (np.conj(z[1]) * z[0]).imag
+        inner = c23 * (h / 5.0)
+        inner += 0.5 * c1[0]
+        inner *= h
+        inner += c0[0] + c1[1] / 3.0
+        inner *= h
+        inner += c0[1]
+        inner *= h
+        inner += c0[2]
+        return 0.5 * float(np.dot(inner, h))
 
     def _quadratic_roots(self, qa: np.ndarray, qb: np.ndarray, qc: np.ndarray) -> np.ndarray:
         """Real roots (2, ...) of qa tau^2 + qb tau + qc inside each piece, NaN elsewhere."""
