@@ -388,9 +388,9 @@ class Spline:
     def __init__(self, breaks: np.ndarray, coeffs: np.ndarray) -> None:
         breaks = np.array(breaks, dtype=float)
         coeffs = np.array(coeffs, dtype=float)
-        if breaks.ndim != 1 or breaks.size < 2 or not np.all(np.diff(breaks) > 0):
+        if breaks.ndim != 1 or breaks.size < 2 or not (breaks[1:] > breaks[:-1]).all():
             raise ParameterError("breaks", f"array of shape {breaks.shape}", "a strictly increasing 1-D array of >= 2 values")
-        if coeffs.shape != (4, breaks.size - 1, 2) or not np.all(np.isfinite(coeffs)):
+        if coeffs.shape != (4, breaks.size - 1, 2) or not np.isfinite(coeffs).all():
             raise ParameterError("coeffs", f"array of shape {coeffs.shape}", f"finite values of shape (4, {breaks.size - 1}, 2)")
         breaks.flags.writeable = False
         coeffs.flags.writeable = False
@@ -574,7 +574,7 @@ class Spline:
         with ``z_i = x_i + i y_i``, ``p_i x p_m = Im(conj(z_i) z_m)``.
         """
         z = self.coeffs.view(complex)[..., 0]  # (4, K): z[3 - i] = p_i
-        h = np.diff(self.breaks)
+        h = self.breaks[1:] - self.breaks[:-1]
         c0 = (np.conj(z[3]) * z[:3]).imag  # p0 x (p3, p2, p1)
         c1 = (np.conj(z[2]) * z[:2]).imag  # p1 x (p3, p2)
         c23 = (np.conj(z[1]) * z[0]).imag

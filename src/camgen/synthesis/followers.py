@@ -389,8 +389,9 @@ def _in_cam(back: np.ndarray, x: np.ndarray | float, y: np.ndarray | float, out:
     return z
 
 
-def _flat(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool):
-    """Flat face: the :class:`Kinematics` (``full``) or just the profile curve's (Q, dQ, d2Q) in the cam frame."""
+def _flat(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, back: np.ndarray | None = None):
+    """Flat face: the :class:`Kinematics` (``full``) or just the profile curve's (Q, dQ, d2Q) in the cam frame
+    (``back``: :func:`_to_cam` at ``theta`` when known)."""
     sigma, n = f.sigma, theta.size
     if f.motion == "translating":
         # the face normal w = u(pi/2) is fixed: psi1 = -sigma, psi2 = psi3 = 0 in the formulas below
@@ -432,7 +433,7 @@ def _flat(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool):
     # full: rows 0-3 the contact point in the fixed frame, in the cam frame and its two derivatives
     cplx = np.empty((4, n), dtype=complex) if full else [None] * 4
     x_fixed = (h * wx - dh * wy, h * wy + dh * wx)  # h w + dh J w
-    back = _to_cam(f, theta)
+    back = _to_cam(f, theta) if back is None else back
     contact = _in_cam(back, *x_fixed, cplx[1])
     q1, q2 = _in_cam(back, d1x, d1y, cplx[2]), _in_cam(back, d2x, d2y, cplx[3])
     if not full:
@@ -455,9 +456,10 @@ def _flat(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool):
                       kappa, rho, face_pos, turn, None, None, _xy(q1), _xy(q2))
 
 
-def _roller(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, want: tuple[str, ...] = ("pitch", "profile")):
+def _roller(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, want: tuple[str, ...] = ("pitch", "profile"),
+            back: np.ndarray | None = None):
     """Roller / knife: the :class:`Kinematics` (``full``) or the (Q, dQ, d2Q) of the curves named in
-    ``want`` ("pitch", "profile") in the cam frame.  (The outputs share two blocks of memory and
+    ``want`` ("pitch", "profile") in the cam frame (``back``: :func:`_to_cam` at ``theta`` when known).  (The outputs share two blocks of memory and
     temporaries are released as soon as they are used: fresh memory is much of the cost.)"""
     sigma, r, n = f.sigma, f.roller_radius, theta.size
     # full: rows 0-6 follower point, pitch curve and its two derivatives, profile and its two; rows
@@ -466,7 +468,7 @@ def _roller(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, wan
     real = np.empty((4, n)) if full else [None] * 4
     (cx, cy), (vx, vy), (ax, ay), (bx, by), m, g = _centre(f, s, ds, d2s, d3s)
     # P = R(-sigma theta) C; P' = R V, P'' = R A, P''' = R B
-    back = _to_cam(f, theta)
+    back = _to_cam(f, theta) if back is None else back
     out = {}
     if "pitch" in want or full:
         out["pitch"] = (_in_cam(back, cx, cy, cplx[1]), _in_cam(back, vx, vy, cplx[2]), _in_cam(back, ax, ay, cplx[3]))
@@ -562,8 +564,10 @@ def _curve_points(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndar
     return out
 
 
-def _kinematics_from(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s) -> Kinematics:
-    return (_flat if f.kind == "flat" else _roller)(f, theta, s, ds, d2s, d3s, True)
+def _kinematics_from(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, back: np.ndarray | None = None) -> Kinematics:
+    if f.kind == "flat":
+        return _flat(f, theta, s, ds, d2s, d3s, True, back)
+    return _roller(f, theta, s, ds, d2s, d3s, True, back=back)
 
 
 def kinematics(follower: FollowerSpec, law: Displacement, theta: object) -> Kinematics:
@@ -618,6 +622,12 @@ def _run_ranges(mask: np.ndarray, theta: np.ndarray) -> list[tuple[float, float]
 def check_grid(law: Displacement, check_step: float = DEFAULT_CHECK_STEP) -> np.ndarray:
     """Sorted cam angles (rad, one turn) for dense checks: a uniform grid of ``check_step`` plus
     every break and both one-sided neighbours of it (1e-9 rad away)."""
+    return _check_grid(law, check_step)[0]
+
+
+def _check_grid(law: Displacement, check_step: float) -> tuple[np.ndarray, int, np.ndarray, np.ndarray]:
+    """:func:`check_grid` and how it is made: the uniform grid's size ``n`` (angles ``k 2 pi / n``),
+    the positions in the result of the angles added to it, and those angles."""
     require_positive("check_step", check_step, "rad")
     n = max(8, math.ceil(TWO_PI / check_step))
     brk = np.asarray(getattr(law, "breaks", np.zeros(0)), dtype=float)
@@ -625,7 +635,32 @@ def check_grid(law: Displacement, check_step: float = DEFAULT_CHECK_STEP) -> np.
     extra = np.unique(np.mod(np.concatenate([brk, brk - 1e-9, brk + 1e-9]), TWO_PI))
     at = np.searchsorted(grid, extra)
     new = (at == n) | (grid[np.minimum(at, n - 1)] != extra)  # the angles not on the grid already
-    return np.insert(grid, at[new], extra[new])
+    at, extra = at[new], extra[new]
+    return np.insert(grid, at, extra), n, at + np.arange(at.size), extra
+
+
+#: Length of the short table of unit phasors of a uniform grid (:func:`_grid_to_cam`).
+_PHASOR_BLOCK = 128
+
+
+def _grid_to_cam(f: FollowerSpec, n: int, where: np.ndarray, extra: np.ndarray) -> np.ndarray:
+    """:func:`_to_cam` on the check grid of :func:`_check_grid` (``n``, ``where``, ``extra``): on the
+    uniform grid ``exp(-i sigma k d)`` (``d = 2 pi / n``) as the products ``exp(-i sigma B j d)
+    exp(-i sigma l d)`` (``k = B j + l``) of two short tables (angle addition: within a few ulps of
+    the cosine and sine of the grid angles), at the added angles directly."""
+    d = TWO_PI / n
+    rows = -(-n // _PHASOR_BLOCK)
+    big = _to_cam(f, np.arange(rows) * (_PHASOR_BLOCK * d))
+    small = _to_cam(f, np.arange(_PHASOR_BLOCK) * d)
+    uniform = np.multiply.outer(big, small).ravel()
+    if not extra.size:
+        return uniform[:n]
+    out = np.empty(n + extra.size, dtype=complex)
+    out[where] = _to_cam(f, extra)
+    keep = np.ones(out.size, dtype=bool)
+    keep[where] = False
+    out[keep] = uniform[:n]
+    return out
 
 
 # --------------------------------------------------------------------------------------------
@@ -935,8 +970,9 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
         where = ", ".join(f"{math.degrees(b):.3f}" for b in brk[cont <= 0])
         raise GeometryError(f"the law's velocity jumps at cam angles {where} deg: a {f.kind} follower cannot follow "
                             "a corner of the pitch curve exactly; use laws with continuous velocity there (or a knife follower)")
-    theta = check_grid(law, check_step)
-    data = kinematics(f, law, theta)
+    theta, n_uniform, added_at, added = _check_grid(law, check_step)
+    s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(theta))
+    data = _kinematics_from(f, theta, s, ds, d2s, d3s, _grid_to_cam(f, n_uniform, added_at, added))
     failures = []
     for reason, mask in profile_failures(f, data):
         if mask.any():
