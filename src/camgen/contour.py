@@ -207,29 +207,32 @@ def solve_tridiagonal(lower: np.ndarray, diag: np.ndarray, upper: np.ndarray, rh
     at distance s with the rows i -+ s and doubles s).  ``cyclic``: indices wrap (the periodic
     system); else ``lower[0]`` and ``upper[-1]`` must be 0.
 
-    Needs strict diagonal dominance, ``|lower| + |upper| <= q |diag|`` with q < 1: the couplings
-    then shrink like q^(2^k), so a handful of steps reach :data:`PCR_TOL` whatever ``n`` (the
-    loop runs over those steps, never over rows).  Cubic-spline moment systems have q = 1/2.
+    Needs strict diagonal dominance, ``|lower| + |upper| <= q |diag|`` with q < 1: every step
+    squares that ratio (Heller 1976, SIAM J. Numer. Anal. 13, thm. 2.1: the couplings of the
+    reduced rows are at most ``q^2`` of their diagonal), so after k steps the couplings are below
+    ``q^(2^k)`` of the diagonal and the number of steps to reach :data:`PCR_TOL` is known in
+    advance whatever ``n`` (the loop runs over those steps, never over rows; without ``cyclic`` it
+    also stops once the distance reaches ``n``: every coupling then points outside the system).
+    Cubic-spline moment systems have q = 1/2: 6 steps.
     """
-    a, b, c = (np.asarray(v, dtype=float).copy() for v in (lower, diag, upper))
-    d = np.asarray(rhs, dtype=float).copy()
+    a, b, c = (np.asarray(v, dtype=float) for v in (lower, diag, upper))
+    d = np.asarray(rhs, dtype=float)
     n = b.size
     if not cyclic:
+        a, c = a.copy(), c.copy()
         a[0] = c[-1] = 0.0
     ratio = float(np.max((np.abs(a) + np.abs(c)) / np.abs(b)))
     if not ratio < 1.0:
         raise GeometryError(f"tridiagonal system not diagonally dominant (ratio {ratio:.3g}): cannot solve it by cyclic reduction")
+    steps = 0 if ratio == 0.0 else max(0, math.ceil(math.log2(math.log(PCR_TOL) / math.log(ratio))))
+    if not cyclic:
+        return _reduce(a, b, c, d, min(steps, max(0, math.ceil(math.log2(n)))))
+    a, b, c, d = a.copy(), b.copy(), c.copy(), d.copy()
     step = 1
     while np.max((np.abs(a) + np.abs(c)) / np.abs(b)) > PCR_TOL:
-        if cyclic:
-            below, above = (np.roll(np.arange(n), step), np.roll(np.arange(n), -step))
-        else:
-            below, above = np.arange(n) - step, np.arange(n) + step
-        valid_b = below >= 0
-        valid_a = above < n
-        below, above = np.clip(below, 0, n - 1), np.clip(above, 0, n - 1)
-        alpha = np.where(valid_b, -a / b[below], 0.0)
-        gamma = np.where(valid_a, -c / b[above], 0.0)
+        below, above = (np.roll(np.arange(n), step), np.roll(np.arange(n), -step))
+        alpha = -a / b[below]
+        gamma = -c / b[above]
         b, d, a, c = (b + alpha * c[below] + gamma * a[above],
                       d + alpha[:, None] * d[below] + gamma[:, None] * d[above],
                       alpha * a[below], gamma * c[above])
@@ -237,6 +240,46 @@ def solve_tridiagonal(lower: np.ndarray, diag: np.ndarray, upper: np.ndarray, rh
         if step > 4 * n + 64:  # cannot happen for a dominant system (the ratio squares each step)
             raise GeometryError("cyclic reduction did not converge")
     return d / b[:, None]
+
+
+def _reduce(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray, steps: int) -> np.ndarray:
+    """``steps`` steps of parallel cyclic reduction of the non-cyclic system (``a[0] = c[-1] = 0``),
+    then ``d / b``: the rows live between ``pad`` rows of the identity on both sides (no couplings,
+    no right-hand side), so the neighbours at distance s are slices, and two sets of buffers
+    take turns (no allocation per step)."""
+    n, k = d.shape
+    pad = min(1 << max(steps - 1, 0), n)
+    size = n + 2 * pad
+    mid = slice(pad, pad + n)
+    # negated couplings A = -a, C = -c: then alpha = A[i] / b[i-s], a'[i] = -alpha a[i-s] = alpha A[i-s], ...
+    A, B, C, D = np.zeros((2, size)), np.ones((2, size)), np.zeros((2, size)), np.zeros((2, k, size))  # D: columns as rows
+    np.negative(a, out=A[0, mid])
+    B[0, mid] = b
+    np.negative(c, out=C[0, mid])
+    D[0, :, mid] = d.T
+    al, ga, tmp, tmpd = np.empty(n), np.empty(n), np.empty(n), np.empty((k, n))
+    s = 1
+    for j in range(steps):
+        o, w = j & 1, 1 - (j & 1)  # old and new buffers
+        lo, hi = slice(pad - s, pad - s + n), slice(pad + s, pad + s + n)
+        Ao, Bo, Co, Do = A[o], B[o], C[o], D[o]
+        np.divide(Ao[mid], Bo[lo], out=al)
+        np.divide(Co[mid], Bo[hi], out=ga)
+        bn = B[w, mid]  # b - alpha c[i-s] - gamma a[i+s]
+        np.multiply(al, Co[lo], out=bn)
+        np.multiply(ga, Ao[hi], out=tmp)
+        bn += tmp
+        np.subtract(Bo[mid], bn, out=bn)
+        dn = D[w, :, mid]  # d + alpha d[i-s] + gamma d[i+s]
+        np.multiply(al, Do[:, lo], out=dn)
+        np.multiply(ga, Do[:, hi], out=tmpd)
+        dn += tmpd
+        dn += Do[:, mid]
+        np.multiply(al, Ao[lo], out=A[w, mid])
+        np.multiply(ga, Co[hi], out=C[w, mid])
+        s *= 2
+    last = steps & 1
+    return (D[last, :, mid] / B[last, mid]).T
 
 
 def _moment_system(t: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -345,9 +388,9 @@ class Spline:
     def __init__(self, breaks: np.ndarray, coeffs: np.ndarray) -> None:
         breaks = np.array(breaks, dtype=float)
         coeffs = np.array(coeffs, dtype=float)
-        if breaks.ndim != 1 or breaks.size < 2 or not np.all(np.diff(breaks) > 0):
+        if breaks.ndim != 1 or breaks.size < 2 or not (breaks[1:] > breaks[:-1]).all():
             raise ParameterError("breaks", f"array of shape {breaks.shape}", "a strictly increasing 1-D array of >= 2 values")
-        if coeffs.shape != (4, breaks.size - 1, 2) or not np.all(np.isfinite(coeffs)):
+        if coeffs.shape != (4, breaks.size - 1, 2) or not np.isfinite(coeffs).all():
             raise ParameterError("coeffs", f"array of shape {coeffs.shape}", f"finite values of shape (4, {breaks.size - 1}, 2)")
         breaks.flags.writeable = False
         coeffs.flags.writeable = False
@@ -462,11 +505,13 @@ class Spline:
 
     @property
     def start_point(self) -> np.ndarray:
-        return self.eval_t(self.breaks[:1])[0]
+        return self.coeffs[3, 0].copy()  # P at tau = 0 of the first piece (what eval_t gives there)
 
     @property
     def end_point(self) -> np.ndarray:
-        return self.eval_t(self.breaks[-1:])[0]
+        c = self._rows[-1]  # the last piece at its end, by the arithmetic of eval_piece
+        tau = self.breaks[-1] - self.breaks[-2]
+        return ((c[0] * tau + c[1]) * tau + c[2]) * tau + c[3]
 
     def _ascending(self) -> np.ndarray:
         """Coefficients (4, K, 2), lowest power first."""
@@ -522,18 +567,26 @@ class Spline:
         return float(np.min(values))
 
     def green_area(self) -> float:
-        """(1/2) integral of (x dy - y dx) along the spline, mm^2 (exact polynomial integration)."""
-        a = self._ascending()  # (4, K, 2)
-        x, y = a[..., 0], a[..., 1]
-        dx = np.stack([x[1], 2 * x[2], 3 * x[3]])  # (3, K)
-        dy = np.stack([y[1], 2 * y[2], 3 * y[3]])
-        h = np.diff(self.breaks)
-        total = np.zeros_like(h)
-        for i in range(4):
-            for j in range(3):
-                power = i + j
-                total += (x[i] * dy[j] - y[i] * dx[j]) * h ** (power + 1) / (power + 1)
-        return 0.5 * float(total.sum())
+        """(1/2) integral of (x dy - y dx) along the spline, mm^2 (exact polynomial integration).
+
+        With ``P = sum_i p_i tau^i`` on a piece of length ``h``, ``x y' - y x' = sum_{i<m} (m - i)
+        (p_i x p_m) tau^(i+m-1)``, whose integral over ``[0, h]`` is ``sum (m - i) / (i + m) (p_i x p_m) h^(i+m)``;
+        with ``z_i = x_i + i y_i``, ``p_i x p_m = Im(conj(z_i) z_m)``.
+        """
+        z = self.coeffs.view(complex)[..., 0]  # (4, K): z[3 - i] = p_i
+        h = self.breaks[1:] - self.breaks[:-1]
+        c0 = (np.conj(z[3]) * z[:3]).imag  # p0 x (p3, p2, p1)
+        c1 = (np.conj(z[2]) * z[:2]).imag  # p1 x (p3, p2)
+        c23 = (np.conj(z[1]) * z[0]).imag
+        inner = c23 * (h / 5.0)
+        inner += 0.5 * c1[0]
+        inner *= h
+        inner += c0[0] + c1[1] / 3.0
+        inner *= h
+        inner += c0[1]
+        inner *= h
+        inner += c0[2]
+        return 0.5 * float(np.dot(inner, h))
 
     def _quadratic_roots(self, qa: np.ndarray, qb: np.ndarray, qc: np.ndarray) -> np.ndarray:
         """Real roots (2, ...) of qa tau^2 + qb tau + qc inside each piece, NaN elsewhere."""

@@ -389,8 +389,9 @@ def _in_cam(back: np.ndarray, x: np.ndarray | float, y: np.ndarray | float, out:
     return z
 
 
-def _flat(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool):
-    """Flat face: the :class:`Kinematics` (``full``) or just the profile curve's (Q, dQ, d2Q) in the cam frame."""
+def _flat(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, back: np.ndarray | None = None):
+    """Flat face: the :class:`Kinematics` (``full``) or just the profile curve's (Q, dQ, d2Q) in the cam frame
+    (``back``: :func:`_to_cam` at ``theta`` when known)."""
     sigma, n = f.sigma, theta.size
     if f.motion == "translating":
         # the face normal w = u(pi/2) is fixed: psi1 = -sigma, psi2 = psi3 = 0 in the formulas below
@@ -432,7 +433,7 @@ def _flat(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool):
     # full: rows 0-3 the contact point in the fixed frame, in the cam frame and its two derivatives
     cplx = np.empty((4, n), dtype=complex) if full else [None] * 4
     x_fixed = (h * wx - dh * wy, h * wy + dh * wx)  # h w + dh J w
-    back = _to_cam(f, theta)
+    back = _to_cam(f, theta) if back is None else back
     contact = _in_cam(back, *x_fixed, cplx[1])
     q1, q2 = _in_cam(back, d1x, d1y, cplx[2]), _in_cam(back, d2x, d2y, cplx[3])
     if not full:
@@ -455,9 +456,10 @@ def _flat(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool):
                       kappa, rho, face_pos, turn, None, None, _xy(q1), _xy(q2))
 
 
-def _roller(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, want: tuple[str, ...] = ("pitch", "profile")):
+def _roller(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, want: tuple[str, ...] = ("pitch", "profile"),
+            back: np.ndarray | None = None):
     """Roller / knife: the :class:`Kinematics` (``full``) or the (Q, dQ, d2Q) of the curves named in
-    ``want`` ("pitch", "profile") in the cam frame.  (The outputs share two blocks of memory and
+    ``want`` ("pitch", "profile") in the cam frame (``back``: :func:`_to_cam` at ``theta`` when known).  (The outputs share two blocks of memory and
     temporaries are released as soon as they are used: fresh memory is much of the cost.)"""
     sigma, r, n = f.sigma, f.roller_radius, theta.size
     # full: rows 0-6 follower point, pitch curve and its two derivatives, profile and its two; rows
@@ -466,7 +468,7 @@ def _roller(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, wan
     real = np.empty((4, n)) if full else [None] * 4
     (cx, cy), (vx, vy), (ax, ay), (bx, by), m, g = _centre(f, s, ds, d2s, d3s)
     # P = R(-sigma theta) C; P' = R V, P'' = R A, P''' = R B
-    back = _to_cam(f, theta)
+    back = _to_cam(f, theta) if back is None else back
     out = {}
     if "pitch" in want or full:
         out["pitch"] = (_in_cam(back, cx, cy, cplx[1]), _in_cam(back, vx, vy, cplx[2]), _in_cam(back, ax, ay, cplx[3]))
@@ -520,8 +522,52 @@ def _roller(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, wan
                       _xy(contact), kappa, rho, None, None, _xy(p1), _xy(p2), _xy(q1), _xy(q2))
 
 
-def _kinematics_from(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s) -> Kinematics:
-    return (_flat if f.kind == "flat" else _roller)(f, theta, s, ds, d2s, d3s, True)
+def _curve_points(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, want: tuple[str, ...]) -> np.ndarray:
+    """The points (cam frame) of the curves named in ``want`` ("pitch", "profile") at cam angles
+    ``theta`` (n,), complex (n, len(want)): what :func:`_roller` / :func:`_flat` give as the first
+    of (Q, dQ, d2Q), by the same arithmetic, from ``s`` and ``s'`` only."""
+    sigma = f.sigma
+    out = np.empty((theta.size, len(want)), dtype=complex)
+    back = _to_cam(f, theta)
+    if f.kind == "flat":
+        if f.motion == "translating":
+            wx, wy = math.cos(math.pi / 2), math.sin(math.pi / 2)
+            h = f.base_radius + s
+            dh = ds / -sigma
+        else:
+            px, py = f.pivot  # type: ignore[misc]
+            psi_f = f.rest_face_angle + f.tau * s
+            wx, wy = np.cos(psi_f), np.sin(psi_f)
+            p, q = wx * px + wy * py, wx * py - wy * px
+            h = p - f.face_offset
+            with np.errstate(divide="ignore", invalid="ignore"):
+                dh = (f.tau * ds * q) / (f.tau * ds - sigma)
+        _in_cam(back, h * wx - dh * wy, h * wy + dh * wx, out[:, 0])
+        return out
+    if f.motion == "translating":
+        cx, cy = f.offset, f.rest_height + s
+        vx, vy = sigma * cy, ds - sigma * f.offset
+    else:
+        px, py = f.pivot  # type: ignore[misc]
+        g = f.rest_arm_angle + f.tau * s
+        cg, sg = np.cos(g), np.sin(g)
+        cx, cy = px + f.arm_length * cg, py + f.arm_length * sg
+        k1 = f.arm_length * (f.tau * ds)
+        vx, vy = -k1 * sg + sigma * cy, k1 * cg - sigma * cx
+    for j, name in enumerate(want):
+        if name == "pitch":
+            _in_cam(back, cx, cy, out[:, j])
+        else:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                k = (sigma * f.roller_radius) / np.sqrt(vx * vx + vy * vy)
+            _in_cam(back, cx + k * vy, cy - k * vx, out[:, j])
+    return out
+
+
+def _kinematics_from(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, back: np.ndarray | None = None) -> Kinematics:
+    if f.kind == "flat":
+        return _flat(f, theta, s, ds, d2s, d3s, True, back)
+    return _roller(f, theta, s, ds, d2s, d3s, True, back=back)
 
 
 def kinematics(follower: FollowerSpec, law: Displacement, theta: object) -> Kinematics:
@@ -576,6 +622,12 @@ def _run_ranges(mask: np.ndarray, theta: np.ndarray) -> list[tuple[float, float]
 def check_grid(law: Displacement, check_step: float = DEFAULT_CHECK_STEP) -> np.ndarray:
     """Sorted cam angles (rad, one turn) for dense checks: a uniform grid of ``check_step`` plus
     every break and both one-sided neighbours of it (1e-9 rad away)."""
+    return _check_grid(law, check_step)[0]
+
+
+def _check_grid(law: Displacement, check_step: float) -> tuple[np.ndarray, int, np.ndarray, np.ndarray]:
+    """:func:`check_grid` and how it is made: the uniform grid's size ``n`` (angles ``k 2 pi / n``),
+    the positions in the result of the angles added to it, and those angles."""
     require_positive("check_step", check_step, "rad")
     n = max(8, math.ceil(TWO_PI / check_step))
     brk = np.asarray(getattr(law, "breaks", np.zeros(0)), dtype=float)
@@ -583,7 +635,32 @@ def check_grid(law: Displacement, check_step: float = DEFAULT_CHECK_STEP) -> np.
     extra = np.unique(np.mod(np.concatenate([brk, brk - 1e-9, brk + 1e-9]), TWO_PI))
     at = np.searchsorted(grid, extra)
     new = (at == n) | (grid[np.minimum(at, n - 1)] != extra)  # the angles not on the grid already
-    return np.insert(grid, at[new], extra[new])
+    at, extra = at[new], extra[new]
+    return np.insert(grid, at, extra), n, at + np.arange(at.size), extra
+
+
+#: Length of the short table of unit phasors of a uniform grid (:func:`_grid_to_cam`).
+_PHASOR_BLOCK = 128
+
+
+def _grid_to_cam(f: FollowerSpec, n: int, where: np.ndarray, extra: np.ndarray) -> np.ndarray:
+    """:func:`_to_cam` on the check grid of :func:`_check_grid` (``n``, ``where``, ``extra``): on the
+    uniform grid ``exp(-i sigma k d)`` (``d = 2 pi / n``) as the products ``exp(-i sigma B j d)
+    exp(-i sigma l d)`` (``k = B j + l``) of two short tables (angle addition: within a few ulps of
+    the cosine and sine of the grid angles), at the added angles directly."""
+    d = TWO_PI / n
+    rows = -(-n // _PHASOR_BLOCK)
+    big = _to_cam(f, np.arange(rows) * (_PHASOR_BLOCK * d))
+    small = _to_cam(f, np.arange(_PHASOR_BLOCK) * d)
+    uniform = np.multiply.outer(big, small).ravel()
+    if not extra.size:
+        return uniform[:n]
+    out = np.empty(n + extra.size, dtype=complex)
+    out[where] = _to_cam(f, extra)
+    keep = np.ones(out.size, dtype=bool)
+    keep[where] = False
+    out[keep] = uniform[:n]
+    return out
 
 
 # --------------------------------------------------------------------------------------------
@@ -622,48 +699,50 @@ def _c2_splines(x: np.ndarray, y: np.ndarray, first: np.ndarray, last: np.ndarra
     d2Q/dt2)``, each (segments, d)) at both ends: the spline of
     :func:`camgen.contour.cubic_with_end_derivatives` (its moment equations, with the values at the
     extra knots eliminated, de Boor, *A Practical Guide to Splines*, ch. IV), every segment's
-    tridiagonal system a block of one system solved once by cyclic reduction.
+    tridiagonal system a block of one system solved once by cyclic reduction.  The system has a
+    row per knot: the two end knots of a segment carry their known moments (identity rows), so
+    every array is a slice of the knot arrays (no gathers).
     Returns the coefficients (4, x.size - 1, d), highest power first, of the pieces
     ``[x[i], x[i + 1]]``; those between two segments (``i = last[k]``) are meaningless."""
+    n = x.size
     h = np.diff(x)
     h[last[:-1]] = 1.0  # between two segments
     yy = y.copy()
     yy[first + 1] = 0.0  # the unknowns, eliminated below
     yy[last - 1] = 0.0
-    slope = np.diff(yy, axis=0) / h[:, None]
-    # the interior knots first + 1 .. last - 1 of every segment, one equation each:
-    # h[i-1] M[i-1] + 2 (h[i-1] + h[i]) M[i] + h[i] M[i+1] = 6 (slope[i] - slope[i-1])
-    rows = last - first - 1
-    row0 = np.concatenate([[0], np.cumsum(rows)[:-1]])
-    inner = np.arange(int(rows.sum())) + np.repeat(first + 1 - row0, rows)
-    lower, diag, upper = h[inner - 1], 2.0 * (h[inner - 1] + h[inner]), h[inner]
-    rhs = 6.0 * (slope[inner] - slope[inner - 1])
-    rowl = row0 + rows - 1
+    slope = np.diff(yy, axis=0)
+    slope /= h[:, None]
+    # knot i inside a segment: h[i-1] M[i-1] + 2 (h[i-1] + h[i]) M[i] + h[i] M[i+1] = 6 (slope[i] - slope[i-1])
+    lower, diag, upper, rhs = np.zeros(n), np.empty(n), np.zeros(n), np.empty_like(yy)
+    lower[1:] = h
+    upper[:-1] = h
+    np.add(h[1:], h[:-1], out=diag[1:-1])
+    diag[1:-1] *= 2.0
+    np.subtract(slope[1:], slope[:-1], out=rhs[1:-1])
+    rhs[1:-1] *= 6.0
+    (d1s, d2s), (d1e, d2e) = start, end
+    ends = np.concatenate([first, last])
+    lower[ends] = upper[ends] = 0.0  # the segments' end knots: their known moments
+    diag[ends] = 1.0
+    rhs[first] = d2s
+    rhs[last] = d2e
     h0, h1, hl, hl2 = h[first], h[first + 1], h[last - 1], h[last - 2]
     # the end conditions give the unknown values as y[first+1] = a0 + a1 M[first+1], y[last-1] = b0 + b1 M[last-1]
-    (d1s, d2s), (d1e, d2e) = start, end
     a0 = yy[first] + h0[:, None] * d1s + h0[:, None] ** 2 * 2.0 * d2s / 6.0
     a1 = h0**2 / 6.0
     b0 = yy[last] - hl[:, None] * d1e + hl[:, None] ** 2 * 2.0 * d2e / 6.0
     b1 = hl**2 / 6.0
-    gf0, gf1 = -6.0 * (1.0 / h0 + 1.0 / h1), 6.0 / h1  # d rhs / d y[first+1] in the first two rows
-    gl0, gl1 = -6.0 * (1.0 / hl + 1.0 / hl2), 6.0 / hl2  # d rhs / d y[last-1] in the last two rows
-    rhs[row0] += gf0[:, None] * a0
-    rhs[row0 + 1] += gf1[:, None] * a0
-    diag[row0] -= gf0 * a1
-    lower[row0 + 1] -= gf1 * a1
-    rhs[rowl] += gl0[:, None] * b0
-    rhs[rowl - 1] += gl1[:, None] * b0
-    diag[rowl] -= gl0 * b1
-    upper[rowl - 1] -= gl1 * b1
-    rhs[row0] -= h0[:, None] * d2s  # the known end moments
-    rhs[rowl] -= hl[:, None] * d2e
-    lower[row0] = 0.0  # the segments' systems are independent
-    upper[rowl] = 0.0
-    moments = np.empty_like(yy)
-    moments[inner] = solve_tridiagonal(lower, diag, upper, rhs, cyclic=False)
-    moments[first] = d2s
-    moments[last] = d2e
+    gf0, gf1 = -6.0 * (1.0 / h0 + 1.0 / h1), 6.0 / h1  # d rhs / d y[first+1] in the rows first+1, first+2
+    gl0, gl1 = -6.0 * (1.0 / hl + 1.0 / hl2), 6.0 / hl2  # d rhs / d y[last-1] in the rows last-1, last-2
+    rhs[first + 1] += gf0[:, None] * a0
+    rhs[first + 2] += gf1[:, None] * a0
+    diag[first + 1] -= gf0 * a1
+    lower[first + 2] -= gf1 * a1
+    rhs[last - 1] += gl0[:, None] * b0
+    rhs[last - 2] += gl1[:, None] * b0
+    diag[last - 1] -= gl0 * b1
+    upper[last - 2] -= gl1 * b1
+    moments = solve_tridiagonal(lower, diag, upper, rhs, cyclic=False)
     yy[first + 1] = a0 + a1[:, None] * moments[first + 1]
     yy[last - 1] = b0 + b1[:, None] * moments[last - 1]
     hh = h[:, None]
@@ -716,9 +795,10 @@ _ONE_SIDED_WEIGHTS = np.array([3.0, -3.0, 1.0])
 def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement, fit_tol: float,
                      fourth: tuple[np.ndarray, list[np.ndarray]] | None = None, initial_step: float = math.radians(5.0),
                      max_rounds: int = 12, max_pieces: int = 100_000) -> tuple[list[Contour], list[float]]:
-    """Contours of ``dims`` exact curves at once: ``exact(theta) -> (Q, dQ/dtheta, d2Q/dtheta2)``, each
-    complex (n, dims) (the curves side by side), one cubic spline segment per interval between the
+    """Contours of ``dims`` exact curves at once, one cubic spline segment per interval between the
     law's breaks (one segment from cam angle 0 when there are none); the curves share their knots.
+    ``exact(theta, k)`` -> ``((Q, dQ/dtheta, d2Q/dtheta2) at the first k angles, Q at the others)``,
+    each complex (n, dims) (the curves side by side; None for the derivatives when k = 0).
 
     The spline parameter is ``t = -sigma theta`` (the contour runs counter-clockwise).  Every
     segment is a C2 cubic spline through exact points on ``count`` uniform pieces (plus the two
@@ -767,14 +847,13 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
         for i, w in enumerate(_PROBES):
             t[i + 1:: 4] = x[:-1] + w * span
         if ends1 is None:
-            t = np.concatenate([probe_ends, t])
-        q, d1, d2 = exact(-sigma * t)  # complex (n, dims)
-        if ends1 is None:
+            ends, q = exact(-sigma * np.concatenate([probe_ends, t]), probe_ends.size)
             w = _ONE_SIDED_WEIGHTS[None, :, None]
-            e1 = (-sigma * d1[: probe_ends.size]).view(np.float64).reshape(nseg, 2, 3, -1)
-            e2 = d2[: probe_ends.size].view(np.float64).reshape(nseg, 2, 3, -1)
+            e1 = (-sigma * ends[1]).view(np.float64).reshape(nseg, 2, 3, -1)
+            e2 = ends[2].view(np.float64).reshape(nseg, 2, 3, -1)
             ends1, ends2 = (w * e1).sum(axis=2), (w * e2).sum(axis=2)  # (nseg, 2 [start, end], 2 dims)
-            q, t = q[probe_ends.size:], t[probe_ends.size:]
+        else:
+            q = exact(-sigma * t, 0)[1]
         knot_values = np.ascontiguousarray(q[::4]).view(np.float64)  # (knots, 2 dims): x and y of every curve
         coeffs = _c2_splines(x, knot_values, first, last, (ends1[todo, 0], ends2[todo, 0]), (ends1[todo, 1], ends2[todo, 1]))
         # distances of the splines from the exact curves at the probes, as long flat arrays
@@ -891,8 +970,9 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
         where = ", ".join(f"{math.degrees(b):.3f}" for b in brk[cont <= 0])
         raise GeometryError(f"the law's velocity jumps at cam angles {where} deg: a {f.kind} follower cannot follow "
                             "a corner of the pitch curve exactly; use laws with continuous velocity there (or a knife follower)")
-    theta = check_grid(law, check_step)
-    data = kinematics(f, law, theta)
+    theta, n_uniform, added_at, added = _check_grid(law, check_step)
+    s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(theta))
+    data = _kinematics_from(f, theta, s, ds, d2s, d3s, _grid_to_cam(f, n_uniform, added_at, added))
     failures = []
     for reason, mask in profile_failures(f, data):
         if mask.any():
@@ -911,13 +991,20 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
     if pitch_ok and f.kind == "roller":
         want.insert(0, "pitch")
 
-    def exact(th: np.ndarray):  # the wanted curves only, complex (n, len(want)) each
+    def exact(th: np.ndarray, ends: int):
+        """The wanted curves at cam angles ``th`` from one evaluation of the law: (Q, dQ, d2Q) at the
+        first ``ends`` angles (complex (ends, len(want)) each; None when ``ends`` is 0) and the
+        points Q at the others (complex (n - ends, len(want)))."""
         s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(th))
-        if f.kind == "flat":
-            curves = _flat(f, th, s, ds, d2s, d3s, False)
-        else:
-            curves = _roller(f, th, s, ds, d2s, d3s, False, tuple(want))
-        return tuple(np.stack([curve[i] for curve in curves], axis=1) for i in range(3))
+        derivs = None
+        if ends:
+            e = slice(0, ends)
+            if f.kind == "flat":
+                curves = _flat(f, th[e], s[e], ds[e], d2s[e], d3s[e], False)
+            else:
+                curves = _roller(f, th[e], s[e], ds[e], d2s[e], d3s[e], False, tuple(want))
+            derivs = tuple(np.stack([curve[i] for curve in curves], axis=1) for i in range(3))
+        return derivs, _curve_points(f, th[ends:], s[ends:], ds[ends:], tuple(want))
 
     if want:
         d2 = [data.pitch_d2 if name == "pitch" else data.contact_d2 for name in want]

@@ -631,3 +631,45 @@ def test_fits_reject_bad_tolerances_and_give_up_with_a_clear_error():
     with pytest.raises(GeometryError, match="does not reach tol"):
         fit_clamped(lambda t: np.stack([t, np.abs(t)], 1), -1.0, 1.0, 1e-9, (np.array([-1.0, 1.0]), np.array([1.0, -1.0]), z,
                     np.array([1.0, 1.0]), np.array([1.0, 1.0]), z), max_pieces=50)
+
+
+def test_spline_green_area_against_gauss_legendre_quadrature():
+    """Random cubic pieces: (1/2) integral of x y' - y x' by 8-point Gauss-Legendre on every piece
+    (exact for the degree-5 integrand), evaluated here from the power form with numpy.polynomial."""
+    rng = np.random.default_rng(21)
+    nodes, weights = np.polynomial.legendre.leggauss(8)
+    for trial in range(20):
+        k = int(rng.integers(1, 40))
+        breaks = np.cumsum(rng.uniform(0.01, 3.0, k + 1)) - 5.0
+        coeffs = rng.normal(size=(4, k, 2)) * rng.choice([1e-3, 1.0, 50.0])
+        expected = 0.0
+        for i in range(k):
+            h = breaks[i + 1] - breaks[i]
+            tau = 0.5 * h * (nodes + 1.0)
+            x, y = (np.polynomial.Polynomial(coeffs[::-1, i, j]) for j in range(2))
+            integrand = x(tau) * y.deriv()(tau) - y(tau) * x.deriv()(tau)
+            expected += 0.5 * float(np.sum(weights * integrand)) * 0.5 * h
+        scale = np.sum(np.abs(coeffs)) ** 2 * (breaks[-1] - breaks[0] + 1.0) ** 6
+        assert abs(Spline(breaks, coeffs).green_area() - expected) <= 1e-13 * scale, trial
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 7, 64, 1500])
+@pytest.mark.parametrize("q", [0.0, 0.5, 0.9, 0.999])
+def test_cyclic_reduction_step_count_against_a_dense_solve(n, q):
+    """Non-cyclic systems whose dominance ratio max (|lower| + |upper|) / |diag| is q: the steps
+    follow from q (Heller's bound) or from n (every coupling outside the system), never from a
+    convergence check; the solution is numpy's dense solve's."""
+    from camgen.contour import solve_tridiagonal
+
+    rng = np.random.default_rng(int(1000 * q) + n)
+    lower, upper = rng.uniform(-1, 1, n) * (q > 0), rng.uniform(-1, 1, n) * (q > 0)  # q = 0: a diagonal system
+    lower[0] = upper[-1] = 0.0
+    diag = (np.abs(lower) + np.abs(upper)) / max(q, 1e-300) * rng.uniform(1.0, 1.0 + (1.0 - q), n)
+    diag[(np.abs(lower) + np.abs(upper)) == 0] = 1.0
+    diag *= rng.choice([-1, 1], n)
+    dense = np.diag(diag) + np.diag(lower[1:], -1) + np.diag(upper[:-1], 1)
+    rhs = rng.normal(size=(n, 3))
+    exact = np.linalg.solve(dense, rhs)
+    got = solve_tridiagonal(lower, diag, upper, rhs, cyclic=False)
+    assert got.shape == rhs.shape
+    assert np.max(np.abs(got - exact)) <= 1e-10 * max(1.0, np.max(np.abs(exact)))

@@ -3,7 +3,8 @@
 * the motion program's fast paths (a sorted grid in [0, 2 pi), angles in [-2 pi, 0)) against the
   closed forms of its laws written out here;
 * the dense check grid against its definition (np.unique of the grid, the breaks and their
-  neighbours, computed here);
+  neighbours, computed here), and its rotation into the cam frame (phasor tables) against numpy's
+  cosine and sine of the grid angles;
 * the C2 splines of several segments solved as one system against scipy's B-spline interpolant
   with the same knots and end conditions, segment by segment;
 * the estimate of max |d4Q/dtheta4| from second differences of d2Q against a curve whose fourth
@@ -23,7 +24,9 @@ from camgen.synthesis.followers import (
     DEFAULT_CHECK_STEP,
     FollowerSpec,
     _c2_splines,
+    _check_grid,
     _fourth_derivatives,
+    _grid_to_cam,
     _knots,
     cam_envelope,
     check_grid,
@@ -87,6 +90,30 @@ def test_check_grid_is_the_uniform_grid_with_the_breaks_and_their_neighbours():
         Law.breaks = np.sort(brk)
         reference = np.unique(np.mod(np.concatenate([np.arange(n) * (TWO_PI / n), brk, brk - 1e-9, brk + 1e-9]), TWO_PI))
         assert np.array_equal(check_grid(Law, step), reference), trial
+
+
+@pytest.mark.parametrize("rotation", ["ccw", "cw"])
+def test_check_grid_rotation_is_the_cosine_and_sine_of_the_grid_angles(rotation):
+    """exp(-i sigma theta) on the check grid from two short tables (angle addition) is numpy's
+    cos(theta) -+ i sin(theta) within a few ulps, whatever the step and wherever the breaks lie
+    (on the grid, between grid angles, none)."""
+    rng = np.random.default_rng(17)
+    follower = FollowerSpec("knife", 40.0, rotation=rotation)
+    sigma = 1.0 if rotation == "ccw" else -1.0
+
+    class Law:
+        breaks = np.zeros(0)
+
+    for trial in range(60):
+        step = D(float(rng.choice([0.05, 0.07, 0.3, 1.0, 45.0])))
+        n = max(8, math.ceil(TWO_PI / step))
+        Law.breaks = np.sort(np.concatenate([rng.uniform(0.0, TWO_PI, int(rng.integers(0, 6))),
+                                             [(n // 3) * (TWO_PI / n)] * int(rng.integers(0, 2))]))
+        theta, size, where, added = _check_grid(Law, step)
+        assert np.array_equal(theta, check_grid(Law, step)) and size == n
+        assert np.array_equal(theta[where], added)
+        got = _grid_to_cam(follower, size, where, added)
+        assert np.max(np.abs(got - (np.cos(theta) - 1j * sigma * np.sin(theta)))) <= 2e-15, trial
 
 
 # --------------------------------------------------------------------------------------------
