@@ -86,3 +86,10 @@ def require_positive(name: str, value: object, unit: str = "mm") -> float:
     if number <= 0.0:
         raise ParameterError(name, value, f"{name} > 0 {unit}".rstrip())
     return number
+
+
+def ceil_significant(x: float, digits: int) -> float:
+    """``x`` > 0 rounded up to ``digits`` significant digits, so that a least value quoted in an
+    error message with that many digits is itself accepted (0.0102345 -> 0.0103 for 3)."""
+    scale = 10.0 ** (math.floor(math.log10(x)) - digits + 1)
+    return float(f"{math.ceil(x / scale * (1 - 1e-12)) * scale:.{digits}g}")

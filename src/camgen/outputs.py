@@ -81,6 +81,10 @@ SELECTABLE = tuple(f.name for f in _FORMATS if not f.implied)
 MESH_FORMATS = tuple(f.name for f in _FORMATS if "mesh" in f.stages)
 
 
+#: Largest ``output.chord_tol_mm`` (mm).
+MAX_CHORD_TOL = 1.0
+
+
 @dataclass(frozen=True)
 class OutputSpec:
     """What a run writes and how: formats, chord tolerance (mm) of every flattened output, DXF
@@ -99,7 +103,7 @@ def output_keys() -> tuple[Key, ...]:
     return (
         Key("formats", ChoiceList(SELECTABLE), "Files to write per cam (report.json is always written; ride and leg files whenever "
             "the scene has them).", ("files",), default=list(d.formats)),
-        Key("chord_tol_mm", Number("mm", 1e-7, 1.0), "Largest distance between a flattened output (point list, DXF biarcs, "
+        Key("chord_tol_mm", Number("mm", 1e-7, MAX_CHORD_TOL), "Largest distance between a flattened output (point list, DXF biarcs, "
             "meshes, G-code) and the exact profile.", ("tolerance",), default=d.chord_tol),
         Key("dxf_splines", Choice(("biarc", "bspline")), "How the DXF writes spline segments: ARCs and LINEs within chord_tol_mm "
             "(every reader takes them), or exact clamped B-spline SPLINEs (for CAD).", ("dxf",), default=d.dxf_splines),

@@ -98,8 +98,11 @@ def _check_machining(scene: "Scene") -> None:
     for spec in scene.cams:
         depth = spec.body.thickness + scene.machining.breakthrough
         if depth / step > MAX_PASSES:
-            raise ParameterError("machining.step_down_mm", step, f">= {depth / MAX_PASSES:.3g} mm for cam '{spec.name}'",
-                                 f"its {depth:g} mm (thickness + breakthrough) would take {depth / step:.3g} passes, more than "
+            from camgen.errors import ceil_significant
+
+            least = ceil_significant(depth / MAX_PASSES, 3)
+            raise ParameterError("machining.step_down_mm", step, f">= {least:.3g} mm for cam '{spec.name}'",
+                                 f"its {depth:g} mm (thickness + breakthrough) would take {depth / step:.4g} passes, more than "
                                  f"the {MAX_PASSES} a program may hold")
 
 
@@ -107,38 +110,43 @@ def _check_machining(scene: "Scene") -> None:
 MAX_PASSES = 1000
 
 
-#: Largest number of vertices of one flattened contour in a file (point list, mesh, or the
-#: spline parts of a DXF or G-code program): about 16 MB of coordinates, a 100 MB mesh.
+#: Largest number of vertices of one flattened contour in a file that flattens the whole profile
+#: (the point list, the meshes): about 16 MB of coordinates, a 100 MB mesh.  The DXF writes arcs
+#: and splines exactly or as few biarcs; the G-code has its own cap on the program's moves
+#: (:data:`camgen.export.gcode.MAX_PROGRAM_MOVES`).
 MAX_FLAT_POINTS = 500_000
-#: Formats that flatten the whole profile, and those that flatten only its spline segments
-#: (arcs are written as exact arcs).
+#: Formats that flatten the whole profile (besides the meshes).
 _FLAT_ALL = ("points",)
-_FLAT_SPLINES = ("dxf", "ngc")
+def _flat_count(cam: "BuiltCam", chord_tol: float) -> int:
+    """Vertices of ``cam``'s flattened profile (and bore circle) at ``chord_tol`` mm."""
+    count = sum(int(seg.flatten_params(chord_tol).size) for seg in cam.contour.segments)
+    if cam.body.bore_diameter > 0:  # the bore circle of the mesh
+        r = cam.body.bore_diameter / 2.0
+        count += math.ceil(2.0 * math.pi / (2.0 * math.acos(max(-1.0, 1.0 - chord_tol / r))))
+    return count
 
 
 def _check_flat_size(cam: "BuiltCam", formats: Sequence[str], chord_tol: float) -> None:
     """Refuse a chord tolerance that would flatten ``cam`` into more than :data:`MAX_FLAT_POINTS`
-    vertices in a planned file (a 200 m cam at 1e-7 mm: 3 million, a 2 GB mesh), naming
-    ``output.chord_tol_mm`` and the smallest tolerance that fits."""
-    from camgen.contour import Arc
-    from camgen.outputs import MESH_FORMATS
+    vertices in a planned point list or mesh (a 200 m cam at 1e-7 mm: 3 million, a 2 GB mesh),
+    naming ``output.chord_tol_mm`` and the smallest tolerance, as printed, that fits."""
+    from camgen.errors import ceil_significant
+    from camgen.outputs import MAX_CHORD_TOL, MESH_FORMATS
 
-    whole = any(f in _FLAT_ALL or f in MESH_FORMATS for f in formats)
-    if cam.contour is None or not (whole or any(f in _FLAT_SPLINES for f in formats)):
+    if cam.contour is None or not any(f in _FLAT_ALL or f in MESH_FORMATS for f in formats):
         return
-    count = 0
-    for seg in cam.contour.segments:
-        if whole or not isinstance(seg, Arc):
-            count += seg.flatten_params(chord_tol).size
-    if whole and cam.body.bore_diameter > 0:  # the bore circle of the mesh
-        r = cam.body.bore_diameter / 2.0
-        count += math.ceil(2.0 * math.pi / (2.0 * math.acos(max(-1.0, 1.0 - chord_tol / r))))
-    if count > MAX_FLAT_POINTS:
-        # chords of arcs and splines: the vertex count grows as chord_tol^-1/2
-        need = chord_tol * (count / MAX_FLAT_POINTS) ** 2 * 1.01
-        raise ParameterError("output.chord_tol_mm", chord_tol, f">= {need:.2g} mm for cam '{cam.name}'",
-                             f"at {chord_tol:g} mm its flattened profile would have {count} vertices, more than the "
-                             f"{MAX_FLAT_POINTS} a file may hold")
+    count = _flat_count(cam, chord_tol)
+    if count <= MAX_FLAT_POINTS:
+        return
+    # chords of arcs and splines: the vertex count grows as chord_tol^-1/2 (at least one per piece)
+    need = ceil_significant(min(MAX_CHORD_TOL, chord_tol * (count / MAX_FLAT_POINTS) ** 2), 2)
+    while need < MAX_CHORD_TOL and _flat_count(cam, need) > MAX_FLAT_POINTS:
+        need = ceil_significant(min(MAX_CHORD_TOL, need * 1.05), 2)
+    why = f"at {chord_tol:g} mm its flattened profile would have {count} vertices, more than the {MAX_FLAT_POINTS} a file may hold"
+    if _flat_count(cam, need) > MAX_FLAT_POINTS:
+        raise ParameterError("output.formats", list(formats), f"formats without the point list and meshes for cam '{cam.name}'",
+                             why + f", and still more at the largest chord_tol_mm ({MAX_CHORD_TOL:g} mm)")
+    raise ParameterError("output.chord_tol_mm", chord_tol, f">= {need:.2g} mm for cam '{cam.name}'", why)
 
 
 @dataclass

@@ -6,6 +6,8 @@ import dataclasses
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from camgen.errors import ParameterError
+
 if TYPE_CHECKING:
     from camgen.export.gcode import MachiningSpec
     from camgen.kinds.base import BuiltCam
@@ -69,8 +71,15 @@ def step(cam: "BuiltCam", run: RunSettings, fmt: str) -> bytes:
 def gcode(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
     from camgen.export.gcode import gcode_program
 
+    from camgen.kinds.base import rename_errors
+    from camgen.outputs import machining_keys
+
     spec = dataclasses.replace(run.machining, thickness=cam.body.thickness, chord_tol=run.output.chord_tol)
-    return gcode_program(cam.contour, spec, cam.name, run.scene_name)
+    try:  # a program too long: the error names the scene key to change
+        return rename_errors("machining", lambda: gcode_program(cam.contour, spec, cam.name, run.scene_name), machining_keys())
+    except ParameterError as exc:
+        name = "output.chord_tol_mm" if exc.name == "machining.chord_tol" else exc.name
+        raise ParameterError(name, exc.value, f"{exc.valid} for cam '{cam.name}'", exc.why) from None
 
 
 def html(result: "RunResult") -> str:

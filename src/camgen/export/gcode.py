@@ -54,7 +54,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from camgen.contour import Arc, Contour, Spline
-from camgen.errors import GeometryError, ParameterError, require_finite, require_positive
+from camgen.errors import GeometryError, ParameterError, ceil_significant, require_finite, require_positive
 from camgen.export.tables import format_rows
 
 DIALECTS = ("linuxcnc", "grbl")
@@ -401,6 +401,23 @@ def _blend_word(tol: float, decimals: int) -> str:
     return f"{tol:.3e}"
 
 
+#: Most moves (lines) of one G-code program: about 60 MB of text, what controllers and CAM
+#: viewers still load (the contour is repeated in every depth pass).
+MAX_PROGRAM_MOVES = 2_000_000
+
+
+def _refuse_long_program(spec: MachiningSpec, n_passes: int, moves: int) -> None:
+    """Raise the :class:`ParameterError` for a program of more than :data:`MAX_PROGRAM_MOVES`
+    moves: fewer passes (``step_down_mm``) where one pass fits, else a coarser path."""
+    why = f"{n_passes} passes of {moves} moves would make {n_passes * moves} lines, more than the {MAX_PROGRAM_MOVES} a program may hold"
+    passes = MAX_PROGRAM_MOVES // moves
+    if passes >= 1:
+        raise ParameterError("step_down_mm", spec.step_down, f">= {ceil_significant(spec.depth / passes, 3):.3g} mm", why)
+    coarser = '"biarcs" or a larger chord_tol' if spec.spline_mode == "lines" else "a larger chord_tol"
+    raise ParameterError("spline_mode" if spec.spline_mode == "lines" else "chord_tol", spec.spline_mode if spec.spline_mode == "lines" else spec.chord_tol,
+                         coarser, why)
+
+
 def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene: str = "") -> str:
     """RS274/NGC program text that mills ``contour`` (the cam profile) to ``spec.thickness``
     plus ``spec.breakthrough``, with tangent lead-in and lead-out (see the module docstring)."""
@@ -451,6 +468,9 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
         return f"X{p[0]:.{d}f} Y{p[1]:.{d}f}"
 
     n_passes = max(1, math.ceil(spec.depth / spec.step_down - 1e-9))
+    moves = contour_moves.count("\n") + 6  # + plunge, feed down, lead-in (2), lead-out (2)
+    if n_passes * moves > MAX_PROGRAM_MOVES:
+        _refuse_long_program(spec, n_passes, moves)
     depths = -np.minimum(spec.step_down * np.arange(1, n_passes + 1), spec.depth)
     tol = spec.chord_tol
     blend = _blend_word(BLEND_SHARE * tol, d)

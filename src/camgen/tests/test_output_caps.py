@@ -1,0 +1,124 @@
+"""The caps on file size (pipeline.MAX_FLAT_POINTS, pipeline.MAX_PASSES, gcode.MAX_PROGRAM_MOVES):
+each refusal names the key and a least value that is itself accepted, and what is written at
+that value holds no more than the cap (counted in the file, not taken from the code).
+
+The caps are lowered with monkeypatch so that the cases stay small; the arithmetic that picks the
+suggested value is the same at any cap.
+"""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+from camgen.cli import main
+
+PLATE = """
+[output]
+formats = {formats}
+chord_tol_mm = {tol}
+{machining}
+[cams.plate]
+kind = "motion_law"
+base_radius_mm = 40.0
+roller_radius_mm = 10.0
+thickness_mm = {thickness}
+bore_diameter_mm = 12.0
+[[cams.plate.segments]]
+law = "cycloidal"
+span_deg = 120.0
+lift_mm = 20.0
+[[cams.plate.segments]]
+law = "dwell"
+span_deg = 60.0
+[[cams.plate.segments]]
+law = "poly345"
+span_deg = 120.0
+lift_mm = -20.0
+[[cams.plate.segments]]
+law = "dwell"
+span_deg = 60.0
+"""
+
+
+def _run(tmp_path: Path, capsys, name: str, formats: str = '["points"]', tol: float = 1e-3, step: float = 2.0,
+         mode: str = "biarcs", thickness: float = 10.0) -> tuple[int, str, Path]:
+    scene = tmp_path / f"{name}.toml"
+    machining = f'[machining]\ntool_diameter_mm = 6.0\nstep_down_mm = {step!r}\nspline_mode = "{mode}"' if "ngc" in formats else ""
+    scene.write_text(PLATE.format(formats=formats, tol=repr(tol), machining=machining, thickness=repr(thickness)))
+    out = tmp_path / f"out_{name}"
+    status = main(["run", str(scene), "-o", str(out), "--quiet"])
+    return status, capsys.readouterr().err, out / name
+
+
+def _least(err: str, key: str) -> float:
+    match = re.search(rf"parameter '{re.escape(key)}' = \S+ is invalid: valid range is >= ([0-9.e+-]+) mm", err)
+    assert match, err
+    return float(match.group(1))
+
+
+def test_suggested_chord_tolerance_is_accepted_and_the_file_fits(tmp_path, capsys, monkeypatch):
+    import camgen.pipeline as pipeline
+
+    cap = 3000
+    monkeypatch.setattr(pipeline, "MAX_FLAT_POINTS", cap)
+    status, err, folder = _run(tmp_path, capsys, "fine", tol=1e-5)
+    assert status == 2 and err.count("\n") == 1 and not folder.exists(), err
+    least = _least(err, "output.chord_tol_mm")
+    status, err, folder = _run(tmp_path, capsys, "least", tol=least)
+    assert status == 0, err
+    rows = [line for line in (folder / "plate_points.csv").read_text().splitlines() if line and line[0] in "-0123456789"]
+    assert len(rows) <= cap
+    # the suggestion is the least with two significant digits: 5 % below it does not fit
+    assert _run(tmp_path, capsys, "below", tol=least * 0.95)[0] == 2
+
+
+def test_dxf_alone_is_not_capped_by_the_flattened_count(tmp_path, capsys, monkeypatch):
+    """The DXF writes arcs exactly and splines as biarcs or exact SPLINEs: a tolerance at which the
+    point list is refused writes a DXF of few entities (counted by ezdxf)."""
+    import ezdxf
+
+    import camgen.pipeline as pipeline
+
+    monkeypatch.setattr(pipeline, "MAX_FLAT_POINTS", 3000)
+    assert _run(tmp_path, capsys, "points", tol=1e-5)[0] == 2
+    status, err, folder = _run(tmp_path, capsys, "dxf", formats='["dxf"]', tol=1e-5)
+    assert status == 0, err
+    profile = [e for e in ezdxf.readfile(folder / "plate.dxf").modelspace() if e.dxf.layer == "PROFILE"]
+    assert 0 < len(profile) <= 3000
+
+
+def test_least_step_down_is_accepted(tmp_path, capsys):
+    """10.0345 mm + 0.2 mm breakthrough over at most 1000 passes: 0.0102345 mm, quoted rounded up."""
+    import camgen.pipeline as pipeline
+
+    status, err, folder = _run(tmp_path, capsys, "steps", formats='["ngc"]', step=0.001, thickness=10.0345)
+    assert status == 2 and not folder.exists(), err
+    least = _least(err, "machining.step_down_mm")
+    assert least == pytest.approx(0.0103) and (10.0345 + 0.2) / least <= pipeline.MAX_PASSES
+
+
+@pytest.mark.parametrize("mode", ["biarcs", "lines"])
+def test_a_program_too_long_names_step_down_and_its_least_value_fits(tmp_path, capsys, monkeypatch, mode):
+    import camgen.export.gcode as gcode
+
+    cap = 4000
+    monkeypatch.setattr(gcode, "MAX_PROGRAM_MOVES", cap)
+    status, err, folder = _run(tmp_path, capsys, "long", formats='["ngc"]', tol=1e-2, step=0.05, mode=mode)
+    assert status == 2 and err.count("\n") == 1 and not folder.exists(), err
+    least = _least(err, "machining.step_down_mm")
+    status, err, folder = _run(tmp_path, capsys, "fits", formats='["ngc"]', tol=1e-2, step=least, mode=mode)
+    assert status == 0, err
+    moves = [line for line in (folder / "plate.ngc").read_text().splitlines() if re.match(r"G[0-3]\b|G4[12]\.1|G40", line)]
+    assert len(moves) <= cap
+
+
+def test_one_pass_too_long_names_the_path_setting(tmp_path, capsys, monkeypatch):
+    import camgen.export.gcode as gcode
+
+    monkeypatch.setattr(gcode, "MAX_PROGRAM_MOVES", 50)
+    status, err, _ = _run(tmp_path, capsys, "lines", formats='["ngc"]', tol=1e-3, mode="lines")
+    assert status == 2 and "parameter 'machining.spline_mode' = 'lines'" in err, err
+    status, err, _ = _run(tmp_path, capsys, "arcs", formats='["ngc"]', tol=1e-3, mode="biarcs")
+    assert status == 2 and "parameter 'output.chord_tol_mm' = 0.001" in err, err
