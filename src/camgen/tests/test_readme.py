@@ -103,7 +103,7 @@ def test_the_plate_cam_figures_quoted_are_the_programs(tree):
 def test_the_limits_quoted_are_the_codes(tree):
     """The README's Limits section quotes camgen's caps and tolerances: each must be the value the
     code enforces (the behaviour at each limit is tested in test_limits.py and its neighbours)."""
-    from camgen.export.gcode import MIN_GCODE_CHORD_TOL
+    from camgen.export.gcode import MAX_PROGRAM_MOVES, MIN_GCODE_CHORD_TOL
     from camgen.export.solid import MANIFOLD_SNAP
     from camgen.export.step import FOLD_TOL
     from camgen.kinds.base import MIN_RPM
@@ -118,7 +118,7 @@ def test_the_limits_quoted_are_the_codes(tree):
     text = " ".join(_section(_readme(tree), "Limits").split())
     quoted = {
         f"at most {MAX_FLAT_POINTS:,} vertices": True,
-        f"at most {MAX_PASSES:,} depth passes": True,
+        f"at most {MAX_PASSES:,} depth passes and {MAX_PROGRAM_MOVES:,} moves": True,
         f">= {short(MIN_GCODE_CHORD_TOL)} mm": True,
         f"at most {trajectory.MAX_ROWS:,} rows and {trajectory.MAX_TABLE_BYTES >> 20} MiB": True,
         f"`samples` 16 to {MAX_SAMPLES:,}": True,
