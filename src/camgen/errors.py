@@ -31,6 +31,21 @@ class GeometryError(CamgenError, ValueError):
     """The parameters are individually valid but the geometry cannot be built or used."""
 
 
+class FitToleranceError(GeometryError):
+    """A spline representation that cannot reach its tolerance with the most pieces allowed.
+
+    Attributes
+    ----------
+    fit_tol : the tolerance asked for, mm.
+    reached : the largest distance reached with ``pieces`` pieces, mm.
+    pieces : the pieces of the last attempt.
+    """
+
+    def __init__(self, message: str, fit_tol: float = 0.0, reached: float = 0.0, pieces: int = 0) -> None:
+        super().__init__(message)
+        self.fit_tol, self.reached, self.pieces = fit_tol, reached, pieces
+
+
 class UndercutError(GeometryError):
     """The follower cannot ride the cam as designed: the profile reverses (roller: the pitch
     curve's radius of curvature is not larger than the roller; flat face: the envelope's radius

@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
 
-from camgen.errors import GeometryError, ParameterError
+from camgen.errors import FitToleranceError, GeometryError, ParameterError, ceil_significant
 from camgen.kinds.base import BuiltCam, CamSpec, ZeroMark, with_cam
 from camgen.schema import Choice, Key, Length, Number
 
@@ -36,6 +36,8 @@ if TYPE_CHECKING:
 #: Default of ``fit_tol_mm`` (camgen.synthesis.followers.DEFAULT_FIT_TOL, kept here so reading the
 #: key reference imports no synthesis module; a test keeps them equal).
 DEFAULT_FIT_TOL = 1e-7
+#: Largest fit_tol_mm (mm).
+FIT_TOL_MAX = 1e-2
 #: Samples per turn of the follower-motion curves and the follower table (0.1 deg).
 MOTION_SAMPLES = 3600
 #: Frames per turn of the report's animation (2 deg).
@@ -84,7 +86,7 @@ def follower_keys() -> tuple[Key, ...]:
             "measured in this direction.", ("profile",), default="ccw"),
         Key("face_half_length_mm", Length(), "Flat face: usable half-length of the face (checked against the contact's reach; "
             "oscillating: about the middle of the contact's range).", ("report",), requires={"follower": ("flat",)}),
-        Key("fit_tol_mm", Number("mm", 1e-10, 1e-2), "Largest distance of the profile's spline representation from the exact "
+        Key("fit_tol_mm", Number("mm", 1e-10, FIT_TOL_MAX), "Largest distance of the profile's spline representation from the exact "
             "envelope (measured at the quarter and mid points of every piece).", ("profile",), default=DEFAULT_FIT_TOL),
     )
 
@@ -342,6 +344,24 @@ def _face_extent(f: "FollowerSpec", data: Any, half: float | None) -> tuple[floa
     return mid - half, mid + half
 
 
+def _reachable_fit_tol(follower: "FollowerSpec", law: Any, failure: FitToleranceError, tries: int = 4) -> str:
+    """The valid range of ``fit_tol_mm`` after ``failure``: the least tolerance (two significant
+    digits, rounded up) at which the envelope was then built, or what else to change."""
+    from camgen.synthesis.followers import cam_envelope
+
+    for _ in range(tries):
+        least = ceil_significant(failure.reached * 1.01, 2)
+        if least > FIT_TOL_MAX:
+            break
+        try:
+            cam_envelope(follower, law, fit_tol=least, report_only=True)
+        except FitToleranceError as exc:
+            failure = exc
+            continue
+        return f">= {least:.2g} mm"
+    return f"<= {FIT_TOL_MAX:g} mm is out of reach: a larger base radius (or fewer table rows)"
+
+
 def build_disk(spec: CamSpec, stages: frozenset[str]) -> DiskCam:
     """The exact envelope of the follower (report-only when it cannot be made), with sizing,
     the exact motion and, with the ``plots`` stage, the report's animation."""
@@ -355,7 +375,11 @@ def build_disk(spec: CamSpec, stages: frozenset[str]) -> DiskCam:
         sizing = with_cam(where, lambda: size_follower(spec))
         follower = sizing.follower
     envelope_law = p.law if hasattr(p.law, "joins") else EnvelopeJoins(p.law)  # a lift table: knots where it jumps only
-    env = with_cam(where, lambda: cam_envelope(follower, envelope_law, fit_tol=p.fit_tol, report_only=True))
+    try:
+        env = with_cam(where, lambda: cam_envelope(follower, envelope_law, fit_tol=p.fit_tol, report_only=True))
+    except FitToleranceError as exc:  # the key to change, and a least value tried and found to work
+        raise ParameterError(f"{where}.fit_tol_mm", p.fit_tol, _reachable_fit_tol(follower, envelope_law, exc),
+                             str(exc).removeprefix(f"{where}: ")) from None
     profile = env.profile
     lo, hi = p.law.s_bounds
     unit = follower.lift_unit

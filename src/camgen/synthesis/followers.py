@@ -79,7 +79,7 @@ from typing import Callable, Protocol
 import numpy as np
 
 from camgen.contour import Contour, Spline, solve_tridiagonal
-from camgen.errors import GeometryError, ParameterError, require_finite, require_positive
+from camgen.errors import FitToleranceError, GeometryError, ParameterError, require_finite, require_positive
 
 TWO_PI = 2.0 * math.pi
 
@@ -877,17 +877,14 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
             worst = float(err[j].max())
             if worst > fit_tol:
                 if count[k] >= max_pieces:
-                    raise GeometryError(f"the spline representation does not reach fit_tol = {fit_tol:g} mm (error {worst:.3g} mm "
-                                        f"with {count[k]} pieces): the curve is too close to a cusp; increase fit_tol or the base radius")
+                    raise _fit_failure(fit_tol, worst, int(count[k]))
                 count[k] = min(max_pieces, math.ceil(count[k] * min(16.0, max(1.25, (worst / (0.5 * fit_tol)) ** 0.25))))
                 left.append(k)
         todo = np.array(left, dtype=int)
         if not todo.size:
             break
     if todo.size:
-        worst = float(errors[todo].max())
-        raise GeometryError(f"the spline representation does not reach fit_tol = {fit_tol:g} mm (error {worst:.3g} mm "
-                            f"with {int(count[todo].max())} pieces): the curve is too close to a cusp; increase fit_tol or the base radius")
+        raise _fit_failure(fit_tol, float(errors[todo].max()), int(count[todo].max()))
     contours = []
     for c in range(dims):
         contours.append(Contour([Spline(x, coeffs[:, :, 2 * c: 2 * c + 2]) for x, coeffs in fits]))  # type: ignore[misc]
@@ -936,6 +933,13 @@ def _failure_message(f: FollowerSpec, failures: list[dict]) -> str:
     return (f"{f.kind} follower ({f.motion}, base_radius {f.base_radius:g} mm) cannot ride this law: " + "; ".join(parts)
             + "; increase base_radius (camgen.synthesis.sizing.min_base_radius gives the smallest that works)"
             + (" or reduce the roller radius" if f.kind == "roller" else ""))
+
+
+def _fit_failure(fit_tol: float, reached: float, pieces: int) -> FitToleranceError:
+    return FitToleranceError(
+        f"the spline representation does not reach fit_tol = {fit_tol:g} mm (error {reached:.3g} mm with {pieces} pieces): the "
+        "curve changes on a finer scale than that many pieces follow (a curve close to a cusp, or a lift table of very many rows); "
+        "increase fit_tol or the base radius", fit_tol, reached, pieces)
 
 
 def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = DEFAULT_FIT_TOL,
