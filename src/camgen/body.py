@@ -66,7 +66,11 @@ class BodySpec:
         return self.keyway_corners(math.sqrt(r * r - half * half))
 
 
-def wall_left(contour: Contour, body: BodySpec, chord_tol: float = 1e-4) -> tuple[float, float]:
+#: Chord tolerance (mm) of the profile polygon on which the wall is measured.
+WALL_TOL = 1e-4
+
+
+def wall_left(contour: Contour, body: BodySpec, chord_tol: float = WALL_TOL) -> tuple[float, float]:
     """Thinnest wall (mm) between bore/keyway and the profile, and the cam angle (deg) where it is.
 
     Measured on the profile flattened at ``chord_tol`` (every chord within ``chord_tol`` of the

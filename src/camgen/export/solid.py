@@ -41,7 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
-from camgen.body import BodySpec, wall_left
+from camgen.body import WALL_TOL, BodySpec, wall_left
 from camgen.contour import Contour
 from camgen.export.tables import format_rows
 from camgen.errors import (
@@ -195,6 +195,12 @@ def cam_solid(contour: Contour, spec: BodySpec, chord_tol: float = 1e-3, cam: st
     if wall < spec.min_wall:  # the pipeline reports this as a failed check first; library callers get an error
         what = "breaks through the profile" if wall <= 0 else f"leaves a wall of only {wall:.3f} mm"
         raise GeometryError(f"cam '{cam}': the bore/keyway {what} at cam angle {where:.2f} deg (min_wall_mm = {spec.min_wall:g})")
+    if chord_tol > WALL_TOL:  # the meshed polygons: the profile's chords sag inward by up to chord_tol
+        mesh_wall, where = wall_left(contour, spec, chord_tol)
+        if mesh_wall <= 0.0:
+            raise GeometryError(f"cam '{cam}': at chord_tol_mm = {chord_tol:g} the flattened profile reaches the bore/keyway at cam angle "
+                                f"{where:.2f} deg (the wall is {wall + WALL_TOL:.3g} mm): use output.chord_tol_mm < {wall + WALL_TOL:.2g} mm "
+                                "for the meshes")
     if fill == "auto":
         solid = _ring_solid(contour, spec, chord_tol)
         if solid is not None:
@@ -214,10 +220,15 @@ def cam_solid(contour: Contour, spec: BodySpec, chord_tol: float = 1e-3, cam: st
         check = manifold3d.Manifold(manifold3d.Mesh64(vert_properties=exact, tri_verts=triangles.astype(np.uint64)))
         if check.status() != manifold3d.Error.NoError or int(check.genus()) != genus:
             exact = None
+    expected = 0 if hole is None else 1
     if exact is None:
         from scipy.spatial import cKDTree
 
         snapped = float(np.max(cKDTree(outline).query(vertices[:, :2])[0]))
+        if genus != expected or snapped > MANIFOLD_SNAP:  # not the one body with one hole the polygons describe
+            raise GeometryError(f"cam '{cam}': the solid's section is not the one region the profile and bore polygons at chord_tol_mm "
+                                f"= {chord_tol:g} describe (genus {genus}, vertices moved {snapped:.3g} mm): use a smaller "
+                                "output.chord_tol_mm")
         return CamSolid(vertices, triangles, volume, area, genus, "manifold", snapped)
     area = _shoelace(outer) - (_shoelace(hole) if hole is not None else 0.0)
     return CamSolid(exact, triangles, float(check.volume()), area, genus, "manifold")

@@ -624,3 +624,63 @@ def test_manifold_fill_states_what_it_could_not_put_back(monkeypatch):
         assert mesh.is_watertight and mesh.is_winding_consistent and mesh.is_volume and mesh.euler_number == 0
         assert mesh.volume == pytest.approx(area * body.thickness, rel=1e-9)
     assert exact.volume == pytest.approx(area * body.thickness, rel=1e-12)
+
+
+THIN_WALL = """
+[output]
+formats = ["stl", "dxf"]
+chord_tol_mm = {tol}
+[cams.c]
+kind = "three_arc"
+a_mm = 60.0
+b_mm = 40.0
+c_mm = 5.0
+thickness_mm = 5.0
+bore_diameter_mm = 9.996
+min_wall_mm = 0.001
+"""
+
+
+def test_a_wall_thinner_than_the_mesh_tolerance_is_no_split_solid(tmp_path, capsys):
+    """Base circle radius c = 5 mm around a 9.996 mm bore: a 0.002 mm wall passes min_wall_mm,
+    but at chord_tol_mm = 0.01 the profile's chords (sagitta up to 0.01 mm) cut into the bore and
+    the section falls apart (manifold3d made 4 bodies of it).  That run is a failed solid_export
+    check naming output.chord_tol_mm, no file written; at 0.001 the STL is one watertight body
+    (trimesh) of volume (area of the section, shapely) x thickness."""
+    import json
+
+    import trimesh
+    from shapely.geometry import Point, Polygon
+
+    from camgen.cli import main
+
+    for tol in (0.01, 0.001):
+        (tmp_path / f"t{tol}.toml").write_text(THIN_WALL.format(tol=tol))
+        status = main(["run", str(tmp_path / f"t{tol}.toml"), "-o", str(tmp_path / "out"), "--quiet"])
+        folder = tmp_path / "out" / f"t{tol}"
+        if tol == 0.01:
+            assert status == 1 and "solid_export" in capsys.readouterr().err
+            checks = {c["name"]: c for c in json.loads((folder / "report.json").read_text())["cams"]["c"]["checks"]}
+            assert "output.chord_tol_mm < 0.002" in checks["solid_export"]["note"]
+            assert sorted(p.name for p in folder.iterdir()) == ["report.json"]
+        else:
+            assert status == 0, capsys.readouterr().err
+            mesh = trimesh.load(folder / "c.stl")
+            assert mesh.is_watertight and len(mesh.split(only_watertight=False)) == 1
+            import camgen
+
+            outline = Polygon(camgen.three_arc_cam(60.0, 40.0, 5.0).flatten(0.001))
+            section = outline.difference(Point(0.0, 0.0).buffer(9.996 / 2, 4096))
+            assert mesh.volume == pytest.approx(section.area * 5.0, rel=1e-5)
+
+
+def test_manifold_fallback_refuses_a_section_of_the_wrong_genus(monkeypatch):
+    """The same cam with the mesh-wall check switched off: the crossing polygons reach manifold3d's
+    own triangulation, whose result has genus != 1 (several bodies): a GeometryError, not a file."""
+    import camgen
+    import camgen.export.solid as solid
+
+    monkeypatch.setattr(solid, "WALL_TOL", 1.0)
+    body = BodySpec(thickness=5.0, bore_diameter=9.996, keyway_width=0.0, keyway_depth=0.0, min_wall=0.001)
+    with pytest.raises(GeometryError, match=r"not the one region .* \(genus -3"):
+        cam_solid(camgen.three_arc_cam(60.0, 40.0, 5.0), body, 0.01)
