@@ -91,7 +91,7 @@ def _check_machining(scene: "Scene") -> None:
             from camgen.export.gcode import ROUNDING_SHARE, rounding_error
 
             raise ParameterError("output.chord_tol_mm", tol, f'>= {rounding_error(6) / ROUNDING_SHARE:.2g} mm with "ngc" in '
-                                 "output.formats (G-code is printed with at most 6 decimals)", exc.why) from None
+                                 "output.formats and machining.decimals = 6 (G-code is printed with at most 6 decimals)", exc.why) from None
         key = {k.field: k.name for k in machining_keys()}.get(exc.name, exc.name)
         raise ParameterError(f"machining.{key}", exc.value, exc.valid, exc.why) from None
     step = scene.machining.step_down

@@ -141,7 +141,7 @@ class MachiningSpec:
         if rounding_error(self.decimals) > budget:
             lowest = next((d for d in range(3, 7) if rounding_error(d) <= budget), None)
             if lowest is None:
-                raise ParameterError("chord_tol", self.chord_tol, f">= {MIN_GCODE_CHORD_TOL:.2g} mm for G-code",
+                raise ParameterError("chord_tol", self.chord_tol, f">= {MIN_GCODE_CHORD_TOL:.2g} mm for G-code (with machining.decimals = 6)",
                                      f"6 printed decimals may move an arc by {rounding_error(6):.2g} mm, more than "
                                      f"{ROUNDING_SHARE:g} x chord_tol = {budget:.2g} mm")
             valid = f"an integer {lowest}..6"

@@ -38,6 +38,9 @@ if TYPE_CHECKING:
 
 #: Largest number of samples per cam turn (the spline and its offset grow with it).
 MAX_SAMPLES = 20000
+#: Largest distance (mm) between a cam's path and a measured table's ideal column (printed to
+#: 1e-5 mm; the paper's formula meets it within 4.1e-4 mm) for ``fit_tables`` to fit that table.
+FIT_PATH_TOL = 0.01
 
 
 def _device_default(name: str) -> Any:
@@ -74,7 +77,8 @@ KEYS = (
     Key("ride_periods", Count(1, 1000), "Cam turns of the long ride simulation (its error in the report).", ("report",), default=10),
     Key("fit_tables", ChoiceList(("A1", "A2")),
         "Fit the error model to the paper's measured trajectories (Appendix A: rides of the paper's path "
-        "202.4396*sin(pi*x/1000), period 2000 mm). A table that does not determine the five parameters for this cam (the model's "
+        "202.4396*sin(pi*x/1000), period 2000 mm); only for a path within 0.01 mm of that one at the tables' x (on another path "
+        "the fit would take the difference between the paths for the machine's errors). A table that does not determine the five parameters for this cam (the model's "
         "ride does not reach the table's last x, 2296 mm for A1 and 2063 mm for A2, or the scaled Jacobian's condition number exceeds 1e6) is refused naming this "
         "key: its uncertainties would be infinite and its adjustment advice meaningless.", ("report",)),
     source_key(),
@@ -228,8 +232,21 @@ def _fits(where: str, cam: "TricycleCam", tables: tuple[str, ...]) -> dict[str, 
 
     fits = {}
     for name in tables:
+        table = tc.load_measured_table(name)
+        # the tables are rides of the paper's own path: on another path the fit would blame the
+        # machine's errors for the difference between the paths
+        gap = np.abs(cam.trajectory.wrapped(table.x) - table.ideal)
+        if not np.max(gap) <= FIT_PATH_TOL:
+            worst = int(np.argmax(gap))
+            raise ParameterError(
+                f"{where}.fit_tables", list(tables),
+                "tables measured on this cam's path: A1 and A2 are rides of paper 004's path y = 202.4396 sin(pi x / 1000) "
+                f"(period 2000 mm), their ideal column within {FIT_PATH_TOL:g} mm",
+                f"this cam's path '{cam.trajectory.source}' is {gap[worst]:.3g} mm from table {name}'s ideal column at x = "
+                f"{table.x[worst]:g} mm: a fit would take the difference between the paths for the machine's errors",
+            )
         try:
-            fits[name] = fit_error_model(cam, tc.load_measured_table(name)).as_dict()
+            fits[name] = fit_error_model(cam, table).as_dict()
         except FitNotDetermined as exc:
             raise ParameterError(
                 f"{where}.fit_tables", list(tables),

@@ -235,8 +235,9 @@ def test_fit_of_an_unrelated_path_names_fit_tables(tmp_path, capsys):
     scene.write_text('[cams.x]\nkind = "trajectory"\nexpression = "0*x"\nperiod_mm = 20.0\nfit_tables = ["A1"]\n')
     assert main(["run", str(scene), "-o", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err
-    # a 20 mm period rides 40 mm in the model's two cam turns: it cannot reach Table A1's last x, 2295.5 mm
-    assert "parameter 'cams.x.fit_tables'" in err and "not determine" in err and "2295.5 mm" in err
+    # Table A1's ideal column is the paper's path 202.4396 sin(pi x / 1000): its largest |y| over the
+    # table's x (58.5 mm apart, printed to 3 digits) is 202 mm, the distance from y = 0
+    assert "parameter 'cams.x.fit_tables'" in err and "is 202 mm from table A1's ideal column" in err, err
     assert "inf" not in err.replace("is invalid", "") and not (tmp_path / "out").exists()
 
 

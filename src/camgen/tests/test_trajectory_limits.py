@@ -292,3 +292,27 @@ def test_the_report_figure_is_the_long_ride_error():
     whole = tc.simulate_cam(cam.tricycle, periods=13)
     expected = float(np.max(np.abs(tc.lateral_error(cam.tricycle.trajectory, whole.x, whole.y))))
     assert cam.figures["ride_max_error_13_periods_mm"] == pytest.approx(expected, rel=1e-12, abs=0)
+
+
+@pytest.mark.parametrize("expression, period, fits", [
+    ("202.4396*sin(pi*x/1000)", 2000.0, True),                         # the paper's path
+    ("202.4396*sin(pi*x/1000) + 0.005*sin(3*pi*x/1000)", 2000.0, True),  # within 0.01 mm of it
+    ("150*sin(pi*x/1000)+30*sin(3*pi*x/1000)", 2000.0, False),           # another path: 23 mm RMS residual once
+    ("202.4396*sin(pi*x/2000)", 4000.0, False),                          # the paper's amplitude, twice its period
+])
+def test_fit_tables_only_on_the_papers_path(expression, period, fits, tmp_path, capsys):
+    """Tables A1/A2 are rides of y = 202.4396 sin(pi x / 1000) (their ideal column, to 4e-4 mm):
+    fitted to another path, the model took the paths' difference for the machine's errors and
+    advised turning the worm knob 15 deg.  Refused naming fit_tables, with the distance."""
+    from camgen.cli import main
+
+    scene = tmp_path / "s.toml"
+    scene.write_text(f'[cams.x]\nkind = "trajectory"\nexpression = "{expression}"\nperiod_mm = {period!r}\nfit_tables = ["A1"]\n'
+                     '[output]\nformats = ["dxf"]\n')
+    status = main(["run", str(scene), "-o", str(tmp_path / "out"), "--quiet"])
+    err = capsys.readouterr().err
+    if fits:
+        assert status in (0, 1) and "fit_tables" not in err, err
+    else:
+        assert status == 2 and "parameter 'cams.x.fit_tables'" in err and "ideal column" in err, err
+        assert not (tmp_path / "out").exists()
