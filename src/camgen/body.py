@@ -99,6 +99,17 @@ def wall_left(contour: Contour, body: BodySpec, chord_tol: float = WALL_TOL) -> 
         reach = contour.polar_radius(np.arctan2(corners[:, 1], corners[:, 0]))
         j = int(np.argmin(dist))
         k_wall = float(dist[j])
+        # two polygons are nearest at a vertex of one and an edge of the other: the profile's
+        # vertices against the rectangle (above), and the rectangle's outer corners against the
+        # profile's edges (a corner facing the middle of a chord is nearer than both its ends)
+        edge = np.roll(poly, -1, axis=0) - poly
+        for corner in corners:
+            rel = corner - poly
+            u = np.clip(np.einsum("ij,ij->i", rel, edge) / np.maximum(np.einsum("ij,ij->i", edge, edge), 1e-300), 0.0, 1.0)
+            gaps = np.hypot(*(rel - u[:, None] * edge).T)
+            i_edge = int(np.argmin(gaps))
+            if gaps[i_edge] < k_wall:
+                k_wall, j = float(gaps[i_edge]), i_edge
         if np.any(np.hypot(corners[:, 0], corners[:, 1]) >= reach):
             k_wall = min(k_wall, -1.0)
         if k_wall < wall:

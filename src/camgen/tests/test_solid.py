@@ -684,3 +684,27 @@ def test_manifold_fallback_refuses_a_section_of_the_wrong_genus(monkeypatch):
     body = BodySpec(thickness=5.0, bore_diameter=9.996, keyway_width=0.0, keyway_depth=0.0, min_wall=0.001)
     with pytest.raises(GeometryError, match=r"not the one region .* \(genus -3"):
         cam_solid(camgen.three_arc_cam(60.0, 40.0, 5.0), body, 0.01)
+
+
+def test_wall_to_a_keyway_corner_facing_the_middle_of_a_chord(contours):
+    """At a coarse tolerance the profile polygon's chords are long (2 mm on the 10 mm base arc at
+    0.05 mm): a keyway corner facing the middle of a chord is nearer to it than to both its ends.
+    The wall on that polygon against shapely's distance between the polygon and the rectangle."""
+    from shapely.geometry import Polygon
+
+    from camgen.body import wall_left
+
+    tol = 0.05
+    poly = contours["height"].flatten(tol)
+    angle = np.arctan2(poly[:, 1], poly[:, 0])
+    on_base = np.flatnonzero(np.abs(np.hypot(poly[:, 0], poly[:, 1]) - 10.0) < 1e-9)
+    k = on_base[np.argmin(np.abs(angle[on_base]))]  # a base-arc vertex near angle 0 and the next one
+    middle = 0.5 * (angle[k] + angle[k + 1])
+    body = BodySpec(bore_diameter=3.0, keyway_width=2.0, keyway_depth=7.0, keyway_angle=0.0)
+    corner = body.keyway_corners()[2]  # (reach, +half) at keyway angle 0
+    body = BodySpec(bore_diameter=3.0, keyway_width=2.0, keyway_depth=7.0, keyway_angle=float(middle - math.atan2(corner[1], corner[0])))
+    wall, _ = wall_left(contours["height"], body, tol)
+    expected = Polygon(poly).exterior.distance(Polygon(body.keyway_corners()))
+    assert wall + tol == pytest.approx(expected, abs=1e-9)
+    ends = np.hypot(*(poly[[k, k + 1]] - body.keyway_corners()[2]).T)
+    assert expected < ends.min() - 0.01  # the case this test is for: the chord's middle is nearer than its ends
