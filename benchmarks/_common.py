@@ -1,10 +1,15 @@
 """Shared helpers of the benchmark scripts (camgen installed, e.g. ``pip install -e ".[test]"``)."""
 from __future__ import annotations
 
+import math
+import os
+import platform
 import statistics
 import time
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Iterator
+
+import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -37,3 +42,23 @@ def print_table(headers: list[str], rows: list[list[object]]) -> None:
     print("|" + "|".join("-" * (w + 2) for w in widths) + "|")
     for row in cells:
         print("| " + " | ".join(c.rjust(w) for c, w in zip(row, widths)) + " |")
+
+
+def machine() -> str:
+    """The machine a table was measured on: host, CPU model, cores, Python and numpy versions."""
+    model = ""
+    try:
+        model = next(line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines() if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    return f"{platform.node() or 'machine'}: {model or platform.processor()}, {os.cpu_count()} cores, Python {platform.python_version()}, numpy {np.__version__}"
+
+
+def orientations(points: np.ndarray) -> Iterator[np.ndarray]:
+    """``points`` (n, 2) in the eight readings another tool's sense of rotation and angle origin
+    may need (mirrored or not, turned by quarter turns): a peer's profile is scored in its best."""
+    for mirror in (1.0, -1.0):
+        p = points * np.array([mirror, 1.0])
+        for quarter in range(4):
+            c, s = math.cos(quarter * math.pi / 2), math.sin(quarter * math.pi / 2)
+            yield np.column_stack([c * p[:, 0] - s * p[:, 1], s * p[:, 0] + c * p[:, 1]])

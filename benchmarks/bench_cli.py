@@ -12,7 +12,6 @@ Run it with camgen installed:  python benchmarks/bench_cli.py
 from __future__ import annotations
 
 import os
-import platform
 import resource
 import statistics
 import subprocess
@@ -22,21 +21,12 @@ import time
 from collections import defaultdict
 from pathlib import Path
 
-from _common import print_table
+from _common import machine, print_table
 
 REPEATS = 5
 #: Targets of issue 13 (whole process, s).
 TARGET_ALL_S = 1.5
 TARGET_DXF_S = 0.5
-
-
-def machine() -> str:
-    model = ""
-    try:
-        model = next(line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines() if line.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
-    return f"{platform.node() or 'machine'}: {model or platform.processor()}, {os.cpu_count()} cores, Python {platform.python_version()}"
 
 
 def _environment() -> dict[str, str]:

@@ -15,11 +15,10 @@ from __future__ import annotations
 
 import importlib.metadata
 import math
-import platform
 
 import _common  # noqa: F401  (shared helpers: median_time, print_table)
 import numpy as np
-from _common import median_time, print_table
+from _common import machine, median_time, orientations, print_table
 
 from camgen.synthesis.followers import DEFAULT_FIT_TOL, FollowerSpec, cam_envelope
 from camgen.synthesis.laws import MotionProgram, Segment
@@ -46,27 +45,9 @@ def camgen_profile():
 
 def best_reading(points: np.ndarray) -> float:
     """Ride error of a polygon from a tool whose rotation sense and angle origin may differ from
-    camgen's: the smallest over mirror images and quarter turns (the right reading is far better)."""
-    best = math.inf
-    for mirror in (1.0, -1.0):
-        for quarter in range(4):
-            c, s = math.cos(quarter * math.pi / 2), math.sin(quarter * math.pi / 2)
-            p = points * np.array([mirror, 1.0])
-            p = np.column_stack([c * p[:, 0] - s * p[:, 1], s * p[:, 0] + c * p[:, 1]])
-            best = min(best, float(np.max(np.abs(ride.translating_roller(p, THETA, 0.0, ROLLER) - required(THETA)))))
-    return best
-
-
-def machine() -> str:
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8") as handle:
-            model = next((line.split(":", 1)[1].strip() for line in handle if line.startswith("model name")), platform.processor())
-    except OSError:
-        model = platform.processor() or platform.machine()
-    import os
-
-    return (f"{model}, {os.cpu_count()} cores; Python {platform.python_version()}, numpy {np.__version__}, "
-            f"scipy {importlib.metadata.version('scipy')}")
+    camgen's: the smallest over its readings (the right reading is far better)."""
+    return min(float(np.max(np.abs(ride.translating_roller(p, THETA, 0.0, ROLLER) - required(THETA))))
+               for p in orientations(points))
 
 
 def main() -> None:

@@ -24,7 +24,7 @@ import math
 
 import _common  # noqa: F401  (shared helpers: median_time, print_table)
 import numpy as np
-from _common import median_time, print_table
+from _common import median_time, orientations, print_table
 
 from camgen.synthesis.followers import (
     DEFAULT_FIT_TOL,
@@ -74,14 +74,10 @@ def ride_error(points: np.ndarray) -> float:
     wanted = BASE + ROLLER + motion(theta)
     # a tool may use another sense of rotation or angle origin: take its best reading
     best = math.inf
-    for mirror in (1.0, -1.0):
-        for quarter in range(4):
-            c, s = math.cos(quarter * math.pi / 2), math.sin(quarter * math.pi / 2)
-            p = points * np.array([mirror, 1.0])
-            p = np.column_stack([c * p[:, 0] - s * p[:, 1], s * p[:, 0] + c * p[:, 1]])
-            best = min(best, float(np.max(np.abs(roller_lift(p, theta[::8]) - wanted[::8]))))
-            if best < 1.0:  # the right reading: measure it at every angle
-                return float(np.max(np.abs(roller_lift(p, theta) - wanted)))
+    for p in orientations(points):
+        best = min(best, float(np.max(np.abs(roller_lift(p, theta[::8]) - wanted[::8]))))
+        if best < 1.0:  # the right reading: measure it at every angle
+            return float(np.max(np.abs(roller_lift(p, theta) - wanted)))
     return best
 
 

@@ -13,7 +13,6 @@ from __future__ import annotations
 import io
 import math
 import os
-import platform
 import statistics
 import subprocess
 import sys
@@ -21,19 +20,10 @@ import time
 from pathlib import Path
 
 import numpy as np
-from _common import median_time, print_table
+from _common import machine, median_time, print_table
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "src"))
-
-
-def machine() -> str:
-    model = ""
-    try:
-        model = next(line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines() if line.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
-    return f"{platform.node() or 'machine'}: {model or platform.processor()}, {os.cpu_count()} cores, Python {platform.python_version()}, numpy {np.__version__}"
 
 
 # --------------------------------------------------------------- backend-neutral figure specs

@@ -22,13 +22,11 @@ least-squares line through (log N, log time).  What N counts:
 from __future__ import annotations
 
 import math
-import os
-import platform
 import tracemalloc
 
 import _common  # noqa: F401  (shared helpers: median_time, print_table)
 import numpy as np
-from _common import median_time, print_table
+from _common import machine, median_time, print_table
 
 import camgen
 from camgen.body import BodySpec
@@ -37,16 +35,6 @@ from camgen.contour import Contour, Spline
 SIZES = (1000, 3000, 10000, 30000, 100000)
 #: Chord tolerance of the G-code runs (mm); N grows with the size of the cam instead.
 GCODE_TOL = 2e-3
-
-
-def machine() -> str:
-    cpu = platform.processor() or platform.machine()
-    try:
-        with open("/proc/cpuinfo") as f:
-            cpu = next(line.split(":", 1)[1].strip() for line in f if line.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
-    return f"{cpu}, {os.cpu_count()} cores, Python {platform.python_version()}, numpy {np.__version__}, {platform.system()}"
 
 
 def exponent(sizes: list[int], seconds: list[float]) -> float:

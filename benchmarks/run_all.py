@@ -34,7 +34,7 @@ def sources_digest(folder: Path = HERE) -> str:
 
 def machine() -> str:
     sys.path.insert(0, str(HERE))
-    from bench_cli import machine as describe
+    from _common import machine as describe
 
     return describe()
 

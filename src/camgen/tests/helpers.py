@@ -1,6 +1,7 @@
 """Independent reference computations for the tests (brute force, closed forms)."""
 from __future__ import annotations
 
+import json
 import math
 import os
 import shutil
@@ -195,3 +196,24 @@ def tree() -> Path:
     if root is None:
         pytest.skip("no source tree: README.md and benchmarks/ are not installed (set CAMGEN_SOURCE_TREE)")
     return root
+
+
+def scene_toml(scene: dict) -> str:
+    """A scene dict (``output`` with ``formats``, ``cams`` with optional ``segments``) as TOML text."""
+    def value(v):
+        if isinstance(v, str):
+            return json.dumps(v)
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        if isinstance(v, list):
+            return "[" + ", ".join(value(x) for x in v) + "]"
+        return repr(v)
+
+    lines = ["[output]", f"formats = {value(scene['output']['formats'])}"]
+    for name, cam in scene["cams"].items():
+        lines.append(f"[cams.{name}]")
+        lines += [f"{k} = {value(v)}" for k, v in cam.items() if k != "segments"]
+        for seg in cam.get("segments", []):
+            lines.append(f"[[cams.{name}.segments]]")
+            lines += [f"{k} = {value(v)}" for k, v in seg.items()]
+    return "\n".join(lines) + "\n"

@@ -38,6 +38,7 @@ from camgen.synthesis.laws import MotionProgram, Segment
 from camgen.synthesis.lift_table import LiftTable
 from camgen.tests import ride
 from camgen.tests.test_followers import rest_arm_angle, rest_face_angle
+from camgen.tests.test_followers import ride_position as followers_ride
 
 D = math.radians
 TWO_PI = 2.0 * math.pi
@@ -393,7 +394,7 @@ def test_zero_layer_marks_cam_angle_0_and_the_rotation(name, rotation):
     f = follower_spec(name, rotation)
     text = exported("bspline")[f"{cam_name(name, rotation, 'every_law')}.dxf"]
     cam = bspline_contour(text)
-    _, t = ride_position_param(f, cam)
+    _, t = followers_ride(f, cam, np.zeros(1), return_param=True)
     contact = cam.evaluate(t)[0]
     entities = [e for e in _read(text).modelspace() if e.dxf.layer == "ZERO"]
     lines = [(np.array(e.dxf.start)[:2], np.array(e.dxf.end)[:2]) for e in entities if e.dxftype() == "LINE"]
@@ -411,20 +412,6 @@ def test_zero_layer_marks_cam_angle_0_and_the_rotation(name, rotation):
     arc = arcs[0].dxf
     ends = {round(math.remainder(math.radians(a) - zero, TWO_PI), 9) for a in (arc.start_angle, arc.end_angle)}
     assert ends == {0.0, round(f.sigma * D(40), 9)}  # the arc runs from the zero line to the tip
-
-
-def ride_position_param(f: FollowerSpec, cam):
-    theta = np.zeros(1)
-    if f.motion == "translating":
-        if f.kind == "roller":
-            return ride.translating_roller(cam, theta, f.offset, f.roller_radius, f.sigma, True)
-        if f.kind == "knife":
-            return ride.translating_knife(cam, theta, f.offset, f.sigma, True)
-        return ride.translating_flat(cam, theta, f.sigma, True)
-    if f.kind == "flat":
-        return ride.oscillating_flat(cam, theta, f.pivot, f.face_offset, rest_face_angle(f), f.tau, f.sigma, return_param=True)
-    return ride.oscillating_roller(cam, theta, f.pivot, f.arm_length, f.roller_radius, rest_arm_angle(f), f.tau, f.sigma,
-                                   return_param=True)
 
 
 class _Curve:

@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 from camgen.cli import main
+from camgen.tests.helpers import scene_toml
 
 D = math.radians
 TWO_PI = 2.0 * math.pi
@@ -83,26 +84,6 @@ def checks_of(report: dict, cam: str = "c") -> dict:
 # --------------------------------------------------------------------------------------------
 # Refused keys and values: one line naming the key and why, exit 2, nothing written
 # --------------------------------------------------------------------------------------------
-def _toml(scene: dict) -> str:
-    def value(v):
-        if isinstance(v, str):
-            return json.dumps(v)
-        if isinstance(v, bool):
-            return "true" if v else "false"
-        if isinstance(v, list):
-            return "[" + ", ".join(value(x) for x in v) + "]"
-        return repr(v)
-
-    lines = ["[output]", f"formats = {value(scene['output']['formats'])}"]
-    for name, cam in scene["cams"].items():
-        lines.append(f"[cams.{name}]")
-        lines += [f"{k} = {value(v)}" for k, v in cam.items() if k != "segments"]
-        for seg in cam.get("segments", []):
-            lines.append(f"[[cams.{name}.segments]]")
-            lines += [f"{k} = {value(v)}" for k, v in seg.items()]
-    return "\n".join(lines) + "\n"
-
-
 def _segment(scene: dict, index: int, **changes) -> dict:
     scene = copy.deepcopy(scene)
     seg = scene["cams"]["c"]["segments"][index]
@@ -153,7 +134,7 @@ REFUSED = {
 def test_keys_where_they_change_nothing_or_wrong_values_are_refused(case, tmp_path, capsys):
     scene, key, why = REFUSED[case]
     path = tmp_path / "bad.toml"
-    path.write_text(_toml(scene))
+    path.write_text(scene_toml(scene))
     assert main(["run", str(path), "-o", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err
     assert err.startswith("camgen: error: ") and err.count("\n") == 1

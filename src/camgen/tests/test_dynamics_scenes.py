@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 from camgen.cli import main
+from camgen.tests.helpers import scene_toml
 
 D = math.radians
 TWO_PI = 2.0 * math.pi
@@ -101,27 +102,9 @@ def run(scene: dict, tmp_path=None, formats=None):
     return result.cams[0], json.loads(result.files["report.json"]), result.files
 
 
-def _toml(scene: dict) -> str:
-    def value(v):
-        if isinstance(v, str):
-            return json.dumps(v)
-        if isinstance(v, bool):
-            return "true" if v else "false"
-        return repr(v)
-
-    lines = ["[output]", f"formats = {json.dumps(scene['output']['formats'])}"]
-    for name, cam in scene["cams"].items():
-        lines.append(f"[cams.{name}]")
-        lines += [f"{k} = {value(v)}" for k, v in cam.items() if k != "segments"]
-        for seg in cam.get("segments", []):
-            lines.append(f"[[cams.{name}.segments]]")
-            lines += [f"{k} = {value(v)}" for k, v in seg.items()]
-    return "\n".join(lines) + "\n"
-
-
 def check_exit(scene: dict, tmp_path, capsys) -> tuple[int, str, str]:
     path = tmp_path / "scene.toml"
-    path.write_text(_toml(scene))
+    path.write_text(scene_toml(scene))
     code = main(["check", str(path)])
     out = capsys.readouterr()
     return code, out.out, out.err
