@@ -51,8 +51,12 @@ def _report_failures(result: "RunResult") -> int:
         where = f" at {', '.join(f'{w:g}' for w in check.where_deg[:6])} deg" if check.where_deg else ""
         value = f"{check.value:.6g}" if isinstance(check.value, float) else check.value
         limit = f"{check.limit:.6g}" if isinstance(check.limit, float) else check.limit
-        print(f"camgen: check failed: cams.{cam}: {check.name} = {value} {check.unit}, must be {check.comparison} {limit}{where}"
-              + (" (no manufacturing file written for this cam)" if check.blocks_manufacture else ""), file=sys.stderr)
+        if check.comparison:  # a measured value against its limit
+            what = f"{check.name} = {value}{' ' + check.unit if check.unit else ''}, must be {check.comparison} {limit}{where}"
+        else:  # an output that could not be made (an export check): its note says why
+            what = f"{check.name}: {check.note}"
+        print(f"camgen: check failed: cams.{cam}: {what}" + (" (no manufacturing file written for this cam)" if check.blocks_manufacture else ""),
+              file=sys.stderr)
     return 1 if failed else 0
 
 

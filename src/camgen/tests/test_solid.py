@@ -661,7 +661,8 @@ def test_a_wall_thinner_than_the_mesh_tolerance_is_no_split_solid(tmp_path, caps
         status = main(["run", str(tmp_path / f"t{tol}.toml"), "-o", str(tmp_path / "out"), "--quiet"])
         folder = tmp_path / "out" / f"t{tol}"
         if tol == 0.01:
-            assert status == 1 and "solid_export" in capsys.readouterr().err
+            err = capsys.readouterr().err
+            assert status == 1 and "camgen: check failed: cams.c: solid_export: " in err and "output.chord_tol_mm < 0.002 mm" in err, err
             checks = {c["name"]: c for c in json.loads((folder / "report.json").read_text())["cams"]["c"]["checks"]}
             assert "output.chord_tol_mm < 0.002" in checks["solid_export"]["note"]
             assert sorted(p.name for p in folder.iterdir()) == ["report.json"]
