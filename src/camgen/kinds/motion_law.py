@@ -21,28 +21,14 @@ from camgen.kinds.dynamics import disk_kinematics, dynamics_keys
 from camgen.schema import REQUIRED, Angle, Choice, Key, Number, NumberList, TableList
 
 #: Law names scene files may use (camgen.synthesis.laws.LAWS, kept here so reading the key
-#: reference imports no synthesis module; a test keeps them equal), and the refused ones.
-LAW_NAMES = ("constant_velocity", "cycloidal", "double_harmonic", "dwell", "harmonic", "modified_sine", "modified_trapezoid",
-             "poly345", "poly4567", "polynomial", "simple_harmonic")
-
-
-@dataclass(frozen=True)
-class LawChoice(Choice):
-    """A law name; the names camgen refuses on purpose (laws.NOT_IMPLEMENTED) say why."""
-
-    def parse(self, path: str, value: object) -> str:
-        if isinstance(value, str) and value not in self.values:
-            from camgen.synthesis.laws import NOT_IMPLEMENTED
-
-            if value in NOT_IMPLEMENTED:
-                raise ParameterError(path, value, self.describe(), NOT_IMPLEMENTED[value])
-        return super().parse(path, value)
-
+#: reference imports no synthesis module; a test keeps them equal).
+LAW_NAMES = ("constant_velocity", "cycloidal", "double_harmonic", "dwell", "harmonic", "modified_cycloidal", "modified_sine",
+             "modified_trapezoid", "poly345", "poly4567", "polynomial", "simple_harmonic")
 
 _CONDITIONS = NumberList(Number(""), 1, 4)
 
 SEGMENT_KEYS = (
-    Key("law", LawChoice(LAW_NAMES), "Motion law of the segment (dwell: no motion; harmonic is simple_harmonic; see "
+    Key("law", Choice(LAW_NAMES), "Motion law of the segment (dwell: no motion; harmonic is simple_harmonic; see "
         "camgen/synthesis/laws.py for each law's formula and source).", ("profile",), default=REQUIRED),
     Key("span_deg", Angle(0.0, 360.0, low_open=True), "Cam angle the segment spans.", ("profile",), default=REQUIRED),
     Key("lift_mm", Number("mm", -1e4, 1e4), "Translating follower: travel over the segment (> 0 rise, < 0 return; 0 or left out "

@@ -20,9 +20,9 @@ positions from plane geometry, tests/test_followers.py).
   support (flat faces).
 
 The program of every law: cycloidal, dwell, simple harmonic, double harmonic rise and return,
-modified trapezoid, modified sine, 3-4-5, 4-5-6-7, constant velocity with blends and a polynomial
-from boundary conditions, each over 34.8 deg (so one cam holds them all), and a periodic
-quintic lift table; plain constant velocity (velocity jumps: profile corners) for knives.
+modified trapezoid, modified sine, modified cycloidal rise and return, 3-4-5, 4-5-6-7, constant
+velocity with blends and a polynomial from boundary conditions, each over 29 deg (so one cam holds
+them all), and a periodic quintic lift table; plain constant velocity (velocity jumps: profile corners) for knives.
 """
 from __future__ import annotations
 
@@ -45,18 +45,19 @@ TWO_PI = 2.0 * math.pi
 CHORD_TOL = 1e-3  # mm, the scenes' chord_tol_mm
 EXACT_TOL = 1e-6  # mm or rad: the ride on the exact B-spline DXF
 LIFT, SWING = 3.0, 2.5  # mm, deg
-SPAN = 34.8  # deg, every motion segment
+SPAN = 29.0  # deg, every motion segment (12 of them and a 12 deg dwell)
 
 #: (law, extra keys, lift sign) of the program of every law; the dwell spans 12 deg
 PROGRAM = [("cycloidal", {}, 1), ("dwell", {}, 0), ("simple_harmonic", {}, -1), ("double_harmonic", {}, 1),
-           ("double_harmonic", {}, -1), ("modified_trapezoid", {}, 1), ("modified_sine", {}, -1), ("poly345", {}, 1),
+           ("double_harmonic", {}, -1), ("modified_trapezoid", {}, 1), ("modified_sine", {}, -1),
+           ("modified_cycloidal", {}, 1), ("modified_cycloidal", {}, -1), ("poly345", {}, 1),
            ("poly4567", {}, -1), ("constant_velocity", {"blend": 0.25}, 1), ("polynomial", {}, -1)]
 
 #: the followers, in scene keys
 FOLLOWERS = {
     "roller": {"follower": "roller", "base_radius_mm": 40.0, "roller_radius_mm": 10.0},
     "roller_offset": {"follower": "roller", "base_radius_mm": 40.0, "roller_radius_mm": 10.0, "follower_offset_mm": 12.0},
-    "flat": {"follower": "flat", "base_radius_mm": 100.0, "follower_offset_mm": 3.0},
+    "flat": {"follower": "flat", "base_radius_mm": 150.0, "follower_offset_mm": 3.0},
     "knife": {"follower": "knife", "base_radius_mm": 40.0, "follower_offset_mm": -6.0},
     "osc_roller": {"follower": "roller", "follower_motion": "oscillating", "base_radius_mm": 40.0, "roller_radius_mm": 8.0,
                    "pivot_x_mm": 110.0, "pivot_y_mm": 40.0, "arm_length_mm": 95.0},

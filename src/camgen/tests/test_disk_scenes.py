@@ -111,7 +111,6 @@ REFUSED = {
     "start of a cycloidal": (_segment(plate(), 0, start=[0.0, 0.0, 0.0]), "cams.c.segments[0].start", "only for polynomial"),
     "polynomial without end": (_segment(plate(), 0, law="polynomial", lift_mm=None, start=[0.0, 0.0, 0.0]),
                                "cams.c.segments[0].end", "at both ends"),
-    "modified cycloidal": (_segment(plate(), 0, law="modified_cycloidal"), "cams.c.segments[0].law", "not implemented"),
     "velocity jump under a roller": (_segment(plate(), 0, law="constant_velocity"), "cams.c.segments[0].law", "velocity jumps"),
     "lift in a dwell": (_segment(plate(), 1, lift_mm=3.0), "cams.c.segments[1].lift_mm", "for a dwell"),
     "no lift in a rise": (_segment(plate(), 0, lift_mm=None), "cams.c.segments[0].lift_mm", "a non-zero lift_mm"),

@@ -39,6 +39,7 @@ TEXTBOOK = {
     "cycloidal": (2, 2, {}),
     "modified_trapezoid": (2, 2, {1 / 8: 3, 3 / 8: 3, 5 / 8: 3, 7 / 8: 3}),
     "modified_sine": (2, 2, {1 / 8: 3, 7 / 8: 3}),
+    "modified_cycloidal": (2, 2, {}),  # a cycloid with a tilted sine: rest to rest, jerk jumps at the ends
     "poly345": (2, 2, {}),
     "polynomial": (2, 2, {}),  # the default conditions: rest to rest, zero acceleration (= 3-4-5)
     "poly4567": (3, 3, {}),
@@ -108,6 +109,18 @@ def test_v_a_j_are_the_derivatives_of_s(name):
         assert np.max(np.abs(numeric - vals[n + 1])) <= 2e-7 * scale, (name, ["V", "A", "J"][n])
 
 
+def test_fourth_derivative_the_jerk_peak_search_uses():
+    """Every law piece's d4S/dtau4 (used to find the jerk's extrema) against 8th-order finite
+    differences of its jerk, inside the piece."""
+    h = 2e-4
+    for name, law in RISES.items():
+        for piece in law.pieces:
+            tau = np.linspace(piece.lo + 5 * h, piece.hi - 5 * h, 401)
+            numeric = fd(lambda x, p=piece: p.derivative(x, 3), tau, h)
+            exact = piece.derivative(tau, 4)
+            assert np.max(np.abs(numeric - exact)) <= 2e-7 * max(1.0, float(np.max(np.abs(exact)))), name
+
+
 @pytest.mark.parametrize("name", sorted(TEXTBOOK))
 def test_continuity_the_law_really_has(name):
     """Jumps measured from both sides at both ends (against a dwell) and at the textbook breaks;
@@ -167,6 +180,13 @@ def test_peak_coefficients_closed_forms():
         "poly345": (15 / 8, 10 / math.sqrt(3), 60.0),
         "poly4567": (35 / 16, abs(a4567), 52.5),
         "double_harmonic": (3 * math.sqrt(3) * PI / 8, PI**2, math.inf),
+        # modified cycloid, tilt k = 1 - sqrt(3)/2 (by hand from tau = (E - k sin E)/(2 pi),
+        # S = (E - sin E)/(2 pi)): V = (1 - c)/(1 - k c) peaks at E = pi; A = 2 pi (1 - k) sin E /
+        # (1 - k c)^3 peaks where 2 k c^2 + c - 3 k = 0, c = (sqrt(3) - 1)/2; J peaks at the ends
+        "modified_cycloidal": (4 / (4 - math.sqrt(3)),
+                               2 * PI * math.sqrt(3) / 2 * math.sqrt(1 - ((math.sqrt(3) - 1) / 2) ** 2)
+                               / (1 - (1 - math.sqrt(3) / 2) * (math.sqrt(3) - 1) / 2) ** 3,
+                               4 * PI**2 / (math.sqrt(3) / 2) ** 3),
         "constant_velocity": (1.0, math.inf, math.inf),
         "dwell": (0.0, 0.0, 0.0),
     }
@@ -250,9 +270,52 @@ def test_single_formula_laws_match_the_textbook_formulas():
     for name, ref in formulas.items():
         assert np.max(np.abs(LAWS[name].evaluate(x)[0] - ref)) < 1e-13, name
     assert LAWS["harmonic"] is LAWS["simple_harmonic"]
-    assert "modified_cycloidal" not in LAWS  # refused by name, not silently replaced by another law
-    with pytest.raises(ParameterError, match="modified_cycloidal.*not implemented"):
-        Segment("modified_cycloidal", math.pi, 10.0)
+
+
+def tilted_cycloid_points(tilt, t):
+    """Rothbart's construction of the (modified) cycloid, sampled in the cycloid's own parameter t:
+    the constant-velocity line (t, t) plus the sine amplitude -sin(2 pi t)/(2 pi) laid off along
+    the direction (tilt, 1) (vertical for the plain cycloid).  Returns (tau, S): no equation is
+    solved, so it checks the law's Kepler inversion from outside."""
+    amp = -np.sin(2 * PI * t) / (2 * PI)
+    return t + tilt * amp, t + amp
+
+
+def test_modified_cycloidal_is_wildts_construction():
+    """Rothbart, Cam Design Handbook (2004), sec. 3 (Fig. 3.12b): the modified cycloid lays the
+    cycloid's sine off along a tilted direction, the line from M (the middle of the first half of
+    the constant-velocity line, (beta/4, h/4)) to a point D at 0.57 of beta/2 at mid-stroke, chosen
+    to minimise the peak acceleration.  Three outside checks: (1) points of the construction lie on
+    the law (to 1e-15); (2) the tilt that minimises the peak acceleration, found here by brute force
+    on the construction's own parametric derivatives, is the law's (1 - sqrt(3)/2) and D's abscissa
+    0.5 + tilt/2 is the handbook's 0.57 to its two digits; (3) the law's Ca is that minimum.  The
+    handbook's own table of this curve's peak coefficients was not at hand: the peaks are held to
+    the closed forms derived from the construction (test_peak_coefficients_closed_forms)."""
+    from camgen.synthesis.laws import MODIFIED_CYCLOID_TILT
+
+    law = LAWS["modified_cycloidal"]
+    t = np.linspace(0.0, 1.0, 20001)
+    tau, s = tilted_cycloid_points(MODIFIED_CYCLOID_TILT, t)
+    assert np.max(np.abs(law.evaluate(tau)[0] - s)) < 1e-15
+    # the handbook's D: (0.57 beta/2, h/2), M = (beta/4, h/4): the direction D - M = (0.035 beta, h/4),
+    # i.e. tilt = 0.14 in (beta, h) units: the law's tilt is that to the handbook's two digits
+    assert round(0.5 + MODIFIED_CYCLOID_TILT / 2, 2) == 0.57
+
+    def peak_acceleration(tilt, samples=4001):
+        u = np.linspace(0.0, 1.0, samples)  # dS/dtau and d2S/dtau2 from the parametric form
+        xt, st = 1 - tilt * np.cos(2 * PI * u), 1 - np.cos(2 * PI * u)
+        xtt, stt = 2 * PI * tilt * np.sin(2 * PI * u), 2 * PI * np.sin(2 * PI * u)
+        return float(np.max(np.abs((stt * xt - st * xtt) / xt**3)))
+
+    lo, hi = 0.0, 0.5
+    g = 0.5 * (math.sqrt(5) - 1)
+    for _ in range(60):  # golden section on the construction's peak acceleration
+        a, b = hi - g * (hi - lo), lo + g * (hi - lo)
+        lo, hi = (lo, b) if peak_acceleration(a) < peak_acceleration(b) else (a, hi)
+    best = 0.5 * (lo + hi)
+    assert best == pytest.approx(MODIFIED_CYCLOID_TILT, abs=2e-4)  # the sampled peak is flat near its minimum
+    assert law.ca == pytest.approx(peak_acceleration(MODIFIED_CYCLOID_TILT, 400001), rel=1e-9)
+    assert law.ca < LAWS["cycloidal"].ca and law.cv < LAWS["cycloidal"].cv  # the point of the modification
 
 
 def test_blended_constant_velocity_shape():
@@ -352,7 +415,7 @@ def test_program_values_against_independent_formulas_and_periodicity():
 def test_program_derivatives_by_finite_differences():
     program = MotionProgram([Segment("dwell", D(20)), Segment("modified_trapezoid", D(80), 8.0), Segment("double_harmonic", D(70), 4.0),
                              Segment("double_harmonic", D(70), -4.0), Segment("constant_velocity", D(60), -8.0, blend=0.3),
-                             Segment("dwell", D(60))])
+                             Segment("modified_cycloidal", D(30), 3.0), Segment("modified_cycloidal", D(30), -3.0)])
     theta = np.linspace(0, 2 * PI, 4001)
     h = 2e-4
     keep = np.min(np.abs(theta[:, None] - np.append(program.breaks, 2 * PI)[None, :]), axis=1) > 5 * h

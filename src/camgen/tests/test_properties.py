@@ -393,8 +393,8 @@ def test_trajectory_cam_is_closed_smooth_and_rides_within_its_bound(path, sample
 # Disk cams: motion programs and lift tables (pipeline)
 # --------------------------------------------------------------------------------------------
 #: laws whose velocity is zero at both ends (any order of them joins with continuous velocity)
-SMOOTH_LAWS = ("cycloidal", "poly345", "poly4567", "modified_sine", "modified_trapezoid", "double_harmonic", "simple_harmonic",
-               "constant_velocity", "polynomial")
+SMOOTH_LAWS = ("cycloidal", "poly345", "poly4567", "modified_sine", "modified_trapezoid", "modified_cycloidal", "double_harmonic",
+               "simple_harmonic", "constant_velocity", "polynomial")
 
 
 @st.composite
