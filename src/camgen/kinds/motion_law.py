@@ -10,7 +10,6 @@ acceleration and jerk at the segment's ends, per degree of cam angle; converted 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 

@@ -200,7 +200,7 @@ class _TiltedCyclePiece:
     ``V = (1 - c)/D``, ``A = 2 pi K s/D^3``, ``J = 4 pi^2 K (c + 2 k c^2 - 3 k)/D^5``,
     ``J' = -8 pi^3 K s (1 + 8 k c + 6 k^2 c^2 - 15 k^2)/D^7`` (each ``(2 pi / D) d/dE`` of the one
     before).  The same mapping fields as :class:`_Piece` (``ref``, ``sign_in``, ``offset``,
-    ``sign_out``, ``amplitude``) give its reverse and its scaling.
+    ``sign_out``) give its reverse.
     """
 
     lo: float
@@ -210,7 +210,6 @@ class _TiltedCyclePiece:
     sign_in: float = 1.0
     offset: float = 0.0
     sign_out: float = 1.0
-    amplitude: float = 1.0
 
     def _eccentric(self, w: np.ndarray) -> np.ndarray:
         """E with E - k sin E = 2 pi w (Kepler's equation; Newton from E = M + k sin M)."""
@@ -246,7 +245,7 @@ class _TiltedCyclePiece:
                 val = -(TWO_PI**3) * big_k * s * (1.0 + 8.0 * k * c + 6.0 * k * k * c * c - 15.0 * k * k) / d**7
             else:
                 raise ValueError(f"derivative order {n} > 4 of the tilted cycloid")
-            val = val * (self.amplitude * self.sign_out * self.sign_in**n)
+            val = val * (self.sign_out * self.sign_in**n)
             if n == 0 and self.offset:
                 val += self.offset
             out.append(val)
@@ -258,11 +257,8 @@ class _TiltedCyclePiece:
     def reversed(self, rise: float) -> _TiltedCyclePiece:
         """The piece of R(tau) = rise - S(1 - tau)."""
         return _TiltedCyclePiece(1.0 - self.hi, 1.0 - self.lo, self.tilt, 1.0 - self.ref, -self.sign_in,
-                                 rise - self.offset, -self.sign_out, self.amplitude)
+                                 rise - self.offset, -self.sign_out)
 
-    def scaled(self, k: float) -> _TiltedCyclePiece:
-        return _TiltedCyclePiece(self.lo, self.hi, self.tilt, self.ref, self.sign_in, k * self.offset, self.sign_out,
-                                 k * self.amplitude)
 
 
 def _extrema(piece: _Piece | _TiltedCyclePiece, n: int, samples: int = 257, iterations: int = 80) -> tuple[float, float, float, float]:
@@ -552,9 +548,11 @@ def _mod_sine() -> Law:
 
 #: Wildt's modified cycloid: tilt ``k`` of the direction along which the cycloid's sine is laid off
 #: (``tau = t - k sin(2 pi t)/(2 pi)``): the tilt that minimises the peak acceleration, 1 - sqrt(3)/2.
-#: Rothbart's construction (Cam Design Handbook, sec. 3, Fig. 3.12b) lays the sine's base
-#: perpendicular to the line from M (the middle of the first half of the constant-velocity line) to
-#: D at "0.57 of beta/2", i.e. ``0.5 + k/2 = 0.567`` rounded to two digits.
+#: Rothbart's construction (Cam Design Handbook, sec. 3, Fig. 3.12b; its text here ends at "the base
+#: of the sine curve is then constructed") joins M (the middle of the first half of the
+#: constant-velocity line) to a point D at "0.57 of beta/2".  Our reading: the sine is laid off
+#: along DM with D at mid-stroke, which makes ``0.5 + k/2 = 0.567`` the handbook's 0.57 to two
+#: digits (the opposite tilt would raise Ca to 7.7, above the plain cycloid's 6.28).
 MODIFIED_CYCLOID_TILT = 1.0 - math.sqrt(3.0) / 2.0
 
 
