@@ -128,8 +128,8 @@ def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = 
 
 KIND = CamKind(
     name="motion_law",
-    summary="disk cam from a motion program (cycloidal, harmonic, modified trapezoid/sine, polynomials, ... per segment) for a "
-            "translating or oscillating roller, flat face or knife, as the exact envelope",
+    summary="disk cam from a motion program (cycloidal, harmonic, modified trapezoid/sine/cycloidal, polynomials, ... per segment) "
+            "for a translating or oscillating roller, flat face or knife, as the exact envelope",
     keys=KEYS,
     read=read,
     build=build_disk,

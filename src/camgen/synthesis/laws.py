@@ -41,11 +41,12 @@ is not zero at an end has ``Ca = inf`` (``Cj = inf``): the acceleration (jerk) i
 The peaks inside the segment are always finite and given by :attr:`Law.peaks`.  Closed forms:
 cycloidal ``(2, 2 pi, 4 pi^2)``; simple harmonic ``(pi/2, pi^2/2, inf)``; modified trapezoid
 ``(2, 8 pi/(2 + pi), 32 pi^2/(2 + pi))``; modified sine ``(4 pi/(4 + pi), 4 pi^2/(4 + pi),
-16 pi^3/(4 + pi))``; modified cycloidal ``(4/(4 - sqrt(3)), 5.88825, 4 pi^2/(sqrt(3)/2)^3)`` (Cv 1.7637,
-Cj 60.781; Ca at ``cos E = (sqrt(3) - 1)/2``, see :class:`_TiltedCyclePiece`); 3-4-5 ``(15/8, 10/sqrt(3), 60)``; 4-5-6-7 ``(35/16, 7.51319, 52.5)``; double
-harmonic ``(3 sqrt(3) pi/8, pi^2, inf)``; blended constant velocity ``(1/(1-b), 2/(b(1-b)),
-2 pi/(b^2 (1-b)))``.  camgen computes them at construction from the closed-form derivatives (root of
-the next derivative by bisection: exact to ~1e-13).
+16 pi^3/(4 + pi))``; modified cycloidal ``(4/(4 - sqrt(3)), 5.88825, 4 pi^2/(sqrt(3)/2)^3)``
+(Cv 1.7637, Cj 60.781; Ca at ``cos E = (sqrt(3) - 1)/2``, see :class:`_TiltedCyclePiece`); 3-4-5
+``(15/8, 10/sqrt(3), 60)``; 4-5-6-7 ``(35/16, 7.51319, 52.5)``; double harmonic ``(3 sqrt(3) pi/8,
+pi^2, inf)``; blended constant velocity ``(1/(1-b), 2/(b(1-b)), 2 pi/(b^2 (1-b)))``.  camgen
+computes them at construction from the closed-form derivatives (root of the next derivative by
+bisection: exact to ~1e-13).
 
 Notes on three laws:
 
@@ -81,7 +82,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from typing import Protocol, runtime_checkable
 
@@ -116,22 +117,57 @@ class Displacement(Protocol):
 
 
 # --------------------------------------------------------------------------------------------
-# pieces: S(tau) = offset + sign_out * F(w), w = sign_in * (tau - ref),
-# F(w) = sum_i poly[i] w^i + sum_m (a_m sin(omega_m w) + b_m cos(omega_m w))
+# pieces: S(tau) = offset + sign_out * F(w), w = sign_in * (tau - ref); F a polynomial plus
+# sines (_Piece) or the tilted cycloid (_TiltedCyclePiece)
 # --------------------------------------------------------------------------------------------
 _MAX_ORDER = 5  # derivatives kept: 0..5 (the peak of the jerk needs the 4th)
 
 
 @dataclass(frozen=True)
-class _Piece:
+class _MappedPiece:
+    """A piece of a law on ``[lo, hi]``: ``S(tau) = offset + sign_out F(w)``, ``w = sign_in (tau - ref)``.
+    Subclasses give ``F`` and its derivatives in ``w`` (:meth:`_shape`); the mapping gives the
+    time-reversed piece (:meth:`reversed`) without touching ``F``."""
+
     lo: float
     hi: float
+    ref: float = field(default=0.0, kw_only=True)
+    sign_in: float = field(default=1.0, kw_only=True)
+    offset: float = field(default=0.0, kw_only=True)
+    sign_out: float = field(default=1.0, kw_only=True)
+
+    def _shape(self, w: np.ndarray, orders: Sequence[int]) -> list[np.ndarray]:
+        """d^n F / dw^n for n in ``orders`` at ``w`` (arrays the caller may overwrite)."""
+        raise NotImplementedError
+
+    def values(self, tau: np.ndarray, orders: Sequence[int] = (0, 1, 2, 3)) -> list[np.ndarray]:
+        """Derivatives d^n S / dtau^n for n in ``orders`` at ``tau`` (array)."""
+        tau = np.asarray(tau, dtype=float)
+        w = tau - self.ref if self.sign_in > 0 else self.ref - tau
+        out = self._shape(w, orders)
+        for i, n in enumerate(orders):
+            factor = self.sign_out * self.sign_in**n
+            if factor != 1.0:
+                out[i] = out[i] * factor
+            if n == 0 and self.offset:
+                out[i] = out[i] + self.offset
+        return out
+
+    def derivative(self, tau: np.ndarray, n: int) -> np.ndarray:
+        return self.values(tau, (n,))[0]
+
+    def reversed(self, rise: float) -> _MappedPiece:
+        """The piece of R(tau) = rise - S(1 - tau)."""
+        return replace(self, lo=1.0 - self.hi, hi=1.0 - self.lo, ref=1.0 - self.ref, sign_in=-self.sign_in,
+                       offset=rise - self.offset, sign_out=-self.sign_out)
+
+
+@dataclass(frozen=True)
+class _Piece(_MappedPiece):
+    """``F(w) = sum_i poly[i] w^i + sum_m (a_m sin(omega_m w) + b_m cos(omega_m w))``."""
+
     poly: tuple[float, ...]
     trig: tuple[tuple[float, float, float], ...] = ()
-    ref: float = 0.0
-    sign_in: float = 1.0
-    offset: float = 0.0
-    sign_out: float = 1.0
     _dpoly: tuple[np.ndarray, ...] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -142,10 +178,7 @@ class _Piece:
             c = np.array([i * c[i] for i in range(1, c.size)]) if c.size > 1 else np.zeros(1)
         object.__setattr__(self, "_dpoly", tuple(derivs))
 
-    def values(self, tau: np.ndarray, orders: Sequence[int] = (0, 1, 2, 3)) -> list[np.ndarray]:
-        """Derivatives d^n S / dtau^n for n in ``orders`` at ``tau`` (array)."""
-        tau = np.asarray(tau, dtype=float)
-        w = tau - self.ref if self.sign_in > 0 else self.ref - tau
+    def _shape(self, w: np.ndarray, orders: Sequence[int]) -> list[np.ndarray]:
         trig = [(om, np.sin(om * w), np.cos(om * w), a, b) for om, a, b in self.trig]
         out = []
         for n in orders:
@@ -162,25 +195,12 @@ class _Piece:
                     val += ca * sn
                 if cb:
                     val += cb * cs
-            factor = self.sign_out * self.sign_in**n
-            if factor != 1.0:
-                val *= factor
-            if n == 0 and self.offset:
-                val += self.offset
             out.append(val)
         return out
 
-    def derivative(self, tau: np.ndarray, n: int) -> np.ndarray:
-        return self.values(tau, (n,))[0]
-
-    def reversed(self, rise: float) -> _Piece:
-        """The piece of R(tau) = rise - S(1 - tau)."""
-        return _Piece(1.0 - self.hi, 1.0 - self.lo, self.poly, self.trig, 1.0 - self.ref, -self.sign_in,
-                      rise - self.offset, -self.sign_out)
-
     def scaled(self, k: float) -> _Piece:
-        return _Piece(self.lo, self.hi, tuple(k * c for c in self.poly), tuple((om, k * a, k * b) for om, a, b in self.trig),
-                      self.ref, self.sign_in, k * self.offset, self.sign_out)
+        return replace(self, poly=tuple(k * c for c in self.poly), trig=tuple((om, k * a, k * b) for om, a, b in self.trig),
+                       offset=k * self.offset)
 
 
 #: Kepler solve of the tilted cycloid: Newton steps at most, and the step that counts as converged (rad)
@@ -189,7 +209,7 @@ KEPLER_STEP_TOL = 4e-16
 
 
 @dataclass(frozen=True)
-class _TiltedCyclePiece:
+class _TiltedCyclePiece(_MappedPiece):
     """One piece ``S(tau)`` of a cycloid whose sine is laid off along a tilted direction (Wildt's
     modified cycloid; Rothbart, Cam Design Handbook, 2004, sec. 3, "modified cycloidal curve").
 
@@ -199,17 +219,10 @@ class _TiltedCyclePiece:
     monotone), then, with ``c = cos E``, ``s = sin E``, ``D = 1 - k c``, ``K = 1 - k``:
     ``V = (1 - c)/D``, ``A = 2 pi K s/D^3``, ``J = 4 pi^2 K (c + 2 k c^2 - 3 k)/D^5``,
     ``J' = -8 pi^3 K s (1 + 8 k c + 6 k^2 c^2 - 15 k^2)/D^7`` (each ``(2 pi / D) d/dE`` of the one
-    before).  The same mapping fields as :class:`_Piece` (``ref``, ``sign_in``, ``offset``,
-    ``sign_out``) give its reverse.
+    before).
     """
 
-    lo: float
-    hi: float
     tilt: float
-    ref: float = 0.0
-    sign_in: float = 1.0
-    offset: float = 0.0
-    sign_out: float = 1.0
 
     def _eccentric(self, w: np.ndarray) -> np.ndarray:
         """E with E - k sin E = 2 pi w (Kepler's equation; Newton from E = M + k sin M)."""
@@ -223,10 +236,8 @@ class _TiltedCyclePiece:
                 break
         return ecc
 
-    def values(self, tau: np.ndarray, orders: Sequence[int] = (0, 1, 2, 3)) -> list[np.ndarray]:
-        """Derivatives d^n S / dtau^n (n <= 4) for n in ``orders`` at ``tau`` (array)."""
-        tau = np.asarray(tau, dtype=float)
-        w = tau - self.ref if self.sign_in > 0 else self.ref - tau
+    def _shape(self, w: np.ndarray, orders: Sequence[int]) -> list[np.ndarray]:
+        """n <= 4."""
         k, big_k = self.tilt, 1.0 - self.tilt
         ecc = self._eccentric(w)
         c, s = np.cos(ecc), np.sin(ecc)
@@ -245,23 +256,12 @@ class _TiltedCyclePiece:
                 val = -(TWO_PI**3) * big_k * s * (1.0 + 8.0 * k * c + 6.0 * k * k * c * c - 15.0 * k * k) / d**7
             else:
                 raise ValueError(f"derivative order {n} > 4 of the tilted cycloid")
-            val = val * (self.sign_out * self.sign_in**n)
-            if n == 0 and self.offset:
-                val += self.offset
             out.append(val)
         return out
 
-    def derivative(self, tau: np.ndarray, n: int) -> np.ndarray:
-        return self.values(tau, (n,))[0]
-
-    def reversed(self, rise: float) -> _TiltedCyclePiece:
-        """The piece of R(tau) = rise - S(1 - tau)."""
-        return _TiltedCyclePiece(1.0 - self.hi, 1.0 - self.lo, self.tilt, 1.0 - self.ref, -self.sign_in,
-                                 rise - self.offset, -self.sign_out)
 
 
-
-def _extrema(piece: _Piece | _TiltedCyclePiece, n: int, samples: int = 257, iterations: int = 80) -> tuple[float, float, float, float]:
+def _extrema(piece: _MappedPiece, n: int, samples: int = 257, iterations: int = 80) -> tuple[float, float, float, float]:
     """(min, tau_min, max, tau_max) of d^n S/dtau^n over the closed piece: samples, piece ends and the
     sign changes of the next derivative refined by bisection (vectorised)."""
     u = np.linspace(piece.lo, piece.hi, samples)
@@ -345,7 +345,7 @@ class Law:
     """
 
     name: str
-    pieces: tuple[_Piece | _TiltedCyclePiece, ...]
+    pieces: tuple[_MappedPiece, ...]
     breaks: tuple[LawBreak, ...] = ()
     source: str = ""
     options: Mapping[str, object] = field(default_factory=dict)

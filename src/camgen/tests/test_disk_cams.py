@@ -37,7 +37,7 @@ from camgen.synthesis.followers import FollowerSpec, kinematics
 from camgen.synthesis.laws import MotionProgram, Segment
 from camgen.synthesis.lift_table import LiftTable
 from camgen.tests import ride
-from camgen.tests.test_followers import rest_arm_angle, rest_face_angle
+from camgen.tests.test_followers import required_position, rest_arm_angle, rest_face_angle
 from camgen.tests.test_followers import ride_position as followers_ride
 
 D = math.radians
@@ -312,15 +312,6 @@ def ride_position(f: FollowerSpec, cam, theta, polygon: bool = False):
     if polygon and f.kind == "roller":
         return polygon_oscillating_roller(cam, theta, f, rest_arm_angle(f), f.sigma)
     return ride.oscillating_roller(cam, theta, f.pivot, f.arm_length, f.roller_radius, rest_arm_angle(f), f.tau, f.sigma)
-
-
-def required_position(f: FollowerSpec, s: np.ndarray) -> np.ndarray:
-    """Where the conventions put the follower at lift or swing s (mm; rad)."""
-    if f.motion == "translating":
-        if f.kind == "flat":
-            return f.base_radius + s
-        return math.sqrt((f.base_radius + f.roller_radius) ** 2 - f.offset**2) + s
-    return (rest_face_angle(f) if f.kind == "flat" else rest_arm_angle(f)) + f.tau * s
 
 
 def ride_error(f: FollowerSpec, cam, theta, law, polygon: bool = False) -> np.ndarray:

@@ -93,6 +93,7 @@ def ride_position(f: FollowerSpec, cam, theta, return_param=False):
 
 
 def required_position(f: FollowerSpec, s: np.ndarray) -> np.ndarray:
+    """Where the conventions put the follower at lift or swing s (mm; rad)."""
     if f.motion == "translating":
         if f.kind == "flat":
             return f.base_radius + s
