@@ -74,6 +74,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Callable, Protocol
 
 import numpy as np
@@ -587,22 +588,48 @@ def kinematics(follower: FollowerSpec, law: Displacement, theta: object) -> Kine
 # --------------------------------------------------------------------------------------------
 def profile_failures(f: FollowerSpec, k: Kinematics) -> list[tuple[str, np.ndarray]]:
     """(reason, mask) pairs of the conditions that make the profile impossible."""
-    out = []
     if f.kind == "flat":
-        if f.motion == "translating":
-            out.append(("the face passes through the rotation axis (base_radius + s <= 0)", f.base_radius + k.s <= 0))
-        out.append(("the face normal turns backwards seen from the cam (1 - sigma tau phi' <= 0)", ~(k.normal_turn_rate > 0)))
-        out.append(("undercut: the envelope's radius of curvature h + h'' <= 0", ~(k.profile_radius > 0) & (k.normal_turn_rate > 0)))
-        return out
+        return _flat_failures(f, k.s, k.normal_turn_rate, k.profile_radius)
+    return _pitch_failures(f, k.s, np.hypot(*k.pitch_d1.T), k.pitch_curvature)
+
+
+def _flat_failures(f: FollowerSpec, s: np.ndarray, turn_rate: np.ndarray, radius: np.ndarray) -> list[tuple[str, np.ndarray]]:
+    """:func:`profile_failures` of a flat face from the lift ``s``, the face normal's turn rate and
+    the envelope's radius of curvature (mm)."""
+    out = []
     if f.motion == "translating":
-        out.append(("the follower passes through the rotation axis (sqrt(Rp^2 - e^2) + s <= 0)", f.rest_height + k.s <= 0))
-    speed = np.hypot(*k.pitch_d1.T)
+        out.append(("the face passes through the rotation axis (base_radius + s <= 0)", f.base_radius + s <= 0))
+    out.append(("the face normal turns backwards seen from the cam (1 - sigma tau phi' <= 0)", ~(turn_rate > 0)))
+    out.append(("undercut: the envelope's radius of curvature h + h'' <= 0", ~(radius > 0) & (turn_rate > 0)))
+    return out
+
+
+def _pitch_failures(f: FollowerSpec, s: np.ndarray, speed: np.ndarray, curvature: np.ndarray) -> list[tuple[str, np.ndarray]]:
+    """:func:`profile_failures` of a roller or knife from the lift ``s``, the pitch curve's speed
+    ``|dP/dtheta|`` (mm/rad) and its signed curvature (1/mm)."""
+    out = []
+    if f.motion == "translating":
+        out.append(("the follower passes through the rotation axis (sqrt(Rp^2 - e^2) + s <= 0)", f.rest_height + s <= 0))
     scale = max(1.0, f.prime_radius)
     out.append(("cusp: the pitch curve stops (zero relative velocity)", ~(speed > 1e-12 * scale)))
     if f.kind == "roller":
         out.append((f"undercut: convex radius of curvature of the pitch curve <= roller radius {f.roller_radius:g} mm",
-                    f.roller_radius * k.pitch_curvature >= 1.0))
+                    f.roller_radius * curvature >= 1.0))
     return out
+
+
+def _pitch_speed_curvature(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Roller / knife: the pitch curve's speed ``|V|`` (mm/rad) and signed curvature (1/mm) from the
+    law's values, by the arithmetic of :func:`_roller` (the undercut check without the rest of
+    :class:`Kinematics`: no rotation into the cam frame, no profile)."""
+    _, (vx, vy), (ax, ay), _, _, _ = _centre(f, s, ds, d2s, d3s)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        speed2 = vx * vx + vy * vy
+        cross = vx * ay - vy * ax
+        cube = np.sqrt(speed2)
+        speed = cube.copy()
+        cube *= speed2
+        return speed, np.divide(-f.sigma * cross, cube)
 
 
 def _run_ranges(mask: np.ndarray, theta: np.ndarray) -> list[tuple[float, float]]:
@@ -759,20 +786,29 @@ def _breaks_of(law: Displacement) -> tuple[np.ndarray, np.ndarray]:
     return brk, cont
 
 
-def _fourth_derivatives(theta: np.ndarray, d2: list[np.ndarray], brk: np.ndarray, spacing: float = math.radians(0.2)) -> np.ndarray:
-    """Largest ``|d4Q/dtheta4|`` (mm/rad^4) of the curves whose exact ``d2Q/dtheta2`` ((n, 2) each)
-    are given on the sorted grid ``theta`` (n,), per interval between the sorted breaks ``brk``
-    (interval k from ``brk[k]``; one interval when there are none): second divided differences of
-    ``d2Q`` over triples of grid angles about ``spacing`` (rad) apart (every k-th angle) that have
-    near-uniform spacing and that no break splits (the law is analytic inside an interval)."""
-    stride = max(1, int(spacing * theta.size / TWO_PI))
-    th = theta[::stride]
+#: Spacing (rad) of the cam angles of the fourth-derivative estimate (:func:`_fourth_derivatives`).
+BOUND_SPACING = math.radians(0.2)
+
+
+def _bound_stride(n: int) -> int:
+    """Every how many angles of a check grid of ``n`` angles per turn the fourth-derivative
+    estimate takes (about :data:`BOUND_SPACING` apart)."""
+    return max(1, int(BOUND_SPACING * n / TWO_PI))
+
+
+def _fourth_derivatives(theta: np.ndarray, d2: list[np.ndarray], brk: np.ndarray) -> np.ndarray:
+    """Largest ``|d4Q/dtheta4|`` (mm/rad^4) of the curves whose exact ``d2Q/dtheta2`` (complex
+    ``x + i y``, (n,) each) are given at the sorted cam angles ``theta`` (n,) (a check grid taken
+    every :func:`_bound_stride` angles), per interval between the sorted breaks ``brk`` (interval k
+    from ``brk[k]``; one interval when there are none): second divided differences of ``d2Q`` over
+    triples of consecutive angles that have near-uniform spacing and that no break splits (the
+    law is analytic inside an interval)."""
+    th = theta
     h0, h1 = th[1:-1] - th[:-2], th[2:] - th[1:-1]
     where = np.searchsorted(brk, th, side="right")  # breaks <= theta
     ok = (where[:-2] == where[2:]) & (np.minimum(h0, h1) >= 0.5 * np.maximum(h0, h1))
     worst = np.zeros(th.size - 2)
     for z in d2:
-        z = z.view(complex)[::stride, 0]  # (x, y) as x + i y: one long array, not pairs
         dd = (z[2:] - z[1:-1]) / h1
         dd -= (z[1:-1] - z[:-2]) / h0
         np.maximum(worst, dd.real * dd.real + dd.imag * dd.imag, out=worst)
@@ -806,7 +842,7 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
     at both ends, so neighbours join with the exact curve's own continuity: G2 where the law's
     ``s''`` is continuous, G1 (the exact curvature jump) where it jumps, G0 where ``s'`` jumps.  The
     first count follows from the error bound ``5/384 h^4 max|Q''''|`` with ``Q''''`` from
-    ``fourth = (theta, [d2Q/dtheta2 of each curve])`` on a dense sorted grid (else one piece per
+    ``fourth = (theta, [d2Q/dtheta2 of each curve])`` (see :func:`_fourth_derivatives`) (else one piece per
     ``initial_step``); a segment gets more pieces (its error falls as h^4) until the distance of
     every curve from its exact points at the quarter and mid points of every piece is <= ``fit_tol``
     mm.  The exact curves are evaluated for all segments in one call per round.
@@ -895,6 +931,30 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
 # The cam
 # --------------------------------------------------------------------------------------------
 @dataclass(frozen=True)
+class CheckGrid:
+    """The dense check grid of a cam (:func:`check_grid`) and the law's values on it.
+
+    Attributes
+    ----------
+    theta : sorted cam angles, rad (one turn).
+    uniform_size : size ``n`` of the uniform grid ``k 2 pi / n`` in ``theta``.
+    added_at, added : positions in ``theta`` of the angles added to the uniform grid (breaks and
+        their one-sided neighbours) and those angles, rad.
+    s, ds, d2s, d3s : the law's displacement and its derivatives at ``theta`` (mm or rad of
+        swing, per rad^k).
+    """
+
+    theta: np.ndarray
+    uniform_size: int
+    added_at: np.ndarray
+    added: np.ndarray
+    s: np.ndarray
+    ds: np.ndarray
+    d2s: np.ndarray
+    d3s: np.ndarray
+
+
+@dataclass(frozen=True)
 class CamEnvelope:
     """A cam for a follower and a law: the curves, the dense curvature data and the failures.
 
@@ -904,18 +964,21 @@ class CamEnvelope:
     profile : the cam profile (:class:`Contour`), or None when it cannot be made (report-only).
     pitch : roller / knife: the pitch curve (roller-centre path; the knife's is the profile);
         flat: None.
-    data : :class:`Kinematics` on the dense check grid (see :func:`check_grid`).
+    grid : the :class:`CheckGrid` (cam angles and the law's values there).
     failures : one entry per failed condition: ``{"reason": str, "ranges_deg": [(start, end), ...],
         "worst_deg": float}`` (empty when the cam can be made).
     fit_tol : the requested tolerance of the spline representation, mm.
     fit_error : the largest measured distance of ``profile`` (else ``pitch``) from the exact
         curve at the probe points, mm (NaN when neither was built).
+    data : :class:`Kinematics` on the check grid, made on first use (the profile does not need
+        it: rollers and knives are checked for undercuts and cusps from the pitch curve's speed
+        and curvature alone).
     """
 
     follower: FollowerSpec
     profile: Contour | None
     pitch: Contour | None
-    data: Kinematics
+    grid: CheckGrid
     failures: list[dict] = field(default_factory=list)
     fit_tol: float = DEFAULT_FIT_TOL
     fit_error: float = float("nan")
@@ -923,6 +986,12 @@ class CamEnvelope:
     @property
     def ok(self) -> bool:
         return not self.failures
+
+    @cached_property
+    def data(self) -> Kinematics:
+        g = self.grid
+        return _kinematics_from(self.follower, g.theta, g.s, g.ds, g.d2s, g.d3s,
+                                _grid_to_cam(self.follower, g.uniform_size, g.added_at, g.added))
 
 
 def _failure_message(f: FollowerSpec, failures: list[dict]) -> str:
@@ -976,9 +1045,15 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
                             "a corner of the pitch curve exactly; use laws with continuous velocity there (or a knife follower)")
     theta, n_uniform, added_at, added = _check_grid(law, check_step)
     s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(theta))
-    data = _kinematics_from(f, theta, s, ds, d2s, d3s, _grid_to_cam(f, n_uniform, added_at, added))
+    grid = CheckGrid(theta, n_uniform, added_at, added, s, ds, d2s, d3s)
+    flat_data = None
+    if f.kind == "flat":  # the face's checks need most of its kinematics: made now, kept for `data`
+        flat_data = _kinematics_from(f, theta, s, ds, d2s, d3s, _grid_to_cam(f, n_uniform, added_at, added))
+        masks = profile_failures(f, flat_data)
+    else:
+        masks = _pitch_failures(f, s, *_pitch_speed_curvature(f, s, ds, d2s, d3s))
     failures = []
-    for reason, mask in profile_failures(f, data):
+    for reason, mask in masks:
         if mask.any():
             worst = float(theta[np.argmax(mask)])
             failures.append({"reason": reason, "ranges_deg": _run_ranges(mask, theta), "worst_deg": math.degrees(worst)})
@@ -1011,9 +1086,16 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
         return derivs, _curve_points(f, th[ends:], s[ends:], ds[ends:], tuple(want))
 
     if want:
-        d2 = [data.pitch_d2 if name == "pitch" else data.contact_d2 for name in want]
+        # d2Q/dtheta2 of the wanted curves on every few check-grid angles: the fourth-derivative bound
+        pick = slice(None, None, _bound_stride(theta.size))
+        at = (theta[pick], s[pick], ds[pick], d2s[pick], d3s[pick])
+        if f.kind == "flat":
+            curves = _flat(f, *at, False)
+        else:
+            curves = _roller(f, *at, False, tuple(want))
+        d2 = [curve[2] for curve in curves]
         try:
-            curves, errors = _spline_contours(exact, len(want), sigma, law, fit_tol, (theta, d2))
+            curves, errors = _spline_contours(exact, len(want), sigma, law, fit_tol, (theta[pick], d2))
         except GeometryError as exc:  # report-only: show what failed instead of the pitch curve
             if not failures:
                 raise
@@ -1026,4 +1108,7 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
             profile, error = made["profile"]
             if f.kind == "knife":
                 pitch = profile
-    return CamEnvelope(f, profile, pitch, data, failures, fit_tol, error)
+    envelope = CamEnvelope(f, profile, pitch, grid, failures, fit_tol, error)
+    if flat_data is not None:
+        envelope.__dict__["data"] = flat_data  # the cache of the `data` property, already made
+    return envelope

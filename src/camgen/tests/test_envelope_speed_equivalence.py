@@ -25,6 +25,7 @@ from camgen.synthesis.followers import (
     FollowerSpec,
     _c2_splines,
     _check_grid,
+    _bound_stride,
     _fourth_derivatives,
     _grid_to_cam,
     _knots,
@@ -167,7 +168,8 @@ def test_fourth_derivative_estimate_against_a_closed_form_curve():
     a = np.array([c[0] for c in coef])[k]
     b = np.array([c[1] for c in coef])[k]
     d2 = -a * np.exp(1j * theta) - 9 * b * np.exp(3j * theta)
-    estimate = _fourth_derivatives(theta, [np.column_stack([d2.real, d2.imag])], brk)
+    pick = slice(None, None, _bound_stride(theta.size))
+    estimate = _fourth_derivatives(theta[pick], [d2[pick]], brk)
     ends = np.append(brk, TWO_PI)
     for j, (aj, bj) in enumerate(coef):
         # the differences use grid angles ~0.2 deg apart inside the interval: the largest value
@@ -217,3 +219,69 @@ def test_first_piece_count_meets_fit_tol_in_one_round(name, rotation, fit_tol):
     assert cam.fit_error <= fit_tol
     # the bound is not wasteful: the error reached is a sizeable part of fit_tol (pieces ~ error^(-1/4))
     assert cam.fit_error >= 0.05 * fit_tol
+
+
+# --------------------------------------------------------------------------------------------
+# The checks without the full kinematics, and the kinematics made on first use
+# --------------------------------------------------------------------------------------------
+def _pitch_by_brute_force(f: FollowerSpec, law, theta: np.ndarray) -> np.ndarray:
+    """Pitch curve points (complex, cam frame) of a centred or offset translating roller written
+    out here: the roller centre (e, sqrt(Rp^2 - e^2) + s) turned back by the cam angle."""
+    s = law(theta)[0]
+    centre = f.offset + 1j * (math.sqrt(f.prime_radius**2 - f.offset**2) + s)
+    return centre * np.exp(-1j * f.sigma * theta)
+
+
+@pytest.mark.parametrize("rotation", ["ccw", "cw"])
+@pytest.mark.parametrize("base, roller, offset", [(10.0, 20.0, 0.0), (20.0, 12.0, 6.0), (25.0, 15.0, -8.0), (30.0, 4.0, -5.0)])
+def test_undercut_ranges_against_finite_difference_curvature_of_the_pitch_curve(rotation, base, roller, offset):
+    """The undercut check reads only the law and the pitch curve's speed and curvature; here the
+    curvature comes from central differences of pitch points computed independently, and the
+    angles where r kappa >= 1 must be the failed angles wherever the two are not within 1e-5 of
+    the limit."""
+    law = MotionProgram([Segment("cycloidal", D(40), 18.0), Segment("dwell", D(30)), Segment("poly345", D(50), -18.0),
+                         Segment("dwell", D(240))])
+    f = FollowerSpec("roller", base, roller_radius=roller, offset=offset, rotation=rotation)
+    env = cam_envelope(f, law, report_only=True)
+    theta = env.grid.theta
+    step = 1e-4
+    p0, pp, pm = (_pitch_by_brute_force(f, law, theta + d) for d in (0.0, step, -step))
+    d1, d2 = (pp - pm) / (2 * step), (pp - 2 * p0 + pm) / step**2
+    # the contour runs counter-clockwise, against theta for a ccw cam: curvature -sigma (P' x P'') / |P'|^3
+    kappa = -f.sigma * (d1.real * d2.imag - d1.imag * d2.real) / np.abs(d1) ** 3
+    expected = roller * kappa >= 1.0
+    failed = np.zeros(theta.size, dtype=bool)
+    for item in env.failures:
+        assert item["reason"].startswith("undercut"), item["reason"]
+        for a, b in item["ranges_deg"]:
+            failed |= (np.degrees(theta) >= a - 1e-9) & (np.degrees(theta) <= b + 1e-9) if a <= b else \
+                (np.degrees(theta) >= a - 1e-9) | (np.degrees(theta) <= b + 1e-9)
+    clear = np.abs(roller * kappa - 1.0) > 1e-5
+    assert expected.any() == (base != 30.0)  # three of the cases undercut (one in two places), one does not
+    assert np.array_equal(failed[clear], expected[clear])
+    assert env.ok == (not expected.any())
+
+
+@pytest.mark.parametrize("name", sorted(FOLLOWERS))
+def test_check_data_is_made_on_first_use_and_is_the_public_kinematics(name):
+    """A roller or knife envelope does not make its dense Kinematics until asked (the profile does
+    not need them); when asked they are camgen.synthesis.followers.kinematics at the grid angles
+    (cosines and sines computed directly there instead of the grid's phasor products)."""
+    from camgen.synthesis.followers import kinematics
+
+    kind = FOLLOWERS[name]
+    oscillating = kind.get("motion") == "oscillating"
+    unit, lift = ("rad", D(LIFT[name])) if oscillating else ("mm", LIFT[name])
+    law = MotionProgram([Segment("modified_sine", D(110), lift), Segment("dwell", D(50)),
+                         Segment("double_harmonic", D(90), -lift), Segment("dwell", D(110))], unit=unit)
+    f = FollowerSpec(**kind)
+    env = cam_envelope(f, law)
+    assert ("data" in vars(env)) == (f.kind == "flat")  # a flat face's checks need its kinematics
+    data = env.data
+    assert env.data is data
+    ref = kinematics(f, law, env.grid.theta)
+    scale = f.prime_radius
+    assert np.max(np.abs(data.contact_point - ref.contact_point)) <= 1e-12 * scale
+    assert np.max(np.abs(data.pressure_angle - ref.pressure_angle)) <= 1e-12
+    assert np.max(np.abs(data.profile_curvature - ref.profile_curvature)) <= 1e-12 * np.max(np.abs(ref.profile_curvature))
+    assert np.array_equal(data.theta, ref.theta)
