@@ -369,16 +369,80 @@ def _cubic_coefficients(t: np.ndarray, y: np.ndarray, moments: np.ndarray) -> np
     return np.stack([(m1 - m0) / (6.0 * h), 0.5 * m0, slope - h * (2.0 * m0 + m1) / 6.0, y[:-1]])
 
 
+#: Polynomial degrees a :class:`Spline` piece may have.
+SPLINE_DEGREES = (3, 5)
+
+
+def _derivative_factors(degree: int, order: int) -> np.ndarray:
+    """Factors (degree + 1 - order,) turning the coefficients (highest power first) of a degree
+    ``degree`` polynomial into those of its ``order``-th derivative: ``p!/(p - order)!`` for the
+    powers ``p = degree .. order``."""
+    powers = np.arange(degree, order - 1, -1, dtype=float)
+    out = np.ones_like(powers)
+    for j in range(order):
+        out *= powers - j
+    return out
+
+
+def _horner(c: np.ndarray, tau: np.ndarray, order: int = 0) -> np.ndarray:
+    """``d^order/dtau^order`` of the polynomials with coefficients ``c`` (n, degree + 1, d),
+    highest power first, at ``tau`` (n, 1): Horner's rule on the derivative's coefficients."""
+    degree = c.shape[1] - 1
+    if order > degree:
+        return np.zeros((c.shape[0], c.shape[2]))
+    f = _derivative_factors(degree, order)
+    acc = c[:, 0] * f[0]
+    for m in range(1, degree + 1 - order):
+        acc = acc * tau + c[:, m] * f[m]
+    return acc
+
+
+def _bernstein_max_norm(c: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """Upper bound (K,) of ``|P(tau)|`` on ``[0, h]`` of the polynomials with coefficients ``c``
+    (degree + 1, K, 2), highest power first: the largest norm of their Bezier control points
+    (the curve lies in their convex hull; Farin, *Curves and Surfaces for CAGD*, ch. 4).  Exact for
+    degree <= 1 (the control points are the end values)."""
+    degree = c.shape[0] - 1
+    # power basis in s = tau / h, ascending: a_i = c[degree - i] h^i
+    a = np.stack([c[degree - i] * (h ** i)[:, None] for i in range(degree + 1)])
+    # Bezier points b_j = sum_{i <= j} C(j, i) / C(degree, i) a_i
+    best = np.zeros(h.size)
+    for j in range(degree + 1):
+        b = sum(math.comb(j, i) / math.comb(degree, i) * a[i] for i in range(j + 1))
+        np.maximum(best, np.hypot(b[:, 0], b[:, 1]), out=best)
+    return best
+
+
+def quintic_hermite_coefficients(t: np.ndarray, p: np.ndarray, d1: np.ndarray, d2: np.ndarray) -> np.ndarray:
+    """Coefficients (6, n - 1, k), highest power first, of the quintics on ``[t[i], t[i + 1]]``
+    that take the values ``p``, first derivatives ``d1`` and second derivatives ``d2`` ((n, k)
+    each) at both ends: with ``r0, r1, r2`` what the quadratic Taylor part from the left end
+    misses of the right end's value, slope and second derivative (scaled by ``1, h, h^2``), the
+    cubic, quartic and quintic coefficients solve the 3 x 3 end conditions (closed form below)."""
+    h = np.diff(t)[:, None]
+    p0, p1, v0, v1, a0, a1 = p[:-1], p[1:], d1[:-1], d1[1:], d2[:-1], d2[1:]
+    c2 = 0.5 * a0
+    r0 = p1 - p0 - h * (v0 + h * c2)
+    r1 = (v1 - v0 - 2.0 * h * c2) * h
+    r2 = (a1 - a0) * (h * h)
+    # c3 h^3 = 10 r0 - 4 r1 + r2 / 2, c4 h^4 = -15 r0 + 7 r1 - r2, c5 h^5 = 6 r0 - 3 r1 + r2 / 2
+    c3 = (10.0 * r0 - 4.0 * r1 + 0.5 * r2) / h**3
+    c4 = (-15.0 * r0 + 7.0 * r1 - r2) / h**4
+    c5 = (6.0 * r0 - 3.0 * r1 + 0.5 * r2) / h**5
+    return np.stack([c5, c4, c3, c2, v0, p0])
+
+
 class Spline:
-    """A parametric piecewise cubic ``P(t) = (x(t), y(t))`` on ``breaks[0] <= t <= breaks[-1]``.
+    """A parametric piecewise polynomial ``P(t) = (x(t), y(t))`` on ``breaks[0] <= t <= breaks[-1]``,
+    every piece of the same degree (3: cubic, 5: quintic; :data:`SPLINE_DEGREES`).
 
     Parameters
     ----------
     breaks : array (K + 1,)
         Strictly increasing break points of the parameter.
-    coeffs : array (4, K, 2)
+    coeffs : array (degree + 1, K, 2)
         Polynomial coefficients per piece, highest power first (scipy ``PPoly`` convention):
-        ``P(t) = sum_m coeffs[m, i] (t - breaks[i]) ** (3 - m)`` on piece ``i``.
+        ``P(t) = sum_m coeffs[m, i] (t - breaks[i]) ** (degree - m)`` on piece ``i``.
 
     Instances are immutable: the arrays are copied and made read-only.
     """
@@ -390,13 +454,16 @@ class Spline:
         coeffs = np.array(coeffs, dtype=float)
         if breaks.ndim != 1 or breaks.size < 2 or not (breaks[1:] > breaks[:-1]).all():
             raise ParameterError("breaks", f"array of shape {breaks.shape}", "a strictly increasing 1-D array of >= 2 values")
-        if coeffs.shape != (4, breaks.size - 1, 2) or not np.isfinite(coeffs).all():
-            raise ParameterError("coeffs", f"array of shape {coeffs.shape}", f"finite values of shape (4, {breaks.size - 1}, 2)")
+        if (coeffs.ndim != 3 or coeffs.shape[0] - 1 not in SPLINE_DEGREES or coeffs.shape[1:] != (breaks.size - 1, 2)
+                or not np.isfinite(coeffs).all()):
+            raise ParameterError("coeffs", f"array of shape {coeffs.shape}",
+                                 f"finite values of shape (degree + 1, {breaks.size - 1}, 2), degree one of {SPLINE_DEGREES}")
         breaks.flags.writeable = False
         coeffs.flags.writeable = False
         self.breaks = breaks
         self.coeffs = coeffs
-        self._rows = np.ascontiguousarray(coeffs.transpose(1, 0, 2))  # (K, 4, 2) for fast gathers
+        self.degree = coeffs.shape[0] - 1
+        self._rows = np.ascontiguousarray(coeffs.transpose(1, 0, 2))  # (K, degree + 1, 2) for fast gathers
 
     # -- constructors ------------------------------------------------------------------------
     @classmethod
@@ -443,6 +510,14 @@ class Spline:
         c2 = (3.0 * (p1 - p0) - h * (2.0 * m0 + m1)) / h**2
         return cls(t, np.stack([c3, c2, m0, p0]))
 
+    @classmethod
+    def hermite5(cls, t: np.ndarray, points: np.ndarray, first: np.ndarray, second: np.ndarray) -> "Spline":
+        """C2 piecewise quintic Hermite interpolant of ``points`` (n, 2) and their first and second
+        derivatives ``first``, ``second`` (d/dt, d2/dt2, (n, 2) each) at ``t`` (n,): on every piece the
+        one quintic with those values at both ends (its error on a piece of length ``h`` is at most
+        ``h^6 max|P^(6)| / 46080``: the interpolation remainder ``P^(6)/6! (t - a)^3 (t - b)^3``)."""
+        return cls(t, quintic_hermite_coefficients(_as_array(t), _as_array(points), _as_array(first), _as_array(second)))
+
     # -- pointwise ---------------------------------------------------------------------------
     @property
     def span(self) -> float:
@@ -463,23 +538,27 @@ class Spline:
 
     def eval_piece(self, idx: np.ndarray, tau: np.ndarray, order: int = 0) -> np.ndarray:
         """d^order P / dt^order (n, 2) at offsets ``tau`` from the start of pieces ``idx``."""
-        c = self._rows[idx]  # (n, 4, 2): one contiguous gather
+        if not 0 <= order <= self.degree:
+            raise ValueError(f"order must be 0..{self.degree}")
+        c = self._rows[idx]  # (n, degree + 1, 2): one contiguous gather
         tau = tau[:, None]
+        if self.degree != 3:
+            return _horner(c, tau, order)
         if order == 0:
             return ((c[:, 0] * tau + c[:, 1]) * tau + c[:, 2]) * tau + c[:, 3]
         if order == 1:
             return (3.0 * c[:, 0] * tau + 2.0 * c[:, 1]) * tau + c[:, 2]
         if order == 2:
             return 6.0 * c[:, 0] * tau + 2.0 * c[:, 1]
-        if order == 3:
-            return 6.0 * c[:, 0]
-        raise ValueError("order must be 0..3")
+        return 6.0 * c[:, 0]
 
     def derivatives(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """P, dP/dt and d2P/dt2 (each (n, 2)) at spline parameters ``t``, with one piece lookup."""
         idx, tau = self._locate(_as_array(t))
         c = self._rows[idx]
         tau = tau[:, None]
+        if self.degree != 3:
+            return _horner(c, tau, 0), _horner(c, tau, 1), _horner(c, tau, 2)
         p = ((c[:, 0] * tau + c[:, 1]) * tau + c[:, 2]) * tau + c[:, 3]
         d1 = (3.0 * c[:, 0] * tau + 2.0 * c[:, 1]) * tau + c[:, 2]
         d2 = 6.0 * c[:, 0] * tau + 2.0 * c[:, 1]
@@ -505,16 +584,15 @@ class Spline:
 
     @property
     def start_point(self) -> np.ndarray:
-        return self.coeffs[3, 0].copy()  # P at tau = 0 of the first piece (what eval_t gives there)
+        return self.coeffs[-1, 0].copy()  # P at tau = 0 of the first piece (what eval_t gives there)
 
     @property
     def end_point(self) -> np.ndarray:
-        c = self._rows[-1]  # the last piece at its end, by the arithmetic of eval_piece
-        tau = self.breaks[-1] - self.breaks[-2]
-        return ((c[0] * tau + c[1]) * tau + c[2]) * tau + c[3]
+        # the last piece at its end, by the arithmetic of eval_piece
+        return self.eval_piece(np.array([self.n_pieces - 1]), np.array([self.breaks[-1] - self.breaks[-2]]))[0]
 
     def _ascending(self) -> np.ndarray:
-        """Coefficients (4, K, 2), lowest power first."""
+        """Coefficients (degree + 1, K, 2), lowest power first."""
         return self.coeffs[::-1]
 
     @property
@@ -523,8 +601,7 @@ class Spline:
         nodes, weights = np.polynomial.legendre.leggauss(16)
         h = np.diff(self.breaks)
         tau = 0.5 * (nodes[:, None] + 1.0) * h[None, :]  # (16, K)
-        c = self.coeffs
-        d1 = (3.0 * c[0][None] * tau[..., None] + 2.0 * c[1][None]) * tau[..., None] + c[2][None]
+        d1 = self.eval_piece(np.tile(np.arange(self.n_pieces), 16), tau.ravel(), 1).reshape(16, -1, 2)
         speed = np.hypot(d1[..., 0], d1[..., 1])
         return float(np.sum(weights[:, None] * speed * 0.5 * h[None, :]))
 
@@ -534,13 +611,18 @@ class Spline:
 
         On a piece of parameter length ``h`` the chord deviates from the curve by at most
         ``h^2 / 8 * max |P''|`` (linear-interpolation error bound); ``P''`` is linear on a cubic
-        piece, so its largest norm is at one of the piece's ends.
+        piece, so its largest norm is at one of the piece's ends; on a quintic piece its largest
+        norm is bounded by its Bezier control points (:func:`_bernstein_max_norm`).
         """
         h = np.diff(self.breaks)
         c = self.coeffs
-        acc_start = np.hypot(*(2.0 * c[1]).T)
-        acc_end = np.hypot(*(6.0 * c[0] * h[:, None] + 2.0 * c[1]).T)
-        max_acc = np.maximum(acc_start, acc_end)
+        if self.degree == 3:
+            acc_start = np.hypot(*(2.0 * c[1]).T)
+            acc_end = np.hypot(*(6.0 * c[0] * h[:, None] + 2.0 * c[1]).T)
+            max_acc = np.maximum(acc_start, acc_end)
+        else:
+            second = c[:-2] * _derivative_factors(self.degree, 2)[:, None, None]
+            max_acc = _bernstein_max_norm(second, h)
         counts = np.maximum(1, np.ceil(h * np.sqrt(max_acc / (8.0 * chord_tol)) - 1e-12)).astype(int)
         piece = np.repeat(np.arange(self.n_pieces), counts)
         first = np.repeat(np.cumsum(counts) - counts, counts)
@@ -573,8 +655,15 @@ class Spline:
         (p_i x p_m) tau^(i+m-1)``, whose integral over ``[0, h]`` is ``sum (m - i) / (i + m) (p_i x p_m) h^(i+m)``;
         with ``z_i = x_i + i y_i``, ``p_i x p_m = Im(conj(z_i) z_m)``.
         """
-        z = self.coeffs.view(complex)[..., 0]  # (4, K): z[3 - i] = p_i
+        z = self.coeffs.view(complex)[..., 0]  # (degree + 1, K): z[degree - i] = p_i
         h = self.breaks[1:] - self.breaks[:-1]
+        if self.degree != 3:
+            d = self.degree
+            total = np.zeros(h.size)
+            for i in range(d + 1):
+                for m in range(i + 1, d + 1):
+                    total += (m - i) / (i + m) * (np.conj(z[d - i]) * z[d - m]).imag * h ** (i + m)
+            return 0.5 * float(total.sum())
         c0 = (np.conj(z[3]) * z[:3]).imag  # p0 x (p3, p2, p1)
         c1 = (np.conj(z[2]) * z[:2]).imag  # p1 x (p3, p2)
         c23 = (np.conj(z[1]) * z[0]).imag
@@ -774,7 +863,8 @@ def _grouped_searchsorted(values: np.ndarray, starts: np.ndarray, groups: np.nda
 
 class _SegmentTables:
     """Per-segment arrays of a contour: arc parameters, and the pieces of all its splines
-    concatenated (rows (P, 4, 2), breaks, and where each spline's breaks and pieces start)."""
+    concatenated (rows (P, degree + 1, 2) of the highest degree among them, lower-degree pieces
+    with leading zeros; breaks, and where each spline's breaks and pieces start)."""
 
     def __init__(self, segments: tuple) -> None:
         n = len(segments)
@@ -800,7 +890,8 @@ class _SegmentTables:
             self.break_start = np.concatenate([[0], np.cumsum([seg.breaks.size for seg in self.splines])])
             self.piece_start = self.break_start[:-1] - np.arange(len(splines))  # K pieces per K + 1 breaks
             self.n_pieces = np.array([seg.n_pieces for seg in self.splines])
-            self.rows = np.concatenate([seg._rows for seg in self.splines])
+            self.degree = max(seg.degree for seg in self.splines)
+            self.rows = np.concatenate([np.pad(seg._rows, ((0, 0), (self.degree - seg.degree, 0), (0, 0))) for seg in self.splines])
             self.t0 = np.array([seg.breaks[0] for seg in self.splines])
             self.span = np.array([seg.span for seg in self.splines])
 
@@ -827,6 +918,13 @@ class _SegmentTables:
         row, tau = self.locate(spline, t)
         c = self.rows[row]
         tau = tau[:, None]
+        if self.degree != 3:
+            if method == "point":
+                return _horner(c, tau, 0)
+            d1 = _horner(c, tau, 1)
+            if method == "derivative":
+                return d1 * self.span[spline][:, None]
+            return signed_curvature(d1, _horner(c, tau, 2))
         if method == "point":
             return ((c[:, 0] * tau + c[:, 1]) * tau + c[:, 2]) * tau + c[:, 3]
         d1 = (3.0 * c[:, 0] * tau + 2.0 * c[:, 1]) * tau + c[:, 2]
@@ -921,12 +1019,16 @@ class _StarTable:
         base = lo.copy()
         tol = 1e-13 * np.maximum(1.0, tables.span[spline])
         active = np.arange(t.size)  # rays still iterating
+        cubic = tables.degree == 3
         for _ in range(RAY_ITERATIONS):
             a = active
             tau = (t[a] - base[a])[:, None]
             ca, ua = c[a], u[a]
-            p = ((ca[:, 0] * tau + ca[:, 1]) * tau + ca[:, 2]) * tau + ca[:, 3]
-            dp = (3.0 * ca[:, 0] * tau + 2.0 * ca[:, 1]) * tau + ca[:, 2]
+            if cubic:
+                p = ((ca[:, 0] * tau + ca[:, 1]) * tau + ca[:, 2]) * tau + ca[:, 3]
+                dp = (3.0 * ca[:, 0] * tau + 2.0 * ca[:, 1]) * tau + ca[:, 2]
+            else:
+                p, dp = _horner(ca, tau, 0), _horner(ca, tau, 1)
             gt = ua[:, 0] * p[:, 1] - ua[:, 1] * p[:, 0]
             dg = ua[:, 0] * dp[:, 1] - ua[:, 1] * dp[:, 0]
             lo[a] = np.where(gt < 0, t[a], lo[a])
@@ -940,7 +1042,7 @@ class _StarTable:
             if not active.size:
                 break
         tau = (t - base)[:, None]
-        p = ((c[:, 0] * tau + c[:, 1]) * tau + c[:, 2]) * tau + c[:, 3]
+        p = ((c[:, 0] * tau + c[:, 1]) * tau + c[:, 2]) * tau + c[:, 3] if cubic else _horner(c, tau, 0)
         return np.einsum("ij,ij->i", p, u)
 
 
