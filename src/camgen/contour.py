@@ -636,6 +636,8 @@ class Spline:
         On a cubic piece ``P' x P''`` is the quadratic ``-6 (a x b) t^2 + 6 (c x a) t + 2 (c x b)``
         (``P = a t^3 + b t^2 + c t + d``); its minimum is at an end or at the vertex.
         """
+        if self.degree != 3:
+            raise NotImplementedError(f"{self.degree}-degree spline pieces: only cubic pieces so far")
         a, b, c = self.coeffs[0], self.coeffs[1], self.coeffs[2]
 
         def cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -695,6 +697,8 @@ class Spline:
 
     def extreme_points(self) -> np.ndarray:
         """Break points and axis-extreme points (k, 2): the exact bounding box of the spline."""
+        if self.degree != 3:
+            raise NotImplementedError(f"{self.degree}-degree spline pieces: only cubic pieces so far")
         c = self.coeffs
         pts = [self.eval_t(self.breaks)]
         for axis in range(2):
@@ -749,6 +753,8 @@ class Spline:
 
         Interior extrema of ``P(t) . u`` are roots of the quadratic ``P'(t) . u = 0`` on each piece.
         """
+        if self.degree != 3:
+            raise NotImplementedError(f"{self.degree}-degree spline pieces: only cubic pieces so far")
         u = _unit(psi)  # (M, 2)
         c = self.coeffs  # (4, K, 2)
         # coefficients of P'(tau).u per (piece, direction): (K, M)
