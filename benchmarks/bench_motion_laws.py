@@ -60,7 +60,7 @@ def main() -> None:
     import camgen
 
     rows.append([f"camgen {camgen.__version__}: exact envelope "
-                 f"(cubic spline, {pieces} pieces, fit_tol {DEFAULT_FIT_TOL:g} mm)", f"{t_camgen * 1e3:.3f}", f"{e_camgen:.2e}"])
+                 f"(quintic spline, {pieces} pieces, fit_tol {DEFAULT_FIT_TOL:g} mm)", f"{t_camgen * 1e3:.3f}", f"{e_camgen:.2e}"])
     # the same exact envelope as N points at uniform cam angles, ridden as a polygon like the peer's points
     params = np.linspace(0.0, profile.n_segments, N, endpoint=False)
     e_points = float(np.max(np.abs(ride.translating_roller(profile.evaluate(params), THETA, 0.0, ROLLER) - required(THETA))))

@@ -19,6 +19,7 @@ rotated by -90 deg.
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from typing import Iterable, Union
@@ -397,6 +398,21 @@ def _horner(c: np.ndarray, tau: np.ndarray, order: int = 0) -> np.ndarray:
     return acc
 
 
+#: Exponents 0..10 (powers of a piece length).
+_POWERS = np.arange(11.0)
+
+
+@functools.lru_cache(maxsize=None)
+def _area_pairs(degree: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The index pairs ``i < m`` of ``degree + 1`` coefficients and the weights ``(m - i) / (i + m)``
+    of :meth:`Spline.green_area`."""
+    i, m = np.triu_indices(degree + 1, 1)
+    ratio = (m - i) / (i + m)
+    for a in (i, m, ratio):
+        a.flags.writeable = False
+    return i, m, ratio
+
+
 def _bernstein_max_norm(c: np.ndarray, h: np.ndarray) -> np.ndarray:
     """Upper bound (K,) of ``|P(tau)|`` on ``[0, h]`` of the polynomials with coefficients ``c``
     (degree + 1, K, 2), highest power first: the largest norm of their Bezier control points
@@ -588,8 +604,12 @@ class Spline:
 
     @property
     def end_point(self) -> np.ndarray:
-        # the last piece at its end, by the arithmetic of eval_piece
-        return self.eval_piece(np.array([self.n_pieces - 1]), np.array([self.breaks[-1] - self.breaks[-2]]))[0]
+        c = self._rows[-1]  # the last piece at its end, by the arithmetic of eval_piece (Horner)
+        tau = self.breaks[-1] - self.breaks[-2]
+        acc = c[0]
+        for m in range(1, self.degree + 1):
+            acc = acc * tau + c[m]
+        return acc
 
     def _ascending(self) -> np.ndarray:
         """Coefficients (degree + 1, K, 2), lowest power first."""
@@ -661,11 +681,10 @@ class Spline:
         h = self.breaks[1:] - self.breaks[:-1]
         if self.degree != 3:
             d = self.degree
-            total = np.zeros(h.size)
-            for i in range(d + 1):
-                for m in range(i + 1, d + 1):
-                    total += (m - i) / (i + m) * (np.conj(z[d - i]) * z[d - m]).imag * h ** (i + m)
-            return 0.5 * float(total.sum())
+            i, m, ratio = _area_pairs(d)  # the pairs i < m and (m - i) / (i + m)
+            cross = (np.conj(z[d - i]) * z[d - m]).imag  # p_i x p_m, (pairs, K)
+            powers = h ** _POWERS[: 2 * d + 1, None]  # h^0 .. h^(2d), (2d + 1, K)
+            return 0.5 * float(np.sum(ratio[:, None] * powers[i + m] * cross))
         c0 = (np.conj(z[3]) * z[:3]).imag  # p0 x (p3, p2, p1)
         c1 = (np.conj(z[2]) * z[:2]).imag  # p1 x (p3, p2)
         c23 = (np.conj(z[1]) * z[0]).imag

@@ -59,15 +59,17 @@ Envelopes (exact, from ``s, s', s''``; never a refit of an offset): roller: the 
 (roller-centre path) ``P = R(-sigma theta) C(theta)`` and the profile ``P - r n`` (``n`` the
 outward normal of ``P``); knife: the pitch curve itself; flat: the envelope of the face lines
 from the support function ``h(psi)`` (contact ``h u + h' u_perp``, radius of curvature
-``h + h''``).  Both curves are represented by cubic :class:`~camgen.contour.Spline` segments,
-one per law segment between breaks: C2 cubic splines through exact points, clamped to the exact
-tangents at every break where the law's acceleration (or velocity) jumps, knots at every break,
-with the piece count from the error bound ``5/384 h^4 max|d4Q/dt4|`` (``d4Q/dt4`` from the check data)
-and refined until the spline is within ``fit_tol`` (mm) of the exact curve at the quarter and mid
-points of every piece.  The curve is therefore G2 at every break where ``s''`` is continuous and
-exactly G1 (a curvature jump) where ``s''`` jumps.  The contour has one segment per interval
-between the law's breaks (one segment from cam angle 0 round to itself when there are none), and
-each segment's spline parameter is ``t = -sigma theta`` (rad, shifted by a multiple of 2 pi): the
+``h + h''``).  Both curves are represented by quintic :class:`~camgen.contour.Spline` segments,
+one per law segment between breaks: on uniform knots, every piece is the quintic Hermite
+interpolant of the exact curve's point, tangent and second derivative at both its ends (C2 inside
+a segment), with the exact one-sided tangent and second derivative at every break where the law's
+acceleration (or velocity) jumps, knots at every break, the piece count from the error bound
+``h^6 max|d6Q/dt6| / 46080`` (``d6Q/dt6`` from the check grid) and refined until the spline is
+within ``fit_tol`` (mm) of the exact curve at the quarter and mid points of every piece.  The
+curve is therefore G2 at every break where ``s''`` is continuous and exactly G1 (a curvature
+jump) where ``s''`` jumps.  The contour has one segment per interval between the law's breaks
+(one segment from cam angle 0 round to itself when there are none), and each segment's spline
+parameter is ``t = -sigma theta`` (rad, shifted by a multiple of 2 pi): the
 spline at ``t`` is the contact point of cam angle ``theta``.
 """
 from __future__ import annotations
@@ -79,7 +81,7 @@ from typing import Callable, Protocol
 
 import numpy as np
 
-from camgen.contour import Contour, Spline, solve_tridiagonal
+from camgen.contour import Contour, Spline, quintic_hermite_coefficients
 from camgen.errors import FitToleranceError, GeometryError, ParameterError, require_finite, require_positive
 
 TWO_PI = 2.0 * math.pi
@@ -666,6 +668,23 @@ def _check_grid(law: Displacement, check_step: float) -> tuple[np.ndarray, int, 
     return np.insert(grid, at, extra), n, at + np.arange(at.size), extra
 
 
+def _law_on_grid(law: Displacement, theta: np.ndarray, n: int, where: np.ndarray, extra: np.ndarray) -> tuple[np.ndarray, ...]:
+    """``law(theta)`` (the displacement and its three derivatives, (theta.size,) each) on the check
+    grid of :func:`_check_grid` (``n``, ``where``, ``extra``): from the law's ``on_uniform_grid(n)``
+    on the uniform part when it has one (a motion program: its sines and cosines by angle
+    addition), directly at the added angles."""
+    uniform = getattr(law, "on_uniform_grid", None)
+    if uniform is None:
+        return tuple(np.asarray(x, dtype=float).ravel() for x in law(theta))
+    out = np.empty((4, theta.size))
+    keep = np.ones(theta.size, dtype=bool)
+    keep[where] = False
+    out[:, keep] = uniform(n)
+    if extra.size:
+        out[:, where] = np.array([np.asarray(x, dtype=float).ravel() for x in law(extra)])
+    return out[0], out[1], out[2], out[3]
+
+
 #: Length of the short table of unit phasors of a uniform grid (:func:`_grid_to_cam`).
 _PHASOR_BLOCK = 128
 
@@ -694,88 +713,28 @@ def _grid_to_cam(f: FollowerSpec, n: int, where: np.ndarray, extra: np.ndarray) 
 # The spline representation
 # --------------------------------------------------------------------------------------------
 _PROBES = np.array([0.25, 0.5, 0.75])
-#: Error constant of the first piece count: a C2 cubic spline interpolant clamped at its ends is
-#: within ``5/384 h^4 max|f''''|`` of ``f`` (Hall & Meyer 1976, J. Approx. Theory 16, eq. 1.4).
-_SPLINE_ERROR_CONSTANT = 5.0 / 384.0
+#: Error constant of the first piece count: a quintic Hermite interpolant (values, first and
+#: second derivatives at both ends of a piece of length ``h``) is within
+#: ``max|f^(6)| / 6! max|(t - a)^3 (t - b)^3| = h^6 max|f^(6)| / 46080`` of ``f`` (the Hermite
+#: interpolation remainder, e.g. Stoer & Bulirsch, *Introduction to Numerical Analysis*, thm. 2.1.5.9).
+_SPLINE_ERROR_CONSTANT = 1.0 / 46080.0
+#: Share of ``fit_tol`` the first piece count aims at (the sixth derivative is estimated from
+#: differences: a margin so that one round is enough).
+_FIRST_COUNT_SHARE = 0.8
 
 
-def _knots(lo: np.ndarray, hi: np.ndarray, count: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Knots of the C2 splines of several segments, concatenated: segment k has ``count[k]``
-    uniform pieces on ``[lo[k], hi[k]]`` (its samples ``np.linspace(lo, hi, count + 1)``) plus
-    the midpoints of its first and last pieces (the two extra knots of :func:`_c2_splines`).
-    Returns the knots (sum(count + 3),), the index of every segment's first knot and of its last."""
+def _uniform_knots(lo: np.ndarray, hi: np.ndarray, count: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Knots of several segments, concatenated: segment k has ``count[k]`` uniform pieces on
+    ``[lo[k], hi[k]]`` (what ``np.linspace(lo, hi, count + 1)`` computes, its last knot ``hi``
+    exactly).  Returns the knots (sum(count + 1),), the index of every segment's first knot and of its last."""
     n_t = count + 1
     seg = np.repeat(np.arange(count.size), n_t)
-    j = np.arange(int(n_t.sum())) - np.repeat(np.cumsum(n_t) - n_t, n_t)
-    t = j * ((hi - lo) / count)[seg] + lo[seg]  # what np.linspace computes
-    t[np.cumsum(n_t) - 1] = hi
-    first = np.concatenate([[0], np.cumsum(count + 3)[:-1]])
-    last = first + count + 2
-    x = np.empty(int(last[-1]) + 1)
-    x[first[seg] + j + (j >= 1) + (j == count[seg])] = t
-    x[first + 1] = 0.5 * (x[first] + x[first + 2])
-    x[last - 1] = 0.5 * (x[last - 2] + x[last])
+    first = np.concatenate([[0], np.cumsum(n_t)[:-1]])
+    j = np.arange(int(n_t.sum())) - first[seg]
+    x = j * ((hi - lo) / count)[seg] + lo[seg]
+    last = first + count
+    x[last] = hi
     return x, first, last
-
-
-def _c2_splines(x: np.ndarray, y: np.ndarray, first: np.ndarray, last: np.ndarray,
-                start: tuple[np.ndarray, np.ndarray], end: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
-    """C2 cubic splines of several segments at once, each through ``y`` (n, d) at its knots
-    ``x[first[k]:last[k] + 1]`` except the two extra knots ``first[k] + 1`` and ``last[k] - 1``
-    (their ``y`` is ignored), with the given first and second derivatives (``start = (dQ/dt,
-    d2Q/dt2)``, each (segments, d)) at both ends: the spline of
-    :func:`camgen.contour.cubic_with_end_derivatives` (its moment equations, with the values at the
-    extra knots eliminated, de Boor, *A Practical Guide to Splines*, ch. IV), every segment's
-    tridiagonal system a block of one system solved once by cyclic reduction.  The system has a
-    row per knot: the two end knots of a segment carry their known moments (identity rows), so
-    every array is a slice of the knot arrays (no gathers).
-    Returns the coefficients (4, x.size - 1, d), highest power first, of the pieces
-    ``[x[i], x[i + 1]]``; those between two segments (``i = last[k]``) are meaningless."""
-    n = x.size
-    h = np.diff(x)
-    h[last[:-1]] = 1.0  # between two segments
-    yy = y.copy()
-    yy[first + 1] = 0.0  # the unknowns, eliminated below
-    yy[last - 1] = 0.0
-    slope = np.diff(yy, axis=0)
-    slope /= h[:, None]
-    # knot i inside a segment: h[i-1] M[i-1] + 2 (h[i-1] + h[i]) M[i] + h[i] M[i+1] = 6 (slope[i] - slope[i-1])
-    lower, diag, upper, rhs = np.zeros(n), np.empty(n), np.zeros(n), np.empty_like(yy)
-    lower[1:] = h
-    upper[:-1] = h
-    np.add(h[1:], h[:-1], out=diag[1:-1])
-    diag[1:-1] *= 2.0
-    np.subtract(slope[1:], slope[:-1], out=rhs[1:-1])
-    rhs[1:-1] *= 6.0
-    (d1s, d2s), (d1e, d2e) = start, end
-    ends = np.concatenate([first, last])
-    lower[ends] = upper[ends] = 0.0  # the segments' end knots: their known moments
-    diag[ends] = 1.0
-    rhs[first] = d2s
-    rhs[last] = d2e
-    h0, h1, hl, hl2 = h[first], h[first + 1], h[last - 1], h[last - 2]
-    # the end conditions give the unknown values as y[first+1] = a0 + a1 M[first+1], y[last-1] = b0 + b1 M[last-1]
-    a0 = yy[first] + h0[:, None] * d1s + h0[:, None] ** 2 * 2.0 * d2s / 6.0
-    a1 = h0**2 / 6.0
-    b0 = yy[last] - hl[:, None] * d1e + hl[:, None] ** 2 * 2.0 * d2e / 6.0
-    b1 = hl**2 / 6.0
-    gf0, gf1 = -6.0 * (1.0 / h0 + 1.0 / h1), 6.0 / h1  # d rhs / d y[first+1] in the rows first+1, first+2
-    gl0, gl1 = -6.0 * (1.0 / hl + 1.0 / hl2), 6.0 / hl2  # d rhs / d y[last-1] in the rows last-1, last-2
-    rhs[first + 1] += gf0[:, None] * a0
-    rhs[first + 2] += gf1[:, None] * a0
-    diag[first + 1] -= gf0 * a1
-    lower[first + 2] -= gf1 * a1
-    rhs[last - 1] += gl0[:, None] * b0
-    rhs[last - 2] += gl1[:, None] * b0
-    diag[last - 1] -= gl0 * b1
-    upper[last - 2] -= gl1 * b1
-    moments = solve_tridiagonal(lower, diag, upper, rhs, cyclic=False)
-    yy[first + 1] = a0 + a1[:, None] * moments[first + 1]
-    yy[last - 1] = b0 + b1[:, None] * moments[last - 1]
-    hh = h[:, None]
-    m0, m1 = moments[:-1], moments[1:]
-    slope = np.diff(yy, axis=0) / hh
-    return np.stack([(m1 - m0) / (6.0 * hh), 0.5 * m0, slope - hh * (2.0 * m0 + m1) / 6.0, yy[:-1]])
 
 
 def _breaks_of(law: Displacement) -> tuple[np.ndarray, np.ndarray]:
@@ -786,35 +745,35 @@ def _breaks_of(law: Displacement) -> tuple[np.ndarray, np.ndarray]:
     return brk, cont
 
 
-#: Spacing (rad) of the cam angles of the fourth-derivative estimate (:func:`_fourth_derivatives`).
+#: Spacing (rad) of the cam angles of the sixth-derivative estimate (:func:`_sixth_derivatives`).
 BOUND_SPACING = math.radians(0.2)
 
 
 def _bound_stride(n: int) -> int:
-    """Every how many angles of a check grid of ``n`` angles per turn the fourth-derivative
+    """Every how many angles of a check grid of ``n`` angles per turn the sixth-derivative
     estimate takes (about :data:`BOUND_SPACING` apart)."""
     return max(1, int(BOUND_SPACING * n / TWO_PI))
 
 
-def _fourth_derivatives(theta: np.ndarray, d2: list[np.ndarray], brk: np.ndarray) -> np.ndarray:
-    """Largest ``|d4Q/dtheta4|`` (mm/rad^4) of the curves whose exact ``d2Q/dtheta2`` (complex
+def _sixth_derivatives(theta: np.ndarray, d2: list[np.ndarray], brk: np.ndarray) -> np.ndarray:
+    """Largest ``|d6Q/dtheta6|`` (mm/rad^6) of the curves whose exact ``d2Q/dtheta2`` (complex
     ``x + i y``, (n,) each) are given at the sorted cam angles ``theta`` (n,) (a check grid taken
     every :func:`_bound_stride` angles), per interval between the sorted breaks ``brk`` (interval k
-    from ``brk[k]``; one interval when there are none): second divided differences of ``d2Q`` over
-    triples of consecutive angles that have near-uniform spacing and that no break splits (the
-    law is analytic inside an interval)."""
+    from ``brk[k]``; one interval when there are none): fourth differences of ``d2Q`` over five
+    consecutive angles that are uniformly spaced (to 1e-6 of the spacing) and that no break splits
+    (the law is analytic inside an interval), divided by the spacing^4."""
     th = theta
-    h0, h1 = th[1:-1] - th[:-2], th[2:] - th[1:-1]
+    h = np.diff(th)
     where = np.searchsorted(brk, th, side="right")  # breaks <= theta
-    ok = (where[:-2] == where[2:]) & (np.minimum(h0, h1) >= 0.5 * np.maximum(h0, h1))
-    worst = np.zeros(th.size - 2)
+    span = h[:-3]
+    ok = (where[:-4] == where[4:]) & (np.maximum.reduce([np.abs(h[k: k + span.size] - span) for k in range(1, 4)]) <= 1e-6 * span)
+    worst = np.zeros(th.size - 4)
     for z in d2:
-        dd = (z[2:] - z[1:-1]) / h1
-        dd -= (z[1:-1] - z[:-2]) / h0
+        dd = z[4:] - 4.0 * z[3:-1] + 6.0 * z[2:-2] - 4.0 * z[1:-3] + z[:-4]
         np.maximum(worst, dd.real * dd.real + dd.imag * dd.imag, out=worst)
-    worst = 2.0 * np.sqrt(worst) / (h0 + h1)
-    # the triples are sorted by interval: the largest value in each run
-    interval = (where[:-2] - 1) % max(1, brk.size)
+    worst = np.sqrt(worst) / span**4
+    # the stencils are sorted by interval: the largest value in each run
+    interval = (where[:-4] - 1) % max(1, brk.size)
     out = np.zeros(max(1, brk.size))
     sel = np.flatnonzero(ok)
     if sel.size:
@@ -829,21 +788,22 @@ _ONE_SIDED_WEIGHTS = np.array([3.0, -3.0, 1.0])
 
 
 def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement, fit_tol: float,
-                     fourth: tuple[np.ndarray, list[np.ndarray]] | None = None, initial_step: float = math.radians(5.0),
+                     bound: tuple[np.ndarray, list[np.ndarray]] | None = None, initial_step: float = math.radians(5.0),
                      max_rounds: int = 12, max_pieces: int = 100_000) -> tuple[list[Contour], list[float]]:
-    """Contours of ``dims`` exact curves at once, one cubic spline segment per interval between the
-    law's breaks (one segment from cam angle 0 when there are none); the curves share their knots.
+    """Contours of ``dims`` exact curves at once, one quintic spline segment per interval between
+    the law's breaks (one segment from cam angle 0 when there are none); the curves share their knots.
     ``exact(theta, k)`` -> ``((Q, dQ/dtheta, d2Q/dtheta2) at the first k angles, Q at the others)``,
     each complex (n, dims) (the curves side by side; None for the derivatives when k = 0).
 
     The spline parameter is ``t = -sigma theta`` (the contour runs counter-clockwise).  Every
-    segment is a C2 cubic spline through exact points on ``count`` uniform pieces (plus the two
-    extra knots of :func:`_c2_splines`) that takes the exact one-sided tangent and second derivative
-    at both ends, so neighbours join with the exact curve's own continuity: G2 where the law's
+    segment has ``count`` uniform pieces, each the quintic Hermite interpolant of the exact curve's
+    point, tangent and second derivative at both its ends (:meth:`camgen.contour.Spline.hermite5`):
+    C2 inside the segment, and at the segment's ends the exact one-sided tangent and second
+    derivative, so neighbours join with the exact curve's own continuity: G2 where the law's
     ``s''`` is continuous, G1 (the exact curvature jump) where it jumps, G0 where ``s'`` jumps.  The
-    first count follows from the error bound ``5/384 h^4 max|Q''''|`` with ``Q''''`` from
-    ``fourth = (theta, [d2Q/dtheta2 of each curve])`` (see :func:`_fourth_derivatives`) (else one piece per
-    ``initial_step``); a segment gets more pieces (its error falls as h^4) until the distance of
+    first count follows from the error bound ``h^6 max|Q^(6)| / 46080`` with ``Q^(6)`` from
+    ``bound = (theta, [d2Q/dtheta2 of each curve])`` (:func:`_sixth_derivatives`; else one piece per
+    ``initial_step``); a segment gets more pieces (its error falls as h^6) until the distance of
     every curve from its exact points at the quarter and mid points of every piece is <= ``fit_tol``
     mm.  The exact curves are evaluated for all segments in one call per round.
     Returns the contours and the largest measured distance of each.
@@ -855,17 +815,17 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
     cuts = np.append(tb, tb[0] + TWO_PI)
     lo, hi = cuts[:-1], cuts[1:]
     nseg = lo.size
-    count = np.maximum(4, np.ceil((hi - lo) / initial_step)).astype(int)
-    if fourth is not None:
+    count = np.maximum(2, np.ceil((hi - lo) / initial_step)).astype(int)
+    if bound is not None:
         sorted_brk = np.unique(brk)
-        bound = _fourth_derivatives(fourth[0], fourth[1], sorted_brk)
+        sixth = _sixth_derivatives(bound[0], bound[1], sorted_brk)
         # the law interval of every segment (t = -sigma theta): the one holding its middle
         mid = np.mod(-sigma * 0.5 * (lo + hi), TWO_PI)
-        bound = bound[(np.searchsorted(sorted_brk, mid, side="right") - 1) % bound.size]
+        sixth = sixth[(np.searchsorted(sorted_brk, mid, side="right") - 1) % sixth.size]
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            want = np.ceil((hi - lo) * (_SPLINE_ERROR_CONSTANT * bound / fit_tol) ** 0.25)
+            want = np.ceil((hi - lo) * (_SPLINE_ERROR_CONSTANT * sixth / (_FIRST_COUNT_SHARE * fit_tol)) ** (1.0 / 6.0))
         known = np.isfinite(want)
-        count[known] = np.clip(want[known], 4, max_pieces).astype(int)
+        count[known] = np.clip(want[known], 2, max_pieces).astype(int)
 
     # one-sided dQ/dt and d2Q/dt2 at every segment's two ends, evaluated with the first round
     steps = _ONE_SIDED_STEP * np.array([1.0, 2.0, 3.0])
@@ -875,36 +835,29 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
     errors = np.zeros((nseg, dims))
     todo = np.arange(nseg)
     for _ in range(max_rounds):
-        x, first, last = _knots(lo[todo], hi[todo], count[todo])
-        # every knot, then the quarter, mid and three-quarter points of the piece it starts
-        t = np.empty(4 * x.size - 3)
-        t[::4] = x
+        x, first, last = _uniform_knots(lo[todo], hi[todo], count[todo])
         span = np.diff(x)
-        for i, w in enumerate(_PROBES):
-            t[i + 1:: 4] = x[:-1] + w * span
+        probes = (x[:-1, None] + _PROBES[None, :] * span[:, None]).ravel()  # 3 per piece, piece by piece
+        lead = probe_ends if ends1 is None else probe_ends[:0]
+        (q, q1, q2), qp = exact(-sigma * np.concatenate([lead, x, probes]), lead.size + x.size)
         if ends1 is None:
-            ends, q = exact(-sigma * np.concatenate([probe_ends, t]), probe_ends.size)
             w = _ONE_SIDED_WEIGHTS[None, :, None]
-            e1 = (-sigma * ends[1]).view(np.float64).reshape(nseg, 2, 3, -1)
-            e2 = ends[2].view(np.float64).reshape(nseg, 2, 3, -1)
-            ends1, ends2 = (w * e1).sum(axis=2), (w * e2).sum(axis=2)  # (nseg, 2 [start, end], 2 dims)
-        else:
-            q = exact(-sigma * t, 0)[1]
-        knot_values = np.ascontiguousarray(q[::4]).view(np.float64)  # (knots, 2 dims): x and y of every curve
-        coeffs = _c2_splines(x, knot_values, first, last, (ends1[todo, 0], ends2[todo, 0]), (ends1[todo, 1], ends2[todo, 1]))
-        # distances of the splines from the exact curves at the probes, as long flat arrays
-        k = knot_values.shape[1]
-        c = [coeffs[i].ravel() for i in range(4)]
-        dist = None
-        for j in range(3):
-            tau = np.repeat(t[j + 1:: 4] - x[:-1], k)
-            diff = ((c[0] * tau + c[1]) * tau + c[2]) * tau + c[3]
-            diff -= np.ascontiguousarray(q[j + 1:: 4]).view(np.float64).ravel()
-            diff *= diff
-            d = diff[0::2] + diff[1::2]  # squared distance per piece and curve
-            dist = d if dist is None else np.maximum(dist, d, out=dist)
-        dist = np.sqrt(dist).reshape(-1, dims)  # (pieces, dims)
-        dist[last[:-1]] = 0.0  # between two segments
+            e1 = -sigma * q1[: lead.size].reshape(nseg, 2, 3, dims)
+            e2 = q2[: lead.size].reshape(nseg, 2, 3, dims)
+            ends1, ends2 = (w * e1).sum(axis=2), (w * e2).sum(axis=2)  # (nseg, 2 [start, end], dims), complex
+        q, q1, q2 = q[lead.size:], -sigma * q1[lead.size:], q2[lead.size:]  # d/dt = -sigma d/dtheta
+        q1[first], q2[first] = ends1[todo, 0], ends2[todo, 0]
+        q1[last], q2[last] = ends1[todo, 1], ends2[todo, 1]
+        with np.errstate(divide="ignore", invalid="ignore"):  # the pieces between two segments are meaningless
+            coeffs = quintic_hermite_coefficients(x, q, q1, q2)  # (6, pieces, dims), complex
+        # distances of the splines from the exact curves at the probes
+        tau = (probes - np.repeat(x[:-1], _PROBES.size))[:, None]
+        c = np.repeat(coeffs, _PROBES.size, axis=1)
+        val = c[0]
+        for m in range(1, 6):
+            val = val * tau + c[m]
+        dist = np.abs(val - qp).reshape(-1, _PROBES.size, dims).max(axis=1)  # (pieces, dims)
+        dist[last[:-1]] = 0.0  # between two segments (NaN there)
         err = np.maximum.reduceat(dist, first, axis=0)
         left = []
         for j, k in enumerate(todo):
@@ -914,7 +867,7 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
             if worst > fit_tol:
                 if count[k] >= max_pieces:
                     raise _fit_failure(fit_tol, worst, int(count[k]))
-                count[k] = min(max_pieces, math.ceil(count[k] * min(16.0, max(1.25, (worst / (0.5 * fit_tol)) ** 0.25))))
+                count[k] = min(max_pieces, math.ceil(count[k] * min(16.0, max(1.25, (worst / (0.5 * fit_tol)) ** (1.0 / 6.0)))))
                 left.append(k)
         todo = np.array(left, dtype=int)
         if not todo.size:
@@ -923,7 +876,8 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
         raise _fit_failure(fit_tol, float(errors[todo].max()), int(count[todo].max()))
     contours = []
     for c in range(dims):
-        contours.append(Contour([Spline(x, coeffs[:, :, 2 * c: 2 * c + 2]) for x, coeffs in fits]))  # type: ignore[misc]
+        contours.append(Contour([Spline(x, np.ascontiguousarray(coeffs[:, :, c]).view(np.float64).reshape(6, -1, 2))
+                                 for x, coeffs in fits]))  # type: ignore[misc]
     return contours, [float(v) for v in errors.max(axis=0)]
 
 
@@ -1044,7 +998,7 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
         raise GeometryError(f"the law's velocity jumps at cam angles {where} deg: a {f.kind} follower cannot follow "
                             "a corner of the pitch curve exactly; use laws with continuous velocity there (or a knife follower)")
     theta, n_uniform, added_at, added = _check_grid(law, check_step)
-    s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(theta))
+    s, ds, d2s, d3s = _law_on_grid(law, theta, n_uniform, added_at, added)
     grid = CheckGrid(theta, n_uniform, added_at, added, s, ds, d2s, d3s)
     flat_data = None
     if f.kind == "flat":  # the face's checks need most of its kinematics: made now, kept for `data`
@@ -1086,7 +1040,7 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
         return derivs, _curve_points(f, th[ends:], s[ends:], ds[ends:], tuple(want))
 
     if want:
-        # d2Q/dtheta2 of the wanted curves on every few check-grid angles: the fourth-derivative bound
+        # d2Q/dtheta2 of the wanted curves on every few check-grid angles: the sixth-derivative bound
         pick = slice(None, None, _bound_stride(theta.size))
         at = (theta[pick], s[pick], ds[pick], d2s[pick], d3s[pick])
         if f.kind == "flat":
