@@ -429,6 +429,71 @@ def _bernstein_max_norm(c: np.ndarray, h: np.ndarray) -> np.ndarray:
     return best
 
 
+def _scaled_ascending(coeffs: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """Coefficients (K, degree + 1, 2), lowest power first, of the pieces ``Q(s) = P(h s)`` on
+    ``s`` in [0, 1], from ``coeffs`` (degree + 1, K, 2) highest power first in ``tau`` and the
+    piece lengths ``h`` (K,)."""
+    degree = coeffs.shape[0] - 1
+    return np.stack([coeffs[degree - i] * (h ** i)[:, None] for i in range(degree + 1)], axis=1)
+
+
+def _power_to_bezier(a: np.ndarray) -> np.ndarray:
+    """Bezier control values (n, degree + 1, ...) on [0, 1] of the polynomials with ascending power
+    coefficients ``a`` (n, degree + 1, ...): ``b_j = sum_{i <= j} C(j, i) / C(degree, i) a_i``
+    (Farin, *Curves and Surfaces for CAGD*, ch. 4)."""
+    degree = a.shape[1] - 1
+    return np.stack([sum(math.comb(j, i) / math.comb(degree, i) * a[:, i] for i in range(j + 1))
+                     for j in range(degree + 1)], axis=1)
+
+
+def _poly_ascending(a: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Values (n, k) of the polynomials with ascending coefficients ``a`` (n, degree + 1) at ``x`` (n, k) (Horner)."""
+    acc = np.broadcast_to(a[:, -1:], x.shape).copy()
+    for i in range(a.shape[1] - 2, -1, -1):
+        acc *= x
+        acc += a[:, i : i + 1]
+    return acc
+
+
+#: Bisection steps of :func:`_sign_change_roots` (the bracket halves to the float spacing first).
+ROOT_BISECTIONS = 64
+
+
+def _sign_change_roots(a: np.ndarray, lo: float, hi: float) -> np.ndarray:
+    """Every point of ``(lo, hi)`` where the polynomial with ascending coefficients ``a`` (n, degree + 1)
+    changes sign: (n, degree), sorted, NaN-padded.
+
+    Derivative chain (no eigenvalues, no leading-coefficient division): the sign changes of the
+    derivative (found the same way, down to a constant) cut ``[lo, hi]`` into intervals where the
+    polynomial is monotonic; each holds one sign change iff its end values differ in sign, and
+    bisection finds it to the float spacing.  A root of even multiplicity (no sign change) is not
+    returned: the callers want the extrema of the polynomial's antiderivative, which sit exactly
+    at the sign changes.  Identically zero polynomials have none.
+    """
+    n, degree = a.shape[0], a.shape[1] - 1
+    if degree <= 0:
+        return np.empty((n, 0))
+    crit = np.sort(_sign_change_roots(a[:, 1:] * np.arange(1, degree + 1), lo, hi), axis=1)  # (n, degree - 1)
+    bounds = np.concatenate([np.full((n, 1), lo), np.where(np.isnan(crit), hi, crit), np.full((n, 1), hi)], axis=1)
+    left, right = bounds[:, :-1], bounds[:, 1:]  # (n, degree) monotonic intervals
+    f_left, f_right = _poly_ascending(a, left), _poly_ascending(a, right)
+    out = np.full((n, degree), np.nan)
+    row, col = np.nonzero(((f_left < 0) & (f_right > 0)) | ((f_left > 0) & (f_right < 0)))
+    if row.size:
+        coef = a[row]
+        l, r = left[row, col], right[row, col]
+        rising = f_left[row, col] < 0
+        for _ in range(ROOT_BISECTIONS):
+            mid = 0.5 * (l + r)
+            if not np.any((mid > l) & (mid < r)):
+                break
+            up = (_poly_ascending(coef, mid[:, None])[:, 0] < 0) == rising  # mid on the left end's side
+            l = np.where(up, mid, l)
+            r = np.where(up, r, mid)
+        out[row, col] = 0.5 * (l + r)
+    return out
+
+
 def quintic_hermite_coefficients(t: np.ndarray, p: np.ndarray, d1: np.ndarray, d2: np.ndarray) -> np.ndarray:
     """Coefficients (6, n - 1, k), highest power first, of the quintics on ``[t[i], t[i + 1]]``
     that take the values ``p``, first derivatives ``d1`` and second derivatives ``d2`` ((n, k)
@@ -657,7 +722,7 @@ class Spline:
         (``P = a t^3 + b t^2 + c t + d``); its minimum is at an end or at the vertex.
         """
         if self.degree != 3:
-            raise NotImplementedError(f"{self.degree}-degree spline pieces: only cubic pieces so far")
+            return self._min_turning_generic()
         a, b, c = self.coeffs[0], self.coeffs[1], self.coeffs[2]
 
         def cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -669,6 +734,37 @@ class Spline:
             vertex = np.clip(np.where(qa != 0, -qb / (2.0 * qa), 0.0), 0.0, h)
         values = [qc, (qa * h + qb) * h + qc, (qa * vertex + qb) * vertex + qc]
         return float(np.min(values))
+
+    def _scaled(self) -> np.ndarray:
+        """Coefficients (K, degree + 1, 2), lowest power first, of ``Q(s) = P(breaks[i] + h_i s)``, s in [0, 1]."""
+        return _scaled_ascending(self.coeffs, np.diff(self.breaks))
+
+    def _roots_in_pieces(self, a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Pieces and offsets ``tau`` of the sign changes of the polynomials in ``s`` with ascending
+        coefficients ``a`` (K, m) (one per piece) on ``[0, 1]``; one just outside (within
+        :data:`ROOT_TOL`, by rounding at a knot) counts as on the end."""
+        s = _sign_change_roots(a, -ROOT_TOL, 1.0 + ROOT_TOL)  # (K, m - 1)
+        piece, col = np.nonzero(np.isfinite(s))
+        h = np.diff(self.breaks)
+        return piece, np.clip(s[piece, col], 0.0, 1.0) * h[piece]
+
+    def _min_turning_generic(self) -> float:
+        """:meth:`min_turning` for any degree: with ``Q(s) = sum_i q_i s^i`` (``s = tau / h``),
+        ``Q' x Q'' = sum_{k<m} k m (m - k) (q_k x q_m) s^(k+m-3)`` (degree ``2 degree - 4``; 6 for a
+        quintic); its minimum on a piece is at an end or where its derivative changes sign."""
+        q = self._scaled()  # (K, d + 1, 2)
+        d = self.degree
+        w = np.zeros((self.n_pieces, 2 * d - 3))
+        for k in range(1, d + 1):
+            for m in range(k + 1, d + 1):
+                w[:, k + m - 3] += k * m * (m - k) * (q[:, k, 0] * q[:, m, 1] - q[:, k, 1] * q[:, m, 0])
+        piece, tau = self._roots_in_pieces(w[:, 1:] * np.arange(1, w.shape[1]))
+        h = np.diff(self.breaks)
+        everywhere = np.arange(self.n_pieces)
+        idx = np.concatenate([everywhere, everywhere, piece])
+        at = np.concatenate([np.zeros(self.n_pieces), h, tau])
+        d1, d2 = self.eval_piece(idx, at, 1), self.eval_piece(idx, at, 2)
+        return float(np.min(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]))
 
     def green_area(self) -> float:
         """(1/2) integral of (x dy - y dx) along the spline, mm^2 (exact polynomial integration).
@@ -717,7 +813,13 @@ class Spline:
     def extreme_points(self) -> np.ndarray:
         """Break points and axis-extreme points (k, 2): the exact bounding box of the spline."""
         if self.degree != 3:
-            raise NotImplementedError(f"{self.degree}-degree spline pieces: only cubic pieces so far")
+            # x'(s) and y'(s) (degree 4 for a quintic): the extremes are at their sign changes
+            q = self._scaled()
+            pts = [self.eval_t(self.breaks)]
+            for axis in range(2):
+                piece, tau = self._roots_in_pieces(q[:, 1:, axis] * np.arange(1, self.degree + 1))
+                pts.append(self.eval_piece(piece, tau))
+            return np.concatenate(pts)
         c = self.coeffs
         pts = [self.eval_t(self.breaks)]
         for axis in range(2):
@@ -773,7 +875,7 @@ class Spline:
         Interior extrema of ``P(t) . u`` are roots of the quadratic ``P'(t) . u = 0`` on each piece.
         """
         if self.degree != 3:
-            raise NotImplementedError(f"{self.degree}-degree spline pieces: only cubic pieces so far")
+            return self._support_candidates_generic(psi)
         u = _unit(psi)  # (M, 2)
         c = self.coeffs  # (4, K, 2)
         # coefficients of P'(tau).u per (piece, direction): (K, M)
@@ -795,6 +897,54 @@ class Spline:
         with np.errstate(divide="ignore"):
             rho = np.hypot(d1[:, 0], d1[:, 1]) ** 3 / (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
         return best_val, self.eval_t(t), rho
+
+    def _support_candidates_generic(self, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`support_candidates` for any degree.
+
+        ``f(s) = Q'(s) . u`` (``Q(s) = P(breaks[i] + h s)``) is a polynomial of degree
+        ``degree - 1`` whose Bezier control values on [0, 1] are ``B_j . u`` (``B_j`` the control
+        points of ``Q'``): where they keep one sign ``f`` has no root on the piece (convex-hull
+        property).  Only the (piece, direction) pairs where they change sign (within a slack
+        covering the :data:`ROOT_TOL` extension of the piece) are solved, by :func:`_sign_change_roots`.
+        """
+        u = _unit(psi)  # (M, 2)
+        m_dirs = psi.size
+        q = self._scaled()  # (K, d + 1, 2)
+        d = self.degree
+        bez = _power_to_bezier(q[:, 1:] * np.arange(1, d + 1)[None, :, None])  # (K, d, 2): control points of Q'
+        # |f| changes by at most |f'| ROOT_TOL <= 2 (d - 1) max|B| ROOT_TOL on the slack
+        slack = 2.0 * (d - 1) * ROOT_TOL * np.max(np.hypot(bez[..., 0], bez[..., 1]), axis=1)  # (K,)
+        lowest = np.full((self.n_pieces, m_dirs), np.inf)
+        highest = np.full((self.n_pieces, m_dirs), -np.inf)
+        for j in range(d):
+            bj = bez[:, j] @ u.T  # (K, M)
+            np.minimum(lowest, bj, out=lowest)
+            np.maximum(highest, bj, out=highest)
+        piece, direction = np.nonzero((lowest < slack[:, None]) & (highest > -slack[:, None]))
+        best_val = np.full(m_dirs, -np.inf)
+        best_piece = np.zeros(m_dirs, dtype=int)
+        best_tau = np.zeros(m_dirs)
+        if piece.size:
+            uu = u[direction]
+            f = (q[piece, 1:, 0] * uu[:, :1] + q[piece, 1:, 1] * uu[:, 1:]) * np.arange(1, d + 1)  # (n, d)
+            s = _sign_change_roots(f, -ROOT_TOL, 1.0 + ROOT_TOL)  # (n, d - 1)
+            row, col = np.nonzero(np.isfinite(s))
+            if row.size:
+                h = np.diff(self.breaks)
+                pc = piece[row]
+                tau = np.clip(s[row, col], 0.0, 1.0) * h[pc]
+                dr = direction[row]
+                vals = np.einsum("ij,ij->i", self.eval_piece(pc, tau), u[dr])
+                order = np.lexsort((vals, dr))  # by direction, then value: the last of each direction wins
+                last = order[np.append(dr[order][1:] != dr[order][:-1], True)]
+                best_val[dr[last]] = vals[last]
+                best_piece[dr[last]] = pc[last]
+                best_tau[dr[last]] = tau[last]
+        pts = self.eval_piece(best_piece, best_tau)
+        d1, d2 = self.eval_piece(best_piece, best_tau, 1), self.eval_piece(best_piece, best_tau, 2)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rho = np.hypot(d1[:, 0], d1[:, 1]) ** 3 / (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
+        return best_val, pts, rho
 
     def offset(self, distance: float, index: int = 0, tol: float = 1e-6) -> "Spline":
         """Offset along the outward normal of a CCW contour, refitted as a piecewise cubic.
