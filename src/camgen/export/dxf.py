@@ -9,11 +9,13 @@ Spline segments are written in one of two ways (:class:`DxfOptions` ``splines``)
 * ``"biarc"`` (default): G1 chains of circular ARCs (and LINEs where the curve is straight)
   within ``biarc_tol`` mm of the exact curve (:mod:`camgen.biarc`).  OpenSCAD, laser and CAM
   programs import these; many of them ignore or reject SPLINE entities.
-* ``"bspline"``: clamped cubic B-splines for CAD programs (fit-point-only or raw periodic-knot
+* ``"bspline"``: clamped cubic B-splines (always cubic, whatever the segment's degree: LibreCAD
+  and most CAM readers take SPLINEs of degree <= 3 only) for CAD programs (fit-point-only or raw periodic-knot
   SPLINEs are misread by independent readers, see ``shared/research/ecosystem.md`` section 3):
   the compact form of every spline segment (:func:`compact_spline`: the fewest C2 pieces within
-  ``bspline_tol`` mm of the contour, with its ends and joints kept exactly; the segment itself,
-  exactly, where that has no fewer pieces), written exactly with simple interior knots.
+  ``bspline_tol`` mm of the contour, with its ends and joints kept exactly; a cubic segment
+  itself, exactly, where that has no fewer pieces; a quintic segment always refitted), written
+  exactly with simple interior knots.
 
 Arc segments (three-arc cams) are exact ARCs in both modes.  Cams that know their cam angle 0
 (disk cams) get a ``ZERO`` layer: a LINE from the rotation axis to the point of the profile the
@@ -32,68 +34,92 @@ from typing import Any
 
 import numpy as np
 
-from camgen.contour import DEFAULT_CHORD_TOL, Arc, Contour, Spline
-from camgen.errors import ParameterError, require_finite, require_positive
+from camgen.contour import DEFAULT_CHORD_TOL, SPLINE_DEGREES, Arc, Contour, Spline
+from camgen.errors import ExportError, ParameterError, require_finite, require_positive
 from camgen.export.atomic import write_atomic
 from camgen.export.dxfwriter import DxfDocument
 
 PROFILE_LAYER = "PROFILE"
 
 
-def spline_bezier_controls(spline: Spline) -> tuple[np.ndarray, np.ndarray]:
-    """Exact clamped B-spline form of a piecewise cubic: knots (3K + 5,) and control points (3K + 1, 2).
+def _degree_of(spline: Spline) -> int:
+    degree = int(spline.degree)
+    if degree not in SPLINE_DEGREES:  # Spline refuses other shapes; a guard for look-alikes
+        raise ParameterError("spline degree", degree, f"one of {SPLINE_DEGREES}")
+    return degree
 
-    Each cubic piece on ``[t_i, t_i + h]`` becomes its four Bezier control points; interior
-    breaks get knot multiplicity 3, the ends multiplicity 4.
+
+def spline_bezier_controls(spline: Spline) -> tuple[np.ndarray, np.ndarray]:
+    """Exact clamped B-spline form of a piecewise polynomial of degree ``p`` (``spline.degree``,
+    3 or 5): knots (pK + p + 2,) and control points (pK + 1, 2).
+
+    Each piece on ``[t_i, t_i + h]`` becomes its ``p + 1`` Bezier control points (power basis in
+    ``s = tau / h``, ``b_i = a_i h^i``, then ``P_j = sum_{i <= j} C(j, i) / C(p, i) b_i``: Farin,
+    *Curves and Surfaces for CAGD*, ch. 5); interior breaks get knot multiplicity ``p``, the ends
+    ``p + 1``.  The degree of the result is ``knots.size - len(controls) - 1`` (= ``p``): a
+    writer that only takes cubics must check it (the DXF writer writes only cubic SPLINEs).
     """
-    a = spline.coeffs[::-1]  # ascending powers in tau: (4, K, 2)
+    p = _degree_of(spline)
+    a = spline.coeffs[::-1]  # ascending powers in tau: (p + 1, K, 2)
     h = np.diff(spline.breaks)[:, None]
-    # power basis in s = tau / h: p(s) = a0 + a1 h s + a2 h^2 s^2 + a3 h^3 s^3
-    b0 = a[0]
-    b1 = a[1] * h
-    b2 = a[2] * h**2
-    b3 = a[3] * h**3
-    p0 = b0
-    p1 = b0 + b1 / 3.0
-    p2 = b0 + 2.0 * b1 / 3.0 + b2 / 3.0
-    p3 = b0 + b1 + b2 + b3
-    controls = np.concatenate([p0[:1], np.stack([p1, p2, p3], axis=1).reshape(-1, 2)])
+    b = [a[i] * h**i for i in range(p + 1)]  # power basis in s = tau / h
+    points = [sum(math.comb(j, i) / math.comb(p, i) * b[i] for i in range(j + 1)) for j in range(p + 1)]
+    controls = np.concatenate([points[0][:1], np.stack(points[1:], axis=1).reshape(-1, 2)])
     t = spline.breaks
-    knots = np.concatenate([[t[0]] * 4, np.repeat(t[1:-1], 3), [t[-1]] * 4])
+    knots = np.concatenate([[t[0]] * (p + 1), np.repeat(t[1:-1], p), [t[-1]] * (p + 1)])
     return knots, controls
 
 
+#: Relative jumps (of the end points' scale) of the first and second derivatives below which an
+#: interior break counts as C1 and C2 (:func:`_break_continuity`).
+C1_JUMP = 1e-10
+C2_JUMP = 1e-8
+
+
+def _break_continuity(spline: Spline) -> np.ndarray:
+    """Order of continuity (K - 1,) at the interior breaks of ``spline``: 2 where value, first and
+    second derivatives agree (within :data:`C1_JUMP`, :data:`C2_JUMP` of the curve's scale), 1
+    where the first does, 0 elsewhere."""
+    t = spline.breaks
+    inner = t[1:-1].size
+    if not inner:
+        return np.zeros(0, dtype=int)
+    scale = max(1.0, float(np.max(np.abs(spline.coeffs[-1]))))  # the pieces' start points
+    left, right = np.arange(inner), np.arange(1, inner + 1)
+    h = np.diff(t)[:-1]
+    d1 = spline.eval_piece(left, h, 1) - spline.eval_piece(right, np.zeros(inner), 1)
+    d2 = spline.eval_piece(left, h, 2) - spline.eval_piece(right, np.zeros(inner), 2)
+    c1 = np.max(np.abs(d1), axis=1) <= C1_JUMP * scale
+    c2 = c1 & (np.max(np.abs(d2), axis=1) <= C2_JUMP * scale)
+    return np.where(c2, 2, np.where(c1, 1, 0))
+
+
 def spline_bspline(spline: Spline, tol: float = 1e-9) -> tuple[np.ndarray, np.ndarray]:
-    """The clamped cubic B-spline of ``spline`` with the fewest knots: knot multiplicity 1 at
-    C2 breaks, 2 at C1 breaks, 3 elsewhere (knots (n + 4,), control points (n, 2)).
+    """The clamped B-spline of degree ``p = spline.degree`` holding ``spline`` with the fewest
+    knots: interior knot multiplicity ``p - 2`` at C2 breaks, ``p - 1`` at C1 breaks, ``p``
+    elsewhere (cubic: 1, 2, 3; quintic: 3, 4, 5), knots (n + p + 1,), control points (n, 2).
 
     The control points come from interpolation at the Greville abscissae in that spline space,
-    which holds the piecewise cubic exactly; the result is checked against the spline at the
-    quarter points of every piece and replaced by :func:`spline_bezier_controls` if it is more
-    than ``tol`` mm off.
+    which holds the piecewise polynomial exactly; the result is checked against the spline at
+    the quarter points of every piece and replaced by :func:`spline_bezier_controls` if it is
+    more than ``tol`` mm off.  The degree of the result is ``knots.size - len(controls) - 1``.
     """
     from scipy.interpolate import make_interp_spline
 
+    p = _degree_of(spline)
     t = spline.breaks
     inner = t[1:-1]
-    scale = max(1.0, float(np.max(np.abs(spline.coeffs[3]))))
-    mult = np.full(inner.size, 3)
-    if inner.size:
-        d1l, d1r = spline.eval_piece(np.arange(inner.size), np.diff(t)[:-1], 1), spline.eval_piece(np.arange(1, inner.size + 1), np.zeros(inner.size), 1)
-        d2l, d2r = spline.eval_piece(np.arange(inner.size), np.diff(t)[:-1], 2), spline.eval_piece(np.arange(1, inner.size + 1), np.zeros(inner.size), 2)
-        c1 = np.max(np.abs(d1l - d1r), axis=1) <= 1e-10 * scale
-        c2 = c1 & (np.max(np.abs(d2l - d2r), axis=1) <= 1e-8 * scale)
-        mult = np.where(c2, 1, np.where(c1, 2, 3))
-    knots = np.concatenate([[t[0]] * 4, np.repeat(inner, mult), [t[-1]] * 4])
-    count = knots.size - 4
-    greville = (knots[1 : count + 1] + knots[2 : count + 2] + knots[3 : count + 3]) / 3.0
-    greville[0], greville[-1] = t[0], t[-1]  # (3 a) / 3 may round to just outside [a, b]: make_interp_spline refuses that
+    mult = p - _break_continuity(spline)
+    knots = np.concatenate([[t[0]] * (p + 1), np.repeat(inner, mult), [t[-1]] * (p + 1)])
+    count = knots.size - p - 1
+    greville = np.mean([knots[j : count + j] for j in range(1, p + 1)], axis=0)
+    greville[0], greville[-1] = t[0], t[-1]  # (p a) / p may round to just outside [a, b]: make_interp_spline refuses that
     try:
-        fit = make_interp_spline(greville, spline.eval_t(greville), k=3, t=knots)
+        fit = make_interp_spline(greville, spline.eval_t(greville), k=p, t=knots)
     except (ValueError, np.linalg.LinAlgError):
         return spline_bezier_controls(spline)
     probe = (t[:-1, None] + np.array([0.25, 0.5, 0.75])[None, :] * np.diff(t)[:, None]).ravel()
-    if np.max(np.abs(fit(probe) - spline.eval_t(probe))) > tol:
+    if not np.max(np.abs(fit(probe) - spline.eval_t(probe))) <= tol:
         return spline_bezier_controls(spline)
     return knots, np.asarray(fit.c)
 
@@ -103,36 +129,26 @@ def spline_bspline(spline: Spline, tol: float = 1e-9) -> tuple[np.ndarray, np.nd
 DEFAULT_BSPLINE_TOL = 1e-8
 
 
-def _c2_breaks(spline: Spline) -> np.ndarray:
-    """Which interior breaks (K - 1,) of ``spline`` are C2 (the test of :func:`spline_bspline`)."""
-    t = spline.breaks
-    inner = t[1:-1].size
-    if not inner:
-        return np.zeros(0, dtype=bool)
-    scale = max(1.0, float(np.max(np.abs(spline.coeffs[3]))))
-    left, right = np.arange(inner), np.arange(1, inner + 1)
-    h = np.diff(t)[:-1]
-    d1 = spline.eval_piece(left, h, 1) - spline.eval_piece(right, np.zeros(inner), 1)
-    d2 = spline.eval_piece(left, h, 2) - spline.eval_piece(right, np.zeros(inner), 2)
-    return (np.max(np.abs(d1), axis=1) <= 1e-10 * scale) & (np.max(np.abs(d2), axis=1) <= 1e-8 * scale)
-
-
 def compact_spline(spline: Spline, tol: float = DEFAULT_BSPLINE_TOL) -> Spline:
-    """``spline`` with as few cubic pieces as ``tol`` (mm) allows: C2 inside, same ends.
+    """``spline`` as a piecewise CUBIC with as few pieces as ``tol`` (mm) allows: C2 inside, same ends.
 
     Every run of pieces between breaks where ``spline`` is not C2 is refitted by a clamped C2
     cubic spline that keeps the run's end points, first and second derivatives exactly (so the
     joints keep their continuity: G2 stays G2) and lies within ``tol`` mm of the run at the
     probe points of every new piece (least squares with knots placed by the error,
-    :func:`camgen.splinefit.fit_clamped`); a run keeps its own pieces where the refit would not
-    have fewer.  The parameter range is unchanged (the parameter along the new pieces is not
-    the old one: compare curves by distance, not at equal parameters).
+    :func:`camgen.splinefit.fit_clamped`).  A cubic run keeps its own pieces where the refit
+    would not have fewer; a run of higher degree (quintic) is always refitted, with as many
+    cubic pieces as ``tol`` needs (a cubic's error falls as h^4, a quintic's as h^6: usually
+    more pieces than the run), and :class:`GeometryError` when no cubic within ``tol`` exists
+    (:data:`camgen.splinefit.MAX_PIECES`).  The parameter range is unchanged (the parameter
+    along the new pieces is not the old one: compare curves by distance, not at equal parameters).
     """
     from camgen.errors import GeometryError
-    from camgen.splinefit import fit_clamped
+    from camgen.splinefit import MAX_PIECES, fit_clamped
 
     tol = require_positive("bspline_tol", tol, "mm")
-    c2 = _c2_breaks(spline)
+    cubic = _degree_of(spline) == 3
+    c2 = _break_continuity(spline) == 2
     cuts = np.concatenate([[0], np.flatnonzero(~c2) + 1, [spline.n_pieces]])
     breaks: list[np.ndarray] = []
     coeffs: list[np.ndarray] = []
@@ -142,12 +158,15 @@ def compact_spline(spline: Spline, tol: float = DEFAULT_BSPLINE_TOL) -> Spline:
         ends = [run.eval_piece(np.array([i]), np.array([tau]), order)[0]
                 for i, tau in ((0, 0.0), (run.n_pieces - 1, float(np.diff(run.breaks)[-1]))) for order in (0, 1, 2)]
         fit = None
-        if run.n_pieces > 3:
+        if not cubic:
+            fit = fit_clamped(run.eval_t, a, b, tol, tuple(ends), initial_pieces=max(3, run.n_pieces),
+                              max_pieces=MAX_PIECES, what=f"cubic form of a degree-{spline.degree} spline (bspline_tol)")
+        elif run.n_pieces > 3:
             try:
                 fit = fit_clamped(run.eval_t, a, b, tol, tuple(ends), initial_pieces=max(3, run.n_pieces // 8),
                                   max_pieces=run.n_pieces - 1, what="compact B-spline")
             except GeometryError:
-                fit = None  # no fewer pieces within tol: keep the run as it is
+                fit = None  # no fewer pieces within tol: keep the (cubic) run as it is
         if fit is None:
             breaks.append(run.breaks[:-1])
             coeffs.append(run.coeffs)
@@ -195,7 +214,8 @@ class DxfOptions:
 
 
 def _is_line(seg: Spline) -> bool:
-    return seg.n_pieces == 1 and not np.any(seg.coeffs[:2])
+    """One piece of degree <= 1 (every coefficient above the linear one is 0)."""
+    return seg.n_pieces == 1 and not np.any(seg.coeffs[:-2])
 
 
 def _arc_spline(contour: Contour, tol: float) -> Contour:
@@ -211,7 +231,20 @@ def _arc_spline(contour: Contour, tol: float) -> Contour:
     return Contour(segments, closure_tol=1e-6)
 
 
-def _add_contour(msp: DxfDocument, contour: Contour, layer: str, bspline_tol: float = DEFAULT_BSPLINE_TOL) -> None:
+def _cubic_contour(contour: Contour, tol: float) -> Contour:
+    """``contour`` with every curved spline segment replaced by its compact cubic form within
+    ``tol`` mm (:func:`compact_spline`: quintic segments always become cubic; ends kept exactly)."""
+    if all(isinstance(seg, Arc) or _is_line(seg) for seg in contour.segments):
+        return contour
+    segments = [seg if isinstance(seg, Arc) or _is_line(seg) else compact_spline(seg, tol) for seg in contour.segments]
+    # the ends are kept exactly: the joints' gaps are the contour's own
+    gap = max(float(np.hypot(*(a.end_point - b.start_point))) for a, b in zip(contour.segments, contour.segments[1:] + contour.segments[:1]))
+    return Contour(segments, closure_tol=max(1e-6, 2.0 * gap))
+
+
+def _add_contour(msp: DxfDocument, contour: Contour, layer: str) -> None:
+    """ARCs, LINEs and cubic SPLINEs of ``contour`` as drawn (spline segments already biarcs or
+    cubic: :func:`_arc_spline`, :func:`_cubic_contour`)."""
     for seg in contour.segments:
         if isinstance(seg, Arc):
             start = math.degrees(seg.start_angle)
@@ -222,7 +255,10 @@ def _add_contour(msp: DxfDocument, contour: Contour, layer: str, bspline_tol: fl
         elif _is_line(seg):
             msp.add_line(tuple(seg.start_point), tuple(seg.end_point), layer)
         else:
-            knots, controls = spline_bspline(compact_spline(seg, bspline_tol))
+            if seg.degree != 3:  # LibreCAD and most CAM readers take SPLINEs of degree <= 3 only
+                raise ExportError(f"cannot write DXF: a degree-{seg.degree} spline segment on layer {layer} "
+                                  "(DXF SPLINEs are written cubic: compact_spline first)")
+            knots, controls = spline_bspline(seg)
             msp.add_spline(controls, knots, 3, layer)
 
 
@@ -305,9 +341,12 @@ def drawing_bounds(contour: Contour, body: Any = None, pitch: Contour | None = N
 
 
 def _contour_to_dxf(contour: Contour, body: Any, pitch: Contour | None, options: DxfOptions, zero_mark: Any = None) -> str:
-    if options.splines == "biarc":
-        contour = _arc_spline(contour, options.biarc_tol)
-        pitch = _arc_spline(pitch, options.biarc_tol) if pitch is not None else None
+    # the curves as drawn: biarcs, or the compact cubic form of every spline segment
+    def drawn(c: Contour) -> Contour:
+        return _arc_spline(c, options.biarc_tol) if options.splines == "biarc" else _cubic_contour(c, options.bspline_tol)
+
+    contour = drawn(contour)
+    pitch = drawn(pitch) if pitch is not None else None
     msp = DxfDocument(insunits=4, measurement=1, lunits=2, luprec=6)  # mm, metric, decimal, 6 places
     # readers zoom to $EXTMIN/$EXTMAX: the exact bounds; the limits are the same box
     msp.set_extents(*drawing_bounds(contour, body, pitch, options.center_mark, zero_mark))
@@ -320,9 +359,9 @@ def _contour_to_dxf(contour: Contour, body: Any, pitch: Contour | None, options:
         msp.add_layer(name, color)
     if zero_mark is not None:
         msp.add_layer("ZERO", 6)
-    _add_contour(msp, contour, PROFILE_LAYER, options.bspline_tol)
+    _add_contour(msp, contour, PROFILE_LAYER)
     if pitch is not None:
-        _add_contour(msp, pitch, "PITCH", options.bspline_tol)
+        _add_contour(msp, pitch, "PITCH")
     r, keyway = _bore_and_keyway(body)
     if r > 0 and keyway is not None:
         # keyway: two sides from the bore circle out to the keyway bottom, and the bottom; the

@@ -213,10 +213,17 @@ def start_parameter(path: Contour, what: str = "lead") -> float:
     )
 
 
-def _shift_cubic(c: np.ndarray, delta: float) -> np.ndarray:
-    """Coefficients (4, 2) of the cubic piece ``c`` (highest power first) re-expanded at ``tau = delta``."""
-    a, b, cc, d = c
-    return np.stack([a, 3 * a * delta + b, (3 * a * delta + 2 * b) * delta + cc, ((a * delta + b) * delta + cc) * delta + d])
+def _shift_piece(c: np.ndarray, delta: float) -> np.ndarray:
+    """Coefficients (p + 1, 2) of the degree-p polynomial piece ``c`` (highest power first)
+    re-expanded at ``tau = delta`` (Taylor shift: the coefficient of ``tau^k`` becomes
+    ``P^(k)(delta) / k!``), by repeated synthetic division (Horner's scheme applied p times:
+    Knuth, TAOCP vol. 2, sec. 4.6.4)."""
+    out = np.array(c, dtype=float)
+    p = out.shape[0] - 1
+    for i in range(p):  # pass i leaves the coefficient of tau^i (row p - i) final
+        for j in range(1, p + 1 - i):
+            out[j] = out[j] + delta * out[j - 1]
+    return out
 
 
 def _split(seg: Arc | Spline, u: float) -> tuple[Arc | Spline | None, Arc | Spline | None]:
@@ -230,7 +237,7 @@ def _split(seg: Arc | Spline, u: float) -> tuple[Arc | Spline | None, Arc | Spli
     if delta <= 1e-12 * seg.span:  # on a break: no piece to cut
         head = Spline(seg.breaks[: j + 1], seg.coeffs[:, :j]) if j > 0 else None
         return head, Spline(seg.breaks[j:], seg.coeffs[:, j:])
-    tail_coeffs = np.concatenate([_shift_cubic(seg.coeffs[:, j], delta)[:, None], seg.coeffs[:, j + 1 :]], axis=1)
+    tail_coeffs = np.concatenate([_shift_piece(seg.coeffs[:, j], delta)[:, None], seg.coeffs[:, j + 1 :]], axis=1)
     tail = Spline(np.concatenate([[t], seg.breaks[j + 1 :]]), tail_coeffs)
     head = Spline(np.concatenate([seg.breaks[: j + 1], [t]]), seg.coeffs[:, : j + 1])
     return head, tail

@@ -4,10 +4,13 @@ Arcs become circles built from their centre, radius and turning sense (the circl
 counter-clockwise arc, -z for a clockwise one) trimmed at their two end angles: never from three
 points on them, which OCCT refuses as collinear within ``Precision::Confusion`` (1e-7 mm) for a
 short arc on a large radius (a three-arc cam at b -> 2a: 4e-6 mm on 280 mm).  Spline
-segments become clamped cubic B-spline curves: the segment in its compact form
-(:func:`camgen.export.dxf.compact_spline`: the fewest C2 pieces within ``bspline_tol`` mm of the
-contour, ends and joints kept exactly; the segment itself where that has no fewer pieces), cut
-into edges of at most :data:`EDGE_SPANS` knot spans, each written exactly (simple knots inside).
+segments become clamped B-spline curves: by default the segment's compact CUBIC form
+(:func:`camgen.export.dxf.compact_spline`: the fewest C2 cubic pieces within ``bspline_tol`` mm of
+the contour, ends and joints kept exactly; a cubic segment itself where that has no fewer pieces,
+a quintic one always refitted); with ``exact=True`` the segment's own pieces in their own degree
+(cubic, or quintic: a degree-5 B-spline, knot multiplicity 3 at C2 breaks), no refit.  Either is
+cut into edges of at most :data:`EDGE_SPANS` knot spans, each written exactly (the fewest knots
+that hold it: :func:`camgen.export.dxf.spline_bspline`).
 Consecutive edges share one vertex (the mean of the ends it joins), so the wire closes exactly;
 a piece shorter than :data:`FOLD_TOL` (a three-arc cam at a + c - b -> 0 has arcs of radius
 3e-14 mm) is folded into its neighbours' shared vertex.  The face (profile minus bore) is extruded to the thickness and the keyway's prism (camgen.body's
@@ -57,7 +60,7 @@ def _ocp():
 @dataclass(frozen=True)
 class _Piece:
     """One edge's curve: ``kind`` "arc" (data: centre (x, y), radius, +1 counter-clockwise or -1) or
-    "bspline" (data: knots, controls (n, 2)), over parameters ``p1 < p2`` from ``start`` to ``end``
+    "bspline" (data: knots, controls (n, 2), degree), over parameters ``p1 < p2`` from ``start`` to ``end``
     ((2,), mm); ``length`` mm (a spline's: its control polygon's, an upper bound)."""
 
     kind: str
@@ -99,12 +102,12 @@ def _pieces(contour: Contour, bspline_tol: float | None, edge_spans: int | None)
         for part in _edge_parts(seg, bspline_tol, edge_spans):
             knots, controls = spline_bspline(part)
             reach = float(np.sum(np.hypot(*np.diff(controls, axis=0).T)))  # the control polygon: >= the curve's length
-            pieces.append(_Piece("bspline", (knots, controls), float(knots[0]), float(knots[-1]), controls[0], controls[-1], reach))
+            pieces.append(_Piece("bspline", (knots, controls, part.degree), float(knots[0]), float(knots[-1]), controls[0], controls[-1], reach))
     return pieces
 
 
 def _curve(piece: _Piece) -> Any:
-    """The OCCT curve (Geom_Circle or cubic Geom_BSplineCurve) of ``piece``."""
+    """The OCCT curve (Geom_Circle, or Geom_BSplineCurve of the piece's degree) of ``piece``."""
     from OCP.collections import Array1_double, Array1_gp_Pnt, Array1_int
     from OCP.Geom import Geom_BSplineCurve, Geom_Circle
     from OCP.gp import gp_Ax2, gp_Dir, gp_Pnt
@@ -112,7 +115,9 @@ def _curve(piece: _Piece) -> Any:
     if piece.kind == "arc":
         (cx, cy), radius, sense = piece.data
         return Geom_Circle(gp_Ax2(gp_Pnt(cx, cy, 0.0), gp_Dir(0.0, 0.0, sense), gp_Dir(1.0, 0.0, 0.0)), radius)
-    knots, controls = piece.data
+    knots, controls, degree = piece.data
+    if knots.size != len(controls) + degree + 1:  # spline_bspline's form is of the spline's own degree
+        raise GeometryError(f"B-spline edge of degree {degree} with {len(controls)} poles and {knots.size} knots")
     unique = sorted(set(knots.tolist()))
     poles = Array1_gp_Pnt(1, len(controls))
     for i, (x, y) in enumerate(controls, 1):
@@ -122,7 +127,7 @@ def _curve(piece: _Piece) -> Any:
     for i, k in enumerate(unique, 1):
         kn.SetValue(i, k)
         mu.SetValue(i, int((knots == k).sum()))
-    return Geom_BSplineCurve(poles, kn, mu, 3)
+    return Geom_BSplineCurve(poles, kn, mu, int(degree))
 
 
 def fold_short(pieces: list[_Piece], fold_tol: float = FOLD_TOL) -> tuple[list[_Piece], list[np.ndarray], list[float]]:
@@ -223,9 +228,10 @@ def step_bytes(contour: Contour, body: Any, name: str = "cam", bspline_tol: floa
 
     Spline segments are written within ``bspline_tol`` mm of the contour (default
     :data:`camgen.export.dxf.DEFAULT_BSPLINE_TOL`), stated in the header's FILE_DESCRIPTION, as
-    edges of at most ``edge_spans`` knot spans.  ``exact=True`` writes every segment's own
-    pieces (no compact form) and ``edge_spans=None`` one edge per segment: together the earlier
-    form (benchmarks/bench_step.py compares them).
+    edges of at most ``edge_spans`` knot spans: cubic B-splines (:func:`camgen.export.dxf.compact_spline`;
+    a quintic segment is refitted).  ``exact=True`` writes every segment's own pieces in their own
+    degree (no compact form: a quintic segment becomes a degree-5 B-spline) and ``edge_spans=None``
+    one edge per segment: together the earlier form (benchmarks/bench_step.py compares them).
     """
     from camgen.errors import ParameterError, require_positive
     from camgen.export.dxf import DEFAULT_BSPLINE_TOL
