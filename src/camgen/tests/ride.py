@@ -249,10 +249,19 @@ def oscillating_roller(cam, theta, pivot, arm_length: float, roller_radius: floa
             # knife: the polygon edges crossing the arm circle
             a, b = dist - L, np.roll(dist, -1, axis=1) - L
             cross = (a <= 0) & (b > 0) | (a > 0) & (b <= 0)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                w = np.where(cross, a / (a - b), 0.0)
             xb = np.roll(x, -1, axis=1)
-            pt = x + w[..., None] * (xb - x)
+            d = xb - x
+            # the edge x + w d meets the arm circle |.| = L where A w^2 + 2 B w + C = 0 (one root in [0, 1]
+            # when the ends lie on both sides: |x + w d| is convex in w)
+            qa = np.sum(d * d, axis=-1)
+            qb = np.sum(x * d, axis=-1)
+            qc = dist * dist - L * L
+            with np.errstate(divide="ignore", invalid="ignore"):
+                root = np.sqrt(np.maximum(qb * qb - qa * qc, 0.0))
+                w1, w2 = (-qb - root) / qa, (-qb + root) / qa
+            w = np.where((w1 >= -1e-12) & (w1 <= 1 + 1e-12), w1, w2)
+            w = np.where(cross, np.clip(np.nan_to_num(w), 0.0, 1.0), 0.0)
+            pt = x + w[..., None] * d
             g = np.arctan2(pt[..., 1], pt[..., 0])
             lift = lift_sign * _wrap(g - rest_angle)
             lift = np.where(cross & (np.abs(lift) < window), lift, -np.inf)
