@@ -746,7 +746,7 @@ def _breaks_of(law: Displacement) -> tuple[np.ndarray, np.ndarray]:
 
 
 #: Spacing (rad) of the cam angles of the sixth-derivative estimate (:func:`_sixth_derivatives`).
-BOUND_SPACING = math.radians(0.2)
+BOUND_SPACING = math.radians(0.5)
 
 
 def _bound_stride(n: int) -> int:

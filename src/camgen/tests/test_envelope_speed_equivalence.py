@@ -24,6 +24,7 @@ from camgen.synthesis.followers import (
     DEFAULT_CHECK_STEP,
     FollowerSpec,
     _check_grid,
+    BOUND_SPACING,
     _bound_stride,
     _sixth_derivatives,
     _uniform_knots,
@@ -153,13 +154,16 @@ def test_sixth_derivative_estimate_against_a_closed_form_curve():
     estimate = _sixth_derivatives(theta[pick], [d2[pick]], brk)
     ends = np.append(brk, TWO_PI)
     for j, (aj, bj) in enumerate(coef):
-        # the differences use five grid angles ~0.2 deg apart inside the interval: the largest value
-        # lies between the maximum over the interval without its last 1 deg at each end and the
-        # maximum over the whole interval (up to the O(h^2) error of the differences, ~1e-5 here)
+        # the differences use five grid angles BOUND_SPACING apart inside the interval: the largest
+        # value lies between the maximum over the interval without its last 4 spacings at each end and
+        # the maximum over the whole interval, up to the error of the fourth difference of e^{i w theta}:
+        # (2 sin(w h / 2) / (w h))^4 - 1 ~ -(w h)^2 / 6 for the highest harmonic w = 3 here
+        h = BOUND_SPACING
+        slack = 2 * (3 * h) ** 2 / 6
         dense = np.linspace(ends[j], ends[j + 1], 200_001)
         d6 = np.abs(aj * np.exp(1j * dense) + 729 * bj * np.exp(3j * dense))
-        inner = d6[(dense > ends[j] + D(1.0)) & (dense < ends[j + 1] - D(1.0))]
-        assert np.max(inner) * (1 - 1e-4) <= estimate[j] <= np.max(d6) * (1 + 1e-4), j
+        inner = d6[(dense > ends[j] + 4 * h) & (dense < ends[j + 1] - 4 * h)]
+        assert np.max(inner) * (1 - slack) <= estimate[j] <= np.max(d6) * (1 + slack), j
 
 
 FOLLOWERS = {
