@@ -209,6 +209,26 @@ def test_extreme_points_give_the_bounding_box_of_ppoly_roots():
         assert dense[:, axis].max() <= pts[:, axis].max() + RTOL_EVAL * scale
 
 
+def test_bezier_control_points_equal_scipy_bpoly():
+    """The Bezier control points behind the support pre-filter (of Q'(s), s in [0, 1] per piece)
+    and the flattening bound (largest control-point norm of P'') equal scipy's
+    BPoly.from_power_basis of the same derivative (1e-12 relative)."""
+    from scipy.interpolate import BPoly
+
+    from camgen.contour import _bernstein_max_norm, _derivative_factors, _power_to_bezier, _scaled_ascending
+
+    spline = _random_quintic(seed=9)
+    h = np.diff(spline.breaks)
+    for order in (1, 2):
+        bp = BPoly.from_power_basis(_ppoly(spline).derivative(order))  # control points (6 - order, K, 2), in tau units
+        q = _scaled_ascending(spline.coeffs, h)[:, order:] * _derivative_factors(spline.degree, order)[::-1][None, :, None]
+        ours = _power_to_bezier(q).transpose(1, 0, 2) / (h ** order)[None, :, None]  # back from s to tau derivatives
+        assert np.max(np.abs(ours - bp.c)) <= 1e-12 * np.max(np.abs(bp.c))
+    bp2 = BPoly.from_power_basis(_ppoly(spline).derivative(2))
+    second = spline.coeffs[:-2] * _derivative_factors(spline.degree, 2)[:, None, None]
+    assert np.allclose(_bernstein_max_norm(second, h), np.max(np.hypot(bp2.c[..., 0], bp2.c[..., 1]), axis=0), rtol=1e-12, atol=0)
+
+
 def _turning(pp: PPoly, t: np.ndarray) -> np.ndarray:
     d1, d2 = pp.derivative(1)(t), pp.derivative(2)(t)
     return d1[..., 0] * d2[..., 1] - d1[..., 1] * d2[..., 0]
