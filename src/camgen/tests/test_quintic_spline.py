@@ -520,3 +520,21 @@ def test_offset_of_a_mixed_contour_is_at_the_offset_distance():
     assert np.max(np.abs(near - d)) <= tol + 1e-6
     steiner = contour.area + d * contour.length + math.pi * d * d
     assert abs(out.area - steiner) <= out.length * tol * 2
+
+
+def test_offset_of_a_quintic_ellipse_reverses_past_its_smallest_radius():
+    """The quintic ellipse (shifted by half a piece: its sharpest points lie inside pieces) offset
+    inward by less than its smallest radius of curvature b^2 / a = 18 mm is valid; by more, the
+    offset reverses there and is a GeometryError naming the spline."""
+    from camgen.errors import GeometryError
+
+    pieces = 30
+    t = np.linspace(0.0, 2.0 * math.pi, pieces + 1) + math.pi / pieces
+    p, d1, d2 = _ellipse_data(t)
+    p[-1] = p[0]
+    contour = Contour([Spline.hermite5(t, p, d1, d2)])
+    rho_min = B_ELL**2 / A_ELL
+    inner = contour.offset(-(rho_min - 0.05))
+    assert abs(inner.bounds[2] - (A_ELL - rho_min + 0.05)) <= 1e-5  # the vertex moves in along the x axis
+    with pytest.raises(GeometryError, match="segment 0 .spline. reverses"):
+        contour.offset(-(rho_min + 0.05))
