@@ -4,8 +4,8 @@ A :class:`Contour` is a closed, planar, counter-clockwise curve in the cam frame
 the rotation axis), in millimetres.  It is a chain of two kinds of segment:
 
 * :class:`Arc`, an exact circular arc (centre, radius, start angle, signed sweep);
-* :class:`Spline`, a parametric piecewise cubic ``x(t), y(t)`` (C2 inside the segment when
-  built by interpolation; C1 when it is a refitted offset).
+* :class:`Spline`, a parametric piecewise cubic or quintic ``x(t), y(t)`` (C2 inside the
+  segment when built by interpolation or quintic Hermite fit; C1 when it is a refitted offset).
 
 Every check and export in camgen works through the operations defined here, so they work for
 every cam.  Nothing in this module imports another camgen module except :mod:`camgen.errors`.
@@ -719,7 +719,8 @@ class Spline:
         """Smallest ``P' x P''`` over the spline (its sign is the sign of the curvature), exact.
 
         On a cubic piece ``P' x P''`` is the quadratic ``-6 (a x b) t^2 + 6 (c x a) t + 2 (c x b)``
-        (``P = a t^3 + b t^2 + c t + d``); its minimum is at an end or at the vertex.
+        (``P = a t^3 + b t^2 + c t + d``); its minimum is at an end or at the vertex.  Other
+        degrees: :meth:`_min_turning_generic` (degree 6 on a quintic piece).
         """
         if self.degree != 3:
             return self._min_turning_generic()
@@ -872,7 +873,8 @@ class Spline:
     def support_candidates(self, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Largest interior value of ``P . u(psi)`` (M,) over all pieces, its point (M, 2) and radius of curvature (M,).
 
-        Interior extrema of ``P(t) . u`` are roots of the quadratic ``P'(t) . u = 0`` on each piece.
+        Interior extrema of ``P(t) . u`` are roots of the quadratic ``P'(t) . u = 0`` on each piece
+        (cubic pieces; other degrees: :meth:`_support_candidates_generic`).
         """
         if self.degree != 3:
             return self._support_candidates_generic(psi)
@@ -951,12 +953,15 @@ class Spline:
 
         The exact offset ``Q = P + d n`` has tangent ``Q' = P' (1 + d kappa)``; where
         ``1 + d kappa <= 0`` the offset reverses (cusp, undercut) and a :class:`GeometryError`
-        names the segment and cam angle.  ``Q`` is only C1 at the breaks of ``P`` (``kappa'``
+        names the segment and cam angle (sampled: 4 points per cubic piece, 32 per quintic
+        piece).  ``Q`` is only C1 at the breaks of ``P`` (``kappa'``
         jumps there), so the refit is a cubic Hermite interpolant of the exact ``Q`` and ``Q'``
         on a subdivision of every piece (C1, error O(h^4)), refined until its distance to the
         exact offset at the quarter points of every new piece is <= ``tol`` mm.
         """
-        dense_u = np.linspace(0.0, 1.0, 4 * self.n_pieces + 1)
+        # sampled reversal check: 4 points per cubic piece; quintic pieces are ~8x longer, so 32
+        per_piece = 4 if self.degree == 3 else 32
+        dense_u = np.linspace(0.0, 1.0, per_piece * self.n_pieces + 1)
         kappa = self.curvature(dense_u)
         factor = 1.0 + distance * kappa
         if np.any(factor <= 0.0):
@@ -1350,7 +1355,7 @@ class Contour:
     # -- global measures ----------------------------------------------------------------------
     @property
     def area(self) -> float:
-        """Enclosed area, mm^2, by Green's theorem (exact for arcs and cubic pieces)."""
+        """Enclosed area, mm^2, by Green's theorem (exact for arcs and polynomial pieces)."""
         return float(sum(seg.green_area() for seg in self.segments))
 
     @property
@@ -1406,7 +1411,7 @@ class Contour:
         return out
 
     def is_convex(self) -> bool:
-        """True if the signed curvature is >= 0 everywhere (exact for arcs and cubic pieces)."""
+        """True if the signed curvature is >= 0 everywhere (exact for arcs and cubic or quintic pieces)."""
         return all(seg.sweep > 0 if isinstance(seg, Arc) else seg.min_turning() >= 0 for seg in self.segments)
 
     def self_intersection(self, chord_tol: float | None = None, block: int = 1 << 22) -> np.ndarray | None:
