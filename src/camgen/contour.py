@@ -311,57 +311,6 @@ def _clamped_moments(t: np.ndarray, y: np.ndarray, d0: np.ndarray, d1: np.ndarra
     return solve_tridiagonal(lower, diag, upper, rhs, cyclic=False)
 
 
-def cubic_with_end_derivatives(t: np.ndarray, y: np.ndarray, start: tuple[np.ndarray, np.ndarray],
-                               end: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """The C2 cubic spline through ``y`` (n, k) at ``t`` (n,), n >= 4, that takes the given first
-    and second derivatives (``start = (dy/dt, d2y/dt2)`` at ``t[0]``, ``end`` at ``t[-1]``, each
-    (k,)) at both ends.
-
-    The two extra conditions need two extra knots: the midpoints of the first and the last
-    interval, where the spline's values are unknowns.  With the moments (second derivatives)
-    ``M`` as unknowns (de Boor, ch. IV) the end conditions give those two values as linear
-    functions of ``M[1]`` and ``M[-2]``: ``y1 = y0 + h0 y0' + h0^2 (2 M0 + M1) / 6`` and
-    ``y[m-1] = y[m] - h y[m]' + h^2 (M[m-1] + 2 M[m]) / 6``; substituted into the interior moment
-    equations the system stays tridiagonal and diagonally dominant (the extra knot halves an
-    interval, which zeroes the new coupling), solved by :func:`solve_tridiagonal`.
-
-    Returns the breaks (n + 2,) and the coefficients (4, n + 1, k), highest power first: the
-    same piecewise cubic as the B-spline interpolant with knots ``t`` and the two midpoints.
-    """
-    t = np.asarray(t, dtype=float)
-    y = np.asarray(y, dtype=float)
-    d1s, d2s = (np.asarray(v, dtype=float) for v in start)
-    d1e, d2e = (np.asarray(v, dtype=float) for v in end)
-    x = np.concatenate([t[:1], [0.5 * (t[0] + t[1])], t[1:-1], [0.5 * (t[-2] + t[-1])], t[-1:]])
-    yy = np.concatenate([y[:1], np.zeros_like(y[:1]), y[1:-1], np.zeros_like(y[:1]), y[-1:]])  # unknowns as 0
-    m = x.size - 1
-    h = np.diff(x)
-    # interior equations i = 1 .. m-1: h[i-1] M[i-1] + 2 (h[i-1] + h[i]) M[i] + h[i] M[i+1] = 6 (s[i] - s[i-1])
-    lower, diag, upper = h[:-1].copy(), 2.0 * (h[:-1] + h[1:]), h[1:].copy()
-    slope = np.diff(yy, axis=0) / h[:, None]
-    rhs = 6.0 * np.diff(slope, axis=0)
-    # d rhs / d y[1]: rows 1 and 2 (indices 0, 1); d rhs / d y[m-1]: rows m-1 and m-2
-    g_first = np.array([-6.0 * (1.0 / h[0] + 1.0 / h[1]), 6.0 / h[1]])
-    g_last = np.array([-6.0 * (1.0 / h[-1] + 1.0 / h[-2]), 6.0 / h[-2]])
-    a0, a1 = yy[0] + h[0] * d1s + h[0] ** 2 * 2.0 * d2s / 6.0, h[0] ** 2 / 6.0  # y[1] = a0 + a1 M[1]
-    b0, b1 = yy[-1] - h[-1] * d1e + h[-1] ** 2 * 2.0 * d2e / 6.0, h[-1] ** 2 / 6.0  # y[m-1] = b0 + b1 M[m-1]
-    rhs[0] += g_first[0] * a0
-    rhs[1] += g_first[1] * a0
-    diag[0] -= g_first[0] * a1
-    lower[1] -= g_first[1] * a1
-    rhs[-1] += g_last[0] * b0
-    rhs[-2] += g_last[1] * b0
-    diag[-1] -= g_last[0] * b1
-    upper[-2] -= g_last[1] * b1
-    rhs[0] -= h[0] * d2s  # the known end moments
-    rhs[-1] -= h[-1] * d2e
-    inner = solve_tridiagonal(lower, diag, upper, rhs, cyclic=False)
-    moments = np.vstack([d2s[None, :], inner, d2e[None, :]])
-    yy[1] = a0 + a1 * moments[1]
-    yy[-2] = b0 + b1 * moments[-2]
-    return x, _cubic_coefficients(x, yy, moments)
-
-
 def _cubic_coefficients(t: np.ndarray, y: np.ndarray, moments: np.ndarray) -> np.ndarray:
     """PPoly coefficients (4, n-1, k), highest power first, from the knot moments."""
     h = np.diff(t)[:, None]

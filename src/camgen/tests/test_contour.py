@@ -288,29 +288,6 @@ def test_numpy_cubic_splines_equal_scipys(n):
     assert np.max(np.abs(mine.coeffs - theirs.c)) <= 1e-12 * np.max(np.abs(theirs.c))
 
 
-@pytest.mark.parametrize("n", [5, 9, 64, 2001])
-def test_cubic_with_end_derivatives_is_scipys_bspline_interpolant(n):
-    """The disk cams' C2 pieces (end tangent and curvature imposed, two extra knots; solved in numpy)
-    equal scipy's B-spline interpolant with the same knots and end conditions, on uneven samples."""
-    from scipy.interpolate import make_interp_spline
-
-    from camgen.contour import cubic_with_end_derivatives
-
-    rng = np.random.default_rng(n)
-    t = np.concatenate([[0.5], 0.5 + np.cumsum(rng.uniform(0.2, 1.0, n - 1))])
-    y = rng.normal(size=(n, 4)) * 30
-    start = (rng.normal(size=4) * 30, rng.normal(size=4) * 30)
-    end = (rng.normal(size=4) * 30, rng.normal(size=4) * 30)
-    breaks, coeffs = cubic_with_end_derivatives(t, y, start, end)
-    inner = np.sort(np.concatenate([t[1:-1], [0.5 * (t[0] + t[1]), 0.5 * (t[-2] + t[-1])]]))
-    knots = np.concatenate([np.full(4, t[0]), inner, np.full(4, t[-1])])
-    reference = make_interp_spline(t, y, k=3, t=knots, bc_type=([(1, start[0]), (2, start[1])], [(1, end[0]), (2, end[1])]))
-    assert np.array_equal(breaks, np.unique(knots))
-    left = breaks[:-1]
-    theirs = np.stack([reference(left, 3) / 6.0, reference(left, 2) / 2.0, reference(left, 1), reference(left)])
-    assert np.max(np.abs(coeffs - theirs)) <= 1e-11 * np.max(np.abs(theirs))
-
-
 @pytest.mark.parametrize("cyclic", [False, True])
 def test_cyclic_reduction_against_a_dense_solve(cyclic):
     from camgen.contour import solve_tridiagonal

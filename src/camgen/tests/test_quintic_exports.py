@@ -287,55 +287,8 @@ def test_step_of_a_quintic_contour(contour, exact, tmp_path):
 # --------------------------------------------------------------------------------------------
 # G-code run by LinuxCNC's rs274
 # --------------------------------------------------------------------------------------------
-def _sampled_min_turning(self) -> float:
-    tau = np.linspace(0.0, 1.0, 65)[None, :] * np.diff(self.breaks)[:, None]
-    idx = np.repeat(np.arange(self.n_pieces), tau.shape[1])
-    d1, d2 = self.eval_piece(idx, tau.ravel(), 1), self.eval_piece(idx, tau.ravel(), 2)
-    return float(np.min(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]))
-
-
-def _sampled_extreme_points(self) -> np.ndarray:
-    return self.eval_t(np.linspace(self.breaks[0], self.breaks[-1], 64 * self.n_pieces + 1))
-
-
-def _sampled_support_candidates(self, psi: np.ndarray):
-    u = np.stack([np.cos(psi), np.sin(psi)], axis=1)
-    grid = np.linspace(self.breaks[0], self.breaks[-1], 256 * self.n_pieces + 1)
-    t = grid[np.argmax(self.eval_t(grid) @ u.T, axis=0)]
-    for _ in range(4):  # Newton on P'(t) . u = 0
-        d1, d2 = self.eval_t(t, 1), self.eval_t(t, 2)
-        step = np.einsum("ij,ij->i", d1, u) / np.einsum("ij,ij->i", d2, u)
-        t = np.clip(t - np.where(np.isfinite(step), step, 0.0), self.breaks[0], self.breaks[-1])
-    d1, d2 = self.eval_t(t, 1), self.eval_t(t, 2)
-    rho = np.hypot(d1[:, 0], d1[:, 1]) ** 3 / (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
-    p = self.eval_t(t)
-    return np.einsum("ij,ij->i", p, u), p, rho
-
-
-@pytest.fixture
-def quintic_queries(monkeypatch):
-    """Spline.min_turning / extreme_points / support_candidates for quintic pieces, which contour.py
-    does not have yet on this branch (NotImplementedError): sampled stand-ins used only while the
-    real ones raise (cubic pieces always use the real ones)."""
-    probe = quintic_contour(1).segments[0]
-    for name, standin in (("min_turning", _sampled_min_turning), ("extreme_points", _sampled_extreme_points),
-                          ("support_candidates", _sampled_support_candidates)):
-        real = getattr(Spline, name)
-        try:
-            real(probe, *([np.array([0.0])] if name == "support_candidates" else []))
-            continue
-        except NotImplementedError:
-            pass
-
-        def patched(self, *args, real=real, standin=standin):
-            return real(self, *args) if self.degree == 3 else standin(self, *args)
-
-        monkeypatch.setattr(Spline, name, patched)
-
-
 @pytest.mark.parametrize(("comp", "mode", "direction"), [(False, "biarcs", "climb"), (True, "biarcs", "conventional"),
                                                          (True, "lines", "climb")])
-@pytest.mark.usefixtures("quintic_queries")
 def test_gcode_of_a_quintic_contour_cuts_the_exact_curve(contour, comp, mode, direction, tmp_path):
     """rs274 runs the program; its tool-centre moves (with cutter compensation: rs274's own
     compensated path) stay outside the exact curve and at least r - tol from it (no gouge), and
