@@ -507,3 +507,41 @@ def test_librecad_converts_a_camgen_drawing(tmp_path):
     path.write_text(text)
     paths = _pdf_paths(librecad_pdf(librecad, path))
     assert len(paths) > 10
+
+
+def test_librecad_draws_every_spline_of_a_quintic_disk_cam(tmp_path):
+    """A motion-law roller cam (its envelope in C2 quintic pieces) written with B-spline SPLINEs:
+    they are cubic (LibreCAD reads degree <= 3 only) and LibreCAD draws all of them where the
+    profile is: every vertex of its PDF lies on the exact profile and every point of the profile
+    lies near its paths (within the PDF's unit and half of LibreCAD's longest chord)."""
+    from scipy.spatial import cKDTree
+
+    from camgen.export.dxf import DxfOptions, contour_to_dxf
+    from camgen.synthesis.followers import FollowerSpec, cam_envelope
+    from camgen.synthesis.laws import MotionProgram, Segment
+
+    librecad = require_tool("librecad")
+    law = MotionProgram([Segment("cycloidal", math.radians(120), 12.0), Segment("dwell", math.radians(60)),
+                         Segment("modified_sine", math.radians(100), -12.0), Segment("dwell", math.radians(80))])
+    profile = cam_envelope(FollowerSpec("roller", 30.0, roller_radius=8.0), law).profile
+    assert {seg.degree for seg in profile.segments} == {5}
+    path = tmp_path / "cam.dxf"
+    path.write_text(contour_to_dxf(profile, options=DxfOptions(splines="bspline", center_mark=0.0)))
+    import ezdxf
+
+    splines = [e for e in ezdxf.readfile(path).modelspace() if e.dxftype() == "SPLINE"]
+    assert len(splines) == profile.n_segments and {e.dxf.degree for e in splines} == {3}
+    paths = _pdf_paths(librecad_pdf(librecad, path))
+    vertices = np.concatenate(paths)
+    exact = profile.evaluate(np.linspace(0.0, profile.n_segments, 200_000, endpoint=False))  # ~1e-3 mm apart
+    box_lo, box_hi = exact.min(axis=0), exact.max(axis=0)
+    lo, hi = vertices.min(axis=0), vertices.max(axis=0)
+    scale_x, scale_y = (hi - lo) / (box_hi - box_lo)
+    assert scale_x == pytest.approx(scale_y, rel=2 * PDF_UNITS_TOL / (hi[1] - lo[1]))
+    scale = (scale_x + scale_y) / 2
+    mm = np.stack([box_lo[0] + (vertices[:, 0] - lo[0]) / scale, box_hi[1] - (vertices[:, 1] - lo[1]) / scale], 1)  # y down
+    tol = PDF_UNITS_TOL / scale + 2e-3
+    assert np.max(cKDTree(exact).query(mm)[0]) <= tol, "a LibreCAD vertex is off the profile"
+    segs = np.concatenate([np.stack([p[:-1], p[1:]], 1) for p in paths])
+    longest = float(np.max(np.hypot(*(segs[:, 1] - segs[:, 0]).T))) / scale
+    assert np.max(cKDTree(mm).query(exact[::50])[0]) <= tol + longest / 2, "part of the profile is missing from LibreCAD's PDF"
