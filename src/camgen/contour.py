@@ -404,8 +404,9 @@ def _poly_ascending(a: np.ndarray, x: np.ndarray) -> np.ndarray:
     return acc
 
 
-#: Bisection steps of :func:`_sign_change_roots` (the bracket halves to the float spacing first).
-ROOT_BISECTIONS = 64
+#: Largest number of safeguarded Newton steps of :func:`_sign_change_roots` (each step that
+#: would leave the bracket is a bisection; Newton on a monotonic bracket converges in a few).
+ROOT_STEPS = 64
 
 
 def _sign_change_roots(a: np.ndarray, lo: float, hi: float) -> np.ndarray:
@@ -415,7 +416,8 @@ def _sign_change_roots(a: np.ndarray, lo: float, hi: float) -> np.ndarray:
     Derivative chain (no eigenvalues, no leading-coefficient division): the sign changes of the
     derivative (found the same way, down to a constant) cut ``[lo, hi]`` into intervals where the
     polynomial is monotonic; each holds one sign change iff its end values differ in sign, and
-    bisection finds it to the float spacing.  A root of even multiplicity (no sign change) is not
+    Newton steps kept inside the shrinking bracket (a bisection where a step would leave it) find
+    it to a few ulps.  A root of even multiplicity (no sign change) is not
     returned: the callers want the extrema of the polynomial's antiderivative, which sit exactly
     at the sign changes.  Identically zero polynomials have none.
     """
@@ -430,16 +432,23 @@ def _sign_change_roots(a: np.ndarray, lo: float, hi: float) -> np.ndarray:
     row, col = np.nonzero(((f_left < 0) & (f_right > 0)) | ((f_left > 0) & (f_right < 0)))
     if row.size:
         coef = a[row]
+        slope = coef[:, 1:] * np.arange(1, degree + 1)
         l, r = left[row, col], right[row, col]
         rising = f_left[row, col] < 0
-        for _ in range(ROOT_BISECTIONS):
-            mid = 0.5 * (l + r)
-            if not np.any((mid > l) & (mid < r)):
+        x = 0.5 * (l + r)
+        for _ in range(ROOT_STEPS):
+            f = _poly_ascending(coef, x[:, None])[:, 0]
+            up = (f < 0) == rising  # x on the left end's side
+            l = np.where(up, x, l)
+            r = np.where(up, r, x)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                new = x - f / _poly_ascending(slope, x[:, None])[:, 0]
+            new = np.where((new > l) & (new < r), new, 0.5 * (l + r))
+            moved = np.abs(new - x) > 4.0 * np.finfo(float).eps * np.maximum(1.0, np.abs(x))
+            x = new
+            if not np.any(moved & (f != 0)):
                 break
-            up = (_poly_ascending(coef, mid[:, None])[:, 0] < 0) == rising  # mid on the left end's side
-            l = np.where(up, mid, l)
-            r = np.where(up, r, mid)
-        out[row, col] = 0.5 * (l + r)
+        out[row, col] = x
     return out
 
 
