@@ -443,10 +443,14 @@ def _sign_change_roots(a: np.ndarray, lo: float, hi: float) -> np.ndarray:
             r = np.where(up, r, x)
             with np.errstate(divide="ignore", invalid="ignore"):
                 new = x - f / _poly_ascending(slope, x[:, None])[:, 0]
-            new = np.where((new > l) & (new < r), new, 0.5 * (l + r))
-            moved = np.abs(new - x) > 4.0 * np.finfo(float).eps * np.maximum(1.0, np.abs(x))
+            tol = 4.0 * np.finfo(float).eps * np.maximum(1.0, np.abs(x))
+            step = np.abs(new - x)
+            # a Newton step inside the bracket, or one that has converged (x may sit on the bracket's end)
+            new = np.where(((new > l) & (new < r)) | (step <= tol), new, 0.5 * (l + r))
+            new = np.where(f == 0, x, new)
+            moved = np.abs(new - x) > tol
             x = new
-            if not np.any(moved & (f != 0)):
+            if not np.any(moved):
                 break
         out[row, col] = x
     return out

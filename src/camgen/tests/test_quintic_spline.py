@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import math
 
+from fractions import Fraction
+
 import numpy as np
 import pytest
 from scipy.interpolate import PPoly
@@ -538,3 +540,36 @@ def test_offset_of_a_quintic_ellipse_reverses_past_its_smallest_radius():
     assert abs(inner.bounds[2] - (A_ELL - rho_min + 0.05)) <= 1e-5  # the vertex moves in along the x axis
     with pytest.raises(GeometryError, match="segment 0 .spline. reverses"):
         contour.offset(-(rho_min + 0.05))
+
+
+def test_sign_change_roots_against_numpys_eigenvalue_roots():
+    """Every sign change on (0, 1) of 3000 random polynomials of degree 1 to 6 (and two that once
+    stopped the Newton steps on a bracket end, from a knife cam's x'(t)) against numpy.roots
+    (companion-matrix eigenvalues): as many as the real simple roots inside, each within 1e-6 of one
+    (eigenvalues of clustered roots are themselves that uncertain) and each a true sign change: the
+    polynomial, evaluated here in exact rational arithmetic, has opposite signs either side at the
+    distance its float evaluation allows (64 ulps of sum |a_i| over the slope, at least 1e-12)."""
+    from camgen.contour import _sign_change_roots
+
+    rng = np.random.default_rng(2026)
+    polys = [np.array([-0.00509335, 0.20612288, 0.02145751, 0.00346926, -0.00023837]),
+             np.array([1.64456116e+00, -2.25108493e+00, 2.66159062e-02, 1.46031548e-02, -3.06683857e-04])]
+    for degree in range(1, 7):
+        # roots placed in (0, 1) and outside, times a random scale: polynomials with known sign changes
+        for _ in range(500):
+            inside = rng.uniform(0.02, 0.98, rng.integers(0, degree + 1))
+            outside = rng.uniform(1.2, 4.0, degree - inside.size) * rng.choice([-1, 1], degree - inside.size)
+            polys.append(np.polynomial.polynomial.polyfromroots(np.concatenate([inside, outside])) * rng.uniform(0.1, 100))
+    for a in polys:
+        found = _sign_change_roots(a[None, :], 0.0, 1.0)[0]
+        found = np.sort(found[np.isfinite(found)])
+        roots = np.roots(a[::-1])
+        real = np.sort(roots.real[(np.abs(roots.imag) < 1e-9) & (roots.real > 0) & (roots.real < 1)])
+        close = np.abs(real[:, None] - real[None, :]) < 1e-6  # near-double roots: no sign change to find
+        if np.any(close & ~np.eye(real.size, dtype=bool)):
+            continue
+        assert found.size == real.size and np.allclose(found, real, rtol=0, atol=1e-6), (a, found, real)
+        slope = np.polynomial.polynomial.polyval(found, a[1:] * np.arange(1, a.size))
+        for x, dx in zip(found, np.maximum(1e-12, 64 * np.finfo(float).eps * np.sum(np.abs(a)) / np.abs(slope))):
+            sides = [sum(Fraction(float(c)) * Fraction(float(x + d)) ** i for i, c in enumerate(a)) for d in (-dx, dx)]
+            assert sides[0] * sides[1] <= 0, (a, x)
