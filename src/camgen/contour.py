@@ -1372,9 +1372,17 @@ class Contour:
                 )
         return out
 
-    def is_convex(self) -> bool:
-        """True if the signed curvature is >= 0 everywhere (exact for arcs and cubic or quintic pieces)."""
-        return all(seg.sweep > 0 if isinstance(seg, Arc) else seg.min_turning() >= 0 for seg in self.segments)
+    def is_convex(self, corner_tol: float = 1e-9) -> bool:
+        """True if the contour turns left everywhere: the signed curvature is >= 0 on every
+        segment (exact for arcs and cubic or quintic pieces) and no joint is a concave corner
+        (the tangent turning right by more than ``corner_tol`` rad where a segment meets the next,
+        as at a knife cam's velocity jump)."""
+        if not all(seg.sweep > 0 if isinstance(seg, Arc) else seg.min_turning() >= 0 for seg in self.segments):
+            return False
+        ends = np.array([seg.derivative(np.array([1.0]))[0] for seg in self.segments])  # (n, 2) tangents at the ends
+        starts = np.roll(np.array([seg.derivative(np.array([0.0]))[0] for seg in self.segments]), -1, axis=0)  # next starts
+        turn = np.arctan2(ends[:, 0] * starts[:, 1] - ends[:, 1] * starts[:, 0], np.einsum("ij,ij->i", ends, starts))
+        return bool(np.all(turn >= -corner_tol))
 
     def self_intersection(self, chord_tol: float | None = None, block: int = 1 << 22) -> np.ndarray | None:
         """A point (2,) where two non-adjacent chords of the flattened contour cross, else None.

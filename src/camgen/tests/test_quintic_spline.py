@@ -573,3 +573,35 @@ def test_sign_change_roots_against_numpys_eigenvalue_roots():
         for x, dx in zip(found, np.maximum(1e-12, 64 * np.finfo(float).eps * np.sum(np.abs(a)) / np.abs(slope))):
             sides = [sum(Fraction(float(c)) * Fraction(float(x + d)) ** i for i, c in enumerate(a)) for d in (-dx, dx)]
             assert sides[0] * sides[1] <= 0, (a, x)
+
+
+def _dense_polygon_turning(contour: Contour, per_segment: int = 20_000) -> float:
+    """Smallest sine of the turning angle at the vertices of a dense polygon on the contour (every
+    segment sampled on [0, 1), so each joint is a vertex once): < 0 where the contour turns right."""
+    t = (np.arange(contour.n_segments)[:, None] + np.arange(per_segment)[None, :] / per_segment).ravel()
+    edges = np.diff(contour.evaluate(t), axis=0, append=contour.evaluate(t[:1]))
+    nxt = np.roll(edges, -1, axis=0)
+    cross = edges[:, 0] * nxt[:, 1] - edges[:, 1] * nxt[:, 0]
+    return float(np.min(cross / (np.hypot(*edges.T) * np.hypot(*nxt.T))))
+
+
+@pytest.mark.parametrize("rotation", ["ccw", "cw"])
+def test_is_convex_sees_the_concave_corner_of_a_knife_cam(rotation):
+    """A knife cam whose law's velocity jumps (constant velocity after a cycloidal return) has
+    quintic flanks that all turn left but a concave corner where the rise starts (the tangent turns
+    right there by ~6 deg): is_convex() must agree with the dense polygon's turning (it used to
+    look at the segments' curvature only and said True); a cam of smooth laws stays convex."""
+    from camgen.synthesis.followers import FollowerSpec, cam_envelope
+    from camgen.synthesis.laws import MotionProgram, Segment as LawSegment
+
+    knife = FollowerSpec("knife", 40.0, offset=-6.0, rotation=rotation)
+    jumps = MotionProgram([LawSegment("constant_velocity", math.radians(150), 12.0), LawSegment("dwell", math.radians(60)),
+                           LawSegment("cycloidal", math.radians(150), -12.0)])
+    smooth = MotionProgram([LawSegment("cycloidal", math.radians(150), 12.0), LawSegment("dwell", math.radians(60)),
+                            LawSegment("cycloidal", math.radians(150), -12.0)])
+    for law in (jumps, smooth):
+        contour = cam_envelope(knife, law).profile
+        turning = _dense_polygon_turning(contour)
+        assert abs(turning) > 1e-6  # clearly one way or the other
+        assert contour.is_convex() == (turning > 0), (law is jumps, turning)
+    assert _dense_polygon_turning(cam_envelope(knife, jumps).profile) < -0.05  # the corner: sin(-6 deg)
