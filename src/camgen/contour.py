@@ -1354,14 +1354,26 @@ class Contour:
         distance = require_finite("offset", distance)
         if distance == 0.0:
             return self
+        closure_tol = max(10 * spline_tol, DEFAULT_CLOSURE_TOL)
+        # joints between G1 segments stay closed; a corner (G0 joint) opens a gap of |distance| times its turn
+        turn = self._joint_turns()
+        corner = np.flatnonzero(np.abs(turn) * abs(distance) > closure_tol)
+        if corner.size:
+            i = int(corner[0])
+            p = self.segments[i].end_point
+            polar = math.degrees(math.atan2(p[1], p[0])) % 360.0
+            kind = "convex: its offset needs an arc about the corner" if turn[i] > 0 else "concave: a round tool cannot reach into it"
+            raise GeometryError(
+                f"offset {distance:g} mm of a contour with a corner: segments {i} and {(i + 1) % self.n_segments} meet at cam angle "
+                f"{polar:.3f} deg, the tangent turning by {math.degrees(turn[i]):.3f} deg ({kind}); a disk cam has a corner where "
+                "its law's velocity jumps (a knife follower): blend the velocity there (e.g. constant_velocity with blend > 0)")
         new = []
         for i, seg in enumerate(self.segments):
             if isinstance(seg, Arc):
                 new.append(seg.offset(distance, index=i))
             else:
                 new.append(seg.offset(distance, index=i, tol=spline_tol))
-        # joints between G1 segments stay closed; a corner (G0 joint) would open a gap
-        out = Contour(new, closure_tol=max(10 * spline_tol, DEFAULT_CLOSURE_TOL))
+        out = Contour(new, closure_tol=closure_tol)
         if not self.is_convex():
             crossing = out.self_intersection()
             if crossing is not None:
@@ -1379,10 +1391,14 @@ class Contour:
         as at a knife cam's velocity jump)."""
         if not all(seg.sweep > 0 if isinstance(seg, Arc) else seg.min_turning() >= 0 for seg in self.segments):
             return False
+        return bool(np.all(self._joint_turns() >= -corner_tol))
+
+    def _joint_turns(self) -> np.ndarray:
+        """Signed angles (n,), rad, by which the tangent turns where segment i meets segment i + 1
+        (> 0: to the left, a convex corner; ~0 at a G1 joint)."""
         ends = np.array([seg.derivative(np.array([1.0]))[0] for seg in self.segments])  # (n, 2) tangents at the ends
         starts = np.roll(np.array([seg.derivative(np.array([0.0]))[0] for seg in self.segments]), -1, axis=0)  # next starts
-        turn = np.arctan2(ends[:, 0] * starts[:, 1] - ends[:, 1] * starts[:, 0], np.einsum("ij,ij->i", ends, starts))
-        return bool(np.all(turn >= -corner_tol))
+        return np.arctan2(ends[:, 0] * starts[:, 1] - ends[:, 1] * starts[:, 0], np.einsum("ij,ij->i", ends, starts))
 
     def self_intersection(self, chord_tol: float | None = None, block: int = 1 << 22) -> np.ndarray | None:
         """A point (2,) where two non-adjacent chords of the flattened contour cross, else None.

@@ -174,6 +174,8 @@ def tool_path(contour: Contour, spec: MachiningSpec) -> Contour:
     try:
         return contour.offset(spec.tool_radius, spline_tol=min(1e-6, REFIT_SHARE * spec.chord_tol))
     except GeometryError as exc:
+        if "with a corner" in str(exc):  # no tool radius follows a corner exactly
+            raise GeometryError(f"a tool of diameter {spec.tool_diameter:g} mm cannot follow the profile: {exc}") from None
         raise GeometryError(
             f"a tool of diameter {spec.tool_diameter:g} mm would gouge the profile ({exc}); "
             "use a tool whose radius is below the smallest concave radius"

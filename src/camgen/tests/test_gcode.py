@@ -417,3 +417,36 @@ def test_breakthrough_sets_the_last_pass(breakthrough, contours, tmp_path):
     arcs = [m for m in report.canon if m["kind"] == "arc"]
     assert len(arcs) >= 6 * passes
     assert {round(float(np.hypot(*(m["end"][:2] - m["centre"]))), 3) for m in arcs} <= radii
+
+
+@pytest.mark.parametrize("rotation", ["ccw", "cw"])
+def test_a_knife_cams_corner_is_named_not_called_a_gouge(rotation):
+    """A knife cam whose law's velocity jumps (a constant-velocity rise without blends) has corners:
+    the tool path refuses it naming the corner where the rise ends: its polar angle on the cam and
+    the tangent's turn, both written out here from the knife tip (e, sqrt(Rb^2 - e^2) + s) and its
+    velocity relative to the cam, (sigma y, s' - sigma e) in the fixed frame, on both sides."""
+    from camgen.synthesis.followers import FollowerSpec, cam_envelope
+    from camgen.synthesis.laws import MotionProgram, Segment
+
+    base, offset, lift, span = 45.0, -6.0, 18.0, math.radians(150.0)
+    law = MotionProgram([Segment("constant_velocity", span, lift), Segment("dwell", math.radians(30)),
+                         Segment("cycloidal", math.radians(120), -lift), Segment("dwell", math.radians(60))])
+    f = FollowerSpec("knife", base, offset=offset, rotation=rotation)
+    profile = cam_envelope(f, law).profile
+    with pytest.raises(GeometryError) as err:
+        gcode_program(profile, MachiningSpec(tool_diameter=4.0))
+    text = str(err.value)
+    assert "cannot follow the profile" in text and "gouge" not in text
+    # the corners of the rise's ends: the first one named in contour order (the contour runs against theta for ccw)
+    sigma = f.sigma
+    y0 = math.sqrt(base**2 - offset**2)
+    corners = []
+    for theta, s, before, after in ((0.0, 0.0, 0.0, lift / span), (span, lift, lift / span, 0.0)):
+        tip = complex(offset, y0 + s) * complex(math.cos(theta), -sigma * math.sin(theta))
+        polar = math.degrees(math.atan2(tip.imag, tip.real)) % 360.0
+        v0, v1 = complex(sigma * (y0 + s), before - sigma * offset), complex(sigma * (y0 + s), after - sigma * offset)
+        turn = math.degrees(math.atan2((v0.conjugate() * v1).imag, (v0.conjugate() * v1).real))
+        corners.append((polar, abs(turn)))
+    named = re.search(r"meet at cam angle ([\d.]+) deg, the tangent turning by (-?[\d.]+) deg", text)
+    polar, turn = float(named.group(1)), abs(float(named.group(2)))
+    assert any(abs(polar - p) < 1e-3 and abs(turn - t) < 1e-3 for p, t in corners), (polar, turn, corners)
