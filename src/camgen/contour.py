@@ -26,7 +26,7 @@ from typing import Iterable, Union
 
 import numpy as np
 
-from camgen.errors import GeometryError, ParameterError, require_positive
+from camgen.errors import CornerError, GeometryError, ParameterError, require_positive
 from camgen.geometry import (
     angle_in_sweep,
     cross,
@@ -1363,7 +1363,7 @@ class Contour:
             p = self.segments[i].end_point
             polar = math.degrees(math.atan2(p[1], p[0])) % 360.0
             kind = "convex: its offset needs an arc about the corner" if turn[i] > 0 else "concave: a round tool cannot reach into it"
-            raise GeometryError(
+            raise CornerError(
                 f"offset {distance:g} mm of a contour with a corner: segments {i} and {(i + 1) % self.n_segments} meet at cam angle "
                 f"{polar:.3f} deg, the tangent turning by {math.degrees(turn[i]):.3f} deg ({kind}); a disk cam has a corner where "
                 "its law's velocity jumps (a knife follower): blend the velocity there (e.g. constant_velocity with blend > 0)")

@@ -69,6 +69,11 @@ class UndercutError(GeometryError):
         self.where_deg = list(where_deg or [])
 
 
+class CornerError(GeometryError):
+    """An offset of a contour with a corner (a G0 joint): no single offset curve, so no round
+    tool follows it exactly (a knife cam's corner where its law's velocity jumps)."""
+
+
 class SceneError(CamgenError, ValueError):
     """A scene file cannot be read or does not follow the scene schema."""
 

@@ -54,7 +54,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from camgen.contour import Arc, Contour, Spline
-from camgen.errors import GeometryError, ParameterError, ceil_significant, require_finite, require_positive
+from camgen.errors import CornerError, GeometryError, ParameterError, ceil_significant, require_finite, require_positive
 from camgen.export.tables import format_rows
 
 DIALECTS = ("linuxcnc", "grbl")
@@ -173,9 +173,9 @@ def tool_path(contour: Contour, spec: MachiningSpec) -> Contour:
     """
     try:
         return contour.offset(spec.tool_radius, spline_tol=min(1e-6, REFIT_SHARE * spec.chord_tol))
+    except CornerError as exc:  # no tool radius follows a corner exactly
+        raise CornerError(f"a tool of diameter {spec.tool_diameter:g} mm cannot follow the profile: {exc}") from None
     except GeometryError as exc:
-        if "with a corner" in str(exc):  # no tool radius follows a corner exactly
-            raise GeometryError(f"a tool of diameter {spec.tool_diameter:g} mm cannot follow the profile: {exc}") from None
         raise GeometryError(
             f"a tool of diameter {spec.tool_diameter:g} mm would gouge the profile ({exc}); "
             "use a tool whose radius is below the smallest concave radius"

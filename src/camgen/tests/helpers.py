@@ -61,6 +61,21 @@ def chord_deviation(contour, chord_tol: float, samples: int = 65) -> float:
     return float(np.max(np.linalg.norm(curve - foot, axis=-1)))
 
 
+def segmentwise(contour, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The contour at global parameters ``t`` from each segment's own methods, one segment at a
+    time: points (n, 2), derivatives d/du (n, 2), curvatures (n,), and every parameter's segment
+    index and local parameter u (the reference of Contour's vectorised evaluation)."""
+    n = contour.n_segments
+    flat = np.mod(t, n)
+    idx = np.minimum(np.floor(flat).astype(int), n - 1)
+    u = flat - idx
+    point, deriv, kappa = np.empty((t.size, 2)), np.empty((t.size, 2)), np.empty(t.size)
+    for i, seg in enumerate(contour.segments):
+        at = idx == i
+        point[at], deriv[at], kappa[at] = seg.point(u[at]), seg.derivative(u[at]), seg.curvature(u[at])
+    return point, deriv, kappa, idx, u
+
+
 def shoelace(points: np.ndarray) -> float:
     x, y = points[:, 0], points[:, 1]
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))

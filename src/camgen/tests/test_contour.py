@@ -13,6 +13,7 @@ from camgen.tests.helpers import (
     brute_support,
     chord_deviation,
     distance_to_arcs,
+    segmentwise,
     shoelace,
 )
 
@@ -374,13 +375,7 @@ def test_evaluation_equals_each_segments_own_methods(name, biarc_tricycle, steer
     rng = np.random.default_rng(7)
     quarters = np.arange(4 * n) / 4.0  # on the breaks of many_splines
     t = np.concatenate([rng.uniform(0, n, 20000), quarters, [n - 1e-12, n, -0.25, 2 * n + 0.5]])
-    flat = np.mod(t, n)
-    idx = np.minimum(np.floor(flat).astype(int), n - 1)
-    u = flat - idx
-    point, deriv, kappa = np.empty((t.size, 2)), np.empty((t.size, 2)), np.empty(t.size)
-    for i, seg in enumerate(contour.segments):
-        at = idx == i
-        point[at], deriv[at], kappa[at] = seg.point(u[at]), seg.derivative(u[at]), seg.curvature(u[at])
+    point, deriv, kappa, _, _ = segmentwise(contour, t)
     assert np.array_equal(contour.evaluate(t), point)
     assert np.array_equal(contour.tangent(t), deriv / np.linalg.norm(deriv, axis=1, keepdims=True))
     assert np.array_equal(contour.curvature(t), kappa)

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from camgen.contour import Arc, Contour, Spline
-from camgen.errors import GeometryError, ParameterError
+from camgen.errors import CornerError, GeometryError, ParameterError
 from camgen.export.gcode import MachiningSpec, gcode_program
 from camgen.tests.cutting import CUT_TOL, ExactProfile, _passes, part_left, sample_moves, simulate
 from camgen.tests.helpers import distance_to_arcs, require_tool, rs274_canon
@@ -433,7 +433,7 @@ def test_a_knife_cams_corner_is_named_not_called_a_gouge(rotation):
                          Segment("cycloidal", math.radians(120), -lift), Segment("dwell", math.radians(60))])
     f = FollowerSpec("knife", base, offset=offset, rotation=rotation)
     profile = cam_envelope(f, law).profile
-    with pytest.raises(GeometryError) as err:
+    with pytest.raises(CornerError) as err:
         gcode_program(profile, MachiningSpec(tool_diameter=4.0))
     text = str(err.value)
     assert "cannot follow the profile" in text and "gouge" not in text

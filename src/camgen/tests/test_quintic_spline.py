@@ -17,7 +17,7 @@ from scipy.interpolate import PPoly
 from scipy.optimize import brentq, minimize_scalar
 
 from camgen.contour import Arc, Contour, Spline
-from camgen.tests.helpers import brute_support
+from camgen.tests.helpers import brute_support, segmentwise
 
 #: Relative agreement of camgen's evaluation with scipy's PPoly on the same coefficients.
 RTOL_EVAL = 1e-12
@@ -354,13 +354,7 @@ def test_mixed_contour_evaluates_like_its_segments_and_ppoly():
     contour = _mixed()
     rng = np.random.default_rng(2)
     t = np.concatenate([rng.uniform(0, 3, 30000), np.arange(12) / 4.0, [3 - 1e-12, 3.0]])
-    flat = np.mod(t, 3)
-    idx = np.minimum(np.floor(flat).astype(int), 2)
-    u = flat - idx
-    point, deriv, kappa = np.empty((t.size, 2)), np.empty((t.size, 2)), np.empty(t.size)
-    for i, seg in enumerate(contour.segments):
-        at = idx == i
-        point[at], deriv[at], kappa[at] = seg.point(u[at]), seg.derivative(u[at]), seg.curvature(u[at])
+    point, deriv, kappa, idx, u = segmentwise(contour, t)
     assert np.array_equal(contour.evaluate(t), point)
     assert np.array_equal(contour.tangent(t), deriv / np.linalg.norm(deriv, axis=1, keepdims=True))
     assert np.array_equal(contour.curvature(t), kappa)

@@ -210,6 +210,12 @@ def test_occt_volume_of_every_template_step_is_within_1e6(template_cams):
 
 def _step_bspline_edges(shape, z: float = 0.0):
     """(knots, controls) of the cubic B-spline edges of ``shape`` in the plane ``z`` (each once)."""
+    return [(knots, controls) for degree, knots, controls in step_bspline_edges(shape, z) if degree == 3]
+
+
+def step_bspline_edges(shape, z: float = 0.0) -> list[tuple[int, np.ndarray, np.ndarray]]:
+    """(degree, knots, controls (n, 2)) of the B-spline edges of ``shape`` in the plane ``z`` (each
+    once), as OCCT reads them."""
     from OCP.BRepAdaptor import BRepAdaptor_Curve
     from OCP.GeomAbs import GeomAbs_BSplineCurve
     from OCP.TopAbs import TopAbs_EDGE
@@ -223,9 +229,9 @@ def _step_bspline_edges(shape, z: float = 0.0):
         if curve.GetType() == GeomAbs_BSplineCurve:
             b = curve.BSpline()
             poles = np.array([[b.Pole(i).X(), b.Pole(i).Y(), b.Pole(i).Z()] for i in range(1, b.NbPoles() + 1)])
-            if b.Degree() == 3 and np.allclose(poles[:, 2], z):
+            if np.allclose(poles[:, 2], z):
                 knots = np.repeat([b.Knot(i) for i in range(1, b.NbKnots() + 1)], [b.Multiplicity(i) for i in range(1, b.NbKnots() + 1)])
-                found[(round(knots[0], 12), round(knots[-1], 12))] = (knots, poles[:, :2])
+                found[(b.Degree(), round(knots[0], 12), round(knots[-1], 12))] = (b.Degree(), knots, poles[:, :2])
         explorer.Next()
     return list(found.values())
 
