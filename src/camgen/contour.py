@@ -347,19 +347,15 @@ def _horner(c: np.ndarray, tau: np.ndarray, order: int = 0) -> np.ndarray:
     return acc
 
 
-#: Exponents 0..10 (powers of a piece length).
-_POWERS = np.arange(11.0)
-
-
 @functools.lru_cache(maxsize=None)
-def _area_pairs(degree: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The index pairs ``i < m`` of ``degree + 1`` coefficients and the weights ``(m - i) / (i + m)``
-    of :meth:`Spline.green_area`."""
+def _area_weights(degree: int) -> np.ndarray:
+    """The (degree + 1, degree + 1) matrix ``W[i, m] = (m - i) / (i + m)`` for ``i < m`` (0 elsewhere)
+    of :meth:`Spline.green_area` (read-only; complex, as it multiplies complex coefficients)."""
     i, m = np.triu_indices(degree + 1, 1)
-    ratio = (m - i) / (i + m)
-    for a in (i, m, ratio):
-        a.flags.writeable = False
-    return i, m, ratio
+    w = np.zeros((degree + 1, degree + 1), dtype=complex)
+    w[i, m] = (m - i) / (i + m)
+    w.flags.writeable = False
+    return w
 
 
 def _bernstein_max_norm(c: np.ndarray, h: np.ndarray) -> np.ndarray:
@@ -508,6 +504,20 @@ class Spline:
         self.degree = coeffs.shape[0] - 1
         self._rows = np.ascontiguousarray(coeffs.transpose(1, 0, 2))  # (K, degree + 1, 2) for fast gathers
 
+    @classmethod
+    def _checked_by_caller(cls, breaks: np.ndarray, coeffs: np.ndarray) -> "Spline":
+        """A spline of arrays its caller has checked (float ``breaks`` strictly increasing, finite
+        float ``coeffs`` of shape (degree + 1, K, 2)): made read-only, neither copied nor checked
+        again (the envelope fit checks all its segments at once)."""
+        spline = cls.__new__(cls)
+        breaks.flags.writeable = False
+        coeffs.flags.writeable = False
+        spline.breaks = breaks
+        spline.coeffs = coeffs
+        spline.degree = coeffs.shape[0] - 1
+        spline._rows = np.ascontiguousarray(coeffs.transpose(1, 0, 2))
+        return spline
+
     # -- constructors ------------------------------------------------------------------------
     @classmethod
     def interpolate(
@@ -631,12 +641,12 @@ class Spline:
 
     @property
     def end_point(self) -> np.ndarray:
-        c = self._rows[-1]  # the last piece at its end, by the arithmetic of eval_piece (Horner)
-        tau = self.breaks[-1] - self.breaks[-2]
-        acc = c[0]
-        for m in range(1, self.degree + 1):
-            acc = acc * tau + c[m]
-        return acc
+        (x, y), *rest = self._rows[-1].tolist()  # the last piece at its end, by the arithmetic of eval_piece (Horner)
+        tau = float(self.breaks[-1] - self.breaks[-2])
+        for cx, cy in rest:
+            x = x * tau + cx
+            y = y * tau + cy
+        return np.array([x, y])
 
     def _ascending(self) -> np.ndarray:
         """Coefficients (degree + 1, K, 2), lowest power first."""
@@ -739,11 +749,15 @@ class Spline:
         z = self.coeffs.view(complex)[..., 0]  # (degree + 1, K): z[degree - i] = p_i
         h = self.breaks[1:] - self.breaks[:-1]
         if self.degree != 3:
+            # with q_i = p_i h^i: sum_{i<m} W[i, m] Im(conj(q_i) q_m) = Im(sum_i conj(q_i) (W q)_i)
             d = self.degree
-            i, m, ratio = _area_pairs(d)  # the pairs i < m and (m - i) / (i + m)
-            cross = (np.conj(z[d - i]) * z[d - m]).imag  # p_i x p_m, (pairs, K)
-            powers = h ** _POWERS[: 2 * d + 1, None]  # h^0 .. h^(2d), (2d + 1, K)
-            return 0.5 * float(np.sum(ratio[:, None] * powers[i + m] * cross))
+            powers = np.empty((d + 1, h.size))
+            powers[0] = 1.0
+            powers[1] = h
+            for k in range(2, d + 1):
+                np.multiply(powers[k - 1], h, out=powers[k])
+            q = z[::-1] * powers
+            return 0.5 * float(np.vdot(q, _area_weights(d) @ q).imag)
         c0 = (np.conj(z[3]) * z[:3]).imag  # p0 x (p3, p2, p1)
         c1 = (np.conj(z[2]) * z[:2]).imag  # p1 x (p3, p2)
         c23 = (np.conj(z[1]) * z[0]).imag
@@ -1213,14 +1227,16 @@ class Contour:
             raise GeometryError("a contour needs at least one segment")
         for i, seg in enumerate(self.segments):
             nxt = self.segments[(i + 1) % len(self.segments)]
-            gap = float(np.hypot(*(seg.end_point - nxt.start_point)))
+            (ex, ey), (sx, sy) = seg.end_point.tolist(), nxt.start_point.tolist()
+            gap = math.hypot(ex - sx, ey - sy)
             if gap > closure_tol:
                 raise GeometryError(
                     f"contour is not closed: segment {i} ends {gap:.3g} mm from where segment "
                     f"{(i + 1) % len(self.segments)} starts (closure_tol = {closure_tol:g} mm)"
                 )
-        if self.area <= 0.0:
-            raise GeometryError(f"contour must run counter-clockwise (signed area {self.area:.6g} mm^2 <= 0)")
+        area = self.area
+        if area <= 0.0:
+            raise GeometryError(f"contour must run counter-clockwise (signed area {area:.6g} mm^2 <= 0)")
         self._corners = np.array([seg.start_point for seg in self.segments])  # segment start points (n, 2)
         self._arc_table = self._convex_arc_table()
 

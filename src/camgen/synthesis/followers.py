@@ -354,9 +354,9 @@ class Kinematics:
             return np.where(k != 0, 1.0 / np.where(k != 0, k, 1.0), np.inf)
 
 
-def _centre(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray):
+def _centre(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray | None):
     """The roller centre C (fixed frame, mm) as (x, y), its velocity V = D C, acceleration A = D^2 C
-    and B = D^3 C relative to the cam (``D = d/dtheta - sigma J``, components (x, y) each), the
+    and B = D^3 C (None when ``d3s`` is None) relative to the cam (``D = d/dtheta - sigma J``, components (x, y) each), the
     direction of motion m (x, y) (None for the translating ``+y``) and the arm angle (oscillating) or None."""
     sigma = f.sigma
     if f.motion == "translating":
@@ -364,22 +364,24 @@ def _centre(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s
         e, y = f.offset, f.rest_height + s
         v = (sigma * y, ds - sigma * e)
         a = (2.0 * sigma * ds - e, d2s - y)
-        b = (sigma * (3.0 * d2s - y), d3s - 3.0 * ds + sigma * e)
+        b = None if d3s is None else (sigma * (3.0 * d2s - y), d3s - 3.0 * ds + sigma * e)
         return (e, y), v, a, b, None, None
     tau, arm = f.tau, f.arm_length
     px, py = f.pivot  # type: ignore[misc]
     g = f.rest_arm_angle + tau * s
-    g1, g2, g3 = tau * ds, tau * d2s, tau * d3s
+    g1, g2 = tau * ds, tau * d2s
     cg, sg = np.cos(g), np.sin(g)  # u = (cg, sg), J u = (-sg, cg)
     cx, cy = px + arm * cg, py + arm * sg
     k1 = arm * g1  # dC = k1 J u
     k2, l2 = arm * g2, arm * (g1 * g1)  # d2C = k2 J u - l2 u
-    k3, l3 = arm * (g3 - g1 * g1 * g1), arm * (3.0 * g1 * g2)  # d3C = k3 J u - l3 u
     # V = dC - sigma J C, A = d2C - 2 sigma J dC - C, B = d3C - 3 sigma J d2C - 3 dC + sigma J C  (J J u = -u)
     v = (-k1 * sg + sigma * cy, k1 * cg - sigma * cx)
     a = (-k2 * sg - l2 * cg + 2.0 * sigma * k1 * cg - cx, k2 * cg - l2 * sg + 2.0 * sigma * k1 * sg - cy)
-    b = (-k3 * sg - l3 * cg + 3.0 * sigma * (k2 * cg - l2 * sg) + 3.0 * k1 * sg - sigma * cy,
-         k3 * cg - l3 * sg + 3.0 * sigma * (k2 * sg + l2 * cg) - 3.0 * k1 * cg + sigma * cx)
+    b = None
+    if d3s is not None:
+        k3, l3 = arm * (tau * d3s - g1 * g1 * g1), arm * (3.0 * g1 * g2)  # d3C = k3 J u - l3 u
+        b = (-k3 * sg - l3 * cg + 3.0 * sigma * (k2 * cg - l2 * sg) + 3.0 * k1 * sg - sigma * cy,
+             k3 * cg - l3 * sg + 3.0 * sigma * (k2 * sg + l2 * cg) - 3.0 * k1 * cg + sigma * cx)
     return (cx, cy), v, a, b, (-tau * sg, tau * cg), g
 
 
@@ -611,27 +613,88 @@ def _pitch_failures(f: FollowerSpec, s: np.ndarray, speed: np.ndarray, curvature
     ``|dP/dtheta|`` (mm/rad) and its signed curvature (1/mm)."""
     out = []
     if f.motion == "translating":
-        out.append(("the follower passes through the rotation axis (sqrt(Rp^2 - e^2) + s <= 0)", f.rest_height + s <= 0))
+        out.append((_AXIS_REASON, f.rest_height + s <= 0))
     scale = max(1.0, f.prime_radius)
-    out.append(("cusp: the pitch curve stops (zero relative velocity)", ~(speed > 1e-12 * scale)))
+    out.append((_CUSP_REASON, ~(speed > 1e-12 * scale)))
     if f.kind == "roller":
-        out.append((f"undercut: convex radius of curvature of the pitch curve <= roller radius {f.roller_radius:g} mm",
-                    f.roller_radius * curvature >= 1.0))
+        out.append((_undercut_reason(f), f.roller_radius * curvature >= 1.0))
     return out
 
 
-def _pitch_speed_curvature(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Roller / knife: the pitch curve's speed ``|V|`` (mm/rad) and signed curvature (1/mm) from the
-    law's values, by the arithmetic of :func:`_roller` (the undercut check without the rest of
-    :class:`Kinematics`: no rotation into the cam frame, no profile)."""
-    _, (vx, vy), (ax, ay), _, _, _ = _centre(f, s, ds, d2s, d3s)
-    with np.errstate(divide="ignore", invalid="ignore"):
+_AXIS_REASON = "the follower passes through the rotation axis (sqrt(Rp^2 - e^2) + s <= 0)"
+_CUSP_REASON = "cusp: the pitch curve stops (zero relative velocity)"
+
+
+def _undercut_reason(f: FollowerSpec) -> str:
+    return f"undercut: convex radius of curvature of the pitch curve <= roller radius {f.roller_radius:g} mm"
+
+
+def _pitch_failure_masks(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray) -> list[tuple[str, np.ndarray]]:
+    """:func:`_pitch_failures` of a roller or knife from the law's values alone, by the arithmetic of
+    :func:`_roller` without the speed and curvature arrays (the undercut check of an envelope: no
+    rotation into the cam frame, no profile, no division): ``r kappa >= 1`` is tested as
+    ``-sigma r (V x A) >= |V|^3`` (``kappa = -sigma (V x A) / |V|^3``), the cusp as ``|V|^2 <= (1e-12 scale)^2``."""
+    (_, cy), (vx, vy), (ax, ay), _, _, _ = _centre(f, s, ds, d2s, None)
+    out = []
+    if f.motion == "translating":
+        out.append((_AXIS_REASON, cy <= 0))
+    scale = max(1.0, f.prime_radius)
+    with np.errstate(over="ignore", invalid="ignore"):
+        speed2 = vx * vx
+        speed2 += vy * vy
+        out.append((_CUSP_REASON, ~(speed2 > (1e-12 * scale) ** 2)))
+        if f.kind == "roller":
+            cross = vx * ay
+            cross -= vy * ax
+            cross *= -f.sigma * f.roller_radius
+            cube = np.sqrt(speed2)
+            cube *= speed2
+            np.maximum(cube, np.finfo(float).tiny, out=cube)  # r kappa is NaN (not >= 1) where |V| = 0: a cusp
+            out.append((_undercut_reason(f), cross >= cube))
+    return out
+
+
+#: Screening of a roller or knife cam on the coarse grid (:func:`_pitch_clear`): the largest
+#: ``r kappa`` (1 at an undercut) it passes, and the least ``|V| / scale`` and ``(Rp' + s) / scale``
+#: (``scale = max(1 mm, Rp)``; 0 at a cusp and at the axis).
+SCREEN_UNDERCUT = 0.9
+SCREEN_CLEARANCE = 1e-3
+#: Largest rise of a cubic between two samples ``h`` apart above the larger of its end values, per
+#: unit of ``h max|slope|`` at the ends: ``p(t) = m0 t (1 - t)^2 - m1 t^2 (1 - t)`` on [0, 1] peaks at
+#: ``4/27 (|m0| + |m1|) <= 8/27`` of ``max(|m0|, |m1|)``; rounded up.
+_CUBIC_RISE = 0.3
+
+
+def _pitch_clear(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray, spacing: float) -> bool:
+    """Whether a roller or knife cam is clear of every limit of :func:`_pitch_failures` by a margin,
+    from the law's values at the coarse grid (samples at most ``spacing`` rad apart, the breaks and
+    their one-sided neighbours included): every quantity checked is extrapolated from its extreme
+    sample by its largest slope over the grid (``_CUBIC_RISE spacing max|slope|``: the reach of a
+    cubic between two samples) and must stay inside :data:`SCREEN_UNDERCUT` and
+    :data:`SCREEN_CLEARANCE`.  True: no limit is near, the dense check can be skipped; False: the
+    dense check decides (it gives the failed ranges).  The quantities and slopes are those of
+    :func:`_roller`: ``r kappa`` and ``r d kappa / d theta`` (``kappa = -sigma (V x A) / |V|^3``),
+    ``|V|^2`` and ``2 V . A``, the follower height ``Rp' + s`` and ``s'``."""
+    (_, cy), (vx, vy), (ax, ay), (bx, by), _, _ = _centre(f, s, ds, d2s, d3s)
+    scale = max(1.0, f.prime_radius)
+    reach = _CUBIC_RISE * spacing
+    with np.errstate(all="ignore"):
+        if f.motion == "translating" and not float(np.min(cy)) - reach * float(np.max(np.abs(ds))) > SCREEN_CLEARANCE * scale:
+            return False
         speed2 = vx * vx + vy * vy
+        dot = vx * ax + vy * ay
+        low = float(np.min(speed2)) - reach * 2.0 * float(np.max(np.abs(dot)))
+        if not low > (SCREEN_CLEARANCE * scale) ** 2:
+            return False
+        if f.kind != "roller":
+            return True
         cross = vx * ay - vy * ax
-        cube = np.sqrt(speed2)
-        speed = cube.copy()
-        cube *= speed2
-        return speed, np.divide(-f.sigma * cross, cube)
+        cube = speed2 * np.sqrt(speed2)
+        r = f.sigma * -f.roller_radius
+        kappa = (r * cross) / cube  # r kappa
+        slope = (r * (vx * by - vy * bx) - 3.0 * (r * cross) * dot / speed2) / cube  # r d kappa / d theta
+        high = float(np.max(kappa)) + reach * float(np.max(np.abs(slope)))
+        return high <= SCREEN_UNDERCUT
 
 
 def _run_ranges(mask: np.ndarray, theta: np.ndarray) -> list[tuple[float, float]]:
@@ -651,65 +714,64 @@ def _run_ranges(mask: np.ndarray, theta: np.ndarray) -> list[tuple[float, float]
 def check_grid(law: Displacement, check_step: float = DEFAULT_CHECK_STEP) -> np.ndarray:
     """Sorted cam angles (rad, one turn) for dense checks: a uniform grid of ``check_step`` plus
     every break and both one-sided neighbours of it (1e-9 rad away)."""
-    return _check_grid(law, check_step)[0]
+    n, added = _grid_layout(law, check_step)
+    return _insert_added(np.arange(n) * (TWO_PI / n), added)
 
 
-def _check_grid(law: Displacement, check_step: float) -> tuple[np.ndarray, int, np.ndarray, np.ndarray]:
-    """:func:`check_grid` and how it is made: the uniform grid's size ``n`` (angles ``k 2 pi / n``),
-    the positions in the result of the angles added to it, and those angles."""
+def _grid_layout(law: Displacement, check_step: float) -> tuple[int, np.ndarray]:
+    """How the check grid of :func:`check_grid` is made: the size ``n`` of its uniform part (the
+    angles ``k 2 pi / n``) and the sorted angles added to it (the breaks and their one-sided
+    neighbours that are not on the uniform grid already)."""
     require_positive("check_step", check_step, "rad")
     n = max(8, math.ceil(TWO_PI / check_step))
-    brk = np.asarray(getattr(law, "breaks", np.zeros(0)), dtype=float)
-    grid = np.arange(n) * (TWO_PI / n)  # sorted, in [0, 2 pi) (np.mod leaves it as it is)
-    extra = np.unique(np.mod(np.concatenate([brk, brk - 1e-9, brk + 1e-9]), TWO_PI))
-    at = np.searchsorted(grid, extra)
-    new = (at == n) | (grid[np.minimum(at, n - 1)] != extra)  # the angles not on the grid already
-    at, extra = at[new], extra[new]
-    return np.insert(grid, at, extra), n, at + np.arange(at.size), extra
+    brk = np.asarray(getattr(law, "breaks", np.zeros(0)), dtype=float).tolist()
+    if not brk:
+        return n, np.zeros(0)
+    # a few angles, as Python floats (Python's % is np.mod)
+    extra = sorted({(b + d) % TWO_PI for b in brk for d in (0.0, -1e-9, 1e-9)})
+    d = TWO_PI / n
+    # an angle on the grid is k 2 pi / n exactly for its nearest index k
+    return n, np.array([a for a in extra if round(a / d) * d != a or round(a / d) == n])
 
 
-def _law_on_grid(law: Displacement, theta: np.ndarray, n: int, where: np.ndarray, extra: np.ndarray) -> tuple[np.ndarray, ...]:
-    """``law(theta)`` (the displacement and its three derivatives, (theta.size,) each) on the check
-    grid of :func:`_check_grid` (``n``, ``where``, ``extra``): from the law's ``on_uniform_grid(n)``
-    on the uniform part when it has one (a motion program: its sines and cosines by angle
-    addition), directly at the added angles."""
+def _insert_added(uniform: np.ndarray, added: np.ndarray, added_values: np.ndarray | None = None) -> np.ndarray:
+    """Values on the sorted check grid from those on its uniform part (n,) (angles ``k 2 pi / n``)
+    and at the ``added`` angles (sorted; ``added_values``: the values there, default the angles)."""
+    if not added.size:
+        return uniform
+    n = uniform.size
+    at = np.searchsorted(np.arange(n) * (TWO_PI / n), added)
+    return np.insert(uniform, at, added if added_values is None else added_values)
+
+
+def _law_on_grid(law: Displacement, n: int, added: np.ndarray) -> tuple[np.ndarray, ...]:
+    """``law`` (the displacement and its three derivatives) at the angles of the check grid in
+    :class:`CheckGrid` order: the uniform part ``k 2 pi / n`` (k = 0 .. n - 1), then the ``added``
+    angles; from the law's ``on_uniform_grid`` when it has one (a motion program: its sines and
+    cosines by angle addition)."""
     uniform = getattr(law, "on_uniform_grid", None)
-    if uniform is None:
-        return tuple(np.asarray(x, dtype=float).ravel() for x in law(theta))
-    values = uniform(n)
-    if extra.size:
-        # where every grid angle's values are in [uniform | added] (one gather: faster than masked writes)
-        source = np.empty(theta.size, dtype=np.intp)
-        keep = np.ones(theta.size, dtype=bool)
-        keep[where] = False
-        source[keep] = np.arange(n)
-        source[where] = n + np.arange(where.size)
-        added = np.array([np.asarray(x, dtype=float).ravel() for x in law(extra)])
-        values = np.concatenate([values, added], axis=1).take(source, axis=1)
-    return values[0], values[1], values[2], values[3]
+    if uniform is not None:
+        return tuple(uniform(n, added))
+    theta = np.concatenate([np.arange(n) * (TWO_PI / n), added])
+    return tuple(np.asarray(x, dtype=float).ravel() for x in law(theta))
 
 
 #: Length of the short table of unit phasors of a uniform grid (:func:`_grid_to_cam`).
 _PHASOR_BLOCK = 128
 
 
-def _grid_to_cam(f: FollowerSpec, n: int, where: np.ndarray, extra: np.ndarray) -> np.ndarray:
-    """:func:`_to_cam` on the check grid of :func:`_check_grid` (``n``, ``where``, ``extra``): on the
-    uniform grid ``exp(-i sigma k d)`` (``d = 2 pi / n``) as the products ``exp(-i sigma B j d)
-    exp(-i sigma l d)`` (``k = B j + l``) of two short tables (angle addition: within a few ulps of
-    the cosine and sine of the grid angles), at the added angles directly."""
+def _grid_to_cam(f: FollowerSpec, n: int, added: np.ndarray) -> np.ndarray:
+    """:func:`_to_cam` on the check grid in :class:`CheckGrid` order (the uniform part ``k d``,
+    ``d = 2 pi / n``, then the ``added`` angles): on the uniform part ``exp(-i sigma k d)`` as the
+    products ``exp(-i sigma B j d) exp(-i sigma l d)`` (``k = B j + l``) of two short tables (angle
+    addition: within a few ulps of the cosine and sine of the grid angles), at the added angles directly."""
     d = TWO_PI / n
     rows = -(-n // _PHASOR_BLOCK)
     big = _to_cam(f, np.arange(rows) * (_PHASOR_BLOCK * d))
     small = _to_cam(f, np.arange(_PHASOR_BLOCK) * d)
-    uniform = np.multiply.outer(big, small).ravel()
-    if not extra.size:
-        return uniform[:n]
-    out = np.empty(n + extra.size, dtype=complex)
-    out[where] = _to_cam(f, extra)
-    keep = np.ones(out.size, dtype=bool)
-    keep[where] = False
-    out[keep] = uniform[:n]
+    out = np.empty(n + added.size, dtype=complex)
+    out[:n] = np.multiply.outer(big, small).ravel()[:n]
+    out[n:] = _to_cam(f, added)
     return out
 
 
@@ -749,33 +811,26 @@ def _breaks_of(law: Displacement) -> tuple[np.ndarray, np.ndarray]:
     return brk, cont
 
 
-#: Spacing (rad) of the cam angles of the sixth-derivative estimate (:func:`_sixth_derivatives`).
+#: Spacing (rad) of the coarse grid: the cam angles of the sixth-derivative estimate
+#: (:func:`_sixth_derivatives`) and of the screening of a roller or knife cam (:func:`_pitch_clear`).
 BOUND_SPACING = math.radians(0.5)
-
-
-def _bound_stride(n: int) -> int:
-    """Every how many angles of a check grid of ``n`` angles per turn the sixth-derivative
-    estimate takes (about :data:`BOUND_SPACING` apart)."""
-    return max(1, int(BOUND_SPACING * n / TWO_PI))
 
 
 def _sixth_derivatives(theta: np.ndarray, d2: list[np.ndarray], brk: np.ndarray) -> np.ndarray:
     """Largest ``|d6Q/dtheta6|`` (mm/rad^6) of the curves whose exact ``d2Q/dtheta2`` (complex
-    ``x + i y``, (n,) each) are given at the sorted cam angles ``theta`` (n,) (a check grid taken
-    every :func:`_bound_stride` angles), per interval between the sorted breaks ``brk`` (interval k
-    from ``brk[k]``; one interval when there are none): fourth differences of ``d2Q`` over five
-    consecutive angles that are uniformly spaced (to 1e-6 of the spacing) and that no break splits
-    (the law is analytic inside an interval), divided by the spacing^4."""
-    th = theta
-    h = np.diff(th)
-    where = np.searchsorted(brk, th, side="right")  # breaks <= theta
-    span = h[:-3]
-    ok = (where[:-4] == where[4:]) & (np.maximum.reduce([np.abs(h[k: k + span.size] - span) for k in range(1, 4)]) <= 1e-6 * span)
-    worst = np.zeros(th.size - 4)
+    ``x + i y``, (n,) each) are given at the uniformly spaced, increasing cam angles ``theta`` (n,)
+    (the uniform part of the coarse grid, :data:`BOUND_SPACING`), per interval between the sorted
+    breaks ``brk`` (interval k from ``brk[k]``; one interval when there are none): fourth
+    differences of ``d2Q`` over five consecutive angles that no break splits (the law is analytic
+    inside an interval; a break on the first angle belongs to the interval it starts), divided by
+    the spacing^4."""
+    where = np.searchsorted(brk, theta, side="right")  # breaks <= theta
+    ok = where[:-4] == where[4:]
+    worst = np.zeros(theta.size - 4)
     for z in d2:
         dd = z[4:] - 4.0 * z[3:-1] + 6.0 * z[2:-2] - 4.0 * z[1:-3] + z[:-4]
         np.maximum(worst, dd.real * dd.real + dd.imag * dd.imag, out=worst)
-    worst = np.sqrt(worst) / span**4
+    worst = np.sqrt(worst) * (theta[1] - theta[0]) ** -4
     # the stencils are sorted by interval: the largest value in each run
     interval = (where[:-4] - 1) % max(1, brk.size)
     out = np.zeros(max(1, brk.size))
@@ -787,8 +842,9 @@ def _sixth_derivatives(theta: np.ndarray, d2: list[np.ndarray], brk: np.ndarray)
 
 
 #: Weights of the one-sided extrapolation of the derivatives at a break from 1, 2, 3 steps away
-#: (quadratic, error O(step^3)).
+#: (quadratic, error O(step^3)), and those steps (rad of cam angle).
 _ONE_SIDED_WEIGHTS = np.array([3.0, -3.0, 1.0])
+_ONE_SIDED_STEPS = _ONE_SIDED_STEP * np.array([1.0, 2.0, 3.0])
 
 
 def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement, fit_tol: float,
@@ -796,8 +852,8 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
                      max_rounds: int = 12, max_pieces: int = 100_000) -> tuple[list[Contour], list[float]]:
     """Contours of ``dims`` exact curves at once, one quintic spline segment per interval between
     the law's breaks (one segment from cam angle 0 when there are none); the curves share their knots.
-    ``exact(theta, k)`` -> ``((Q, dQ/dtheta, d2Q/dtheta2) at the first k angles, Q at the others)``,
-    each complex (n, dims) (the curves side by side; None for the derivatives when k = 0).
+    ``exact(theta)`` -> ``(Q, dQ/dtheta, d2Q/dtheta2)`` at the cam angles ``theta``, each complex
+    (n, dims) (the curves side by side).
 
     The spline parameter is ``t = -sigma theta`` (the contour runs counter-clockwise).  Every
     segment has ``count`` uniform pieces, each the quintic Hermite interpolant of the exact curve's
@@ -813,74 +869,75 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
     Returns the contours and the largest measured distance of each.
     """
     brk, _ = _breaks_of(law)
-    tb = np.unique(np.mod(-sigma * brk, TWO_PI))
-    if tb.size == 0:
-        tb = np.zeros(1)
-    cuts = np.append(tb, tb[0] + TWO_PI)
-    lo, hi = cuts[:-1], cuts[1:]
+    sorted_brk = sorted(set(brk.tolist()))
+    tb = sorted({(-sigma * b) % TWO_PI for b in sorted_brk}) or [0.0]
+    lo, hi = np.array(tb), np.array(tb[1:] + [tb[0] + TWO_PI])
     nseg = lo.size
     count = np.maximum(2, np.ceil((hi - lo) / initial_step)).astype(int)
     if bound is not None:
-        sorted_brk = np.unique(brk)
-        sixth = _sixth_derivatives(bound[0], bound[1], sorted_brk)
+        sixth = _sixth_derivatives(bound[0], bound[1], np.array(sorted_brk))
         # the law interval of every segment (t = -sigma theta): the one holding its middle
         mid = np.mod(-sigma * 0.5 * (lo + hi), TWO_PI)
         sixth = sixth[(np.searchsorted(sorted_brk, mid, side="right") - 1) % sixth.size]
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             want = np.ceil((hi - lo) * (_SPLINE_ERROR_CONSTANT * sixth / (_FIRST_COUNT_SHARE * fit_tol)) ** (1.0 / 6.0))
-        known = np.isfinite(want)
-        count[known] = np.clip(want[known], 2, max_pieces).astype(int)
+        count = np.where(np.isfinite(want), np.clip(want, 2, max_pieces), count).astype(int)
 
     # one-sided dQ/dt and d2Q/dt2 at every segment's two ends, evaluated with the first round
-    steps = _ONE_SIDED_STEP * np.array([1.0, 2.0, 3.0])
-    probe_ends = np.concatenate([lo[:, None] + steps[None, :], hi[:, None] - steps[None, :]], axis=1).ravel()
-    ends1 = ends2 = None
+    lead = (np.stack([lo, hi])[:, :, None] + np.array([1.0, -1.0])[:, None, None] * _ONE_SIDED_STEPS).ravel()
+    ends1 = ends2 = None  # (2 [start, end], nseg, dims), complex
     fits: list[tuple[np.ndarray, np.ndarray] | None] = [None] * nseg
     errors = np.zeros((nseg, dims))
     todo = np.arange(nseg)
     for _ in range(max_rounds):
         x, first, last = _uniform_knots(lo[todo], hi[todo], count[todo])
-        span = np.diff(x)
-        probes = (x[:-1, None] + _PROBES[None, :] * span[:, None]).ravel()  # 3 per piece, piece by piece
-        lead = probe_ends if ends1 is None else probe_ends[:0]
-        (q, q1, q2), qp = exact(-sigma * np.concatenate([lead, x, probes]), lead.size + x.size)
-        if ends1 is None:
-            w = _ONE_SIDED_WEIGHTS[None, :, None]
-            e1 = -sigma * q1[: lead.size].reshape(nseg, 2, 3, dims)
-            e2 = q2[: lead.size].reshape(nseg, 2, 3, dims)
-            ends1, ends2 = (w * e1).sum(axis=2), (w * e2).sum(axis=2)  # (nseg, 2 [start, end], dims), complex
-        q, q1, q2 = q[lead.size:], -sigma * q1[lead.size:], q2[lead.size:]  # d/dt = -sigma d/dtheta
-        q1[first], q2[first] = ends1[todo, 0], ends2[todo, 0]
-        q1[last], q2[last] = ends1[todo, 1], ends2[todo, 1]
+        span = x[1:] - x[:-1]
+        span[last[:-1]] = 1.0  # from one segment's end to the next one's start (the same angle)
+        if not (span > 0.0).all():
+            raise GeometryError(f"the law's breaks are too close for spline knots between them (fit_tol {fit_tol:g} mm)")
+        probes = x[:-1, None] + _PROBES * span[:, None]  # (knots - 1, 3)
+        nlead = 0 if ends1 is not None else lead.size
+        q, q1, q2 = exact(-sigma * np.concatenate([lead[:nlead], x, probes.ravel()]))
+        q1 *= -sigma  # d/dt = -sigma d/dtheta
+        if ends1 is None:  # quadratic extrapolation from 1, 2, 3 steps inside the segment
+            ends1 = _ONE_SIDED_WEIGHTS @ q1[:nlead].reshape(2 * nseg, 3, dims).transpose(1, 0, 2).reshape(3, -1)
+            ends2 = _ONE_SIDED_WEIGHTS @ q2[:nlead].reshape(2 * nseg, 3, dims).transpose(1, 0, 2).reshape(3, -1)
+            ends1, ends2 = ends1.reshape(2, nseg, dims), ends2.reshape(2, nseg, dims)
+        knots = slice(nlead, nlead + x.size)
+        qk, q1k, q2k = q[knots], q1[knots], q2[knots]
+        q1k[first], q2k[first] = ends1[0, todo], ends2[0, todo]
+        q1k[last], q2k[last] = ends1[1, todo], ends2[1, todo]
         with np.errstate(divide="ignore", invalid="ignore"):  # the pieces between two segments are meaningless
-            coeffs = quintic_hermite_coefficients(x, q, q1, q2)  # (6, pieces, dims), complex
-        # distances of the splines from the exact curves at the probes
-        tau = (probes - np.repeat(x[:-1], _PROBES.size))[:, None]
-        c = np.repeat(coeffs, _PROBES.size, axis=1)
-        val = c[0]
+            coeffs = quintic_hermite_coefficients(x, qk, q1k, q2k)  # (6, pieces, dims), complex
+        # distances of the splines from the exact curves at the probes (Horner at the probes' offsets)
+        tau = (probes - x[:-1, None])[:, :, None]  # (pieces, 3, 1)
+        val = coeffs[0][:, None, :]
         for m in range(1, 6):
-            val = val * tau + c[m]
-        dist = np.abs(val - qp).reshape(-1, _PROBES.size, dims).max(axis=1)  # (pieces, dims)
+            val = val * tau + coeffs[m][:, None, :]
+        dist = np.abs(val - q[nlead + x.size:].reshape(-1, _PROBES.size, dims)).max(axis=1)  # (pieces, dims)
         dist[last[:-1]] = 0.0  # between two segments (NaN there)
         err = np.maximum.reduceat(dist, first, axis=0)
-        left = []
-        for j, k in enumerate(todo):
+        errors[todo] = err
+        worst = err.max(axis=1)
+        for j, k in enumerate(todo.tolist()):
             fits[k] = (x[first[j]: last[j] + 1], coeffs[:, first[j]: last[j]])
-            errors[k] = err[j]
-            worst = float(err[j].max())
-            if worst > fit_tol:
-                if count[k] >= max_pieces:
-                    raise _fit_failure(fit_tol, worst, int(count[k]))
-                count[k] = min(max_pieces, math.ceil(count[k] * min(16.0, max(1.25, (worst / (0.5 * fit_tol)) ** (1.0 / 6.0)))))
-                left.append(k)
-        todo = np.array(left, dtype=int)
-        if not todo.size:
+        bad = worst > fit_tol
+        if not bad.any():
+            todo = todo[:0]
             break
+        for j in np.flatnonzero(bad).tolist():
+            k = int(todo[j])
+            if count[k] >= max_pieces:
+                raise _fit_failure(fit_tol, float(worst[j]), int(count[k]))
+            count[k] = min(max_pieces, math.ceil(count[k] * min(16.0, max(1.25, (float(worst[j]) / (0.5 * fit_tol)) ** (1.0 / 6.0)))))
+        todo = todo[bad]
     if todo.size:
         raise _fit_failure(fit_tol, float(errors[todo].max()), int(count[todo].max()))
+    if not np.isfinite(errors).all():  # a NaN coefficient gives a NaN distance at its probes
+        raise GeometryError("the exact curve is not finite at some spline knots or probes (a cusp the checks did not see)")
     contours = []
-    for c in range(dims):
-        contours.append(Contour([Spline(x, np.ascontiguousarray(coeffs[:, :, c]).view(np.float64).reshape(6, -1, 2))
+    for c in range(dims):  # the knots increase (uniform in each segment) and the distances are finite
+        contours.append(Contour([Spline._checked_by_caller(x, np.ascontiguousarray(coeffs[:, :, c]).view(np.float64).reshape(6, -1, 2))
                                  for x, coeffs in fits]))  # type: ignore[misc]
     return contours, [float(v) for v in errors.max(axis=0)]
 
@@ -892,24 +949,61 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
 class CheckGrid:
     """The dense check grid of a cam (:func:`check_grid`) and the law's values on it.
 
+    The law's values are made on first use (a roller or knife cam that the coarse screening of
+    :func:`_pitch_clear` finds clear of every limit never needs them) and kept in the order they
+    are made: the uniform grid ``k 2 pi / n`` (k = 0 .. n - 1) first, then the ``added`` angles
+    (the breaks and their one-sided neighbours); the sorted grid and the values on it (``theta``,
+    ``s``, ...) are made from them on first use.
+
     Attributes
     ----------
+    law : the :class:`Displacement`.
+    uniform_size : size ``n`` of the uniform grid ``k 2 pi / n``.
+    added : the sorted angles added to the uniform grid (breaks and their neighbours), rad.
+    raw : the law's displacement and its three derivatives (mm or rad of swing, per rad^k) at the
+        uniform grid, then at ``added`` ((n + added.size,) each).
     theta : sorted cam angles, rad (one turn).
-    uniform_size : size ``n`` of the uniform grid ``k 2 pi / n`` in ``theta``.
-    added_at, added : positions in ``theta`` of the angles added to the uniform grid (breaks and
-        their one-sided neighbours) and those angles, rad.
-    s, ds, d2s, d3s : the law's displacement and its derivatives at ``theta`` (mm or rad of
-        swing, per rad^k).
+    added_at : positions of the added angles in ``theta``.
+    s, ds, d2s, d3s : the law's displacement and its derivatives at ``theta``.
     """
 
-    theta: np.ndarray
+    law: Displacement
     uniform_size: int
-    added_at: np.ndarray
     added: np.ndarray
-    s: np.ndarray
-    ds: np.ndarray
-    d2s: np.ndarray
-    d3s: np.ndarray
+
+    @cached_property
+    def raw(self) -> tuple[np.ndarray, ...]:
+        return _law_on_grid(self.law, self.uniform_size, self.added)
+
+    def sorted(self, values: np.ndarray) -> np.ndarray:
+        """``values`` given in the grid's own order (uniform part, then the added angles) in the
+        order of ``theta``."""
+        n = self.uniform_size
+        return _insert_added(values[:n], self.added, values[n:])
+
+    @cached_property
+    def theta(self) -> np.ndarray:
+        return _insert_added(np.arange(self.uniform_size) * (TWO_PI / self.uniform_size), self.added)
+
+    @cached_property
+    def added_at(self) -> np.ndarray:
+        return np.searchsorted(self.theta, self.added)
+
+    @cached_property
+    def s(self) -> np.ndarray:
+        return self.sorted(self.raw[0])
+
+    @cached_property
+    def ds(self) -> np.ndarray:
+        return self.sorted(self.raw[1])
+
+    @cached_property
+    def d2s(self) -> np.ndarray:
+        return self.sorted(self.raw[2])
+
+    @cached_property
+    def d3s(self) -> np.ndarray:
+        return self.sorted(self.raw[3])
 
 
 @dataclass(frozen=True)
@@ -949,7 +1043,7 @@ class CamEnvelope:
     def data(self) -> Kinematics:
         g = self.grid
         return _kinematics_from(self.follower, g.theta, g.s, g.ds, g.d2s, g.d3s,
-                                _grid_to_cam(self.follower, g.uniform_size, g.added_at, g.added))
+                                g.sorted(_grid_to_cam(self.follower, g.uniform_size, g.added)))
 
 
 def _failure_message(f: FollowerSpec, failures: list[dict]) -> str:
@@ -1001,18 +1095,25 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
         where = ", ".join(f"{math.degrees(b):.3f}" for b in brk[cont <= 0])
         raise GeometryError(f"the law's velocity jumps at cam angles {where} deg: a {f.kind} follower cannot follow "
                             "a corner of the pitch curve exactly; use laws with continuous velocity there (or a knife follower)")
-    theta, n_uniform, added_at, added = _check_grid(law, check_step)
-    s, ds, d2s, d3s = _law_on_grid(law, theta, n_uniform, added_at, added)
-    grid = CheckGrid(theta, n_uniform, added_at, added, s, ds, d2s, d3s)
+    n_uniform, added = _grid_layout(law, check_step)
+    grid = CheckGrid(law, n_uniform, added)
+    # the coarse grid (BOUND_SPACING, the breaks and their neighbours added): the law's values there
+    # screen a roller or knife cam for its limits and give the sixth-derivative bound of the fit
+    n_coarse, added_coarse = _grid_layout(law, BOUND_SPACING)
+    coarse = _law_on_grid(law, n_coarse, added_coarse)
     flat_data = None
     if f.kind == "flat":  # the face's checks need most of its kinematics: made now, kept for `data`
-        flat_data = _kinematics_from(f, theta, s, ds, d2s, d3s, _grid_to_cam(f, n_uniform, added_at, added))
+        flat_data = _kinematics_from(f, grid.theta, grid.s, grid.ds, grid.d2s, grid.d3s,
+                                     grid.sorted(_grid_to_cam(f, n_uniform, added)))
         masks = profile_failures(f, flat_data)
-    else:
-        masks = _pitch_failures(f, s, *_pitch_speed_curvature(f, s, ds, d2s, d3s))
+    elif _pitch_clear(f, *coarse, TWO_PI / n_coarse):
+        masks = []
+    else:  # the dense check, in the grid's own order (uniform part, then the added angles)
+        masks = [(reason, grid.sorted(mask)) for reason, mask in _pitch_failure_masks(f, *grid.raw[:3]) if mask.any()]
     failures = []
     for reason, mask in masks:
         if mask.any():
+            theta = grid.theta
             worst = float(theta[np.argmax(mask)])
             failures.append({"reason": reason, "ranges_deg": _run_ranges(mask, theta), "worst_deg": math.degrees(worst)})
     if failures and not report_only:
@@ -1028,32 +1129,28 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
     if pitch_ok and f.kind == "roller":
         want.insert(0, "pitch")
 
-    def exact(th: np.ndarray, ends: int):
-        """The wanted curves at cam angles ``th`` from one evaluation of the law: (Q, dQ, d2Q) at the
-        first ``ends`` angles (complex (ends, len(want)) each; None when ``ends`` is 0) and the
-        points Q at the others (complex (n - ends, len(want)))."""
+    def exact(th: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The wanted curves and their first two derivatives (d/dtheta) at cam angles ``th`` (n,)
+        from one evaluation of the law: (Q, dQ, d2Q), complex (n, len(want)) each (the curves side by side)."""
         s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(th))
-        derivs = None
-        if ends:
-            e = slice(0, ends)
-            if f.kind == "flat":
-                curves = _flat(f, th[e], s[e], ds[e], d2s[e], d3s[e], False)
-            else:
-                curves = _roller(f, th[e], s[e], ds[e], d2s[e], d3s[e], False, tuple(want))
-            derivs = tuple(np.stack([curve[i] for curve in curves], axis=1) for i in range(3))
-        return derivs, _curve_points(f, th[ends:], s[ends:], ds[ends:], tuple(want))
+        if f.kind == "flat":
+            curves = _flat(f, th, s, ds, d2s, d3s, False)
+        else:
+            curves = _roller(f, th, s, ds, d2s, d3s, False, tuple(want))
+        if len(curves) == 1:
+            return curves[0][0][:, None], curves[0][1][:, None], curves[0][2][:, None]
+        return tuple(np.stack([curve[i] for curve in curves], axis=1) for i in range(3))  # type: ignore[return-value]
 
     if want:
-        # d2Q/dtheta2 of the wanted curves on every few check-grid angles: the sixth-derivative bound
-        pick = slice(None, None, _bound_stride(theta.size))
-        at = (theta[pick], s[pick], ds[pick], d2s[pick], d3s[pick])
+        # d2Q/dtheta2 of the wanted curves on the uniform part of the coarse grid: the sixth-derivative bound
+        at = (np.arange(n_coarse) * (TWO_PI / n_coarse),) + tuple(v[:n_coarse] for v in coarse)
         if f.kind == "flat":
             curves = _flat(f, *at, False)
         else:
             curves = _roller(f, *at, False, tuple(want))
         d2 = [curve[2] for curve in curves]
         try:
-            curves, errors = _spline_contours(exact, len(want), sigma, law, fit_tol, (theta[pick], d2))
+            curves, errors = _spline_contours(exact, len(want), sigma, law, fit_tol, (at[0], d2))
         except GeometryError as exc:  # report-only: show what failed instead of the pitch curve
             if not failures:
                 raise

@@ -169,6 +169,7 @@ class _Piece(_MappedPiece):
     poly: tuple[float, ...]
     trig: tuple[tuple[float, float, float], ...] = ()
     _dpoly: tuple[np.ndarray, ...] = field(init=False, repr=False, compare=False)
+    _dpoly_floats: tuple[tuple[float, ...], ...] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         c = np.asarray(self.poly, dtype=float)
@@ -177,6 +178,7 @@ class _Piece(_MappedPiece):
             derivs.append(c if c.size else np.zeros(1))
             c = np.array([i * c[i] for i in range(1, c.size)]) if c.size > 1 else np.zeros(1)
         object.__setattr__(self, "_dpoly", tuple(derivs))
+        object.__setattr__(self, "_dpoly_floats", tuple(tuple(d.tolist()) for d in derivs))
 
     def _shape(self, w: np.ndarray, orders: Sequence[int]) -> list[np.ndarray]:
         trig = [(om, np.sin(om * w), np.cos(om * w), a, b) for om, a, b in self.trig]
@@ -823,6 +825,7 @@ class MotionProgram:
                                  "spans adding up to 360 deg", f"tolerance {self.span_tol:g} rad")
         self.starts = np.concatenate([[0.0], np.cumsum(spans)[:-1]])
         self.spans = spans
+        starts = self.starts.tolist()  # Python floats for the per-segment bookkeeping below
         # absolute start level of every segment: chained, or a polynomial's own start[0]
         levels = []
         level = 0.0
@@ -832,10 +835,11 @@ class MotionProgram:
             levels.append(level)
             level = level + seg.lift
         self.levels = np.array(levels)
+        levels = self.levels.tolist()
         # peaks and extremes per segment (physical units)
         self._seg_peaks = []
         s_lo, s_hi = math.inf, -math.inf
-        for seg, lvl, th0 in zip(self.segments, self.levels, self.starts):
+        for seg, lvl, th0 in zip(self.segments, levels, starts):
             sh = seg.shape
             mn, tmn, mx, tmx = sh.s_range
             vals = sorted([(lvl + seg.scale * mn, tmn), (lvl + seg.scale * mx, tmx)])
@@ -848,13 +852,13 @@ class MotionProgram:
         for i in range(n):
             prev = (i - 1) % n
             lp = self.segments[prev].end_values(True)
-            left = (self.levels[prev] + lp[0],) + lp[1:]
+            left = (levels[prev] + lp[0],) + lp[1:]
             rp = self.segments[i].end_values(False)
-            right = (self.levels[i] + rp[0],) + rp[1:]
+            right = (levels[i] + rp[0],) + rp[1:]
             diff = [r - l for l, r in zip(left, right)]
             ok = [abs(d) <= self.join_tol * max(abs(l), abs(r), pk) for d, l, r, pk in zip(diff, left, right, peak)]
             if not ok[0]:
-                where = math.degrees(self.starts[i])
+                where = math.degrees(starts[i])
                 if i == 0:
                     raise ParameterError(names[n - 1], f"ends at s = {left[0]:.9g} {unit}",
                                          f"ending where the program starts (s = {right[0]:.9g} {unit} at 0 deg)",
@@ -863,12 +867,12 @@ class MotionProgram:
                                      f"starting where {names[prev]} ends (s = {left[0]:.9g} {unit})",
                                      f"the displacement jumps by {diff[0]:.6g} {unit} at {where:.9g} deg")
             continuity = next((k - 1 for k in (1, 2, 3) if not ok[k]), SMOOTH)
-            self._joins.append(Join(float(self.starts[i]), prev, i, continuity, tuple(map(float, left)),
+            self._joins.append(Join(starts[i], prev, i, continuity, tuple(map(float, left)),
                                     tuple(map(float, right)), tuple(float(d) for d in diff[1:]), unit))
         # breaks: joins and internal law breaks; evaluation pieces in cam angle
         brk, cont = [], []
         piece_lo, piece_ref = [], []
-        for i, (seg, th0) in enumerate(zip(self.segments, self.starts)):
+        for i, (seg, th0) in enumerate(zip(self.segments, starts)):
             brk.append(th0)
             cont.append(self._joins[i].continuity)
             for b in seg.shape.breaks:
@@ -886,38 +890,41 @@ class MotionProgram:
     # -- the Displacement interface ----------------------------------------------------------
     def _plan(self) -> list[tuple]:
         """Per evaluation piece (in cam-angle order): its segment's start and span, the piece's
-        ``ref`` and ``sign_in``, the constant ``level + scale offset`` of ``s`` and, per derivative
-        order n = 0..3, the Horner coefficients (lowest power first) and the (sin, cos) amplitudes
-        with the factor ``scale sign_out sign_in^n / span^n`` folded in (made once per program).
-        The last entry is ``None``, or ``(piece, scale)`` for a piece that is not a
-        polynomial-plus-trig :class:`_Piece` (the tilted cycloid): that piece evaluates itself and
-        the constant is the segment's level."""
+        ``ref`` and ``sign_in``, a constant, the piece's trig frequencies and the (4, nb) matrix that
+        takes the basis ``1, w, .., w^D, sin(om_1 w), cos(om_1 w), ..`` to ``s`` and its three
+        derivatives: per derivative order n = 0..3 the power coefficients (lowest first) and the
+        (sin, cos) amplitudes, with the factor ``scale sign_out sign_in^n / span^n`` folded in and the
+        constant ``level + scale offset`` added to ``s`` (made once per program).  The last entry is
+        ``None``, or ``(piece, scale)`` for a piece that is not a polynomial-plus-trig
+        :class:`_Piece` (the tilted cycloid): that piece evaluates itself (no matrix) and the
+        constant is the segment's level."""
         plan = self.__dict__.get("_eval_plan")
         if plan is None:
             plan = []
             for i, k in self._piece_ref:
                 seg = self.segments[i]
                 piece = seg.shape.pieces[k]
-                if not isinstance(piece, _Piece):  # evaluated by the piece itself (no Horner plan)
-                    plan.append((float(self.starts[i]), float(seg.span), 0.0, True, float(self.levels[i]), (), (),
+                if not isinstance(piece, _Piece):  # evaluated by the piece itself (no matrix)
+                    plan.append((float(self.starts[i]), float(seg.span), 0.0, True, float(self.levels[i]), (), None,
                                  (piece, seg.scale)))
                     continue
-                orders = []
+                polys, amps = [], []
                 for n in range(4):
                     factor = seg.scale * piece.sign_out * piece.sign_in**n / seg.span**n
-                    poly = [factor * float(c) for c in piece._dpoly[n]]
-                    while len(poly) > 1 and poly[-1] == 0.0:
-                        poly.pop()
-                    amps = []
+                    polys.append([factor * c for c in piece._dpoly_floats[n]])
+                    row = []
                     for om, a, b in piece.trig:
                         ca, cb = a, b
                         for _ in range(n):  # d/dw (a sin + b cos) = (-b om) sin + (a om) cos
                             ca, cb = -cb * om, ca * om
-                        amps.append((factor * ca, factor * cb))
-                    orders.append((tuple(poly), tuple(amps)))
-                plan.append((float(self.starts[i]), float(seg.span), float(piece.ref), piece.sign_in > 0,
-                             float(self.levels[i] + seg.scale * piece.offset), tuple(om for om, _, _ in piece.trig), tuple(orders),
-                             None))
+                        row.extend([factor * ca, factor * cb])
+                    amps.append(row)
+                degree = max((j for poly in polys for j, c in enumerate(poly) if c != 0.0), default=0)
+                polys[0][0] += float(self.levels[i] + seg.scale * piece.offset)
+                matrix = np.array([(poly + [0.0] * degree)[: degree + 1] + row for poly, row in zip(polys, amps)])
+                matrix.flags.writeable = False
+                plan.append((float(self.starts[i]), float(seg.span), float(piece.ref), piece.sign_in > 0, 0.0,
+                             tuple(om for om, _, _ in piece.trig), matrix, None))
             self.__dict__["_eval_plan"] = plan
         return plan
 
@@ -962,10 +969,12 @@ class MotionProgram:
 
     @staticmethod
     def _fill(entry: tuple, ths: np.ndarray, out: np.ndarray, step: float | None) -> None:
-        """The displacement and its three derivatives (into ``out`` (4, m)) of one plan entry (:meth:`_plan`) at the cam angles
-        ``ths`` (m,) inside its piece.  ``step``: the angles are ``ths[0] + j step`` (a uniform grid),
-        and the sines and cosines come from :func:`_uniform_phasors` instead of one sin and cos per angle."""
-        start, span, ref, forward, const, omegas, orders, custom = entry
+        """The displacement and its three derivatives (into ``out`` (4, m)) of one plan entry
+        (:meth:`_plan`) at the cam angles ``ths`` (m,) inside its piece: the entry's matrix times
+        the basis (powers of the piece's own variable ``w``, then the sines and cosines).  ``step``:
+        the angles are ``ths[0] + j step`` (a uniform grid), and the sines and cosines come from
+        :func:`_uniform_phasors` instead of one sin and cos per angle."""
+        start, span, ref, forward, const, omegas, matrix, custom = entry
         tau = ths - start
         tau /= span
         if custom is not None:
@@ -975,48 +984,47 @@ class MotionProgram:
             out[0] += const
             return
         w = tau if forward and ref == 0.0 else (tau - ref if forward else ref - tau)
-        trig = []
-        for om in omegas:
+        degree = matrix.shape[1] - 1 - 2 * len(omegas)
+        basis = np.empty((matrix.shape[1], w.size))
+        basis[0] = 1.0
+        if degree:
+            basis[1] = w
+            for j in range(2, degree + 1):
+                np.multiply(basis[j - 1], w, out=basis[j])
+        for j, om in enumerate(omegas):
+            row = degree + 1 + 2 * j
             if step is None:
                 arg = om * w
-                trig.append((np.sin(arg), np.cos(arg)))
+                np.sin(arg, out=basis[row])
+                np.cos(arg, out=basis[row + 1])
             else:  # om w_j = om w_0 + j (+-om step / span)
                 z = _uniform_phasors(om * w[0], (om if forward else -om) * step / span, w.size)
-                trig.append((z.imag, z.real))
-        tmp = np.empty(w.size) if trig else None
-        for n, (poly, amps) in enumerate(orders):
-            acc = out[n]
-            if len(poly) == 1:
-                acc.fill(poly[0])
-            else:  # Horner, in place
-                np.multiply(w, poly[-1], out=acc)
-                for j in range(len(poly) - 2, -1, -1):
-                    if poly[j] != 0.0:
-                        acc += poly[j]
-                    if j:
-                        acc *= w
-            for (sn, cs), (ca, cb) in zip(trig, amps):
-                if ca:
-                    acc += np.multiply(sn, ca, out=tmp)
-                if cb:
-                    acc += np.multiply(cs, cb, out=tmp)
-            if n == 0 and const:
-                acc += const
+                basis[row] = z.imag
+                basis[row + 1] = z.real
+        np.matmul(matrix, basis, out=out)
 
-    def on_uniform_grid(self, n: int) -> np.ndarray:
-        """The displacement and its three derivatives (4, n) at the cam angles ``k 2 pi / n`` (k = 0 .. n - 1): what
-        ``self(np.arange(n) * (2 pi / n))`` gives, with the sines and cosines of every piece from
-        angle addition on the uniform grid (:func:`_uniform_phasors`: within a few ulps of the direct
-        ones, at a fraction of their cost; the check grid of a cam is such a grid)."""
+    def on_uniform_grid(self, n: int, extra: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The displacement and its three derivatives at the cam angles ``k 2 pi / n`` (k = 0 .. n - 1)
+        followed by the sorted angles ``extra`` (rad, in ``[0, 2 pi)``): what ``self(np.concatenate([np.arange(n)
+        * (2 pi / n), extra]))`` gives, four arrays (n + extra.size,), with the sines and cosines of
+        every piece on the uniform grid from angle addition (:func:`_uniform_phasors`: within a few
+        ulps of the direct ones, at a fraction of their cost; the check grid of a cam is such a grid
+        with the breaks added)."""
+        extra = np.zeros(0) if extra is None else np.asarray(extra, dtype=float)
         step = TWO_PI / n
         grid = np.arange(n) * step
-        bounds = np.concatenate([[0], np.searchsorted(grid, self._piece_lo[1:], side="left"), [n]])
-        res = np.empty((4, n))
+        starts = self._piece_lo[1:]
+        bounds = np.concatenate([[0], np.searchsorted(grid, starts, side="left"), [n]])
+        res = np.empty((4, n + extra.size))
+        extra_bounds = n + np.concatenate([[0], np.searchsorted(extra, starts, side="left"), [extra.size]])
         for g, entry in enumerate(self._plan()):
             lo, hi = int(bounds[g]), int(bounds[g + 1])
             if lo < hi:
                 self._fill(entry, grid[lo:hi], res[:, lo:hi], step)
-        return res
+            lo, hi = int(extra_bounds[g]), int(extra_bounds[g + 1])
+            if lo < hi:
+                self._fill(entry, extra[lo - n: hi - n], res[:, lo:hi], None)
+        return res[0], res[1], res[2], res[3]
 
     # -- reports ------------------------------------------------------------------------------
     def joins(self) -> list[Join]:
