@@ -8,11 +8,12 @@ vertices and edges, at cam angles between the tools' samples) against the requir
 
 What each timed call computes, from the motion description to the profile in memory:
 
-* camgen (``cam_envelope``): the law and the pitch curve's speed and curvature on the dense check
-  grid (7204 cam angles: 0.05 deg plus every break and its neighbours: the undercut and cusp
-  checks; the rest of the dense kinematics, ``CamEnvelope.data``, is made when a report asks),
-  then the exact envelope as two C2 quintic splines (pitch curve and profile), each verified
-  within ``fit_tol`` = 1e-7 mm at three probes per piece.
+* camgen (``cam_envelope``): the undercut, cusp and axis checks (the law on the 1 deg coarse grid
+  plus every break and its neighbours; the pitch curve's curvature, speed and height there, each
+  extrapolated by its largest slope, must stay 10% clear of its limit, else the dense 0.05 deg
+  check runs; the dense kinematics, ``CamEnvelope.data``, are made when a report asks), then the
+  exact envelope as two C2 quintic splines (pitch curve and profile), each verified within
+  ``fit_tol`` = 1e-7 mm at three probes per piece.
 * mechanism (PyPI, MIT; ``pip install mechanism`` -- not a camgen dependency, skipped when
   missing): ``Cam()`` tabulates S, V, A, J of its three motion families at 3600 angles and
   ``get_profile`` exports ``r = Rb + s`` at every angle (no envelope, no checks).
@@ -27,12 +28,7 @@ import _common  # noqa: F401  (shared helpers: median_time, print_table)
 import numpy as np
 from _common import median_time, orientations, print_table
 
-from camgen.synthesis.followers import (
-    DEFAULT_FIT_TOL,
-    FollowerSpec,
-    cam_envelope,
-    check_grid,
-)
+from camgen.synthesis.followers import DEFAULT_FIT_TOL, FollowerSpec, cam_envelope
 from camgen.synthesis.laws import MotionProgram, Segment
 
 BASE, ROLLER, LIFT = 76.2, 12.7, 25.4
@@ -97,8 +93,7 @@ def main() -> None:
     profile = camgen_profile()
     # the ride is measured on a 1e-7 mm polygon of the exported curve (vertices on the curve, chords within 1e-7 mm)
     pieces = sum(seg.n_pieces for seg in profile.segments)
-    label = (f"camgen cam_envelope: undercut and cusp checks at {check_grid(program()).size} angles + pitch and "
-             f"profile quintic splines")
+    label = "camgen cam_envelope: undercut, cusp and axis checks + pitch and profile quintic splines"
     rows.append([f"{label} ({pieces} pieces, {DEFAULT_FIT_TOL:g} mm)", f"{seconds * 1e3:.2f}", f"{ride_error(profile.flatten(1e-7)):.2e}"])
 
     theta = 2 * math.pi * np.arange(N) / N  # radial shortcut: radius Rb + s at the polar angle of the follower

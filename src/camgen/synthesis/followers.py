@@ -813,7 +813,7 @@ def _breaks_of(law: Displacement) -> tuple[np.ndarray, np.ndarray]:
 
 #: Spacing (rad) of the coarse grid: the cam angles of the sixth-derivative estimate
 #: (:func:`_sixth_derivatives`) and of the screening of a roller or knife cam (:func:`_pitch_clear`).
-BOUND_SPACING = math.radians(0.5)
+BOUND_SPACING = math.radians(1.0)
 
 
 def _sixth_derivatives(theta: np.ndarray, d2: list[np.ndarray], brk: np.ndarray) -> np.ndarray:

@@ -169,7 +169,7 @@ class _Piece(_MappedPiece):
     poly: tuple[float, ...]
     trig: tuple[tuple[float, float, float], ...] = ()
     _dpoly: tuple[np.ndarray, ...] = field(init=False, repr=False, compare=False)
-    _dpoly_floats: tuple[tuple[float, ...], ...] = field(init=False, repr=False, compare=False)
+    _unit_matrix: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         c = np.asarray(self.poly, dtype=float)
@@ -178,7 +178,19 @@ class _Piece(_MappedPiece):
             derivs.append(c if c.size else np.zeros(1))
             c = np.array([i * c[i] for i in range(1, c.size)]) if c.size > 1 else np.zeros(1)
         object.__setattr__(self, "_dpoly", tuple(derivs))
-        object.__setattr__(self, "_dpoly_floats", tuple(tuple(d.tolist()) for d in derivs))
+        # F and its derivatives n = 0..3 in the basis 1, w, .., w^D, sin(om_1 w), cos(om_1 w), .. (one row per n)
+        degree = max((j for d in derivs[:4] for j, c in enumerate(d.tolist()) if c != 0.0), default=0)
+        rows = []
+        for n in range(4):
+            row = (derivs[n].tolist() + [0.0] * degree)[: degree + 1]
+            for om, a, b in self.trig:
+                for _ in range(n):  # d/dw (a sin + b cos) = (-b om) sin + (a om) cos
+                    a, b = -b * om, a * om
+                row += [a, b]
+            rows.append(row)
+        matrix = np.array(rows)
+        matrix.flags.writeable = False
+        object.__setattr__(self, "_unit_matrix", matrix)
 
     def _shape(self, w: np.ndarray, orders: Sequence[int]) -> list[np.ndarray]:
         trig = [(om, np.sin(om * w), np.cos(om * w), a, b) for om, a, b in self.trig]
@@ -908,20 +920,9 @@ class MotionProgram:
                     plan.append((float(self.starts[i]), float(seg.span), 0.0, True, float(self.levels[i]), (), None,
                                  (piece, seg.scale)))
                     continue
-                polys, amps = [], []
-                for n in range(4):
-                    factor = seg.scale * piece.sign_out * piece.sign_in**n / seg.span**n
-                    polys.append([factor * c for c in piece._dpoly_floats[n]])
-                    row = []
-                    for om, a, b in piece.trig:
-                        ca, cb = a, b
-                        for _ in range(n):  # d/dw (a sin + b cos) = (-b om) sin + (a om) cos
-                            ca, cb = -cb * om, ca * om
-                        row.extend([factor * ca, factor * cb])
-                    amps.append(row)
-                degree = max((j for poly in polys for j, c in enumerate(poly) if c != 0.0), default=0)
-                polys[0][0] += float(self.levels[i] + seg.scale * piece.offset)
-                matrix = np.array([(poly + [0.0] * degree)[: degree + 1] + row for poly, row in zip(polys, amps)])
+                factors = [seg.scale * piece.sign_out * piece.sign_in**n / seg.span**n for n in range(4)]
+                matrix = piece._unit_matrix * np.array(factors)[:, None]
+                matrix[0, 0] += float(self.levels[i] + seg.scale * piece.offset)
                 matrix.flags.writeable = False
                 plan.append((float(self.starts[i]), float(seg.span), float(piece.ref), piece.sign_in > 0, 0.0,
                              tuple(om for om, _, _ in piece.trig), matrix, None))
