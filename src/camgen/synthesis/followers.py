@@ -527,48 +527,6 @@ def _roller(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, wan
                       _xy(contact), kappa, rho, None, None, _xy(p1), _xy(p2), _xy(q1), _xy(q2))
 
 
-def _curve_points(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, want: tuple[str, ...]) -> np.ndarray:
-    """The points (cam frame) of the curves named in ``want`` ("pitch", "profile") at cam angles
-    ``theta`` (n,), complex (n, len(want)): what :func:`_roller` / :func:`_flat` give as the first
-    of (Q, dQ, d2Q), by the same arithmetic, from ``s`` and ``s'`` only."""
-    sigma = f.sigma
-    out = np.empty((theta.size, len(want)), dtype=complex)
-    back = _to_cam(f, theta)
-    if f.kind == "flat":
-        if f.motion == "translating":
-            wx, wy = math.cos(math.pi / 2), math.sin(math.pi / 2)
-            h = f.base_radius + s
-            dh = ds / -sigma
-        else:
-            px, py = f.pivot  # type: ignore[misc]
-            psi_f = f.rest_face_angle + f.tau * s
-            wx, wy = np.cos(psi_f), np.sin(psi_f)
-            p, q = wx * px + wy * py, wx * py - wy * px
-            h = p - f.face_offset
-            with np.errstate(divide="ignore", invalid="ignore"):
-                dh = (f.tau * ds * q) / (f.tau * ds - sigma)
-        _in_cam(back, h * wx - dh * wy, h * wy + dh * wx, out[:, 0])
-        return out
-    if f.motion == "translating":
-        cx, cy = f.offset, f.rest_height + s
-        vx, vy = sigma * cy, ds - sigma * f.offset
-    else:
-        px, py = f.pivot  # type: ignore[misc]
-        g = f.rest_arm_angle + f.tau * s
-        cg, sg = np.cos(g), np.sin(g)
-        cx, cy = px + f.arm_length * cg, py + f.arm_length * sg
-        k1 = f.arm_length * (f.tau * ds)
-        vx, vy = -k1 * sg + sigma * cy, k1 * cg - sigma * cx
-    for j, name in enumerate(want):
-        if name == "pitch":
-            _in_cam(back, cx, cy, out[:, j])
-        else:
-            with np.errstate(divide="ignore", invalid="ignore"):
-                k = (sigma * f.roller_radius) / np.sqrt(vx * vx + vy * vy)
-            _in_cam(back, cx + k * vy, cy - k * vx, out[:, j])
-    return out
-
-
 def _kinematics_from(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, back: np.ndarray | None = None) -> Kinematics:
     if f.kind == "flat":
         return _flat(f, theta, s, ds, d2s, d3s, True, back)
@@ -594,7 +552,7 @@ def profile_failures(f: FollowerSpec, k: Kinematics) -> list[tuple[str, np.ndarr
     """(reason, mask) pairs of the conditions that make the profile impossible."""
     if f.kind == "flat":
         return _flat_failures(f, k.s, k.normal_turn_rate, k.profile_radius)
-    return _pitch_failures(f, k.s, np.hypot(*k.pitch_d1.T), k.pitch_curvature)
+    return _pitch_failures(f, k.s, k.ds, k.d2s)
 
 
 def _flat_failures(f: FollowerSpec, s: np.ndarray, turn_rate: np.ndarray, radius: np.ndarray) -> list[tuple[str, np.ndarray]]:
@@ -608,19 +566,6 @@ def _flat_failures(f: FollowerSpec, s: np.ndarray, turn_rate: np.ndarray, radius
     return out
 
 
-def _pitch_failures(f: FollowerSpec, s: np.ndarray, speed: np.ndarray, curvature: np.ndarray) -> list[tuple[str, np.ndarray]]:
-    """:func:`profile_failures` of a roller or knife from the lift ``s``, the pitch curve's speed
-    ``|dP/dtheta|`` (mm/rad) and its signed curvature (1/mm)."""
-    out = []
-    if f.motion == "translating":
-        out.append((_AXIS_REASON, f.rest_height + s <= 0))
-    scale = max(1.0, f.prime_radius)
-    out.append((_CUSP_REASON, ~(speed > 1e-12 * scale)))
-    if f.kind == "roller":
-        out.append((_undercut_reason(f), f.roller_radius * curvature >= 1.0))
-    return out
-
-
 _AXIS_REASON = "the follower passes through the rotation axis (sqrt(Rp^2 - e^2) + s <= 0)"
 _CUSP_REASON = "cusp: the pitch curve stops (zero relative velocity)"
 
@@ -629,11 +574,13 @@ def _undercut_reason(f: FollowerSpec) -> str:
     return f"undercut: convex radius of curvature of the pitch curve <= roller radius {f.roller_radius:g} mm"
 
 
-def _pitch_failure_masks(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray) -> list[tuple[str, np.ndarray]]:
-    """:func:`_pitch_failures` of a roller or knife from the law's values alone, by the arithmetic of
-    :func:`_roller` without the speed and curvature arrays (the undercut check of an envelope: no
-    rotation into the cam frame, no profile, no division): ``r kappa >= 1`` is tested as
-    ``-sigma r (V x A) >= |V|^3`` (``kappa = -sigma (V x A) / |V|^3``), the cusp as ``|V|^2 <= (1e-12 scale)^2``."""
+def _pitch_failures(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray) -> list[tuple[str, np.ndarray]]:
+    """:func:`profile_failures` of a roller or knife from the law's displacement and its first two
+    derivatives, by the arithmetic of :func:`_roller` without the speed and curvature arrays (no
+    rotation into the cam frame, no profile, no division): the follower at or through the axis
+    (translating: ``sqrt(Rp^2 - e^2) + s <= 0``), the cusp ``|V| <= 1e-12 scale`` (tested as
+    ``|V|^2``; ``scale = max(1 mm, Rp)``) and the undercut ``r kappa >= 1`` of a roller (tested as
+    ``-sigma r (V x A) >= |V|^3``, ``kappa = -sigma (V x A) / |V|^3`` the pitch curve's curvature)."""
     (_, cy), (vx, vy), (ax, ay), _, _, _ = _centre(f, s, ds, d2s, None)
     out = []
     if f.motion == "translating":
@@ -690,9 +637,9 @@ def _pitch_clear(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray
             return True
         cross = vx * ay - vy * ax
         cube = speed2 * np.sqrt(speed2)
-        r = f.sigma * -f.roller_radius
-        kappa = (r * cross) / cube  # r kappa
-        slope = (r * (vx * by - vy * bx) - 3.0 * (r * cross) * dot / speed2) / cube  # r d kappa / d theta
+        signed_r = -f.sigma * f.roller_radius
+        kappa = (signed_r * cross) / cube  # r kappa
+        slope = (signed_r * (vx * by - vy * bx) - 3.0 * (signed_r * cross) * dot / speed2) / cube  # r d kappa / d theta
         high = float(np.max(kappa)) + reach * float(np.max(np.abs(slope)))
         return high <= SCREEN_UNDERCUT
 
@@ -964,7 +911,8 @@ class CheckGrid:
         uniform grid, then at ``added`` ((n + added.size,) each).
     theta : sorted cam angles, rad (one turn).
     added_at : positions of the added angles in ``theta``.
-    s, ds, d2s, d3s : the law's displacement and its derivatives at ``theta``.
+    values : ``(s, ds, d2s, d3s)``, the law's displacement and its derivatives at ``theta``
+        (also as the attributes ``s``, ``ds``, ``d2s``, ``d3s``).
     """
 
     law: Displacement
@@ -990,20 +938,14 @@ class CheckGrid:
         return np.searchsorted(self.theta, self.added)
 
     @cached_property
-    def s(self) -> np.ndarray:
-        return self.sorted(self.raw[0])
+    def values(self) -> tuple[np.ndarray, ...]:
+        """``(s, ds, d2s, d3s)`` at ``theta``."""
+        return tuple(self.sorted(v) for v in self.raw)
 
-    @cached_property
-    def ds(self) -> np.ndarray:
-        return self.sorted(self.raw[1])
-
-    @cached_property
-    def d2s(self) -> np.ndarray:
-        return self.sorted(self.raw[2])
-
-    @cached_property
-    def d3s(self) -> np.ndarray:
-        return self.sorted(self.raw[3])
+    s = property(lambda self: self.values[0])
+    ds = property(lambda self: self.values[1])
+    d2s = property(lambda self: self.values[2])
+    d3s = property(lambda self: self.values[3])
 
 
 @dataclass(frozen=True)
@@ -1042,8 +984,7 @@ class CamEnvelope:
     @cached_property
     def data(self) -> Kinematics:
         g = self.grid
-        return _kinematics_from(self.follower, g.theta, g.s, g.ds, g.d2s, g.d3s,
-                                g.sorted(_grid_to_cam(self.follower, g.uniform_size, g.added)))
+        return _kinematics_from(self.follower, g.theta, *g.values, g.sorted(_grid_to_cam(self.follower, g.uniform_size, g.added)))
 
 
 def _failure_message(f: FollowerSpec, failures: list[dict]) -> str:
@@ -1103,13 +1044,12 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
     coarse = _law_on_grid(law, n_coarse, added_coarse)
     flat_data = None
     if f.kind == "flat":  # the face's checks need most of its kinematics: made now, kept for `data`
-        flat_data = _kinematics_from(f, grid.theta, grid.s, grid.ds, grid.d2s, grid.d3s,
-                                     grid.sorted(_grid_to_cam(f, n_uniform, added)))
+        flat_data = _kinematics_from(f, grid.theta, *grid.values, grid.sorted(_grid_to_cam(f, n_uniform, added)))
         masks = profile_failures(f, flat_data)
     elif _pitch_clear(f, *coarse, TWO_PI / n_coarse):
         masks = []
     else:  # the dense check, in the grid's own order (uniform part, then the added angles)
-        masks = [(reason, grid.sorted(mask)) for reason, mask in _pitch_failure_masks(f, *grid.raw[:3]) if mask.any()]
+        masks = [(reason, grid.sorted(mask)) for reason, mask in _pitch_failures(f, *grid.raw[:3]) if mask.any()]
     failures = []
     for reason, mask in masks:
         if mask.any():
@@ -1137,8 +1077,6 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
             curves = _flat(f, th, s, ds, d2s, d3s, False)
         else:
             curves = _roller(f, th, s, ds, d2s, d3s, False, tuple(want))
-        if len(curves) == 1:
-            return curves[0][0][:, None], curves[0][1][:, None], curves[0][2][:, None]
         return tuple(np.stack([curve[i] for curve in curves], axis=1) for i in range(3))  # type: ignore[return-value]
 
     if want:

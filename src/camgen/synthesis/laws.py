@@ -162,55 +162,64 @@ class _MappedPiece:
                        offset=rise - self.offset, sign_out=-self.sign_out)
 
 
+def _basis(w: np.ndarray, degree: int, omegas: Sequence[float], phasors: Sequence[np.ndarray] | None = None) -> np.ndarray:
+    """The rows ``1, w, .., w^degree, sin(om_1 w), cos(om_1 w), ..`` at ``w`` (m,): (degree + 1 +
+    2 len(omegas), m), the basis of a polynomial-plus-trig piece (:class:`_Piece`).  ``phasors``:
+    ``exp(i om w)`` per omega when known (a uniform grid: :func:`_uniform_phasors`), else the sines
+    and cosines are computed."""
+    basis = np.empty((degree + 1 + 2 * len(omegas), w.size))
+    basis[0] = 1.0
+    if degree:
+        basis[1] = w
+        for j in range(2, degree + 1):
+            np.multiply(basis[j - 1], w, out=basis[j])
+    for j, om in enumerate(omegas):
+        row = degree + 1 + 2 * j
+        if phasors is None:
+            arg = om * w
+            np.sin(arg, out=basis[row])
+            np.cos(arg, out=basis[row + 1])
+        else:
+            basis[row] = phasors[j].imag
+            basis[row + 1] = phasors[j].real
+    return basis
+
+
 @dataclass(frozen=True)
 class _Piece(_MappedPiece):
     """``F(w) = sum_i poly[i] w^i + sum_m (a_m sin(omega_m w) + b_m cos(omega_m w))``."""
 
     poly: tuple[float, ...]
     trig: tuple[tuple[float, float, float], ...] = ()
-    _dpoly: tuple[np.ndarray, ...] = field(init=False, repr=False, compare=False)
     _unit_matrix: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        c = np.asarray(self.poly, dtype=float)
-        derivs = []
-        for _ in range(_MAX_ORDER + 1):
-            derivs.append(c if c.size else np.zeros(1))
-            c = np.array([i * c[i] for i in range(1, c.size)]) if c.size > 1 else np.zeros(1)
-        object.__setattr__(self, "_dpoly", tuple(derivs))
-        # F and its derivatives n = 0..3 in the basis 1, w, .., w^D, sin(om_1 w), cos(om_1 w), .. (one row per n)
-        degree = max((j for d in derivs[:4] for j, c in enumerate(d.tolist()) if c != 0.0), default=0)
+        # d^n F / dw^n (n = 0 .. _MAX_ORDER) in the basis of :func:`_basis`, one row per n
+        poly = [float(c) for c in self.poly] or [0.0]
+        degree = max((j for j, c in enumerate(poly) if c != 0.0), default=0)
+        poly = poly[: degree + 1]
         rows = []
-        for n in range(4):
-            row = (derivs[n].tolist() + [0.0] * degree)[: degree + 1]
+        for n in range(_MAX_ORDER + 1):
+            row = poly + [0.0] * (degree + 1 - len(poly))
             for om, a, b in self.trig:
                 for _ in range(n):  # d/dw (a sin + b cos) = (-b om) sin + (a om) cos
                     a, b = -b * om, a * om
                 row += [a, b]
             rows.append(row)
+            poly = [j * c for j, c in enumerate(poly)][1:] or [0.0]
         matrix = np.array(rows)
         matrix.flags.writeable = False
         object.__setattr__(self, "_unit_matrix", matrix)
 
+    @property
+    def degree(self) -> int:
+        """Degree of the polynomial part (the powers 0 .. degree in the basis)."""
+        return self._unit_matrix.shape[1] - 1 - 2 * len(self.trig)
+
     def _shape(self, w: np.ndarray, orders: Sequence[int]) -> list[np.ndarray]:
-        trig = [(om, np.sin(om * w), np.cos(om * w), a, b) for om, a, b in self.trig]
-        out = []
-        for n in orders:
-            c = self._dpoly[n]
-            val = np.full(w.shape, c[-1])
-            for coef in c[-2::-1]:  # Horner, in place
-                val *= w
-                val += coef
-            for om, sn, cs, a, b in trig:
-                ca, cb = a, b
-                for _ in range(n):  # d/dw (a sin + b cos) = (-b om) sin + (a om) cos
-                    ca, cb = -cb * om, ca * om
-                if ca:
-                    val += ca * sn
-                if cb:
-                    val += cb * cs
-            out.append(val)
-        return out
+        flat = np.asarray(w, dtype=float).ravel()
+        values = self._unit_matrix[list(orders)] @ _basis(flat, self.degree, [om for om, _, _ in self.trig])
+        return [v.reshape(np.shape(w)) for v in values]
 
     def scaled(self, k: float) -> _Piece:
         return replace(self, poly=tuple(k * c for c in self.poly), trig=tuple((om, k * a, k * b) for om, a, b in self.trig),
@@ -921,7 +930,7 @@ class MotionProgram:
                                  (piece, seg.scale)))
                     continue
                 factors = [seg.scale * piece.sign_out * piece.sign_in**n / seg.span**n for n in range(4)]
-                matrix = piece._unit_matrix * np.array(factors)[:, None]
+                matrix = piece._unit_matrix[:4] * np.array(factors)[:, None]
                 matrix[0, 0] += float(self.levels[i] + seg.scale * piece.offset)
                 matrix.flags.writeable = False
                 plan.append((float(self.starts[i]), float(seg.span), float(piece.ref), piece.sign_in > 0, 0.0,
@@ -985,23 +994,10 @@ class MotionProgram:
             out[0] += const
             return
         w = tau if forward and ref == 0.0 else (tau - ref if forward else ref - tau)
-        degree = matrix.shape[1] - 1 - 2 * len(omegas)
-        basis = np.empty((matrix.shape[1], w.size))
-        basis[0] = 1.0
-        if degree:
-            basis[1] = w
-            for j in range(2, degree + 1):
-                np.multiply(basis[j - 1], w, out=basis[j])
-        for j, om in enumerate(omegas):
-            row = degree + 1 + 2 * j
-            if step is None:
-                arg = om * w
-                np.sin(arg, out=basis[row])
-                np.cos(arg, out=basis[row + 1])
-            else:  # om w_j = om w_0 + j (+-om step / span)
-                z = _uniform_phasors(om * w[0], (om if forward else -om) * step / span, w.size)
-                basis[row] = z.imag
-                basis[row + 1] = z.real
+        phasors = None
+        if step is not None:  # om w_j = om w_0 + j (+-om step / span)
+            phasors = [_uniform_phasors(om * w[0], (om if forward else -om) * step / span, w.size) for om in omegas]
+        basis = _basis(w, matrix.shape[1] - 1 - 2 * len(omegas), omegas, phasors)
         np.matmul(matrix, basis, out=out)
 
     def on_uniform_grid(self, n: int, extra: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

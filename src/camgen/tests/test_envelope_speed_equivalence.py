@@ -302,17 +302,14 @@ def test_program_on_the_uniform_grid_is_the_program_at_those_angles(law_name):
 # The coarse screening that lets a roller or knife cam skip the dense check
 # --------------------------------------------------------------------------------------------
 def _random_pitch_cam(rng):
-    """A roller or knife (translating or oscillating, either rotation) and a program of 2-4 rises
-    and returns with dwells, sized from just past the undercut limit to comfortably clear of it."""
+    """A roller or knife (translating or oscillating, either rotation) and a rise-dwell-return-dwell
+    program of random laws and spans, sized from past the undercut limit to comfortably clear of it."""
     laws = ["cycloidal", "modified_sine", "modified_trapezoid", "double_harmonic", "poly345", "harmonic"]
-    spans = rng.dirichlet(np.ones(6)) * 300.0 + 10.0  # deg, adding up to 360
+    spans = rng.dirichlet(np.ones(4)) * 320.0 + 10.0  # deg: rise, dwell, return, dwell, adding up to 360
     oscillating = bool(rng.integers(0, 2))
     lift = D(float(rng.uniform(5.0, 15.0))) if oscillating else float(rng.uniform(5.0, 30.0))
-    segments = []
-    for k in range(3):
-        segments += [Segment(str(rng.choice(laws)), D(spans[2 * k]), lift if k % 2 == 0 else -lift),
-                     Segment("dwell", D(spans[2 * k + 1]))]
-    segments[4] = Segment("dwell", D(spans[4]))  # rise, dwell, return, dwell, dwell, dwell: the lifts return
+    segments = [Segment(str(rng.choice(laws)), D(spans[0]), lift), Segment("dwell", D(spans[1])),
+                Segment(str(rng.choice(laws)), D(spans[2]), -lift), Segment("dwell", D(spans[3]))]
     program = MotionProgram(segments, unit="rad" if oscillating else "mm")
     kind = str(rng.choice(["roller", "knife"]))
     base = float(rng.uniform(8.0, 80.0))
@@ -332,15 +329,16 @@ def test_screened_cams_are_clear_on_a_ten_times_finer_grid():
     0.01 deg grid by the closed-form kinematics (r kappa < 1 everywhere, no cusp, away from the axis),
     and every cam whose dense check fails is one it did not clear.  It is not vacuous: it clears
     most of the cams that are comfortably clear."""
+    from camgen.errors import CamgenError
     from camgen.synthesis.followers import SCREEN_UNDERCUT, _law_on_grid, _pitch_clear, kinematics
 
     rng = np.random.default_rng(2026)
     fine = np.arange(36000) * (TWO_PI / 36000)
-    cleared = comfortable = 0
+    cleared = comfortable = failing = 0
     for trial in range(400):
         try:
             follower, program = _random_pitch_cam(rng)
-        except Exception:  # a random geometry the follower refuses (pivot inside the cam ...)
+        except CamgenError:  # a random geometry the follower refuses (pivot inside the cam ...)
             continue
         n, added = _grid_layout(program, BOUND_SPACING)
         clear = _pitch_clear(follower, *_law_on_grid(program, n, added), TWO_PI / n)
@@ -356,5 +354,6 @@ def test_screened_cams_are_clear_on_a_ten_times_finer_grid():
             assert worst <= SCREEN_UNDERCUT + 1e-9, (trial, worst)
         if fine_ok and worst < 0.5:
             comfortable += 1
-    assert comfortable >= 100
+        failing += not fine_ok
+    assert comfortable >= 100 and failing >= 20  # both sides of the limits are exercised
     assert cleared >= 0.8 * comfortable
