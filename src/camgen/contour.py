@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Iterable, Union
 
@@ -350,12 +351,31 @@ def _horner(c: np.ndarray, tau: np.ndarray, order: int = 0) -> np.ndarray:
 @functools.lru_cache(maxsize=None)
 def _area_weights(degree: int) -> np.ndarray:
     """The (degree + 1, degree + 1) matrix ``W[i, m] = (m - i) / (i + m)`` for ``i < m`` (0 elsewhere)
-    of :meth:`Spline.green_area` (read-only; complex, as it multiplies complex coefficients)."""
+    of :func:`piece_green_areas` (read-only; complex, as it multiplies complex coefficients)."""
     i, m = np.triu_indices(degree + 1, 1)
     w = np.zeros((degree + 1, degree + 1), dtype=complex)
     w[i, m] = (m - i) / (i + m)
     w.flags.writeable = False
     return w
+
+
+def piece_green_areas(q: np.ndarray) -> np.ndarray:
+    """``(1/2) integral of (x dy - y dx)`` (mm^2, exact) over every piece of polynomial curves
+    given by their scaled coefficients ``q`` (degree + 1, K, ...), complex ``x + i y``, lowest power
+    first: piece k is ``sum_i q[i, k] s^i`` for ``s`` in [0, 1] (``q_i = p_i h^i`` of a piece
+    ``sum_i p_i tau^i`` on ``[0, h]``); returns (K, ...).
+
+    ``x y' - y x' = sum_{i<m} (m - i) (q_i x q_m) s^(i+m-1)`` integrates to ``sum_{i<m} (m - i) /
+    (i + m) (q_i x q_m)``; with ``q_i x q_m = Im(conj(q_i) q_m)`` that is ``Im(sum_i conj(q_i) (W q)_i)``
+    (:func:`_area_weights`)."""
+    d = q.shape[0] - 1
+    wq = _area_weights(d) @ q.reshape(d + 1, -1)
+    wq *= np.conj(q).reshape(wq.shape)
+    return 0.5 * wq.sum(axis=0).imag.reshape(q.shape[1:])
+
+
+#: The exponents 0, 1, .. as a column (:func:`piece_green_areas`).
+_EXPONENTS = np.arange(max(SPLINE_DEGREES) + 1.0)[:, None]
 
 
 def _bernstein_max_norm(c: np.ndarray, h: np.ndarray) -> np.ndarray:
@@ -452,23 +472,68 @@ def _sign_change_roots(a: np.ndarray, lo: float, hi: float) -> np.ndarray:
     return out
 
 
+#: Quintic Hermite interpolation on ``s`` in [0, 1] (:func:`quintic_hermite_scaled`): the cubic,
+#: quartic and quintic coefficients from what the quadratic Taylor part from ``s = 0`` misses at
+#: ``s = 1`` of the value, slope and second derivative, ``(r0, r1, r2)``: ``q_3 = 10 r0 - 4 r1 + r2/2``,
+#: ``q_4 = -15 r0 + 7 r1 - r2``, ``q_5 = 6 r0 - 3 r1 + r2/2`` (the 3 x 3 end conditions solved in closed form).
+QUINTIC_RESIDUALS = np.array([[10.0, -4.0, 0.5], [-15.0, 7.0, -1.0], [6.0, -3.0, 0.5]])
+QUINTIC_RESIDUALS.flags.writeable = False
+
+
+def quintic_hermite_data(p: np.ndarray, d1: np.ndarray, d2: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """The end data ``(p0, delta, v0, v1, a0, a1)`` (6, n - 1, ...) of :data:`QUINTIC_HERMITE` for
+    the pieces between consecutive rows of ``p``, ``d1``, ``d2`` ((n, ...) each: values, first and
+    second derivatives in t) of lengths ``h`` (n - 1,) in t: the derivatives scaled to ``s = (t - t_i) / h``
+    (by ``h`` and ``h^2``).  The result has the dtype of ``p``."""
+    hh = h.reshape(h.shape + (1,) * (p.ndim - 1))
+    data = np.empty((6,) + (p.shape[0] - 1,) + p.shape[1:], dtype=np.result_type(p, d1, d2, float))
+    data[0] = p[:-1]
+    np.subtract(p[1:], p[:-1], out=data[1])
+    np.multiply(d1[:-1], hh, out=data[2])
+    np.multiply(d1[1:], hh, out=data[3])
+    hh = hh * hh
+    np.multiply(d2[:-1], hh, out=data[4])
+    np.multiply(d2[1:], hh, out=data[5])
+    return data
+
+
+def quintic_hermite_scaled(data: np.ndarray) -> np.ndarray:
+    """Power coefficients ``q_0 .. q_5`` (6, ...), lowest first, in ``s`` in [0, 1] of the quintics
+    with the end data ``(p0, delta, v0, v1, a0, a1)`` (6, ...) of :func:`quintic_hermite_data`
+    (value ``p0`` at 0 and ``p0 + delta`` at 1, slopes, second derivatives): ``q_0 = p0``,
+    ``q_1 = v0``, ``q_2 = a0 / 2`` and :data:`QUINTIC_RESIDUALS` times the residuals ``r0 = delta -
+    v0 - a0/2``, ``r1 = v1 - v0 - a0``, ``r2 = a1 - a0`` (small differences formed first: the
+    coefficients keep the precision of the end data)."""
+    q = np.empty_like(data)
+    q[0] = data[0]
+    q[1] = data[2]
+    np.multiply(data[4], 0.5, out=q[2])
+    r = np.empty((3,) + data.shape[1:], dtype=data.dtype)
+    np.subtract(data[1], data[2], out=r[0])
+    r[0] -= q[2]
+    np.subtract(data[3], data[2], out=r[1])
+    r[1] -= data[4]
+    np.subtract(data[5], data[4], out=r[2])
+    np.matmul(QUINTIC_RESIDUALS, r.reshape(3, -1), out=q[3:].reshape(3, -1))
+    return q
+
+
 def quintic_hermite_coefficients(t: np.ndarray, p: np.ndarray, d1: np.ndarray, d2: np.ndarray) -> np.ndarray:
-    """Coefficients (6, n - 1, k), highest power first, of the quintics on ``[t[i], t[i + 1]]``
-    that take the values ``p``, first derivatives ``d1`` and second derivatives ``d2`` ((n, k)
-    each) at both ends: with ``r0, r1, r2`` what the quadratic Taylor part from the left end
-    misses of the right end's value, slope and second derivative (scaled by ``1, h, h^2``), the
-    cubic, quartic and quintic coefficients solve the 3 x 3 end conditions (closed form below)."""
-    h = np.diff(t)[:, None]
-    p0, p1, v0, v1, a0, a1 = p[:-1], p[1:], d1[:-1], d1[1:], d2[:-1], d2[1:]
-    c2 = 0.5 * a0
-    r0 = p1 - p0 - h * (v0 + h * c2)
-    r1 = (v1 - v0 - 2.0 * h * c2) * h
-    r2 = (a1 - a0) * (h * h)
-    # c3 h^3 = 10 r0 - 4 r1 + r2 / 2, c4 h^4 = -15 r0 + 7 r1 - r2, c5 h^5 = 6 r0 - 3 r1 + r2 / 2
-    c3 = (10.0 * r0 - 4.0 * r1 + 0.5 * r2) / h**3
-    c4 = (-15.0 * r0 + 7.0 * r1 - r2) / h**4
-    c5 = (6.0 * r0 - 3.0 * r1 + 0.5 * r2) / h**5
-    return np.stack([c5, c4, c3, c2, v0, p0])
+    """Coefficients (6, n - 1, ...), highest power first (in ``t - t[i]``), of the quintics on
+    ``[t[i], t[i + 1]]`` that take the values ``p``, first derivatives ``d1`` and second derivatives
+    ``d2`` ((n, ...) each) at both ends: :func:`quintic_hermite_scaled` of the end data
+    (:func:`quintic_hermite_data`), then ``q_i / h^i``."""
+    h = t[1:] - t[:-1]
+    return power_coefficients(quintic_hermite_scaled(quintic_hermite_data(p, d1, d2, h)), h)
+
+
+def power_coefficients(q: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """The coefficients (degree + 1, K, ...) in ``tau`` on ``[0, h]``, highest power first (the
+    :class:`Spline` convention), of the pieces ``sum_i q[i, k] s^i`` with ``s = tau / h[k]`` (``q``
+    lowest power first): ``q_i / h^i``."""
+    d = q.shape[0] - 1
+    powers = h ** _EXPONENTS[: d + 1]
+    return (q / powers.reshape(powers.shape + (1,) * (q.ndim - 2)))[::-1]
 
 
 class Spline:
@@ -502,7 +567,6 @@ class Spline:
         self.breaks = breaks
         self.coeffs = coeffs
         self.degree = coeffs.shape[0] - 1
-        self._rows = np.ascontiguousarray(coeffs.transpose(1, 0, 2))  # (K, degree + 1, 2) for fast gathers
 
     @classmethod
     def _checked_by_caller(cls, breaks: np.ndarray, coeffs: np.ndarray) -> "Spline":
@@ -515,8 +579,12 @@ class Spline:
         spline.breaks = breaks
         spline.coeffs = coeffs
         spline.degree = coeffs.shape[0] - 1
-        spline._rows = np.ascontiguousarray(coeffs.transpose(1, 0, 2))
         return spline
+
+    @functools.cached_property
+    def _rows(self) -> np.ndarray:
+        """The coefficients as (K, degree + 1, 2), contiguous, for fast gathers of whole pieces."""
+        return np.ascontiguousarray(self.coeffs.transpose(1, 0, 2))
 
     # -- constructors ------------------------------------------------------------------------
     @classmethod
@@ -740,36 +808,10 @@ class Spline:
         return float(np.min(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]))
 
     def green_area(self) -> float:
-        """(1/2) integral of (x dy - y dx) along the spline, mm^2 (exact polynomial integration).
-
-        With ``P = sum_i p_i tau^i`` on a piece of length ``h``, ``x y' - y x' = sum_{i<m} (m - i)
-        (p_i x p_m) tau^(i+m-1)``, whose integral over ``[0, h]`` is ``sum (m - i) / (i + m) (p_i x p_m) h^(i+m)``;
-        with ``z_i = x_i + i y_i``, ``p_i x p_m = Im(conj(z_i) z_m)``.
-        """
-        z = self.coeffs.view(complex)[..., 0]  # (degree + 1, K): z[degree - i] = p_i
+        """(1/2) integral of (x dy - y dx) along the spline, mm^2 (exact polynomial integration,
+        :func:`piece_green_areas` of the coefficients scaled to each piece)."""
         h = self.breaks[1:] - self.breaks[:-1]
-        if self.degree != 3:
-            # with q_i = p_i h^i: sum_{i<m} W[i, m] Im(conj(q_i) q_m) = Im(sum_i conj(q_i) (W q)_i)
-            d = self.degree
-            powers = np.empty((d + 1, h.size))
-            powers[0] = 1.0
-            powers[1] = h
-            for k in range(2, d + 1):
-                np.multiply(powers[k - 1], h, out=powers[k])
-            q = z[::-1] * powers
-            return 0.5 * float(np.vdot(q, _area_weights(d) @ q).imag)
-        c0 = (np.conj(z[3]) * z[:3]).imag  # p0 x (p3, p2, p1)
-        c1 = (np.conj(z[2]) * z[:2]).imag  # p1 x (p3, p2)
-        c23 = (np.conj(z[1]) * z[0]).imag
-        inner = c23 * (h / 5.0)
-        inner += 0.5 * c1[0]
-        inner *= h
-        inner += c0[0] + c1[1] / 3.0
-        inner *= h
-        inner += c0[1]
-        inner *= h
-        inner += c0[2]
-        return 0.5 * float(np.dot(inner, h))
+        return float(piece_green_areas(self.coeffs.view(complex)[::-1, :, 0] * h ** _EXPONENTS[: self.degree + 1]).sum())
 
     def _quadratic_roots(self, qa: np.ndarray, qb: np.ndarray, qc: np.ndarray) -> np.ndarray:
         """Real roots (2, ...) of qa tau^2 + qb tau + qc inside each piece, NaN elsewhere."""
@@ -1240,6 +1282,19 @@ class Contour:
         self._corners = np.array([seg.start_point for seg in self.segments])  # segment start points (n, 2)
         self._arc_table = self._convex_arc_table()
 
+    @classmethod
+    def _checked_by_caller(cls, segments: Sequence[Segment], area: float) -> Contour:
+        """A contour whose caller has checked what the constructor checks (each segment starts
+        within ``DEFAULT_CLOSURE_TOL`` of where the previous one ends; the signed ``area`` (mm^2,
+        Green's theorem) is > 0) for several contours at once (the envelope fit); else use
+        ``Contour(segments)``, which raises the message that names the failure."""
+        contour = cls.__new__(cls)
+        contour.segments = tuple(segments)
+        contour.__dict__["area"] = area
+        contour._corners = np.array([seg.start_point for seg in contour.segments])
+        contour._arc_table = contour._convex_arc_table()
+        return contour
+
     def _convex_arc_table(self) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
         """For a G1 chain of convex arcs, the normal-angle ranges tile the circle: start angles
         (sorted, mod 2 pi), centres and radii, for an O(log n) support function."""
@@ -1331,7 +1386,7 @@ class Contour:
         return self.evaluate(self.flatten_params(chord_tol))
 
     # -- global measures ----------------------------------------------------------------------
-    @property
+    @functools.cached_property
     def area(self) -> float:
         """Enclosed area, mm^2, by Green's theorem (exact for arcs and polynomial pieces)."""
         return float(sum(seg.green_area() for seg in self.segments))

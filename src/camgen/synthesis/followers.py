@@ -75,14 +75,29 @@ spline at ``t`` is the contact point of cam angle ``theta``.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Callable, Protocol
+from typing import Callable, NamedTuple, Protocol
 
 import numpy as np
 
-from camgen.contour import Contour, Spline, quintic_hermite_coefficients
-from camgen.errors import FitToleranceError, GeometryError, ParameterError, require_finite, require_positive
+from camgen.contour import (
+    DEFAULT_CLOSURE_TOL,
+    Contour,
+    Spline,
+    piece_green_areas,
+    power_coefficients,
+    quintic_hermite_data,
+    quintic_hermite_scaled,
+)
+from camgen.errors import (
+    FitToleranceError,
+    GeometryError,
+    ParameterError,
+    require_finite,
+    require_positive,
+)
 
 TWO_PI = 2.0 * math.pi
 
@@ -462,23 +477,28 @@ def _flat(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, back:
 
 
 def _roller(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, want: tuple[str, ...] = ("pitch", "profile"),
-            back: np.ndarray | None = None):
+            back: np.ndarray | None = None, out: np.ndarray | None = None):
     """Roller / knife: the :class:`Kinematics` (``full``) or the (Q, dQ, d2Q) of the curves named in
-    ``want`` ("pitch", "profile") in the cam frame (``back``: :func:`_to_cam` at ``theta`` when known).  (The outputs share two blocks of memory and
-    temporaries are released as soon as they are used: fresh memory is much of the cost.)"""
+    ``want`` ("pitch", "profile") in the cam frame (``back``: :func:`_to_cam` at ``theta`` when known;
+    ``out``: a complex (3, n, len(want)) block to write them into, curve c in ``out[:, :, c]``).  (The
+    outputs share blocks of memory and temporaries are released as soon as they are used: fresh
+    memory is much of the cost.)"""
     sigma, r, n = f.sigma, f.roller_radius, theta.size
     # full: rows 0-6 follower point, pitch curve and its two derivatives, profile and its two; rows
     # 0-3 of `real`: pressure angle, pitch and profile curvature, profile radius of curvature
     cplx = np.empty((7, n), dtype=complex) if full else [None] * 7
+    if out is not None:
+        for c, name in enumerate(want):
+            first = 1 if name == "pitch" else 4
+            cplx[first: first + 3] = out[0, :, c], out[1, :, c], out[2, :, c]
     real = np.empty((4, n)) if full else [None] * 4
     (cx, cy), (vx, vy), (ax, ay), (bx, by), m, g = _centre(f, s, ds, d2s, d3s)
     # P = R(-sigma theta) C; P' = R V, P'' = R A, P''' = R B
     back = _to_cam(f, theta) if back is None else back
-    out = {}
-    if "pitch" in want or full:
-        out["pitch"] = (_in_cam(back, cx, cy, cplx[1]), _in_cam(back, vx, vy, cplx[2]), _in_cam(back, ax, ay, cplx[3]))
+    pitch, p1, p2 = _in_cam(back, cx, cy, cplx[1]), _in_cam(back, vx, vy, cplx[2]), _in_cam(back, ax, ay, cplx[3])
+    del back
     if "profile" not in want and not full:
-        return (out["pitch"],)
+        return ((pitch, p1, p2),)
     with np.errstate(divide="ignore", invalid="ignore"):
         speed2 = vx * vx + vy * vy
         dot = vx * ax + vy * ay
@@ -501,16 +521,21 @@ def _roller(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, wan
         kappa_p1 -= cross
         del cross
         kappa_p1 *= -sigma  # d kappa_p / d theta
-    contact = _in_cam(back, cx + k * vy, cy - k * vx, cplx[4])
+    del ax, ay
+    # the profile from the pitch curve in the cam frame: Q = P - r n = P - i k P' (n turned with
+    # the pitch tangent), Q' = P' (1 - r kappa), Q'' = P'' (1 - r kappa) - r kappa' P'
+    contact = np.multiply(p1, k * -1j, out=cplx[4])
+    contact += pitch
     del k
-    factor = 1.0 - r * kappa_p  # Q' = P' (1 - r kappa), Q'' = P'' (1 - r kappa) - r kappa' P'
+    factor = 1.0 - r * kappa_p
     kappa_p1 *= r
-    q2 = _in_cam(back, ax * factor - kappa_p1 * vx, ay * factor - kappa_p1 * vy, cplx[6])
-    del kappa_p1, ax, ay
-    out["profile"] = (contact, _in_cam(back, vx * factor, vy * factor, cplx[5]), q2)
-    del back
+    q1 = np.multiply(p1, factor, out=cplx[5])
+    q2 = np.multiply(p2, factor, out=cplx[6])
+    q2 -= p1 * kappa_p1
+    del kappa_p1
     if not full:
-        return tuple(out[name] for name in want)
+        curves = {"pitch": (pitch, p1, p2), "profile": (contact, q1, q2)}
+        return tuple(curves[name] for name in want)
     if m is None:  # translating: m = (0, 1), V . m = Vy, V x m = Vx
         alpha = np.arctan2(vy, np.abs(vx), out=real[0])
     else:
@@ -522,7 +547,6 @@ def _roller(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, wan
         rho[kappa == 0] = np.inf
     cplx[0].real = cx
     cplx[0].imag = cy
-    (pitch, p1, p2), (contact, q1, q2) = out["pitch"], out["profile"]
     return Kinematics(theta, s, ds, d2s, d3s, f.lift_unit, alpha, _xy(cplx[0]), g, _xy(pitch), kappa_p,
                       _xy(contact), kappa, rho, None, None, _xy(p1), _xy(p2), _xy(q1), _xy(q2))
 
@@ -612,36 +636,91 @@ SCREEN_CLEARANCE = 1e-3
 _CUBIC_RISE = 0.3
 
 
-def _pitch_clear(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray, spacing: float) -> bool:
-    """Whether a roller or knife cam is clear of every limit of :func:`_pitch_failures` by a margin,
-    from the law's values at the coarse grid (samples at most ``spacing`` rad apart, the breaks and
-    their one-sided neighbours included): every quantity checked is extrapolated from its extreme
-    sample by its largest slope over the grid (``_CUBIC_RISE spacing max|slope|``: the reach of a
-    cubic between two samples) and must stay inside :data:`SCREEN_UNDERCUT` and
-    :data:`SCREEN_CLEARANCE`.  True: no limit is near, the dense check can be skipped; False: the
-    dense check decides (it gives the failed ranges).  The quantities and slopes are those of
-    :func:`_roller`: ``r kappa`` and ``r d kappa / d theta`` (``kappa = -sigma (V x A) / |V|^3``),
-    ``|V|^2`` and ``2 V . A``, the follower height ``Rp' + s`` and ``s'``."""
+class _PitchTerms(NamedTuple):
+    """The roller-centre motion relative to the cam at some cam angles (fixed frame, (n,) arrays):
+    the follower height ``cy`` (translating) and the law's ``s'``; ``V``, ``A`` (:func:`_centre`),
+    ``|V|^2``, ``V . A``; roller only (else None): ``r kappa`` and ``r d kappa / d theta`` of the
+    pitch curve (``kappa = -sigma (V x A) / |V|^3``, :func:`_roller`)."""
+
+    cy: np.ndarray
+    ds: np.ndarray
+    vx: np.ndarray
+    vy: np.ndarray
+    ax: np.ndarray
+    ay: np.ndarray
+    speed2: np.ndarray
+    dot: np.ndarray
+    r_kappa: np.ndarray | None
+    r_slope: np.ndarray | None
+
+
+def _pitch_terms(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray) -> _PitchTerms:
+    """:class:`_PitchTerms` of a roller or knife from the law's displacement and its three derivatives."""
     (_, cy), (vx, vy), (ax, ay), (bx, by), _, _ = _centre(f, s, ds, d2s, d3s)
-    scale = max(1.0, f.prime_radius)
-    reach = _CUBIC_RISE * spacing
     with np.errstate(all="ignore"):
-        if f.motion == "translating" and not float(np.min(cy)) - reach * float(np.max(np.abs(ds))) > SCREEN_CLEARANCE * scale:
-            return False
         speed2 = vx * vx + vy * vy
         dot = vx * ax + vy * ay
-        low = float(np.min(speed2)) - reach * 2.0 * float(np.max(np.abs(dot)))
-        if not low > (SCREEN_CLEARANCE * scale) ** 2:
-            return False
-        if f.kind != "roller":
-            return True
-        cross = vx * ay - vy * ax
-        cube = speed2 * np.sqrt(speed2)
-        signed_r = -f.sigma * f.roller_radius
-        kappa = (signed_r * cross) / cube  # r kappa
-        slope = (signed_r * (vx * by - vy * bx) - 3.0 * (signed_r * cross) * dot / speed2) / cube  # r d kappa / d theta
-        high = float(np.max(kappa)) + reach * float(np.max(np.abs(slope)))
-        return high <= SCREEN_UNDERCUT
+        r_kappa = r_slope = None
+        if f.kind == "roller":
+            signed_r = -f.sigma * f.roller_radius
+            cross = vx * ay
+            cross -= vy * ax
+            cross *= signed_r
+            cube = np.sqrt(speed2)
+            cube *= speed2
+            r_kappa = cross / cube
+            r_slope = vx * by
+            r_slope -= vy * bx
+            r_slope *= signed_r
+            cross *= dot
+            cross *= 3.0
+            cross /= speed2
+            r_slope -= cross
+            r_slope /= cube  # (signed_r (V x B) - 3 signed_r (V x A) (V . A) / |V|^2) / |V|^3
+    return _PitchTerms(np.broadcast_to(cy, s.shape), ds, vx, vy, ax, ay, speed2, dot, r_kappa, r_slope)
+
+
+def _pitch_clear(f: FollowerSpec, terms: _PitchTerms, spacing: float) -> bool:
+    """Whether a roller or knife cam is clear of every limit of :func:`_pitch_failures` by a margin,
+    from its :class:`_PitchTerms` at the coarse grid (samples at most ``spacing`` rad apart, the
+    breaks and their one-sided neighbours included): every quantity checked is extrapolated from
+    its extreme sample by its largest slope over the grid (``_CUBIC_RISE spacing max|slope|``: the
+    reach of a cubic between two samples) and must stay inside :data:`SCREEN_UNDERCUT` and
+    :data:`SCREEN_CLEARANCE`.  True: no limit is near, the dense check can be skipped; False: the
+    dense check decides (it gives the failed ranges).  The quantities and their slopes: ``r kappa``
+    and ``r d kappa / d theta``, ``|V|^2`` and ``2 V . A``, the follower height ``Rp' + s`` and ``s'``."""
+    t = terms
+    scale = max(1.0, f.prime_radius)
+    reach = _CUBIC_RISE * spacing
+    # (a NaN anywhere makes its comparison False: not clear)
+    if f.motion == "translating" and not float(t.cy.min()) - reach * float(np.abs(t.ds).max()) > SCREEN_CLEARANCE * scale:
+        return False
+    low = float(t.speed2.min()) - reach * 2.0 * float(np.abs(t.dot).max())
+    if not low > (SCREEN_CLEARANCE * scale) ** 2:
+        return False
+    if t.r_kappa is None:
+        return True
+    high = float(t.r_kappa.max()) + reach * float(np.abs(t.r_slope).max())
+    return high <= SCREEN_UNDERCUT
+
+
+def _pitch_second_derivatives(f: FollowerSpec, theta: np.ndarray, terms: _PitchTerms, want: Sequence[str]) -> np.ndarray:
+    """``d2Q/dtheta2`` (cam frame, complex (len(want), n)) of the curves named in ``want`` ("pitch",
+    "profile") at the cam angles ``theta`` (n,), from the :class:`_PitchTerms` there (their first n
+    values): the pitch curve's ``R A`` and the profile's ``R (A (1 - r kappa) - r kappa' V)``
+    (:func:`_roller`; a knife's profile is its pitch curve)."""
+    n = theta.size
+    back = _to_cam(f, theta)
+    vx, vy, ax, ay = terms.vx[:n], terms.vy[:n], terms.ax[:n], terms.ay[:n]
+    out = np.empty((len(want), n), dtype=complex)
+    for row, name in zip(out, want):
+        if name == "pitch" or terms.r_kappa is None:
+            _in_cam(back, ax, ay, row)
+        else:
+            factor = 1.0 - terms.r_kappa[:n]
+            slope = terms.r_slope[:n]
+            _in_cam(back, ax * factor - slope * vx, ay * factor - slope * vy, row)
+    return out
 
 
 def _run_ranges(mask: np.ndarray, theta: np.ndarray) -> list[tuple[float, float]]:
@@ -726,6 +805,9 @@ def _grid_to_cam(f: FollowerSpec, n: int, added: np.ndarray) -> np.ndarray:
 # The spline representation
 # --------------------------------------------------------------------------------------------
 _PROBES = np.array([0.25, 0.5, 0.75])
+#: Rows ``s^0 .. s^5`` at the probes and at the piece end ``s = 1``: the quintic pieces there from
+#: their scaled coefficients (:func:`camgen.contour.quintic_hermite_scaled`) in one product.
+_PROBE_POWERS = np.append(_PROBES, 1.0)[:, None] ** np.arange(6.0)
 #: Error constant of the first piece count: a quintic Hermite interpolant (values, first and
 #: second derivatives at both ends of a piece of length ``h``) is within
 #: ``max|f^(6)| / 6! max|(t - a)^3 (t - b)^3| = h^6 max|f^(6)| / 46080`` of ``f`` (the Hermite
@@ -763,28 +845,28 @@ def _breaks_of(law: Displacement) -> tuple[np.ndarray, np.ndarray]:
 BOUND_SPACING = math.radians(1.0)
 
 
-def _sixth_derivatives(theta: np.ndarray, d2: list[np.ndarray], brk: np.ndarray) -> np.ndarray:
+def _sixth_derivatives(theta: np.ndarray, d2: np.ndarray, brk: np.ndarray) -> np.ndarray:
     """Largest ``|d6Q/dtheta6|`` (mm/rad^6) of the curves whose exact ``d2Q/dtheta2`` (complex
-    ``x + i y``, (n,) each) are given at the uniformly spaced, increasing cam angles ``theta`` (n,)
+    ``x + i y``, (curves, n)) are given at the uniformly spaced, increasing cam angles ``theta`` (n,)
     (the uniform part of the coarse grid, :data:`BOUND_SPACING`), per interval between the sorted
-    breaks ``brk`` (interval k from ``brk[k]``; one interval when there are none): fourth
-    differences of ``d2Q`` over five consecutive angles that no break splits (the law is analytic
-    inside an interval; a break on the first angle belongs to the interval it starts), divided by
-    the spacing^4."""
-    where = np.searchsorted(brk, theta, side="right")  # breaks <= theta
-    ok = where[:-4] == where[4:]
-    worst = np.zeros(theta.size - 4)
-    for z in d2:
-        dd = z[4:] - 4.0 * z[3:-1] + 6.0 * z[2:-2] - 4.0 * z[1:-3] + z[:-4]
-        np.maximum(worst, dd.real * dd.real + dd.imag * dd.imag, out=worst)
-    worst = np.sqrt(worst) * (theta[1] - theta[0]) ** -4
-    # the stencils are sorted by interval: the largest value in each run
-    interval = (where[:-4] - 1) % max(1, brk.size)
-    out = np.zeros(max(1, brk.size))
-    sel = np.flatnonzero(ok)
-    if sel.size:
-        starts = np.concatenate([[0], np.flatnonzero(np.diff(interval[sel])) + 1])
-        np.maximum.at(out, interval[sel][starts], np.maximum.reduceat(worst[sel], starts))
+    breaks ``brk`` (interval k from ``brk[k]`` to the next break, the last one round to the first;
+    one interval when there are none): fourth differences of ``d2Q`` over five consecutive angles
+    (a window) that no break splits (the law is analytic inside an interval; a break on the first
+    angle of a window belongs to the interval it starts), divided by the spacing^4.  An interval
+    that holds no whole window (breaks closer than the windows) takes the value of the window at its
+    start (its neighbour's; the fit measures what that count gives)."""
+    worst = np.abs(np.diff(d2, 4, axis=1)).max(axis=0)
+    worst *= (theta[1] - theta[0]) ** -4
+    if not brk.size:
+        return worst.max(initial=0.0, keepdims=True)
+    # window i (angles i .. i + 4) is split iff the number of breaks <= theta differs at its ends
+    below = np.searchsorted(brk, theta, side="right")
+    worst *= below[:-4] == below[4:]
+    # interval k holds the windows from the first angle >= brk[k] on; the last one also those before brk[0]
+    start = np.searchsorted(theta, brk, side="left")
+    out = np.maximum.reduceat(worst, np.minimum(start, worst.size - 1))
+    if start[0] > 0:
+        out[-1] = max(out[-1], worst[: start[0]].max())
     return out
 
 
@@ -795,7 +877,7 @@ _ONE_SIDED_STEPS = _ONE_SIDED_STEP * np.array([1.0, 2.0, 3.0])
 
 
 def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement, fit_tol: float,
-                     bound: tuple[np.ndarray, list[np.ndarray]] | None = None, initial_step: float = math.radians(5.0),
+                     bound: tuple[np.ndarray, np.ndarray] | None = None, initial_step: float = math.radians(5.0),
                      max_rounds: int = 12, max_pieces: int = 100_000) -> tuple[list[Contour], list[float]]:
     """Contours of ``dims`` exact curves at once, one quintic spline segment per interval between
     the law's breaks (one segment from cam angle 0 when there are none); the curves share their knots.
@@ -809,8 +891,8 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
     derivative, so neighbours join with the exact curve's own continuity: G2 where the law's
     ``s''`` is continuous, G1 (the exact curvature jump) where it jumps, G0 where ``s'`` jumps.  The
     first count follows from the error bound ``h^6 max|Q^(6)| / 46080`` with ``Q^(6)`` from
-    ``bound = (theta, [d2Q/dtheta2 of each curve])`` (:func:`_sixth_derivatives`; else one piece per
-    ``initial_step``); a segment gets more pieces (its error falls as h^6) until the distance of
+    ``bound = (theta, d2Q/dtheta2 of the curves, complex (dims, n))`` (:func:`_sixth_derivatives`;
+    else one piece per ``initial_step``); a segment gets more pieces (its error falls as h^6) until the distance of
     every curve from its exact points at the quarter and mid points of every piece is <= ``fit_tol``
     mm.  The exact curves are evaluated for all segments in one call per round.
     Returns the contours and the largest measured distance of each.
@@ -820,21 +902,28 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
     tb = sorted({(-sigma * b) % TWO_PI for b in sorted_brk}) or [0.0]
     lo, hi = np.array(tb), np.array(tb[1:] + [tb[0] + TWO_PI])
     nseg = lo.size
-    count = np.maximum(2, np.ceil((hi - lo) / initial_step)).astype(int)
-    if bound is not None:
-        sixth = _sixth_derivatives(bound[0], bound[1], np.array(sorted_brk))
-        # the law interval of every segment (t = -sigma theta): the one holding its middle
-        mid = np.mod(-sigma * 0.5 * (lo + hi), TWO_PI)
-        sixth = sixth[(np.searchsorted(sorted_brk, mid, side="right") - 1) % sixth.size]
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            want = np.ceil((hi - lo) * (_SPLINE_ERROR_CONSTANT * sixth / (_FIRST_COUNT_SHARE * fit_tol)) ** (1.0 / 6.0))
-        count = np.where(np.isfinite(want), np.clip(want, 2, max_pieces), count).astype(int)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        if bound is None:
+            want = (hi - lo) / initial_step
+        else:
+            sixth = _sixth_derivatives(bound[0], bound[1], np.array(sorted_brk))
+            # the law interval of every segment (t = -sigma theta): the one holding its middle
+            mid = np.mod(-sigma * 0.5 * (lo + hi), TWO_PI)
+            sixth = sixth[(np.searchsorted(sorted_brk, mid, side="right") - 1) % sixth.size]
+            want = (hi - lo) * (_SPLINE_ERROR_CONSTANT * sixth / (_FIRST_COUNT_SHARE * fit_tol)) ** (1.0 / 6.0)
+            want = np.where(np.isfinite(want), want, (hi - lo) / initial_step)  # no usable bound: one piece per initial_step
+        count = np.ceil(want.clip(2, max_pieces)).astype(int)
 
     # one-sided dQ/dt and d2Q/dt2 at every segment's two ends, evaluated with the first round
     lead = (np.stack([lo, hi])[:, :, None] + np.array([1.0, -1.0])[:, None, None] * _ONE_SIDED_STEPS).ravel()
     ends1 = ends2 = None  # (2 [start, end], nseg, dims), complex
     fits: list[tuple[np.ndarray, np.ndarray] | None] = [None] * nseg
     errors = np.zeros((nseg, dims))
+    # per segment and curve: its start and end point and its Green area (the contours' closure and
+    # orientation, checked for all curves at once when every segment is made)
+    seg_start = np.zeros((nseg, dims), dtype=complex)
+    seg_end = np.zeros((nseg, dims), dtype=complex)
+    seg_area = np.zeros((nseg, dims))
     todo = np.arange(nseg)
     for _ in range(max_rounds):
         x, first, last = _uniform_knots(lo[todo], hi[todo], count[todo])
@@ -854,20 +943,23 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
         qk, q1k, q2k = q[knots], q1[knots], q2[knots]
         q1k[first], q2k[first] = ends1[0, todo], ends2[0, todo]
         q1k[last], q2k[last] = ends1[1, todo], ends2[1, todo]
-        with np.errstate(divide="ignore", invalid="ignore"):  # the pieces between two segments are meaningless
-            coeffs = quintic_hermite_coefficients(x, qk, q1k, q2k)  # (6, pieces, dims), complex
-        # distances of the splines from the exact curves at the probes (Horner at the probes' offsets)
-        tau = (probes - x[:-1, None])[:, :, None]  # (pieces, 3, 1)
-        val = coeffs[0][:, None, :]
-        for m in range(1, 6):
-            val = val * tau + coeffs[m][:, None, :]
-        dist = np.abs(val - q[nlead + x.size:].reshape(-1, _PROBES.size, dims)).max(axis=1)  # (pieces, dims)
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # the pieces between two segments are meaningless
+            # (6, pieces, dims) complex: each piece in s = (t - x_i) / h_i on [0, 1], lowest power first
+            scaled = quintic_hermite_scaled(quintic_hermite_data(qk, q1k, q2k, span))
+            # the splines at the probes (rows 0-2) and at the end of every piece (row 3)
+            at = (_PROBE_POWERS @ scaled.reshape(6, -1)).reshape(_PROBE_POWERS.shape[0], -1, dims)
+            dist = np.abs(at[:-1] - q[nlead + x.size:].reshape(-1, _PROBES.size, dims).transpose(1, 0, 2)).max(axis=0)  # (pieces, dims)
+            area = piece_green_areas(scaled)  # (pieces, dims)
         dist[last[:-1]] = 0.0  # between two segments (NaN there)
         err = np.maximum.reduceat(dist, first, axis=0)
         errors[todo] = err
         worst = err.max(axis=1)
+        coeffs = np.ascontiguousarray(power_coefficients(scaled, span).transpose(2, 0, 1))  # (dims, 6, pieces): in t, highest power first
         for j, k in enumerate(todo.tolist()):
-            fits[k] = (x[first[j]: last[j] + 1], coeffs[:, first[j]: last[j]])
+            fits[k] = (x[first[j]: last[j] + 1], coeffs[:, :, first[j]: last[j]])
+        seg_start[todo], seg_end[todo] = qk[first], at[-1, last - 1]
+        area[last[:-1]] = 0.0
+        seg_area[todo] = np.add.reduceat(area, first, axis=0)
         bad = worst > fit_tol
         if not bad.any():
             todo = todo[:0]
@@ -882,10 +974,14 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
         raise _fit_failure(fit_tol, float(errors[todo].max()), int(count[todo].max()))
     if not np.isfinite(errors).all():  # a NaN coefficient gives a NaN distance at its probes
         raise GeometryError("the exact curve is not finite at some spline knots or probes (a cusp the checks did not see)")
+    closed = (np.abs(seg_end - np.concatenate([seg_start[1:], seg_start[:1]])) <= DEFAULT_CLOSURE_TOL).all(axis=0)
+    area = seg_area.sum(axis=0)
     contours = []
     for c in range(dims):  # the knots increase (uniform in each segment) and the distances are finite
-        contours.append(Contour([Spline._checked_by_caller(x, np.ascontiguousarray(coeffs[:, :, c]).view(np.float64).reshape(6, -1, 2))
-                                 for x, coeffs in fits]))  # type: ignore[misc]
+        # coefficients (6, pieces) complex of curve c -> (6, pieces, 2) float (a view where the fit's block allows it)
+        segments = [Spline._checked_by_caller(x, coeffs[c].view(np.float64).reshape(6, -1, 2)) for x, coeffs in fits]  # type: ignore[misc]
+        # closed and counter-clockwise: checked above; else the constructor raises the message naming the failure
+        contours.append(Contour._checked_by_caller(segments, float(area[c])) if closed[c] and area[c] > 0.0 else Contour(segments))
     return contours, [float(v) for v in errors.max(axis=0)]
 
 
@@ -1043,10 +1139,11 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
     n_coarse, added_coarse = _grid_layout(law, BOUND_SPACING)
     coarse = _law_on_grid(law, n_coarse, added_coarse)
     flat_data = None
+    terms = None if f.kind == "flat" else _pitch_terms(f, *coarse)
     if f.kind == "flat":  # the face's checks need most of its kinematics: made now, kept for `data`
         flat_data = _kinematics_from(f, grid.theta, *grid.values, grid.sorted(_grid_to_cam(f, n_uniform, added)))
         masks = profile_failures(f, flat_data)
-    elif _pitch_clear(f, *coarse, TWO_PI / n_coarse):
+    elif _pitch_clear(f, terms, TWO_PI / n_coarse):
         masks = []
     else:  # the dense check, in the grid's own order (uniform part, then the added angles)
         masks = [(reason, grid.sorted(mask)) for reason, mask in _pitch_failures(f, *grid.raw[:3]) if mask.any()]
@@ -1073,22 +1170,22 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
         """The wanted curves and their first two derivatives (d/dtheta) at cam angles ``th`` (n,)
         from one evaluation of the law: (Q, dQ, d2Q), complex (n, len(want)) each (the curves side by side)."""
         s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(th))
+        block = np.empty((3, th.size, len(want)), dtype=complex)
         if f.kind == "flat":
-            curves = _flat(f, th, s, ds, d2s, d3s, False)
+            block[:, :, 0] = _flat(f, th, s, ds, d2s, d3s, False)[0]
         else:
-            curves = _roller(f, th, s, ds, d2s, d3s, False, tuple(want))
-        return tuple(np.stack([curve[i] for curve in curves], axis=1) for i in range(3))  # type: ignore[return-value]
+            _roller(f, th, s, ds, d2s, d3s, False, tuple(want), out=block)
+        return block[0], block[1], block[2]
 
     if want:
         # d2Q/dtheta2 of the wanted curves on the uniform part of the coarse grid: the sixth-derivative bound
-        at = (np.arange(n_coarse) * (TWO_PI / n_coarse),) + tuple(v[:n_coarse] for v in coarse)
-        if f.kind == "flat":
-            curves = _flat(f, *at, False)
+        at = np.arange(n_coarse) * (TWO_PI / n_coarse)
+        if terms is None:
+            d2 = _flat(f, at, *(v[:n_coarse] for v in coarse), False)[0][2][None]
         else:
-            curves = _roller(f, *at, False, tuple(want))
-        d2 = [curve[2] for curve in curves]
+            d2 = _pitch_second_derivatives(f, at, terms, want)
         try:
-            curves, errors = _spline_contours(exact, len(want), sigma, law, fit_tol, (at[0], d2))
+            curves, errors = _spline_contours(exact, len(want), sigma, law, fit_tol, (at, d2))
         except GeometryError as exc:  # report-only: show what failed instead of the pitch curve
             if not failures:
                 raise

@@ -80,6 +80,7 @@ reported.
 """
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
@@ -192,8 +193,10 @@ class _Piece(_MappedPiece):
     poly: tuple[float, ...]
     trig: tuple[tuple[float, float, float], ...] = ()
     _unit_matrix: np.ndarray = field(init=False, repr=False, compare=False)
+    omegas: tuple[float, ...] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
+        object.__setattr__(self, "omegas", tuple(om for om, _, _ in self.trig))
         # d^n F / dw^n (n = 0 .. _MAX_ORDER) in the basis of :func:`_basis`, one row per n
         poly = [float(c) for c in self.poly] or [0.0]
         degree = max((j for j, c in enumerate(poly) if c != 0.0), default=0)
@@ -218,7 +221,7 @@ class _Piece(_MappedPiece):
 
     def _shape(self, w: np.ndarray, orders: Sequence[int]) -> list[np.ndarray]:
         flat = np.asarray(w, dtype=float).ravel()
-        values = self._unit_matrix[list(orders)] @ _basis(flat, self.degree, [om for om, _, _ in self.trig])
+        values = self._unit_matrix[list(orders)] @ _basis(flat, self.degree, self.omegas)
         return [v.reshape(np.shape(w)) for v in values]
 
     def scaled(self, k: float) -> _Piece:
@@ -307,6 +310,10 @@ def _extrema(piece: _MappedPiece, n: int, samples: int = 257, iterations: int = 
 
 #: Length of the short table of :func:`_uniform_phasors`.
 _PHASOR_BLOCK = 64
+#: Fewest uniform angles of one piece for which :meth:`MotionProgram.on_uniform_grid` takes the
+#: sines and cosines from :func:`_uniform_phasors` (its fixed cost, ~6 us, is that of a direct sine
+#: and cosine of ~500 angles on the machine of benchmarks/RESULTS.md).
+_PHASOR_MIN_POINTS = 640
 
 
 def _uniform_phasors(first: float, step: float, m: int) -> np.ndarray:
@@ -838,15 +845,16 @@ class MotionProgram:
             if not isinstance(seg, Segment):
                 raise ParameterError(f"segments[{i}]", seg, "a Segment")
         n = len(self.segments)
-        names = [seg.where or f"segments[{i}]" for i, seg in enumerate(self.segments)]
-        spans = np.array([seg.span for seg in self.segments])
-        total = float(spans.sum())
+        # the per-segment bookkeeping in Python floats (a program has a few segments)
+        spans = [seg.span for seg in self.segments]
+        ends = list(itertools.accumulate(spans))  # the running sum, as np.cumsum adds
+        total = ends[-1]
         if abs(total - TWO_PI) > self.span_tol:
             raise ParameterError("segments", f"spans adding up to {math.degrees(total):.9g} deg",
                                  "spans adding up to 360 deg", f"tolerance {self.span_tol:g} rad")
-        self.starts = np.concatenate([[0.0], np.cumsum(spans)[:-1]])
-        self.spans = spans
-        starts = self.starts.tolist()  # Python floats for the per-segment bookkeeping below
+        starts = [0.0] + ends[:-1]
+        self.starts = np.array(starts)
+        self.spans = np.array(spans)
         # absolute start level of every segment: chained, or a polynomial's own start[0]
         levels = []
         level = 0.0
@@ -856,7 +864,7 @@ class MotionProgram:
             levels.append(level)
             level = level + seg.lift
         self.levels = np.array(levels)
-        levels = self.levels.tolist()
+        self._bookkeeping = (starts, levels)  # the same, as Python floats (for the plan)
         # peaks and extremes per segment (physical units)
         self._seg_peaks = []
         s_lo, s_hi = math.inf, -math.inf
@@ -880,6 +888,7 @@ class MotionProgram:
             ok = [abs(d) <= self.join_tol * max(abs(l), abs(r), pk) for d, l, r, pk in zip(diff, left, right, peak)]
             if not ok[0]:
                 where = math.degrees(starts[i])
+                names = [seg.where or f"segments[{k}]" for k, seg in enumerate(self.segments)]
                 if i == 0:
                     raise ParameterError(names[n - 1], f"ends at s = {left[0]:.9g} {unit}",
                                          f"ending where the program starts (s = {right[0]:.9g} {unit} at 0 deg)",
@@ -888,8 +897,7 @@ class MotionProgram:
                                      f"starting where {names[prev]} ends (s = {left[0]:.9g} {unit})",
                                      f"the displacement jumps by {diff[0]:.6g} {unit} at {where:.9g} deg")
             continuity = next((k - 1 for k in (1, 2, 3) if not ok[k]), SMOOTH)
-            self._joins.append(Join(starts[i], prev, i, continuity, tuple(map(float, left)),
-                                    tuple(map(float, right)), tuple(float(d) for d in diff[1:]), unit))
+            self._joins.append(Join(starts[i], prev, i, continuity, left, right, tuple(diff[1:]), unit))
         # breaks: joins and internal law breaks; evaluation pieces in cam angle
         brk, cont = [], []
         piece_lo, piece_ref = [], []
@@ -902,9 +910,9 @@ class MotionProgram:
             for k, piece in enumerate(seg.shape.pieces):
                 piece_lo.append(th0 + piece.lo * seg.span)
                 piece_ref.append((i, k))
-        order = np.argsort(brk, kind="stable")
-        self.breaks = np.asarray(brk, dtype=float)[order]
-        self.break_continuity = np.asarray(cont, dtype=int)[order]
+        order = sorted(range(len(brk)), key=brk.__getitem__)  # stable
+        self.breaks = np.array([brk[k] for k in order], dtype=float)
+        self.break_continuity = np.array([cont[k] for k in order], dtype=int)
         self._piece_lo = np.asarray(piece_lo, dtype=float)
         self._piece_ref = piece_ref
 
@@ -922,19 +930,20 @@ class MotionProgram:
         plan = self.__dict__.get("_eval_plan")
         if plan is None:
             plan = []
+            starts, levels = self._bookkeeping
             for i, k in self._piece_ref:
                 seg = self.segments[i]
                 piece = seg.shape.pieces[k]
                 if not isinstance(piece, _Piece):  # evaluated by the piece itself (no matrix)
-                    plan.append((float(self.starts[i]), float(seg.span), 0.0, True, float(self.levels[i]), (), None,
+                    plan.append((starts[i], seg.span, 0.0, True, levels[i], (), None,
                                  (piece, seg.scale)))
                     continue
-                factors = [seg.scale * piece.sign_out * piece.sign_in**n / seg.span**n for n in range(4)]
-                matrix = piece._unit_matrix[:4] * np.array(factors)[:, None]
-                matrix[0, 0] += float(self.levels[i] + seg.scale * piece.offset)
+                scale, span = seg.scale * piece.sign_out, seg.span * piece.sign_in
+                matrix = piece._unit_matrix[:4] * np.array([[scale], [scale / span], [scale / span**2], [scale / span**3]])
+                matrix[0, 0] += levels[i] + seg.scale * piece.offset
                 matrix.flags.writeable = False
-                plan.append((float(self.starts[i]), float(seg.span), float(piece.ref), piece.sign_in > 0, 0.0,
-                             tuple(om for om, _, _ in piece.trig), matrix, None))
+                plan.append((starts[i], seg.span, float(piece.ref), piece.sign_in > 0, 0.0,
+                             piece.omegas, matrix, None))
             self.__dict__["_eval_plan"] = plan
         return plan
 
@@ -959,16 +968,18 @@ class MotionProgram:
         plan = self._plan()
         npieces = len(plan)
         order = None
+        ths = th
         if npieces == 1:
-            bounds = np.array([0, th.size])
-        elif th.size > 1 and bool(np.all(th[1:] >= th[:-1])):  # sorted (a check grid): no regrouping
-            bounds = np.concatenate([[0], np.searchsorted(th, self._piece_lo[1:], side="left"), [th.size]])
-        else:  # the right-hand piece at a break: count the piece starts <= theta
-            order, bounds = _grouped(np.searchsorted(self._piece_lo, th, side="right") - 1, npieces)
-        ths = th if order is None else th[order]
+            bounds = [0, th.size]
+        else:
+            if th.size > 1 and not bool((th[1:] >= th[:-1]).all()):  # not sorted (a check grid is): sort
+                order = np.argsort(th, kind="stable")
+                ths = th[order]
+            # the right-hand piece at a break: a piece starts at the first angle >= its start
+            bounds = [0] + np.searchsorted(ths, self._piece_lo[1:], side="left").tolist() + [th.size]
         res = np.empty((4, th.size))  # s and its three derivatives in one block (one allocation)
         for g, entry in enumerate(plan):
-            lo, hi = int(bounds[g]), int(bounds[g + 1])
+            lo, hi = bounds[g], bounds[g + 1]
             if lo < hi:
                 self._fill(entry, ths[lo:hi], res[:, lo:hi], None)
         if order is not None:
@@ -1003,24 +1014,33 @@ class MotionProgram:
     def on_uniform_grid(self, n: int, extra: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """The displacement and its three derivatives at the cam angles ``k 2 pi / n`` (k = 0 .. n - 1)
         followed by the sorted angles ``extra`` (rad, in ``[0, 2 pi)``): what ``self(np.concatenate([np.arange(n)
-        * (2 pi / n), extra]))`` gives, four arrays (n + extra.size,), with the sines and cosines of
-        every piece on the uniform grid from angle addition (:func:`_uniform_phasors`: within a few
-        ulps of the direct ones, at a fraction of their cost; the check grid of a cam is such a grid
-        with the breaks added)."""
+        * (2 pi / n), extra]))`` gives, four arrays (n + extra.size,).  A piece covering at least
+        :data:`_PHASOR_MIN_POINTS` uniform angles takes its sines and cosines there from angle addition
+        (:func:`_uniform_phasors`: within a few ulps of the direct ones, at a fraction of their cost;
+        the dense check grid of a cam is such a grid with the breaks added); a piece with fewer is
+        evaluated at its uniform and added angles in one pass."""
         extra = np.zeros(0) if extra is None else np.asarray(extra, dtype=float)
         step = TWO_PI / n
         grid = np.arange(n) * step
         starts = self._piece_lo[1:]
-        bounds = np.concatenate([[0], np.searchsorted(grid, starts, side="left"), [n]])
+        bounds = [0] + np.searchsorted(grid, starts, side="left").tolist() + [n]
+        extra_bounds = [0] + np.searchsorted(extra, starts, side="left").tolist() + [extra.size]
         res = np.empty((4, n + extra.size))
-        extra_bounds = n + np.concatenate([[0], np.searchsorted(extra, starts, side="left"), [extra.size]])
         for g, entry in enumerate(self._plan()):
-            lo, hi = int(bounds[g]), int(bounds[g + 1])
-            if lo < hi:
+            lo, hi = bounds[g], bounds[g + 1]
+            elo, ehi = n + extra_bounds[g], n + extra_bounds[g + 1]
+            if hi - lo >= _PHASOR_MIN_POINTS:  # angle addition pays off
                 self._fill(entry, grid[lo:hi], res[:, lo:hi], step)
-            lo, hi = int(extra_bounds[g]), int(extra_bounds[g + 1])
-            if lo < hi:
-                self._fill(entry, extra[lo - n: hi - n], res[:, lo:hi], None)
+            elif elo < ehi and lo < hi:  # few angles: the uniform and the added ones in one evaluation
+                both = np.empty((4, hi - lo + ehi - elo))
+                self._fill(entry, np.concatenate([grid[lo:hi], extra[elo - n: ehi - n]]), both, None)
+                res[:, lo:hi] = both[:, : hi - lo]
+                res[:, elo:ehi] = both[:, hi - lo:]
+                continue
+            elif lo < hi:
+                self._fill(entry, grid[lo:hi], res[:, lo:hi], None)
+            if elo < ehi:
+                self._fill(entry, extra[elo - n: ehi - n], res[:, elo:ehi], None)
         return res[0], res[1], res[2], res[3]
 
     # -- reports ------------------------------------------------------------------------------

@@ -151,7 +151,7 @@ def test_sixth_derivative_estimate_against_a_closed_form_curve():
     a = np.array([c[0] for c in coef])[k]
     b = np.array([c[1] for c in coef])[k]
     d2 = -a * np.exp(1j * theta) - 9 * b * np.exp(3j * theta)
-    estimate = _sixth_derivatives(theta, [d2], brk)
+    estimate = _sixth_derivatives(theta, d2[None], brk)
     ends = np.append(brk, TWO_PI)
     for j, (aj, bj) in enumerate(coef):
         # the differences use five grid angles BOUND_SPACING apart inside the interval: the largest
@@ -330,7 +330,13 @@ def test_screened_cams_are_clear_on_a_ten_times_finer_grid():
     and every cam whose dense check fails is one it did not clear.  It is not vacuous: it clears
     most of the cams that are comfortably clear."""
     from camgen.errors import CamgenError
-    from camgen.synthesis.followers import SCREEN_UNDERCUT, _law_on_grid, _pitch_clear, kinematics
+    from camgen.synthesis.followers import (
+        SCREEN_UNDERCUT,
+        _law_on_grid,
+        _pitch_clear,
+        _pitch_terms,
+        kinematics,
+    )
 
     rng = np.random.default_rng(2026)
     fine = np.arange(36000) * (TWO_PI / 36000)
@@ -341,7 +347,7 @@ def test_screened_cams_are_clear_on_a_ten_times_finer_grid():
         except CamgenError:  # a random geometry the follower refuses (pivot inside the cam ...)
             continue
         n, added = _grid_layout(program, BOUND_SPACING)
-        clear = _pitch_clear(follower, *_law_on_grid(program, n, added), TWO_PI / n)
+        clear = _pitch_clear(follower, _pitch_terms(follower, *_law_on_grid(program, n, added)), TWO_PI / n)
         k = kinematics(follower, program, np.concatenate([fine, program.breaks]))
         r_kappa = follower.roller_radius * k.pitch_curvature
         speed = np.hypot(*k.pitch_d1.T)
@@ -357,3 +363,119 @@ def test_screened_cams_are_clear_on_a_ten_times_finer_grid():
         failing += not fine_ok
     assert comfortable >= 100 and failing >= 20  # both sides of the limits are exercised
     assert cleared >= 0.8 * comfortable
+
+
+def test_bound_second_derivatives_match_the_kinematics():
+    """The second derivatives the fit's sixth-derivative bound is taken from (the pitch curve's and
+    the profile's, from the screening terms) are those of the closed-form kinematics (the pitch
+    curve and contact point derivatives of _roller's full path), for random rollers and knives."""
+    from camgen.errors import CamgenError
+    from camgen.synthesis.followers import (
+        _pitch_second_derivatives,
+        _pitch_terms,
+        kinematics,
+    )
+
+    rng = np.random.default_rng(7)
+    checked = 0
+    for _ in range(60):
+        try:
+            follower, program = _random_pitch_cam(rng)
+        except CamgenError:
+            continue
+        theta = np.arange(360) * (TWO_PI / 360)
+        k = kinematics(follower, program, theta)
+        if not (np.all(np.isfinite(k.profile_curvature)) and np.all(np.hypot(*k.pitch_d1.T) > 1e-6)):
+            continue
+        want = ("pitch", "profile") if follower.kind == "roller" else ("pitch",)
+        got = _pitch_second_derivatives(follower, theta, _pitch_terms(follower, *program(theta)), want)
+        expected = [k.pitch_d2] + ([k.contact_d2] if follower.kind == "roller" else [])
+        for z, xy in zip(got, expected):
+            scale = float(np.max(np.abs(xy)))
+            assert np.max(np.abs(np.column_stack([z.real, z.imag]) - xy)) <= 1e-11 * scale
+        checked += 1
+    assert checked >= 30
+
+
+@pytest.mark.parametrize("n", [360, 7200])
+def test_program_on_a_uniform_grid_with_added_angles(n):
+    """on_uniform_grid(n, extra) against the direct evaluation at the uniform angles followed by the
+    added ones: on the coarse grid (360: each piece evaluated once at its uniform and added angles
+    together) and on the dense one (7200: angle addition on the uniform part), a few ulps of each
+    derivative's peak; the added angles at and next to every break and inside pieces."""
+    program = MotionProgram([Segment("cycloidal", D(97), 14.0), Segment("dwell", D(41)), Segment("modified_trapezoid", D(130), -14.0),
+                             Segment("dwell", D(92))])
+    brk = program.breaks
+    extra = np.sort(np.concatenate([brk, brk + 1e-9, (brk - 1e-9) % TWO_PI, [D(12.3), D(200.7)]]))
+    grid = np.arange(n) * (TWO_PI / n)
+    direct = np.array(program(np.concatenate([grid, extra])))
+    fast = np.array(program.on_uniform_grid(n, extra))
+    peak = np.max(np.abs(direct), axis=1)
+    assert np.all(np.max(np.abs(fast - direct), axis=1) <= 8e-16 * n**0.5 * peak)
+    # at and next to the breaks: the right-hand piece at a break, each side's own piece next to it
+    s, v = program(extra)[:2]
+    assert np.array_equal(fast[0, n:], s) and np.array_equal(fast[1, n:], v)
+
+
+def _stub_law():
+    class Law:  # a law without breaks: the fit makes one segment over the turn
+        breaks = np.zeros(0)
+
+    return Law()
+
+
+@pytest.mark.parametrize("curve, message", [
+    (lambda th: (1.0 + 0.01 * th) * np.exp(1j * th), "not closed"),  # a spiral: it ends 0.063 mm from its start
+    (lambda th: 30.0 * np.exp(1j * th), "counter-clockwise"),         # a circle run clockwise in t = -theta
+])
+def test_fit_refuses_an_open_or_clockwise_curve(curve, message):
+    """The envelope fit checks closure and orientation of all its curves at once; a curve that is
+    not closed (a spiral) or runs clockwise is refused with the message of the Contour constructor."""
+    from camgen.errors import GeometryError
+    from camgen.synthesis.followers import _spline_contours
+
+    def exact(th):
+        h = 1e-4  # derivatives of the closed form by central differences: the fit tolerance below is loose
+        q = curve(th)
+        d1 = (curve(th + h) - curve(th - h)) / (2 * h)
+        d2 = (curve(th + h) - 2 * q + curve(th - h)) / (h * h)
+        return q[:, None], d1[:, None], d2[:, None]
+
+    with pytest.raises(GeometryError, match=message):
+        _spline_contours(exact, 1, 1.0, _stub_law(), 1e-3)
+
+
+def test_fit_of_a_counter_clockwise_circle_has_the_circles_area():
+    """The Green area the fit computes for its contour (from the scaled quintic coefficients) is the
+    circle's pi r^2 (to the fit's h^6 error), and the contour meets r at every cam angle."""
+    from camgen.synthesis.followers import _spline_contours
+
+    r = 30.0
+
+    def exact(th):  # t = -theta: counter-clockwise in t
+        z = r * np.exp(-1j * th)
+        return z[:, None], (-1j * z)[:, None], (-z)[:, None]
+
+    (contour,), (error,) = _spline_contours(exact, 1, 1.0, _stub_law(), 1e-9)
+    assert error <= 1e-9
+    assert abs(contour.area - math.pi * r * r) <= 2 * math.pi * r * 1e-9
+    pts = contour.evaluate(np.linspace(0.0, contour.n_segments, 1000, endpoint=False))
+    assert np.max(np.abs(np.hypot(*pts.T) - r)) <= 1e-9
+
+
+def test_a_segment_shorter_than_the_bound_windows_is_fitted_within_fit_tol():
+    """A dwell of 0.5 deg between two rises (shorter than the five 1-deg angles of the sixth-derivative
+    windows): the fit still meets fit_tol, measured here against the closed-form kinematics at
+    angles between the probes."""
+    from camgen.synthesis.followers import kinematics
+
+    program = MotionProgram([Segment("cycloidal", D(179.5), 12.0), Segment("dwell", D(0.5)), Segment("cycloidal", D(180.0), -12.0)])
+    follower = FollowerSpec("roller", 50.0, roller_radius=8.0)
+    cam = cam_envelope(follower, program, fit_tol=1e-7)
+    assert cam.fit_error <= 1e-7
+    worst = 0.0
+    for seg in cam.profile.segments:  # each spline's parameter is t = -sigma theta over its segment
+        t = np.linspace(seg.breaks[0], seg.breaks[-1], 4001)
+        exact = kinematics(follower, program, np.mod(-follower.sigma * t, TWO_PI)).contact_point
+        worst = max(worst, float(np.max(np.hypot(*(seg.eval_t(t) - exact).T))))
+    assert worst <= 1e-7
