@@ -1636,6 +1636,15 @@ class Contour:
         # a ray through a joint hits both neighbouring segments at the same distance
         dist = np.where(finite, hits, np.inf).min(axis=1)
         far = np.where(finite, hits, -np.inf).max(axis=1)
+        missed = np.flatnonzero(~finite.any(axis=1))
+        if missed.size:
+            # a ray through a joint whose two ends differ by rounding (up to DEFAULT_CLOSURE_TOL) can
+            # pass between them: it meets the contour at the joint (a segment's start point)
+            u = _unit(flat[missed])
+            along = u @ self._corners.T  # (rays, joints)
+            across = np.abs(np.outer(u[:, 0], self._corners[:, 1]) - np.outer(u[:, 1], self._corners[:, 0]))
+            at_joint = np.where((across <= DEFAULT_CLOSURE_TOL) & (along > 0), along, np.inf).min(axis=1)
+            dist[missed] = at_joint
         bad = ~np.isfinite(dist) | (far - dist > 1e-9 * (1.0 + np.abs(dist))) | np.any(np.isposinf(hits), axis=1)
         if np.any(bad):
             where = math.degrees(float(flat[np.argmax(bad)])) % 360.0

@@ -452,6 +452,27 @@ def test_polar_radius_of_a_contour_not_star_shaped_is_an_error():
         notched.polar_radius(np.radians([90.0, 20.0]))
 
 
+@pytest.mark.parametrize("gap", [0.0, 1e-12, -1e-12, 1e-9, -1e-9])
+def test_a_ray_through_a_joint_meets_it_once_whatever_the_rounding_there(gap):
+    """A circle of radius 50 from four cubic Hermite quarters whose second one ends ``gap`` mm off
+    (within closure_tol): the ray at 180 deg runs through that joint (its direction's sine is
+    1.2e-16, not 0, so it can pass between the two ends); both the sorted-table path and the
+    every-piece path give the radius there (50 mm up to the gap), and 1e-13 rad either side."""
+    radius = 50.0
+
+    def quarter(a0, a1, off):
+        t = np.linspace(a0, a1, 9)
+        p = np.c_[radius * np.cos(t), radius * np.sin(t)]
+        p[-1, 1] += off
+        return Spline.hermite(t, p, np.c_[-radius * np.sin(t), radius * np.cos(t)])
+
+    circle = Contour([quarter(0.0, math.pi / 2, 0.0), quarter(math.pi / 2, math.pi, gap), quarter(math.pi, 1.5 * math.pi, 0.0),
+                      quarter(1.5 * math.pi, 2 * math.pi, 0.0)])
+    phi = np.array([math.pi, math.pi - 1e-13, math.pi + 1e-13])
+    for got in (circle.polar_radius(phi), circle._polar_radius_all_pieces(phi)):
+        assert np.max(np.abs(got - radius)) <= abs(gap) + 1e-12
+
+
 def _brute_crossing(points: np.ndarray):
     """All pairs of non-adjacent chords of the closed polygon: the crossing with the smallest
     (i, j), i < j, as the point on chord i; None without one."""
