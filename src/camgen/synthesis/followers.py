@@ -950,7 +950,7 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
             at = (_PROBE_POWERS @ scaled.reshape(6, -1)).reshape(_PROBE_POWERS.shape[0], -1, dims)
             dist = np.abs(at[:-1] - q[nlead + x.size:].reshape(-1, _PROBES.size, dims).transpose(1, 0, 2)).max(axis=0)  # (pieces, dims)
             area = piece_green_areas(scaled)  # (pieces, dims)
-        dist[last[:-1]] = 0.0  # between two segments (NaN there)
+        dist[last[:-1]] = 0.0  # between two segments (meaningless there)
         err = np.maximum.reduceat(dist, first, axis=0)
         errors[todo] = err
         worst = err.max(axis=1)

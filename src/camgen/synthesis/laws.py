@@ -973,7 +973,7 @@ class MotionProgram:
             bounds = [0, th.size]
         else:
             if th.size > 1 and not bool((th[1:] >= th[:-1]).all()):  # not sorted (a check grid is): sort
-                order = np.argsort(th, kind="stable")
+                order = np.argsort(th)  # (the order among equal angles does not matter)
                 ths = th[order]
             # the right-hand piece at a break: a piece starts at the first angle >= its start
             bounds = [0] + np.searchsorted(ths, self._piece_lo[1:], side="left").tolist() + [th.size]

@@ -63,11 +63,14 @@ def program_and_closed_forms():
 def test_program_on_the_check_grid_and_on_negative_angles_against_closed_forms():
     """The sorted check grid (breaks and their neighbours included: at a break the following
     piece) and the angles -t of a ccw envelope (in [-2 pi, 0], the exact ends included) give the
-    textbook values; so do angles far outside one turn."""
+    textbook values; so do angles far outside one turn, and the same angles shuffled (the breaks
+    included) and as a 2-D array."""
     program, closed = program_and_closed_forms()
     grid = check_grid(program)
     assert np.all(np.diff(grid) > 0)
-    for theta in (grid, -grid, grid - TWO_PI, np.array([0.0, -0.0, -1e-300, -TWO_PI, TWO_PI, -D(160), D(160)]), grid + 14 * PI):
+    shuffled = np.random.default_rng(5).permutation(np.concatenate([grid, program.breaks, grid[::7] - 3 * TWO_PI]))
+    for theta in (grid, -grid, grid - TWO_PI, np.array([0.0, -0.0, -1e-300, -TWO_PI, TWO_PI, -D(160), D(160)]), grid + 14 * PI,
+                  shuffled, shuffled[: shuffled.size // 3 * 3].reshape(-1, 3)):
         s, v, _, _ = program(theta)
         ref_s, ref_v = closed(theta)
         assert np.max(np.abs(s - ref_s)) <= 1e-12 * 20, theta[:3]
