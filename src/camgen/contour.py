@@ -481,10 +481,10 @@ QUINTIC_RESIDUALS.flags.writeable = False
 
 
 def quintic_hermite_data(p: np.ndarray, d1: np.ndarray, d2: np.ndarray, h: np.ndarray) -> np.ndarray:
-    """The end data ``(p0, delta, v0, v1, a0, a1)`` (6, n - 1, ...) of :data:`QUINTIC_HERMITE` for
-    the pieces between consecutive rows of ``p``, ``d1``, ``d2`` ((n, ...) each: values, first and
-    second derivatives in t) of lengths ``h`` (n - 1,) in t: the derivatives scaled to ``s = (t - t_i) / h``
-    (by ``h`` and ``h^2``).  The result has the dtype of ``p``."""
+    """The end data ``(p0, delta, v0, v1, a0, a1)`` (6, n - 1, ...) of :func:`quintic_hermite_scaled`
+    for the pieces between consecutive rows of ``p``, ``d1``, ``d2`` ((n, ...) each: values, first
+    and second derivatives in t) of lengths ``h`` (n - 1,) in t: the derivatives scaled to
+    ``s = (t - t_i) / h`` (by ``h`` and ``h^2``); complex when the inputs are."""
     hh = h.reshape(h.shape + (1,) * (p.ndim - 1))
     data = np.empty((6,) + (p.shape[0] - 1,) + p.shape[1:], dtype=np.result_type(p, d1, d2, float))
     data[0] = p[:-1]
@@ -571,8 +571,8 @@ class Spline:
     @classmethod
     def _checked_by_caller(cls, breaks: np.ndarray, coeffs: np.ndarray) -> "Spline":
         """A spline of arrays its caller has checked (float ``breaks`` strictly increasing, finite
-        float ``coeffs`` of shape (degree + 1, K, 2)): made read-only, neither copied nor checked
-        again (the envelope fit checks all its segments at once)."""
+        float ``coeffs`` of shape (degree + 1, K, 2), possibly a view into a larger block): made
+        read-only, neither copied nor checked again (the envelope fit checks all its segments at once)."""
         spline = cls.__new__(cls)
         breaks.flags.writeable = False
         coeffs.flags.writeable = False

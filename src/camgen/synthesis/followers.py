@@ -476,6 +476,30 @@ def _flat(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, back:
                       kappa, rho, face_pos, turn, None, None, _xy(q1), _xy(q2))
 
 
+def _pitch_curvature(sigma: float, vx: np.ndarray, vy: np.ndarray, ax: np.ndarray, ay: np.ndarray, bx: np.ndarray, by: np.ndarray,
+                     out: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The pitch curve's speed ``|V|`` (mm/rad), ``|V|^2``, ``V . A``, signed curvature ``kappa =
+    -sigma (V x A) / |V|^3`` (1/mm, into ``out``; the counter-clockwise contour runs against theta
+    for a ccw cam) and ``d kappa / d theta = -sigma ((V x B) / |V|^3 - 3 (V x A) (V . A) / |V|^5)``
+    (``d|V| / d theta = V . A / |V|``) from the components of ``V``, ``A``, ``B`` (:func:`_centre`)."""
+    with np.errstate(all="ignore"):
+        speed2 = vx * vx + vy * vy
+        dot = vx * ax + vy * ay
+        cross = vx * ay - vy * ax
+        speed = np.sqrt(speed2)
+        cube = speed * speed2
+        kappa = np.divide(-sigma * cross, cube, out=out)
+        kappa1 = vx * by - vy * bx
+        kappa1 /= cube
+        cross *= dot
+        cross *= 3.0
+        cube *= speed2
+        cross /= cube
+        kappa1 -= cross
+        kappa1 *= -sigma
+    return speed, speed2, dot, kappa, kappa1
+
+
 def _roller(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, want: tuple[str, ...] = ("pitch", "profile"),
             back: np.ndarray | None = None, out: np.ndarray | None = None):
     """Roller / knife: the :class:`Kinematics` (``full``) or the (Q, dQ, d2Q) of the curves named in
@@ -499,29 +523,11 @@ def _roller(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, wan
     del back
     if "profile" not in want and not full:
         return ((pitch, p1, p2),)
+    speed, _, _, kappa_p, kappa_p1 = _pitch_curvature(sigma, vx, vy, ax, ay, bx, by, real[1])
+    del bx, by
     with np.errstate(divide="ignore", invalid="ignore"):
-        speed2 = vx * vx + vy * vy
-        dot = vx * ax + vy * ay
-        cross = vx * ay - vy * ax
-        cube = np.sqrt(speed2)
-        k = (sigma * r) / cube  # Q = P - r n with the outward normal n = (sigma / |V|) J V (n = -J t, t = -sigma V / |V|)
-        cube *= speed2
-        # the counter-clockwise contour runs against theta for a ccw cam: signed curvature -sigma (V x A) / |V|^3
-        kappa_p = np.divide(-sigma * cross, cube, out=real[1])
-        kappa_p1 = vx * by - vy * bx
-        del bx, by
-        kappa_p1 /= cube
-        cross *= dot
-        del dot
-        cross *= 3.0
-        cube *= speed2
-        del speed2
-        cross /= cube
-        del cube
-        kappa_p1 -= cross
-        del cross
-        kappa_p1 *= -sigma  # d kappa_p / d theta
-    del ax, ay
+        k = (sigma * r) / speed  # Q = P - r n with the outward normal n = (sigma / |V|) J V (n = -J t, t = -sigma V / |V|)
+    del speed, ax, ay
     # the profile from the pitch curve in the cam frame: Q = P - r n = P - i k P' (n turned with
     # the pitch tangent), Q' = P' (1 - r kappa), Q'' = P'' (1 - r kappa) - r kappa' P'
     contact = np.multiply(p1, k * -1j, out=cplx[4])
@@ -640,7 +646,7 @@ class _PitchTerms(NamedTuple):
     """The roller-centre motion relative to the cam at some cam angles (fixed frame, (n,) arrays):
     the follower height ``cy`` (translating) and the law's ``s'``; ``V``, ``A`` (:func:`_centre`),
     ``|V|^2``, ``V . A``; roller only (else None): ``r kappa`` and ``r d kappa / d theta`` of the
-    pitch curve (``kappa = -sigma (V x A) / |V|^3``, :func:`_roller`)."""
+    pitch curve (:func:`_pitch_curvature`)."""
 
     cy: np.ndarray
     ds: np.ndarray
@@ -657,27 +663,11 @@ class _PitchTerms(NamedTuple):
 def _pitch_terms(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray) -> _PitchTerms:
     """:class:`_PitchTerms` of a roller or knife from the law's displacement and its three derivatives."""
     (_, cy), (vx, vy), (ax, ay), (bx, by), _, _ = _centre(f, s, ds, d2s, d3s)
-    with np.errstate(all="ignore"):
-        speed2 = vx * vx + vy * vy
-        dot = vx * ax + vy * ay
-        r_kappa = r_slope = None
-        if f.kind == "roller":
-            signed_r = -f.sigma * f.roller_radius
-            cross = vx * ay
-            cross -= vy * ax
-            cross *= signed_r
-            cube = np.sqrt(speed2)
-            cube *= speed2
-            r_kappa = cross / cube
-            r_slope = vx * by
-            r_slope -= vy * bx
-            r_slope *= signed_r
-            cross *= dot
-            cross *= 3.0
-            cross /= speed2
-            r_slope -= cross
-            r_slope /= cube  # (signed_r (V x B) - 3 signed_r (V x A) (V . A) / |V|^2) / |V|^3
-    return _PitchTerms(np.broadcast_to(cy, s.shape), ds, vx, vy, ax, ay, speed2, dot, r_kappa, r_slope)
+    _, speed2, dot, kappa, kappa1 = _pitch_curvature(f.sigma, vx, vy, ax, ay, bx, by)
+    r_kappa = r_slope = None
+    if f.kind == "roller":
+        r_kappa, r_slope = f.roller_radius * kappa, f.roller_radius * kappa1
+    return _PitchTerms(cy, ds, vx, vy, ax, ay, speed2, dot, r_kappa, r_slope)
 
 
 def _pitch_clear(f: FollowerSpec, terms: _PitchTerms, spacing: float) -> bool:

@@ -1029,18 +1029,15 @@ class MotionProgram:
         for g, entry in enumerate(self._plan()):
             lo, hi = bounds[g], bounds[g + 1]
             elo, ehi = n + extra_bounds[g], n + extra_bounds[g + 1]
-            if hi - lo >= _PHASOR_MIN_POINTS:  # angle addition pays off
+            if hi - lo >= _PHASOR_MIN_POINTS:  # angle addition pays off on the uniform part
                 self._fill(entry, grid[lo:hi], res[:, lo:hi], step)
-            elif elo < ehi and lo < hi:  # few angles: the uniform and the added ones in one evaluation
+                if elo < ehi:
+                    self._fill(entry, extra[elo - n: ehi - n], res[:, elo:ehi], None)
+            elif lo < hi or elo < ehi:  # few angles: the uniform and the added ones in one evaluation
                 both = np.empty((4, hi - lo + ehi - elo))
                 self._fill(entry, np.concatenate([grid[lo:hi], extra[elo - n: ehi - n]]), both, None)
                 res[:, lo:hi] = both[:, : hi - lo]
                 res[:, elo:ehi] = both[:, hi - lo:]
-                continue
-            elif lo < hi:
-                self._fill(entry, grid[lo:hi], res[:, lo:hi], None)
-            if elo < ehi:
-                self._fill(entry, extra[elo - n: ehi - n], res[:, elo:ehi], None)
         return res[0], res[1], res[2], res[3]
 
     # -- reports ------------------------------------------------------------------------------
