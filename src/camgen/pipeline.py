@@ -68,11 +68,40 @@ def plan_run(scene: "Scene", only: Sequence[str] | None = None) -> Plan:
                                      'the "follower" output (<cam>_follower.csv) tabulates the follower motion at the cam speed')
     if "ngc" in formats:
         _check_machining(scene)
+    planned: dict[str, str] = {}
+    for name in formats:
+        output = OUTPUTS[name]
+        if output.scope == "cam":
+            for spec in scene.cams:
+                claim_file(planned, output.files.format(cam=spec.name), f"cams.{spec.name} ({name})")
+        elif output.scope == "run":
+            claim_file(planned, output.files, f"the run ({name})")
     stages: set[str] = set()
     for name in formats:
         if name != "json" or full:
             stages |= OUTPUTS[name].stages
     return Plan(formats, frozenset(stages), full)
+
+
+def claim_file(files: "dict[str, str]", name: str, owner: str) -> None:
+    """Record that ``owner`` (a scene key and format) writes the file ``name``; refuse a name
+    another output of the run writes already, or one that differs from it only in letter case
+    (one file on the case-insensitive file systems of macOS and Windows).
+
+    Raises
+    ------
+    SceneError
+        Naming both outputs and the file.
+    """
+    from camgen.errors import SceneError
+
+    key = name.casefold()
+    for other_name, other in files.items():
+        if other_name.casefold() == key:
+            same = "the same file" if other_name == name else f"one file on case-insensitive file systems ('{other_name}')"
+            raise SceneError(f"{other} and {owner} would both write '{name}' ({same}): rename one of the cams "
+                             "(each output of a run needs a file of its own)")
+    files[name] = owner
 
 
 def _check_machining(scene: "Scene") -> None:
@@ -309,6 +338,13 @@ def render(result: RunResult, progress: Progress = _quiet) -> None:
 
     settings = result.settings()
     files = result.files
+    owners: dict[str, str] = {}
+
+    def add(new: "dict[str, str | bytes]", owner: str) -> None:
+        for path in new:
+            claim_file(owners, path, owner)
+        files.update(new)
+
     for cam in result.cams:
         planned = {name: OUTPUTS[name].files.format(cam=cam.name) for name in result.plan.formats if OUTPUTS[name].scope == "cam"}
         made = {name: path for name, path in planned.items() if cam.manufacturable or not OUTPUTS[name].manufacturing}
@@ -324,14 +360,16 @@ def render(result: RunResult, progress: Progress = _quiet) -> None:
                 cam.withheld = [path for name, path in planned.items() if OUTPUTS[name].manufacturing]
                 cam_files = {p: data for p, data in cam_files.items() if p not in cam.withheld}
                 break
-        files.update(cam_files)
+        add(cam_files, f"cams.{cam.name}")
         if "ride" in result.plan.formats:
-            files.update(cam.files)
+            add(cam.files, f"cams.{cam.name}")
     if "legs" in result.plan.formats:
-        for job in result.jobs.values():
-            files.update(job.files)
+        for name, job in result.jobs.items():
+            add(job.files, f"mechanisms.{name}")
     html = "html" in result.plan.formats
     _check_finite(files)
+    for name in ("report.json",) + (("report.html",) if html else ()):
+        claim_file(owners, name, "the run's report")
     names = sorted(files) + ["report.json"] + (["report.html"] if html else [])
     mechanisms = {name: job.report for name, job in result.jobs.items()}
     files["report.json"] = report_json(report_dict(result.scene, result.cams, names, mechanisms, result.plan.stages))
@@ -362,10 +400,14 @@ def _check_finite(files: dict[str, str | bytes]) -> None:
 
 def run_scene(scene: "Scene", outdir: str | Path = "outputs", only: Sequence[str] | None = None,
               progress: Progress = _quiet) -> RunResult:
-    """Run ``scene`` and write its files into ``outdir/<scene name>/`` as one atomic swap."""
-    from camgen.staging import write_run
+    """Run ``scene`` and write its files into ``outdir/<scene name>/`` as one atomic swap (an
+    output folder that cannot take the run is refused before anything is computed)."""
+    from camgen.staging import preflight, write_run
 
-    result = execute(scene, plan_run(scene, only), progress)
+    target = Path(outdir) / scene.name
+    plan = plan_run(scene, only)
+    preflight(target)
+    result = execute(scene, plan, progress)
     progress("writing files")
-    write_run(Path(outdir) / scene.name, result.files)
+    write_run(target, result.files)
     return result
