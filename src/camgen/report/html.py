@@ -255,6 +255,7 @@ def report_html(result: "RunResult") -> str:
     from camgen import __version__
     from camgen.jobs import get_job
     from camgen.kinds import get_kind
+    from camgen.report.text import display_path
 
     Figure = _figure_factory()
     scene, cams = result.scene, result.cams
@@ -271,7 +272,7 @@ def report_html(result: "RunResult") -> str:
         "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>",
         f"<title>camgen report: {html.escape(scene.name)}</title><style>{_CSS}</style></head><body>",
         f"<h1>camgen design-check report: {html.escape(scene.name)}</h1>",
-        f"<p class='note'>camgen {__version__}; scene <code>{html.escape(scene.source)}</code>; chord tolerance "
+        f"<p class='note'>camgen {__version__}; scene <code>{html.escape(display_path(scene.source))}</code>; chord tolerance "
         f"{scene.output.chord_tol:g} mm; units mm and deg.</p>",
         f"<table><tr><th>cam</th><th>kind</th><th>checks</th><th>manufacturing files written</th></tr>{summary}</table>",
     ]
