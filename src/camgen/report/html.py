@@ -28,6 +28,8 @@ h1{font-size:1.6em}h2{border-bottom:2px solid #ccc;padding-bottom:.2em;margin-to
 table{border-collapse:collapse;margin:.6em 0;font-size:.9em}td,th{border:1px solid #ccc;padding:.25em .5em;text-align:left;vertical-align:top}
 th{background:#f3f3f3}.pass{color:#0a0;font-weight:bold}.fail{color:#c00;font-weight:bold}.info{color:#666}
 .fig{margin:.5em 0}.note{color:#555;font-size:.9em}code{background:#f3f3f3;padding:0 .2em}
+caption{text-align:left;font-weight:bold;padding:.2em 0}td.num{text-align:right;font-variant-numeric:tabular-nums}td.nw{white-space:nowrap}
+tr.sized td{background:#f6f9ff}.tables{display:flex;flex-wrap:wrap;gap:0 1.5em;align-items:flex-start}.tables>table{flex:1 1 20em}
 """
 
 
@@ -63,18 +65,13 @@ _STATUS = {"pass": ("pass", "pass"), "fail": ("fail", "FAIL"), "info": ("info", 
 def _checks_table(checks: Sequence[Any]) -> str:
     rows = "".join(
         f"<tr><td>{html.escape(c.name)}</td><td class='{_STATUS[c.status][0]}'>{_STATUS[c.status][1]}</td>"
-        f"<td>{_fmt(c.value)}</td><td>{html.escape(c.comparison)} {_fmt(c.limit) if c.limit is not None else 'none'}</td>"
-        f"<td>{html.escape(c.unit)}</td><td>{_fmt(c.where_deg)}</td>"
+        f"<td class='nw'>{_fmt(c.value)}</td><td class='nw'>{html.escape(c.comparison)} {_fmt(c.limit) if c.limit is not None else '(no limit)'}</td>"
+        f"<td class='nw'>{html.escape(c.unit)}</td><td>{_fmt(c.where_deg)}</td>"
         f"<td>{html.escape(c.note)}{' <b>(blocks manufacture)</b>' if c.failed and c.blocks_manufacture else ''}</td></tr>"
         for c in checks
     )
     return ("<table><tr><th>check</th><th>result</th><th>value</th><th>limit</th><th>unit</th><th>where (deg)</th>"
             f"<th>note</th></tr>{rows}</table>")
-
-
-def _figures_table(figures: dict[str, Any]) -> str:
-    rows = "".join(f"<tr><td>{html.escape(k)}</td><td>{_fmt(v)}</td></tr>" for k, v in figures.items() if not isinstance(v, dict))
-    return f"<table><tr><th>figure</th><th>value</th></tr>{rows}</table>"
 
 
 def _profile_figure(Figure: Any, cam: Any) -> str:
@@ -255,6 +252,7 @@ def report_html(result: "RunResult") -> str:
     from camgen import __version__
     from camgen.jobs import get_job
     from camgen.kinds import get_kind
+    from camgen.report.design import design_table, figures_table, program_table
     from camgen.report.text import display_path
 
     Figure = _figure_factory()
@@ -283,8 +281,12 @@ def report_html(result: "RunResult") -> str:
 
     for cam in cams:
         parts.append(f"<h2 id='{html.escape(cam.name)}'>{html.escape(cam.name)} ({html.escape(cam.kind)})</h2>")
+        if cam.evaluation is not None:  # the profile to scale beside the design's numbers
+            parts.append(f"<div class='tables'><div class='fig'>{_profile_figure(Figure, cam)}</div>{design_table(cam)}</div>")
+        else:
+            parts.append(design_table(cam))
+        parts.append(program_table(cam))
         if cam.evaluation is not None:
-            parts.append(f"<div class='fig'>{_profile_figure(Figure, cam)}</div>")
             parts.append(f"<div class='fig'>{_curves_figure(Figure, cam, tool_radius)}</div>")
             if cam.evaluation.motion is not None:
                 parts.append(f"<div class='fig'>{_motion_figure(Figure, cam)}</div>")
@@ -295,7 +297,7 @@ def report_html(result: "RunResult") -> str:
 
             parts.append(dynamics_section(Figure, cam))
         parts.append("<h3>Checks</h3>" + _checks_table(cam.checks))
-        parts.append("<h3>Figures</h3>" + _figures_table(cam.figures))
+        parts.append(figures_table(cam))
         kind_section = get_kind(cam.kind).report_section
         if kind_section:
             parts.append(section(kind_section)(Figure, cam))
