@@ -183,9 +183,12 @@ def _curves_figure(Figure: Any, cam: Any, tool_radius: float) -> str:
     order = np.argsort(np.mod(rho_angle, 2 * math.pi))
     outline = cam.contour if cam.contour is not None else ev.pitch
     size = max(abs(v) for v in outline.bounds) if outline is not None else float(np.max(np.abs(rho[np.isfinite(rho)])))
-    clipped = np.clip(rho[order], -3 * size, 3 * size)
+    # near an inflection the radius runs off to infinity: the plot shows +-3 cam sizes and its note says what it leaves out
+    shown, known = 3 * size, rho[~np.isnan(rho)]
+    if known.size:
+        ax2.ylim(-shown if known.min() < -shown else None, shown if known.max() > shown else None)
     keep = _thin(order.size, 1200)
-    ax2.plot(np.degrees(np.mod(rho_angle[order], 2 * math.pi))[keep], clipped[keep], ".", marker_size=1.5, color="tab:blue")
+    ax2.plot(np.degrees(np.mod(rho_angle[order], 2 * math.pi))[keep], rho[order][keep], ".", marker_size=1.5, color="tab:blue")
     if ev.curvature_limit is not None:  # the radius the curve must stay above (roller radius, or 0)
         ax2.hline(ev.curvature_limit, color="tab:red", dash="--", width=0.8)
         ax2.title(f"{ev.curvature_label}; must stay above {ev.curvature_limit:g} mm (dashed)", font_size=8)

@@ -56,6 +56,13 @@ def test_an_undercutting_trajectory_cam_with_html_reports_the_failed_check(tmp_p
     assert row[1] == "FAIL" and float(row[2]) == pytest.approx(undercut["value"], rel=1e-5)
     page = (run / "report.html").read_text(encoding="utf-8")
     assert "No ride" in page  # the ride section says why it has nothing to show
+    # the exact rod-centre path turns both ways, so its radius of curvature runs through infinity:
+    # the curvature plot cannot show it all and says which values it leaves out
+    kappa = (1.0 - exact_undercut_factor(BUMP_WIDTH)) / RD
+    assert kappa.min() < 0.0 < kappa.max()
+    (note,) = lxml_html.fromstring(page).xpath("//*[local-name()='text'][@class='clipnote']")
+    assert note.text.startswith("clipped, not shown: radius of curvature of the pitch curve above ")
+    assert " mm and below \u2212" in note.text
 
 
 def test_an_undercutting_trajectory_cam_in_a_subprocess_has_no_traceback(tmp_path):
