@@ -30,6 +30,14 @@ th{background:#f3f3f3}.pass{color:#0a0;font-weight:bold}.fail{color:#c00;font-we
 .fig{margin:.5em 0}.note{color:#555;font-size:.9em}code{background:#f3f3f3;padding:0 .2em}
 caption{text-align:left;font-weight:bold;padding:.2em 0}td.num{text-align:right;font-variant-numeric:tabular-nums}td.nw{white-space:nowrap}
 tr.sized td{background:#f6f9ff}.tables{display:flex;flex-wrap:wrap;gap:0 1.5em;align-items:flex-start}.tables>table{flex:1 1 20em}
+@page{size:auto;margin:15mm}
+@media print{
+body{max-width:none;margin:0;padding:0;font-size:9pt}h1{font-size:15pt;margin:0 0 .3em}
+h2{font-size:13pt;margin-top:1em}h3{font-size:10.5pt;margin:.8em 0 .3em}h2,h3{break-after:avoid}
+.fig,.tables,tr,caption{break-inside:avoid}.fig svg{display:block;margin:0 auto;max-height:125mm;width:auto}.fig{margin:.3em 0}
+thead{display:table-header-group}table{margin:.3em 0}td,th{padding:.15em .4em}
+.tables>.fig{width:52%}.tables>table{flex:1 1 0}.anim{display:none}table.checks{width:100%}
+}
 """
 
 
@@ -70,7 +78,7 @@ def _checks_table(checks: Sequence[Any]) -> str:
         f"<td>{html.escape(c.note)}{' <b>(blocks manufacture)</b>' if c.failed and c.blocks_manufacture else ''}</td></tr>"
         for c in checks
     )
-    return ("<table><tr><th>check</th><th>result</th><th>value</th><th>limit</th><th>unit</th><th>where (deg)</th>"
+    return ("<table class='checks'><tr><th>check</th><th>result</th><th>value</th><th>limit</th><th>unit</th><th>where (deg)</th>"
             f"<th>note</th></tr>{rows}</table>")
 
 
@@ -244,7 +252,7 @@ def _animation(cam: Any) -> str:
     anim = cam.evaluation.animation
     speed = f"; the cam runs at {cam.rpm:g} rpm" if getattr(cam, "rpm", None) else ""
     svg = animation_svg(anim, html.escape(f"{cam.name}: the follower riding the cam"))
-    return (f"<div class='fig'>{svg}<p class='note'>The follower riding the cam, one turn in {anim.seconds:g} s on screen{speed}; "
+    return (f"<div class='fig anim'>{svg}<p class='note'>The follower riding the cam, one turn in {anim.seconds:g} s on screen{speed}; "
             "the purple line marks cam angle 0 on the cam.</p></div>")
 
 
