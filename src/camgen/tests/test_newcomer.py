@@ -71,3 +71,61 @@ def test_the_comment_reader_finds_file_names():
     assert _comments('a = "x # y"  # z\n# w\nb = 1') == [" z", " w"]
     found = _FILE.findall(" run templates/plate_cam.toml, see camgen/mechanisms/tricycle.py and lift_table.csv; 5 mm/deg")
     assert found == ["templates/plate_cam.toml", "camgen/mechanisms/tricycle.py", "lift_table.csv"]
+
+
+def _every_key_name() -> set[str]:
+    """Every key of every table, read from the kinds, mechanisms and output tables (the schema)."""
+    from camgen.jobs import get_job, job_names
+    from camgen.kinds import get_kind, kind_names
+    from camgen.outputs import machining_keys, output_keys
+
+    groups = [get_kind(k).keys for k in kind_names()] + [get_job(j).keys for j in job_names()] + [output_keys(), machining_keys()]
+    names = set()
+    for keys in groups:
+        for key in keys:
+            names.add(key.name)
+            names |= {sub.name for sub in getattr(key.type, "keys", None) or ()}
+    return names
+
+
+def test_the_first_lines_of_camgen_keys_name_keys(capsys):
+    """`camgen keys | head` shows keys of every table: the index comes before the prose."""
+    assert main(["keys"]) == 0
+    head = capsys.readouterr().out.splitlines()[:10]
+    quoted = set(re.findall(r"`([a-z_0-9]+)`", "\n".join(head)))
+    keys = _every_key_name()
+    assert len(quoted & keys) >= 20
+    from camgen.outputs import output_keys
+
+    assert {k.name for k in output_keys()} <= quoted  # the [output] table in full
+    assert "chord_tol_mm" in quoted and "base_radius_mm" in quoted
+
+
+#: Until cli.py's `keys` command catches BrokenPipeError (the lead's file; the fix is in the report).
+_BROKEN_PIPE = "cli.py's _cmd_keys lets BrokenPipeError escape: a traceback and status 1"
+
+
+@pytest.mark.xfail(strict=True, reason=_BROKEN_PIPE)
+def test_camgen_keys_into_a_pipe_nobody_reads_ends_quietly(tmp_path):
+    """The pipe's reading end is closed before camgen starts, so its first write fails (EPIPE)
+    every time: camgen stops writing without a traceback, with status 0 or 141 (a shell tool
+    ended by SIGPIPE: 128 + 13)."""
+    import os
+
+    read, write = os.pipe()
+    os.close(read)
+    try:
+        proc = subprocess.run([sys.executable, "-m", "camgen", "keys"], stdout=write, stderr=subprocess.PIPE, text=True,
+                              timeout=120, cwd=tmp_path)
+    finally:
+        os.close(write)
+    assert proc.stderr == "" and proc.returncode in (0, 141), (proc.returncode, proc.stderr[-2000:])
+
+
+@pytest.mark.xfail(strict=False, reason=_BROKEN_PIPE + " (whether head closes the pipe before camgen's last write is a race)")
+def test_camgen_keys_piped_to_head_shows_the_first_line_quietly(tmp_path):
+    command = f"{shlex.quote(sys.executable)} -m camgen keys | head -1; echo status=${{PIPESTATUS[0]}}"
+    proc = subprocess.run(["bash", "-c", command], capture_output=True, text=True, timeout=120, cwd=tmp_path)
+    assert proc.stdout.splitlines()[0] == "# camgen scene keys"
+    assert proc.stderr == "", proc.stderr[-2000:]
+    assert int(re.search(r"status=(\d+)", proc.stdout).group(1)) in (0, 141)
