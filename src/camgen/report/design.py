@@ -94,8 +94,8 @@ def number(value: float) -> str:
         return "yes" if value else "no"
     if isinstance(value, int):
         return str(value)
-    if not math.isfinite(value):
-        return "never" if value > 0 else "-"
+    if not math.isfinite(value):  # report figures are finite (report.json refuses others); drawn as words all the same
+        return "infinite" if value > 0 else "-infinite" if value < 0 else "not a number"
     return f"{value:.6g}"
 
 
@@ -134,6 +134,8 @@ def _figure_rows(items: Iterable[tuple[str, Any]], prefix: str = "") -> list[str
         label, unit = quantity(key)
         if isinstance(value, dict):
             rows += _figure_rows(value.items(), f"{prefix}{label}: ")
+        elif key == "jump_rpm" and value is None:  # report.json's null jump speed: the follower never leaves the cam
+            rows.append(_row(prefix + label, "never", "", numeric=False))
         else:
             rows.append(_row(prefix + label, value_text(value), unit if value not in (None, [], ()) else "", numeric=_numeric(value)))
     return rows

@@ -1,13 +1,17 @@
 """report.html: one self-contained page a designer reads (inline SVG plots, no scripts).
 
-Per cam: the profile to scale with pitch curve, follower, bore and keyway; pressure angle and
-radius of curvature against cam angle with their limits; the follower motion; the checks.
+Per cam: the design and the motion program as tables with units (:mod:`camgen.report.design`)
+beside the profile to scale with pitch curve, follower, bore and keyway; pressure angle and
+radius of curvature against cam angle with their limits; the follower motion; the checks; the
+computed figures.
 For the horse leg: foot and body paths, pressure angle curves, the inclination sweep.  For the
 tricycle: target path against the ride on the cam as made, the error types, and the measured
 tables against the fitted model.
 
 Plots are drawn by :mod:`camgen.report.svgplot` (numpy only).  The same input gives the same
-bytes: no dates, figures numbered in page order.
+bytes: no dates, figures numbered in page order.  A print style (``@media print``) lays the page
+out for the printer's paper (Letter or A4, 15 mm margins): every plot whole on one page and at
+most 125 mm tall, headings kept with what follows, the animation left out.
 """
 from __future__ import annotations
 
