@@ -131,12 +131,13 @@ def report_dict(scene: "Scene", cams: "Sequence[BuiltCam]", files: Sequence[str]
                 stages: Sequence[str] = ()) -> dict[str, Any]:
     """Assemble the report for a run of ``scene`` that built ``cams`` and writes ``files``."""
     from camgen import __version__
+    from camgen.report.text import display_path
 
     failed = any(c.failed for cam in cams for c in cam.checks)
     return {
         "scene": scene.name,
         "camgen_version": __version__,
-        "source_file": scene.source,
+        "source_file": display_path(scene.source),
         "chord_tol_mm": scene.output.chord_tol,
         "status": "fail" if failed else "pass",
         "stages": sorted(stages),
