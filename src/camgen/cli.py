@@ -266,11 +266,17 @@ def _one_line(text: str) -> str:
 
 
 def _say(line: str) -> None:
-    """One line on stderr, whatever its encoding can show (a path in an ASCII locale)."""
-    stream = sys.stderr
-    encoding = getattr(stream, "encoding", None) or "utf-8"
+    """One line on stderr, in UTF-8 whatever the locale: a file name an ASCII locale decoded to
+    surrogates is written back as its own bytes (the terminal shows it as the user typed it)."""
     try:
-        print(line.encode(encoding, "backslashreplace").decode(encoding), file=stream)
+        buffer = sys.stderr.buffer
+    except AttributeError:  # a text-only stream (a test's capture)
+        print(line, file=sys.stderr)
+        return
+    try:
+        sys.stderr.flush()
+        buffer.write(line.encode("utf-8", "surrogateescape") + b"\n")
+        buffer.flush()
     except (OSError, ValueError):  # no stderr to write to: nothing more can be said
         pass
 

@@ -101,11 +101,6 @@ def test_the_first_lines_of_camgen_keys_name_keys(capsys):
     assert "chord_tol_mm" in quoted and "base_radius_mm" in quoted
 
 
-#: Until cli.py's `keys` command catches BrokenPipeError (the lead's file; the fix is in the report).
-_BROKEN_PIPE = "cli.py's _cmd_keys lets BrokenPipeError escape: a traceback and status 1"
-
-
-@pytest.mark.xfail(strict=True, reason=_BROKEN_PIPE)
 def test_camgen_keys_into_a_pipe_nobody_reads_ends_quietly(tmp_path):
     """The pipe's reading end is closed before camgen starts, so its first write fails (EPIPE)
     every time: camgen stops writing without a traceback, with status 0 or 141 (a shell tool
@@ -122,7 +117,6 @@ def test_camgen_keys_into_a_pipe_nobody_reads_ends_quietly(tmp_path):
     assert proc.stderr == "" and proc.returncode in (0, 141), (proc.returncode, proc.stderr[-2000:])
 
 
-@pytest.mark.xfail(strict=False, reason=_BROKEN_PIPE + " (whether head closes the pipe before camgen's last write is a race)")
 def test_camgen_keys_piped_to_head_shows_the_first_line_quietly(tmp_path):
     command = f"{shlex.quote(sys.executable)} -m camgen keys | head -1; echo status=${{PIPESTATUS[0]}}"
     proc = subprocess.run(["bash", "-c", command], capture_output=True, text=True, timeout=120, cwd=tmp_path)
