@@ -45,7 +45,7 @@ def _cam_tables(cam: "BuiltCam", scene: "Scene", written: set[str]) -> dict[str,
         from camgen.export.motion import follower_metadata
 
         add(OUTPUTS["follower"].files.format(cam=cam.name), lambda: follower_metadata(motion, cam.rpm))
-    if "trajectory" in cam.figures:
+    if cam.kind == "trajectory":
         from camgen.kinds.trajectory import ride_metadata
 
         add(OUTPUTS["ride"].files.format(cam=cam.name), lambda: ride_metadata(str(cam.figures["trajectory"])))
