@@ -551,6 +551,16 @@ def test_removed_dxf_pitch_key_is_refused_naming_its_replacement(tmp_path, capsy
     assert not (tmp_path / "out").exists()
 
 
+def test_construction_key_without_a_dxf_is_refused():
+    from camgen.errors import ParameterError
+    from camgen.scene import parse_scene
+
+    cams = {"c": {"kind": "three_arc", "a_mm": 220.0, "b_mm": 160.0, "c_mm": 25.0}}
+    with pytest.raises(ParameterError, match=r"output\.dxf_construction.*only with \"dxf\" in output\.formats"):
+        parse_scene({"output": {"formats": ["points"], "dxf_construction": True}, "cams": cams}, "s")
+    assert parse_scene({"output": {"formats": ["dxf"], "dxf_construction": True}, "cams": cams}, "s").output.dxf_construction
+
+
 # --------------------------------------------------------------------------------------------
 # Concave profiles in both modes
 # --------------------------------------------------------------------------------------------
