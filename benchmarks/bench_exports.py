@@ -30,8 +30,8 @@ def main() -> None:
             jobs = {
                 "dxf (bspline)": lambda: contour_to_dxf(contour, body),
                 "dxf (biarc)": lambda: contour_to_dxf(contour, body, options=DxfOptions("biarc", tol)),
-                "points csv": lambda: points_csv(contour, tol, name, "bench"),
-                "lift csv (1 deg)": lambda: lift_csv(contour, 0.017453292519943295, name, "bench"),
+                "points csv": lambda: points_csv(contour, tol),
+                "lift csv (1 deg)": lambda: lift_csv(contour, 0.017453292519943295),
                 "solid (manifold)": lambda: cam_solid(contour, body, tol),
                 "ngc (biarcs)": lambda: gcode_program(contour, MachiningSpec(thickness=body.thickness, chord_tol=tol, decimals=6)),
                 "ngc (lines)": lambda: gcode_program(contour, MachiningSpec(thickness=body.thickness, chord_tol=tol, spline_mode="lines", decimals=6)),

@@ -46,8 +46,8 @@ class OutputFormat:
 
 
 _FORMATS = (
-    OutputFormat("dxf", "{cam}.dxf", "2-D drawing: PROFILE (exact ARCs, B-splines or biarcs), PITCH, BORE, KEYWAY, CENTER, ZERO "
-                 "(disk cams: cam angle 0 and the rotation) layers; R2010, mm", "camgen.writers:dxf"),
+    OutputFormat("dxf", "{cam}.dxf", "2-D drawing of what is cut: PROFILE (exact ARCs, B-splines or biarcs), BORE, KEYWAY layers "
+                 "(with output.dxf_construction: PITCH, CENTER, ZERO too); R2010, mm", "camgen.writers:dxf"),
     OutputFormat("points", "{cam}_points.csv", "XY point list of the profile at the chord tolerance", "camgen.writers:points"),
     OutputFormat("lift", "{cam}_lift.csv", "polar lift table of the profile: polar angle on the cam -> radius, lift above the base radius",
                  "camgen.writers:lift"),
@@ -81,6 +81,12 @@ SELECTABLE = tuple(f.name for f in _FORMATS if not f.implied)
 MESH_FORMATS = tuple(f.name for f in _FORMATS if "mesh" in f.stages)
 
 
+#: Keys removed from ``[output]``: name -> what replaced it (a scene that sets one is refused naming it).
+REMOVED_OUTPUT_KEYS = {
+    "dxf_pitch": "output.dxf_construction = true (the DXF's PITCH, CENTER and ZERO layers; off by default: the DXF holds only "
+                 "what is cut)",
+}
+
 #: Largest ``output.chord_tol_mm`` (mm).
 MAX_CHORD_TOL = 1.0
 
@@ -88,12 +94,12 @@ MAX_CHORD_TOL = 1.0
 @dataclass(frozen=True)
 class OutputSpec:
     """What a run writes and how: formats, chord tolerance (mm) of every flattened output, DXF
-    spline form, PITCH layer, lift-table step (rad)."""
+    spline form, construction layers, lift-table step (rad)."""
 
     formats: tuple[str, ...] = ("dxf", "points")
     chord_tol: float = 1e-3
     dxf_splines: str = "biarc"
-    dxf_pitch: bool = True
+    dxf_construction: bool = False
     lift_step: float = math.radians(1.0)
 
 
@@ -107,8 +113,10 @@ def output_keys() -> tuple[Key, ...]:
             "meshes, G-code) and the exact profile.", ("tolerance",), default=d.chord_tol),
         Key("dxf_splines", Choice(("biarc", "bspline")), "How the DXF writes spline segments: ARCs and LINEs within chord_tol_mm "
             "(every reader takes them), or exact clamped B-spline SPLINEs (for CAD).", ("dxf",), default=d.dxf_splines),
-        Key("dxf_pitch", Flag(), "Draw the follower-centre path of roller followers on the DXF's PITCH layer.", ("dxf",),
-            default=d.dxf_pitch),
+        Key("dxf_construction", Flag(), "Add construction layers to the DXF: PITCH (the follower-centre path of roller "
+            "followers), CENTER (a cross on the rotation axis) and ZERO (disk cams: cam angle 0 and the direction of rotation). "
+            "Off: the DXF holds only what is cut (PROFILE, BORE, KEYWAY), so programs that import the whole file cut the part.",
+            ("dxf",), default=d.dxf_construction),
         Key("lift_step_deg", Angle(0.01, 10.0), "Polar-angle step of the lift table (<cam>_lift.csv).", ("tables",),
             default=math.degrees(d.lift_step)),
     )

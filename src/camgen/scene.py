@@ -69,14 +69,17 @@ def check_name(where: str, name: object, hint: str = "") -> str:
 
 
 def _output(table: object) -> "OutputSpec":
-    from camgen.outputs import OutputSpec, output_keys
+    from camgen.outputs import REMOVED_OUTPUT_KEYS, OutputSpec, output_keys
 
     table = {} if table is None else table
+    for key, replacement in REMOVED_OUTPUT_KEYS.items():
+        if isinstance(table, dict) and key in table:
+            raise ParameterError(f"output.{key}", table[key], f"no such key: it was replaced by {replacement}", "a removed key")
     p = parse_table("output", table, output_keys())
-    for key, needs in (("dxf_splines", "dxf"), ("dxf_pitch", "dxf"), ("lift_step_deg", "lift")):
+    for key, needs in (("dxf_splines", "dxf"), ("dxf_construction", "dxf"), ("lift_step_deg", "lift")):
         if key in table and needs not in p["formats"]:
             raise ParameterError(f"output.{key}", table[key], f'only with "{needs}" in output.formats', "it changes only that file")
-    return OutputSpec(p["formats"], p["chord_tol"], p["dxf_splines"], p["dxf_pitch"], p["lift_step"])
+    return OutputSpec(p["formats"], p["chord_tol"], p["dxf_splines"], p["dxf_construction"], p["lift_step"])
 
 
 def _machining(table: object, output: "OutputSpec") -> "MachiningSpec":

@@ -144,6 +144,25 @@ def _leg_error(leg: "HorseLeg", spec: HorseLegSpec, index: int, exc: GeometryErr
                           f"{_degrees(ranges)} deg", why)
 
 
+#: Columns of the leg path tables (leg_path_alpha_<deg>.csv) and what they hold.
+LEG_PATH_COLUMNS = {
+    "theta1_deg": "stride-cam angle theta1, deg",
+    "x_mm": "x of the leg end point W (paper 000, eq. 18; origin O1 at the stride-cam centre, x right, y up), mm",
+    "y_mm": "y of W, mm",
+    "pressure_angle_deg": "stride-cam pressure angle (paper 000, eqs. 19-25 with the slide term of eq. 4), deg",
+}
+
+
+def leg_path_metadata(alpha_deg: float, ground_y: float) -> dict[str, Any]:
+    """What ``leg_path_alpha_<deg>.csv`` holds (report.json ``tables``)."""
+    return {
+        "content": "the horse-robot leg's end point W over one turn of the stride cam at one swing-rod inclination alpha1",
+        "columns": dict(LEG_PATH_COLUMNS),
+        "alpha1_deg": float(alpha_deg),
+        "ground_y_mm": float(ground_y),
+    }
+
+
 def sweep_values(sweep_deg: tuple[float, float, float]) -> np.ndarray:
     """Inclinations (rad) of the sweep ``[from, to, step]`` (deg)."""
     start, stop, step = sweep_deg
@@ -187,14 +206,8 @@ def _run(spec: HorseLegSpec, cams: Mapping[str, "BuiltCam"], stages: frozenset[s
         figures["pressure_angle_within_limit"] = bool(np.max(sol.pressure_angle) <= limit)
         name = label(alpha_deg)
         report[f"alpha_{name}"] = figures
-        files[f"leg_path_alpha_{name}.csv"] = csv_table(
-            [
-                f"camgen horse-robot leg end point W (paper 000, eq. 18), alpha1 = {name} deg, scene '{scene_name}'",
-                "units: deg, mm; frame: origin O1 at the stride-cam centre, x right, y up",
-                f"pressure_angle_deg: stride-cam pressure angle (eqs. 19-25 with the slide term of eq. 4); ground line y = {leg.ground_y:g} mm",
-            ],
-            {"theta1_deg": np.degrees(theta1), "x_mm": sol.w[:, 0], "y_mm": sol.w[:, 1], "pressure_angle_deg": np.degrees(sol.pressure_angle)},
-        )
+        files[f"leg_path_alpha_{name}.csv"] = csv_table(dict(zip(
+            LEG_PATH_COLUMNS, (np.degrees(theta1), sol.w[:, 0], sol.w[:, 1], np.degrees(sol.pressure_angle)))))
     sweep: list[dict[str, Any]] = []
     sweep_solutions = {}
     if "analysis" in stages:

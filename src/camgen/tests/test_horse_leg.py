@@ -152,6 +152,8 @@ def test_lead_screw_equation_2():
 
 
 def test_scene_writes_leg_paths_and_report(tmp_path):
+    import pandas
+
     from camgen.cli import main
     from camgen.scene import template_path
 
@@ -162,9 +164,9 @@ def test_scene_writes_leg_paths_and_report(tmp_path):
     for alpha in PAPER:
         figures = leg[f"alpha_{alpha:g}"]
         assert set(figures) >= set(KEYS) | {"max_pressure_angle_deg", "grashof_margin_mm"}
-        rows = [r for r in (out / f"leg_path_alpha_{alpha:g}.csv").read_text().splitlines() if not r.startswith("#")]
-        assert rows[0] == "theta1_deg,x_mm,y_mm,pressure_angle_deg"
-        data = np.loadtxt(rows[1:], delimiter=",")
+        frame = pandas.read_csv(out / f"leg_path_alpha_{alpha:g}.csv")  # the reader's defaults
+        assert list(frame.columns) == ["theta1_deg", "x_mm", "y_mm", "pressure_angle_deg"]
+        data = frame.to_numpy()
         assert data.shape == (3600, 4) and data[1, 0] == pytest.approx(0.1) and data[-1, 0] == pytest.approx(359.9)
         assert np.max(data[:, 2]) - LEG.ground_y == pytest.approx(figures["lift_mm"], abs=1e-6)
     sweep = leg["sweep"]

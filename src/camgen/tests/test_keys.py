@@ -66,7 +66,8 @@ def run(scene_table: dict, tmp_path) -> dict[str, bytes]:
 
 
 def scene(cam: dict, formats=("dxf", "points", "lift", "ngc"), machining=None, **extra) -> dict:
-    table = {"output": {"formats": list(formats)}, "cams": {"c": cam}, **extra}
+    # the construction layers on: keys that change the follower-centre path change the PITCH layer
+    table = {"output": {"formats": list(formats), **({"dxf_construction": True} if "dxf" in formats else {})}, "cams": {"c": cam}, **extra}
     if "ngc" in formats:
         table["machining"] = machining or {"tool_diameter_mm": 6.0}
     return table
@@ -226,7 +227,7 @@ def test_every_output_key_changes_what_it_documents(key_name, tmp_path):
     key = next(k for k in output_keys() if k.name == key_name)
     base_output = {"formats": ["dxf", "points", "lift", "stl", "ngc"]}
     base = scene(SPLINE_CAM, base_output["formats"])
-    current = {"formats": base_output["formats"], "dxf_splines": "biarc", "dxf_pitch": True, "chord_tol_mm": 0.001,
+    current = {"formats": base_output["formats"], "dxf_splines": "biarc", "dxf_construction": True, "chord_tol_mm": 0.001,
                "lift_step_deg": 1.0}[key_name]
     alt = copy.deepcopy(base)
     alt["output"][key_name] = base_output["formats"] + ["obj"] if key_name == "formats" else _changed(current, key)
