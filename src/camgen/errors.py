@@ -197,3 +197,10 @@ def ceil_significant(x: float, digits: int) -> float:
     error message with that many digits is itself accepted (0.0102345 -> 0.0103 for 3)."""
     scale = 10.0 ** (math.floor(math.log10(x)) - digits + 1)
     return float(f"{math.ceil(x / scale * (1 - 1e-12)) * scale:.{digits}g}")
+
+
+def floor_significant(x: float, digits: int) -> float:
+    """``x`` > 0 rounded down to ``digits`` significant digits, so that a largest value quoted in
+    an error message with that many digits is itself accepted (0.0102345 -> 0.0102 for 3)."""
+    scale = 10.0 ** (math.floor(math.log10(x)) - digits + 1)
+    return float(f"{math.floor(x / scale * (1 + 1e-12)) * scale:.{digits}g}")

@@ -595,11 +595,12 @@ def _base_radius_advice(cam: DiskCam, spec: CamSpec, tool_radius: float, tool_is
         advice = sz.base_radius_advice(cam.spec_follower, cam.law, limits)
     except GeometryError as exc:
         return information("min_base_radius", "none", "mm", [], f"no base radius meets the pressure-angle limit {limit:g} deg{tool}: {exc}")
-    what = (f"the smallest base radius meeting the pressure-angle limit {limit:g} deg{tool} with a profile that can be made"
-            if advice.high is None else
-            f"the base radii from the smallest to the largest of the first run meeting the pressure-angle limit {limit:g} deg{tool} "
-            "with a profile that can be made, both ends tried: an oscillating follower's pressure angle is not monotonic in the "
-            "base radius, so larger ones may fail")
+    meets = f"the pressure-angle limit {limit:g} deg{tool} with a profile that can be made"
+    if advice.high is None:
+        what = f"the smallest base radius meeting {meets}, tried; the pressure angle falls as the base radius grows"
+    else:
+        what = (f"both tried, and base radii every {advice.step:.3g} mm between: they meet {meets}; an oscillating follower's "
+                "pressure angle is not monotonic in the base radius, and just outside these the design fails")
     return information("min_base_radius", advice.low, "mm", [],
                        f"{advice.text(cam.spec_follower.base_radius)} ({what}; or set sizing = \"base_radius\")")
 

@@ -286,6 +286,7 @@ class BaseRadiusAdvice:
     high: float | None
     tried: int
     digits: int = 3
+    step: float | None = None  #: spacing of the base radii tried between low and high (mm), oscillating followers
 
     def number(self, value: float) -> str:
         """``value`` as the message prints it: ``digits`` decimals if that is exact, else the
@@ -322,7 +323,11 @@ def base_radius_advice(follower: FollowerSpec, law: Displacement, limits: Design
     if high is not None:
         down = math.floor(high * scale + 1e-9) / scale
         high = down if down >= low and passes(down) else high
-    return BaseRadiusAdvice(float(low), None if high is None else float(high), tried + 2, digits)
+    step = None
+    if high is not None:
+        lo, hi = _base_range(follower, follower.offset)
+        step = (hi - lo) / (scan + 1)  # type: ignore[operator]
+    return BaseRadiusAdvice(float(low), None if high is None else float(high), tried + 2, digits, step)
 
 
 def _no_base_message(follower: FollowerSpec, law: Displacement, limits: DesignLimits, theta: np.ndarray, largest: float) -> str:
