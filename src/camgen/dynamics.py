@@ -757,9 +757,10 @@ def dynamics_checks(result: DynamicsResult, kin: Kinematics, material: ContactMa
         i = int(np.argmin(force))
         bad = force < result.jump_margin
         where = run_ends(bad, theta) if bad.any() else where_degrees(theta[i])
+        # the jump speed rounded down: below the speed quoted the contact force stays positive
         jump = ("never (the contact force does not fall with speed)" if math.isinf(result.jump_rpm)
                 else "at rest (the force is not positive even standing still)" if result.jump_rpm == 0
-                else f"at {result.jump_rpm:.6g} rpm ({result.jump_rpm / result.rpm:.4g} x this speed)")
+                else f"at {floor_significant(result.jump_rpm, 6):g} rpm ({result.jump_rpm / result.rpm:.4g} x this speed)")
         preload, installed, rate = spring_hints(result, kin)
         lengths = train.spring_free_length is not None
         note = (f"smallest contact force {force[i]:.6g} N at cam angle {math.degrees(theta[i]):.6g} deg at {result.rpm:g} rpm "

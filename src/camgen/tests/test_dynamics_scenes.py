@@ -363,6 +363,16 @@ def test_the_jump_notes_least_preload_and_rate_are_tried():
     assert _jump_status(plate(rpm=rpm, jump_margin_n=margin, spring_preload_n=least_preload * (1 - 1e-5))) == "fail"
     assert _jump_status(plate(rpm=rpm, jump_margin_n=margin, spring_rate_n_per_mm=rate)) == "pass"
     assert _jump_status(plate(rpm=rpm, jump_margin_n=margin, spring_rate_n_per_mm=least_rate * (1 - 1e-5))) == "fail"
+    # the jump speed quoted is rounded down: at it (margin 0) the follower stays on the cam.  Written
+    # out: the force along the motion k s + F0 + m g + m a w^2 first reaches 0 where a < 0
+    jumps = float(re.search(r"the follower jumps at ([\d.e+-]+) rpm", note).group(1))
+    theta = np.radians(np.arange(0.0, 360.0, 0.002))
+    s, _, a = rise_return(theta, "cycloidal", 20.0, D(120), D(60), D(120))
+    falling = a < 0
+    exact = math.sqrt(np.min((k * s + f0 + m * G)[falling] / (m * -a[falling] / 1000))) * 60 / TWO_PI
+    assert exact * (1 - 1e-5) <= jumps <= exact * (1 + 1e-9)
+    assert _jump_status(plate(rpm=jumps, jump_margin_n=0.0)) == "pass"
+    assert _jump_status(plate(rpm=exact * (1 + 1e-5), jump_margin_n=0.0)) == "fail"
 
 
 def test_a_spring_given_by_its_lengths_is_told_its_installed_length_and_rate():
