@@ -278,8 +278,8 @@ class BaseRadiusAdvice:
     and the radii of curvature grow with the base radius).  Both are rounded inwards to
     ``digits`` decimals when the rounded value passes too, else quoted as found (``text``
     prints them exactly).  An oscillating follower's pressure angle is not monotonic in the base
-    radius (the contact normal turns against the arm as the cam grows): its passing base radii
-    are an interval, bounded on both sides.  ``tried``: the base radii the search evaluated.
+    radius (it falls, then rises again as the cam grows towards the pivot): its passing base
+    radii are an interval, bounded on both sides.  ``tried``: the base radii evaluated.
     """
 
     low: float
@@ -314,6 +314,8 @@ def base_radius_advice(follower: FollowerSpec, law: Displacement, limits: Design
     low, high, tried = _search(follower, law, limits, tol, scan, upper=True)
 
     def passes(base: float) -> bool:
+        nonlocal tried
+        tried += 1
         spec = _with_base(follower, base)
         return spec is not None and _feasible(spec, law, limits, theta)
 
@@ -327,7 +329,7 @@ def base_radius_advice(follower: FollowerSpec, law: Displacement, limits: Design
     if high is not None:
         lo, hi = _base_range(follower, follower.offset)
         step = (hi - lo) / (scan + 1)  # type: ignore[operator]
-    return BaseRadiusAdvice(float(low), None if high is None else float(high), tried + 2, digits, step)
+    return BaseRadiusAdvice(float(low), None if high is None else float(high), tried, digits, step)
 
 
 def _no_base_message(follower: FollowerSpec, law: Displacement, limits: DesignLimits, theta: np.ndarray, largest: float) -> str:
