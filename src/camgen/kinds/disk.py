@@ -600,7 +600,7 @@ def _base_radius_advice(cam: DiskCam, spec: CamSpec, tool_radius: float, tool_is
         what = f"the smallest base radius meeting {meets}, tried; the pressure angle falls as the base radius grows"
     else:
         what = (f"both tried, and base radii every {advice.step:.3g} mm between: they meet {meets}; an oscillating follower's "
-                "pressure angle is not monotonic in the base radius, and the passing run ends within 0.001 mm beyond each")
+                "pressure angle is not monotonic in the base radius, and the passing run ends within 0.002 mm beyond each")
     return information("min_base_radius", advice.low, "mm", [],
                        f"{advice.text(cam.spec_follower.base_radius)} ({what}; or set sizing = \"base_radius\")")
 
