@@ -126,13 +126,24 @@ def _check_machining(scene: "Scene") -> None:
     step = scene.machining.step_down
     for spec in scene.cams:
         depth = spec.body.thickness + scene.machining.breakthrough
-        if depth / step > MAX_PASSES:
+        if _passes(depth, step) > MAX_PASSES:
             from camgen.errors import ceil_significant
 
             least = ceil_significant(depth / MAX_PASSES, 3)
+            while _passes(depth, least) > MAX_PASSES:  # the quoted least is tried: depth / least may round above
+                least = float(f"{least + 10.0 ** (math.floor(math.log10(least)) - 2):.3g}")  # one unit of the 3rd digit up
+            passes = _passes(depth, step)
             raise ParameterError("machining.step_down_mm", step, f">= {least:.3g} mm for cam '{spec.name}'",
-                                 f"its {depth:g} mm (thickness + breakthrough) would take {depth / step:.4g} passes, more than "
+                                 f"its {depth:g} mm (thickness + breakthrough) would take "
+                                 f"{passes if passes < 1e9 else 'more than 10^9'} passes, more than "
                                  f"the {MAX_PASSES} a program may hold")
+
+
+def _passes(depth: float, step: float) -> float:
+    """Depth passes of a G-code program, as :func:`camgen.export.gcode.gcode_program` counts them
+    (inf for a step so small that the count overflows)."""
+    ratio = depth / step
+    return max(1, math.ceil(ratio - 1e-9)) if math.isfinite(ratio) else math.inf
 
 
 #: Most depth passes of a G-code program (thickness + breakthrough over step_down_mm).

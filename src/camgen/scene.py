@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Mapping
 
 from camgen.errors import ParameterError, SceneError
-from camgen.schema import Choice, Key, Text, check_keys, parse_table, too_deep
+from camgen.schema import Choice, Key, Text, check_keys, parse_table, quoted_names, too_deep
 
 if TYPE_CHECKING:
     from camgen.export.gcode import MachiningSpec
@@ -124,7 +124,7 @@ def _mechanisms(table: object, cams: "tuple[CamSpec, ...]") -> tuple[MechanismSp
     known = job_names()
     unknown = sorted(set(table) - set(known), key=str)
     if unknown:
-        raise SceneError(f"[mechanisms]: unknown mechanism(s) {', '.join(map(repr, unknown))}; known: {', '.join(known)}")
+        raise SceneError(f"[mechanisms]: unknown mechanism(s) {quoted_names(unknown)}; known: {', '.join(known)}")
     by_name = {c.name: c for c in cams}
     out = []
     for name, sub in table.items():

@@ -18,7 +18,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Mapping, Sequence
 
-from camgen.errors import ParameterError, SceneError
+from camgen.errors import ParameterError, SceneError, quoted
 
 #: What a key can change.  The key-effect test checks these outputs' bytes change.
 EFFECTS = {
@@ -66,7 +66,7 @@ def _number(path: str, value: object, valid: str) -> float:
     try:
         number = float(value)
     except OverflowError:
-        raise ParameterError(path, f"<integer of {len(str(value))} digits>", valid) from None
+        raise ParameterError(path, value, valid) from None  # quoted by its number of digits
     if not math.isfinite(number):
         raise ParameterError(path, value, valid)
     return number
@@ -133,8 +133,7 @@ class Count(ValueType):
 
     def parse(self, path: str, value: object) -> int:
         if isinstance(value, bool) or not isinstance(value, int) or not self.low <= value <= self.high:
-            shown = value if not isinstance(value, int) or abs(value) < 10**30 else f"<integer of {len(str(value))} digits>"
-            raise ParameterError(path, shown, self.describe())
+            raise ParameterError(path, value, self.describe())  # a huge integer is quoted by its number of digits
         return value
 
 
@@ -316,6 +315,13 @@ class Key:
 REQUIRED: Any = _REQUIRED
 
 
+def quoted_names(names: Sequence[object], most: int = 5) -> str:
+    """The first ``most`` of ``names``, each quoted shortened (:func:`camgen.errors.quoted`), and
+    how many more: a message naming unknown keys stays one short line whatever the scene holds."""
+    shown = ", ".join(quoted(n) for n in names[:most])
+    return shown + (f" and {len(names) - most} more" if len(names) > most else "")
+
+
 def check_keys(where: str, table: Mapping[str, Any], keys: Sequence[Key]) -> None:
     """Refuse unknown and missing keys of ``table`` (read at scene path ``where``)."""
     allowed = {k.name for k in keys}
@@ -325,7 +331,7 @@ def check_keys(where: str, table: Mapping[str, Any], keys: Sequence[Key]) -> Non
         near = [k for k in allowed if k.split("_")[0] == str(unknown[0]).split("_")[0]]
         if near:
             hint = f" (did you mean {', '.join(sorted(near))}?)"
-        raise SceneError(f"[{where}]: unknown key(s) {', '.join(map(repr, unknown))}{hint}; allowed: {', '.join(sorted(allowed))}")
+        raise SceneError(f"[{where}]: unknown key(s) {quoted_names(unknown)}{hint}; allowed: {', '.join(sorted(allowed))}")
     missing = [k.name for k in keys if k.required and k.name not in table]
     if missing:
         raise SceneError(f"[{where}]: missing key(s) {', '.join(map(repr, missing))}")
