@@ -56,6 +56,9 @@ def quoted(value: object, limit: int = MAX_QUOTED) -> str:
             return f"<{_digits(value)}-digit {'negative ' if value < 0 else ''}integer>"
         return repr(value)
     if isinstance(value, str):
+        from camgen.textfile import display_path
+
+        value = display_path(value)  # a file name an ASCII locale decoded to surrogates: as the user typed it
         if len(value) <= limit:
             return repr(value)
         tail = min(_TAIL, limit // 3)

@@ -152,7 +152,7 @@ def report_dict(scene: "Scene", cams: "Sequence[BuiltCam]", files: Sequence[str]
     """Assemble the report for a run of ``scene`` that built ``cams`` and writes ``files``."""
     from camgen import __version__
     from camgen.export.tablemeta import tables_metadata
-    from camgen.report.text import display_path
+    from camgen.textfile import display_path
 
     failed = any(c.failed for cam in cams for c in cam.checks)
     return {

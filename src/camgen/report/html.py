@@ -268,7 +268,7 @@ def report_html(result: "RunResult") -> str:
     from camgen.jobs import get_job
     from camgen.kinds import get_kind
     from camgen.report.design import design_table, figures_table, program_table
-    from camgen.report.text import display_path
+    from camgen.textfile import display_path
 
     Figure = _figure_factory()
     scene, cams = result.scene, result.cams
