@@ -772,7 +772,13 @@ def check_caps(contour: Contour, body: BodySpec, formats, chord_tol: float, elem
     if size is not None:
         raise ParameterError("output.fea_element_size_mm", element_size, f">= {size:.2g} mm for cam '{cam}' at chord_tol_mm = {chord_tol:g}",
                              f"at element size {h:g} mm {why}, at any chord_tol_mm up to {max_chord_tol:g} mm")
-    raise ParameterError("output.formats", list(formats), f"formats without {', '.join(FEA_FORMATS)} for cam '{cam}'", why)
+    # neither key alone: the least size at the largest tolerance (then the error names the tolerance)
+    size = _least(lambda value: _fits(contour, body, formats, max_chord_tol, value, elements), h, MAX_ELEMENT_SIZE)
+    planned = [f for f in formats if f in FEA_FORMATS]
+    if size is not None:
+        raise ParameterError("output.fea_element_size_mm", element_size, f">= {size:.2g} mm for cam '{cam}', with a larger chord_tol_mm",
+                             f"at element size {h:g} mm {why}; no element size fits at chord_tol_mm = {chord_tol:g}")
+    raise ParameterError("output.formats", planned, f"formats without {', '.join(FEA_FORMATS)} for cam '{cam}'", why)
 
 
 # --------------------------------------------------------------------------------------------
