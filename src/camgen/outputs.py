@@ -62,8 +62,8 @@ _FORMATS = (
                  "extra (gmsh)", "camgen.export.fea:writer", MESH),
     OutputFormat("msh", "{cam}.msh", "Gmsh 2.2 mesh of the body (FEA: wedges or tetrahedra); needs the fea extra (gmsh)",
                  "camgen.export.fea:writer", MESH),
-    OutputFormat("inp", "{cam}.inp", "Abaqus/CalculiX input mesh of the body (FEA: C3D6 or C3D4, node sets PROFILE, BORE, BOTTOM, "
-                 "TOP); needs the fea extra (gmsh)", "camgen.export.fea:writer", MESH),
+    OutputFormat("inp", "{cam}.inp", "Abaqus/CalculiX input mesh of the body (FEA: C3D6 or C3D4, node sets PROFILE, BORE with a "
+                 "bore, BOTTOM, TOP); needs the fea extra (gmsh)", "camgen.export.fea:writer", MESH),
     OutputFormat("step", "{cam}.step", "exact solid (circles and B-splines), AP214, mm; needs the step extra (cadquery-ocp-novtk)",
                  "camgen.writers:step"),
     OutputFormat("ngc", "{cam}.ngc", "RS274/NGC G-code milling the outside profile (LinuxCNC or GRBL)", "camgen.writers:gcode"),

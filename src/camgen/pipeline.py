@@ -130,7 +130,8 @@ def _flat_count(cam: "BuiltCam", chord_tol: float) -> int:
 
 def _check_flat_size(cam: "BuiltCam", formats: Sequence[str], chord_tol: float, output: "OutputSpec | None" = None) -> None:
     """Refuse a chord tolerance that would flatten ``cam`` into more than :data:`MAX_FLAT_POINTS`
-    vertices in a planned point list or surface mesh (a 200 m cam at 1e-7 mm: 3 million),
+    vertices in a planned point list or surface mesh, or a surface mesh file beyond 100 MB
+    (:func:`camgen.export.solid.vertex_limit`; a 200 m cam at 1e-7 mm: 3 million vertices),
     naming ``output.chord_tol_mm`` and the smallest tolerance, as printed, that fits; and FEA
     meshes beyond their caps (:func:`camgen.export.fea.check_caps`, which needs gmsh)."""
     from camgen.errors import ceil_significant
@@ -143,17 +144,22 @@ def _check_flat_size(cam: "BuiltCam", formats: Sequence[str], chord_tol: float, 
 
         require_gmsh(formats)
         check_caps(cam.contour, cam.body, formats, chord_tol, output.fea_element_size, output.fea_elements, cam.name, MAX_CHORD_TOL)
-    if not any(f in _FLAT_ALL or (f in MESH_FORMATS and f not in FEA_FORMATS) for f in formats):
+    flat = [f for f in formats if f in _FLAT_ALL or (f in MESH_FORMATS and f not in FEA_FORMATS)]
+    if not flat:
         return
+    from camgen.export.solid import vertex_limit
+
+    # the surface meshes: each file at most solid.MAX_FILE_BYTES (bytes per outline vertex)
+    limit, holder = min([(MAX_FLAT_POINTS, "a file")] + [(vertex_limit(f), f"a {f} file") for f in flat if f not in _FLAT_ALL])
     count = _flat_count(cam, chord_tol)
-    if count <= MAX_FLAT_POINTS:
+    if count <= limit:
         return
     # chords of arcs and splines: the vertex count grows as chord_tol^-1/2 (at least one per piece)
-    need = ceil_significant(min(MAX_CHORD_TOL, chord_tol * (count / MAX_FLAT_POINTS) ** 2), 2)
-    while need < MAX_CHORD_TOL and _flat_count(cam, need) > MAX_FLAT_POINTS:
+    need = ceil_significant(min(MAX_CHORD_TOL, chord_tol * (count / limit) ** 2), 2)
+    while need < MAX_CHORD_TOL and _flat_count(cam, need) > limit:
         need = ceil_significant(min(MAX_CHORD_TOL, need * 1.05), 2)
-    why = f"at {chord_tol:g} mm its flattened profile would have {count} vertices, more than the {MAX_FLAT_POINTS} a file may hold"
-    if _flat_count(cam, need) > MAX_FLAT_POINTS:
+    why = f"at {chord_tol:g} mm its flattened profile would have {count} vertices, more than the {limit} {holder} may hold"
+    if _flat_count(cam, need) > limit:
         raise ParameterError("output.formats", list(formats), f"formats without the point list and surface meshes for cam '{cam.name}'",
                              why + f", and still more at the largest chord_tol_mm ({MAX_CHORD_TOL:g} mm)")
     raise ParameterError("output.chord_tol_mm", chord_tol, f">= {need:.2g} mm for cam '{cam.name}'", why)

@@ -51,6 +51,25 @@ MESH_FORMATS = {
 SUFFIX = {"stl": ".stl", "stl_ascii": "_ascii.stl", "3mf": ".3mf", "obj": ".obj", "ply": ".ply"}
 
 
+#: Largest surface mesh file (bytes).
+MAX_FILE_BYTES = 100_000_000
+#: Bytes per outline vertex (profile and hole polygons) of each surface format, at most: the
+#: solid has about 5 triangles per outline vertex (two per wall edge, the caps' share with the
+#: ring fill's interior vertices); measured 250-380 (STL), 1440-2170 (ASCII STL), 74-125 (3MF),
+#: 190-265 (OBJ), 95-145 (PLY) on the templates' cams at 1e-3 and 1e-5 mm, with a margin (the
+#: tests compare on the templates and random cams).  The ring fill's seam circles add a
+#: constant: a file holds at most ``BYTES_PER_VERTEX * (vertices + EXTRA_VERTICES)`` bytes
+#: (measured: at most 100 more vertices' worth on small cams).
+BYTES_PER_VERTEX = {"stl": 500, "stl_ascii": 2800, "3mf": 160, "obj": 340, "ply": 180}
+EXTRA_VERTICES = 500
+
+
+def vertex_limit(fmt: str) -> int:
+    """Most outline vertices a surface mesh file of format ``fmt`` may have to stay within
+    :data:`MAX_FILE_BYTES` (:data:`BYTES_PER_VERTEX`, :data:`EXTRA_VERTICES`)."""
+    return max(0, MAX_FILE_BYTES // BYTES_PER_VERTEX[fmt] - EXTRA_VERTICES)
+
+
 #: Farthest (mm) manifold3d's cross-section may move a polygon vertex for it to be mapped back:
 #: Clipper2 keeps 8 decimals, so a rounded point moves by at most sqrt(2)/2 x 1e-8 = 7.1e-9 mm
 #: (measured: 5.0e-9 mm on a 255 mm cam).  Polygon vertices closer together than twice this

@@ -243,3 +243,67 @@ def test_a_chord_tolerance_too_fine_for_the_fea_caps_names_the_least_and_it_fits
     assert status == 0, err
     for fmt in ("vtu", "msh", "inp"):
         assert (folder / f"plate.{fmt}").stat().st_size <= 3_000_000
+
+
+# --------------------------------------------------------------------------------------------
+# Surface meshes: each file at most solid.MAX_FILE_BYTES (solid.BYTES_PER_VERTEX)
+# --------------------------------------------------------------------------------------------
+def _random_star_cam(rng):
+    import math
+
+    import numpy as np
+
+    from camgen.body import BodySpec
+    from camgen.contour import Contour, Spline
+
+    theta = np.linspace(0.0, 2 * math.pi, 65)
+    k = np.arange(1, 6)
+    a, b = rng.normal(size=(2, 5)) / k**2
+    r = (1 + 0.15 * (np.cos(np.outer(theta, k)) @ a + np.sin(np.outer(theta, k)) @ b)) * rng.uniform(20, 400)
+    r[-1] = r[0]
+    contour = Contour([Spline.interpolate(theta, np.stack([r * np.cos(theta), r * np.sin(theta)], 1))])
+    bore = float(rng.uniform(0.1, 0.5) * r.min())
+    return contour, BodySpec(thickness=float(rng.uniform(2, 50)), bore_diameter=bore, keyway_width=0.3 * bore, keyway_depth=0.1 * bore,
+                             min_wall=0.0)
+
+
+@pytest.mark.parametrize("tol", [1e-3, 1e-5])
+def test_surface_mesh_bytes_per_outline_vertex_are_bounded(tol):
+    """The bytes of every surface format (counted in the written content) stay within
+    solid.BYTES_PER_VERTEX x (outline vertices + solid.EXTRA_VERTICES) for every template cam
+    and random cams."""
+    import numpy as np
+
+    from camgen.export.solid import BYTES_PER_VERTEX, EXTRA_VERTICES, bore_polygon, cam_solid, mesh_bytes
+    from camgen.kinds import get_kind
+    from camgen.scene import load_template
+    from camgen.tests.golden.regenerate import TEMPLATES
+
+    cases = []
+    for template in TEMPLATES:
+        scene = load_template(template)
+        for spec in scene.cams:
+            cam = get_kind(spec.kind).build(spec, frozenset())
+            cases.append((cam.contour, cam.body))
+    rng = np.random.default_rng(21)
+    cases += [_random_star_cam(rng) for _ in range(4)]
+    for contour, body in cases:
+        solid = cam_solid(contour, body, tol)
+        hole = bore_polygon(body, tol)
+        outline = len(contour.flatten(tol)) + (0 if hole is None else len(hole))
+        for fmt, bound in BYTES_PER_VERTEX.items():
+            assert len(mesh_bytes(solid, fmt)) <= bound * (outline + EXTRA_VERTICES), (fmt, outline)
+
+
+def test_an_ascii_stl_beyond_its_cap_names_the_least_chord_tolerance_and_it_fits(tmp_path, capsys, monkeypatch):
+    """Surface files capped at 3 MB: the plate cam's ASCII STL at 1e-5 mm is refused naming
+    output.chord_tol_mm; at the quoted value the file on disk holds at most 3 MB."""
+    import camgen.export.solid as solid
+
+    monkeypatch.setattr(solid, "MAX_FILE_BYTES", 3_000_000)
+    status, err, folder = _run(tmp_path, capsys, "fine", formats='["stl_ascii"]', tol=1e-5)
+    assert status == 2 and err.count("\n") == 1 and "stl_ascii" in err and not folder.exists(), err
+    least = _least(err, "output.chord_tol_mm")
+    status, err, folder = _run(tmp_path, capsys, "least", formats='["stl_ascii"]', tol=least)
+    assert status == 0, err
+    assert (folder / "plate_ascii.stl").stat().st_size <= 3_000_000
