@@ -147,10 +147,12 @@ def _check_flat_size(cam: "BuiltCam", formats: Sequence[str], chord_tol: float, 
     flat = [f for f in formats if f in _FLAT_ALL or (f in MESH_FORMATS and f not in FEA_FORMATS)]
     if not flat:
         return
-    from camgen.export.solid import vertex_limit
+    limit, holder = MAX_FLAT_POINTS, "a file"
+    surfaces = [f for f in flat if f not in _FLAT_ALL]
+    if surfaces:  # each surface mesh file at most solid.MAX_FILE_BYTES (bytes per outline vertex)
+        from camgen.export.solid import vertex_limit
 
-    # the surface meshes: each file at most solid.MAX_FILE_BYTES (bytes per outline vertex)
-    limit, holder = min([(MAX_FLAT_POINTS, "a file")] + [(vertex_limit(f), f"a {f} file") for f in flat if f not in _FLAT_ALL])
+        limit, holder = min([(limit, holder)] + [(vertex_limit(f), f"a {f} file") for f in surfaces])
     count = _flat_count(cam, chord_tol)
     if count <= limit:
         return
