@@ -268,9 +268,10 @@ def mesher_memory(est: MeshEstimate, elements: str) -> int:
     return MESHER_BYTES[elements] * est.mesher_elements
 
 
-#: gmsh's resident memory per element (bytes), measured on the 10 m cam (section triangles of
-#: a wedge mesh, tetrahedra) with a margin.
-MESHER_BYTES = {"wedge": 1500, "tetra": 2500}
+#: Resident memory per element of the mesher's count (bytes): measured 2.0 kB per section
+#: triangle of a wedge mesh (gmsh and the extrusion; default template at 1e-5 mm) and 1.6 kB per
+#: tetrahedron (motion_law template at 1e-3 mm), with a margin; applied to the estimated counts.
+MESHER_BYTES = {"wedge": 2500, "tetra": 2000}
 
 
 # --------------------------------------------------------------------------------------------
