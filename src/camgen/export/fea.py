@@ -18,8 +18,10 @@ distance to the boundary up to ``h``.
 
 Elements (``output.fea_elements``):
 
-* ``"wedge"`` (default): gmsh's Frontal-Delaunay triangulation of the section (every triangle
-  angle >= :data:`MIN_TRIANGLE_ANGLE_DEG` is checked after meshing) extruded into
+* ``"wedge"`` (default): gmsh's Frontal-Delaunay triangulation of the section (least angle
+  >= 20 deg: 26-32 deg measured on the templates and the 10 m cam; a corner of the section
+  sharper than that, a keyway almost as wide as the bore, limits it; the least angle is
+  reported) extruded into
   ``layers = max(2, ceil(thickness / h))`` equal layers of 6-node wedges (C3D6, Gmsh prism 6,
   VTK_WEDGE 13): the wedges' angles are the triangles' and 90 deg.
 * ``"tetra"``: gmsh's 3-D Delaunay (HXT) mesh of the extruded body, 4-node tetrahedra (C3D4,
@@ -45,10 +47,14 @@ configuration files read, no terminal output, SIGINT left to camgen (``interrupt
 Nothing is written to disk: the files are built in memory (:func:`vtu_bytes` writes the VTK XML
 itself, zlib-compressed and base64-encoded).
 
-Sizes are bounded before anything is meshed (:func:`planned_sizes`): the element counts are
-estimated from the boundary's vertex count and sizes and the section's area (an upper bound,
-checked against the meshes of the templates in the tests), the file bytes from the counts and the
-widest line each format prints.
+Sizes are bounded before anything is meshed (:func:`check_caps`): the element counts are
+estimated from the boundary's vertex count and sizes and the section's area (:func:`estimate`:
+an upper bound, 1.7-2.3 times the meshes of the templates, checked in the tests), the file bytes
+from the counts and the widest line each format prints (:func:`file_bytes`), the mesher's memory
+from the counts (:data:`MESHER_BYTES`).
+
+gmsh does not return to Python while it meshes: a Ctrl-C is acted on when it does (up to about
+a minute for the largest mesh the caps allow).
 """
 from __future__ import annotations
 
@@ -76,9 +82,6 @@ GRADING = 0.3
 PER_CIRCLE = 24
 #: About this many elements of the default size fit in the section (the boundary adds more).
 DEFAULT_SECTION_ELEMENTS = 1000
-#: Least triangle angle (deg) gmsh's section meshes reach (measured on every template and on
-#: random cams in the tests; a corner of the section sharper than twice this may give less).
-MIN_TRIANGLE_ANGLE_DEG = 20.0
 #: Fewest element layers through the thickness (wedges).
 MIN_LAYERS = 2
 
