@@ -21,6 +21,7 @@ if TYPE_CHECKING:
     from camgen.checks import CheckResult
     from camgen.jobs.base import JobResult
     from camgen.kinds.base import BuiltCam, CamSpec
+    from camgen.outputs import OutputSpec
     from camgen.scene import Scene
     from camgen.writers import RunSettings
 
@@ -150,12 +151,13 @@ def _passes(depth: float, step: float) -> float:
 MAX_PASSES = 1000
 
 
-#: Largest number of vertices of one flattened contour in a file that flattens the whole profile
-#: (the point list, the meshes): about 16 MB of coordinates, a 100 MB mesh.  The DXF writes arcs
-#: and splines exactly or as few biarcs; the G-code has its own cap on the program's moves
-#: (:data:`camgen.export.gcode.MAX_PROGRAM_MOVES`).
+#: Largest number of vertices of one flattened contour in the point list and the surface meshes
+#: (STL, 3MF, OBJ, PLY): about 16 MB of coordinates in the point list.  The FEA meshes have caps
+#: of their own on each file's bytes and the mesher's memory (:func:`camgen.export.fea.check_caps`);
+#: the DXF writes arcs and splines exactly or as few biarcs; the G-code has its own cap on the
+#: program's moves (:data:`camgen.export.gcode.MAX_PROGRAM_MOVES`).
 MAX_FLAT_POINTS = 500_000
-#: Formats that flatten the whole profile (besides the meshes).
+#: Formats that flatten the whole profile (besides the surface meshes).
 _FLAT_ALL = ("points",)
 def _flat_count(cam: "BuiltCam", chord_tol: float) -> int:
     """Vertices of ``cam``'s flattened profile (and bore circle) at ``chord_tol`` mm."""
@@ -166,25 +168,41 @@ def _flat_count(cam: "BuiltCam", chord_tol: float) -> int:
     return count
 
 
-def _check_flat_size(cam: "BuiltCam", formats: Sequence[str], chord_tol: float) -> None:
+def _check_flat_size(cam: "BuiltCam", formats: Sequence[str], chord_tol: float, output: "OutputSpec | None" = None) -> None:
     """Refuse a chord tolerance that would flatten ``cam`` into more than :data:`MAX_FLAT_POINTS`
-    vertices in a planned point list or mesh (a 200 m cam at 1e-7 mm: 3 million, a 2 GB mesh),
-    naming ``output.chord_tol_mm`` and the smallest tolerance, as printed, that fits."""
+    vertices in a planned point list or surface mesh, or a surface mesh file beyond 100 MB
+    (:func:`camgen.export.solid.vertex_limit`; a 200 m cam at 1e-7 mm: 3 million vertices),
+    naming ``output.chord_tol_mm`` and the smallest tolerance, as printed, that fits; and FEA
+    meshes beyond their caps (:func:`camgen.export.fea.check_caps`, which needs gmsh)."""
     from camgen.errors import ceil_significant
-    from camgen.outputs import MAX_CHORD_TOL, MESH_FORMATS
+    from camgen.outputs import FEA_FORMATS, MAX_CHORD_TOL, MESH_FORMATS
 
-    if cam.contour is None or not any(f in _FLAT_ALL or f in MESH_FORMATS for f in formats):
+    if cam.contour is None:
         return
+    if output is not None and any(f in FEA_FORMATS for f in formats):
+        from camgen.export.fea import check_caps, require_gmsh
+
+        require_gmsh(formats)
+        check_caps(cam.contour, cam.body, formats, chord_tol, output.fea_element_size, output.fea_elements, cam.name, MAX_CHORD_TOL)
+    flat = [f for f in formats if f in _FLAT_ALL or (f in MESH_FORMATS and f not in FEA_FORMATS)]
+    if not flat:
+        return
+    limit, holder = MAX_FLAT_POINTS, "a file"
+    surfaces = [f for f in flat if f not in _FLAT_ALL]
+    if surfaces:  # each surface mesh file at most solid.MAX_FILE_BYTES (bytes per outline vertex)
+        from camgen.export.solid import vertex_limit
+
+        limit, holder = min([(limit, holder)] + [(vertex_limit(f), f"a {f} file") for f in surfaces])
     count = _flat_count(cam, chord_tol)
-    if count <= MAX_FLAT_POINTS:
+    if count <= limit:
         return
     # chords of arcs and splines: the vertex count grows as chord_tol^-1/2 (at least one per piece)
-    need = ceil_significant(min(MAX_CHORD_TOL, chord_tol * (count / MAX_FLAT_POINTS) ** 2), 2)
-    while need < MAX_CHORD_TOL and _flat_count(cam, need) > MAX_FLAT_POINTS:
+    need = ceil_significant(min(MAX_CHORD_TOL, chord_tol * (count / limit) ** 2), 2)
+    while need < MAX_CHORD_TOL and _flat_count(cam, need) > limit:
         need = ceil_significant(min(MAX_CHORD_TOL, need * 1.05), 2)
-    why = f"at {chord_tol:g} mm its flattened profile would have {count} vertices, more than the {MAX_FLAT_POINTS} a file may hold"
-    if _flat_count(cam, need) > MAX_FLAT_POINTS:
-        raise ParameterError("output.formats", list(formats), f"formats without the point list and meshes for cam '{cam.name}'",
+    why = f"at {chord_tol:g} mm its flattened profile would have {count} vertices, more than the {limit} {holder} may hold"
+    if _flat_count(cam, need) > limit:
+        raise ParameterError("output.formats", list(formats), f"formats without the point list and surface meshes for cam '{cam.name}'",
                              why + f", and still more at the largest chord_tol_mm ({MAX_CHORD_TOL:g} mm)")
     raise ParameterError("output.chord_tol_mm", chord_tol, f">= {need:.2g} mm for cam '{cam.name}'", why)
 
@@ -305,7 +323,7 @@ def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> RunResul
         cams.append(cam)
     for cam in cams:
         if cam.manufacturable:
-            _check_flat_size(cam, plan.formats, scene.output.chord_tol)
+            _check_flat_size(cam, plan.formats, scene.output.chord_tol, scene.output)
     by_name = {c.name: c for c in cams}
     result = RunResult(scene, plan, cams)
     for mech in scene.mechanisms:

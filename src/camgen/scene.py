@@ -69,7 +69,7 @@ def check_name(where: str, name: object, hint: str = "") -> str:
 
 
 def _output(table: object) -> "OutputSpec":
-    from camgen.outputs import REMOVED_OUTPUT_KEYS, OutputSpec, output_keys
+    from camgen.outputs import FEA_FORMATS, REMOVED_OUTPUT_KEYS, OutputSpec, output_keys
 
     table = {} if table is None else table
     for key, replacement in REMOVED_OUTPUT_KEYS.items():
@@ -79,7 +79,12 @@ def _output(table: object) -> "OutputSpec":
     for key, needs in (("dxf_splines", "dxf"), ("dxf_construction", "dxf"), ("lift_step_deg", "lift")):
         if key in table and needs not in p["formats"]:
             raise ParameterError(f"output.{key}", table[key], f'only with "{needs}" in output.formats', "it changes only that file")
-    return OutputSpec(p["formats"], p["chord_tol"], p["dxf_splines"], p["dxf_construction"], p["lift_step"])
+    for key in ("fea_element_size_mm", "fea_elements"):  # the FEA meshes' keys
+        if key in table and not set(FEA_FORMATS) & set(p["formats"]):
+            raise ParameterError(f"output.{key}", table[key], f"only with {', '.join(FEA_FORMATS)} in output.formats",
+                                 "it changes only the FEA meshes")
+    return OutputSpec(p["formats"], p["chord_tol"], p["dxf_splines"], p["dxf_construction"], p["lift_step"],
+                      p.get("fea_element_size"), p["fea_elements"])
 
 
 def _machining(table: object, output: "OutputSpec") -> "MachiningSpec":

@@ -34,6 +34,7 @@ EFFECTS = {
     "tables": "the lift table (<cam>_lift.csv)",
     "motion": "the follower table at the cam's speed (<cam>_follower.csv)",
     "tolerance": "every flattened output: DXF biarcs, point lists, meshes, G-code",
+    "fea": "the FEA meshes (vtu, msh, inp) only",
 }
 
 #: Largest number of items of any list key (lists are small in every real scene).
