@@ -6,8 +6,11 @@ and inside a compiled library that calls back into Python (manifold3d's nanobind
 aborts or crashes the interpreter, while libraries that catch every exception around their
 optional imports (trimesh) swallow it.  The run asks instead at every step (:func:`checkpoint`,
 called by the pipeline's progress callback and before the output folder is swapped) and stops
-there with :class:`Interrupted`; a step takes at most a few seconds.  A second signal ends the
-process at once (the user insists): the staging folder being written, if any, is removed first.
+there with :class:`Interrupted`; a step takes at most a few seconds (meshing a cam at the size
+caps, up to a minute).  A second signal ends the process at once (the user insists): the staging
+folder being written, if any, is removed first.  That is done by a watcher thread woken through
+:func:`signal.set_wakeup_fd`, so it also works while the main thread is inside a long call of a
+compiled library (gmsh, manifold3d) that releases the interpreter lock.
 :func:`deferred` marks the swap of the run's folder and the removal of the previous run, which a
 second signal must not cut in half either: there it is remembered like the first.
 """
@@ -24,6 +27,7 @@ from typing import Iterator
 
 #: The signals a run ends on; the exit status of each is 128 + its number, as shells report it.
 SIGNALS = (signal.SIGINT, signal.SIGTERM)
+_SIGNAL_BYTES = frozenset(int(s) for s in SIGNALS)
 
 
 class Interrupted(BaseException):
@@ -48,12 +52,27 @@ _scratch: list[Path] = []
 
 def _handler(signum: int, frame: FrameType | None) -> None:
     _received.append(signum)
-    if len(_received) > 1 and not _deferring:  # a second signal: stop now, leaving nothing behind
-        for path in _scratch:
-            shutil.rmtree(path, ignore_errors=True)
-        os.write(2, f"camgen: stopped by {signal.Signals(signum).name} (a second signal: at once); "
-                    "the previous outputs are as they were\n".encode())
-        os._exit(128 + signum)
+
+
+def _watch(read_fd: int) -> None:
+    """The watcher thread: on the second SIGINT/SIGTERM (outside :func:`deferred`), remove the
+    staging folder being written and end the process at once."""
+    seen = 0
+    while True:
+        try:
+            data = os.read(read_fd, 64)
+        except OSError:
+            return
+        if not data:  # the command is over: the write end was closed
+            return
+        for signum in (b for b in data if b in _SIGNAL_BYTES):
+            seen += 1
+            if seen > 1 and not _deferring:
+                for path in list(_scratch):
+                    shutil.rmtree(path, ignore_errors=True)
+                os.write(2, f"camgen: stopped by {signal.Signals(signum).name} (a second signal: at once); "
+                            "the previous outputs are as they were\n".encode())
+                os._exit(128 + signum)
 
 
 def signal_name(signum: int) -> str:
@@ -86,6 +105,11 @@ def handling(exiting: bool = False) -> Iterator[None]:
         return
     previous = {s: signal.getsignal(s) for s in SIGNALS}
     _received.clear()
+    read_fd, write_fd = os.pipe()
+    os.set_blocking(write_fd, False)
+    previous_fd = signal.set_wakeup_fd(write_fd, warn_on_full_buffer=False)
+    watcher = threading.Thread(target=_watch, args=(read_fd,), name="camgen-signals", daemon=True)
+    watcher.start()
     for s in SIGNALS:
         signal.signal(s, _handler)
     try:
@@ -93,6 +117,10 @@ def handling(exiting: bool = False) -> Iterator[None]:
     finally:
         for s, handler in previous.items():
             signal.signal(s, signal.SIG_IGN if exiting else handler)
+        signal.set_wakeup_fd(previous_fd)
+        os.close(write_fd)
+        watcher.join()
+        os.close(read_fd)
         _received.clear()
 
 

@@ -409,3 +409,44 @@ def test_written_files_follow_the_umask(umask, tmp_path):
     assert new.returncode == 0, new.stderr
     assert stat.S_IMODE((tmp_path / "plate_cam.toml").stat().st_mode) == 0o666 & ~umask
     shutil.rmtree(tmp_path / "o")
+
+
+def test_a_second_signal_stops_at_once_even_inside_a_long_call(tmp_path):
+    """The first Ctrl-C waits for the step to end; a second one ends the process at once, also
+    while the main thread sits in a long compiled call (here a sleep inside the writing of the
+    staging folder), and removes that folder first: status 130, one line, the previous run whole."""
+    import time
+
+    path = scene(tmp_path)
+    out = tmp_path / "o"
+    assert main(["run", str(path), "-o", str(out), "-q"]) == 0
+    before = tree(out)
+    marker = tmp_path / "writing"
+    proc = subprocess.Popen([sys.executable, "-c", textwrap.dedent(f"""
+        import sys, time
+        import camgen.staging
+        real = camgen.staging._write
+        def slow(folder, files):
+            real(folder, files)
+            open({str(marker)!r}, "w").close()
+            time.sleep(120)  # a long call: the main thread runs no Python until it returns
+        camgen.staging._write = slow
+        from camgen.cli import entry
+        entry()
+        """), "run", str(path), "-o", str(out), "-q"], stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 120
+        while not marker.exists() and proc.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert marker.exists() and [p.name for p in out.iterdir() if p.name.endswith(".staging")], "the run never reached its staging folder"
+        proc.send_signal(signal.SIGINT)
+        time.sleep(0.2)
+        proc.send_signal(signal.SIGINT)
+        err = proc.communicate(timeout=60)[1]
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    assert proc.returncode == 130, (proc.returncode, err)
+    assert err.startswith("camgen: stopped by SIGINT (a second signal: at once)") and len(err.splitlines()) == 1, err
+    assert tree(out) == before  # the staging folder removed, the previous run as it was
