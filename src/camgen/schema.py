@@ -60,13 +60,31 @@ def _is_number(value: object) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
+def type_name(value: object) -> str:
+    """The type of a scene value as messages name it (Python's name; a
+    :class:`~camgen.scenetext.LargeInteger` is an ``int``)."""
+    return getattr(value, "toml_type", type(value).__name__)
+
+
+def shown_integer(value: int) -> object:
+    """``value`` as a message shows it: itself, or ``<N-digit integer>`` when it is long (a
+    placeholder that never converts a huge integer to text, which Python refuses above 4300
+    digits)."""
+    if abs(value) < 10**30:
+        return value
+    digits = int(abs(value).bit_length() * math.log10(2.0)) + 1  # the digit count, or one more
+    if digits <= 4000:
+        digits = len(str(abs(value)))
+    return f"<{digits}-digit {'negative ' if value < 0 else ''}integer>"
+
+
 def _number(path: str, value: object, valid: str) -> float:
     if not _is_number(value):
         raise ParameterError(path, value, valid)
     try:
         number = float(value)
     except OverflowError:
-        raise ParameterError(path, f"<integer of {len(str(value))} digits>", valid) from None
+        raise ParameterError(path, shown_integer(value), valid) from None  # type: ignore[arg-type]
     if not math.isfinite(number):
         raise ParameterError(path, value, valid)
     return number
@@ -133,8 +151,7 @@ class Count(ValueType):
 
     def parse(self, path: str, value: object) -> int:
         if isinstance(value, bool) or not isinstance(value, int) or not self.low <= value <= self.high:
-            shown = value if not isinstance(value, int) or abs(value) < 10**30 else f"<integer of {len(str(value))} digits>"
-            raise ParameterError(path, shown, self.describe())
+            raise ParameterError(path, shown_integer(value) if isinstance(value, int) else value, self.describe())
         return value
 
 
@@ -183,6 +200,8 @@ class Text(ValueType):
             raise ParameterError(path, f"<{len(value)} characters>", self.describe())
         if not value.strip() and not self.allow_empty:
             raise ParameterError(path, value, self.describe())
+        if "\x00" in value:  # no file name, expression or note holds one; C and the OS end text there
+            raise ParameterError(path, value, self.describe(), f"a NUL character at position {value.index(chr(0))}")
         return value
 
 
@@ -352,7 +371,7 @@ def parse_table(where: str, table: object, keys: Sequence[Key]) -> Parsed:
     defaults filled in (keys without a default and not given are absent), as a :class:`Parsed`
     that knows which keys were given."""
     if not isinstance(table, dict):
-        raise SceneError(f"[{where}] must be a table, not {type(table).__name__}")
+        raise SceneError(f"[{where}] must be a table, not {type_name(table)}")
     check_keys(where, table, keys)
     out = Parsed()
     out.given = frozenset(k.name for k in keys if k.name in table)
