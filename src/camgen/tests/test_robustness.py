@@ -42,9 +42,10 @@ _TERMS = st.sampled_from(["x", "pi", "1", "2.5", "sin(x)", "x**2", "1e308", "0x"
 #: derivatives), deep parentheses and calls, huge literals (beyond the float range).
 _LONG_TEXTS = st.one_of(
     st.builds(lambda terms, op: op.join(terms), st.lists(_TERMS, min_size=50, max_size=700), st.sampled_from(["+", "-", "*", "/", "**"])),
+    st.builds(lambda n, op: op.join(["x"] * n), st.integers(900, 1000), st.sampled_from(["+", "-", "*", "/"])),  # ~1000 levels
     st.builds(lambda n, inner: "(" * n + inner + ")" * n, st.integers(1, 400), _TERMS),
     st.builds(lambda n, f, inner: f"{f}(" * n + inner + ")" * n, st.integers(1, 300), st.sampled_from(["sin", "exp", "log", "abs"]), _TERMS),
-    st.builds(lambda n, inner: "-" * n + inner, st.integers(1, 1999), _TERMS),
+    st.builds(lambda n, inner: "-" * n + inner, st.integers(1, 1999), st.sampled_from(["x", "1", "sin(x)"])),
     st.builds(lambda digits, prefix: prefix + digits + "*x", st.text("0123456789abcdef", min_size=300, max_size=1990), st.sampled_from(["0x", "1"])),
 )
 
@@ -63,6 +64,24 @@ def test_arbitrary_expression_text_is_a_parameter_error_or_a_function(text):
     x = np.linspace(0.1, 1.0, 5)
     with np.errstate(all="ignore"):  # parsed text evaluates without touching Python
         assert all(np.shape(g(x)) == x.shape for g in (expr.f, expr.df, expr.d2f))
+
+
+@pytest.mark.parametrize("build", [
+    lambda n: "+".join(["x"] * n),  # n terms: n levels (n - 1 sums and the leaf)
+    lambda n: "x+(" * (n - 1) + "x" + ")" * (n - 1),  # nested to the right
+    lambda n: "sin(" + "+".join(["x"] * (n - 1)) + ")",  # a call around n - 1 levels
+    lambda n: "-" * (n - 1) + "x",  # n - 1 signs
+])
+def test_expressions_nest_at_most_max_depth_levels(build):
+    """The documented limit, counted by construction: MAX_DEPTH levels parse, one more is refused
+    naming the key (evaluating and differentiating recurse once per level)."""
+    from camgen.synthesis.expression import MAX_DEPTH
+
+    x = np.linspace(0.1, 1.0, 5)
+    assert np.shape(parse_expression(build(MAX_DEPTH)).d2f(x)) == x.shape
+    with pytest.raises(ParameterError, match=f"nested {MAX_DEPTH + 1} levels deep") as refused:
+        parse_expression(build(MAX_DEPTH + 1))
+    assert refused.value.name == "expression"
 
 
 @settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
