@@ -236,3 +236,14 @@ def test_nesting_is_counted_as_the_parser_nests(text, refused):
         with pytest.raises(SceneError, match=r"^" + refused.replace(".", r"\.").replace("(", r"\(").replace(")", r"\)")
                            + ": tables and lists nest more than 8 levels deep"):
             scan_scene_text(text, MAX_NESTING)
+
+
+def test_a_scene_holds_at_most_max_scene_items():
+    """Each `k = 1` line is a key and a value, a header one table: the limit at its boundary."""
+    from camgen.scenetext import MAX_SCENE_ITEMS
+
+    lines = "".join(f"k{i} = 1\n" for i in range(MAX_SCENE_ITEMS // 2 - 1))
+    scan_scene_text(lines + "[t]\n", MAX_NESTING)  # MAX_SCENE_ITEMS - 1
+    scan_scene_text(lines + "z = 1\n", MAX_NESTING)  # MAX_SCENE_ITEMS
+    with pytest.raises(SceneError, match=f"^t.z: more than {MAX_SCENE_ITEMS} keys, values and tables"):
+        scan_scene_text(lines + "[t]\nz = 1\n", MAX_NESTING)  # MAX_SCENE_ITEMS + 1: the value of t.z
