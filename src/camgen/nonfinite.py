@@ -200,7 +200,7 @@ def first_nonfinite(name: str, content: str | bytes) -> tuple[int, str] | None:
     suffix = PurePosixPath(name).suffix.lower()
     if suffix in (".3mf", ".zip", ".png") or _binary_mesh(content, suffix):
         return None
-    if isinstance(content, bytes) and suffix not in _BY_POSITION and suffix not in _BY_LINE:
+    if isinstance(content, bytes) and suffix not in _BY_POSITION and suffix not in _BY_LINE and suffix != ".dxf":
         return None  # a binary format this guard does not know
     text = _Text(content)
     finder = _FIND_BYTES if text.is_bytes else _FIND_TEXT
@@ -227,7 +227,6 @@ def first_nonfinite(name: str, content: str | bytes) -> tuple[int, str] | None:
 
 _BY_LINE: Mapping[str, Callable[[_Text, int, int], str | None]] = {
     ".csv": _csv, ".ngc": _gcode, ".nc": _gcode, ".stl": _stl, ".obj": _obj, ".msh": _msh, ".inp": _inp,
-    ".dxf": _generic,  # (read by _dxf)
 }
 _BY_POSITION: Mapping[str, Callable[[_Text, int, int, int], str | None]] = {
     ".step": _step, ".stp": _step, ".ply": _ply, ".vtu": _vtu,
