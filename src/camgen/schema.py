@@ -68,14 +68,16 @@ def type_name(value: object) -> str:
 
 def shown_integer(value: int) -> object:
     """``value`` as a message shows it: itself, or ``<N-digit integer>`` when it is long (a
-    placeholder that never converts a huge integer to text, which Python refuses above 4300
-    digits)."""
+    :class:`~camgen.scenetext.LargeInteger`, which never converts the integer to text: Python
+    refuses that above 4300 digits)."""
+    from camgen.scenetext import LargeInteger
+
     if abs(value) < 10**30:
         return value
     digits = int(abs(value).bit_length() * math.log10(2.0)) + 1  # the digit count, or one more
     if digits <= 4000:
         digits = len(str(abs(value)))
-    return f"<{digits}-digit {'negative ' if value < 0 else ''}integer>"
+    return LargeInteger(digits, "", value < 0)
 
 
 def _number(path: str, value: object, valid: str) -> float:
@@ -84,7 +86,7 @@ def _number(path: str, value: object, valid: str) -> float:
     try:
         number = float(value)
     except OverflowError:
-        raise ParameterError(path, shown_integer(value), valid) from None  # type: ignore[arg-type]
+        raise ParameterError(path, shown_integer(value), valid) from None
     if not math.isfinite(number):
         raise ParameterError(path, value, valid)
     return number
