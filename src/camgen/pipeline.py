@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable, Sequence
@@ -408,23 +407,14 @@ def render(result: RunResult, progress: Progress = _quiet) -> None:
         files["report.html"] = getattr(importlib.import_module(module), function)(result)
 
 
-#: A number that is not finite as a writer prints it (nan, inf, infinity; any case, alone).
-_NONFINITE = re.compile(r"(?<![A-Za-z_])(nan|inf|infinity)(?![A-Za-z_])", re.IGNORECASE)
-
-
 def _check_finite(files: dict[str, str | bytes]) -> None:
-    """The last guard before anything is written: no text file may hold NaN or inf (a machine
-    or CAD reader would take it for a coordinate, or fail on it).  Raises :class:`ExportError`
+    """The last guard before anything is written: no text file may hold NaN or inf where a number
+    stands (a machine or CAD reader would take it for a coordinate, or fail on it); names that
+    hold the letters are not numbers (:mod:`camgen.nonfinite`).  Raises :class:`ExportError`
     naming the file and the line."""
-    from camgen.errors import ExportError
+    from camgen.nonfinite import check_files
 
-    for name, content in files.items():
-        if isinstance(content, str):
-            match = _NONFINITE.search(content)
-            if match is not None:
-                line = content.count("\n", 0, match.start()) + 1
-                raise ExportError(f"{name} would hold the non-finite number '{match.group(0)}' at line {line}: nothing written "
-                                  "(a bug: please report the scene)")
+    check_files(files)
 
 
 def run_scene(scene: "Scene", outdir: str | Path = "outputs", only: Sequence[str] | None = None,

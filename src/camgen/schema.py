@@ -61,6 +61,12 @@ def _is_number(value: object) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
+def type_name(value: object) -> str:
+    """The type of a scene value as messages name it (Python's name; a
+    :class:`~camgen.scenetext.LargeInteger` is an ``int``)."""
+    return getattr(value, "toml_type", type(value).__name__)
+
+
 def _number(path: str, value: object, valid: str) -> float:
     if not _is_number(value):
         raise ParameterError(path, value, valid)
@@ -183,6 +189,8 @@ class Text(ValueType):
             raise ParameterError(path, f"<{len(value)} characters>", self.describe())
         if not value.strip() and not self.allow_empty:
             raise ParameterError(path, value, self.describe())
+        if "\x00" in value:  # no file name, expression or note holds one; C and the OS end text there
+            raise ParameterError(path, value, self.describe(), f"a NUL character at position {value.index(chr(0))}")
         return value
 
 
@@ -359,7 +367,7 @@ def parse_table(where: str, table: object, keys: Sequence[Key]) -> Parsed:
     defaults filled in (keys without a default and not given are absent), as a :class:`Parsed`
     that knows which keys were given."""
     if not isinstance(table, dict):
-        raise SceneError(f"[{where}] must be a table, not {type(table).__name__}")
+        raise SceneError(f"[{where}] must be a table, not {type_name(table)}")
     check_keys(where, table, keys)
     out = Parsed()
     out.given = frozenset(k.name for k in keys if k.name in table)

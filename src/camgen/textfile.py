@@ -20,12 +20,15 @@ def read_text_file(path: str | os.PathLike[str], limit: int) -> str:
     Raises
     ------
     TextFileError
-        Saying why: missing or unreadable, not a regular file, larger than ``limit``, not UTF-8.
+        Saying why: a name the system cannot take (a NUL character), missing or unreadable, not
+        a regular file, larger than ``limit``, not UTF-8.
     """
     try:
         info = os.stat(path)
     except OSError as exc:
         raise TextFileError(exc.strerror or str(exc)) from None
+    except ValueError:  # os.stat's answer to a name no file can have
+        raise TextFileError("the file name holds a NUL character") from None
     if not stat.S_ISREG(info.st_mode):
         raise TextFileError("not a regular file (a directory, device or pipe)")
     if info.st_size > limit:

@@ -37,15 +37,51 @@ def test_extreme_three_arc_cams_stay_exact(a, b, c):
     assert cam.area > 0 and np.isfinite(cam.length)
 
 
+_TERMS = st.sampled_from(["x", "pi", "1", "2.5", "sin(x)", "x**2", "1e308", "0x" + "f" * 300, "1" + "0" * 400])
+#: Texts built to reach the parser's limits: long sums and products (recursion, O(n^3)
+#: derivatives), deep parentheses and calls, huge literals (beyond the float range).
+_LONG_TEXTS = st.one_of(
+    st.builds(lambda terms, op: op.join(terms), st.lists(_TERMS, min_size=50, max_size=700), st.sampled_from(["+", "-", "*", "/", "**"])),
+    st.builds(lambda n, op: op.join(["x"] * n), st.integers(900, 1000), st.sampled_from(["+", "-", "*", "/"])),  # ~1000 levels
+    st.builds(lambda n, inner: "(" * n + inner + ")" * n, st.integers(1, 400), _TERMS),
+    st.builds(lambda n, f, inner: f"{f}(" * n + inner + ")" * n, st.integers(1, 300), st.sampled_from(["sin", "exp", "log", "abs"]), _TERMS),
+    st.builds(lambda n, inner: "-" * n + inner, st.integers(1, 1999), st.sampled_from(["x", "1", "sin(x)"])),
+    st.builds(lambda digits, prefix: prefix + digits + "*x", st.text("0123456789abcdef", min_size=300, max_size=1990), st.sampled_from(["0x", "1"])),
+)
+
+
 @settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(st.text(max_size=60))
+@given(st.one_of(st.text(max_size=60), _LONG_TEXTS))
 def test_arbitrary_expression_text_is_a_parameter_error_or_a_function(text):
+    """Any text is either refused naming the key (a ParameterError of 'expression', which the
+    cam kinds rename cams.<name>.expression) or a function whose value and two derivatives are
+    arrays of the input's shape."""
     try:
         expr = parse_expression(text)
-    except ParameterError:
+    except ParameterError as exc:
+        assert exc.name == "expression" and str(exc).startswith("parameter 'expression' = ")
         return
-    with np.errstate(all="ignore"):
-        expr.f(np.linspace(0.1, 1.0, 5))  # parsed text evaluates without touching Python
+    x = np.linspace(0.1, 1.0, 5)
+    with np.errstate(all="ignore"):  # parsed text evaluates without touching Python
+        assert all(np.shape(g(x)) == x.shape for g in (expr.f, expr.df, expr.d2f))
+
+
+@pytest.mark.parametrize("build", [
+    lambda n: "+".join(["x"] * n),  # n terms: n levels (n - 1 sums and the leaf)
+    lambda n: "x+(" * (n - 1) + "x" + ")" * (n - 1),  # nested to the right
+    lambda n: "sin(" + "+".join(["x"] * (n - 1)) + ")",  # a call around n - 1 levels
+    lambda n: "-" * (n - 1) + "x",  # n - 1 signs
+])
+def test_expressions_nest_at_most_max_depth_levels(build):
+    """The documented limit, counted by construction: MAX_DEPTH levels parse, one more is refused
+    naming the key (evaluating and differentiating recurse once per level)."""
+    from camgen.synthesis.expression import MAX_DEPTH
+
+    x = np.linspace(0.1, 1.0, 5)
+    assert np.shape(parse_expression(build(MAX_DEPTH)).d2f(x)) == x.shape
+    with pytest.raises(ParameterError, match=f"nested {MAX_DEPTH + 1} levels deep") as refused:
+        parse_expression(build(MAX_DEPTH + 1))
+    assert refused.value.name == "expression"
 
 
 @settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -78,14 +114,20 @@ def test_whitelisted_expressions_have_consistent_derivatives(text):
                        st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.integers(-5, 500), st.text(max_size=8), st.booleans()),
                        max_size=8))
 def test_fuzzed_cam_tables_end_in_a_camgen_error_or_a_cam(table):
+    """A fuzzed cam table is refused naming the cam or its key, or builds a cam whose profile is
+    a closed curve of finite positive area."""
     from camgen.pipeline import Plan, compute
     from camgen.scene import parse_scene
 
+    table = {"kind": "three_arc", "a_mm": 220.0, "b_mm": 160.0, "c_mm": 25.0, **table}  # fuzzed keys over a valid cam
     try:
         scene = parse_scene({"cams": {"x": table}}, "fuzz")
-        compute(scene, Plan((), frozenset()))
-    except CamgenError:
-        pass
+        result = compute(scene, Plan((), frozenset()))
+    except CamgenError as exc:
+        assert "cams.x" in str(exc), str(exc)
+        return
+    (cam,) = result.cams
+    assert cam.name == "x" and math.isfinite(cam.contour.area) and cam.contour.area > 0
 
 
 # --------------------------------------------------------------------------------------------
