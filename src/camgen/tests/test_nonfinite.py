@@ -102,9 +102,9 @@ def test_every_text_writer_runs_with_names_holding_nan_and_inf(tmp_path, capsys)
     text = f'name = "inf"\n[output]\nformats = {ALL_TEXT_FORMATS}\n'.replace("'", '"')
     text += '[cams.nan]\n' + _CAM + 'source = "NaN -inf"\n'
     text += '[cams.Inf]\nkind = "trajectory"\nexpression = "202.4396*sin(pi*x/1000)"\nperiod_mm = 2000.0\nrpm = 30.0\n'
-    text += '[cams.INF]\nkind = "three_arc"\na_mm = 220.0\nb_mm = 160.0\nc_mm = 25.0\nrpm = 30.0\n'
+    text += '[cams.xINF]\nkind = "three_arc"\na_mm = 220.0\nb_mm = 160.0\nc_mm = 25.0\nrpm = 30.0\n'
     text += '[cams.infinity]\nkind = "three_arc"\na_mm = 220.0\nb_mm = 220.0\nc_mm = 10.0\nrpm = 30.0\n'
-    text += '[mechanisms.horse_leg]\nstride_cam = "INF"\nheight_cam = "infinity"\ninclinations_deg = [12.5]\n'
+    text += '[mechanisms.horse_leg]\nstride_cam = "xINF"\nheight_cam = "infinity"\ninclinations_deg = [12.5]\n'
     path = tmp_path / "nan.toml"
     path.write_text(text)
     status = main(["run", str(path), "-q", "-o", str(tmp_path / "out")])
@@ -129,7 +129,8 @@ def _plant(content: str | bytes, pattern: str) -> tuple[str | bytes, int]:
     return (planted.encode("latin-1") if is_bytes else planted), line
 
 
-#: (format, file of the cam "nan", the writer function, a regular expression whose group 1 is a number)
+#: (format, file of the cam "nan", the writer function (of camgen.writers, or "module:function"),
+#: a regular expression whose group 1 is a number)
 PLANTS = [
     ("dxf", "nan.dxf", "dxf", r"^ 10\n([-0-9.e]+)$"),
     ("points", "nan_points.csv", "points", r"^([-0-9.]+),[-0-9.]+$"),
@@ -138,15 +139,17 @@ PLANTS = [
     ("ngc", "nan.ngc", "gcode", r"^G1 X([-0-9.]+) "),
     ("stl_ascii", "nan_ascii.stl", "mesh", r"vertex ([-0-9.e+]+) "),
     ("obj", "nan.obj", "mesh", r"^v ([-0-9.e+]+) "),
-    ("msh", "nan.msh", "mesh", r"\$Nodes\n\d+\n\d+ ([-0-9.e+]+) "),
-    ("inp", "nan.inp", "mesh", r"^\*NODE.*\n\d+, ([-0-9.e+]+),"),
+    ("msh", "nan.msh", "camgen.export.fea:writer", r"\$Nodes\n\d+\n\d+ ([-0-9.e+]+) "),
+    ("inp", "nan.inp", "camgen.export.fea:writer", r"^\*NODE.*\n\d+, ([-0-9.e+]+),"),
 ] + ([("step", "nan.step", "step", r"CARTESIAN_POINT\('',\(([-0-9.E+]+),")] if _STEP else [])
 
 
 @pytest.mark.parametrize("fmt, file, writer, pattern", PLANTS)
 def test_a_nan_planted_in_each_writer_is_refused(fmt, file, writer, pattern, tmp_path, capsys, monkeypatch):
-    from camgen import writers
+    import importlib
 
+    module, writer = writer.split(":") if ":" in writer else ("camgen.writers", writer)
+    writers = importlib.import_module(module)
     original = getattr(writers, writer)
     planted_at = []
 
