@@ -275,13 +275,13 @@ def _wall_check(cam: "BuiltCam") -> "CheckResult":
     return limited("wall_thickness", wall, ">=", cam.body.min_wall, "mm", [round(where, 6)], note, blocks_manufacture=True)
 
 
-def _export_failure(cam: "BuiltCam", what: str, exc: Exception) -> "CheckResult":
-    """A manufacturing output that cannot be made (a tool path that would gouge, a solid that
-    cannot be built) as a failed check that withholds the cam's manufacturing files."""
+def _export_failure(cam: "BuiltCam", what: str, exc: Exception, blocks_manufacture: bool = True) -> "CheckResult":
+    """An output that cannot be made (a tool path that would gouge, a solid that cannot be built)
+    as a failed check; one of a manufacturing output withholds the cam's manufacturing files."""
     from camgen.checks import CheckResult
 
     return CheckResult(f"{what}_export", "failed", "made as designed", "", "", False, [], " ".join(str(exc).split()),
-                       blocks_manufacture=True)
+                       blocks_manufacture=blocks_manufacture)
 
 
 def _merge_job(cams: "dict[str, BuiltCam]", result: "JobResult") -> None:
@@ -378,16 +378,23 @@ def render(result: RunResult, progress: Progress = _quiet) -> None:
         made = {name: path for name, path in planned.items() if cam.manufacturable or not OUTPUTS[name].manufacturing}
         cam.withheld = [path for name, path in planned.items() if name not in made]
         cam_files: dict[str, str | bytes] = {}
+        blocked = False  # a manufacturing output failed: no manufacturing file of this cam, the others still written
         for name, path in made.items():
+            if blocked and OUTPUTS[name].manufacturing:
+                continue
             progress(f"writing {path}")
             module, function = OUTPUTS[name].writer.split(":")
             try:
                 cam_files[path] = getattr(importlib.import_module(module), function)(cam, settings, name)
-            except GeometryError as exc:  # the cam cannot be made this way: a failed check, no manufacturing files
-                cam.checks.append(_export_failure(cam, name, exc))
-                cam.withheld = [path for name, path in planned.items() if OUTPUTS[name].manufacturing]
-                cam_files = {p: data for p, data in cam_files.items() if p not in cam.withheld}
-                break
+            except GeometryError as exc:  # the cam cannot be made this way: a failed check
+                manufacturing = OUTPUTS[name].manufacturing
+                cam.checks.append(_export_failure(cam, name, exc, blocks_manufacture=manufacturing))
+                if manufacturing:
+                    blocked = True
+                    cam.withheld = [p for n, p in planned.items() if OUTPUTS[n].manufacturing or p in cam.withheld]
+                    cam_files = {p: data for p, data in cam_files.items() if p not in cam.withheld}
+                else:
+                    cam.withheld.append(path)
         add(cam_files, f"cams.{cam.name}")
         if "ride" in result.plan.formats:
             add(cam.files, f"cams.{cam.name}")

@@ -52,8 +52,12 @@ FOLD_TOL = 1e-7
 def _ocp():
     try:
         import OCP  # noqa: F401
-    except ImportError:  # pragma: no cover - depends on the install
+    except ModuleNotFoundError as exc:  # pragma: no cover - depends on the install
+        if (exc.name or "OCP").split(".")[0] != "OCP":
+            raise ExportError(f"the OpenCASCADE bindings (OCP) are installed but did not load: {exc}") from None
         raise ExportError('STEP export needs OpenCASCADE bindings: pip install ".[step]" (cadquery-ocp-novtk)') from None
+    except (ImportError, OSError) as exc:  # a library they link did not load (missing, or no memory to map it)
+        raise ExportError(f"the OpenCASCADE bindings (OCP) are installed but did not load: {exc}") from None
 
 
 @dataclass(frozen=True)

@@ -450,3 +450,25 @@ def test_a_second_signal_stops_at_once_even_inside_a_long_call(tmp_path):
     assert proc.returncode == 130, (proc.returncode, err)
     assert err.startswith("camgen: stopped by SIGINT (a second signal: at once)") and len(err.splitlines()) == 1, err
     assert tree(out) == before  # the staging folder removed, the previous run as it was
+
+
+def test_a_failed_export_withholds_the_manufacturing_files_and_writes_the_rest(tmp_path, capsys, monkeypatch):
+    """A manufacturing writer that cannot make its file (here the DXF, made to fail) withholds
+    every manufacturing file of the cam; the follower table after it is still written (it was
+    silently dropped: the writer loop stopped at the failure)."""
+    from camgen import writers
+    from camgen.errors import GeometryError
+
+    def failing(cam, run, fmt):
+        raise GeometryError("planted: this profile cannot be drawn")
+
+    monkeypatch.setattr(writers, "dxf", failing)
+    text = PLATE.format(cam="c").replace('["dxf", "points", "lift"]', '["dxf", "points", "follower"]')
+    text = text.replace("roller_radius_mm = 10.0", "roller_radius_mm = 10.0\nrpm = 100.0")
+    out = tmp_path / "o"
+    assert main(["run", str(scene(tmp_path, text)), "-o", str(out), "-q"]) == 1
+    err = capsys.readouterr().err
+    assert "camgen: check failed: cams.c: dxf_export: planted: this profile cannot be drawn" in err
+    report = json.loads((out / "s" / "report.json").read_text())
+    assert sorted(p.name for p in (out / "s").iterdir()) == ["c_follower.csv", "report.json"]
+    assert sorted(report["cams"]["c"]["withheld_files"]) == ["c.dxf", "c_points.csv"]
