@@ -90,6 +90,10 @@ REMOVED_OUTPUT_KEYS = {
                  "what is cut)",
 }
 
+#: Smallest ``output.fea_element_size_mm`` (mm): a thousandth of the smallest cam (base radius
+#: 1e-3 mm); the size caps refuse a size too small for the cam at hand, naming the least that fits.
+MIN_FEA_ELEMENT_SIZE = 1e-6
+
 #: Largest ``output.chord_tol_mm`` (mm).
 MAX_CHORD_TOL = 1.0
 #: The FEA volume-mesh formats (``output.fea_*`` keys need one of them).
@@ -127,7 +131,7 @@ def output_keys() -> tuple[Key, ...]:
             ("dxf",), default=d.dxf_construction),
         Key("lift_step_deg", Angle(0.01, 10.0), "Polar-angle step of the lift table (<cam>_lift.csv).", ("tables",),
             default=math.degrees(d.lift_step)),
-        Key("fea_element_size_mm", Number("mm", 0.0, 1e5, low_open=True), "Largest element size of the FEA meshes (vtu, msh, "
+        Key("fea_element_size_mm", Number("mm", MIN_FEA_ELEMENT_SIZE, 1e5), "Largest element size of the FEA meshes (vtu, msh, "
             "inp); near the profile and bore the elements are smaller: at most 1/24 of the local radius of curvature and the "
             "chords at chord_tol_mm, growing by 0.3 mm per mm inwards (default: sqrt(section area / 1000), 2 digits).",
             ("fea",)),

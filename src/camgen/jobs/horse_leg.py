@@ -45,7 +45,7 @@ KEYS = (
         f"(to >= from, step > 0, at most {MAX_SWEEP_STEPS} steps, counted on the decimal values given).", ("report",), default=[10.0, 19.0, 0.5], attr="sweep_deg"),
     Key("pressure_angle_limit_deg", Angle(0.0, 90.0, low_open=True, high_open=True), "Largest pressure angle allowed in the leg.",
         ("report",), default=45.0),
-    Key("ground_y_mm", Number("mm", -1e5, 1e5), "Ground line below the stride-cam centre O1 (splits swing and stance).", ("mechanism",),
+    Key("ground_y_mm", Number("mm", -1e5, 1e5), "Ground line below the stride-cam centre O1 (splits swing and stance): the foot path must cross it twice at every inclination, a band of about 116 mm for the paper's leg (the error gives the band).", ("mechanism",),
         default=_ground_default()),
     Key("positions", Count(36, 36000), "Cam positions per turn in the leg path files.", ("mechanism",), default=3600),
 )

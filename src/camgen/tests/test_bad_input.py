@@ -835,6 +835,9 @@ def _edge_scene(where: str, kind: str | None, key: Key, value: float) -> tuple[d
         output["chord_tol_mm"] = 0.01  # 3 printed decimals resolve a quarter of 0.01 mm
     if where in ("machining",) and "ngc" not in formats:
         formats.append("ngc")
+    if where == "output" and "fea" in key.affects:  # an FEA key needs an FEA mesh; a coarse tolerance keeps it small
+        formats.append("msh")
+        output["chord_tol_mm"] = 0.05
     output["formats"] = formats
     output.pop("lift_step_deg", None) if "lift" not in formats else None
     table[name] = value
@@ -860,39 +863,26 @@ def _scale_swing(cam: dict, kind: str | None, factor: float) -> None:
         cam["lift_table_csv"] = f"swing:{factor!r}"
 
 
-_KEYWAY = ("kinds/base.py, body_keys: keyway_width_mm's range says <= 10000 mm, but a keyway must be narrower than the bore "
-           "(bore_diameter_mm <= 10000): no scene accepts 10000; state the range as < bore_diameter_mm")
-_PRESSURE = ("synthesis/sizing.py and the kinds' pressure_angle_limit_deg: 5e-324 deg is 0 rad in floating point and is refused "
-             "as 'max_pressure_angle', a name that is no scene key; give the key a lower bound that radians resolve, or name the key")
-_GROUND = ("jobs/horse_leg.py: ground_y_mm's range says -1e5 .. 1e5 mm, but only the foot path's height band (-2142.6 .. "
-           "-2026.1 mm at alpha1 = 12.5 deg) is accepted: state the range the leg allows (issue item 10)")
 #: Edge values refused today by files this test's owner may not edit (the fix in each reason):
 #: strict, so the day one is fixed its entry must go.
-EDGE_BUGS: dict[str, str] = {
-    "cams.x.keyway_width_mm=10000-three_arc": _KEYWAY,
-    "cams.x.keyway_width_mm=10000-trajectory": _KEYWAY,
-    "cams.x.keyway_width_mm=10000-motion_law": _KEYWAY,
-    "cams.x.keyway_width_mm=10000-lift_table": _KEYWAY,
-    "cams.x.wheelbase_mm=1e-06-trajectory": "kinds/trajectory.py: wheelbase_mm may be 1e-6 mm, but r_b = wheelbase - rod_radius "
-                                            "must be > 0 with rod_radius_mm >= 1e-6: its low end is never valid",
-    "cams.x.rod_radius_mm=100000-trajectory": "kinds/trajectory.py: rod_radius_mm may be 1e5 mm, but must be below wheelbase_mm "
-                                              "<= 1e5: its high end is never valid",
-    "cams.x.wheelbase_mm=100000-trajectory": "mechanisms/tricycle.py and splinefit.py: a 1e5 mm device is refused by an internal "
-                                             "fit tolerance ('tol' = 1e-09 mm, below 1e-08 for the curve's size), in an error "
-                                             "naming no scene key: scale the tolerance with the curve",
-    "cams.x.pressure_angle_limit_deg=4.94066e-324-motion_law": _PRESSURE,
-    "cams.x.pressure_angle_limit_deg=4.94066e-324-lift_table": _PRESSURE,
-    "cams.x.base_radius_mm=1e-06-motion_law": "pipeline.render: when a cam's lift export fails (GeometryError) the writer loop "
-                                              "stops, so its follower table (no manufacturing file) is neither written nor "
-                                              "listed as withheld",
-    "mechanisms.horse_leg.ground_y_mm=-100000": _GROUND,
-    "mechanisms.horse_leg.ground_y_mm=100000": _GROUND,
-}
-#: Edge values no scene can use, refused as README.md's "Limits" documents: the phrase of the
-#: documented refusal (the test checks the error is that one, naming the key).
+EDGE_BUGS: dict[str, str] = {}
+#: Edge values no scene can use, refused as README.md's "Limits" or the key's own text documents
+#: (a combination with another key): the phrase of the documented refusal (the test checks the
+#: error is that one, naming the key).
 EDGE_DOCUMENTED: dict[str, str] = {
     # "a G-code program holds at most 1,000 depth passes (the error gives the least machining.step_down_mm)"
     "machining.step_down_mm=4.94066e-324": "more than the 1000 a program may hold",
+    # keyway_width_mm: "(< bore_diameter_mm)"; the edge scenes' bore is 20 mm
+    **{f"cams.x.keyway_width_mm=10000-{kind}": "keyway_width < bore_diameter" for kind in ("three_arc", "trajectory", "motion_law",
+                                                                                        "lift_table")},
+    # wheelbase_mm: "> rod_radius_mm"; rod_radius_mm: "< wheelbase_mm"
+    "cams.x.wheelbase_mm=1e-06-trajectory": "r_b = L - r_d must be > 0",
+    "cams.x.rod_radius_mm=100000-trajectory": "r_b = L - r_d must be > 0",
+    # "the error gives ... the smallest output.fea_element_size_mm where no tolerance does" (README, Limits)
+    "output.fea_element_size_mm=1e-06": "output.fea_element_size_mm",
+    # ground_y_mm: "the foot path must cross it twice at every inclination ... (the error gives the band)"
+    "mechanisms.horse_leg.ground_y_mm=-100000": "a ground line the foot path crosses twice",
+    "mechanisms.horse_leg.ground_y_mm=100000": "a ground line the foot path crosses twice",
 }
 
 
@@ -956,7 +946,7 @@ def test_valid_edge_value_is_accepted_and_written_right(scene, formats, key, val
     for name, cam in report["cams"].items():
         for fmt in formats:
             file = {"dxf": f"{name}.dxf", "points": f"{name}_points.csv", "lift": f"{name}_lift.csv", "ngc": f"{name}.ngc",
-                    "follower": f"{name}_follower.csv"}[fmt]
+                    "follower": f"{name}_follower.csv", "msh": f"{name}.msh"}[fmt]
             if file not in written:  # withheld: the cam cannot be made, and a failed check says so
                 assert file in cam["withheld_files"] and not cam["manufacturable"], file
                 assert any(c["status"] == "fail" and c["blocks_manufacture"] for c in cam["checks"]), file
