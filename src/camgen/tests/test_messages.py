@@ -206,9 +206,9 @@ def test_an_external_load_beyond_its_range_names_the_key_without_warnings(tmp_pa
 
 
 @pytest.mark.parametrize("template, old, new, key", [
-    # the closed-form bound wants a base radius of about 1e11 mm: the profile then failed to close,
-    # "contour is not closed", with no key and no cam named
-    ("motion_law", '\nsizing = "base_radius_and_offset"', '\nsizing = "base_radius_and_offset"\npressure_angle_limit_deg = 1e-9',
+    # the least limit a scene may set: no base radius up to the sizing's 1e5 mm meets it (at 1e-9 deg
+    # the closed-form bound wanted about 1e11 mm, and the profile then failed to close with no key named)
+    ("motion_law", '\nsizing = "base_radius_and_offset"', '\nsizing = "base_radius_and_offset"\npressure_angle_limit_deg = 0.01',
      "cams.rise_return.sizing"),
     # no base radius the pivot allows meets 5 deg: "cams.rocker: no base radius ..." named no key
     ("oscillating_roller", "base_radius_mm = 40.0", 'sizing = "base_radius"\npressure_angle_limit_deg = 5.0', "cams.rocker.sizing"),
