@@ -531,9 +531,9 @@ def reference_dynamics(keys: dict) -> dict:
     spring = (k * q) if lever == 1.0 else (k_t * q)
     rate_need = need - (a_ - spring)
     lifted = q > 1e-9
+    min_rate = None if np.any((rate_need > 0) & ~lifted) else float(np.max(np.where(lifted, rate_need / np.where(lifted, q, 1), 0)))
     return {"theta": theta, "force": force, "torque": torque, "hertz": hertz, "jump_rpm": jump, "omega": w,
-            "min_preload": max(0.0, float(np.max(need - (a_ - (p0 if lever == 1.0 else t0))))),
-            "min_rate": None if np.any((rate_need > 0) & ~lifted) else float(np.max(np.where(lifted, rate_need / np.where(lifted, q, 1), 0))),
+            "min_preload": max(0.0, float(np.max(need - (a_ - (p0 if lever == 1.0 else t0))))), "min_rate": min_rate,
             "dissipated": (keys.get("damping_n_s_per_m", 0.0) * 1.5 * (h / 1000) ** 2 if lever == 1.0 else
                            keys.get("damping_n_m_s_per_rad", 0.0) * 1.5 * D(segs[0]["swing_deg"]) ** 2) * w * (1 / rise + 1 / ret)}
 

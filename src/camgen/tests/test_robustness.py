@@ -180,7 +180,8 @@ def _near_valid_tables(draw) -> dict:
     b = min(2 * a, a + c) * draw(st.one_of(st.floats(0.01, 1.5), st.just(1.0)))
     table = {"a_mm": a, "b_mm": b, "c_mm": c}
     near_wall = max(0.0, 2.0 * (c - 2.0)) * draw(st.floats(0.9, 1.1))  # the bore that leaves the 2 mm default wall, +-10 %
-    for key, values in (("thickness_mm", st.floats(0.1, 100.0)), ("bore_diameter_mm", st.one_of(st.floats(0.0, 3.0 * c), st.just(near_wall))),
+    bores = st.one_of(st.floats(0.0, 3.0 * c), st.just(near_wall))
+    for key, values in (("thickness_mm", st.floats(0.1, 100.0)), ("bore_diameter_mm", bores),
                         ("follower", st.sampled_from(["yoke", "flat"])), ("rpm", st.floats(1.0, 1000.0))):
         if draw(st.booleans()):
             table[key] = draw(values)
