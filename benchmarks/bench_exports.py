@@ -10,6 +10,7 @@ from _common import median_time, print_table
 
 import camgen
 from camgen.body import BodySpec
+from camgen.export.fea import fea_bytes, volume_mesh
 from camgen.export.solid import cam_solid, mesh_bytes
 from camgen.export.dxf import DxfOptions, contour_to_dxf
 from camgen.export.gcode import MachiningSpec, gcode_program
@@ -30,8 +31,8 @@ def main() -> None:
             jobs = {
                 "dxf (bspline)": lambda: contour_to_dxf(contour, body),
                 "dxf (biarc)": lambda: contour_to_dxf(contour, body, options=DxfOptions("biarc", tol)),
-                "points csv": lambda: points_csv(contour, tol, name, "bench"),
-                "lift csv (1 deg)": lambda: lift_csv(contour, 0.017453292519943295, name, "bench"),
+                "points csv": lambda: points_csv(contour, tol),
+                "lift csv (1 deg)": lambda: lift_csv(contour, 0.017453292519943295),
                 "solid (manifold)": lambda: cam_solid(contour, body, tol),
                 "ngc (biarcs)": lambda: gcode_program(contour, MachiningSpec(thickness=body.thickness, chord_tol=tol, decimals=6)),
                 "ngc (lines)": lambda: gcode_program(contour, MachiningSpec(thickness=body.thickness, chord_tol=tol, spline_mode="lines", decimals=6)),
@@ -46,14 +47,20 @@ def main() -> None:
             except ImportError:
                 pass
             solid = cam_solid(contour, body, tol)
-            for fmt in ("stl", "stl_ascii", "3mf", "obj", "ply", "vtu"):
+            for fmt in ("stl", "stl_ascii", "3mf", "obj", "ply"):
                 jobs[fmt] = (lambda f: lambda: mesh_bytes(solid, f))(fmt)
+            if tol == 1e-3:  # the FEA mesh (gmsh) and its files, at the default element size
+                mesh = volume_mesh(contour, body, tol)
+                jobs["fea mesh (gmsh wedges)"] = lambda: volume_mesh(contour, body, tol)
+                for fmt in ("vtu", "msh", "inp"):
+                    jobs[fmt] = (lambda f: lambda: fea_bytes(mesh, f))(fmt)
             for label, job in jobs.items():
                 if tol != 1e-3 and label in ("dxf (bspline)", "lift csv (1 deg)", "step (exact)"):
                     continue  # independent of the chord tolerance
                 out = job()
                 size = len(out) if isinstance(out, (str, bytes)) else len(out.triangles)
-                unit = "triangles" if label.startswith("solid") else "bytes"
+                size = len(out.cells) if label.startswith("fea mesh") else size
+                unit = "triangles" if label.startswith("solid") else "elements" if label.startswith("fea mesh") else "bytes"
                 seconds = median_time(job, repeats=5, min_total=0.02)
                 rows.append([name, f"{tol:g}", label, f"{seconds * 1e3:.2f}", f"{size} {unit}"])
     print_table(["cam", "chord_tol_mm", "format", "time_ms", "size"], rows)

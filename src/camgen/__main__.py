@@ -1,5 +1,3 @@
-import sys
+from camgen.cli import entry
 
-from camgen.cli import main
-
-sys.exit(main())
+entry()

@@ -30,6 +30,9 @@ FOLLOWER_KINDS = ("yoke", "flat", "roller")
 MOTIONS = ("translating", "oscillating")
 
 
+#: The value of ``min_concave_radius`` for a profile with no concave part (any tool cuts it).
+NO_CONCAVE_PART = "no concave part"
+
 #: Comparisons a check's value is held to against its limit ("at least" orders continuity levels).
 COMPARISONS = ("<=", "<", ">=", ">", "at least")
 
@@ -287,9 +290,9 @@ def machinability_from_radii(rho: np.ndarray, angle: np.ndarray, tool_radius: fl
             out.append(information("min_concave_radius", value, "mm", where_deg,
                                    note + f"; no tool is named (machining.tool_diameter_mm), {tool_radius:g} mm is the default radius"))
     elif tool_is_limit:
-        out.append(CheckResult("min_concave_radius", "none", tool_radius, ">", "mm", True, [], "no concave parts: any tool radius cuts the profile"))
+        out.append(CheckResult("min_concave_radius", NO_CONCAVE_PART, tool_radius, ">", "mm", True, [], "no concave parts: any tool radius cuts the profile"))
     else:
-        out.append(information("min_concave_radius", "none", "mm", [], "no concave parts: any tool radius cuts the profile"))
+        out.append(information("min_concave_radius", NO_CONCAVE_PART, "mm", [], "no concave parts: any tool radius cuts the profile"))
     return out
 
 
@@ -499,7 +502,10 @@ def motion_check(motion: Motion, rpm: float | None) -> CheckResult:
         note += f"; at {rpm:g} rpm: " + ", ".join(f"{k} {v:.6g}" for k, v in at.items())
     if motion.jerk_impulses_deg:
         note += f"; jerk impulses (acceleration jumps) at {len(motion.jerk_impulses_deg)} cam angles"
-    return information("follower_motion", float(np.ptp(motion.displacement)), motion.unit, motion.jerk_impulses_deg[:12], note)
+    stroke, unit = float(np.ptp(motion.displacement)), motion.unit
+    if unit == "rad":  # an oscillating follower's swing: degrees at the edges, as every other angle
+        stroke, unit = math.degrees(stroke), "deg"
+    return information("follower_motion", stroke, unit, motion.jerk_impulses_deg[:12], note)
 
 
 # --------------------------------------------------------------------------------------------

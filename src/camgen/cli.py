@@ -1,22 +1,38 @@
 """Command line: ``camgen run | check | templates | new | keys``.
 
-Only argparse is imported at start-up; each command imports what it needs.  Exit status:
-0 every check passed; 1 a design check failed (``run`` writes the report showing it and no
-manufacturing file for a cam that cannot be made; one line per failed check on stderr);
-2 bad input (one ``camgen: error: ...`` line naming the key, nothing written).
+Only argparse is imported at start-up; each command imports what it needs.  Exit status
+(:data:`EXIT_STATUS`): 0 every check passed; 1 a design check failed (``run`` writes the report
+showing it and no manufacturing file for a cam that cannot be made; one line per failed check on
+stderr); 2 bad input (one ``camgen: error: ...`` line naming the key, nothing written); 70 an
+internal error, a bug (one line; the details go to a crash file it names); 130 / 143 stopped by
+SIGINT (Ctrl-C) / SIGTERM (one line; the previous outputs whole).  Never a traceback.
 """
 from __future__ import annotations
 
 import argparse
 import sys
-from typing import TYPE_CHECKING, Sequence
+from typing import TYPE_CHECKING, NoReturn, Sequence
 
 from camgen import __version__
-from camgen.errors import CamgenError
+from camgen.errors import CamgenError, ParameterError
 
 if TYPE_CHECKING:
+    from camgen.checks import CheckResult
     from camgen.pipeline import RunResult
     from camgen.scene import Scene
+
+#: The run folders this command has written (a signal after that does not undo them).
+_WRITTEN: list[str] = []
+
+#: Exit statuses (README "Command line and exit status").
+EXIT_PASSED, EXIT_CHECK_FAILED, EXIT_BAD_INPUT = 0, 1, 2
+#: An unexpected exception: a bug in camgen (sysexits.h EX_SOFTWARE), never a design verdict.
+EXIT_INTERNAL_ERROR = 70
+#: A write to a closed pipe (``camgen keys | head``): 128 + SIGPIPE, as a shell reports it.
+EXIT_BROKEN_PIPE = 141
+EXIT_STATUS = {EXIT_PASSED: "every check passed", EXIT_CHECK_FAILED: "a design check failed", EXIT_BAD_INPUT: "bad input",
+               EXIT_INTERNAL_ERROR: "an internal error (a bug)", 130: "stopped by SIGINT (Ctrl-C)", 143: "stopped by SIGTERM",
+               EXIT_BROKEN_PIPE: "the output pipe was closed"}
 
 EXAMPLES = {
     "run": """examples:
@@ -42,57 +58,116 @@ EXAMPLES = {
 def _scene(path: str | None) -> "Scene":
     from camgen.scene import load_scene, load_template
 
-    return load_scene(path) if path else load_template("default")
+    if path is None:
+        return load_template("default")
+    if not path.strip():
+        raise ParameterError("SCENE", path, "the path of a scene file (TOML); give none for the bundled default scene")
+    return load_scene(path)
+
+
+def _number(value: object) -> str:
+    """A check's value or limit as the table and the failure lines print it."""
+    if value is None:
+        return "-"
+    if isinstance(value, float):
+        return f"{value:.6g}"
+    if isinstance(value, (list, tuple)):
+        return ", ".join(_number(v) for v in value)
+    return str(value)
+
+
+def _where(check: "CheckResult") -> str:
+    """The cam angles a check names, as ``12.5, 30 deg`` (at most six, then how many more)."""
+    angles = check.where_deg
+    if not angles:
+        return ""
+    shown = ", ".join(f"{w:g}" for w in angles[:6]) + (f" and {len(angles) - 6} more" if len(angles) > 6 else "")
+    return f"{shown} deg"
 
 
 def _report_failures(result: "RunResult") -> int:
     failed = result.failed_checks()
     for cam, check in failed:
-        where = f" at {', '.join(f'{w:g}' for w in check.where_deg[:6])} deg" if check.where_deg else ""
-        value = f"{check.value:.6g}" if isinstance(check.value, float) else check.value
-        limit = f"{check.limit:.6g}" if isinstance(check.limit, float) else check.limit
+        where = f" at {_where(check)}" if check.where_deg else ""
         if check.comparison:  # a measured value against its limit
-            what = f"{check.name} = {value}{' ' + check.unit if check.unit else ''}, must be {check.comparison} {limit}{where}"
+            unit = " " + check.unit if check.unit else ""
+            what = f"{check.name} = {_number(check.value)}{unit}, must be {check.comparison} {_number(check.limit)}{where}"
         else:  # an output that could not be made (an export check): its note says why
             what = f"{check.name}: {check.note}"
         print(f"camgen: check failed: cams.{cam}: {what}" + (" (no manufacturing file written for this cam)" if check.blocks_manufacture else ""),
               file=sys.stderr)
-    return 1 if failed else 0
+    return EXIT_CHECK_FAILED if failed else EXIT_PASSED
+
+
+def _verdict(result: "RunResult") -> str:
+    """The last line of a run or check: how many checks passed or failed, over how many cams."""
+    checks = [c for cam in result.cams for c in cam.checks]
+    limited = [c for c in checks if c.passed is not None]
+    failed = sum(c.failed for c in limited)
+    cams = f"{len(result.cams)} cam{'s' if len(result.cams) != 1 else ''}"
+    if failed:
+        return f"camgen: FAILED: {failed} of {len(limited)} checks with a limit failed ({cams}; the lines above name them)"
+    return f"camgen: passed: all {len(limited)} checks with a limit passed ({cams}; {len(checks) - len(limited)} more are information)"
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from camgen.pipeline import run_scene
+    from pathlib import Path
+
+    from camgen.interrupt import checkpoint
+    from camgen.pipeline import execute, plan_run
     from camgen.progress import TerminalProgress
+    from camgen.staging import preflight, write_run
 
     only = [f.strip() for f in args.only.split(",") if f.strip()] if args.only is not None else None
-    progress = TerminalProgress(enabled=not args.quiet)
+    if not args.outdir.strip():
+        raise ParameterError("-o/--outdir", args.outdir, "a folder path (default: outputs)")
+    scene = _scene(args.scene)
+    plan = plan_run(scene, only)
+    target = Path(args.outdir) / scene.name
+    preflight(target)  # before anything is computed: the folder must be able to take the run
+    display = TerminalProgress(enabled=not args.quiet)
+
+    def progress(step: str) -> None:
+        checkpoint()  # a signal a library swallowed on the way still stops the run
+        display(step)
+
     try:
-        result = run_scene(_scene(args.scene), args.outdir, only, progress)
+        result = execute(scene, plan, progress)
+        progress("writing files")
+        written = write_run(target, result.files)
+        _WRITTEN.append(str(target))
     finally:
-        progress.close()
+        display.close()
+    if written.leftover is not None:
+        print(f"camgen: warning: the previous run could not be removed from '{written.leftover}' (the next run of this scene "
+              "removes it)", file=sys.stderr)
+    status = _report_failures(result)
     if not args.quiet:
-        target = f"{args.outdir}/{result.scene.name}"
         for name in result.files:
             print(f"{target}/{name}")
-    return _report_failures(result)
+        print(_verdict(result))
+    return status
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
-    from camgen.pipeline import Plan, compute
+    """Everything ``run`` does but writing: the same refusals, the same checks and export checks."""
+    from camgen.interrupt import checkpoint
+    from camgen.pipeline import execute, plan_run
 
     scene = _scene(args.scene)
-    result = compute(scene, Plan((), frozenset(), full_report=False))
-    rows = [("cam", "check", "result", "value", "limit", "unit")]
+    result = execute(scene, plan_run(scene), lambda step: checkpoint())
+    rows = [("cam", "check", "result", "value", "limit", "unit", "where")]
     shown = {"pass": "pass", "fail": "FAIL", "info": "info"}
     for cam in result.cams:
         for c in cam.checks:
-            value = f"{c.value:.6g}" if isinstance(c.value, float) else str(c.value)
-            limit = "none" if c.limit is None else f"{c.comparison} {c.limit:.6g}" if isinstance(c.limit, float) else f"{c.comparison} {c.limit}"
-            rows.append((cam.name, c.name, shown[c.status], value, limit, c.unit))
+            limit = "" if c.limit is None else f"{c.comparison} {_number(c.limit)}"
+            rows.append((cam.name, c.name, shown[c.status], _number(c.value), limit, c.unit, _where(c)))
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
     for row in rows:
         print("  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip())
-    return _report_failures(result)
+    status = _report_failures(result)
+    print(_verdict(result))
+    return status
 
 
 def _cmd_templates(args: argparse.Namespace) -> int:
@@ -142,11 +217,22 @@ def _cmd_keys(args: argparse.Namespace) -> int:
     return 0
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with camgen's one-line errors (argparse prints the usage and exits 2 itself)."""
+
+    def error(self, message: str) -> "NoReturn":
+        raise _UsageError(f"{message} (see '{self.prog} --help')")
+
+
+class _UsageError(CamgenError):
+    """A command line argparse cannot parse."""
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="camgen", description="Cam profiles from required motion: synthesis, design checks, DXF/STL/STEP/G-code.",
-        epilog="exit status: 0 all checks passed; 1 a design check failed; 2 bad input.\n"
-               "'camgen COMMAND --help' shows each command's options and examples.",
+        epilog="exit status: 0 all checks passed; 1 a design check failed; 2 bad input; 70 an internal error (a bug);\n"
+               "130/143 stopped by SIGINT/SIGTERM.  'camgen COMMAND --help' shows each command's options and examples.",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--version", action="version", version=f"camgen {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
@@ -158,9 +244,9 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("scene", nargs="?", help="scene file (TOML); default: the bundled default scene")
     run.add_argument("-o", "--outdir", default="outputs", help="output folder (default: outputs); files go to OUTDIR/<scene name>/")
     run.add_argument("--only", metavar="FORMATS", help="write only these formats, comma-separated (e.g. dxf,ngc); report.json is always written")
-    run.add_argument("-q", "--quiet", action="store_true", help="print no file list and no progress")
+    run.add_argument("-q", "--quiet", action="store_true", help="print no file list, no verdict line and no progress")
     run.set_defaults(func=_cmd_run)
-    check = command("check", "synthesis and design checks of a scene, as a table; writes nothing")
+    check = command("check", "synthesis, design checks and export checks of a scene, as a table; writes nothing")
     check.add_argument("scene", nargs="?", help="scene file (TOML); default: the bundled default scene")
     check.set_defaults(func=_cmd_check)
     templates = command("templates", "list the bundled template scenes")
@@ -175,15 +261,98 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def main(argv: Sequence[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+def _one_line(text: str) -> str:
+    return " ".join(text.split())
+
+
+def _say(line: str) -> None:
+    """One line on stderr, in UTF-8 whatever the locale: a file name an ASCII locale decoded to
+    surrogates is written back as its own bytes (the terminal shows it as the user typed it)."""
     try:
-        return args.func(args)
-    except CamgenError as exc:
-        text = " ".join(str(exc).split())  # one line, whatever the message holds
-        print(f"camgen: error: {text}", file=sys.stderr)
-        return 2
+        buffer = sys.stderr.buffer
+    except AttributeError:  # a text-only stream (a test's capture)
+        print(line, file=sys.stderr)
+        return
+    try:
+        sys.stderr.flush()
+        buffer.write(line.encode("utf-8", "surrogateescape") + b"\n")
+        buffer.flush()
+    except (OSError, ValueError):  # no stderr to write to: nothing more can be said
+        pass
+
+
+def _crash_file(exc: BaseException, argv: Sequence[str]) -> str:
+    """Write the details of an unexpected exception to a crash file; return where it went."""
+    import datetime
+    import os
+    import platform
+    import tempfile
+    import traceback
+    from pathlib import Path
+
+    stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y%m%dT%H%M%SZ")
+    text = (f"camgen {__version__} internal error, {stamp}\npython {platform.python_version()} on {platform.platform()}\n"
+            f"command: camgen {' '.join(argv)}\ncurrent folder: {os.getcwd()}\n\n"
+            + "".join(traceback.format_exception(type(exc), exc, exc.__traceback__)))
+    cache = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    for folder in (Path(cache) / "camgen", Path(tempfile.gettempdir())):
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            path = folder / f"camgen-crash-{stamp}-{os.getpid()}.txt"
+            path.write_text(text, encoding="utf-8")
+            return f"the details are in {path}"
+        except OSError:
+            continue
+    return "the details could not be saved (no writable cache or temp folder)"
+
+
+def entry() -> None:
+    """The ``camgen`` program (console script and ``python -m camgen``): :func:`main`, then exit."""
+    sys.exit(main(exiting=True))
+
+
+def main(argv: Sequence[str] | None = None, exiting: bool = False) -> int:
+    """Run the command line ``argv`` (default: the program's arguments); return the exit status.
+
+    ``exiting``: the process exits right after (signals are then ignored, not handed back).
+    """
+    from camgen.interrupt import Interrupted, checkpoint, handling, received, signal_name
+
+    argv = list(sys.argv[1:] if argv is None else argv)
+    _WRITTEN.clear()
+
+    def stopped(signum: int) -> int:
+        state = (f"the run had been written into '{_WRITTEN[-1]}'" if _WRITTEN else "the previous outputs are as they were")
+        _say(f"camgen: stopped by {signal_name(signum)}; {state}")
+        return 128 + signum
+
+    with handling(exiting):
+        try:
+            args = build_parser().parse_args(argv)
+            status = args.func(args)
+            sys.stdout.flush()
+            checkpoint()  # a signal during the last step
+            return int(status)
+        except Interrupted as exc:
+            return stopped(exc.signum)
+        except CamgenError as exc:
+            if received() is not None:  # an error the signal caused (a library's import cut short)
+                return stopped(received() or 0)
+            _say(f"camgen: error: {_one_line(str(exc))}")
+            return EXIT_BAD_INPUT
+        except BrokenPipeError:
+            import os
+
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # Python's own flush at exit must not fail again
+            return EXIT_BROKEN_PIPE
+        except Exception as exc:  # anything else is a bug in camgen, never a design verdict
+            if received() is not None:
+                return stopped(received() or 0)
+            where = _crash_file(exc, argv)
+            _say(f"camgen: internal error (a bug in camgen, not a verdict on the design): {type(exc).__name__}: "
+                 f"{_one_line(str(exc))[:200]}; {where}; please report it with the scene")
+            return EXIT_INTERNAL_ERROR
 
 
 if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
+    entry()

@@ -50,7 +50,7 @@ from typing import Any
 import numpy as np
 
 from camgen.checks import CheckResult, information, limited, run_ends, where_degrees
-from camgen.errors import GeometryError, ParameterError, require_finite
+from camgen.errors import GeometryError, ParameterError, floor_significant, require_finite
 
 TWO_PI = 2.0 * math.pi
 MOTIONS = ("translating", "oscillating")
@@ -449,8 +449,10 @@ def hertz_line_stress(force: np.ndarray | float, rho_cam: np.ndarray | float, rh
     curvature = 1.0 / rho + 1.0 / rho_follower  # 1/inf = 0: a straight flank or a flat face
     if np.any(curvature < 0):
         worst = float(np.max(rho[curvature < 0]))
+        largest = floor_significant(-worst, 6)  # rounded down: a follower of that radius touches it (combined curvature >= 0)
+        shown = f"{largest:g}" if largest <= -worst else repr(-worst)
         what = ("a flat face cannot touch a concave profile: the cam must be convex" if math.isinf(rho_follower)
-                else f"use a follower radius below {-worst:.6g} mm")
+                else f"use a follower radius of at most {shown} mm")
         raise GeometryError(
             f"a concave part of the profile (radius of curvature {-worst:.6g} mm) is tighter than the follower "
             f"(radius {rho_follower:g} mm), which cannot touch it: {what}")
@@ -627,6 +629,57 @@ def _required_spring(a: np.ndarray, b: np.ndarray, c: np.ndarray, omega: float, 
     return min_preload, float(np.max(ratio))
 
 
+def _least_quoted(value: float, keeps_margin: Any, digits: int = 6) -> float | None:
+    """``value`` rounded up to ``digits`` significant digits, raised by a unit of the last digit
+    until ``keeps_margin`` (the force check redone with it) holds: the number a note quotes as
+    a least value is one that was tried.  None when four such values fail."""
+    from camgen.errors import ceil_significant
+
+    if value <= 0.0:
+        return 0.0
+    quoted = ceil_significant(value, digits)
+    for _ in range(4):
+        if keeps_margin(quoted):
+            return quoted
+        quoted = float(f"{quoted + 10.0 ** (math.floor(math.log10(quoted)) - digits + 1):.{digits}g}")
+    return None
+
+
+def spring_hints(result: "DynamicsResult", kin: Kinematics) -> tuple[float | None, float | None, float | None]:
+    """What the jump check's note quotes, each tried: the least preload (N or N*mm; with the
+    rate given), the largest installed length (mm; a spring given by its lengths, with its rate
+    and free length) and the least rate (with the preload, or the lengths, given) that keep the
+    contact force >= the margin at ``result.rpm``; None where none exists or none applies."""
+    train, margin, speed = result.train, result.jump_margin, np.array([result.rpm])
+
+    def keeps(**change: float) -> bool:
+        from dataclasses import replace
+
+        return bool(min_contact_force(kin, replace(train, **change), speed)[0] >= margin)
+
+    lengths = train.spring_free_length is not None and train.spring_installed_length is not None
+    preload = installed = rate = None
+    if result.min_preload is not None and not lengths:
+        preload = _least_quoted(result.min_preload, lambda p: keeps(preload=p))
+    if result.min_preload is not None and lengths and train.spring_rate > 0 and result.min_preload > train.spring_preload:
+        from camgen.errors import floor_significant
+
+        longest = train.spring_free_length - result.min_preload / train.spring_rate  # type: ignore[operator]
+        if longest > 0.0:
+            installed = floor_significant(longest, 6)
+            installed = installed if keeps(spring_installed_length=installed) else None
+    if lengths:  # the preload is rate x (free - installed): it grows with the rate (Q is linear in the rate)
+        squeeze = kin.s - kin.s.min() + (train.spring_free_length - train.spring_installed_length)  # type: ignore[operator]
+        short = margin * _contact_projection(kin, train) - result.generalised_force
+        pressed = squeeze > 0.0
+        if not np.any((short > 0) & ~pressed):
+            least = train.spring_rate + float(np.max(np.where(pressed, short / np.where(pressed, squeeze, 1.0), -np.inf)))
+            rate = _least_quoted(max(least, 0.0), lambda k: keeps(spring_rate=k))
+    elif result.min_spring_rate is not None:
+        rate = _least_quoted(result.min_spring_rate, lambda k: keeps(spring_rate=k))
+    return preload, installed, rate
+
+
 def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: ContactMaterial | None = None, *,
             jump_margin: float = 0.0, torque_limit: float | None = None, position_tol: float = 1e-9) -> DynamicsResult:
     """Contact forces, camshaft torque and power, Hertz stress and the jump checks at ``rpm``.
@@ -704,14 +757,24 @@ def dynamics_checks(result: DynamicsResult, kin: Kinematics, material: ContactMa
         i = int(np.argmin(force))
         bad = force < result.jump_margin
         where = run_ends(bad, theta) if bad.any() else where_degrees(theta[i])
+        # the jump speed rounded down: below the speed quoted the contact force stays positive
         jump = ("never (the contact force does not fall with speed)" if math.isinf(result.jump_rpm)
                 else "at rest (the force is not positive even standing still)" if result.jump_rpm == 0
-                else f"at {result.jump_rpm:.6g} rpm ({result.jump_rpm / result.rpm:.4g} x this speed)")
+                else f"at {floor_significant(result.jump_rpm, 6):g} rpm ({result.jump_rpm / result.rpm:.4g} x this speed)")
+        preload, installed, rate = spring_hints(result, kin)
+        lengths = train.spring_free_length is not None
         note = (f"smallest contact force {force[i]:.6g} N at cam angle {math.degrees(theta[i]):.6g} deg at {result.rpm:g} rpm "
-                f"against a margin of {result.jump_margin:g} N; the follower jumps {jump}; to keep the margin at this speed: "
-                f"preload >= {result.min_preload:.6g} {unit} (rate {train.spring_rate:g} {rate_unit})")
-        note += (f" or rate >= {result.min_spring_rate:.6g} {rate_unit} (preload {train.spring_preload:g} {unit})"
-                 if result.min_spring_rate is not None else "; no spring rate alone can (the force falls short at the lowest position)")
+                f"against a margin of {result.jump_margin:g} N; the follower jumps {jump}; to keep the margin at this speed: ")
+        if lengths:
+            note += (f"installed length <= {installed:g} mm (preload >= {result.min_preload:.6g} {unit} at rate "
+                     f"{train.spring_rate:g} {rate_unit})" if installed is not None
+                     else f"preload >= {result.min_preload:.6g} {unit}" if result.min_preload > train.spring_preload
+                     else f"the spring as given (preload {train.spring_preload:g} {unit})")
+        else:
+            note += (f"preload >= {preload:g} {unit} (rate {train.spring_rate:g} {rate_unit})" if preload is not None
+                     else "no preload found")
+        note += ((f" or rate >= {rate:g} {rate_unit} (" + ("spring lengths given" if lengths else f"preload {train.spring_preload:g} {unit}")
+                  + ")") if rate is not None else "; no spring rate alone can (the force falls short at the lowest position)")
         if result.jump_ranges_deg:
             note += "; the follower leaves the cam between the listed pairs of cam angles"
         checks.append(limited("jump", float(force[i]), ">=", result.jump_margin, "N", where, note))

@@ -46,8 +46,8 @@ class OutputFormat:
 
 
 _FORMATS = (
-    OutputFormat("dxf", "{cam}.dxf", "2-D drawing: PROFILE (exact ARCs, B-splines or biarcs), PITCH, BORE, KEYWAY, CENTER, ZERO "
-                 "(disk cams: cam angle 0 and the rotation) layers; R2010, mm", "camgen.writers:dxf"),
+    OutputFormat("dxf", "{cam}.dxf", "2-D drawing of what is cut: PROFILE (exact ARCs, B-splines or biarcs), BORE, KEYWAY layers "
+                 "(with output.dxf_construction: PITCH, CENTER, ZERO too); R2010, mm", "camgen.writers:dxf"),
     OutputFormat("points", "{cam}_points.csv", "XY point list of the profile at the chord tolerance", "camgen.writers:points"),
     OutputFormat("lift", "{cam}_lift.csv", "polar lift table of the profile: polar angle on the cam -> radius, lift above the base radius",
                  "camgen.writers:lift"),
@@ -58,9 +58,12 @@ _FORMATS = (
     OutputFormat("3mf", "{cam}.3mf", "3MF mesh of the body (units mm)", "camgen.writers:mesh", MESH),
     OutputFormat("obj", "{cam}.obj", "Wavefront OBJ mesh of the body", "camgen.writers:mesh", MESH),
     OutputFormat("ply", "{cam}.ply", "binary PLY mesh of the body", "camgen.writers:mesh", MESH),
-    OutputFormat("vtu", "{cam}.vtu", "VTK unstructured grid of the body (FEA)", "camgen.writers:mesh", MESH),
-    OutputFormat("msh", "{cam}.msh", "Gmsh 2.2 mesh of the body (FEA)", "camgen.writers:mesh", MESH),
-    OutputFormat("inp", "{cam}.inp", "Abaqus/CalculiX input mesh of the body (FEA)", "camgen.writers:mesh", MESH),
+    OutputFormat("vtu", "{cam}.vtu", "VTK unstructured grid of the body (FEA: wedges or tetrahedra meshed by gmsh); needs the fea "
+                 "extra (gmsh)", "camgen.export.fea:writer", MESH),
+    OutputFormat("msh", "{cam}.msh", "Gmsh 2.2 mesh of the body (FEA: wedges or tetrahedra); needs the fea extra (gmsh)",
+                 "camgen.export.fea:writer", MESH),
+    OutputFormat("inp", "{cam}.inp", "Abaqus/CalculiX input mesh of the body (FEA: C3D6 or C3D4, node sets PROFILE, BORE with a "
+                 "bore, BOTTOM, TOP); needs the fea extra (gmsh)", "camgen.export.fea:writer", MESH),
     OutputFormat("step", "{cam}.step", "exact solid (circles and B-splines), AP214, mm; needs the step extra (cadquery-ocp-novtk)",
                  "camgen.writers:step"),
     OutputFormat("ngc", "{cam}.ngc", "RS274/NGC G-code milling the outside profile (LinuxCNC or GRBL)", "camgen.writers:gcode"),
@@ -81,20 +84,35 @@ SELECTABLE = tuple(f.name for f in _FORMATS if not f.implied)
 MESH_FORMATS = tuple(f.name for f in _FORMATS if "mesh" in f.stages)
 
 
+#: Keys removed from ``[output]``: name -> what replaced it (a scene that sets one is refused naming it).
+REMOVED_OUTPUT_KEYS = {
+    "dxf_pitch": "output.dxf_construction = true (the DXF's PITCH, CENTER and ZERO layers; off by default: the DXF holds only "
+                 "what is cut)",
+}
+
+#: Smallest ``output.fea_element_size_mm`` (mm): a thousandth of the smallest cam (base radius
+#: 1e-3 mm); the size caps refuse a size too small for the cam at hand, naming the least that fits.
+MIN_FEA_ELEMENT_SIZE = 1e-6
+
 #: Largest ``output.chord_tol_mm`` (mm).
 MAX_CHORD_TOL = 1.0
+#: The FEA volume-mesh formats (``output.fea_*`` keys need one of them).
+FEA_FORMATS = ("vtu", "msh", "inp")
 
 
 @dataclass(frozen=True)
 class OutputSpec:
     """What a run writes and how: formats, chord tolerance (mm) of every flattened output, DXF
-    spline form, PITCH layer, lift-table step (rad)."""
+    spline form, construction layers, lift-table step (rad), FEA element size (mm; None: derived
+    from the section, :func:`camgen.export.fea.default_element_size`) and element type."""
 
     formats: tuple[str, ...] = ("dxf", "points")
     chord_tol: float = 1e-3
     dxf_splines: str = "biarc"
-    dxf_pitch: bool = True
+    dxf_construction: bool = False
     lift_step: float = math.radians(1.0)
+    fea_element_size: float | None = None
+    fea_elements: str = "wedge"
 
 
 def output_keys() -> tuple[Key, ...]:
@@ -107,10 +125,19 @@ def output_keys() -> tuple[Key, ...]:
             "meshes, G-code) and the exact profile.", ("tolerance",), default=d.chord_tol),
         Key("dxf_splines", Choice(("biarc", "bspline")), "How the DXF writes spline segments: ARCs and LINEs within chord_tol_mm "
             "(every reader takes them), or exact clamped B-spline SPLINEs (for CAD).", ("dxf",), default=d.dxf_splines),
-        Key("dxf_pitch", Flag(), "Draw the follower-centre path of roller followers on the DXF's PITCH layer.", ("dxf",),
-            default=d.dxf_pitch),
+        Key("dxf_construction", Flag(), "Add construction layers to the DXF: PITCH (the follower-centre path of roller "
+            "followers), CENTER (a cross on the rotation axis) and ZERO (disk cams: cam angle 0 and the direction of rotation). "
+            "Off: the DXF holds only what is cut (PROFILE, BORE, KEYWAY), so programs that import the whole file cut the part.",
+            ("dxf",), default=d.dxf_construction),
         Key("lift_step_deg", Angle(0.01, 10.0), "Polar-angle step of the lift table (<cam>_lift.csv).", ("tables",),
             default=math.degrees(d.lift_step)),
+        Key("fea_element_size_mm", Number("mm", MIN_FEA_ELEMENT_SIZE, 1e5), "Largest element size of the FEA meshes (vtu, msh, "
+            "inp); near the profile and bore the elements are smaller: at most 1/24 of the local radius of curvature and the "
+            "chords at chord_tol_mm, growing by 0.3 mm per mm inwards (default: sqrt(section area / 1000), 2 digits).",
+            ("fea",)),
+        Key("fea_elements", Choice(("wedge", "tetra")), "Elements of the FEA meshes: 6-node wedges (the section's triangles, "
+            "least angle >= 20 deg, in layers of about the element size through the thickness) or 4-node tetrahedra (gmsh's "
+            "3-D mesh, sizes graded the same way from every face).", ("fea",), default=d.fea_elements),
     )
 
 

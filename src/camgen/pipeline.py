@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable, Sequence
@@ -21,6 +20,7 @@ if TYPE_CHECKING:
     from camgen.checks import CheckResult
     from camgen.jobs.base import JobResult
     from camgen.kinds.base import BuiltCam, CamSpec
+    from camgen.outputs import OutputSpec
     from camgen.scene import Scene
     from camgen.writers import RunSettings
 
@@ -68,11 +68,40 @@ def plan_run(scene: "Scene", only: Sequence[str] | None = None) -> Plan:
                                      'the "follower" output (<cam>_follower.csv) tabulates the follower motion at the cam speed')
     if "ngc" in formats:
         _check_machining(scene)
+    planned: dict[str, str] = {}
+    for name in formats:
+        output = OUTPUTS[name]
+        if output.scope == "cam":
+            for spec in scene.cams:
+                claim_file(planned, output.files.format(cam=spec.name), f"cams.{spec.name} ({name})")
+        elif output.scope == "run":
+            claim_file(planned, output.files, f"the run ({name})")
     stages: set[str] = set()
     for name in formats:
         if name != "json" or full:
             stages |= OUTPUTS[name].stages
     return Plan(formats, frozenset(stages), full)
+
+
+def claim_file(files: "dict[str, str]", name: str, owner: str) -> None:
+    """Record that ``owner`` (a scene key and format) writes the file ``name``; refuse a name
+    another output of the run writes already, or one that differs from it only in letter case
+    (one file on the case-insensitive file systems of macOS and Windows).
+
+    Raises
+    ------
+    SceneError
+        Naming both outputs and the file.
+    """
+    from camgen.errors import SceneError
+
+    key = name.casefold()
+    for other_name, other in files.items():
+        if other_name.casefold() == key:
+            same = "the same file" if other_name == name else f"one file on case-insensitive file systems ('{other_name}')"
+            raise SceneError(f"{other} and {owner} would both write '{name}' ({same}): rename one of the cams "
+                             "(each output of a run needs a file of its own)")
+    files[name] = owner
 
 
 def _check_machining(scene: "Scene") -> None:
@@ -97,25 +126,37 @@ def _check_machining(scene: "Scene") -> None:
     step = scene.machining.step_down
     for spec in scene.cams:
         depth = spec.body.thickness + scene.machining.breakthrough
-        if depth / step > MAX_PASSES:
+        if _passes(depth, step) > MAX_PASSES:
             from camgen.errors import ceil_significant
 
             least = ceil_significant(depth / MAX_PASSES, 3)
+            while _passes(depth, least) > MAX_PASSES:  # the quoted least is tried: depth / least may round above
+                least = float(f"{least + 10.0 ** (math.floor(math.log10(least)) - 2):.3g}")  # one unit of the 3rd digit up
+            passes = _passes(depth, step)
             raise ParameterError("machining.step_down_mm", step, f">= {least:.3g} mm for cam '{spec.name}'",
-                                 f"its {depth:g} mm (thickness + breakthrough) would take {depth / step:.4g} passes, more than "
+                                 f"its {depth:g} mm (thickness + breakthrough) would take "
+                                 f"{passes if passes < 1e9 else 'more than 10^9'} passes, more than "
                                  f"the {MAX_PASSES} a program may hold")
+
+
+def _passes(depth: float, step: float) -> float:
+    """Depth passes of a G-code program, as :func:`camgen.export.gcode.gcode_program` counts them
+    (inf for a step so small that the count overflows)."""
+    ratio = depth / step
+    return max(1, math.ceil(ratio - 1e-9)) if math.isfinite(ratio) else math.inf
 
 
 #: Most depth passes of a G-code program (thickness + breakthrough over step_down_mm).
 MAX_PASSES = 1000
 
 
-#: Largest number of vertices of one flattened contour in a file that flattens the whole profile
-#: (the point list, the meshes): about 16 MB of coordinates, a 100 MB mesh.  The DXF writes arcs
-#: and splines exactly or as few biarcs; the G-code has its own cap on the program's moves
-#: (:data:`camgen.export.gcode.MAX_PROGRAM_MOVES`).
+#: Largest number of vertices of one flattened contour in the point list and the surface meshes
+#: (STL, 3MF, OBJ, PLY): about 16 MB of coordinates in the point list.  The FEA meshes have caps
+#: of their own on each file's bytes and the mesher's memory (:func:`camgen.export.fea.check_caps`);
+#: the DXF writes arcs and splines exactly or as few biarcs; the G-code has its own cap on the
+#: program's moves (:data:`camgen.export.gcode.MAX_PROGRAM_MOVES`).
 MAX_FLAT_POINTS = 500_000
-#: Formats that flatten the whole profile (besides the meshes).
+#: Formats that flatten the whole profile (besides the surface meshes).
 _FLAT_ALL = ("points",)
 def _flat_count(cam: "BuiltCam", chord_tol: float) -> int:
     """Vertices of ``cam``'s flattened profile (and bore circle) at ``chord_tol`` mm."""
@@ -126,25 +167,41 @@ def _flat_count(cam: "BuiltCam", chord_tol: float) -> int:
     return count
 
 
-def _check_flat_size(cam: "BuiltCam", formats: Sequence[str], chord_tol: float) -> None:
+def _check_flat_size(cam: "BuiltCam", formats: Sequence[str], chord_tol: float, output: "OutputSpec | None" = None) -> None:
     """Refuse a chord tolerance that would flatten ``cam`` into more than :data:`MAX_FLAT_POINTS`
-    vertices in a planned point list or mesh (a 200 m cam at 1e-7 mm: 3 million, a 2 GB mesh),
-    naming ``output.chord_tol_mm`` and the smallest tolerance, as printed, that fits."""
+    vertices in a planned point list or surface mesh, or a surface mesh file beyond 100 MB
+    (:func:`camgen.export.solid.vertex_limit`; a 200 m cam at 1e-7 mm: 3 million vertices),
+    naming ``output.chord_tol_mm`` and the smallest tolerance, as printed, that fits; and FEA
+    meshes beyond their caps (:func:`camgen.export.fea.check_caps`, which needs gmsh)."""
     from camgen.errors import ceil_significant
-    from camgen.outputs import MAX_CHORD_TOL, MESH_FORMATS
+    from camgen.outputs import FEA_FORMATS, MAX_CHORD_TOL, MESH_FORMATS
 
-    if cam.contour is None or not any(f in _FLAT_ALL or f in MESH_FORMATS for f in formats):
+    if cam.contour is None:
         return
+    if output is not None and any(f in FEA_FORMATS for f in formats):
+        from camgen.export.fea import check_caps, require_gmsh
+
+        require_gmsh(formats)
+        check_caps(cam.contour, cam.body, formats, chord_tol, output.fea_element_size, output.fea_elements, cam.name, MAX_CHORD_TOL)
+    flat = [f for f in formats if f in _FLAT_ALL or (f in MESH_FORMATS and f not in FEA_FORMATS)]
+    if not flat:
+        return
+    limit, holder = MAX_FLAT_POINTS, "a file"
+    surfaces = [f for f in flat if f not in _FLAT_ALL]
+    if surfaces:  # each surface mesh file at most solid.MAX_FILE_BYTES (bytes per outline vertex)
+        from camgen.export.solid import vertex_limit
+
+        limit, holder = min([(limit, holder)] + [(vertex_limit(f), f"a {f} file") for f in surfaces])
     count = _flat_count(cam, chord_tol)
-    if count <= MAX_FLAT_POINTS:
+    if count <= limit:
         return
     # chords of arcs and splines: the vertex count grows as chord_tol^-1/2 (at least one per piece)
-    need = ceil_significant(min(MAX_CHORD_TOL, chord_tol * (count / MAX_FLAT_POINTS) ** 2), 2)
-    while need < MAX_CHORD_TOL and _flat_count(cam, need) > MAX_FLAT_POINTS:
+    need = ceil_significant(min(MAX_CHORD_TOL, chord_tol * (count / limit) ** 2), 2)
+    while need < MAX_CHORD_TOL and _flat_count(cam, need) > limit:
         need = ceil_significant(min(MAX_CHORD_TOL, need * 1.05), 2)
-    why = f"at {chord_tol:g} mm its flattened profile would have {count} vertices, more than the {MAX_FLAT_POINTS} a file may hold"
-    if _flat_count(cam, need) > MAX_FLAT_POINTS:
-        raise ParameterError("output.formats", list(formats), f"formats without the point list and meshes for cam '{cam.name}'",
+    why = f"at {chord_tol:g} mm its flattened profile would have {count} vertices, more than the {limit} {holder} may hold"
+    if _flat_count(cam, need) > limit:
+        raise ParameterError("output.formats", list(formats), f"formats without the point list and surface meshes for cam '{cam.name}'",
                              why + f", and still more at the largest chord_tol_mm ({MAX_CHORD_TOL:g} mm)")
     raise ParameterError("output.chord_tol_mm", chord_tol, f">= {need:.2g} mm for cam '{cam.name}'", why)
 
@@ -218,13 +275,13 @@ def _wall_check(cam: "BuiltCam") -> "CheckResult":
     return limited("wall_thickness", wall, ">=", cam.body.min_wall, "mm", [round(where, 6)], note, blocks_manufacture=True)
 
 
-def _export_failure(cam: "BuiltCam", what: str, exc: Exception) -> "CheckResult":
-    """A manufacturing output that cannot be made (a tool path that would gouge, a solid that
-    cannot be built) as a failed check that withholds the cam's manufacturing files."""
+def _export_failure(cam: "BuiltCam", what: str, exc: Exception, blocks_manufacture: bool = True) -> "CheckResult":
+    """An output that cannot be made (a tool path that would gouge, a solid that cannot be built)
+    as a failed check; one of a manufacturing output withholds the cam's manufacturing files."""
     from camgen.checks import CheckResult
 
     return CheckResult(f"{what}_export", "failed", "made as designed", "", "", False, [], " ".join(str(exc).split()),
-                       blocks_manufacture=True)
+                       blocks_manufacture=blocks_manufacture)
 
 
 def _merge_job(cams: "dict[str, BuiltCam]", result: "JobResult") -> None:
@@ -265,7 +322,7 @@ def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> RunResul
         cams.append(cam)
     for cam in cams:
         if cam.manufacturable:
-            _check_flat_size(cam, plan.formats, scene.output.chord_tol)
+            _check_flat_size(cam, plan.formats, scene.output.chord_tol, scene.output)
     by_name = {c.name: c for c in cams}
     result = RunResult(scene, plan, cams)
     for mech in scene.mechanisms:
@@ -309,29 +366,45 @@ def render(result: RunResult, progress: Progress = _quiet) -> None:
 
     settings = result.settings()
     files = result.files
+    owners: dict[str, str] = {}
+
+    def add(new: "dict[str, str | bytes]", owner: str) -> None:
+        for path in new:
+            claim_file(owners, path, owner)
+        files.update(new)
+
     for cam in result.cams:
         planned = {name: OUTPUTS[name].files.format(cam=cam.name) for name in result.plan.formats if OUTPUTS[name].scope == "cam"}
         made = {name: path for name, path in planned.items() if cam.manufacturable or not OUTPUTS[name].manufacturing}
         cam.withheld = [path for name, path in planned.items() if name not in made]
         cam_files: dict[str, str | bytes] = {}
+        blocked = False  # a manufacturing output failed: no manufacturing file of this cam, the others still written
         for name, path in made.items():
+            if blocked and OUTPUTS[name].manufacturing:
+                continue
             progress(f"writing {path}")
             module, function = OUTPUTS[name].writer.split(":")
             try:
                 cam_files[path] = getattr(importlib.import_module(module), function)(cam, settings, name)
-            except GeometryError as exc:  # the cam cannot be made this way: a failed check, no manufacturing files
-                cam.checks.append(_export_failure(cam, name, exc))
-                cam.withheld = [path for name, path in planned.items() if OUTPUTS[name].manufacturing]
-                cam_files = {p: data for p, data in cam_files.items() if p not in cam.withheld}
-                break
-        files.update(cam_files)
+            except GeometryError as exc:  # the cam cannot be made this way: a failed check
+                manufacturing = OUTPUTS[name].manufacturing
+                cam.checks.append(_export_failure(cam, name, exc, blocks_manufacture=manufacturing))
+                if manufacturing:
+                    blocked = True
+                    cam.withheld = [p for n, p in planned.items() if OUTPUTS[n].manufacturing or p in cam.withheld]
+                    cam_files = {p: data for p, data in cam_files.items() if p not in cam.withheld}
+                else:
+                    cam.withheld.append(path)
+        add(cam_files, f"cams.{cam.name}")
         if "ride" in result.plan.formats:
-            files.update(cam.files)
+            add(cam.files, f"cams.{cam.name}")
     if "legs" in result.plan.formats:
-        for job in result.jobs.values():
-            files.update(job.files)
+        for name, job in result.jobs.items():
+            add(job.files, f"mechanisms.{name}")
     html = "html" in result.plan.formats
     _check_finite(files)
+    for name in ("report.json",) + (("report.html",) if html else ()):
+        claim_file(owners, name, "the run's report")
     names = sorted(files) + ["report.json"] + (["report.html"] if html else [])
     mechanisms = {name: job.report for name, job in result.jobs.items()}
     files["report.json"] = report_json(report_dict(result.scene, result.cams, names, mechanisms, result.plan.stages))
@@ -341,31 +414,26 @@ def render(result: RunResult, progress: Progress = _quiet) -> None:
         files["report.html"] = getattr(importlib.import_module(module), function)(result)
 
 
-#: A number that is not finite as a writer prints it (nan, inf, infinity; any case, alone).
-_NONFINITE = re.compile(r"(?<![A-Za-z_])(nan|inf|infinity)(?![A-Za-z_])", re.IGNORECASE)
-
-
 def _check_finite(files: dict[str, str | bytes]) -> None:
-    """The last guard before anything is written: no text file may hold NaN or inf (a machine
-    or CAD reader would take it for a coordinate, or fail on it).  Raises :class:`ExportError`
+    """The last guard before anything is written: no text file may hold NaN or inf where a number
+    stands (a machine or CAD reader would take it for a coordinate, or fail on it); names that
+    hold the letters are not numbers (:mod:`camgen.nonfinite`).  Raises :class:`ExportError`
     naming the file and the line."""
-    from camgen.errors import ExportError
+    from camgen.nonfinite import check_files
 
-    for name, content in files.items():
-        if isinstance(content, str):
-            match = _NONFINITE.search(content)
-            if match is not None:
-                line = content.count("\n", 0, match.start()) + 1
-                raise ExportError(f"{name} would hold the non-finite number '{match.group(0)}' at line {line}: nothing written "
-                                  "(a bug: please report the scene)")
+    check_files(files)
 
 
 def run_scene(scene: "Scene", outdir: str | Path = "outputs", only: Sequence[str] | None = None,
               progress: Progress = _quiet) -> RunResult:
-    """Run ``scene`` and write its files into ``outdir/<scene name>/`` as one atomic swap."""
-    from camgen.staging import write_run
+    """Run ``scene`` and write its files into ``outdir/<scene name>/`` as one atomic swap (an
+    output folder that cannot take the run is refused before anything is computed)."""
+    from camgen.staging import preflight, write_run
 
-    result = execute(scene, plan_run(scene, only), progress)
+    target = Path(outdir) / scene.name
+    plan = plan_run(scene, only)
+    preflight(target)
+    result = execute(scene, plan, progress)
     progress("writing files")
-    write_run(Path(outdir) / scene.name, result.files)
+    write_run(target, result.files)
     return result

@@ -7,10 +7,12 @@ settings of the G-code (``[machining]``) and the mechanisms to analyse (``[mecha
 prints them all.
 
 Reading never evaluates user text.  Limits, each refused with a one-line error: the file is at
-most :data:`MAX_SCENE_BYTES` bytes of UTF-8 TOML, nested at most :data:`MAX_NESTING` levels;
-names are plain file names (:data:`NAME_RULE`); unknown keys, wrong types and out-of-range
-values raise :class:`~camgen.errors.SceneError` or :class:`~camgen.errors.ParameterError`
-naming the key by its path (``cams.x.a_mm``).
+most :data:`MAX_SCENE_BYTES` bytes of UTF-8 TOML, nested at most :data:`MAX_NESTING` levels,
+of at most :data:`camgen.scenetext.MAX_SCENE_ITEMS` keys and values (the nesting and the count
+are checked on the text, before the TOML parser reads it: :mod:`camgen.scenetext`); names are
+plain file names (:data:`NAME_RULE`); unknown keys, wrong types and out-of-range values (an
+integer beyond the float range included) raise :class:`~camgen.errors.SceneError` or
+:class:`~camgen.errors.ParameterError` naming the key by its path (``cams.x.a_mm``).
 """
 from __future__ import annotations
 
@@ -21,7 +23,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Mapping
 
 from camgen.errors import ParameterError, SceneError
-from camgen.schema import Choice, Key, Text, check_keys, parse_table, too_deep
+from camgen.schema import Choice, Key, Text, check_keys, parse_table, quoted_names, too_deep, type_name
 
 if TYPE_CHECKING:
     from camgen.export.gcode import MachiningSpec
@@ -69,14 +71,22 @@ def check_name(where: str, name: object, hint: str = "") -> str:
 
 
 def _output(table: object) -> "OutputSpec":
-    from camgen.outputs import OutputSpec, output_keys
+    from camgen.outputs import FEA_FORMATS, REMOVED_OUTPUT_KEYS, OutputSpec, output_keys
 
     table = {} if table is None else table
+    for key, replacement in REMOVED_OUTPUT_KEYS.items():
+        if isinstance(table, dict) and key in table:
+            raise ParameterError(f"output.{key}", table[key], f"no such key: it was replaced by {replacement}", "a removed key")
     p = parse_table("output", table, output_keys())
-    for key, needs in (("dxf_splines", "dxf"), ("dxf_pitch", "dxf"), ("lift_step_deg", "lift")):
+    for key, needs in (("dxf_splines", "dxf"), ("dxf_construction", "dxf"), ("lift_step_deg", "lift")):
         if key in table and needs not in p["formats"]:
             raise ParameterError(f"output.{key}", table[key], f'only with "{needs}" in output.formats', "it changes only that file")
-    return OutputSpec(p["formats"], p["chord_tol"], p["dxf_splines"], p["dxf_pitch"], p["lift_step"])
+    for key in ("fea_element_size_mm", "fea_elements"):  # the FEA meshes' keys
+        if key in table and not set(FEA_FORMATS) & set(p["formats"]):
+            raise ParameterError(f"output.{key}", table[key], f"only with {', '.join(FEA_FORMATS)} in output.formats",
+                                 "it changes only the FEA meshes")
+    return OutputSpec(p["formats"], p["chord_tol"], p["dxf_splines"], p["dxf_construction"], p["lift_step"],
+                      p.get("fea_element_size"), p["fea_elements"])
 
 
 def _machining(table: object, output: "OutputSpec") -> "MachiningSpec":
@@ -105,7 +115,7 @@ def _cam(name: str, table: object, base_dir: Path | None) -> "CamSpec":
     where = f"cams.{name}"
     check_name(where, name, "a cam's name is used in its file names")
     if not isinstance(table, dict):
-        raise SceneError(f"[{where}] must be a table, not {type(table).__name__}")
+        raise SceneError(f"[{where}] must be a table, not {type_name(table)}")
     kinds = tuple(kind_names())
     kind_name = Choice(kinds).parse(f"{where}.kind", table.get("kind"))
     kind = get_kind(kind_name)
@@ -117,11 +127,11 @@ def _mechanisms(table: object, cams: "tuple[CamSpec, ...]") -> tuple[MechanismSp
     from camgen.jobs import get_job, job_names
 
     if not isinstance(table, dict):
-        raise SceneError(f"[mechanisms] must be a table of [mechanisms.<name>] tables, not {type(table).__name__}")
+        raise SceneError(f"[mechanisms] must be a table of [mechanisms.<name>] tables, not {type_name(table)}")
     known = job_names()
     unknown = sorted(set(table) - set(known), key=str)
     if unknown:
-        raise SceneError(f"[mechanisms]: unknown mechanism(s) {', '.join(map(repr, unknown))}; known: {', '.join(known)}")
+        raise SceneError(f"[mechanisms]: unknown mechanism(s) {quoted_names(unknown)}; known: {', '.join(known)}")
     by_name = {c.name: c for c in cams}
     out = []
     for name, sub in table.items():
@@ -179,15 +189,20 @@ def load_scene(path: str | Path, display: str | None = None) -> Scene:
         If the file cannot be read, is not valid TOML within the limits, or does not follow
         the schema.
     """
+    from camgen.scenetext import restore_integers, scan_scene_text
+
     path = Path(path)
     text = read_text_bounded(path, "scene file")
+    scanned = scan_scene_text(text, MAX_NESTING)  # what the parser cannot take in bounded time and memory
     try:
-        data = tomllib.loads(text)
+        data = tomllib.loads(scanned.text)
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"scene file '{path}' is not valid TOML: {exc}") from None
     except RecursionError:
         raise SceneError(f"scene file '{path}' nests tables or lists more than {MAX_NESTING} levels deep") from None
-    return parse_scene(data, path.stem, display or str(path), path.parent)
+    except ValueError as exc:  # a number Python cannot convert (the scan leaves none: a last guard)
+        raise SceneError(f"scene file '{path}' is not valid TOML: {exc}") from None
+    return parse_scene(restore_integers(data, scanned.integers), path.stem, display or str(path), path.parent)
 
 
 def template_dir() -> Path:

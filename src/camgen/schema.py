@@ -18,7 +18,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Mapping, Sequence
 
-from camgen.errors import ParameterError, SceneError
+from camgen.errors import ParameterError, SceneError, quoted
 
 #: What a key can change.  The key-effect test checks these outputs' bytes change.
 EFFECTS = {
@@ -34,6 +34,7 @@ EFFECTS = {
     "tables": "the lift table (<cam>_lift.csv)",
     "motion": "the follower table at the cam's speed (<cam>_follower.csv)",
     "tolerance": "every flattened output: DXF biarcs, point lists, meshes, G-code",
+    "fea": "the FEA meshes (vtu, msh, inp) only",
 }
 
 #: Largest number of items of any list key (lists are small in every real scene).
@@ -60,13 +61,19 @@ def _is_number(value: object) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
+def type_name(value: object) -> str:
+    """The type of a scene value as messages name it (Python's name; a
+    :class:`~camgen.scenetext.LargeInteger` is an ``int``)."""
+    return getattr(value, "toml_type", type(value).__name__)
+
+
 def _number(path: str, value: object, valid: str) -> float:
     if not _is_number(value):
         raise ParameterError(path, value, valid)
     try:
         number = float(value)
     except OverflowError:
-        raise ParameterError(path, f"<integer of {len(str(value))} digits>", valid) from None
+        raise ParameterError(path, value, valid) from None  # quoted by its number of digits
     if not math.isfinite(number):
         raise ParameterError(path, value, valid)
     return number
@@ -133,8 +140,7 @@ class Count(ValueType):
 
     def parse(self, path: str, value: object) -> int:
         if isinstance(value, bool) or not isinstance(value, int) or not self.low <= value <= self.high:
-            shown = value if not isinstance(value, int) or abs(value) < 10**30 else f"<integer of {len(str(value))} digits>"
-            raise ParameterError(path, shown, self.describe())
+            raise ParameterError(path, value, self.describe())  # a huge integer is quoted by its number of digits
         return value
 
 
@@ -183,6 +189,8 @@ class Text(ValueType):
             raise ParameterError(path, f"<{len(value)} characters>", self.describe())
         if not value.strip() and not self.allow_empty:
             raise ParameterError(path, value, self.describe())
+        if "\x00" in value:  # no file name, expression or note holds one; C and the OS end text there
+            raise ParameterError(path, value, self.describe(), f"a NUL character at position {value.index(chr(0))}")
         return value
 
 
@@ -316,6 +324,13 @@ class Key:
 REQUIRED: Any = _REQUIRED
 
 
+def quoted_names(names: Sequence[object], most: int = 5) -> str:
+    """The first ``most`` of ``names``, each quoted shortened (:func:`camgen.errors.quoted`), and
+    how many more: a message naming unknown keys stays one short line whatever the scene holds."""
+    shown = ", ".join(quoted(n) for n in names[:most])
+    return shown + (f" and {len(names) - most} more" if len(names) > most else "")
+
+
 def check_keys(where: str, table: Mapping[str, Any], keys: Sequence[Key]) -> None:
     """Refuse unknown and missing keys of ``table`` (read at scene path ``where``)."""
     allowed = {k.name for k in keys}
@@ -325,7 +340,7 @@ def check_keys(where: str, table: Mapping[str, Any], keys: Sequence[Key]) -> Non
         near = [k for k in allowed if k.split("_")[0] == str(unknown[0]).split("_")[0]]
         if near:
             hint = f" (did you mean {', '.join(sorted(near))}?)"
-        raise SceneError(f"[{where}]: unknown key(s) {', '.join(map(repr, unknown))}{hint}; allowed: {', '.join(sorted(allowed))}")
+        raise SceneError(f"[{where}]: unknown key(s) {quoted_names(unknown)}{hint}; allowed: {', '.join(sorted(allowed))}")
     missing = [k.name for k in keys if k.required and k.name not in table]
     if missing:
         raise SceneError(f"[{where}]: missing key(s) {', '.join(map(repr, missing))}")
@@ -352,7 +367,7 @@ def parse_table(where: str, table: object, keys: Sequence[Key]) -> Parsed:
     defaults filled in (keys without a default and not given are absent), as a :class:`Parsed`
     that knows which keys were given."""
     if not isinstance(table, dict):
-        raise SceneError(f"[{where}] must be a table, not {type(table).__name__}")
+        raise SceneError(f"[{where}] must be a table, not {type_name(table)}")
     check_keys(where, table, keys)
     out = Parsed()
     out.given = frozenset(k.name for k in keys if k.name in table)

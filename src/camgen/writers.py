@@ -24,26 +24,35 @@ class RunSettings:
     machining: "MachiningSpec"
 
 
+#: Half-length (mm) of the centre cross on the DXF's CENTER layer (``output.dxf_construction``).
+DXF_CENTER_MARK_MM = 5.0
+
+
 def dxf(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
+    """What is cut (profile, bore, keyway); with ``output.dxf_construction`` also the PITCH,
+    CENTER and ZERO layers."""
     from camgen.export.dxf import DxfOptions, contour_to_dxf
 
-    options = DxfOptions(splines=run.output.dxf_splines, biarc_tol=run.output.chord_tol)
-    pitch = None
-    if run.output.dxf_pitch:  # the synthesis' follower-centre path, else the roller checks' pitch curve
-        pitch = cam.pitch if cam.pitch is not None else (cam.evaluation.pitch if cam.evaluation is not None else None)
+    construction = run.output.dxf_construction
+    options = DxfOptions(splines=run.output.dxf_splines, biarc_tol=run.output.chord_tol,
+                         center_mark=DXF_CENTER_MARK_MM if construction else 0.0)
+    if not construction:
+        return contour_to_dxf(cam.contour, cam.body, None, options, None)
+    # the synthesis' follower-centre path, else the roller checks' pitch curve
+    pitch = cam.pitch if cam.pitch is not None else (cam.evaluation.pitch if cam.evaluation is not None else None)
     return contour_to_dxf(cam.contour, cam.body, pitch, options, cam.zero_mark)
 
 
 def points(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
     from camgen.export.points import points_csv
 
-    return points_csv(cam.contour, run.output.chord_tol, cam.name, run.scene_name)
+    return points_csv(cam.contour, run.output.chord_tol)
 
 
 def lift(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
     from camgen.export.points import lift_csv
 
-    return lift_csv(cam.contour, run.output.lift_step, cam.name, run.scene_name)
+    return lift_csv(cam.contour, run.output.lift_step)
 
 
 def follower(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
@@ -53,7 +62,7 @@ def follower(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
     motion = cam.evaluation.motion if cam.evaluation is not None else None
     if motion is None or cam.rpm is None:
         raise GeometryError("the follower motion of this cam is not known (its profile cannot be made): no follower table")
-    return follower_csv(motion, cam.rpm, cam.name, run.scene_name)
+    return follower_csv(motion, cam.rpm)
 
 
 def mesh(cam: "BuiltCam", run: RunSettings, fmt: str) -> bytes:

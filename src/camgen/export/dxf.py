@@ -17,10 +17,17 @@ Spline segments are written in one of two ways (:class:`DxfOptions` ``splines``)
   itself, exactly, where that has no fewer pieces; a quintic segment always refitted), written
   exactly with simple interior knots.
 
-Arc segments (three-arc cams) are exact ARCs in both modes.  Cams that know their cam angle 0
-(disk cams) get a ``ZERO`` layer: a LINE from the rotation axis to the point of the profile the
-follower touches at cam angle 0, and an ARC about the axis (half that radius, 40 deg) ending in
-an arrow head (two LINEs) in the direction the cam turns.  The header extents ($EXTMIN,
+Arc segments (three-arc cams) are exact ARCs in both modes.
+
+What is cut and what is construction: the layers ``PROFILE`` (the outline), ``BORE`` and
+``KEYWAY`` (the hole: one closed loop of the bore ARC, or CIRCLE, and the keyway's three sides)
+are the part; programs that import a whole file (OpenSCAD's ``import()``, laser and CAM
+programs) cut or extrude every curve they find, so a drawing holds only these unless it is given
+construction geometry: ``PITCH`` (the follower-centre path), ``CENTER`` (a cross on the rotation
+axis, :class:`DxfOptions` ``center_mark``) and ``ZERO`` (cams that know their cam angle 0: a LINE
+from the rotation axis to the point of the profile the follower touches at cam angle 0, and an
+ARC about the axis, half that radius, 40 deg, ending in an arrow head of two LINEs in the
+direction the cam turns).  Only the layers drawn are defined.  The header extents ($EXTMIN,
 $EXTMAX, and $LIMMIN/$LIMMAX) are the exact bounding box of everything drawn; the spline mode
 and tolerance are stated in the header's custom properties (``camgen_splines`` and
 ``camgen_biarc_tol_mm`` or ``camgen_bspline_tol_mm``).
@@ -40,6 +47,10 @@ from camgen.export.atomic import write_atomic
 from camgen.export.dxfwriter import DxfDocument
 
 PROFILE_LAYER = "PROFILE"
+#: Layers of what is cut (the part) and of construction geometry (drawn only when given), with
+#: their ACI colours.
+CUT_LAYERS = {PROFILE_LAYER: 7, "BORE": 2, "KEYWAY": 3}
+CONSTRUCTION_LAYERS = {"PITCH": 4, "CENTER": 1, "ZERO": 6}
 
 
 def _degree_of(spline: Spline) -> int:
@@ -196,12 +207,13 @@ class DxfOptions:
     bspline_tol : float
         Largest distance between a spline segment and its written B-spline (``"bspline"``), mm.
     center_mark : float
-        Half-length of the centre cross on the rotation axis, mm (0: no centre mark).
+        Half-length of the centre cross on the rotation axis (CENTER layer, construction), mm;
+        0 (default): no centre mark.
     """
 
     splines: str = "biarc"
     biarc_tol: float = DEFAULT_CHORD_TOL
-    center_mark: float = 5.0
+    center_mark: float = 0.0
     bspline_tol: float = DEFAULT_BSPLINE_TOL
 
     def __post_init__(self) -> None:
@@ -289,11 +301,12 @@ def contour_to_dxf(contour: Contour, body: Any = None, pitch: Contour | None = N
                    zero_mark: Any = None) -> str:
     """DXF text (R2010, $INSUNITS = 4 mm) of a cam drawing.
 
-    Layers: ``PROFILE`` (the contour), ``BORE`` (circle, or the arc outside the keyway) and
-    ``KEYWAY`` (its three sides outside the bore) from ``body`` (a
-    :class:`camgen.export.solid.SolidSpec`), ``PITCH`` (the follower-centre path, when given),
-    ``CENTER`` (a centre mark on the rotation axis) and ``ZERO`` (cam angle 0 and the direction
-    of rotation, when ``zero_mark`` is given: see the module notes).  Spline segments follow
+    What is cut: ``PROFILE`` (the contour), ``BORE`` (circle, or the arc outside the keyway)
+    and ``KEYWAY`` (its three sides outside the bore) from ``body`` (a
+    :class:`camgen.body.BodySpec`): the bore and keyway form one closed loop.  Construction,
+    each only when asked for: ``PITCH`` (``pitch``, the follower-centre path), ``CENTER``
+    (``options.center_mark`` > 0) and ``ZERO`` (``zero_mark``: cam angle 0 and the direction of
+    rotation, see the module notes).  Only the layers drawn are defined.  Spline segments follow
     ``options.splines`` (default: biarcs within ``options.biarc_tol`` mm).
     """
     return _contour_to_dxf(contour, body, pitch, options, zero_mark)
@@ -355,14 +368,15 @@ def _contour_to_dxf(contour: Contour, body: Any, pitch: Contour | None, options:
         msp.add_custom_property("camgen_biarc_tol_mm", repr(float(options.biarc_tol)))
     else:
         msp.add_custom_property("camgen_bspline_tol_mm", repr(float(options.bspline_tol)))
-    for name, color in ((PROFILE_LAYER, 7), ("BORE", 2), ("KEYWAY", 3), ("PITCH", 4), ("CENTER", 1)):
-        msp.add_layer(name, color)
-    if zero_mark is not None:
-        msp.add_layer("ZERO", 6)
+    r, keyway = _bore_and_keyway(body)
+    drawn_layers = {PROFILE_LAYER: True, "BORE": r > 0, "KEYWAY": keyway is not None, "PITCH": pitch is not None,
+                    "CENTER": options.center_mark > 0, "ZERO": zero_mark is not None}
+    for name, color in {**CUT_LAYERS, **CONSTRUCTION_LAYERS}.items():
+        if drawn_layers[name]:
+            msp.add_layer(name, color)
     _add_contour(msp, contour, PROFILE_LAYER)
     if pitch is not None:
         _add_contour(msp, pitch, "PITCH")
-    r, keyway = _bore_and_keyway(body)
     if r > 0 and keyway is not None:
         # keyway: two sides from the bore circle out to the keyway bottom, and the bottom; the
         # bore arc closes the loop outside the keyway

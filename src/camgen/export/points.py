@@ -1,56 +1,87 @@
-"""CNC point lists: XY CSV at a chord tolerance."""
+"""CNC point lists (XY CSV at a chord tolerance) and polar lift tables of a profile.
+
+Each table's meaning and settings are stated by its ``*_metadata`` function, which report.json's
+``tables`` object holds (:mod:`camgen.export.tablemeta`); the CSV itself is a header row and
+numbers (:func:`camgen.export.tables.csv_table`).
+"""
 from __future__ import annotations
 
+import math
 from pathlib import Path
+from typing import Any
+
+import numpy as np
 
 from camgen.contour import Contour
 from camgen.export.atomic import write_atomic
 from camgen.export.tables import csv_table
 
+#: Columns of the point list (``<cam>_points.csv``) and what they hold.
+POINTS_COLUMNS = {
+    "x_mm": "x of a vertex of the profile polygon in the cam frame (origin on the rotation axis), mm",
+    "y_mm": "y of that vertex in the cam frame, mm",
+}
+#: Columns of the polar lift table (``<cam>_lift.csv``) and what they hold.
+LIFT_COLUMNS = {
+    "polar_angle_deg": "polar angle on the cam (cam frame, counter-clockwise from +x; a direction on the cam, not a cam rotation), deg",
+    "radius_mm": "distance from the rotation axis to the profile along the ray at that polar angle, mm",
+    "lift_mm": "radius_mm minus the base radius (base_radius_mm: the smallest distance from the axis to the profile), mm",
+}
 
-def points_csv(contour: Contour, chord_tol: float, cam: str, scene: str) -> str:
-    """CSV text of the flattened contour: ``#`` comment lines, header ``x_mm,y_mm``, one vertex a row.
+
+def points_csv(contour: Contour, chord_tol: float) -> str:
+    """CSV text of the flattened contour: header ``x_mm,y_mm``, one vertex a row, counter-clockwise.
 
     Every chord between consecutive rows (and from the last row back to the first) stays within
     ``chord_tol`` mm of the true contour.
     """
     pts = contour.flatten(chord_tol)
-    comments = [
-        f"camgen point list of cam '{cam}' (scene '{scene}')",
-        "units: mm, cam frame (origin on the rotation axis), counter-clockwise, closed (last row joins the first)",
-        f"chord tolerance: {chord_tol:g} mm; points: {len(pts)}",
-    ]
-    return csv_table(comments, {"x_mm": pts[:, 0], "y_mm": pts[:, 1]})
+    return csv_table(dict(zip(POINTS_COLUMNS, (pts[:, 0], pts[:, 1]))))
 
 
-def write_points_csv(contour: Contour, path: str | Path, chord_tol: float, cam: str, scene: str) -> Path:
+def points_metadata(chord_tol: float) -> dict[str, Any]:
+    """What :func:`points_csv` holds (report.json ``tables``)."""
+    return {
+        "content": "XY point list of the profile: the vertices of a polygon within chord_tol_mm of it, counter-clockwise, closed "
+                   "(the last row joins the first)",
+        "columns": dict(POINTS_COLUMNS),
+        "chord_tol_mm": float(chord_tol),
+    }
+
+
+def write_points_csv(contour: Contour, path: str | Path, chord_tol: float) -> Path:
     """Write :func:`points_csv` to ``path`` atomically."""
-    return write_atomic(path, points_csv(contour, chord_tol, cam, scene))
+    return write_atomic(path, points_csv(contour, chord_tol))
 
 
-def lift_csv(contour: Contour, step: float, cam: str, scene: str) -> str:
+def lift_angles(step: float) -> np.ndarray:
+    """Polar angles (rad) of the lift table: the whole turn in equal steps, the nearest to
+    ``step`` rad that divides it."""
+    count = int(round(2.0 * math.pi / step))
+    return 2.0 * math.pi * np.arange(count) / count
+
+
+def lift_csv(contour: Contour, step: float) -> str:
     """Polar lift table of the profile: polar angle on the cam -> radius and lift above the base radius.
 
-    ``step`` is the angle step (rad).  The radius is the exact distance from the rotation axis
-    to the profile along the ray at that polar angle (:meth:`Contour.polar_radius`); the base
-    radius is the smallest distance from the axis to the profile (exact for arcs; for splines
-    from the vertices of a 1e-7 mm flattening, which lie on the curve).
+    ``step`` is the angle step (rad, :func:`lift_angles`).  The radius is the exact distance
+    from the rotation axis to the profile along the ray at that polar angle
+    (:meth:`Contour.polar_radius`); the base radius is :func:`base_radius`.
     """
-    import math
-
-    import numpy as np
-
-    count = int(round(2.0 * math.pi / step))
-    angle = 2.0 * math.pi * np.arange(count) / count
+    angle = lift_angles(step)
     radius = contour.polar_radius(angle)
-    base = base_radius(contour)
-    comments = [
-        f"camgen polar lift table of cam '{cam}' (scene '{scene}')",
-        "units: deg, mm; polar_angle_deg = polar angle on the cam (cam frame, counter-clockwise from +x), not a cam rotation",
-        f"radius_mm = distance from the rotation axis to the profile; lift_mm = radius_mm - base radius {base:.9f} mm",
-        f"angle step: {math.degrees(2.0 * math.pi / count):g} deg; {count} rows",
-    ]
-    return csv_table(comments, {"polar_angle_deg": np.degrees(angle), "radius_mm": radius, "lift_mm": radius - base})
+    return csv_table(dict(zip(LIFT_COLUMNS, (np.degrees(angle), radius, radius - base_radius(contour)))))
+
+
+def lift_metadata(contour: Contour, step: float) -> dict[str, Any]:
+    """What :func:`lift_csv` holds (report.json ``tables``): its angle step and base radius."""
+    count = lift_angles(step).size
+    return {
+        "content": "polar lift table of the profile: polar angle on the cam -> its radius and the lift above the base radius",
+        "columns": dict(LIFT_COLUMNS),
+        "angle_step_deg": 360.0 / count,
+        "base_radius_mm": base_radius(contour),
+    }
 
 
 def base_radius(contour: Contour) -> float:
@@ -60,10 +91,6 @@ def base_radius(contour: Contour) -> float:
     elsewhere the smallest radius of the vertices of a 1e-7 mm flattening (which lie on the
     curve, so this is at most 1e-7 mm too large).
     """
-    import math
-
-    import numpy as np
-
     from camgen.contour import Arc
     from camgen.geometry import angle_in_sweep
 

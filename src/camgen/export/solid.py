@@ -22,22 +22,13 @@ from the polygons' (0.0 otherwise).
 Surface meshes (the boundary of the solid): binary and ASCII STL with numpy (no trimesh import),
 3MF, OBJ and PLY through trimesh.  Mind: STL stores float32 (~1e-5 mm at 300 mm).
 
-FEA volume meshes (VTU, Gmsh MSH 2.2, Abaqus/CalculiX INP): the cam is an extrusion, so the
-cross-section triangulation (the bottom cap of the solid) is extruded into ``layers`` layers of
-6-node wedges (VTK_WEDGE 13, Gmsh prism 6, Abaqus/CalculiX C3D6; default
-:data:`DEFAULT_FEA_LAYERS`).  Every wedge has its bottom triangle counter-clockwise seen from
-its top (positive Jacobian in all three formats), so the element volumes add up to the section
-area times the thickness.  The INP also holds node sets for boundary conditions (see
-:func:`inp_text`).  The ring fill's triangles are graded from the outline's spacing inwards
-(about square log-polar cells, median shape longest edge^2 / (2 area) 2...6 against 100...2000
-for manifold3d's long slivers): fine for stiffness and load-path checks; refine in an FEA
-pre-processor for stress peaks.
+FEA volume meshes (VTU, Gmsh MSH 2.2, Abaqus/CalculiX INP) are not made from this solid but by
+gmsh from the same polygons: :mod:`camgen.export.fea`.
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
@@ -56,17 +47,27 @@ MESH_FORMATS = {
     "3mf": "3MF (camgen writer; units mm)",
     "obj": "Wavefront OBJ (trimesh)",
     "ply": "binary PLY (trimesh)",
-    "vtu": "VTK unstructured grid of wedge volume elements (meshio)",
-    "msh": "Gmsh 2.2 ASCII mesh of 6-node prism volume elements",
-    "inp": "Abaqus/CalculiX input: C3D6 wedge volume elements and node sets",
 }
-SUFFIX = {"stl": ".stl", "stl_ascii": "_ascii.stl", "3mf": ".3mf", "obj": ".obj", "ply": ".ply", "vtu": ".vtu", "msh": ".msh", "inp": ".inp"}
-#: Formats written as volume meshes (wedges); the others hold the surface triangles.
-VOLUME_FORMATS = ("vtu", "msh", "inp")
-#: Element layers through the thickness of the volume meshes.  Linear wedges are stiff in
-#: bending through the thickness; four layers keep that error small for a cam loaded in its
-#: plane while the file stays about (layers + 1) times the section's vertex count in nodes.
-DEFAULT_FEA_LAYERS = 4
+SUFFIX = {"stl": ".stl", "stl_ascii": "_ascii.stl", "3mf": ".3mf", "obj": ".obj", "ply": ".ply"}
+
+
+#: Largest surface mesh file (bytes).
+MAX_FILE_BYTES = 100_000_000
+#: Bytes per outline vertex (profile and hole polygons) of each surface format, at most: the
+#: solid has about 5 triangles per outline vertex (two per wall edge, the caps' share with the
+#: ring fill's interior vertices); measured 250-380 (STL), 1440-2170 (ASCII STL), 74-125 (3MF),
+#: 190-265 (OBJ), 95-145 (PLY) on the templates' cams at 1e-3 and 1e-5 mm, with a margin (the
+#: tests compare on the templates and random cams).  The ring fill's seam circles add a
+#: constant: a file holds at most ``BYTES_PER_VERTEX * (vertices + EXTRA_VERTICES)`` bytes
+#: (measured: at most 100 more vertices' worth on small cams).
+BYTES_PER_VERTEX = {"stl": 500, "stl_ascii": 2800, "3mf": 160, "obj": 340, "ply": 180}
+EXTRA_VERTICES = 500
+
+
+def vertex_limit(fmt: str) -> int:
+    """Most outline vertices a surface mesh file of format ``fmt`` may have to stay within
+    :data:`MAX_FILE_BYTES` (:data:`BYTES_PER_VERTEX`, :data:`EXTRA_VERTICES`)."""
+    return max(0, MAX_FILE_BYTES // BYTES_PER_VERTEX[fmt] - EXTRA_VERTICES)
 
 
 #: Farthest (mm) manifold3d's cross-section may move a polygon vertex for it to be mapped back:
@@ -324,12 +325,9 @@ def stl_ascii(solid: CamSolid, name: str = "camgen") -> str:
     return f"solid {name}\n{format_rows(rows + 0.0, fmt)}endsolid {name}\n"
 
 
-def mesh_bytes(solid: CamSolid, fmt: str, name: str = "camgen", layers: int = DEFAULT_FEA_LAYERS) -> bytes:
-    """File content of ``solid`` in mesh format ``fmt`` (see :data:`MESH_FORMATS`).
-
-    ``layers``: element layers through the thickness of the volume formats
-    (:data:`VOLUME_FORMATS`); ignored by the surface formats.
-    """
+def mesh_bytes(solid: CamSolid, fmt: str, name: str = "camgen") -> bytes:
+    """File content of ``solid`` in surface mesh format ``fmt`` (see :data:`MESH_FORMATS`; the
+    FEA volume meshes: :func:`camgen.export.fea.fea_bytes`)."""
     if fmt == "stl":
         return stl_binary(solid, name)
     if fmt == "stl_ascii":
@@ -344,46 +342,12 @@ def mesh_bytes(solid: CamSolid, fmt: str, name: str = "camgen", layers: int = DE
         data = mesh.export(file_type=fmt)
         data = data.encode("utf-8") if isinstance(data, str) else bytes(data)
         return data
-    if fmt in VOLUME_FORMATS:
-        volume = volume_mesh(solid, layers)
-        if fmt == "inp":
-            return inp_text(volume, name).encode("ascii")
-        if fmt == "msh":
-            return msh_text(volume, name).encode("ascii")
-        return vtu_bytes(volume, name)
     raise ParameterError("format", fmt, f"one of {sorted(MESH_FORMATS)}")
 
 
 # --------------------------------------------------------------------------------------------
-# FEA volume meshes
+# The section of a solid
 # --------------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class VolumeMesh:
-    """Wedge mesh of an extruded section (mm).
-
-    Attributes
-    ----------
-    nodes : array (n, 3)
-        Node coordinates, layer by layer from z = 0 up (``k`` section vertices per layer).
-    wedges : array (m, 6)
-        0-based node indices: the bottom triangle counter-clockwise seen from +z, then the
-        nodes above them (Gmsh prism / Abaqus C3D6 / VTK wedge order, positive Jacobian).
-    node_sets : dict of str to array
-        0-based node indices: ``PROFILE`` (outer contour), ``BORE`` (bore and keyway, empty
-        without a bore), ``BOTTOM`` (z = 0) and ``TOP`` (z = thickness).
-    layers : int
-        Element layers through the thickness.
-    thickness : float
-        Extrusion height, mm.
-    """
-
-    nodes: np.ndarray
-    wedges: np.ndarray
-    node_sets: dict
-    layers: int
-    thickness: float
-
-
 def section_triangulation(solid: CamSolid) -> tuple[np.ndarray, np.ndarray]:
     """The cross-section triangulation of an extruded ``solid``: vertices (k, 2) and
     counter-clockwise triangles (t, 3), from the bottom cap (z = 0) of its mesh."""
@@ -394,114 +358,6 @@ def section_triangulation(solid: CamSolid) -> tuple[np.ndarray, np.ndarray]:
     used, local = np.unique(cap, return_inverse=True)
     triangles = local.reshape(-1, 3)[:, ::-1]  # the cap faces -z: reverse to counter-clockwise seen from +z
     return solid.vertices[used, :2], triangles
-
-
-def _boundary_sets(points: np.ndarray, triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Vertices (indices) of the outer boundary loop and of the hole loops of a triangulation."""
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
-    edges = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
-    key = np.sort(edges, axis=1)
-    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    boundary = edges[counts[inverse.ravel()] == 1]  # directed: the outer loop runs CCW, holes CW
-    n = len(points)
-    graph = coo_matrix((np.ones(len(boundary)), (boundary[:, 0], boundary[:, 1])), shape=(n, n))
-    _, label = connected_components(graph, directed=False)
-    a, b = points[boundary[:, 0]], points[boundary[:, 1]]
-    loop_area = np.bincount(label[boundary[:, 0]], weights=0.5 * (a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]), minlength=label.max() + 1)
-    on_boundary = np.unique(boundary)
-    outer = loop_area[label[on_boundary]] > 0
-    return on_boundary[outer], on_boundary[~outer]
-
-
-def volume_mesh(solid: CamSolid, layers: int = DEFAULT_FEA_LAYERS) -> VolumeMesh:
-    """Extrude the section triangulation of ``solid`` into ``layers`` layers of 6-node wedges."""
-    if isinstance(layers, bool) or not isinstance(layers, (int, np.integer)) or not 1 <= layers <= 1000:
-        raise ParameterError("layers", layers, "a whole number 1 ... 1000 of element layers through the thickness")
-    layers = int(layers)
-    points, triangles = section_triangulation(solid)
-    thickness = float(solid.vertices[:, 2].max())
-    k = len(points)
-    z = thickness * np.arange(layers + 1) / layers
-    nodes = np.concatenate([np.repeat(points[None], layers + 1, axis=0), np.broadcast_to(z[:, None, None], (layers + 1, k, 1))], axis=2).reshape(-1, 3)
-    base = (np.arange(layers) * k)[:, None, None] + triangles[None]  # (layers, t, 3)
-    wedges = np.concatenate([base, base + k], axis=2).reshape(-1, 6)
-    outer, holes = _boundary_sets(points, triangles)
-    column = (np.arange(layers + 1) * k)[:, None]
-    sets = {
-        "PROFILE": (column + outer[None]).ravel(),
-        "BORE": (column + holes[None]).ravel(),
-        "BOTTOM": np.arange(k),
-        "TOP": layers * k + np.arange(k),
-    }
-    return VolumeMesh(nodes, wedges.astype(np.int64), sets, layers, thickness)
-
-
-def _numbers(values: np.ndarray) -> np.ndarray:
-    """Coordinates cleaned for printing: sub-picometre values (and -0.0) become 0.0."""
-    return np.where(np.abs(values) < 1e-9, 0.0, values) + 0.0
-
-
-def _id_lines(ids: np.ndarray, per_line: int = 8) -> str:
-    """1-based ids, ``per_line`` to a line, comma separated (Abaqus data lines)."""
-    ids = np.asarray(ids) + 1
-    lines = [", ".join(map(str, ids[i : i + per_line].tolist())) for i in range(0, len(ids), per_line)]
-    return "\n".join(lines) + "\n"
-
-
-def inp_text(mesh: VolumeMesh, name: str = "camgen") -> str:
-    """Abaqus/CalculiX input (mesh part): ``*NODE`` (set NALL), ``*ELEMENT, TYPE=C3D6`` (set
-    CAM) and node sets PROFILE, BORE, BOTTOM, TOP; units mm.
-
-    Coordinates are printed with 14 significant digits ("%.14g"): at most 20 characters, the
-    field width CalculiX reads a coordinate with.  Add material, section, steps and loads in
-    the analysis deck (``*INCLUDE, INPUT=<cam>.inp``).
-    """
-    ids = np.arange(1, len(mesh.nodes) + 1)
-    nodes = format_rows(np.column_stack([ids, _numbers(mesh.nodes)]), "%d, %.14g, %.14g, %.14g")
-    elements = format_rows(np.column_stack([np.arange(1, len(mesh.wedges) + 1), mesh.wedges + 1]), ", ".join(["%d"] * 7))
-    parts = [
-        "*HEADING\n",
-        f"camgen cam '{name}': {len(mesh.wedges)} C3D6 wedges in {mesh.layers} layers through {mesh.thickness:g} mm; units mm\n",
-        "** node sets: NALL, PROFILE (outer contour), BORE (bore and keyway), BOTTOM (z = 0), TOP (z = thickness)\n",
-        "** element set: CAM; add *MATERIAL, *SOLID SECTION, ELSET=CAM and the steps in the analysis deck\n",
-        "*NODE, NSET=NALL\n", nodes,
-        "*ELEMENT, TYPE=C3D6, ELSET=CAM\n", elements,
-    ]
-    for set_name, members in mesh.node_sets.items():
-        if len(members):
-            parts += [f"*NSET, NSET={set_name}\n", _id_lines(np.sort(members))]
-    return "".join(parts)
-
-
-def msh_text(mesh: VolumeMesh, name: str = "camgen") -> str:
-    """Gmsh MSH 2.2 (ASCII) of the wedges: element type 6 (6-node prism), physical volume 1
-    named after the cam; coordinates with 17 significant digits (exact round trip)."""
-    nodes = format_rows(np.column_stack([np.arange(1, len(mesh.nodes) + 1), _numbers(mesh.nodes)]), "%d %.17g %.17g %.17g")
-    m = len(mesh.wedges)
-    # id, type 6 (prism), 2 tags (physical 1, elementary 1), six nodes
-    rows = np.column_stack([np.arange(1, m + 1), np.full(m, 6), np.full(m, 2), np.ones(m, int), np.ones(m, int), mesh.wedges + 1])
-    elements = format_rows(rows, " ".join(["%d"] * rows.shape[1]))
-    label = name.replace('"', "'")
-    return (
-        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
-        f'$PhysicalNames\n1\n3 1 "{label}"\n$EndPhysicalNames\n'
-        f"$Nodes\n{len(mesh.nodes)}\n{nodes}$EndNodes\n"
-        f"$Elements\n{m}\n{elements}$EndElements\n"
-    )
-
-
-def vtu_bytes(mesh: VolumeMesh, name: str = "camgen") -> bytes:
-    """VTK XML unstructured grid (binary, zlib) of the wedges (VTK_WEDGE), through meshio."""
-    import tempfile
-
-    import meshio
-
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / f"{name}.vtu"
-        meshio.write(path, meshio.Mesh(mesh.nodes, [("wedge", mesh.wedges.astype(np.int32))]), file_format="vtu", binary=True)
-        return path.read_bytes()
 
 
 _3MF_TYPES = (

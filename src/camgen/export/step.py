@@ -29,12 +29,11 @@ file's time stamp is fixed so the same cam gives the same bytes.
 """
 from __future__ import annotations
 
+import io
 import math
 import os
 import re
-import tempfile
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -53,8 +52,12 @@ FOLD_TOL = 1e-7
 def _ocp():
     try:
         import OCP  # noqa: F401
-    except ImportError:  # pragma: no cover - depends on the install
+    except ModuleNotFoundError as exc:  # pragma: no cover - depends on the install
+        if (exc.name or "OCP").split(".")[0] != "OCP":
+            raise ExportError(f"the OpenCASCADE bindings (OCP) are installed but did not load: {exc}") from None
         raise ExportError('STEP export needs OpenCASCADE bindings: pip install ".[step]" (cadquery-ocp-novtk)') from None
+    except (ImportError, OSError) as exc:  # a library they link did not load (missing, or no memory to map it)
+        raise ExportError(f"the OpenCASCADE bindings (OCP) are installed but did not load: {exc}") from None
 
 
 @dataclass(frozen=True)
@@ -256,20 +259,19 @@ def step_bytes(contour: Contour, body: Any, name: str = "cam", bspline_tol: floa
     Interface_Static.SetCVal_s("write.step.unit", "MM")
     Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
     writer = STEPControl_Writer()
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / f"{name}.step"
-        saved = os.dup(1)  # OCCT prints transfer statistics on stdout: keep the CLI quiet
-        with open(os.devnull, "w") as devnull:
-            os.dup2(devnull.fileno(), 1)
-            try:
-                writer.Transfer(solid, STEPControl_AsIs)
-                status = writer.Write(str(path))
-            finally:
-                os.dup2(saved, 1)
-                os.close(saved)
-        if not path.exists() or int(status) != 1:  # IFSelect_RetDone
-            raise ExportError(f"cam '{name}': OpenCASCADE could not write the STEP file (status {status})")
-        text = path.read_text(encoding="ascii", errors="replace")
+    stream = io.BytesIO()  # in memory: no file outside the run's staging folder
+    saved = os.dup(1)  # OCCT prints transfer statistics on stdout: keep the CLI quiet
+    with open(os.devnull, "w") as devnull:
+        os.dup2(devnull.fileno(), 1)
+        try:
+            writer.Transfer(solid, STEPControl_AsIs)
+            status = writer.WriteStream(stream)
+        finally:
+            os.dup2(saved, 1)
+            os.close(saved)
+    if int(status) != 1 or not stream.getvalue():  # IFSelect_RetDone
+        raise ExportError(f"cam '{name}': OpenCASCADE could not write the STEP file (status {status})")
+    text = stream.getvalue().decode("ascii", errors="replace")
     # the tolerance of the spline edges in the header (FILE_DESCRIPTION)
     splines = any(isinstance(seg, Spline) for seg in contour.segments)
     what = (f"camgen cam {name}: B-spline edges within {tol!r} mm of the contour" if splines and not exact
@@ -289,20 +291,16 @@ def step_volume(data: bytes) -> float:
     from OCP.GProp import GProp_GProps
     from OCP.STEPControl import STEPControl_Reader
 
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "read.step"
-        path.write_bytes(data)
-        reader = STEPControl_Reader()
-        saved = os.dup(1)
-        with open(os.devnull, "w") as devnull:
-            os.dup2(devnull.fileno(), 1)
-            try:
-                reader.ReadFile(str(path))
-                reader.TransferRoots()
-            finally:
-                os.dup2(saved, 1)
-                os.close(saved)
-        props = GProp_GProps()
-        BRepGProp.VolumeProperties_s(reader.OneShape(), props)
-        return float(props.Mass())
-
+    reader = STEPControl_Reader()
+    saved = os.dup(1)
+    with open(os.devnull, "w") as devnull:
+        os.dup2(devnull.fileno(), 1)
+        try:
+            reader.ReadStream("read.step", io.BytesIO(data))
+            reader.TransferRoots()
+        finally:
+            os.dup2(saved, 1)
+            os.close(saved)
+    props = GProp_GProps()
+    BRepGProp.VolumeProperties_s(reader.OneShape(), props)
+    return float(props.Mass())

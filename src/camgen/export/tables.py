@@ -1,24 +1,33 @@
-"""CSV tables as camgen writes them: ``#`` comment lines (units, tolerance, source), one header
-row, then the rows; plain decimal numbers, '\\n' line ends, deterministic."""
+"""CSV tables as camgen writes them: one header row of column names that carry their unit
+(``x_mm``, ``time_s``), then the rows: plain decimal numbers, ',' between them, '\\n' line ends,
+deterministic.  No comment lines: every CSV opens with a reader's default settings
+(``pandas.read_csv(path)``, a spreadsheet).  What a table holds, its columns' meaning and the
+settings it was made with are in report.json's ``tables`` object (:mod:`camgen.export.tablemeta`)."""
 from __future__ import annotations
 
-from typing import Mapping, Sequence
+import re
+from typing import Mapping
 
 import numpy as np
 
+#: A column name: a lower-case identifier (letters, digits, '_'), its unit as the last part.
+COLUMN_NAME = re.compile(r"^[a-z][a-z0-9_]*$")
 
-def csv_table(comments: Sequence[str], columns: Mapping[str, np.ndarray], decimals: int = 9) -> str:
-    """CSV text with ``comments`` (without the ``#``), header ``columns`` keys and their values.
+
+def csv_table(columns: Mapping[str, np.ndarray], decimals: int = 9) -> str:
+    """CSV text: the header (``columns``' keys) and their values, one row per element.
 
     Values are rounded to ``decimals`` places; -0.0 is written as 0.
     """
-    head = "".join(f"# {line}\n" for line in comments) + ",".join(columns) + "\n"
+    from camgen.errors import ExportError
+
+    names = list(columns)
+    if not names or not all(COLUMN_NAME.match(n) for n in names) or len(set(names)) != len(names):
+        raise ExportError(f"table columns {names} must be distinct lower-case names (letters, digits, '_')")
     data = np.column_stack([np.asarray(v, dtype=float) for v in columns.values()])
     if not np.all(np.isfinite(data)):
-        from camgen.errors import ExportError
-
-        raise ExportError(f"table with columns {list(columns)} holds non-finite values")
-    return head + format_rows(np.round(data, decimals) + 0.0, ",".join([f"%.{decimals}f"] * data.shape[1]))
+        raise ExportError(f"table with columns {names} holds non-finite values")
+    return ",".join(names) + "\n" + format_rows(np.round(data, decimals) + 0.0, ",".join([f"%.{decimals}f"] * data.shape[1]))
 
 
 def format_rows(rows: np.ndarray, row_format: str) -> str:

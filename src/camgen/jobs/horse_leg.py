@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from fractions import Fraction
 from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
@@ -30,6 +31,9 @@ def _ground_default() -> float:
     return field_default(HorseLeg, "ground_y")
 
 
+#: Most steps of ``sweep_deg`` (its values are ``steps + 1`` leg solutions).
+MAX_SWEEP_STEPS = 200
+
 KEYS = (
     Key("stride_cam", Text(64), "Name of the scene's three_arc cam driving the stride (yoke at O1).", ("mechanism",), default=REQUIRED),
     Key("height_cam", Text(64), "Name of the scene's three_arc cam driving the leg height (fork swinging about O5).", ("mechanism",),
@@ -38,10 +42,10 @@ KEYS = (
         "Swing-rod inclinations alpha1: a leg path file and report figures each; the pressure-angle checks take the worst.",
         ("mechanism",), default=[12.5, 14.5, 18.5], attr="inclinations_deg"),
     Key("sweep_deg", NumberList(Number("deg", -90.0, 90.0), 3, 3), "Inclination sweep [from, to, step] for the trajectory cluster "
-        "(to >= from, step > 0, at most 200 steps).", ("report",), default=[10.0, 19.0, 0.5], attr="sweep_deg"),
+        f"(to >= from, step > 0, at most {MAX_SWEEP_STEPS} steps, counted on the decimal values given).", ("report",), default=[10.0, 19.0, 0.5], attr="sweep_deg"),
     Key("pressure_angle_limit_deg", Angle(0.0, 90.0, low_open=True, high_open=True), "Largest pressure angle allowed in the leg.",
         ("report",), default=45.0),
-    Key("ground_y_mm", Number("mm", -1e5, 1e5), "Ground line below the stride-cam centre O1 (splits swing and stance).", ("mechanism",),
+    Key("ground_y_mm", Number("mm", -1e5, 1e5), "Ground line below the stride-cam centre O1 (splits swing and stance): the foot path must cross it twice at every inclination, a band of about 116 mm for the paper's leg (the error gives the band).", ("mechanism",),
         default=_ground_default()),
     Key("positions", Count(36, 36000), "Cam positions per turn in the leg path files.", ("mechanism",), default=3600),
 )
@@ -80,8 +84,11 @@ def read(where: str, parsed: Mapping[str, Any], cams: Mapping[str, "CamSpec"]) -
         if parsed[key] not in three_arc:
             raise ParameterError(f"{where}.{key}", parsed[key], f"the name of a three_arc cam of this scene: {three_arc}")
     sweep = parsed["sweep_deg"]
-    if sweep[2] <= 0 or sweep[1] < sweep[0] or (sweep[1] - sweep[0]) / sweep[2] > 200:
-        raise ParameterError(f"{where}.sweep_deg", list(sweep), "[from, to, step] with to >= from, step > 0, at most 200 steps")
+    ordered = sweep[2] > 0 and sweep[1] >= sweep[0]
+    steps = sweep_steps(sweep) if ordered else 0
+    if not ordered or steps > MAX_SWEEP_STEPS:
+        raise ParameterError(f"{where}.sweep_deg", list(sweep), f"[from, to, step] with to >= from, step > 0, at most "
+                             f"{MAX_SWEEP_STEPS} steps", "" if not ordered else f"{steps} steps" if steps < 10**6 else "over a million steps")
     return HorseLegSpec(parsed["stride_cam"], parsed["height_cam"], parsed["inclinations_deg"], sweep,
                         parsed["pressure_angle_limit"], parsed["ground_y"], parsed["positions"])
 
@@ -112,23 +119,33 @@ def _degrees(ranges: list[tuple[float, float]]) -> str:
                      for lo, hi in ranges)
 
 
+def _ground_text(lines: list[tuple[float, float]]) -> str:
+    """Ground lines (mm, half-open intervals ``[low, high)``) as text, rounded inwards to 0.1 mm
+    ("-2142.5 to -2080.1 mm, or -2079.8 to -2033.1 mm")."""
+    parts = []
+    for low, high in lines:
+        lo, hi = math.ceil(low * 10) / 10, math.floor(high * 10) / 10
+        if hi >= high:  # the upper end itself is not in the interval
+            hi = round(hi - 0.1, 1)
+        if lo <= hi:
+            parts.append(f"{lo:.1f} to {hi:.1f} mm")
+    return ", or ".join(parts) if parts else "no ground line"
+
+
 def _leg_error(leg: "HorseLeg", spec: HorseLegSpec, index: int, exc: GeometryError, cams: Any,
                sol: "LegSolution | None" = None) -> ParameterError:
-    """The leg cannot be solved at ``spec.inclinations_deg[index]``: a ParameterError naming the
-    scene key to change (the inclination, the ground line or a cam) with the valid values."""
+    """The leg cannot walk at ``spec.inclinations_deg[index]``: a ParameterError naming the scene
+    key to change (the inclination, the ground line or a cam) with the valid values.
+
+    The valid inclinations are those at which the leg assembles *and* its foot path crosses the
+    ground line twice (one swing, one stance: :func:`~camgen.mechanisms.horse_leg.gait_range`);
+    for a leg that assembles, the ground lines that would serve at this inclination are added
+    (:func:`~camgen.mechanisms.horse_leg.ground_lines`)."""
     from camgen.mechanisms import horse_leg as hl
 
     alpha_deg = spec.inclinations_deg[index]
     key = f"{WHERE}.inclinations_deg[{index}]"
     why = " ".join(str(exc).split())
-    if sol is not None:  # the leg assembles; the foot path and the ground line do not make one swing and one stance
-        y = sol.w[:, 1]
-        low, high = float(y.min()), float(y.max())
-        if not low < spec.ground_y < high:
-            return ParameterError(f"{WHERE}.ground_y_mm", spec.ground_y, f"{low:.1f} < ground_y_mm < {high:.1f} mm at alpha1 = "
-                                  f"{alpha_deg:g} deg (between the foot path's lowest and highest points)", why)
-        return ParameterError(key, alpha_deg, "an inclination whose foot path crosses the ground line twice (one swing, one "
-                              "stance)", why + "; or move ground_y_mm")
     try:
         ranges = hl.assembly_range(leg, spec.positions, cams=cams)
     except GeometryError as side:  # the loops that do not depend on alpha1: the height cam does not fit
@@ -140,15 +157,54 @@ def _leg_error(leg: "HorseLeg", spec: HorseLegSpec, index: int, exc: GeometryErr
                               f"at some inclination alpha1", f"no alpha1 from {lo:g} to {hi:g} deg (steps of "
                               f"{math.degrees(hl.ASSEMBLY_STEP):g} deg) closes every loop with cams '{spec.stride_cam}' and "
                               f"'{spec.height_cam}'; at alpha1 = {alpha_deg:g} deg: {why}")
-    return ParameterError(key, alpha_deg, f"alpha1 at which the leg assembles with cams '{spec.stride_cam}' and '{spec.height_cam}': "
-                          f"{_degrees(ranges)} deg", why)
+    walking = hl.gait_range(leg, spec.positions, cams=cams, assembly=ranges)
+    assembles = f"the leg assembles with cams '{spec.stride_cam}' and '{spec.height_cam}' from {_degrees(ranges)} deg"
+    grounds = "" if sol is None else f"; or set ground_y_mm to {_ground_text(hl.ground_lines(sol.w[:, 1]))} for alpha1 = {alpha_deg:g} deg"
+    if not walking:
+        if sol is None:
+            return ParameterError(key, alpha_deg, f"alpha1 at which {assembles}", why)
+        return ParameterError(f"{WHERE}.ground_y_mm", spec.ground_y, "a ground line the foot path crosses twice (one swing, one "
+                              "stance) at some inclination", f"{why}; {assembles}, but at none of them its foot path crosses this ground line twice{grounds}")
+    walks = _degrees(walking)
+    if walks != _degrees(ranges):
+        assembles += f", but its foot walks on the ground line y = {spec.ground_y:g} mm only from {walks} deg"
+    return ParameterError(key, alpha_deg, f"alpha1 at which the leg assembles and its foot path crosses the ground line "
+                          f"y = {spec.ground_y:g} mm twice (one swing, one stance): {walks} deg", f"{why}; {assembles}{grounds}")
+
+
+def sweep_steps(sweep_deg: tuple[float, float, float]) -> int:
+    """Whole steps of the sweep ``[from, to, step]`` (deg, step > 0) from ``from`` up to ``to``,
+    counted exactly on the numbers as the scene wrote them (their shortest decimal text):
+    ``[0, 20, 0.1]`` is 200 steps, although ``20 / 0.1`` is 200.00000000000003 in binary."""
+    start, stop, step = (Fraction(repr(float(v))) for v in sweep_deg)
+    return int((stop - start) // step)
+
+
+#: Columns of the leg path tables (leg_path_alpha_<deg>.csv) and what they hold.
+LEG_PATH_COLUMNS = {
+    "theta1_deg": "stride-cam angle theta1, deg",
+    "x_mm": "x of the leg end point W (paper 000, eq. 18; origin O1 at the stride-cam centre, x right, y up), mm",
+    "y_mm": "y of W, mm",
+    "pressure_angle_deg": "stride-cam pressure angle (paper 000, eqs. 19-25 with the slide term of eq. 4), deg",
+}
+
+
+def leg_path_metadata(alpha_deg: float, ground_y: float) -> dict[str, Any]:
+    """What ``leg_path_alpha_<deg>.csv`` holds (report.json ``tables``)."""
+    return {
+        "content": "the horse-robot leg's end point W over one turn of the stride cam at one swing-rod inclination alpha1",
+        "columns": dict(LEG_PATH_COLUMNS),
+        "alpha1_deg": float(alpha_deg),
+        "ground_y_mm": float(ground_y),
+    }
 
 
 def sweep_values(sweep_deg: tuple[float, float, float]) -> np.ndarray:
-    """Inclinations (rad) of the sweep ``[from, to, step]`` (deg)."""
+    """Inclinations (rad) of the sweep ``[from, to, step]`` (deg): ``from + k step`` for
+    ``k = 0 .. sweep_steps``, the last never beyond ``to`` by rounding."""
     start, stop, step = sweep_deg
-    count = int(math.floor((stop - start) / step + 1e-9)) + 1
-    return np.radians(start + step * np.arange(count))
+    values = start + step * np.arange(sweep_steps(sweep_deg) + 1)
+    return np.radians(np.minimum(values, stop))
 
 
 def run(spec: HorseLegSpec, cams: Mapping[str, "BuiltCam"], stages: frozenset[str], scene_name: str) -> JobResult:
@@ -187,14 +243,8 @@ def _run(spec: HorseLegSpec, cams: Mapping[str, "BuiltCam"], stages: frozenset[s
         figures["pressure_angle_within_limit"] = bool(np.max(sol.pressure_angle) <= limit)
         name = label(alpha_deg)
         report[f"alpha_{name}"] = figures
-        files[f"leg_path_alpha_{name}.csv"] = csv_table(
-            [
-                f"camgen horse-robot leg end point W (paper 000, eq. 18), alpha1 = {name} deg, scene '{scene_name}'",
-                "units: deg, mm; frame: origin O1 at the stride-cam centre, x right, y up",
-                f"pressure_angle_deg: stride-cam pressure angle (eqs. 19-25 with the slide term of eq. 4); ground line y = {leg.ground_y:g} mm",
-            ],
-            {"theta1_deg": np.degrees(theta1), "x_mm": sol.w[:, 0], "y_mm": sol.w[:, 1], "pressure_angle_deg": np.degrees(sol.pressure_angle)},
-        )
+        files[f"leg_path_alpha_{name}.csv"] = csv_table(dict(zip(
+            LEG_PATH_COLUMNS, (np.degrees(theta1), sol.w[:, 0], sol.w[:, 1], np.degrees(sol.pressure_angle)))))
     sweep: list[dict[str, Any]] = []
     sweep_solutions = {}
     if "analysis" in stages:

@@ -158,7 +158,7 @@ def body_keys() -> tuple[Key, ...]:
         Key("thickness_mm", Length(high=1e4), "Thickness of the cam plate.", ("thickness",), default=_solid_default("thickness")),
         Key("bore_diameter_mm", Length(0.0, 1e4, low_open=False), "Diameter of the shaft bore; 0: no bore.", ("body",),
             default=_solid_default("bore_diameter")),
-        Key("keyway_width_mm", Length(0.0, 1e4, low_open=False), "Width of the keyway in the bore; 0: no keyway.", ("body",),
+        Key("keyway_width_mm", Length(0.0, 1e4, low_open=False), "Width of the keyway in the bore (< bore_diameter_mm); 0: no keyway.", ("body",),
             default=_solid_default("keyway_width")),
         Key("keyway_depth_mm", Length(0.0, 1e4, low_open=False), "Depth of the keyway beyond the bore radius.", ("body",),
             default=_solid_default("keyway_depth")),
@@ -169,10 +169,15 @@ def body_keys() -> tuple[Key, ...]:
     )
 
 
+#: Smallest pressure-angle limit a scene may set, deg (a limit is an engineering angle; below
+#: this its radians would underflow, 5e-324 deg is 0 rad).
+MIN_PRESSURE_ANGLE_LIMIT_DEG = 0.01
+
+
 def check_keys() -> tuple[Key, ...]:
     """Keys of the design checks (every kind)."""
     return (
-        Key("pressure_angle_limit_deg", Angle(0.0, 90.0, low_open=True, high_open=True),
+        Key("pressure_angle_limit_deg", Angle(MIN_PRESSURE_ANGLE_LIMIT_DEG, 90.0, high_open=True),
             "Largest pressure angle allowed (default: 30 deg translating followers, 45 deg oscillating ones and yokes); disk cams "
             "with sizing are sized to it.", ("report",)),
         Key("rpm", Number("rev/min", MIN_RPM, 1e6), "Cam speed: the follower's velocity, acceleration and jerk at speed in "

@@ -358,8 +358,10 @@ def _reachable_fit_tol(follower: "FollowerSpec", law: Any, failure: FitTolerance
         except FitToleranceError as exc:
             failure = exc
             continue
+        except GeometryError:  # the profile fails otherwise at that tolerance: no least value to quote
+            break
         return f">= {least:.2g} mm"
-    return f"<= {FIT_TOL_MAX:g} mm is out of reach: a larger base radius (or fewer table rows)"
+    return f"<= {FIT_TOL_MAX:g} mm, with no tolerance tried up to it building the profile: change the base radius (or use fewer table rows)"
 
 
 def build_disk(spec: CamSpec, stages: frozenset[str]) -> DiskCam:
@@ -372,7 +374,14 @@ def build_disk(spec: CamSpec, stages: frozenset[str]) -> DiskCam:
     sizing = None
     follower = p.follower
     if p.sizing != "none":
-        sizing = with_cam(where, lambda: size_follower(spec))
+        try:
+            sizing = size_follower(spec)
+        except GeometryError as exc:  # no base radius meets the limits: the key that asked for one
+            from camgen.synthesis.sizing import MAX_BASE_RADIUS
+
+            raise ParameterError(f"{where}.sizing", p.sizing, '"none" (and a base_radius_mm), or a follower and law that some base '
+                                 f"radius up to {MAX_BASE_RADIUS:g} mm makes meet the pressure-angle limit "
+                                 f"{math.degrees(pressure_limit(spec)):g} deg", str(exc)) from None
         follower = sizing.follower
     envelope_law = p.law if hasattr(p.law, "joins") else EnvelopeJoins(p.law)  # a lift table: knots where it jumps only
     try:
@@ -583,14 +592,17 @@ def _base_radius_advice(cam: DiskCam, spec: CamSpec, tool_radius: float, tool_is
         return None
     limits = sz.DesignLimits(max_pressure_angle=pressure_limit(spec), min_concave_radius=tool_radius if tool_is_limit else 0.0)
     try:
-        found = sz.min_base_radius(cam.spec_follower, cam.law, limits)
+        advice = sz.base_radius_advice(cam.spec_follower, cam.law, limits)
     except GeometryError as exc:
         return information("min_base_radius", "none", "mm", [], f"no base radius meets the pressure-angle limit {limit:g} deg{tool}: {exc}")
-    need = _ceil(found.base_radius)
-    verb = "increase" if need > cam.spec_follower.base_radius else "set"
-    return information("min_base_radius", need, "mm", [],
-                       f"{verb} base_radius_mm to at least {need:.3f} (the smallest base radius meeting the pressure-angle limit "
-                       f"{limit:g} deg{tool} with a profile that can be made; or set sizing = \"base_radius\")")
+    meets = f"the pressure-angle limit {limit:g} deg{tool} with a profile that can be made"
+    if advice.high is None:
+        what = f"the smallest base radius meeting {meets}, tried; the pressure angle falls as the base radius grows"
+    else:
+        what = (f"both tried, and base radii every {advice.step:.3g} mm between: they meet {meets}; an oscillating follower's "
+                "pressure angle is not monotonic in the base radius, and the passing run ends within 0.002 mm beyond each")
+    return information("min_base_radius", advice.low, "mm", [],
+                       f"{advice.text(cam.spec_follower.base_radius)} ({what}; or set sizing = \"base_radius\")")
 
 
 def evaluate_disk(cam: DiskCam, spec: CamSpec, tool_radius: float, tool_is_limit: bool) -> "CamEvaluation":

@@ -97,7 +97,8 @@ def _keys() -> tuple[Key, ...]:
             "pressing the arm onto the cam (< 0 pulls it off; default 0); or external_load_csv.", _R, example=500.0, requires=_O),
         Key("external_load_csv", Text(), "CSV file of rows 'cam_angle_deg, load' relative to the scene file: the external load "
             "pressing the follower onto the cam against cam angle (N; oscillating: N*mm about the pivot), interpolated linearly "
-            "and periodically; cam angles increasing in [0, 360); '#' comments and a header row allowed.", _R),
+            "and periodically; cam angles increasing in [0, 360); loads within the range of external_load_n (external_load_n_mm); '#' "
+            "comments and a header row allowed.", _R),
         Key("gravity", Flag(), "The follower's weight acts in the plane of the cam, along gravity_deg (false: the cam plane is "
             "horizontal and the weight does not load the contact).", _R, default=True),
         Key("gravity_deg", Angle(), "Direction of gravity in the fixed frame, counter-clockwise from +x (-90: down the drawing, "
@@ -233,7 +234,7 @@ def read_dynamics(where: str, parsed: Mapping[str, Any], *, motion: str, followe
 
     load: Any = parsed.get(constant, 0.0)
     if "external_load_csv" in given:
-        load = read_load_table(f"{where}.external_load_csv", parsed["external_load_csv"], base_dir)
+        load = read_load_table(f"{where}.external_load_csv", parsed["external_load_csv"], base_dir, by_name[constant].type)
     names = _NAMES[motion]
     get = parsed.get
     train = _renamed(where, names, lambda: dy.FollowerTrain(
@@ -252,11 +253,15 @@ def read_dynamics(where: str, parsed: Mapping[str, Any], *, motion: str, followe
     return DynamicsSpec(train, material, get("jump_margin_n", 0.0), get("torque_limit_n_m"), given)
 
 
-def read_load_table(key: str, name: str, base_dir: Path | None) -> tuple[list[float], list[float]]:
+def read_load_table(key: str, name: str, base_dir: Path | None, bound: Number) -> tuple[list[float], list[float]]:
     """The external-load table of ``name`` (CSV rows 'cam_angle_deg, load'): (angles rad, loads).
 
-    Raises :class:`ParameterError` naming ``key`` (the scene path), the file and the line."""
-    from camgen.synthesis.lift_table import MAX_BYTES, MAX_ROWS, parse_lift_table
+    Every load must lie in ``bound``, the range of the constant load's key (``external_load_n``
+    or ``external_load_n_mm``): the forces, torques and stresses computed from it stay finite.
+
+    Raises :class:`ParameterError` naming ``key`` (the scene path), the file and the line (never
+    the file's text: it may not be a table at all)."""
+    from camgen.synthesis.lift_table import MAX_BYTES, MAX_ROWS, parse_two_column_table
     from camgen.textfile import TextFileError, read_text_file
 
     path = Path(name)
@@ -267,16 +272,27 @@ def read_load_table(key: str, name: str, base_dir: Path | None) -> tuple[list[fl
         raise ParameterError(key, str(path), f"a readable regular UTF-8 file of at most {MAX_BYTES} bytes", str(exc)) from None
     if "\x00" in text:
         raise ParameterError(key, str(path), "text without NUL characters")
-    try:
-        angles, loads, labels = parse_lift_table(text, str(path), MAX_ROWS)
-    except ParameterError as exc:
-        raise ParameterError(key, exc.value, exc.valid.replace("lift", "load"), exc.why) from None
+    angles, loads, labels = _renamed_table(key, lambda: parse_two_column_table(text, str(path), key, ("cam_angle_deg", "load"),
+                                                                               MAX_ROWS))
     if angles.size == 0:
         raise ParameterError(key, str(path), "at least one row 'cam_angle_deg, load'")
     bad = np.flatnonzero((angles < 0) | (angles >= 360.0) | np.append(False, np.diff(angles) <= 0))
     if bad.size:
         raise ParameterError(key, labels[int(bad[0])], "cam angles strictly increasing in [0, 360) deg")
+    bad = np.flatnonzero((loads < bound.low) | (loads > bound.high))
+    if bad.size:
+        i = int(bad[0])
+        raise ParameterError(key, labels[i], f"loads {bound.low:g} <= load <= {bound.high:g} {bound.unit} (the range of a constant "
+                             "external load)", f"the load {loads[i]:.6g} {bound.unit} is outside it")
     return np.radians(angles).tolist(), loads.tolist()
+
+
+def _renamed_table(key: str, parse: Any) -> Any:
+    """``parse()``, its ParameterError renamed to the scene path ``key``."""
+    try:
+        return parse()
+    except ParameterError as exc:
+        raise ParameterError(key, exc.value, exc.valid, exc.why) from None
 
 
 # --------------------------------------------------------------------------------------------

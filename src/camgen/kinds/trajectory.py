@@ -63,11 +63,11 @@ KEYS = (
     Key("samples", Count(16, MAX_SAMPLES), "Cam angles per turn at which the cam radius is computed (N).", ("profile",), default=720),
     Key("curvature", Choice(("exact", "forward", "central")),
         "Path curvature: exact derivatives, or the paper's eq. (12) forward/central differences.", ("profile",), default="exact"),
-    Key("wheelbase_mm", Length(), "L: rear shaft to the steered wheel (Table 2).", ("profile",), default=_device_default("wheelbase")),
+    Key("wheelbase_mm", Length(), "L: rear shaft to the steered wheel (Table 2); > rod_radius_mm.", ("profile",), default=_device_default("wheelbase")),
     Key("half_track_mm", Length(), "D: lateral distance of each rear wheel from the centre line.", ("profile",),
         default=_device_default("half_track")),
     Key("lever_mm", Length(), "d: active length of the steering rod (eq. 14 uses 30 mm).", ("profile",), default=_device_default("lever")),
-    Key("rod_radius_mm", Length(), "r_d: radius of the steering rod, the cam's follower (r_b = L - r_d).", ("profile", "pitch"),
+    Key("rod_radius_mm", Length(), "r_d: radius of the steering rod, the cam's follower (< wheelbase_mm: r_b = L - r_d > 0).", ("profile", "pitch"),
         default=_device_default("rod_radius")),
     Key("z_rear", Count(1, 100000, "teeth"), "Z1: teeth of the rear-shaft gear (drive-wheel diameter).", ("report",),
         default=_device_default("z_rear")),
@@ -257,19 +257,35 @@ def _fits(where: str, cam: "TricycleCam", tables: tuple[str, ...]) -> dict[str, 
     return fits
 
 
+#: Rows per degree of cam angle of the ride table (<cam>_ride.csv): one turn in 3600 rows.
+RIDE_ROWS_PER_DEG = 10
+#: Columns of the ride table and what they hold.
+RIDE_COLUMNS = {
+    "theta_deg": "cam angle from the start of the ride, deg",
+    "x_mm": "x of drive wheel A (the tracked point) in the frame of the target path, mm",
+    "y_mm": "y of drive wheel A, mm",
+    "lateral_error_mm": "distance of drive wheel A from the target path y = f(x) along its normal (positive to the left), mm",
+}
+
+
 def _ride_csv(name: str, traj: "Trajectory", one: "Ride") -> str:
     from camgen.export.tables import csv_table
     from camgen.mechanisms import tricycle as tc
 
-    theta = np.radians(np.arange(0, 3600) / 10.0)
+    theta = np.radians(np.arange(360 * RIDE_ROWS_PER_DEG) / RIDE_ROWS_PER_DEG)
     x, y, _ = one.at(theta)
-    return csv_table(
-        [
-            f"camgen ride simulation of cam '{name}': drive wheel A on the cam as made (profile contour), one cam turn",
-            f"units: deg, mm; lateral_error_mm = distance from the target path y = f(x), positive to the left; trajectory: {traj.source}",
-        ],
-        {"theta_deg": np.degrees(theta), "x_mm": x, "y_mm": y, "lateral_error_mm": tc.lateral_error(traj, x, y)},
-    )
+    return csv_table(dict(zip(RIDE_COLUMNS, (np.degrees(theta), x, y, tc.lateral_error(traj, x, y)))))
+
+
+def ride_metadata(trajectory: str) -> dict[str, Any]:
+    """What ``<cam>_ride.csv`` holds (report.json ``tables``); ``trajectory`` is the target
+    path as the report's figures name it."""
+    return {
+        "content": "the simulated ride of drive wheel A on the cam as made (its profile contour), one cam turn",
+        "columns": dict(RIDE_COLUMNS),
+        "trajectory": trajectory,
+        "theta_step_deg": 1.0 / RIDE_ROWS_PER_DEG,
+    }
 
 
 #: The error types report.html shows (paper 004, Figs. 9-10).

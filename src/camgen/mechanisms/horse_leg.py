@@ -464,13 +464,20 @@ def assembly_range(leg: HorseLeg, positions: int = 3600, branches: Branches = Br
 
     alphas = np.arange(scan[0], scan[1] + 0.5 * step, step)
     ok = np.array([closes(float(a), ASSEMBLY_SCAN_POSITIONS) for a in alphas])
+    return _refined_runs(alphas, ok, lambda alpha: closes(alpha, positions), tol)
+
+
+def _refined_runs(alphas: np.ndarray, ok: np.ndarray, holds: Any, tol: float) -> list[tuple[float, float]]:
+    """The runs of ``ok`` over the increasing inclinations ``alphas`` (rad) as intervals whose
+    inner ends (not the first or last of ``alphas``) are refined by bisection with ``holds``
+    to ``tol``; each end is returned on the side where ``holds`` is true."""
 
     def refine(inside: float, outside: float) -> float:
         for _ in range(60):
             if abs(outside - inside) <= tol:
                 break
             mid = 0.5 * (inside + outside)
-            inside, outside = (mid, outside) if closes(mid, positions) else (inside, mid)
+            inside, outside = (mid, outside) if holds(mid) else (inside, mid)
         return inside
 
     out = []
@@ -486,6 +493,78 @@ def assembly_range(leg: HorseLeg, positions: int = 3600, branches: Branches = Br
         hi = float(alphas[j]) if j == alphas.size - 1 else refine(float(alphas[j]), float(alphas[j + 1]))
         out.append((lo, hi))
         i = j + 1
+    return out
+
+
+def ground_crossings(y: np.ndarray, ground: float) -> np.ndarray:
+    """Indices ``i`` of the closed foot path's samples where it crosses the ground line
+    ``y = ground`` between sample ``i`` and the next (above: ``y > ground``)."""
+    above = y > ground
+    return np.nonzero(above != np.roll(above, -1))[0]
+
+
+def ground_lines(y: np.ndarray) -> list[tuple[float, float]]:
+    """The ground lines ``g`` (mm) that the closed foot path of heights ``y`` (mm, samples in
+    order) crosses exactly twice (one swing, one stance): a list of half-open intervals
+    ``[low, high)``, as :func:`ground_crossings` counts crossings.
+
+    The sample pair (i, i + 1) is crossed by every ``g`` with ``min <= g < max`` of the two
+    heights; the count over ``g`` is a running sum of +1 at each pair's lower height and -1 at
+    its upper one (exact for the samples, no scan over ``g``)."""
+    y = np.asarray(y, dtype=float)
+    nxt = np.roll(y, -1)
+    lo, hi = np.minimum(y, nxt), np.maximum(y, nxt)
+    moving = lo < hi
+    events = np.concatenate([lo[moving], hi[moving]])
+    steps = np.concatenate([np.ones(int(moving.sum()), dtype=int), -np.ones(int(moving.sum()), dtype=int)])
+    order = np.argsort(events, kind="stable")
+    events, steps = events[order], steps[order]
+    levels, first = np.unique(events, return_index=True)
+    count = np.cumsum(steps)[np.append(first[1:] - 1, events.size - 1)]  # crossings on [levels[k], levels[k + 1])
+    two = np.append(count[:-1] == 2, False)
+    out = []
+    k = 0
+    while k < levels.size - 1:
+        if two[k]:
+            start = k
+            while two[k + 1]:
+                k += 1
+            out.append((float(levels[start]), float(levels[k + 1])))
+        k += 1
+    return out
+
+
+def gait_range(leg: HorseLeg, positions: int = 3600, branches: Branches = Branches(),
+               cams: tuple[Contour, Contour] | None = None, assembly: list[tuple[float, float]] | None = None,
+               step: float = ASSEMBLY_STEP, tol: float = ASSEMBLY_TOL) -> list[tuple[float, float]]:
+    """The intervals of alpha1 (rad) at which the leg assembles (:func:`assembly_range`, or
+    ``assembly``) and its foot path at ``positions`` cam angles crosses the ground line
+    ``leg.ground_y`` exactly twice: one swing above it and one stance on it.
+
+    Each assembly interval is tried at its ends and every ``step`` between; each end found is
+    refined by bisection to ``tol`` and returned on the side where the foot walks.  For the
+    paper's leg, cams and ground line (-2074 mm): 9.382 to 19.717 deg (3600 positions): above,
+    the foot path's lowest point rises above the ground line (-2060.2 mm at 20.111 deg), so the
+    foot never reaches the ground although the leg still assembles.
+    """
+    stride, height = cams if cams is not None else _cams(leg)
+    if assembly is None:
+        assembly = assembly_range(leg, positions, branches, (stride, height), step=step, tol=tol)
+    theta1 = cycle(positions)
+
+    def walks(alpha: float) -> bool:
+        try:
+            sol = solve_leg(leg, alpha, theta1, branches, (stride, height))
+        except GeometryError:
+            return False
+        return ground_crossings(sol.w[:, 1], leg.ground_y).size == 2
+
+    out: list[tuple[float, float]] = []
+    for lo, hi in assembly:
+        inner = np.arange(lo + step, hi, step)
+        alphas = np.concatenate([[lo], inner[inner < hi - 0.5 * tol], [hi]])
+        ok = np.array([walks(float(a)) for a in alphas])
+        out.extend(_refined_runs(alphas, ok, walks, tol))
     return out
 
 
@@ -541,12 +620,14 @@ def gait_figures(leg: HorseLeg, sol: LegSolution) -> dict[str, Any]:
     x, y = sol.w[:, 0], sol.w[:, 1]
     ground = leg.ground_y
     above = y > ground
-    crossings = np.nonzero(above != np.roll(above, -1))[0]
+    crossings = ground_crossings(y, ground)
     if crossings.size != 2:
+        where = ("its lowest point is above the line: the foot does not reach the ground" if y.min() > ground
+                 else "its highest point is below the line: the foot never lifts" if y.max() <= ground
+                 else "it dips below the line more than once")
         raise GeometryError(
-            f"alpha1 = {math.degrees(sol.alpha1):.3f} deg: the foot path crosses the ground line y = {ground:g} mm "
-            f"{crossings.size} times (need 2: one swing, one stance): ground_y_mm must lie between the foot path's lowest "
-            f"and highest points, {float(y.min()):.1f} < ground_y_mm < {float(y.max()):.1f} mm"
+            f"alpha1 = {math.degrees(sol.alpha1):.3f} deg: the foot path (y from {float(y.min()):.1f} to {float(y.max()):.1f} mm) "
+            f"crosses the ground line y = {ground:g} mm {crossings.size} times (need 2: one swing, one stance): {where}"
         )
 
     def cross(i: int) -> np.ndarray:  # linear interpolation between samples i and i + 1

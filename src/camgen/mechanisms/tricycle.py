@@ -75,7 +75,7 @@ class Tricycle:
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:
                 raise ParameterError(name, value, "a whole number of teeth >= 1")
         if self.rod_radius >= self.wheelbase:
-            raise ParameterError("rod_radius", self.rod_radius, f"0 < r_d < L = {self.wheelbase:g} mm", "r_b = L - r_d must be > 0")
+            raise ParameterError("rod_radius", self.rod_radius, f"0 < r_d < L = {self.wheelbase:g} mm (wheelbase_mm)", "r_b = L - r_d must be > 0")
 
     @property
     def base_radius(self) -> float:
@@ -300,13 +300,16 @@ def _difference_noise(synth: CamSynthesis, trajectory: Trajectory, device: Tricy
 def _polar_cam(synth: CamSynthesis, phi: np.ndarray, radius: np.ndarray, device: Tricycle, trajectory: Trajectory,
                degree: int, fit_tol: float) -> TricycleCam:
     """The ``"polar"`` form of :func:`tricycle_cam`."""
-    from camgen.splinefit import fit_periodic
+    from camgen.splinefit import RELATIVE_FLOOR, fit_periodic
 
     n = phi.size - 1
     radius = radius.copy()
     radius[-1] = radius[0]
     curves = PolarCurves.interpolate(radius, degree, device.rod_radius)
-    fit_tol = max(fit_tol, NOISE_FACTOR * _difference_noise(synth, trajectory, device))
+    # above the rounding noise of the curvature's differences and the fit's floor for a curve of
+    # this size (a 1e5 mm device cannot be fitted to 1e-9 mm: rounding would decide the fit)
+    size = float(np.max(np.abs(curves.both(np.array([0.0, 2.0 * math.pi / 3, 4.0 * math.pi / 3])))))
+    fit_tol = max(fit_tol, NOISE_FACTOR * _difference_noise(synth, trajectory, device), RELATIVE_FLOOR * max(1.0, size))
     rd = device.rod_radius
     dense = np.linspace(0.0, 2.0 * math.pi, UNDERCUT_GRID * n, endpoint=False)
     factor = 1.0 - rd * curves.pitch_curvature(dense)  # |Q'| (1 - r_d kappa) is the profile's speed

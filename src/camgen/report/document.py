@@ -8,7 +8,12 @@ Layout (:data:`REPORT_SCHEMA`)::
               "figures": {..., "dynamics": {...}},
               "checks": [{"name", "status": "pass" | "fail" | "info", "value", "limit",
                           "comparison", "unit", "where_deg", "note", "blocks_manufacture"}, ...]}},
-     "mechanisms": {...}}
+     "mechanisms": {...},
+     "tables": {"<file>.csv": {"content": str, "columns": {column: str}, "cam" | "mechanism": str, ...}}}
+
+``tables`` describes every CSV the run writes (the CSVs hold only a header row and numbers):
+what it holds, each column's meaning and unit, and the settings it was made with
+(:mod:`camgen.export.tablemeta`).
 
 A check passes when ``value comparison limit`` holds (``"<="``, ``"<"``, ``">="``, ``">"``,
 ``"at least"`` for continuity levels); ``"info"`` checks have no limit and never pass or fail.
@@ -78,11 +83,25 @@ _DYNAMICS = {
     "else": {"required": ["max_contact_force_1_N", "max_contact_force_2_N"]},
 }
 
+_TABLE = {
+    "type": "object",
+    "required": ["content", "columns"],
+    "properties": {
+        "content": {"type": "string"},
+        "columns": {"type": "object", "minProperties": 1, "propertyNames": {"pattern": "^[a-z][a-z0-9_]*$"},
+                    "additionalProperties": {"type": "string"}},
+        "cam": {"type": "string"},
+        "mechanism": {"type": "string"},
+    },
+    "oneOf": [{"required": ["cam"]}, {"required": ["mechanism"]}],
+    "additionalProperties": {"type": ["number", "string", "array"]},
+}
+
 #: The documented layout of report.json, as a JSON Schema (draft 2020-12).
 REPORT_SCHEMA = {
     "$schema": "https://json-schema.org/draft/2020-12/schema",
     "type": "object",
-    "required": ["scene", "camgen_version", "status", "stages", "files", "cams", "mechanisms"],
+    "required": ["scene", "camgen_version", "status", "stages", "files", "cams", "mechanisms", "tables"],
     "properties": {
         "scene": {"type": "string"},
         "camgen_version": {"type": "string"},
@@ -122,6 +141,7 @@ REPORT_SCHEMA = {
                 }
             },
         },
+        "tables": {"type": "object", "propertyNames": {"pattern": "\\.csv$"}, "additionalProperties": _TABLE},
     },
     "additionalProperties": False,
 }
@@ -131,12 +151,14 @@ def report_dict(scene: "Scene", cams: "Sequence[BuiltCam]", files: Sequence[str]
                 stages: Sequence[str] = ()) -> dict[str, Any]:
     """Assemble the report for a run of ``scene`` that built ``cams`` and writes ``files``."""
     from camgen import __version__
+    from camgen.export.tablemeta import tables_metadata
+    from camgen.textfile import display_path
 
     failed = any(c.failed for cam in cams for c in cam.checks)
     return {
         "scene": scene.name,
         "camgen_version": __version__,
-        "source_file": scene.source,
+        "source_file": display_path(scene.source),
         "chord_tol_mm": scene.output.chord_tol,
         "status": "fail" if failed else "pass",
         "stages": sorted(stages),
@@ -147,6 +169,7 @@ def report_dict(scene: "Scene", cams: "Sequence[BuiltCam]", files: Sequence[str]
             for cam in cams
         },
         "mechanisms": mechanisms or {},
+        "tables": tables_metadata(scene, cams, files, mechanisms),
     }
 
 

@@ -9,13 +9,12 @@ side force on the guide instead).  Nothing is computed here beyond unit-free thi
 """
 from __future__ import annotations
 
-import html
 import math
 from typing import Any
 
 import numpy as np
 
-from camgen.report.html import _fmt, _thin
+from camgen.report.html import _thin
 
 _LIMIT = {"color": "tab:red", "dash": "--", "width": 0.8}
 #: A mean power below this fraction of the peak is shown as 0 in the plot's title (rounding of a zero integral).
@@ -108,9 +107,12 @@ def dynamics_section(Figure: Any, cam: Any) -> str:
         ax.xlabel("cam angle (deg)", font_size=8)
     fig.suptitle(f"{cam.name}: follower dynamics at {res.rpm:g} rpm ({train.motion}, "
                  f"{'form-closed yoke' if form else 'spring-loaded'})", font_size=9)
-    rows = "".join(f"<tr><td>{html.escape(k)}</td><td>{_fmt(v)}</td></tr>" for k, v in figures.items())
+    from camgen.report.design import dynamics_rows
+
+    rows = dynamics_rows(figures)
     return (f"<h3>Dynamics at {res.rpm:g} rpm</h3><div class='fig'>{fig.to_svg()}</div>"
             "<p class='note'>Rigid follower train, frictionless contact (Rothbart, Cam Design Handbook, ch. 8): contact force "
             "= (inertia + damping + spring + preload + load + weight) over the cosine of the pressure angle; torque from the power "
             "balance; Hertz line-contact stress (Rothbart eq. 9.11) with the profile's radius of curvature at the contact.</p>"
-            f"<table><tr><th>dynamics figure</th><th>value</th></tr>{rows}</table>")
+            f"<table class='figures'><caption>Dynamics figures at {res.rpm:g} rpm</caption><thead><tr><th>quantity</th><th>value</th>"
+            f"<th>unit</th></tr></thead><tbody>{rows}</tbody></table>")

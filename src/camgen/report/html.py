@@ -1,13 +1,17 @@
 """report.html: one self-contained page a designer reads (inline SVG plots, no scripts).
 
-Per cam: the profile to scale with pitch curve, follower, bore and keyway; pressure angle and
-radius of curvature against cam angle with their limits; the follower motion; the checks.
+Per cam: the design and the motion program as tables with units (:mod:`camgen.report.design`)
+beside the profile to scale with pitch curve, follower, bore and keyway; pressure angle and
+radius of curvature against cam angle with their limits; the follower motion; the checks; the
+computed figures.
 For the horse leg: foot and body paths, pressure angle curves, the inclination sweep.  For the
 tricycle: target path against the ride on the cam as made, the error types, and the measured
 tables against the fitted model.
 
 Plots are drawn by :mod:`camgen.report.svgplot` (numpy only).  The same input gives the same
-bytes: no dates, figures numbered in page order.
+bytes: no dates, figures numbered in page order.  A print style (``@media print``) lays the page
+out for the printer's paper (Letter or A4, 15 mm margins): every plot whole on one page and at
+most 125 mm tall, headings kept with what follows, the animation left out.
 """
 from __future__ import annotations
 
@@ -28,6 +32,16 @@ h1{font-size:1.6em}h2{border-bottom:2px solid #ccc;padding-bottom:.2em;margin-to
 table{border-collapse:collapse;margin:.6em 0;font-size:.9em}td,th{border:1px solid #ccc;padding:.25em .5em;text-align:left;vertical-align:top}
 th{background:#f3f3f3}.pass{color:#0a0;font-weight:bold}.fail{color:#c00;font-weight:bold}.info{color:#666}
 .fig{margin:.5em 0}.note{color:#555;font-size:.9em}code{background:#f3f3f3;padding:0 .2em}
+caption{text-align:left;font-weight:bold;padding:.2em 0}td.num{text-align:right;font-variant-numeric:tabular-nums}td.nw{white-space:nowrap}
+tr.sized td{background:#f6f9ff}.tables{display:flex;flex-wrap:wrap;gap:0 1.5em;align-items:flex-start}.tables>table{flex:1 1 20em}
+@page{size:auto;margin:15mm}
+@media print{
+body{max-width:none;margin:0;padding:0;font-size:9pt}h1{font-size:15pt;margin:0 0 .3em}
+h2{font-size:13pt;margin-top:1em}h3{font-size:10.5pt;margin:.8em 0 .3em}h2,h3{break-after:avoid}
+.fig,.tables,tr,caption{break-inside:avoid}.fig svg{display:block;margin:0 auto;max-height:125mm;width:auto}.fig{margin:.3em 0}
+thead{display:table-header-group}table{margin:.3em 0}td,th{padding:.15em .4em}
+.tables>.fig{width:52%}.tables>table{flex:1 1 0}.anim{display:none}table.checks{width:100%}
+}
 """
 
 
@@ -63,18 +77,13 @@ _STATUS = {"pass": ("pass", "pass"), "fail": ("fail", "FAIL"), "info": ("info", 
 def _checks_table(checks: Sequence[Any]) -> str:
     rows = "".join(
         f"<tr><td>{html.escape(c.name)}</td><td class='{_STATUS[c.status][0]}'>{_STATUS[c.status][1]}</td>"
-        f"<td>{_fmt(c.value)}</td><td>{html.escape(c.comparison)} {_fmt(c.limit) if c.limit is not None else 'none'}</td>"
-        f"<td>{html.escape(c.unit)}</td><td>{_fmt(c.where_deg)}</td>"
+        f"<td class='nw'>{_fmt(c.value)}</td><td class='nw'>{html.escape(c.comparison)} {_fmt(c.limit) if c.limit is not None else '(no limit)'}</td>"
+        f"<td class='nw'>{html.escape(c.unit)}</td><td>{_fmt(c.where_deg)}</td>"
         f"<td>{html.escape(c.note)}{' <b>(blocks manufacture)</b>' if c.failed and c.blocks_manufacture else ''}</td></tr>"
         for c in checks
     )
-    return ("<table><tr><th>check</th><th>result</th><th>value</th><th>limit</th><th>unit</th><th>where (deg)</th>"
+    return ("<table class='checks'><tr><th>check</th><th>result</th><th>value</th><th>limit</th><th>unit</th><th>where (deg)</th>"
             f"<th>note</th></tr>{rows}</table>")
-
-
-def _figures_table(figures: dict[str, Any]) -> str:
-    rows = "".join(f"<tr><td>{html.escape(k)}</td><td>{_fmt(v)}</td></tr>" for k, v in figures.items() if not isinstance(v, dict))
-    return f"<table><tr><th>figure</th><th>value</th></tr>{rows}</table>"
 
 
 def _profile_figure(Figure: Any, cam: Any) -> str:
@@ -186,9 +195,12 @@ def _curves_figure(Figure: Any, cam: Any, tool_radius: float) -> str:
     order = np.argsort(np.mod(rho_angle, 2 * math.pi))
     outline = cam.contour if cam.contour is not None else ev.pitch
     size = max(abs(v) for v in outline.bounds) if outline is not None else float(np.max(np.abs(rho[np.isfinite(rho)])))
-    clipped = np.clip(rho[order], -3 * size, 3 * size)
+    # near an inflection the radius runs off to infinity: the plot shows +-3 cam sizes and its note says what it leaves out
+    shown, known = 3 * size, rho[~np.isnan(rho)]
+    if known.size:
+        ax2.ylim(-shown if known.min() < -shown else None, shown if known.max() > shown else None)
     keep = _thin(order.size, 1200)
-    ax2.plot(np.degrees(np.mod(rho_angle[order], 2 * math.pi))[keep], clipped[keep], ".", marker_size=1.5, color="tab:blue")
+    ax2.plot(np.degrees(np.mod(rho_angle[order], 2 * math.pi))[keep], rho[order][keep], ".", marker_size=1.5, color="tab:blue")
     if ev.curvature_limit is not None:  # the radius the curve must stay above (roller radius, or 0)
         ax2.hline(ev.curvature_limit, color="tab:red", dash="--", width=0.8)
         ax2.title(f"{ev.curvature_label}; must stay above {ev.curvature_limit:g} mm (dashed)", font_size=8)
@@ -244,7 +256,7 @@ def _animation(cam: Any) -> str:
     anim = cam.evaluation.animation
     speed = f"; the cam runs at {cam.rpm:g} rpm" if getattr(cam, "rpm", None) else ""
     svg = animation_svg(anim, html.escape(f"{cam.name}: the follower riding the cam"))
-    return (f"<div class='fig'>{svg}<p class='note'>The follower riding the cam, one turn in {anim.seconds:g} s on screen{speed}; "
+    return (f"<div class='fig anim'>{svg}<p class='note'>The follower riding the cam, one turn in {anim.seconds:g} s on screen{speed}; "
             "the purple line marks cam angle 0 on the cam.</p></div>")
 
 
@@ -255,6 +267,8 @@ def report_html(result: "RunResult") -> str:
     from camgen import __version__
     from camgen.jobs import get_job
     from camgen.kinds import get_kind
+    from camgen.report.design import design_table, figures_table, program_table
+    from camgen.textfile import display_path
 
     Figure = _figure_factory()
     scene, cams = result.scene, result.cams
@@ -271,7 +285,7 @@ def report_html(result: "RunResult") -> str:
         "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>",
         f"<title>camgen report: {html.escape(scene.name)}</title><style>{_CSS}</style></head><body>",
         f"<h1>camgen design-check report: {html.escape(scene.name)}</h1>",
-        f"<p class='note'>camgen {__version__}; scene <code>{html.escape(scene.source)}</code>; chord tolerance "
+        f"<p class='note'>camgen {__version__}; scene <code>{html.escape(display_path(scene.source))}</code>; chord tolerance "
         f"{scene.output.chord_tol:g} mm; units mm and deg.</p>",
         f"<table><tr><th>cam</th><th>kind</th><th>checks</th><th>manufacturing files written</th></tr>{summary}</table>",
     ]
@@ -282,8 +296,12 @@ def report_html(result: "RunResult") -> str:
 
     for cam in cams:
         parts.append(f"<h2 id='{html.escape(cam.name)}'>{html.escape(cam.name)} ({html.escape(cam.kind)})</h2>")
+        if cam.evaluation is not None:  # the profile to scale beside the design's numbers
+            parts.append(f"<div class='tables'><div class='fig'>{_profile_figure(Figure, cam)}</div>{design_table(cam)}</div>")
+        else:
+            parts.append(design_table(cam))
+        parts.append(program_table(cam))
         if cam.evaluation is not None:
-            parts.append(f"<div class='fig'>{_profile_figure(Figure, cam)}</div>")
             parts.append(f"<div class='fig'>{_curves_figure(Figure, cam, tool_radius)}</div>")
             if cam.evaluation.motion is not None:
                 parts.append(f"<div class='fig'>{_motion_figure(Figure, cam)}</div>")
@@ -294,7 +312,7 @@ def report_html(result: "RunResult") -> str:
 
             parts.append(dynamics_section(Figure, cam))
         parts.append("<h3>Checks</h3>" + _checks_table(cam.checks))
-        parts.append("<h3>Figures</h3>" + _figures_table(cam.figures))
+        parts.append(figures_table(cam))
         kind_section = get_kind(cam.kind).report_section
         if kind_section:
             parts.append(section(kind_section)(Figure, cam))

@@ -8,7 +8,8 @@ pt).  The root ``<svg>`` has ``max-width:100%`` so it shrinks with a narrow page
 
 Output: an SVG string without XML prolog (inlines into HTML); the same input gives the same
 bytes; text stays text (system font stack); coordinates rounded to 0.01 px; curves are
-``<path>`` elements clipped to their plot area.  Curves with more than ``max_vertices``
+``<path>`` elements clipped to their plot area; a plot whose limits leave data out says so in
+a note under it (:attr:`Axes.clip_note`).  Curves with more than ``max_vertices``
 points are thinned by min/max decimation per pixel column (M4: Jugel et al., "M4: a
 visualization-oriented time series data aggregation", VLDB 2014), so peaks survive.
 
@@ -40,6 +41,9 @@ MAX_VERTICES = 2000  # a longer curve is thinned to about this many vertices
 MAX_PX = 1.0e6  # pixel coordinates are clamped to +-MAX_PX (data far outside explicit limits)
 FONT_FAMILY = "system-ui,-apple-system,'Segoe UI',Roboto,'Helvetica Neue',Arial,sans-serif"
 MINUS = "\u2212"
+CLIP_NOTE_SIZE = 0.9  # the clipped-data note's font size, in tick-label sizes
+CLIP_NOTE_COLOR = "#b00000"
+_LABEL_UNIT = re.compile(r"(.*?)\s*\(([^()]*)\)\s*\Z")  # "radius of curvature (mm)" -> name, unit
 
 # Okabe & Ito (2008), "Color Universal Design": distinguishable with every common colour-vision
 # deficiency; yellow and black left out (too light on white; black is for reference lines).
@@ -77,6 +81,11 @@ _GLYPH_WIDTHS = {c: w for w, chars in (
 def _text_width(s: str, font_px: float) -> float:
     """Estimated advance width of ``s`` (px) at ``font_px`` (0.7 em for a glyph not in the table)."""
     return sum(_GLYPH_WIDTHS.get(ch, 0.7) for ch in s) * font_px
+
+
+def _limit_text(v: float) -> str:
+    """A plot limit in a note: 4 significant digits, the minus sign of the tick labels."""
+    return f"{v:.4g}".replace("-", MINUS)
 
 
 def _esc(s: str) -> str:
@@ -294,8 +303,10 @@ def _parse_fmt(fmt: str) -> tuple[str | None, str | None, str | None]:
 class Axes:
     """One plot panel of a :class:`Figure` (made by :meth:`Figure.subplots`).
 
-    After :meth:`Figure.to_svg`: ``limits`` = (x0, x1, y0, y1) drawn, data units, and
-    ``area`` = (left, top, width, height) of the plot area, px.
+    After :meth:`Figure.to_svg`: ``limits`` = (x0, x1, y0, y1) drawn, data units,
+    ``area`` = (left, top, width, height) of the plot area, px, and ``clip_note``: None, or the
+    note drawn under the plot when its limits leave out data of a curve (explicit limits, or
+    infinite values), naming the axis and the limits ("clipped, not shown: radius (mm) above 240 mm").
     """
 
     def __init__(self, figure: Figure, row: int, col: int) -> None:
@@ -313,6 +324,7 @@ class Axes:
         self._cycle = 0
         self.limits: tuple[float, float, float, float] | None = None
         self.area: tuple[float, float, float, float] | None = None
+        self.clip_note: str | None = None
 
     # ---- content
     def plot(self, x: Any, y: Any, fmt: str = "", *, color: Any = None, width: float = 1.5, dash: str | None = None,
@@ -481,6 +493,7 @@ class Axes:
                 cx, cy, hx, hy = (x0 + x1) / 2, (y0 + y1) / 2, w / scale / 2, h / scale / 2
                 x0, x1, y0, y1 = cx - hx, cx + hx, cy - hy, cy + hy
         self.area, self.limits = (left, top, w, h), (x0, x1, y0, y1)
+        self.clip_note = self._clip_note(x0, x1, y0, y1)
         self._xt = nice_ticks(x0, x1, w, lambda labels: max(_text_width(s, fs) for s in labels) + 1.2 * fs)
         top_axis = getattr(self, "_top", None)
         if top_axis is not None:
@@ -500,7 +513,34 @@ class Axes:
         if getattr(self, "_top", None) is not None:
             need_t += self._top_height(fs)
         need_b = pad + tick + 1.1 * fs + (lab(self._xlabel) if self._xlabel else 0.0) + (1.3 * fs if self._xt[2] and not self._xlabel else 0.0)
+        if self.clip_note:
+            need_b += CLIP_NOTE_SIZE * fs * 1.25 + 2.0
         return need_l, need_r, need_t, need_b
+
+    def _outside(self, axis: str, lo: float, hi: float) -> tuple[bool, bool]:
+        """Whether a curve has points below ``lo`` and above ``hi`` along ``axis`` (an infinite
+        value is beyond either; a point with a NaN is a break in the curve, not data)."""
+        below = above = False
+        for a in self._artists:
+            if isinstance(a, Line):
+                v, other = (a.x, a.y) if axis == "x" else (a.y, a.x)
+                seen = v[~np.isnan(v) & ~np.isnan(other)]
+                below = below or bool(np.any(seen < lo))
+                above = above or bool(np.any(seen > hi))
+        return below, above
+
+    def _clip_note(self, x0: float, x1: float, y0: float, y1: float) -> str | None:
+        """The note under a plot whose limits leave data out: which values, beyond which limits."""
+        parts = []
+        for axis, lo, hi, label in (("y", y0, y1, self._ylabel), ("x", x0, x1, self._xlabel)):
+            below, above = self._outside(axis, lo, hi)
+            if not (below or above):
+                continue
+            m = _LABEL_UNIT.match(label[0]) if label else None
+            name, unit = (m.group(1), " " + m.group(2)) if m else (label[0] if label else f"{axis} values", "")
+            sides = ([f"above {_limit_text(hi)}{unit}"] if above else []) + ([f"below {_limit_text(lo)}{unit}"] if below else [])
+            parts.append(f"{name} {' and '.join(sides)}")
+        return "clipped, not shown: " + "; ".join(parts) if parts else None
 
     def _top_height(self, fs: float) -> float:
         """Height (px) of the top axis: ticks, their labels and the axis label."""
@@ -610,6 +650,13 @@ class Axes:
             lf = (size or font) * PX_PER_PT
             out.append(f'<text class="xlabel" x="{_n(left + w / 2)}" y="{_n(ty + 4.0 + 1.0 * lf)}" text-anchor="middle"'
                        f'{_size_attr(lf, fs)}>{_esc(s)}</text>')
+        if self.clip_note:  # below everything under the plot area, from the cell's left edge
+            below = ty + (4.0 + 1.0 * (self._xlabel[1] or font) * PX_PER_PT if self._xlabel else 0.0) + (1.3 * fs if xp and not self._xlabel else 0.0)
+            nf = CLIP_NOTE_SIZE * fs
+            cell = self._figure._cell_width
+            nf = min(nf, max(6 * PX_PER_PT, nf * (cell - 8.0) / max(_text_width(self.clip_note, nf), 1.0)))
+            out.append(f'<text class="clipnote" x="{_n(self._col * cell + 4.0)}" y="{_n(below + 1.25 * nf + 2.0)}" fill="{CLIP_NOTE_COLOR}"'
+                       f'{_size_attr(nf, fs)}>{_esc(self.clip_note)}</text>')
         if self._ylabel:
             s, size = self._ylabel
             lf = (size or font) * PX_PER_PT

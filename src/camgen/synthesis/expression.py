@@ -8,6 +8,12 @@ and differentiate symbolically.
 Allowed: numbers, ``x``, ``pi``, ``+ - * / **``, unary ``-``/``+``, parentheses and the
 functions ``sin cos tan exp log sqrt abs``.  Anything else raises
 :class:`~camgen.errors.ParameterError` naming the offending token.
+
+The work is bounded before it is done: at most :data:`MAX_LENGTH` characters, operations and
+calls nested at most :data:`MAX_DEPTH` levels (checked on the syntax tree without recursion,
+before anything recurses on it), and at most :data:`MAX_NODES` operations in the expression and in
+each of its derivatives, each measured before the next is built (a product of n factors has a
+second derivative of O(n^3) operations); a number beyond the float range is refused.
 """
 from __future__ import annotations
 
@@ -19,7 +25,16 @@ import numpy as np
 
 from camgen.errors import ParameterError
 
+#: Longest expression, characters.
 MAX_LENGTH = 2000
+#: Deepest nesting of operations and calls (a sum of n terms nests n levels: the length limit
+#: allows about 100 terms of a Fourier series).
+MAX_DEPTH = 100
+#: Most operations evaluated for the expression and for each of its two derivatives (shared
+#: subexpressions counted each time they are evaluated), and deepest nesting of a derivative:
+#: evaluating and differentiating recurse once per level.
+MAX_NODES = 20_000
+MAX_DERIVED_DEPTH = 4 * MAX_DEPTH
 FUNCTIONS = ("sin", "cos", "tan", "exp", "log", "sqrt", "abs")
 _ALLOWED = "numbers, x, pi, + - * / **, parentheses and sin cos tan exp log sqrt abs"
 
@@ -196,9 +211,13 @@ def _convert(node: ast.AST, text: str) -> Node:
     if isinstance(node, ast.Expression):
         return _convert(node.body, text)
     if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) and not isinstance(node.value, bool):
-        if not math.isfinite(float(node.value)):
-            raise ParameterError("expression", text, f"finite numbers ({_ALLOWED})")
-        return Const(float(node.value))
+        try:
+            value = float(node.value)
+        except OverflowError:  # an integer beyond the float range (2**1024)
+            value = math.inf
+        if not math.isfinite(value):
+            raise ParameterError("expression", text, f"finite numbers ({_ALLOWED})", "a number beyond the float range")
+        return Const(value)
     if isinstance(node, ast.Name):
         if node.id == "x":
             return Var()
@@ -254,6 +273,50 @@ class Expression:
         return self.f(x)
 
 
+def _syntax_depth(tree: ast.AST) -> int:
+    """The nesting depth of a syntax tree, counted without recursion."""
+    deepest = 0
+    todo = [(tree, 1)]
+    while todo:
+        node, level = todo.pop()
+        deepest = max(deepest, level)
+        todo.extend((child, level + 1) for child in ast.iter_child_nodes(node) if not isinstance(child, (ast.expr_context, ast.operator)))
+    return deepest
+
+
+def _work(node: Node) -> tuple[int, int]:
+    """(depth, operations evaluated) of an expression tree whose subtrees may be shared, without
+    recursion: each node once, its operation count that of its children plus one."""
+    measured: dict[int, tuple[int, int]] = {}
+    todo: list[tuple[Node, bool]] = [(node, False)]
+    while todo:
+        item, children_done = todo.pop()
+        if id(item) in measured:
+            continue
+        children = [c for c in (getattr(item, "left", None), getattr(item, "right", None), getattr(item, "arg", None)) if c is not None]
+        if children_done:
+            parts = [measured[id(c)] for c in children]
+            measured[id(item)] = (1 + max((p[0] for p in parts), default=0), 1 + sum(p[1] for p in parts))
+        else:
+            todo.append((item, True))
+            todo.extend((c, False) for c in children)
+    return measured[id(node)]
+
+
+def _bounded(node: Node, what: str, text: str) -> Node:
+    """``node`` if evaluating it (and differentiating it next) stays within :data:`MAX_NODES`
+    operations and :data:`MAX_DERIVED_DEPTH` levels, else a ParameterError."""
+    depth, operations = _work(node)
+    if operations > MAX_NODES or depth > MAX_DERIVED_DEPTH:
+        raise ParameterError("expression", text, _LIMITS,
+                             f"{what} takes {operations} operations nested {depth} levels deep")
+    return node
+
+
+_LIMITS = (f"an expression of at most {MAX_LENGTH} characters, {MAX_DEPTH} levels of nested operations and calls, "
+           f"and at most {MAX_NODES} operations in it and in each of its first two derivatives")
+
+
 def parse_expression(text: object) -> Expression:
     """Parse ``text`` (e.g. ``"202.4396*sin(pi*x/1000)"``) into an :class:`Expression`.
 
@@ -270,6 +333,12 @@ def parse_expression(text: object) -> Expression:
         tree = ast.parse(text.strip(), mode="eval")
     except SyntaxError as exc:
         raise ParameterError("expression", text, _ALLOWED, f"syntax error at column {exc.offset}") from None
-    f = _convert(tree, text)
-    df = f.diff()
-    return Expression(text, _Vectorised(f), _Vectorised(df), _Vectorised(df.diff()))
+    except (ValueError, RecursionError, MemoryError):  # NUL characters; nesting Python's parser cannot take
+        raise ParameterError("expression", text, _LIMITS, "Python's parser cannot read it") from None
+    depth = _syntax_depth(tree) - 1  # the Expression wrapper is not a level
+    if depth > MAX_DEPTH:
+        raise ParameterError("expression", text, _LIMITS, f"operations and calls nested {depth} levels deep")
+    f = _bounded(_convert(tree, text), "the expression", text)
+    df = _bounded(f.diff(), "its first derivative", text)
+    d2f = _bounded(df.diff(), "its second derivative", text)
+    return Expression(text, _Vectorised(f), _Vectorised(df), _Vectorised(d2f))

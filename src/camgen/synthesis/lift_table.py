@@ -222,9 +222,13 @@ def _bad(path: str, where: str, valid: str, why: str = "", key: str = "lift_tabl
     return ParameterError(key, f"{path}{', ' + where if where else ''}", valid, why)
 
 
-def _fields(line: str) -> list[str]:
-    sep = "," if "," in line else ";" if ";" in line else None
-    return [f.strip() for f in line.split(sep)]
+def _fields(line: str) -> tuple[list[str], str]:
+    """The fields of a row and what separates them ("a comma", "a semicolon" or "blanks")."""
+    if "," in line:
+        return [f.strip() for f in line.split(",")], "a comma"
+    if ";" in line:
+        return [f.strip() for f in line.split(";")], "a semicolon"
+    return line.split(), "blanks"
 
 
 def _number(text: str) -> float | None:
@@ -246,7 +250,9 @@ def parse_two_column_table(text: str, path: str = "<text>", key: str = "lift_tab
     Raises
     ------
     ParameterError
-        Naming ``key``, the file, the line number and the row.
+        Naming ``key``, the file, the line number and why the line is not a row (how many
+        fields, which is not a number).  The message never quotes the file's text: the file
+        may not be a table at all (a scene naming a password file must not print it).
     """
     first: list[float] = []
     second: list[float] = []
@@ -257,20 +263,25 @@ def parse_two_column_table(text: str, path: str = "<text>", key: str = "lift_tab
         line = raw.split("#", 1)[0].strip()
         if not line:
             continue
-        fields = _fields(line)
-        where = f"line {number}: {raw.strip()!r}"
+        fields, separator = _fields(line)
+        where = f"line {number}"
         if len(fields) != 2 or not all(fields):
-            raise _bad(path, where, f"rows of two fields {pair} (comma, semicolon or blank separated; no decimal commas)",
-                       f"{len(fields)} fields", key)
+            why = (f"line {number} has an empty field" if not all(fields)
+                   else f"line {number} is one field: no comma, semicolon or blank separates two" if len(fields) == 1
+                   else f"line {number} holds {len(fields)} fields separated by {separator}, not two")
+            raise _bad(path, where, f"rows of two fields {pair} (comma, semicolon or blank separated; no decimal commas)", why, key)
         values = [_number(f) for f in fields]
         if values[0] is None and values[1] is None and not seen_row:
             seen_row = True  # the header row
             continue
         seen_row = True
         if values[0] is None or values[1] is None:
-            raise _bad(path, where, f"two numbers {pair}", key=key)
+            column = 1 if values[0] is None else 2
+            raise _bad(path, where, f"two numbers {pair}", f"field {column} of line {number} is not a number; only the first "
+                       "row may be a header of two names", key)
         if not (math.isfinite(values[0]) and math.isfinite(values[1])):
-            raise _bad(path, where, "finite numbers", key=key)
+            column = 1 if not math.isfinite(values[0]) else 2
+            raise _bad(path, where, "finite numbers", f"field {column} of line {number} is not finite (inf or nan)", key)
         first.append(values[0])
         second.append(values[1])
         labels.append(f"{path}, line {number}")

@@ -188,6 +188,68 @@ def _pressure_bound(follower: FollowerSpec, law: Displacement, limits: DesignLim
     return math.hypot(d0, e) - follower.roller_radius
 
 
+#: Largest base radius a search tries, mm (the largest ``base_radius_mm`` a scene may give).
+MAX_BASE_RADIUS = 1e5
+
+
+def _search(follower: FollowerSpec, law: Displacement, limits: DesignLimits, tol: float, scan: int,
+            upper: bool) -> tuple[float, float | None, int]:
+    """The first run of base radii meeting ``limits``: (its lower end, its upper end or None,
+    the base radii tried).  Both ends are feasible and within ``tol`` of an infeasible value;
+    the upper end is None for translating followers (no upper end is sought: the pressure angle
+    falls and the radii of curvature grow with the base radius) or when ``upper`` is False."""
+    tol = require_positive("tol", tol)
+    theta = check_grid(law, limits.check_step)
+    offset = follower.offset
+    lo, hi = _base_range(follower, offset)
+    tried = 0
+
+    def ok(base: float) -> bool:
+        nonlocal tried
+        tried += 1
+        spec = _with_base(follower, base)
+        return spec is not None and _feasible(spec, law, limits, theta)
+
+    def bisect(bad: float, good: float) -> float:
+        while abs(good - bad) > tol:
+            mid = 0.5 * (bad + good)
+            bad, good = (bad, mid) if ok(mid) else (mid, good)
+        return good
+
+    if follower.motion == "translating" and follower.kind != "flat":
+        bound = _pressure_bound(follower, law, limits, theta)
+        if bound > MAX_BASE_RADIUS:
+            raise GeometryError(_no_base_message(follower, law, limits, theta, MAX_BASE_RADIUS))
+        if bound > lo:
+            lo = bound
+            first = bound * (1.0 + 1e-12) + 1e-12  # the bound itself meets the pressure limit with equality
+            if ok(first):
+                return first, None, tried
+    if hi is None:  # the pressure angle falls and the radii of curvature grow with the base radius
+        hi = max(2.0 * lo, lo + 10.0 * tol, 1.0)
+        while not ok(hi):
+            if hi >= MAX_BASE_RADIUS:
+                raise GeometryError(_no_base_message(follower, law, limits, theta, MAX_BASE_RADIUS))
+            hi = min(lo + 2.0 * (hi - lo), MAX_BASE_RADIUS)
+        grid = lo + (hi - lo) * (np.arange(1, scan + 1) / scan)  # up to hi, which is feasible
+        top = None
+    else:
+        grid = lo + (hi - lo) * (np.arange(1, scan + 1) / (scan + 1))  # inside the open range
+        top = hi
+    feasible = [ok(b) for b in grid]
+    if not any(feasible):
+        raise GeometryError(_no_base_message(follower, law, limits, theta, float(grid[-1])))
+    first = int(np.argmax(feasible))
+    low = bisect(grid[first - 1] if first > 0 else lo, grid[first])
+    if top is None or not upper:
+        return low, None, tried
+    last = first
+    while last + 1 < grid.size and feasible[last + 1]:
+        last += 1
+    beyond = float(grid[last + 1]) if last + 1 < grid.size else top  # infeasible (the range's end: no follower)
+    return low, bisect(beyond, float(grid[last])), tried
+
+
 def min_base_radius(follower: FollowerSpec, law: Displacement, limits: DesignLimits = DesignLimits(), *,
                     tol: float = DEFAULT_SIZE_TOL, scan: int = 32) -> SizingResult:
     """The smallest base radius (mm, within ``tol``) at which ``follower`` (its other parameters
@@ -195,51 +257,79 @@ def min_base_radius(follower: FollowerSpec, law: Displacement, limits: DesignLim
 
     Translating followers: the search starts at the smallest base radius the geometry allows
     (``|offset| - roller_radius`` or 0), for rollers and knives at the closed-form bound of the
-    pressure-angle limit, and doubles an upper end until a feasible design appears; oscillating
-    followers search the open range the pivot and arm allow.  ``scan`` points of the range are
-    tried upwards and the first feasible one is bracketed by bisection.  Raises
-    :class:`GeometryError` when no base radius works, naming what else to change.
+    pressure-angle limit, and doubles an upper end until a feasible design appears (up to
+    :data:`MAX_BASE_RADIUS`); oscillating followers search the open range the pivot and arm
+    allow.  ``scan`` points of the range are tried upwards and the first feasible one is
+    bracketed by bisection.  Raises :class:`GeometryError` when no base radius works, naming
+    what else to change.
     """
-    tol = require_positive("tol", tol)
+    law = law if isinstance(law, _SampledLaw) else _SampledLaw(law)
+    low, _, _ = _search(follower, law, limits, tol, scan, upper=False)
+    spec = _with_base(follower, low)
+    return SizingResult(float(low), follower.offset, spec, measure(spec, law, limits.check_step), tol)  # type: ignore[arg-type]
+
+
+@dataclass(frozen=True)
+class BaseRadiusAdvice:
+    """Base radii (mm) that meet the design limits, each quoted value tried and found to pass.
+
+    ``low``: the least base radius of the first run that passes; ``high``: the largest of that
+    run, or None when it has no upper end (translating followers: the pressure angle only falls
+    and the radii of curvature grow with the base radius).  Both are rounded inwards to
+    ``digits`` decimals when the rounded value passes too, else quoted as found (``text``
+    prints them exactly).  An oscillating follower's pressure angle is not monotonic in the base
+    radius (it falls, then rises again as the cam grows towards the pivot): its passing base
+    radii are an interval, bounded on both sides.  ``tried``: the base radii evaluated.
+    """
+
+    low: float
+    high: float | None
+    tried: int
+    digits: int = 3
+    step: float | None = None  #: spacing of the base radii tried between low and high (mm), oscillating followers
+
+    def number(self, value: float) -> str:
+        """``value`` as the message prints it: ``digits`` decimals if that is exact, else the
+        shortest text that reads back as ``value``."""
+        text = f"{value:.{self.digits}f}"
+        return text if float(text) == value else repr(value)
+
+    def text(self, current: float) -> str:
+        """What to set: "increase base_radius_mm to at least 43.935" or "set base_radius_mm
+        between 42.039 and 54.321" (``current``: the base radius the design has)."""
+        if self.high is None:
+            verb = "increase" if self.low > current else "set"
+            return f"{verb} base_radius_mm to at least {self.number(self.low)}"
+        return f"set base_radius_mm between {self.number(self.low)} and {self.number(self.high)}"
+
+
+def base_radius_advice(follower: FollowerSpec, law: Displacement, limits: DesignLimits = DesignLimits(), *,
+                       tol: float = DEFAULT_SIZE_TOL, scan: int = 32, digits: int = 3) -> BaseRadiusAdvice:
+    """The base radii to quote in a hint (:class:`BaseRadiusAdvice`): the first run of passing
+    base radii found by the search of :func:`min_base_radius` (and, for oscillating followers,
+    its upper end by bisection too), each end rounded inwards to ``digits`` decimals and tried
+    again at the rounded value.  Raises :class:`GeometryError` when no base radius passes."""
     law = law if isinstance(law, _SampledLaw) else _SampledLaw(law)
     theta = check_grid(law, limits.check_step)
-    offset = follower.offset
-    lo, hi = _base_range(follower, offset)
+    low, high, tried = _search(follower, law, limits, tol, scan, upper=True)
 
-    def ok(base: float) -> bool:
+    def passes(base: float) -> bool:
+        nonlocal tried
+        tried += 1
         spec = _with_base(follower, base)
         return spec is not None and _feasible(spec, law, limits, theta)
 
-    if follower.motion == "translating" and follower.kind != "flat":
-        bound = _pressure_bound(follower, law, limits, theta)
-        if bound > lo:
-            lo = bound
-            first = bound * (1.0 + 1e-12) + 1e-12  # the bound itself meets the pressure limit with equality
-            if ok(first):
-                spec = _with_base(follower, first)
-                return SizingResult(first, offset, spec, measure(spec, law, theta=theta), tol)  # type: ignore[arg-type]
-    if hi is None:  # the pressure angle falls and the radii of curvature grow with the base radius
-        hi = max(2.0 * lo, lo + 10.0 * tol, 1.0)
-        while not ok(hi):
-            hi = lo + 2.0 * (hi - lo)
-            if hi > 1e6:
-                raise GeometryError(_no_base_message(follower, law, limits, theta, 1e6))
-        grid = lo + (hi - lo) * (np.arange(1, scan + 1) / scan)  # up to hi, which is feasible
-    else:
-        grid = lo + (hi - lo) * (np.arange(1, scan + 1) / (scan + 1))  # inside the open range
-    feasible = [ok(b) for b in grid]
-    if not any(feasible):
-        raise GeometryError(_no_base_message(follower, law, limits, theta, float(grid[-1])))
-    first = int(np.argmax(feasible))
-    a, b = (grid[first - 1] if first > 0 else lo), grid[first]
-    while b - a > tol:
-        mid = 0.5 * (a + b)
-        if ok(mid):
-            b = mid
-        else:
-            a = mid
-    spec = _with_base(follower, b)
-    return SizingResult(float(b), offset, spec, measure(spec, law, theta=theta), tol)  # type: ignore[arg-type]
+    scale = 10.0**digits
+    up = math.ceil(low * scale - 1e-9) / scale
+    low = up if (high is None or up <= high) and passes(up) else low
+    if high is not None:
+        down = math.floor(high * scale + 1e-9) / scale
+        high = down if down >= low and passes(down) else high
+    step = None
+    if high is not None:
+        lo, hi = _base_range(follower, follower.offset)
+        step = (hi - lo) / (scan + 1)  # type: ignore[operator]
+    return BaseRadiusAdvice(float(low), None if high is None else float(high), tried, digits, step)
 
 
 def _no_base_message(follower: FollowerSpec, law: Displacement, limits: DesignLimits, theta: np.ndarray, largest: float) -> str:
@@ -304,15 +394,11 @@ def min_base_radius_and_offset(follower: FollowerSpec, law: Displacement, limits
     return SizingResult(float(base), float(e), spec, measure(spec, law, limits.check_step), tol)  # type: ignore[arg-type]
 
 
-def _ceil(value: float, digits: int = 3) -> float:
-    scale = 10.0**digits
-    return math.ceil(value * scale - 1e-9) / scale
-
-
 def require_design(follower: FollowerSpec, law: Displacement, limits: DesignLimits = DesignLimits()) -> DesignMeasures:
     """The design's measures if it meets ``limits``; else a :class:`GeometryError` that says what
-    breaks and which value of ``base_radius_mm`` would work ("increase base_radius_mm to at least
-    42.317"), or what else to change when no base radius does."""
+    breaks and which values of ``base_radius_mm`` would work, each tried (:func:`base_radius_advice`:
+    "increase base_radius_mm to at least 42.317", "set base_radius_mm between 42.039 and
+    54.321"), or what else to change when no base radius does."""
     theta = check_grid(law, limits.check_step)
     m = measure(follower, law, theta=theta)
     broken = m.violations(limits)
@@ -320,15 +406,10 @@ def require_design(follower: FollowerSpec, law: Displacement, limits: DesignLimi
         return m
     what = "; ".join(broken)
     try:
-        found = min_base_radius(follower, law, limits)
+        advice = base_radius_advice(follower, law, limits)
     except GeometryError as exc:
         raise GeometryError(f"the cam breaks the design limits ({what}) and {exc}") from None
-    need = _ceil(found.base_radius)
-    spec = _with_base(follower, need)
-    if spec is None or not _feasible(spec, law, limits, theta):  # the rounded value must work too
-        need = found.base_radius
-    verb = "increase" if need > follower.base_radius else "set"
-    raise GeometryError(f"the cam breaks the design limits ({what}): {verb} base_radius_mm to at least {need:.3f}")
+    raise GeometryError(f"the cam breaks the design limits ({what}): {advice.text(follower.base_radius)}")
 
 
 @dataclass(frozen=True)

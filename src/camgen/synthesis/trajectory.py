@@ -29,7 +29,7 @@ from typing import Callable
 
 import numpy as np
 
-from camgen.errors import GeometryError, ParameterError, require_positive
+from camgen.errors import GeometryError, ParameterError, ceil_significant, quoted, require_positive
 
 Func = Callable[[np.ndarray], np.ndarray]
 
@@ -69,8 +69,8 @@ def steerable_radius(d: float, wheelbase: float, half_track: float, base_radius:
 
 def steerable_paths(d: float, wheelbase: float, half_track: float, base_radius: float) -> str:
     """The valid range of a path for the device, as the error messages state it."""
-    r_min = steerable_radius(d, wheelbase, half_track, base_radius)
-    return (f"a path whose right turns keep a radius > {r_min:.6g} mm = half_track_mm + lever_mm * wheelbase_mm / r_b "
+    r_min = ceil_significant(steerable_radius(d, wheelbase, half_track, base_radius), 6)  # rounded up: any radius above it steers
+    return (f"a path whose right turns keep a radius > {r_min:g} mm = half_track_mm + lever_mm * wheelbase_mm / r_b "
             f"(D = {half_track:g}, d = {d:g}, L = {wheelbase:g}, r_b = L - rod_radius_mm = {base_radius:g} mm), "
             "features resolved by the arc-length quadrature (one period in at most 16384 panels)")
 
@@ -212,7 +212,7 @@ def arc_length(trajectory: Trajectory, rel_tol: float = 1e-12, max_panels: int =
         if previous is not None and abs(cumulative[-1] - previous) <= rel_tol * cumulative[-1]:
             return ArcLength(trajectory, edges, cumulative)
         if panels >= max_panels:
-            raise PathError(f"arc length of '{trajectory.source}' did not converge to {rel_tol:g} relative in {max_panels} panels",
+            raise PathError(f"arc length of {quoted(trajectory.source)} did not converge to {rel_tol:g} relative in {max_panels} panels",
                             f"a path whose features the arc-length quadrature resolves (one period in at most {max_panels} panels)")
         previous = cumulative[-1]
         panels *= 2

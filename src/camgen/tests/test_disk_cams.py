@@ -158,7 +158,8 @@ def scene_data(dxf_splines: str, formats: list[str]) -> dict:
         else:
             table.update(kind="motion_law", segments=segments_toml(name, law == "constant_velocity"))
         cams[cam_name(name, rotation, law)] = table
-    return {"output": {"formats": formats, "chord_tol_mm": CHORD_TOL, "dxf_splines": dxf_splines}, "cams": cams}
+    # the construction layers on: the ZERO and PITCH tests read them
+    return {"output": {"formats": formats, "chord_tol_mm": CHORD_TOL, "dxf_splines": dxf_splines, "dxf_construction": True}, "cams": cams}
 
 
 @functools.lru_cache(maxsize=None)
@@ -246,9 +247,11 @@ def biarc_contour(text: str):
 
 
 def csv_points(text: str) -> np.ndarray:
-    rows = [line for line in text.splitlines() if not line.startswith("#")]
-    assert rows[0] == "x_mm,y_mm"
-    return np.array([[float(v) for v in row.split(",")] for row in rows[1:]])
+    import pandas
+
+    frame = pandas.read_csv(io.StringIO(text))  # the reader's defaults
+    assert list(frame.columns) == ["x_mm", "y_mm"]
+    return frame.to_numpy()
 
 
 # --------------------------------------------------------------------------------------------

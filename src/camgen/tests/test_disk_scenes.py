@@ -47,7 +47,8 @@ def plate(**changes) -> dict:
            "segments": [{"law": "cycloidal", "span_deg": 120.0, "lift_mm": 20.0}, {"law": "dwell", "span_deg": 60.0},
                         {"law": "cycloidal", "span_deg": 120.0, "lift_mm": -20.0}, {"law": "dwell", "span_deg": 60.0}]}
     cam.update(changes)
-    return {"output": {"formats": ["dxf", "ngc", "follower", "points"]}, "cams": {"c": {k: v for k, v in cam.items() if v is not None}}}
+    return {"output": {"formats": ["dxf", "ngc", "follower", "points"], "dxf_construction": True},  # PITCH and ZERO drawn
+            "cams": {"c": {k: v for k, v in cam.items() if v is not None}}}
 
 
 def oscillating(**changes) -> dict:
@@ -380,8 +381,10 @@ def test_sizing_holds_concave_radii_to_the_named_tool():
 # The follower table (<cam>_follower.csv) against the law in time
 # --------------------------------------------------------------------------------------------
 def _table(text: str) -> tuple[list[str], np.ndarray]:
-    rows = [line for line in text.splitlines() if not line.startswith("#")]
-    return rows[0].split(","), np.array([[float(x) for x in row.split(",")] for row in rows[1:]])
+    import pandas
+
+    frame = pandas.read_csv(io.StringIO(text))  # the reader's defaults
+    return list(frame.columns), frame.to_numpy()
 
 
 def test_follower_table_is_the_law_in_time_at_the_scene_rpm():
@@ -550,7 +553,7 @@ def test_follower_table_of_a_yoke_cam(tmp_path):
 @pytest.mark.parametrize("rotation, turn", [("ccw", "360"), ("cw", "-360")])
 def test_report_animates_the_follower_riding_the_cam(rotation, turn):
     scene = plate(rotation=rotation)
-    scene["output"]["formats"] = ["html"]
+    scene["output"] = {"formats": ["html"]}
     page = run(scene)[0]["report.html"]
     for marker in ("<script", "src=", "href='http", 'href="http', "<link", "@import"):
         assert marker not in page
@@ -565,7 +568,7 @@ def test_report_animates_the_follower_riding_the_cam(rotation, turn):
 
 def test_report_of_an_oscillating_follower_turns_the_arm_about_its_pivot():
     scene = oscillating()
-    scene["output"]["formats"] = ["html"]
+    scene["output"] = {"formats": ["html"]}
     page = run(scene)[0]["report.html"]
     values = re.search(r"type='rotate' values='([^']+)'", page).group(1).split(";")
     angles = np.array([float(v.split()[0]) for v in values])
@@ -579,7 +582,7 @@ def test_report_of_an_oscillating_follower_turns_the_arm_about_its_pivot():
 
 def test_animation_turns_a_cw_arm_the_other_way():
     scene = oscillating(swing_turn="cw", pivot_x_mm=-90.0)
-    scene["output"]["formats"] = ["html"]
+    scene["output"] = {"formats": ["html"]}
     page = run(scene)[0]["report.html"]
     angles = np.array([float(v.split()[0]) for v in re.search(r"type='rotate' values='([^']+)'", page).group(1).split(";")])
     theta = TWO_PI * np.arange(180) / 180
@@ -664,7 +667,7 @@ def test_disk_report_renders_in_headless_chromium(tmp_path):
 
     browser = require_tool("chromium")
     scene = oscillating()
-    scene["output"]["formats"] = ["html"]
+    scene["output"] = {"formats": ["html"]}
     page = tmp_path / "report.html"
     page.write_text(run(scene)[0]["report.html"])
     shot = tmp_path / "shot.png"

@@ -127,6 +127,11 @@ def read_dxf(text):
     return doc
 
 
+def defined_layers(doc) -> set[str]:
+    """Names in the file's LAYER table (ezdxf adds "Defpoints" when it loads a file without it)."""
+    return {layer.dxf.name for layer in doc.layers} - {"Defpoints"}
+
+
 def dxf_layer(doc, layer: str, per_span: int = 64):
     """A layer read back by ezdxf: (Chain of its ARCs and LINEs, points on them (n, 2), entity types).
 
@@ -236,18 +241,33 @@ def notched():
     return Contour([notch, upper, Spline(np.array([0.0, 1.0]), coeffs), lower])
 
 
-@pytest.fixture(scope="module")
-def template_dxfs():
-    """Every bundled template: its cams and their DXF text, rendered as `camgen run` does."""
+def _render_dxfs(construction: bool) -> dict:
+    """Every bundled template: its cams and their DXF text, rendered as `camgen run` does (with
+    ``output.dxf_construction = construction``)."""
+    import dataclasses
+
     from camgen.pipeline import execute, plan_run
     from camgen.scene import load_template
 
     out = {}
     for name in TEMPLATES:
         scene = load_template(name)
+        scene = dataclasses.replace(scene, output=dataclasses.replace(scene.output, dxf_construction=construction))
         result = execute(scene, plan_run(scene, only=["dxf"]))
         out[name] = (scene, {c.name: (c, result.files[f"{c.name}.dxf"]) for c in result.cams})
     return out
+
+
+@pytest.fixture(scope="module")
+def template_dxfs():
+    """The default DXFs of every template: what is cut (PROFILE, BORE, KEYWAY)."""
+    return _render_dxfs(False)
+
+
+@pytest.fixture(scope="module")
+def construction_dxfs():
+    """The DXFs of every template with ``output.dxf_construction = true``."""
+    return _render_dxfs(True)
 
 
 # --------------------------------------------------------------------------------------------
@@ -260,7 +280,7 @@ def test_templates_are_all_tested():
 
 
 @pytest.mark.parametrize("template", TEMPLATES)
-def test_template_dxf_has_no_spline_and_reads_back_within_chord_tol(template, template_dxfs, tmp_path):
+def test_template_dxf_has_no_spline_and_reads_back_within_chord_tol(template, template_dxfs, construction_dxfs, tmp_path):
     scene, cams = template_dxfs[template]
     tol = scene.output.chord_tol
     for name, (cam, text) in cams.items():
@@ -272,7 +292,9 @@ def test_template_dxf_has_no_spline_and_reads_back_within_chord_tol(template, te
         path.write_text(text)
         assert_round_trip(cam.contour, doc, path, "PROFILE", tol)
         if cam.pitch is not None:
-            assert_round_trip(cam.pitch, doc, path, "PITCH", tol)
+            _, with_construction = construction_dxfs[template][1][name]
+            path.write_text(with_construction)
+            assert_round_trip(cam.pitch, read_dxf(with_construction), path, "PITCH", tol)
         # three-arc cams stay their six exact arcs
         if cam.kind == "three_arc":
             radii = sorted(e.dxf.radius for e in doc.modelspace() if e.dxf.layer == "PROFILE" and e.dxftype() == "ARC")
@@ -289,13 +311,13 @@ def _roller_radius(spec):
 
 
 @pytest.mark.parametrize("template", ["motion_law", "tricycle", "plate_cam", "oscillating_roller"])
-def test_pitch_layer_is_the_roller_centre_path(template, template_dxfs):
+def test_pitch_layer_is_the_roller_centre_path(template, construction_dxfs):
     """Every PITCH point lies one roller radius (from the scene file) outside the exact profile,
     and every point of the profile's parallel curve (GEOS buffer) lies on the PITCH layer."""
     import shapely
     from shapely.geometry import Polygon
 
-    scene, cams = template_dxfs[template]
+    scene, cams = construction_dxfs[template]
     tol = scene.output.chord_tol
     for spec in scene.cams:
         cam, text = cams[spec.name]
@@ -310,9 +332,10 @@ def test_pitch_layer_is_the_roller_centre_path(template, template_dxfs):
         assert np.max(chain.distance(ring)) <= tol + roller * (1 - math.cos(math.pi / 1024)) + 1e-6
 
 
+@pytest.mark.parametrize("construction", [False, True])
 @pytest.mark.parametrize("template", TEMPLATES)
-def test_header_extents_are_the_bounds_of_everything_drawn(template, template_dxfs, tmp_path):
-    scene, cams = template_dxfs[template]
+def test_header_extents_are_the_bounds_of_everything_drawn(template, construction, template_dxfs, construction_dxfs, tmp_path):
+    scene, cams = (construction_dxfs if construction else template_dxfs)[template]
     for name, (cam, text) in cams.items():
         doc = read_dxf(text)
         lo, hi = np.array(doc.header["$EXTMIN"]), np.array(doc.header["$EXTMAX"])
@@ -322,7 +345,7 @@ def test_header_extents_are_the_bounds_of_everything_drawn(template, template_dx
         path.write_text(text)
         layers = gdal_layers(path)
         vertices = np.concatenate([p for lines in layers.values() for p in lines])
-        assert set(layers) >= {"PROFILE", "CENTER"}
+        assert set(layers) >= ({"PROFILE", "CENTER"} if construction else {"PROFILE"})
         # every vertex GDAL reads lies inside the extents, and the extents touch the drawing:
         # GDAL's arc vertices miss an extreme by at most the sagitta of its 0.05 deg step
         assert np.all(vertices >= lo[:2] - 1e-9) and np.all(vertices <= hi[:2] + 1e-9)
@@ -335,7 +358,7 @@ def test_header_extents_are_the_bounds_of_everything_drawn(template, template_dx
 
 
 @pytest.mark.parametrize("template", ["default", "motion_law", "tricycle"])
-def test_openscad_imports_the_profile_layer(template, template_dxfs, tmp_path):
+def test_openscad_imports_the_profile_layer(template, construction_dxfs, tmp_path):
     """OpenSCAD 2021 imports the PROFILE layer as one closed outline: the extruded volume is
     the exact area x height within the chord tolerance bound.
 
@@ -345,7 +368,7 @@ def test_openscad_imports_the_profile_layer(template, template_dxfs, tmp_path):
     import trimesh
 
     openscad = require_tool("openscad")
-    scene, cams = template_dxfs[template]
+    scene, cams = construction_dxfs[template]  # a drawing with construction layers: the PROFILE layer alone
     height = 10.0
     for cam, text in cams.values():
         (tmp_path / "cam.dxf").write_text(text)
@@ -362,6 +385,180 @@ def test_openscad_imports_the_profile_layer(template, template_dxfs, tmp_path):
         tessellation = float(np.sum(r * np.abs(chain.arcs[:, 4]) * r * (1 - np.cos(step / 2))))
         bound = height * (cam.contour.length * (scene.output.chord_tol + 0.0005 * math.sqrt(2)) + tessellation)
         assert abs(mesh.volume - cam.contour.area * height) <= bound + 1e-6 * mesh.volume  # + float32 STL
+
+
+# --------------------------------------------------------------------------------------------
+# What is cut and what is construction (issue 21, item 13)
+# --------------------------------------------------------------------------------------------
+CUT = {"PROFILE", "BORE", "KEYWAY"}
+
+
+@pytest.mark.parametrize("template", TEMPLATES)
+def test_default_dxf_holds_only_what_is_cut(template, template_dxfs, construction_dxfs):
+    """The default DXF defines and draws PROFILE, BORE and KEYWAY only (those the body has);
+    ``dxf_construction`` adds PITCH (roller followers), CENTER and ZERO (cams that know their
+    cam angle 0) and changes nothing else."""
+    scene, cams = template_dxfs[template]
+    for name, (cam, text) in cams.items():
+        doc = read_dxf(text)
+        body = cam.body
+        cut = {"PROFILE"} | ({"BORE"} if body.bore_diameter > 0 else set()) | ({"KEYWAY"} if body.keyway_width > 0 else set())
+        assert {e.dxf.layer for e in doc.modelspace()} == cut
+        assert defined_layers(doc) == cut | {"0"}
+        _, with_construction = construction_dxfs[template][1][name]
+        full = read_dxf(with_construction)
+        roller = _roller_radius(next(spec for spec in scene.cams if spec.name == name)) is not None
+        construction = {"CENTER"} | ({"PITCH"} if roller else set()) | ({"ZERO"} if cam.zero_mark is not None else set())
+        assert {e.dxf.layer for e in full.modelspace()} == cut | construction
+        assert cut_entities(doc) == cut_entities(full)  # the cut layers are the same entities in both files
+
+
+def cut_entities(doc) -> list:
+    """The entities on the cut layers: type, layer and attributes (handles aside)."""
+    return [(e.dxftype(), e.dxf.layer, str(e.dxfattribs(drop={"handle", "owner"}))) for e in doc.modelspace() if e.dxf.layer in CUT]
+
+
+def hole_area(body) -> float:
+    """Closed-form area (mm^2) of the hole: the bore circle, pi r^2, plus the keyway rectangle's
+    part outside it: the rectangle beyond the chord at x0 = sqrt(r^2 - (w/2)^2), w (reach - x0),
+    less the circular segment beyond that chord, r^2 (t - sin t) / 2 with t = 2 asin(w / 2r)
+    (the area of a circular segment of central angle t: e.g. CRC Standard Mathematical Tables)."""
+    r = body.bore_diameter / 2
+    if body.keyway_width == 0:
+        return math.pi * r * r
+    w = body.keyway_width
+    x0 = math.sqrt(r * r - w * w / 4)
+    t = 2 * math.asin(w / (2 * r))
+    return math.pi * r * r + w * (body.bore_diameter / 2 + body.keyway_depth - x0) - r * r * (t - math.sin(t)) / 2
+
+
+#: Largest gap (mm) between the ends of two pieces of the hole outline that meet.
+JOIN_TOL = 1e-9
+
+
+def hole_loop(doc, arc_points: int = 200_001) -> np.ndarray:
+    """The BORE and KEYWAY entities read back by ezdxf, chained end to end into one closed ring
+    (k, 2); AssertionError if a piece's end meets no other piece within :data:`JOIN_TOL` or the
+    chain does not close.  ARCs are sampled at ``arc_points`` points from their DXF angles."""
+    pieces = []
+    for e in doc.modelspace():
+        if e.dxf.layer not in ("BORE", "KEYWAY"):
+            continue
+        kind = e.dxftype()
+        if kind in ("ARC", "CIRCLE"):
+            a0 = math.radians(e.dxf.start_angle) if kind == "ARC" else 0.0
+            sweep = math.radians((e.dxf.end_angle - e.dxf.start_angle) % 360.0) if kind == "ARC" else 2 * math.pi
+            t = a0 + sweep * np.linspace(0.0, 1.0, arc_points)
+            p = np.stack([e.dxf.center.x + e.dxf.radius * np.cos(t), e.dxf.center.y + e.dxf.radius * np.sin(t)], axis=1)
+            if kind == "ARC":  # the DXF's own end points (ezdxf), not the samples' rounding
+                p[0], p[-1] = np.array(e.start_point)[:2], np.array(e.end_point)[:2]
+            pieces.append(p)
+        elif kind == "LWPOLYLINE":
+            assert not e.closed
+            pieces.append(np.array(e.get_points("xy")))
+        else:
+            raise AssertionError(f"unexpected {kind} on layer {e.dxf.layer}")
+    ring = [pieces.pop(0)]
+    while pieces:
+        end = ring[-1][-1]
+        gaps = [min(np.hypot(*(p[0] - end)), np.hypot(*(p[-1] - end))) for p in pieces]
+        k = int(np.argmin(gaps))
+        assert gaps[k] <= JOIN_TOL, f"the hole outline is open: a gap of {gaps[k]:.3g} mm"
+        piece = pieces.pop(k)
+        ring.append(piece if np.hypot(*(piece[0] - end)) <= np.hypot(*(piece[-1] - end)) else piece[::-1])
+    loop = np.concatenate([ring[0]] + [p[1:] for p in ring[1:]])
+    assert np.hypot(*(loop[-1] - loop[0])) <= JOIN_TOL, "the hole outline does not close"
+    return loop[:-1] if len(ring) > 1 else loop
+
+
+HOLE_BODIES = {
+    **BODIES,
+    "bore only": BODIES["stride"].__class__(thickness=10.0, bore_diameter=16.0),
+    "keyway at 0 deg": BODIES["stride"].__class__(thickness=10.0, bore_diameter=20.0, keyway_width=6.0, keyway_depth=2.8,
+                                                 keyway_angle=0.0),
+    "keyway at 217 deg, wide": BODIES["stride"].__class__(thickness=10.0, bore_diameter=20.0, keyway_width=15.0, keyway_depth=4.0,
+                                                         keyway_angle=math.radians(217.0)),
+}
+
+
+@pytest.mark.parametrize("mode", ["biarc", "bspline"])
+@pytest.mark.parametrize("name", sorted(HOLE_BODIES))
+def test_hole_outline_is_one_closed_loop_of_the_closed_form_area(name, mode, contours):
+    """The bore and keyway read back by ezdxf chain end to end into one closed curve whose area
+    is the closed-form hole area (:func:`hole_area`), within the sampling of the arc (its 200,000
+    chords cut off at most r^2 sweep (sweep / 200,000)^2 / 12)."""
+    from camgen.tests.helpers import shoelace
+
+    body = HOLE_BODIES[name]
+    doc = read_dxf(contour_to_dxf(contours["stride"], body, options=DxfOptions(splines=mode)))
+    loop = hole_loop(doc)
+    r = body.bore_diameter / 2
+    if body.keyway_width:  # the keyway is on the outline: it reaches keyway_depth beyond the bore
+        assert np.max(np.hypot(*loop.T)) >= r + body.keyway_depth
+    sampling = r * r * 2 * math.pi * (2 * math.pi / 200_000) ** 2 / 12
+    assert abs(abs(shoelace(loop)) - hole_area(body)) <= sampling + 1e-9 * hole_area(body)
+
+
+@pytest.mark.parametrize("template", ["default", "plate_cam"])
+def test_openscad_imports_the_whole_default_dxf_as_the_part(template, template_dxfs, tmp_path):
+    """OpenSCAD's import() of the whole default DXF, extruded by the cam's thickness, is the part:
+    volume = (profile area - hole area) x thickness, the profile area exact (Contour.area, tested
+    against closed forms elsewhere), the hole's in closed form (:func:`hole_area`); one body with
+    one through hole (Euler number 0).  Bound as in test_openscad_imports_the_profile_layer, the
+    bore's chords included."""
+    import trimesh
+
+    openscad = require_tool("openscad")
+    scene, cams = template_dxfs[template]
+    for cam, text in cams.values():
+        body = cam.body
+        assert body.bore_diameter > 0 and body.keyway_width > 0
+        (tmp_path / "cam.dxf").write_text(text)
+        (tmp_path / "cam.scad").write_text(f'linear_extrude(height={body.thickness!r}) import("cam.dxf", $fn=0, $fa=0.1, $fs=0.05);\n')
+        proc = subprocess.run([openscad, "-o", "cam.stl", "--export-format", "binstl", "cam.scad"], cwd=tmp_path,
+                              capture_output=True, text=True, timeout=120)
+        assert proc.returncode == 0, proc.stderr
+        assert "WARNING" not in proc.stderr and "ERROR" not in proc.stderr, proc.stderr
+        mesh = trimesh.load(tmp_path / "cam.stl", force="mesh")
+        assert mesh.is_watertight and mesh.body_count == 1 and mesh.euler_number == 0
+        chain, _, _ = dxf_layer(read_dxf(text), "PROFILE")
+        r = np.append(chain.arcs[:, 2], body.bore_diameter / 2)
+        sweep = np.append(np.abs(chain.arcs[:, 4]), 2 * math.pi)
+        step = np.minimum(sweep, np.maximum(math.radians(0.1), 0.05 / r))
+        tessellation = float(np.sum(r * sweep * r * (1 - np.cos(step / 2))))
+        hole_perimeter = math.pi * body.bore_diameter + 2 * (body.keyway_depth + body.keyway_width)
+        snap = (cam.contour.length + hole_perimeter) * 0.0005 * math.sqrt(2)
+        bound = body.thickness * (cam.contour.length * scene.output.chord_tol + snap + tessellation)
+        part = (cam.contour.area - hole_area(body)) * body.thickness
+        assert abs(mesh.volume - part) <= bound + 1e-6 * mesh.volume  # + float32 STL
+        assert bound < 0.01 * part  # the bound is tight enough to tell a missing hole or a stray layer
+
+
+def test_removed_dxf_pitch_key_is_refused_naming_its_replacement(tmp_path, capsys):
+    from camgen.cli import main
+    from camgen.errors import ParameterError
+    from camgen.scene import parse_scene
+
+    table = {"output": {"formats": ["dxf"], "dxf_pitch": True}, "cams": {"c": {"kind": "three_arc", "a_mm": 220.0, "b_mm": 160.0,
+                                                                                "c_mm": 25.0}}}
+    with pytest.raises(ParameterError, match=r"output\.dxf_pitch.*output\.dxf_construction = true"):
+        parse_scene(table, "s")
+    (tmp_path / "s.toml").write_text('[output]\nformats = ["dxf"]\ndxf_pitch = false\n[cams.c]\nkind = "three_arc"\n'
+                                     'a_mm = 220.0\nb_mm = 160.0\nc_mm = 25.0\n')
+    assert main(["run", str(tmp_path / "s.toml"), "-o", str(tmp_path / "out"), "-q"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("camgen: error: ") and "output.dxf_construction" in err
+    assert not (tmp_path / "out").exists()
+
+
+def test_construction_key_without_a_dxf_is_refused():
+    from camgen.errors import ParameterError
+    from camgen.scene import parse_scene
+
+    cams = {"c": {"kind": "three_arc", "a_mm": 220.0, "b_mm": 160.0, "c_mm": 25.0}}
+    with pytest.raises(ParameterError, match=r"output\.dxf_construction.*only with \"dxf\" in output\.formats"):
+        parse_scene({"output": {"formats": ["points"], "dxf_construction": True}, "cams": cams}, "s")
+    assert parse_scene({"output": {"formats": ["dxf"], "dxf_construction": True}, "cams": cams}, "s").output.dxf_construction
 
 
 # --------------------------------------------------------------------------------------------
@@ -402,7 +599,7 @@ def test_concave_profiles_round_trip(shape, mode, tmp_path):
 def test_bspline_entities_match_the_contour_by_ezdxf(name, contours, steering):
     contour = contours[name]
     pitch = steering.pitch if name == "steering" else None
-    doc = read_dxf(contour_to_dxf(contour, BODIES[name], pitch, DxfOptions(splines="bspline")))
+    doc = read_dxf(contour_to_dxf(contour, BODIES[name], pitch, DxfOptions(splines="bspline", center_mark=5.0)))
     msp = doc.modelspace()
     profile = [e for e in msp if e.dxf.layer == "PROFILE"]
     assert len(profile) == contour.n_segments
@@ -420,6 +617,8 @@ def test_bspline_entities_match_the_contour_by_ezdxf(name, contours, steering):
     assert len([e for e in msp if e.dxf.layer == "KEYWAY"]) == 1
     assert len([e for e in msp if e.dxf.layer == "CENTER"]) == 2
     assert bool([e for e in msp if e.dxf.layer == "PITCH"]) == (pitch is not None)
+    # only the layers drawn are defined
+    assert defined_layers(doc) == {"0", "PROFILE", "BORE", "KEYWAY", "CENTER"} | ({"PITCH"} if pitch else set())
     assert dict(doc.header.custom_vars) == {"camgen_splines": "bspline", "camgen_bspline_tol_mm": "1e-08"}  # the stated tolerance
 
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 import copy
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -323,6 +324,74 @@ def test_spring_lengths_set_the_preload_and_the_margin_needs_the_stated_spring()
     assert {c["name"]: c["status"] for c in above["cams"]["c"]["checks"]}["jump"] == "pass"
     stiffer = run(plate(rpm=600.0, jump_margin_n=15.0, spring_rate_n_per_mm=figures["min_spring_rate_N_per_mm"]))[1]
     assert stiffer["cams"]["c"]["figures"]["dynamics"]["min_contact_force_N"] >= 15.0 * (1 - 1e-9)
+
+
+def _spring_need(margin: float, rpm: float, m: float, k: float, f0: float, d0: float | None = None):
+    """For plate()'s roller (cycloidal 20 mm, centred, Rp = 50 mm, gravity down the motion):
+    the contact force is (m a w^2 + k s + F0 + m g) / cos(alpha), tan(alpha) = s' / (Rp + s)
+    (Norton ch. 8).  Returns the least preload F0 (rate k), the least rate (preload F0) and, with
+    free - installed = d0 (preload = k d0), the least rate with those lengths, for a force >=
+    ``margin`` at every cam angle (every 0.002 deg, written out)."""
+    theta = np.radians(np.arange(0.0, 360.0, 0.002))
+    s, v, a = rise_return(theta, "cycloidal", 20.0, D(120), D(60), D(120))
+    w = _omega(rpm)
+    need = margin * np.cos(np.arctan(v / (50.0 + s)))  # what the force along the motion must reach
+    inertia = m * a * w**2 / 1000 + m * G
+    least_preload = float(np.max(need - inertia - k * s))
+    lifted = s > 1e-9
+    least_rate = float(np.max((need - inertia - f0)[lifted] / s[lifted]))
+    with_lengths = None if d0 is None else float(np.max((need - inertia) / (s + d0)))
+    return least_preload, least_rate, with_lengths
+
+
+def _jump_status(scene: dict) -> str:
+    return {c["name"]: c["status"] for c in run(scene)[1]["cams"]["c"]["checks"]}["jump"]
+
+
+def test_the_jump_notes_least_preload_and_rate_are_tried():
+    """The note's "preload >= P" and "rate >= K", each quoted to 6 digits, rounded up and tried:
+    the scene with P (or K) passes the jump check; just below the closed form's value fails."""
+    m, k, f0, rpm, margin = 0.6, 2.0, 35.0, 600.0, 15.0
+    scene = plate(rpm=rpm, jump_margin_n=margin)
+    note = {c["name"]: c for c in run(scene)[1]["cams"]["c"]["checks"]}["jump"]["note"]
+    preload = float(re.search(r"preload >= ([\d.e+-]+) N \(rate 2 N/mm\)", note).group(1))
+    rate = float(re.search(r"or rate >= ([\d.e+-]+) N/mm \(preload 35 N\)", note).group(1))
+    least_preload, least_rate, _ = _spring_need(margin, rpm, m, k, f0)
+    assert least_preload * (1 - 1e-7) <= preload <= least_preload * (1 + 1e-5)
+    assert least_rate * (1 - 1e-7) <= rate <= least_rate * (1 + 1e-5)
+    assert _jump_status(plate(rpm=rpm, jump_margin_n=margin, spring_preload_n=preload)) == "pass"
+    assert _jump_status(plate(rpm=rpm, jump_margin_n=margin, spring_preload_n=least_preload * (1 - 1e-5))) == "fail"
+    assert _jump_status(plate(rpm=rpm, jump_margin_n=margin, spring_rate_n_per_mm=rate)) == "pass"
+    assert _jump_status(plate(rpm=rpm, jump_margin_n=margin, spring_rate_n_per_mm=least_rate * (1 - 1e-5))) == "fail"
+    # the jump speed quoted is rounded down: at it (margin 0) the follower stays on the cam.  Written
+    # out: the force along the motion k s + F0 + m g + m a w^2 first reaches 0 where a < 0
+    jumps = float(re.search(r"the follower jumps at ([\d.e+-]+) rpm", note).group(1))
+    theta = np.radians(np.arange(0.0, 360.0, 0.002))
+    s, _, a = rise_return(theta, "cycloidal", 20.0, D(120), D(60), D(120))
+    falling = a < 0
+    exact = math.sqrt(np.min((k * s + f0 + m * G)[falling] / (m * -a[falling] / 1000))) * 60 / TWO_PI
+    assert exact * (1 - 1e-5) <= jumps <= exact * (1 + 1e-9)
+    assert _jump_status(plate(rpm=jumps, jump_margin_n=0.0)) == "pass"
+    assert _jump_status(plate(rpm=exact * (1 + 1e-5), jump_margin_n=0.0)) == "fail"
+
+
+def test_a_spring_given_by_its_lengths_is_told_its_installed_length_and_rate():
+    """A spring of free length 70 mm installed at 52.5 mm (preload 2 x 17.5 = 35 N) cannot be given
+    a preload: the note quotes the longest installed length (free - least preload / rate) and the
+    least rate with the lengths kept (the preload then grows with the rate); both tried."""
+    m, k, rpm, margin = 0.6, 2.0, 600.0, 15.0
+    springy = dict(spring_preload_n=None, spring_free_length_mm=70.0, spring_installed_length_mm=52.5, rpm=rpm, jump_margin_n=margin)
+    note = {c["name"]: c for c in run(plate(**springy))[1]["cams"]["c"]["checks"]}["jump"]["note"]
+    installed = float(re.search(r"installed length <= ([\d.e+-]+) mm", note).group(1))
+    rate = float(re.search(r"or rate >= ([\d.e+-]+) N/mm \(spring lengths given\)", note).group(1))
+    least_preload, _, least_rate = _spring_need(margin, rpm, m, k, 35.0, d0=17.5)
+    longest = 70.0 - least_preload / k
+    assert longest - 1e-4 <= installed <= longest + 1e-9
+    assert least_rate * (1 - 1e-7) <= rate <= least_rate * (1 + 1e-5)
+    assert _jump_status(plate(**{**springy, "spring_installed_length_mm": installed})) == "pass"
+    assert _jump_status(plate(**{**springy, "spring_installed_length_mm": longest + 1e-4})) == "fail"
+    assert _jump_status(plate(**{**springy, "spring_rate_n_per_mm": rate})) == "pass"
+    assert _jump_status(plate(**{**springy, "spring_rate_n_per_mm": least_rate * (1 - 1e-5)})) == "fail"
 
 
 # --------------------------------------------------------------------------------------------

@@ -9,6 +9,7 @@ import pytest
 
 from camgen.errors import GeometryError
 from camgen.mechanisms import horse_leg as hl
+from camgen.tests.helpers import tree  # noqa: F401  (fixture)
 
 LEG = hl.HorseLeg()
 # Section 6.1: lift, leg horizontal, body height change, body horizontal, stride (mm)
@@ -152,6 +153,8 @@ def test_lead_screw_equation_2():
 
 
 def test_scene_writes_leg_paths_and_report(tmp_path):
+    import pandas
+
     from camgen.cli import main
     from camgen.scene import template_path
 
@@ -162,11 +165,137 @@ def test_scene_writes_leg_paths_and_report(tmp_path):
     for alpha in PAPER:
         figures = leg[f"alpha_{alpha:g}"]
         assert set(figures) >= set(KEYS) | {"max_pressure_angle_deg", "grashof_margin_mm"}
-        rows = [r for r in (out / f"leg_path_alpha_{alpha:g}.csv").read_text().splitlines() if not r.startswith("#")]
-        assert rows[0] == "theta1_deg,x_mm,y_mm,pressure_angle_deg"
-        data = np.loadtxt(rows[1:], delimiter=",")
+        frame = pandas.read_csv(out / f"leg_path_alpha_{alpha:g}.csv")  # the reader's defaults
+        assert list(frame.columns) == ["theta1_deg", "x_mm", "y_mm", "pressure_angle_deg"]
+        data = frame.to_numpy()
         assert data.shape == (3600, 4) and data[1, 0] == pytest.approx(0.1) and data[-1, 0] == pytest.approx(359.9)
         assert np.max(data[:, 2]) - LEG.ground_y == pytest.approx(figures["lift_mm"], abs=1e-6)
     sweep = leg["sweep"]
     assert [r["alpha1_deg"] for r in sweep][:3] == [10.0, 10.5, 11.0] and sweep[-1]["alpha1_deg"] == 19.0
     assert all(r["within_limit"] for r in sweep)  # below 45 deg from 10 to 19 deg
+
+
+# --------------------------------------------------------------------------------------------
+# Where the foot walks on the ground line; the sweep's step count (issue "Trust, round 2", item 10)
+# --------------------------------------------------------------------------------------------
+def _crossings(y: np.ndarray, ground: float) -> int:
+    """How often the closed path of heights ``y`` passes the line y = ground (written here)."""
+    side = np.sign(y - ground)
+    side[side == 0] = -1.0  # on the line counts as not above
+    return int(np.count_nonzero(side != np.roll(side, 1)))
+
+
+def _leg_scene(tmp_path, capsys, inclinations, ground=None, positions=None, sweep=None):
+    """Exit status and stderr of ``camgen check`` of the horse-leg template with these settings."""
+    from camgen.cli import main
+    from camgen.scene import template_path
+
+    text = template_path("horse_leg").read_text(encoding="utf-8")
+    lines = []
+    for line in text.splitlines():
+        key = line.split("=")[0].strip()
+        if key == "inclinations_deg":
+            line = f"inclinations_deg = [{', '.join(repr(float(a)) for a in inclinations)}]"
+        elif key == "ground_y_mm" and ground is not None:
+            line = f"ground_y_mm = {float(ground)!r}"
+        elif key == "positions" and positions is not None:
+            line = f"positions = {positions}"
+        elif key == "sweep_deg" and sweep is not None:
+            line = f"sweep_deg = [{', '.join(sweep)}]"
+        lines.append(line)
+    path = tmp_path / "leg.toml"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    code = main(["check", str(path)])
+    return code, capsys.readouterr().err
+
+
+def test_the_foot_walks_on_the_default_ground_up_to_19_717_deg(tmp_path, capsys):
+    """The leg assembles up to 20.111 deg, but from about 19.7174 deg its foot path's lowest point
+    is above the default ground line (-2074 mm): no stance.  The range quoted, rounded inwards,
+    is used at both ends; 0.002 deg beyond it (the refinement's tolerance plus the rounding) the
+    path does not reach the line and camgen says so, naming the key and the range."""
+    ((lo, hi),) = hl.gait_range(LEG, 3600)
+    shown = (math.ceil(math.degrees(lo) * 1000) / 1000, math.floor(math.degrees(hi) * 1000) / 1000)
+    assert shown == (9.382, 19.717)
+    theta1 = hl.cycle(3600)
+    for alpha, count in ((9.382, 2), (19.717, 2), (19.719, 0), (20.111, 0)):
+        assert _crossings(hl.solve_leg(LEG, math.radians(alpha), theta1).w[:, 1], LEG.ground_y) == count
+    code, err = _leg_scene(tmp_path, capsys, [9.382, 19.717])
+    assert code in (0, 1) and "error" not in err, err  # 9.382 deg fails its pressure angle: exit 1
+    for alpha in (19.719, 19.762, 20.111):
+        code, err = _leg_scene(tmp_path, capsys, [12.5, alpha])
+        assert code == 2 and err.count("\n") == 1, err
+        assert "parameter 'mechanisms.horse_leg.inclinations_deg[1]'" in err and "9.382 to 19.717 deg" in err
+        assert "lowest point is above the line" in err and "assembles with cams 'stride_length' and 'stride_height' from 9.382 " \
+            "to 20.111 deg" in err
+
+
+def test_the_ground_lines_quoted_for_an_inclination_are_crossed_twice(tmp_path, capsys):
+    """At 19.762 deg (refused on the default line) the error lists the ground lines that would
+    serve there, rounded inwards to 0.1 mm: each end of each is used, and the path crosses it twice."""
+    import re
+
+    code, err = _leg_scene(tmp_path, capsys, [19.762], positions=720)
+    assert code == 2
+    quoted = re.search(r"set ground_y_mm to (.*?) for alpha1 = 19.762 deg", err).group(1)
+    ends = [float(v) for pair in re.findall(r"(-?[\d.]+) to (-?[\d.]+) mm", quoted) for v in pair]
+    y = hl.solve_leg(LEG, math.radians(19.762), hl.cycle(720)).w[:, 1]
+    assert ends[0] == math.ceil(y.min() * 10) / 10  # from just above the lowest foot point
+    for ground in ends:
+        assert _crossings(y, ground) == 2, ground
+        code, err = _leg_scene(tmp_path, capsys, [19.762], ground=ground, positions=720)
+        assert code in (0, 1) and "error" not in err, (ground, err)
+
+
+def test_ground_lines_against_a_brute_force_count():
+    """A wavy closed path y = sin t + 0.4 sin 3t (two dips near its top): the intervals of ground
+    lines crossed exactly twice, against a count at 20001 lines."""
+    t = np.linspace(0.0, 2 * math.pi, 2000, endpoint=False)
+    y = np.sin(t) + 0.4 * np.sin(3 * t)
+    intervals = hl.ground_lines(y)
+    assert len(intervals) >= 2  # the dips make bands crossed four times
+    for g in np.linspace(y.min() - 0.1, y.max() + 0.1, 20001):
+        inside = any(low <= g < high for low, high in intervals)
+        assert inside == (_crossings(y, g) == 2), g
+
+
+@pytest.mark.parametrize("sweep", [("0.0", "20.0", "0.1"), ("10.0", "13.8", "0.019"), ("12.0", "16.6", "0.023"),
+                                   ("-87.9", "-84.1", "0.019"), ("9.95", "19.95", "0.05"), ("-90.0", "90.0", "0.9")])
+def test_a_sweep_of_exactly_200_steps_is_accepted_and_201_refused(sweep):
+    """[from, to, step] written in decimals: 200 steps exactly (Fraction arithmetic here), though
+    (to - from) / step in binary is a hair above 200 for three of them (13.8 - 10 over 0.019:
+    200.00000000000003); one step more is refused."""
+    from fractions import Fraction
+
+    from camgen.errors import ParameterError
+    from camgen.jobs.horse_leg import sweep_values
+    from camgen.scene import parse_scene
+
+    start, stop, step = (Fraction(v) for v in sweep)
+    assert (stop - start) / step == 200
+
+    def scene(values):
+        return {"cams": {"s": {"kind": "three_arc", "a_mm": 220.0, "b_mm": 160.0, "c_mm": 25.0},
+                         "h": {"kind": "three_arc", "a_mm": 220.0, "b_mm": 220.0, "c_mm": 10.0}},
+                "mechanisms": {"horse_leg": {"stride_cam": "s", "height_cam": "h", "sweep_deg": [float(Fraction(v)) for v in values]}}}
+
+    spec = parse_scene(scene(sweep), "leg").mechanisms[0].settings
+    values = np.degrees(sweep_values(spec.sweep_deg))
+    assert values.size == 201 and values[-1] == pytest.approx(float(stop), abs=1e-9) and values[-1] <= float(stop) + 1e-12
+    longer = (sweep[0], str(stop + step), sweep[2])
+    if stop + step <= 90:
+        with pytest.raises(ParameterError, match=r"mechanisms.horse_leg.sweep_deg.*at most 200 steps \(201 steps\)"):
+            parse_scene(scene(longer), "leg")
+
+
+def test_the_readme_quotes_the_walking_range(tree):
+    """README's Limits bullet on the horse leg: the assembly range, the walking range on the
+    default ground line and the lowest foot point at the assembly's end, as computed here."""
+    ((a_lo, a_hi),) = hl.assembly_range(LEG, 3600)
+    ((w_lo, w_hi),) = hl.gait_range(LEG, 3600)
+    text = " ".join((tree / "README.md").read_text(encoding="utf-8").split())
+    inward = lambda lo, hi: (f"{math.ceil(math.degrees(lo) * 1000) / 1000:g}", f"{math.floor(math.degrees(hi) * 1000) / 1000:g}")  # noqa: E731
+    assert "assembles for `alpha1` from {} to {} deg".format(*inward(a_lo, a_hi)) in text
+    assert f"only up to {inward(w_lo, w_hi)[1]} deg" in text and inward(w_lo, w_hi)[0] == inward(a_lo, a_hi)[0]
+    lowest = hl.solve_leg(LEG, math.radians(20.111), hl.cycle(3600)).w[:, 1].min()
+    assert f"({lowest:.1f} mm at 20.111 deg)" in text and lowest > LEG.ground_y

@@ -32,12 +32,14 @@ MAY = {
     "files": {"dxf", "points", "lift", "stl", "ngc", "json", "obj", "ride"},
     "mechanism": {"json", "legs"},
     "motion": {"json", "follower"},
+    "fea": {"fea", "json"},
 }
 MUST = {
     "profile": {"dxf", "points"}, "pitch": {"dxf"}, "body": {"dxf", "stl"}, "thickness": {"stl", "ngc"}, "gcode": {"ngc"},
     "dxf": {"dxf"}, "tables": {"lift"}, "tolerance": {"points", "dxf", "stl", "ngc"}, "report": {"json"}, "files": {"obj"},
     "mechanism": {"legs", "json"},
     "motion": {"json"},
+    "fea": {"fea"},
 }
 MANUFACTURING = {"dxf", "points", "lift", "stl", "ngc", "obj"}
 #: kinds whose keys test_disk_cams.py walks
@@ -46,7 +48,8 @@ DISK_KINDS = {"motion_law", "lift_table"}
 
 def classify(name: str) -> str:
     for suffix, kind in (("_points.csv", "points"), ("_lift.csv", "lift"), ("_ride.csv", "ride"), (".dxf", "dxf"), (".stl", "stl"),
-                         (".ngc", "ngc"), (".obj", "obj"), ("report.json", "json"), ("_follower.csv", "follower")):
+                         (".ngc", "ngc"), (".obj", "obj"), ("report.json", "json"), ("_follower.csv", "follower"),
+                         (".inp", "fea"), (".msh", "fea"), (".vtu", "fea")):
         if name.endswith(suffix):
             return kind
     return "legs" if name.startswith("leg_path") else name
@@ -66,7 +69,8 @@ def run(scene_table: dict, tmp_path) -> dict[str, bytes]:
 
 
 def scene(cam: dict, formats=("dxf", "points", "lift", "ngc"), machining=None, **extra) -> dict:
-    table = {"output": {"formats": list(formats)}, "cams": {"c": cam}, **extra}
+    # the construction layers on: keys that change the follower-centre path change the PITCH layer
+    table = {"output": {"formats": list(formats), **({"dxf_construction": True} if "dxf" in formats else {})}, "cams": {"c": cam}, **extra}
     if "ngc" in formats:
         table["machining"] = machining or {"tool_diameter_mm": 6.0}
     return table
@@ -224,12 +228,16 @@ SPLINE_CAM = dict(TRAJECTORY)
 @pytest.mark.parametrize("key_name", [k.name for k in output_keys()])
 def test_every_output_key_changes_what_it_documents(key_name, tmp_path):
     key = next(k for k in output_keys() if k.name == key_name)
-    base_output = {"formats": ["dxf", "points", "lift", "stl", "ngc"]}
+    base_output = {"formats": ["dxf", "points", "lift", "stl", "ngc"] + (["inp"] if "fea" in key.affects else [])}
     base = scene(SPLINE_CAM, base_output["formats"])
-    current = {"formats": base_output["formats"], "dxf_splines": "biarc", "dxf_pitch": True, "chord_tol_mm": 0.001,
-               "lift_step_deg": 1.0}[key_name]
+    if "fea" in key.affects:  # a coarser tolerance keeps the FEA meshes small
+        base["output"]["chord_tol_mm"] = 0.01
+    current = {"formats": base_output["formats"], "dxf_splines": "biarc", "dxf_construction": True, "chord_tol_mm": 0.001,
+               "lift_step_deg": 1.0, "fea_element_size_mm": None, "fea_elements": "wedge"}[key_name]
     alt = copy.deepcopy(base)
     alt["output"][key_name] = base_output["formats"] + ["obj"] if key_name == "formats" else _changed(current, key)
+    if key_name == "fea_element_size_mm":  # a size of the cam's scale (the default is 4.2 mm)
+        alt["output"][key_name] = 8.0
     _assert_effect(key, run(base, tmp_path), run(alt, tmp_path))
 
 
@@ -299,6 +307,8 @@ def test_conditional_keys_are_refused_where_they_do_nothing(cam, key, why, tmp_p
     ({"output": {"formats": ["dxf"], "lift_step_deg": 2.0}}, "output.lift_step_deg"),
     ({"output": {"formats": ["points"], "dxf_splines": "bspline"}}, "output.dxf_splines"),
     ({"output": {"formats": ["dxf"]}, "machining": {"feed_mm_per_min": 300.0}}, "machining.feed_mm_per_min"),
+    ({"output": {"formats": ["stl"], "fea_element_size_mm": 3.0}}, "output.fea_element_size_mm"),
+    ({"output": {"formats": ["dxf"], "fea_elements": "tetra"}}, "output.fea_elements"),
 ])
 def test_output_and_machining_keys_without_their_file_are_refused(table, key):
     from camgen.errors import ParameterError

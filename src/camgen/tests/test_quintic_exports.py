@@ -318,15 +318,17 @@ def test_split_of_a_quintic_piece_stays_on_the_curve(contour):
 # Point list and meshes
 # --------------------------------------------------------------------------------------------
 def test_points_csv_of_a_quintic_contour(contour):
-    """numpy reads the CSV: every row on the exact curve (within FIT + the 9 printed decimals) and
+    """pandas reads the CSV with its defaults: every row on the exact curve (within FIT + the 9 printed decimals) and
     every point of the exact curve within chord_tol + FIT of the closed polygon of the rows."""
+    import pandas
+
     from camgen.export.points import points_csv
     from camgen.tests.test_dxf import Chain
 
     chord_tol = 1e-3
-    lines = [line for line in points_csv(contour, chord_tol, "trefoil", "quintic").splitlines() if not line.startswith("#")]
-    assert lines[0] == "x_mm,y_mm"
-    pts = np.loadtxt(io.StringIO("\n".join(lines[1:])), delimiter=",")
+    frame = pandas.read_csv(io.StringIO(points_csv(contour, chord_tol)))
+    assert list(frame.columns) == ["x_mm", "y_mm"]
+    pts = frame.to_numpy()
     assert len(pts) > 100
     assert np.max(exact_distance(pts)) <= FIT + 1e-9
     polygon = Chain(segments=np.concatenate([pts, np.roll(pts, -1, axis=0)], axis=1), spacing=0.01)

@@ -72,3 +72,100 @@ def test_report_html_renders_in_headless_chromium(default_run, tmp_path):
     image = np.asarray(Image.open(shot).convert("L"), dtype=float)
     assert image.shape[0] >= 1000 and image.std() > 10  # not blank: text and plots on white
     assert (image < 128).mean() > 0.01  # a fair amount of dark ink
+
+
+# --------------------------------------------------------------------------------------------
+# The design and the motion program as tables (issue 21, item 14)
+# --------------------------------------------------------------------------------------------
+def _html_of(template: str, tmp_path):
+    """report.html of a bundled template (html only), parsed, and the template's TOML."""
+    import tomllib
+
+    from lxml import html as lxml_html
+
+    from camgen.cli import main
+    from camgen.scene import template_path
+
+    path = template_path(template)
+    assert main(["run", str(path), "-o", str(tmp_path), "--only", "html", "--quiet"]) == 0
+    scene = tomllib.loads(path.read_text(encoding="utf-8"))
+    page = (tmp_path / template / "report.html").read_text(encoding="utf-8")
+    report = json.loads((tmp_path / template / "report.json").read_text(encoding="utf-8"))
+    return lxml_html.fromstring(page), scene, report
+
+
+def _table(tree, cls: str) -> tuple[str, list[list[str]]]:
+    """Caption and body rows (cell texts) of the table of class ``cls``."""
+    (table,) = tree.xpath(f"//table[@class='{cls}']")
+    rows = [[td.text_content().strip() for td in tr.xpath("./td")] for tr in table.xpath("./tbody/tr")]
+    return table.xpath("string(./caption)"), rows
+
+
+def _design(tree) -> dict[str, tuple[str, str]]:
+    return {row[0]: (row[1], row[2]) for row in _table(tree, "design")[1]}
+
+
+@pytest.mark.parametrize("template", ["plate_cam", "oscillating_roller", "motion_law"])
+def test_the_motion_program_table_is_the_scenes_segments(template, tmp_path):
+    """Each [[segments]] table of the scene (read here with tomllib) is one row: its law, the cam
+    angles where it starts and ends (the running sum of the spans from 0), its span, its lift or
+    swing (0 for a dwell; a polynomial's is its end s minus its start s) and its end conditions."""
+    tree, scene, _ = _html_of(template, tmp_path)
+    (cam,) = scene["cams"].values()
+    caption, rows = _table(tree, "program")
+    rotation = {"ccw": "counter-clockwise", "cw": "clockwise"}[cam.get("rotation", "ccw")]
+    assert f"direction of rotation ({rotation}" in caption
+    assert len(rows) == len(cam["segments"])
+    start = 0.0
+    for i, (row, seg) in enumerate(zip(rows, cam["segments"])):
+        end = start + seg["span_deg"]
+        if seg["law"] == "polynomial":
+            motion = seg["end"][0] - seg["start"][0]
+            for side in ("start", "end"):
+                s, v, a = seg[side][:3]
+                assert f"{side}: s = {s:g} {'deg' if 'swing_deg' in seg else 'mm'}, v = {v:g}" in row[6] and f"a = {a:g}" in row[6]
+        else:
+            motion = seg.get("lift_mm", seg.get("swing_deg", 0.0))
+        assert int(row[0]) == i and row[1] == seg["law"]
+        assert [float(c) for c in row[2:6]] == pytest.approx([start, end, seg["span_deg"], motion], abs=1e-9)
+        start = end
+    assert start == pytest.approx(360.0)
+    header = [th.text_content() for th in tree.xpath("//table[@class='program']/thead//th")]
+    assert ("swing (deg)" if cam.get("follower_motion") == "oscillating" else "lift (mm)") in header
+
+
+@pytest.mark.parametrize("template", ["plate_cam", "oscillating_roller", "motion_law"])
+def test_the_design_table_holds_the_scenes_values_with_units(template, tmp_path):
+    """The design table against the scene file: follower, rotation, base radius, roller, offset or
+    arm, cam speed and body, each with its unit; sized values marked and equal to report.json's
+    sizing figures."""
+    tree, scene, report = _html_of(template, tmp_path)
+    (name, cam), = scene["cams"].items()
+    design = _design(tree)
+
+    def value(label: str) -> tuple[float, str]:
+        text, unit = design[label]
+        return float(text), unit
+
+    assert design["follower"][0] == f"{cam.get('follower', 'roller')}, {cam.get('follower_motion', 'translating')}"
+    assert design["cam rotation (as the DXF is drawn)"][0].endswith(f"({cam.get('rotation', 'ccw')})")
+    assert value("roller radius") == (cam["roller_radius_mm"], "mm")
+    assert value("cam speed") == (cam["rpm"], "rpm")
+    assert value("thickness") == (cam["thickness_mm"], "mm")
+    assert value("bore diameter") == (cam["bore_diameter_mm"], "mm")
+    if "sizing" in cam:
+        sizing = report["cams"][name]["figures"]["sizing"]
+        assert value("base radius (sized)") == (pytest.approx(sizing["base_radius_mm"], rel=1e-5), "mm")
+        assert value("follower offset (its axis: x = offset) (sized)") == (pytest.approx(sizing["offset_mm"], rel=1e-5), "mm")
+        assert "pressure angle <= 30 deg" in design["sizing"][0] and "base_radius_mm" not in cam
+    else:
+        assert value("base radius") == (cam["base_radius_mm"], "mm")
+    if cam.get("follower_motion") == "oscillating":
+        assert value("arm length (pivot to roller centre or knife tip)") == (cam["arm_length_mm"], "mm")
+        assert design["arm pivot (x, y)"] == (f"{cam['pivot_x_mm']:g}, {cam['pivot_y_mm']:g}", "mm")
+    elif "follower_offset_mm" in cam:
+        assert value("follower offset (its axis: x = offset)") == (cam["follower_offset_mm"], "mm")
+    # no figure is shown as a Python literal (a dict or a list in brackets)
+    text = tree.text_content()
+    for literal in ("{'", "['", "'law'", "'span_deg'", "[0.0", "[5.0"):
+        assert literal not in text, literal

@@ -38,6 +38,19 @@ def test_extreme_three_arc_cams_stay_exact(a, b, c):
     assert cam.area > 0 and np.isfinite(cam.length)
 
 
+_TERMS = st.sampled_from(["x", "pi", "1", "2.5", "sin(x)", "x**2", "1e308", "0x" + "f" * 300, "1" + "0" * 400])
+#: Texts built to reach the parser's limits: long sums and products (recursion, O(n^3)
+#: derivatives), deep parentheses and calls, huge literals (beyond the float range).
+_LONG_TEXTS = st.one_of(
+    st.builds(lambda terms, op: op.join(terms), st.lists(_TERMS, min_size=50, max_size=700), st.sampled_from(["+", "-", "*", "/", "**"])),
+    st.builds(lambda n, op: op.join(["x"] * n), st.integers(900, 1000), st.sampled_from(["+", "-", "*", "/"])),  # ~1000 levels
+    st.builds(lambda n, inner: "(" * n + inner + ")" * n, st.integers(1, 400), _TERMS),
+    st.builds(lambda n, f, inner: f"{f}(" * n + inner + ")" * n, st.integers(1, 300), st.sampled_from(["sin", "exp", "log", "abs"]), _TERMS),
+    st.builds(lambda n, inner: "-" * n + inner, st.integers(1, 1999), st.sampled_from(["x", "1", "sin(x)"])),
+    st.builds(lambda digits, prefix: prefix + digits + "*x", st.text("0123456789abcdef", min_size=300, max_size=1990), st.sampled_from(["0x", "1"])),
+)
+
+
 #: Fragments of expressions, whitelisted and not, to make text that parses often and fails in many ways.
 _SOUP = ["x", "pi", "1", "2.5", "0", "1e3", "0x1f", "(", ")", "+", "-", "*", "/", "**", " ", "sin(", "cos(", "tan(", "exp(",
          "log(", "sqrt(", "abs(", "y", "^", "@", "[", "]", ",", "import", "lambda", "__", "1j", "e", ".", "%", "<"]
@@ -78,29 +91,36 @@ _GRAMMAR = st.recursive(
 
 
 @settings(max_examples=300, deadline=None, derandomize=True, database=None, suppress_health_check=[HealthCheck.too_slow])
-@given(st.one_of(st.text(max_size=60), st.lists(st.sampled_from(_SOUP), max_size=12).map("".join), _GRAMMAR))
+@given(st.one_of(st.text(max_size=60), st.lists(st.sampled_from(_SOUP), max_size=12).map("".join), _GRAMMAR, _LONG_TEXTS))
 @example("abs(-x) + abs(x - 0.5)")
 @example("sin(-x) * cos(2*x) / tan(x/2)")
 @example("exp(-x) + log(x) - sqrt(x) + pi")
 @example("-x**2 + 2**-x - x/(1 - x) + 0x1f - 1e3")
 def test_arbitrary_expression_text_is_a_parameter_error_or_a_function(text):
-    """Refused: a ParameterError of the key 'expression' in one line.  Accepted: every name in the
-    text is whitelisted and every operator one of + - * / ** (Python's tokenizer, not camgen's
-    parser), and the function's values at x in [0.1, 1] are CPython's evaluation of the same text
-    (where that is finite), to 1e-12 relative plus what the text makes of a 1e-12 relative change
-    of its numbers (numpy's and libm's sine may differ by an ulp, which sin(pi**5.66) amplifies)."""
+    """Refused: a ParameterError of the key 'expression' (which the cam kinds rename
+    cams.<name>.expression) in one line.  Accepted: a function whose value and two derivatives are
+    arrays of the input's shape; every name in the text is whitelisted and every operator one of
+    + - * / ** (Python's tokenizer, not camgen's parser); and, for texts CPython itself compiles
+    (up to 200 characters: the long ones probe the parser's limits), the function's values at x
+    in [0.1, 1] are CPython's evaluation of the same text (where that is finite), to 1e-12 relative
+    plus what the text makes of a 1e-12 relative change of its numbers (numpy's and libm's sine
+    may differ by an ulp, which sin(pi**5.66) amplifies)."""
     import io
     import tokenize
 
     try:
         expr = parse_expression(text)
     except ParameterError as exc:
-        assert exc.name == "expression" and "\n" not in str(exc)
+        assert exc.name == "expression" and str(exc).startswith("parameter 'expression' = ") and "\n" not in str(exc)
         return
+    x = np.linspace(0.1, 1.0, 5)
+    with np.errstate(all="ignore"):  # parsed text evaluates without touching Python
+        assert all(np.shape(g(x)) == x.shape for g in (expr.f, expr.df, expr.d2f))
     tokens = list(tokenize.generate_tokens(io.StringIO(text.strip()).readline))
     assert {t.string for t in tokens if t.type == tokenize.NAME} <= _WHITELIST_NAMES, text
     assert {t.string for t in tokens if t.type == tokenize.OP} <= _WHITELIST_OPS, text
-    x = np.linspace(0.1, 1.0, 5)
+    if len(text) > 200:
+        return
     with np.errstate(all="ignore"):
         got = np.broadcast_to(expr.f(x), x.shape)
     want = _reference(text, x)
@@ -109,6 +129,24 @@ def test_arbitrary_expression_text_is_a_parameter_error_or_a_function(text):
         error = np.abs(got - want)
     finite = np.isfinite(want) & np.isfinite(spread)
     assert np.all(error[finite] <= (1e-12 * np.abs(want) + 10 * spread + 1e-300)[finite]), (text, got, want)
+
+
+@pytest.mark.parametrize("build", [
+    lambda n: "+".join(["x"] * n),  # n terms: n levels (n - 1 sums and the leaf)
+    lambda n: "x+(" * (n - 1) + "x" + ")" * (n - 1),  # nested to the right
+    lambda n: "sin(" + "+".join(["x"] * (n - 1)) + ")",  # a call around n - 1 levels
+    lambda n: "-" * (n - 1) + "x",  # n - 1 signs
+])
+def test_expressions_nest_at_most_max_depth_levels(build):
+    """The documented limit, counted by construction: MAX_DEPTH levels parse, one more is refused
+    naming the key (evaluating and differentiating recurse once per level)."""
+    from camgen.synthesis.expression import MAX_DEPTH
+
+    x = np.linspace(0.1, 1.0, 5)
+    assert np.shape(parse_expression(build(MAX_DEPTH)).d2f(x)) == x.shape
+    with pytest.raises(ParameterError, match=f"nested {MAX_DEPTH + 1} levels deep") as refused:
+        parse_expression(build(MAX_DEPTH + 1))
+    assert refused.value.name == "expression"
 
 
 @settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -168,6 +206,8 @@ def _invalid_keys(table: dict) -> set[str]:
 
 
 _FUZZ_KEYS = ["a_mm", "b_mm", "c_mm", "thickness_mm", "bore_diameter_mm", "follower", "rpm"]
+#: Paper 000's stride cam: fuzzed keys over a valid cam.
+_PAPER_CAM = {"a_mm": 220.0, "b_mm": 160.0, "c_mm": 25.0}
 
 
 @st.composite
@@ -196,7 +236,8 @@ def _near_valid_tables(draw) -> dict:
 @settings(max_examples=300, deadline=None, derandomize=True, database=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.one_of(st.just("three_arc"), st.just("three_arc"),
                  st.text(max_size=10).filter(lambda k: k not in ("lift_table", "motion_law", "trajectory"))),
-       st.one_of(st.dictionaries(st.sampled_from(_FUZZ_KEYS), _FUZZ_VALUES, max_size=7), _near_valid_tables(), _near_valid_tables()))
+       st.one_of(st.dictionaries(st.sampled_from(_FUZZ_KEYS), _FUZZ_VALUES, max_size=7), _near_valid_tables(), _near_valid_tables(),
+                 st.dictionaries(st.sampled_from(_FUZZ_KEYS), _FUZZ_VALUES, max_size=4).map(lambda t: {**_PAPER_CAM, **t})))
 @example("three_arc", {"a_mm": 20.0, "b_mm": 10.0, "c_mm": 21.5, "bore_diameter_mm": 39.6})  # wall 1.7 mm: fails
 @example("three_arc", {"a_mm": 20.0, "b_mm": 10.0, "c_mm": 21.5, "bore_diameter_mm": 38.8})  # wall 2.1 mm: passes
 @example("three_arc", {"a_mm": 20.0, "b_mm": 10.0, "c_mm": 21.5, "bore_diameter_mm": 46.0})  # the bore breaks through
@@ -220,6 +261,7 @@ def test_fuzzed_cam_tables_end_in_a_camgen_error_or_a_cam(kind, table):
         assert invalid and named and named[0] in invalid, (table, text)
         return
     assert not invalid, (table, invalid)
+    assert cam.name == "x" and math.isfinite(cam.contour.area) and cam.contour.area > 0
     a, b, c = table["a_mm"], table["b_mm"], table["c_mm"]
     psi = np.linspace(0.0, math.pi, 90)
     assert np.allclose(cam.contour.support(psi) + cam.contour.support(psi + math.pi), 2 * a + 2 * c - b, rtol=1e-12,

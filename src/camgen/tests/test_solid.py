@@ -1,4 +1,5 @@
-"""Extruded solids and mesh files, read back by trimesh, meshio and admesh."""
+"""Extruded solids and surface mesh files, read back by trimesh, lib3mf and admesh (the FEA
+volume meshes: test_fea.py)."""
 from __future__ import annotations
 
 import math
@@ -67,7 +68,7 @@ def test_surface_mesh_formats_read_back(fmt, contours, tmp_path):
 
 
 # --------------------------------------------------------------------------------------------
-# FEA volume meshes
+# Volumes of FEA cells (test_fea.py)
 # --------------------------------------------------------------------------------------------
 def wedge_volumes(points: np.ndarray, cells: np.ndarray) -> np.ndarray:
     """Signed volumes of 6-node wedges (A, B, C over D, E, F) as the tetrahedra ABCD, BCDE, CDEF
@@ -79,169 +80,6 @@ def wedge_volumes(points: np.ndarray, cells: np.ndarray) -> np.ndarray:
         return np.einsum("ij,ij->i", p[:, b] - p[:, a], np.cross(p[:, c] - p[:, a], p[:, d] - p[:, a])) / 6.0
 
     return tet(0, 1, 2, 3) + tet(1, 2, 3, 4) + tet(2, 3, 4, 5)
-
-
-@pytest.fixture(scope="module")
-def fea_cams(contours):
-    """Two cams for the FEA formats: exact arcs with a 90 deg keyway, and the spline steering cam."""
-    out = {}
-    for name in ("stride", "steering"):
-        contour, body = contours[name], BODIES[name]
-        out[name] = (contour, body, cam_solid(contour, body, 1e-3), _shapely_section(contour, body, 1e-3).area)
-    return out
-
-
-@pytest.mark.parametrize("fmt", ["vtu", "msh", "inp"])
-@pytest.mark.parametrize("name", ["stride", "steering"])
-def test_fea_formats_hold_wedges_filling_the_section_times_thickness(fmt, name, fea_cams, tmp_path):
-    """meshio reads wedge cells only; the element volumes (from the nodes, by tetrahedra) are all
-    positive and add up to the GEOS section area x thickness; DEFAULT_FEA_LAYERS even layers."""
-    import meshio
-
-    from camgen.export.solid import DEFAULT_FEA_LAYERS
-
-    _, body, solid, area = fea_cams[name]
-    data = mesh_bytes(solid, fmt, name)
-    assert data == mesh_bytes(solid, fmt, name)  # deterministic
-    path = tmp_path / f"cam.{fmt}"
-    path.write_bytes(data)
-    mesh = meshio.read(path)
-    assert [block.type for block in mesh.cells] == ["wedge"]
-    volumes = wedge_volumes(mesh.points, mesh.cells[0].data)
-    assert np.all(volumes > 0)
-    assert volumes.sum() == pytest.approx(area * body.thickness, rel=1e-9)
-    levels = np.unique(mesh.points[:, 2])
-    assert levels == pytest.approx(np.linspace(0.0, body.thickness, DEFAULT_FEA_LAYERS + 1), abs=1e-12)
-    assert len(mesh.points) == (DEFAULT_FEA_LAYERS + 1) * np.sum(mesh.points[:, 2] == 0.0)
-    if fmt == "inp":
-        text = data.decode("ascii")
-        assert "TYPE=C3D6" in text and "R3D3" not in text
-        node_lines = text.split("*NODE, NSET=NALL\n")[1].split("*")[0].splitlines()
-        fields = [f.strip() for line in node_lines for f in line.split(",")[1:]]
-        assert max(map(len, fields)) <= 20  # CalculiX reads each coordinate from 20 characters
-        assert max(len(line) for line in text.splitlines()) <= 132  # and lines of up to 132
-
-
-def _run_ccx(ccx, tmp_path, mesh: bytes, deck: str) -> str:
-    (tmp_path / "cam.inp").write_bytes(mesh)
-    (tmp_path / "job.inp").write_text("*INCLUDE, INPUT=cam.inp\n" + deck)
-    proc = subprocess.run([ccx, "-i", "job"], cwd=tmp_path, capture_output=True, text=True, timeout=300)
-    assert proc.returncode == 0 and "ERROR" not in proc.stdout, proc.stdout[-3000:]
-    return (tmp_path / "job.dat").read_text()
-
-
-def _totals(dat: str, what: str, where: str) -> np.ndarray:
-    block = re.search(rf"total {what} .*?for set {where} .*?\n\s*\n\s*(.*?)\n", dat, re.S | re.I)
-    assert block, dat
-    return np.array([float(v) for v in block.group(1).split()])
-
-
-@pytest.mark.parametrize("name", ["stride", "steering"])
-def test_calculix_solves_the_inp(name, fea_cams, tmp_path):
-    """CalculiX reads the C3D6 mesh and its node sets and solves two static cases:
-
-    * bore fixed, 0.5 N in x and -0.25 N in y on every PROFILE node: the bore's reaction is
-      minus the applied load (equilibrium), and CalculiX's own element volumes add up to the
-      section area x thickness;
-    * the patch test: nu = 0, BOTTOM held, TOP pushed down by d: linear elements reproduce the
-      uniform strain exactly, so the force on TOP is E A d / T (A: GEOS section area).
-    """
-    ccx = require_tool("ccx")
-    _, body, solid, area = fea_cams[name]
-    inp = mesh_bytes(solid, "inp", name)
-    n_profile = sum(len(re.findall(r"\d+", line)) for line in inp.decode().split("*NSET, NSET=PROFILE\n")[1].split("*")[0].splitlines())
-    dat = _run_ccx(ccx, tmp_path, inp, """*MATERIAL, NAME=STEEL
-*ELASTIC
-210000., 0.3
-*SOLID SECTION, ELSET=CAM, MATERIAL=STEEL
-*STEP
-*STATIC
-*BOUNDARY
-BORE, 1, 3, 0.
-*CLOAD
-PROFILE, 1, 0.5
-PROFILE, 2, -0.25
-*NODE PRINT, NSET=BORE, TOTALS=ONLY
-RF
-*EL PRINT, ELSET=CAM, TOTALS=ONLY
-EVOL
-*END STEP
-""")
-    force = _totals(dat, "force", "BORE")
-    assert force[:2] == pytest.approx([-0.5 * n_profile, 0.25 * n_profile], rel=1e-6)
-    assert abs(force[2]) <= 1e-6 * n_profile
-    assert _totals(dat, "volume", "CAM")[0] == pytest.approx(area * body.thickness, rel=1e-6)  # .dat prints 7 digits
-
-    young, push = 210000.0, 0.01
-    dat = _run_ccx(ccx, tmp_path, inp, f"""*MATERIAL, NAME=PATCH
-*ELASTIC
-{young}, 0.
-*SOLID SECTION, ELSET=CAM, MATERIAL=PATCH
-*STEP
-*STATIC
-*BOUNDARY
-BOTTOM, 1, 3, 0.
-TOP, 1, 2, 0.
-TOP, 3, 3, {-push}
-*NODE PRINT, NSET=TOP, TOTALS=ONLY
-RF
-*END STEP
-""")
-    assert _totals(dat, "force", "TOP")[2] == pytest.approx(-young * area * push / body.thickness, rel=1e-6)
-
-
-def test_gmsh_reads_the_msh_as_volume_elements(fea_cams, tmp_path):
-    """Gmsh reads the .msh as 3-D elements with positive Jacobians (AnalyseMeshQuality plugin)
-    and writes them back as 6-node prisms (type 6) filling the section area x thickness."""
-    import meshio
-
-    gmsh = require_tool("gmsh")
-    _, body, solid, area = fea_cams["stride"]
-    (tmp_path / "cam.msh").write_bytes(mesh_bytes(solid, "msh", "stride"))
-    (tmp_path / "check.geo").write_text(
-        'Merge "cam.msh";\nPlugin(AnalyseMeshQuality).JacobianDeterminant = 1;\n'
-        "Plugin(AnalyseMeshQuality).CreateView = 0;\nPlugin(AnalyseMeshQuality).Run;\n"
-    )
-    proc = subprocess.run([gmsh, "check.geo", "-0", "-o", "out.msh", "-format", "msh22"], cwd=tmp_path,
-                          capture_output=True, text=True, timeout=120)
-    assert proc.returncode == 0 and "Error" not in proc.stdout + proc.stderr, proc.stdout + proc.stderr
-    checked = int(re.search(r"checking the Jacobian of (\d+) elements", proc.stdout).group(1))
-    min_j = float(re.search(r"minJ\s*=\s*(\S+),", proc.stdout).group(1))  # smallest Jacobian of all elements
-    assert min_j > 0
-    mesh = meshio.read(tmp_path / "out.msh")  # the file as Gmsh wrote it
-    wedges = mesh.cells_dict["wedge"]
-    assert checked == len(wedges) and set(mesh.cells_dict) == {"wedge"}
-    text = (tmp_path / "out.msh").read_text()
-    types = {int(line.split()[1]) for line in text.split("$Elements\n")[1].split("$EndElements")[0].splitlines()[1:]}
-    assert types == {6}  # Gmsh element type 6: 6-node prism
-    assert wedge_volumes(mesh.points, wedges).sum() == pytest.approx(area * body.thickness, rel=1e-9)
-
-
-def test_volume_mesh_node_sets(fea_cams):
-    """PROFILE nodes lie on the profile, BORE nodes on the bore circle or the keyway's sides,
-    BOTTOM and TOP on the faces; every node layer repeats the section's vertices."""
-    import shapely
-    from shapely.geometry import Polygon
-
-    from camgen.export.solid import volume_mesh
-
-    contour, body, solid, _ = fea_cams["stride"]
-    layers = 3
-    mesh = volume_mesh(solid, layers=layers)
-    xy, z = mesh.nodes[:, :2], mesh.nodes[:, 2]
-    per_layer = len(mesh.nodes) // (layers + 1)
-    assert np.array_equal(np.unique(z), body.thickness * np.arange(layers + 1) / layers)
-    assert np.all(xy.reshape(layers + 1, per_layer, 2) == xy[None, :per_layer])
-    assert np.max(radial_error(contour, xy[mesh.node_sets["PROFILE"]])) <= 1e-6  # chord vertices lie on the curve
-    bore = xy[mesh.node_sets["BORE"]]
-    on_circle = np.abs(np.hypot(bore[:, 0], bore[:, 1]) - body.bore_diameter / 2) <= 1e-6
-    on_key = Polygon(body.keyway_corners()).exterior.distance(shapely.points(bore)) <= 1e-6
-    # off the circle, per node layer: the keyway's 2 outer corners and the 2 points where its
-    # sides cut the bore polygon (on a chord of the circle)
-    assert np.all(on_circle | on_key) and np.sum(~on_circle) == 4 * (layers + 1)
-    assert np.all(z[mesh.node_sets["TOP"]] == body.thickness) and np.all(z[mesh.node_sets["BOTTOM"]] == 0.0)
-    assert len(mesh.node_sets["TOP"]) == len(mesh.node_sets["BOTTOM"]) == per_layer
-    assert len(mesh.node_sets["PROFILE"]) == (layers + 1) * len(contour.flatten(1e-3))
 
 
 def admesh_clean(admesh: str, path) -> str:
@@ -292,18 +130,6 @@ def test_wall_is_measured_where_it_is_thinnest(contours):
     # thinnest at the keyway's outer corners (9.5, +-1): 10 - hypot(9.5, 1) from the base circle
     assert wall == pytest.approx(10.0 - math.hypot(9.5, 1.0), abs=2e-4) and (where < 15 or where > 345)
 
-
-
-def test_volume_mesh_layers_are_checked(fea_cams):
-    from camgen.errors import ParameterError
-    from camgen.export.solid import volume_mesh
-
-    solid = fea_cams["stride"][2]
-    for bad in (0, 2.5, True):
-        with pytest.raises(ParameterError, match="layers"):
-            volume_mesh(solid, layers=bad)
-    one = volume_mesh(solid, layers=1)
-    assert len(one.wedges) == np.sum(np.all(solid.vertices[solid.triangles][:, :, 2] == 0.0, axis=1))  # one wedge per cap triangle
 
 
 # --------------------------------------------------------------------------------------------

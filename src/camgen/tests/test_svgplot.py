@@ -303,6 +303,57 @@ def test_nan_and_inf_break_the_line():
         assert np.allclose(part, np.column_stack(expected_px(info, lim, x, y)), atol=COORD_TOL)
 
 
+def _clip_notes(svg: str) -> list[ET.Element]:
+    return parse(svg).findall(".//s:text[@class='clipnote']", NS)
+
+
+@pytest.mark.parametrize("case", ["above", "both", "x", "infinite", "inside", "nan only"])
+def test_a_plot_whose_limits_leave_data_out_says_so(case):
+    """A note under the plot names the axis (its label, unit apart) and each limit that leaves
+    data out; which sides do is computed here from the data and the limits."""
+    x = np.linspace(-3.0, 3.0, 601)
+    y = x**3  # -27 .. 27
+    xlim, ylim = {"above": ((None, None), (None, 8.0)), "both": ((None, None), (-8.0, 8.0)), "x": ((-3.0, 2.0), (None, None)),
+                  "infinite": ((None, None), (None, None)), "inside": ((-3.0, 3.0), (-27.0, 27.0)),
+                  "nan only": ((None, None), (None, None))}[case]
+    if case == "infinite":
+        y = np.where(np.abs(x) < 1e-9, np.inf, y)  # a radius of curvature at an inflection
+    if case == "nan only":
+        y = np.where(np.abs(x) < 0.5, np.nan, y)
+    fig = Figure(figsize=(6, 3))
+    ax = fig.add_subplot()
+    ax.plot(x, y)
+    ax.xlim(*xlim)
+    ax.ylim(*ylim)
+    ax.xlabel("cam angle (deg)")
+    ax.ylabel("radius (mm)")
+    svg = fig.to_svg()
+    x0, x1, y0, y1 = ax.limits
+    known = ~np.isnan(y)
+    sides = {("radius", "above", y1, "mm"): bool(np.any(y[known] > y1)), ("radius", "below", y0, "mm"): bool(np.any(y[known] < y0)),
+             ("cam angle", "above", x1, "deg"): bool(np.any(x > x1)), ("cam angle", "below", x0, "deg"): bool(np.any(x < x0))}
+    expected = {"above": 1, "both": 2, "x": 1, "infinite": 1, "inside": 0, "nan only": 0}[case]
+    assert sum(sides.values()) == expected  # the cases are what they claim
+    notes = _clip_notes(svg)
+    if not expected:
+        assert notes == [] and ax.clip_note is None
+        return
+    (note,) = notes
+    text = note.text
+    assert text == ax.clip_note and text.startswith("clipped, not shown: ")
+    for (name, side, limit, unit), out in sides.items():
+        phrase = f"{side} {f'{limit:.4g}'.replace('-', chr(0x2212))} {unit}"
+        assert (phrase in text) == out, (phrase, text)
+        if out:
+            assert name in text
+    # under the plot and its x label, inside the figure
+    info = all_axes(svg)[0]
+    xlabel = info["group"].find("s:text[@class='xlabel']", NS)
+    height = float(parse(svg).get("height"))
+    assert float(xlabel.get("y")) < float(note.get("y")) <= height - 2.0
+    assert float(note.get("y")) > info["top"] + info["h"]
+
+
 def test_thinning_keeps_spikes_and_extremes_of_100k_points():
     n = 100_000
     x = np.linspace(0, 1, n)

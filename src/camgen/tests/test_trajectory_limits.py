@@ -157,7 +157,8 @@ def test_right_turns_are_refused_exactly_below_the_steerable_radius(half_track, 
         else:
             with pytest.raises(PathError) as info:
                 tc.tricycle_cam(path, device)
-            assert f"radius > {r_min:.6g} mm" in info.value.valid
+            quoted = float(info.value.valid.split("radius > ")[1].split(" mm")[0])
+            assert r_min <= quoted < r_min * (1 + 1e-5)  # rounded up: every radius above it steers
 
 
 def test_a_table_too_sharp_to_steer_names_trajectory_csv(tmp_path, capsys):
@@ -209,7 +210,9 @@ def test_a_row_of_other_than_two_fields_is_refused_with_its_line(name, line, fie
     with pytest.raises(ParameterError) as info:
         read_trajectory_csv(_write(tmp_path, text))
     exc = info.value
-    assert exc.name == "trajectory_csv" and f"line {line}: {bad!r}" in str(exc.value) and f"{fields} fields" in exc.why
+    assert exc.name == "trajectory_csv" and str(exc.value).endswith(f"line {line}")
+    assert (f"holds {fields} fields" if fields > 1 else "is one field") in exc.why
+    assert bad not in str(exc)  # the row is described, never quoted: the file may not be a table
 
 
 def test_row_cap_and_its_line(tmp_path):
@@ -218,7 +221,7 @@ def test_row_cap_and_its_line(tmp_path):
     assert MAX_ROWS == 100_000
     with pytest.raises(ParameterError) as info:
         read_trajectory_csv(_write(tmp_path, "# header comment\n" + "".join(f"{i * 1e-3!r},0\n" for i in range(21))), max_rows=20)
-    assert "line 22:" in str(info.value.value) and "at most 20 rows" in info.value.valid
+    assert str(info.value.value).endswith("line 22") and "at most 20 rows" in info.value.valid
     rows = "".join(f"{i * 1e-4!r},0\n" for i in range(MAX_ROWS + 1))
     with pytest.raises(ParameterError, match="at most 100000 rows"):
         read_trajectory_csv(_write(tmp_path, rows))

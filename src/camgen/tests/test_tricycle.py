@@ -626,15 +626,11 @@ def test_two_sine_path_pieces_are_bounded_by_the_tolerance_not_the_samples():
     pieces here (every piece subdivided like the worst one; 535 s and 2.9 GB through the
     pipeline for a similar path).  The polar form places its knots by the error: a few thousand
     pieces within fit_tol of the exact curves, the whole scene's DXF and STEP in seconds."""
-    import time
-
     expr = "202.4396*sin(pi*x/1000) + 210*sin(2*pi*x/1000)"
     path = trajectory_from_expression(expr, 2000.0)
     old = tc.tricycle_cam(path, form="cartesian")
     assert old.profile.segments[0].n_pieces > 50_000
-    start = time.perf_counter()
-    cam = tc.tricycle_cam(path)
-    assert time.perf_counter() - start < 2.0
+    cam = tc.tricycle_cam(path)  # its time: benchmarks/bench_tricycle.py
     pieces = cam.profile.segments[0].n_pieces
     assert pieces < 8_000
     phi = np.random.default_rng(6).uniform(0, 2 * math.pi, 100_000)
@@ -643,18 +639,14 @@ def test_two_sine_path_pieces_are_bounded_by_the_tolerance_not_the_samples():
     assert np.max(np.abs(tc.lateral_error(path, ride.x, ride.y))) <= 1e-7
 
 
-def test_two_sine_scene_runs_in_seconds(tmp_path):
-    import time
-
+def test_two_sine_scene_writes_small_files(tmp_path):
     from camgen.cli import main
 
     scene = tmp_path / "two_sine.toml"
     scene.write_text('[output]\nformats = ["dxf", "step"]\n[cams.s]\nkind = "trajectory"\n'
                      'expression = "202.4396*sin(pi*x/1000) + 210*sin(2*pi*x/1000)"\nperiod_mm = 2000\n'
                      'pressure_angle_limit_deg = 85\n')  # this sharp path's rod sees 78 deg
-    start = time.perf_counter()
     assert main(["run", str(scene), "-o", str(tmp_path / "out")]) == 0
-    assert time.perf_counter() - start < 60
     out = tmp_path / "out" / "two_sine"
     assert (out / "s.dxf").stat().st_size < 2_000_000 and (out / "s.step").stat().st_size < 5_000_000
 
@@ -664,11 +656,8 @@ def test_finite_difference_noise_sets_a_floor_under_the_fit_tolerance(traj):
     here from the samples' 8th differences: white noise has rms(D^8) = sqrt(C(16, 8)) sigma);
     a spline within 1e-9 mm would follow that noise (116,604 pieces, 7 s).  The fit tolerance
     is raised above the noise instead; the exact scheme keeps the requested one."""
-    import time
-
-    start = time.perf_counter()
     cam = tc.tricycle_cam(traj, n_samples=20000, scheme="forward")
-    assert time.perf_counter() - start < 5.0 and cam.profile.segments[0].n_pieces < 5000
+    assert cam.profile.segments[0].n_pieces < 5000
     d = cam.synthesis.rho.copy()
     for _ in range(8):
         d = np.roll(d, -1) - d
