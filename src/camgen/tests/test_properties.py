@@ -48,6 +48,7 @@ cases in about 40 s on 2 cores) or ``large`` (ten times as many, random, a manua
 from __future__ import annotations
 
 import collections
+import dataclasses
 import math
 import os
 import re
@@ -684,6 +685,52 @@ def check_disk_verdict(cam) -> bool:
             at = math.degrees(theta[int(np.nanargmin(margins[name]))])
             assert _in_ranges(at, check.where_deg), (at, check.where_deg)
     return made
+
+
+#: Followers (scene keys, base radius left out) of the undercut-limit test: each undercuts its
+#: cam below some base radius, which disk_margins finds by bisection.
+LIMIT_FOLLOWERS = {  # name: (keys, a base radius at which it undercuts, mm)
+    "roller": ({"follower": "roller", "roller_radius_mm": 12.0, "follower_offset_mm": 5.0}, 4.0),
+    "oscillating roller": ({"follower": "roller", "follower_motion": "oscillating", "roller_radius_mm": 25.0,
+                            "pivot_x_mm": 150.0, "pivot_y_mm": 40.0, "arm_length_mm": 120.0, "rotation": "cw"}, 12.0),
+    "flat": ({"follower": "flat", "follower_offset_mm": 4.0}, 10.0),
+}
+
+
+@pytest.mark.parametrize("name", LIMIT_FOLLOWERS)
+def test_the_undercut_verdict_flips_at_the_tests_own_limit(name):
+    """The base radius at which a steep program (cycloidal 20 mm or 20 deg over 60 deg) stops
+    undercutting, found by bisection on disk_margins (the tests' own geometry): 0.2 % above it
+    camgen makes the cam, 0.2 % below it reports the undercut (a generated design lands near
+    this limit too rarely to pin it)."""
+    from camgen.pipeline import Plan, compute
+    from camgen.scene import parse_scene
+
+    keys, lo = LIMIT_FOLLOWERS[name]
+    oscillating = keys.get("follower_motion") == "oscillating"
+    size_key = "swing_deg" if oscillating else "lift_mm"
+    segments = [{"law": "cycloidal", "span_deg": 60.0, size_key: 20.0}, {"law": "dwell", "span_deg": 120.0},
+                {"law": "cycloidal", "span_deg": 60.0, size_key: -20.0}, {"law": "dwell", "span_deg": 120.0}]
+
+    def build(base: float):
+        table = {"kind": "motion_law", "base_radius_mm": base, **keys, "segments": segments}
+        return compute(parse_scene({"cams": {"x": table}}, "limit"), Plan((), frozenset())).cams[0]
+
+    probe = build(100.0)  # the follower and the law as camgen reads the keys (the law does not depend on the base radius)
+
+    def worst(base: float) -> float:
+        f = dataclasses.replace(probe.spec_follower, base_radius=base)
+        return min(float(np.nanmin(m)) for m in disk_margins(f, probe.law)[1].values())
+
+    hi = 100.0
+    assert worst(lo) < 0 < worst(hi)
+    for _ in range(50):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if worst(mid) < 0 else (lo, mid)
+    limit = hi
+    made, failed = build(limit * 1.002), build(limit * 0.998)
+    assert made.contour is not None and check_disk_verdict(made)
+    assert failed.contour is None and not check_disk_verdict(failed)
 
 
 def _disk_properties(cam, family: str, tool_radius: float, solid: bool = False) -> None:
