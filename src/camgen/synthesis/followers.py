@@ -860,6 +860,9 @@ def _sixth_derivatives(theta: np.ndarray, d2: np.ndarray, brk: np.ndarray) -> np
     return out
 
 
+#: rad: law breaks closer than this are fitted as one joint (a constant-velocity blend of 0.5 less
+#: an ulp leaves a middle piece of 4e-16 rad, too short for a spline knot).
+BREAK_MERGE = 1e-12
 #: Weights of the one-sided extrapolation of the derivatives at a break from 1, 2, 3 steps away
 #: (quadratic, error O(step^3)), and those steps (rad of cam angle).
 _ONE_SIDED_WEIGHTS = np.array([3.0, -3.0, 1.0])
@@ -889,7 +892,12 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
     """
     brk, _ = _breaks_of(law)
     sorted_brk = sorted(set(brk.tolist()))
-    tb = sorted({(-sigma * b) % TWO_PI for b in sorted_brk}) or [0.0]
+    tb: list[float] = []
+    for t in sorted({(-sigma * b) % TWO_PI for b in sorted_brk}) or [0.0]:
+        if not tb or t - tb[-1] > BREAK_MERGE:  # breaks closer than rounding are one joint
+            tb.append(t)
+    if len(tb) > 1 and tb[0] + TWO_PI - tb[-1] <= BREAK_MERGE:
+        tb.pop()
     lo, hi = np.array(tb), np.array(tb[1:] + [tb[0] + TWO_PI])
     nseg = lo.size
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):

@@ -209,6 +209,28 @@ def test_offset_of_concave_arcs_is_exact():
         contour.offset(10.0)
 
 
+def _assert_parallel(contour, offset, distance: float, tol: float) -> None:
+    """``offset`` is the parallel curve of ``contour`` at ``distance`` (> 0 outward): 20,000 of its
+    points are |distance| from the original's polygon (flattened at 1e-8 mm; GEOS distances to the
+    nearest of its edges, found by an STR tree) within ``tol``, on the outside (> 0) or inside; it
+    does not cross itself, and its area is Steiner's A + L d + pi d^2 (no cusps: 1 + d kappa > 0)."""
+    import shapely
+    from shapely.geometry import LinearRing, Polygon
+
+    poly = contour.flatten(1e-8)
+    edges = shapely.linestrings(np.stack([poly, np.roll(poly, -1, axis=0)], axis=1))
+    pts = offset.evaluate(np.linspace(0.0, offset.n_segments, 20_000, endpoint=False))
+    points = shapely.points(pts)
+    which, edge = shapely.STRtree(edges).query_nearest(points, all_matches=False)
+    gap = shapely.distance(points[which], edges[edge])
+    assert which.size == pts.shape[0] and np.max(np.abs(gap - abs(distance))) <= tol + 1e-7
+    inside = shapely.contains_xy(Polygon(poly), pts[:, 0], pts[:, 1])
+    assert np.all(inside) if distance < 0 else not np.any(inside)
+    assert LinearRing(offset.flatten(1e-4)).is_simple
+    steiner = contour.area + contour.length * distance + math.pi * distance**2
+    assert abs(offset.area - steiner) <= offset.length * tol
+
+
 def test_offset_of_spline_within_tolerance_and_undercut_error():
     contour = periodic_contour()
     out = contour.offset(2.0, spline_tol=1e-7)
@@ -222,7 +244,8 @@ def test_offset_of_spline_within_tolerance_and_undercut_error():
     assert out.area == pytest.approx(contour.area + contour.length * 2.0 + math.pi * 4.0, rel=1e-8)
     # r = 40 + 8 cos 3t is concave at t = 60 deg with radius of curvature
     # (r^2 + r'^2)^1.5 / |r^2 + 2 r'^2 - r r''| = 32^3 / |32^2 - 32 * 72| = 25.6 mm
-    contour.offset(24.0, spline_tol=1e-5)  # the 48-point spline has 24.68 mm there
+    near = contour.offset(24.0, spline_tol=1e-5)  # the 48-point spline has 24.68 mm there: just made
+    _assert_parallel(contour, near, 24.0, 1e-5)
     with pytest.raises(GeometryError, match=r"segment 0 \(spline\) reverses at cam angle (59|60)\.\d+ deg.*undercut"):
         contour.offset(26.0)
 
@@ -246,7 +269,10 @@ def test_offset_through_a_narrow_neck_is_an_error():
     r = 30 + 25 * np.cos(2 * theta)
     peanut = Contour([Spline.interpolate(theta, np.stack([r * np.cos(theta), r * np.sin(theta)], 1))])
     assert not peanut.is_convex() and peanut.self_intersection() is None
-    peanut.offset(-4.0)  # the neck (10 mm) still leaves 2 mm
+    narrow = peanut.offset(-4.0)  # the neck (10 mm) still leaves 2 mm
+    _assert_parallel(peanut, narrow, -4.0, 1e-6)
+    waist = narrow.polar_radius(np.radians([90.0, 270.0]))
+    assert np.allclose(waist, 1.0, atol=1e-3)  # 5 mm from the axis less 4: the 2 mm neck, 1 mm each side
     with pytest.raises(GeometryError, match=r"crosses itself near cam angle .* deg \(point \((?P<x>[-\d.e]+), (?P<y>[-\d.e]+)\) mm\)") as info:
         peanut.offset(-6.0)
     x, y = (float(v) for v in info.value.args[0].split("(point (")[1].split(") mm")[0].split(", "))

@@ -15,7 +15,9 @@ positions from plane geometry, tests/test_followers.py).
   for a translating roller or knife (mm per mm), 1 for a translating flat face, the arm length x
   cos(pressure angle) for an oscillating roller or knife (mm per rad), and the contact's distance
   along the face from the pivot's foot for an oscillating flat face.  The ride error must stay
-  within ``chord_tol_mm / lever`` (1 % slack for the first-order estimate).  The points CSV is
+  within ``chord_tol_mm / lever`` (1 % slack for the first-order estimate); the pressure angle in
+  the lever is computed here by Kennedy's theorem (the instant centre), not taken from camgen's
+  kinematics, so a wrong pressure angle cannot widen the tolerance.  The points CSV is
   ridden as the polygon it is: vertex and edge contacts (rollers), edge crossings (knives), vertex
   support (flat faces).
 
@@ -33,7 +35,7 @@ import math
 import numpy as np
 import pytest
 
-from camgen.synthesis.followers import FollowerSpec, kinematics
+from camgen.synthesis.followers import FollowerSpec
 from camgen.synthesis.laws import MotionProgram, Segment
 from camgen.synthesis.lift_table import LiftTable
 from camgen.tests import ride
@@ -325,14 +327,29 @@ def ride_error(f: FollowerSpec, cam, theta, law, polygon: bool = False) -> np.nd
 
 def lever(f: FollowerSpec, law, theta) -> np.ndarray:
     """How far the follower point moves per unit of follower position along the contact normal
-    (see the module docstring): mm/mm or mm/rad."""
-    k = kinematics(f, law, theta)
-    cos = np.cos(k.pressure_angle)
+    (see the module docstring): mm/mm or mm/rad, from the law's s and s' and plane geometry, not
+    camgen's pressure angle.  Kennedy's theorem: the common normal passes through the instant
+    centre I of cam and follower, (sigma s', 0) for a follower moving along +y, -r P / (1 - r) on
+    the line to the pivot P for an arm turning r = sigma tau s' times as fast as the cam.  A
+    roller or knife: cos(alpha) (translating) or arm x cos(alpha) (oscillating), alpha between the
+    normal through the roller centre (tip) C and C's velocity; an oscillating flat face: the
+    contact's distance along the face from the pivot's foot, |(I - P) . J w|."""
+    s, ds = law(theta)[:2]
     if f.motion == "translating":
-        return np.ones_like(theta) if f.kind == "flat" else cos
+        if f.kind == "flat":
+            return np.ones_like(theta)
+        normal = np.stack([f.offset - f.sigma * ds, math.sqrt(f.prime_radius**2 - f.offset**2) + s], axis=-1)  # C - I
+        return np.abs(normal[:, 1]) / np.hypot(*normal.T)
+    pivot = np.asarray(f.pivot)
+    ratio = f.sigma * f.tau * ds
+    instant = -ratio[:, None] * pivot / (1.0 - ratio)[:, None]
+    angle = (rest_face_angle(f) if f.kind == "flat" else rest_arm_angle(f)) + f.tau * s
+    u = np.stack([np.cos(angle), np.sin(angle)], axis=-1)  # the face normal w, or along the arm
+    ju = np.stack([-u[:, 1], u[:, 0]], axis=-1)
     if f.kind == "flat":
-        return np.abs(k.face_position)
-    return f.arm_length * cos
+        return np.abs(np.sum((instant - pivot) * ju, axis=1))
+    normal = pivot + f.arm_length * u - instant
+    return f.arm_length * np.abs(np.sum(normal * ju, axis=1)) / np.hypot(*normal.T)
 
 
 def the_law(name: str, law: str):

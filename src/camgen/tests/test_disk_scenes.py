@@ -425,17 +425,114 @@ def test_motion_figures_at_rpm_are_the_cycloidal_peaks():
     assert at["max_jerk_m_per_s3"] == pytest.approx(1e-3 * TWO_PI**2 * h * omega**3 / beta**3, rel=1e-9)
 
 
+def oscillating_program(theta: np.ndarray, swing: float = D(15.0)):
+    """psi, psi', psi'', psi''' (rad, per rad of cam angle) of :func:`oscillating`'s program,
+    written out: cycloidal swing out over 100 deg, dwell 60, 4-5-6-7 back over 120 deg
+    (Norton, Design of Machinery, ch. 8: P = 35 u^4 - 84 u^5 + 70 u^6 - 20 u^7), dwell 80."""
+    theta = np.mod(theta, TWO_PI)
+    out = [np.zeros_like(theta) for _ in range(4)]
+    up = theta < D(100)
+    u, b = theta[up] / D(100), D(100)
+    w = TWO_PI * u
+    for k, value in enumerate((swing * (u - np.sin(w) / TWO_PI), swing / b * (1 - np.cos(w)),
+                               TWO_PI * swing / b**2 * np.sin(w), TWO_PI**2 * swing / b**3 * np.cos(w))):
+        out[k][up] = value
+    out[0][(theta >= D(100)) & (theta < D(160))] = swing
+    back = (theta >= D(160)) & (theta < D(280))
+    u, b = (theta[back] - D(160)) / D(120), D(120)
+    p = (35 * u**4 - 84 * u**5 + 70 * u**6 - 20 * u**7, 140 * u**3 - 420 * u**4 + 420 * u**5 - 140 * u**6,
+         420 * u**2 - 1680 * u**3 + 2100 * u**4 - 840 * u**5, 840 * u - 5040 * u**2 + 8400 * u**3 - 4200 * u**4)
+    out[0][back] = swing * (1 - p[0])
+    for k in (1, 2, 3):
+        out[k][back] = -swing * p[k] / b**k
+    return tuple(out)
+
+
 def test_oscillating_follower_table_is_in_degrees_and_radians_per_second():
-    files, _ = run(oscillating(rpm=120.0))
-    header, data = _table(files["c_follower.csv"])
-    assert header == ["cam_angle_deg", "time_s", "lift_deg", "velocity_rad_per_s", "acceleration_rad_per_s2", "jerk_rad_per_s3"]
-    omega = 120.0 * TWO_PI / 60.0
-    theta = np.radians(data[:, 0])
-    rise = theta < D(100)
-    tau = theta[rise] / D(100)
-    swing = D(15.0)
-    assert np.allclose(data[rise, 2], 15.0 * (tau - np.sin(TWO_PI * tau) / TWO_PI), atol=2e-9)
-    assert np.allclose(data[rise, 3], omega * swing / D(100) * (1 - np.cos(TWO_PI * tau)), atol=2e-9)
+    """The arm's swing in deg and its angular velocity, acceleration and jerk in rad/s, rad/s^2,
+    rad/s^3: psi' w, psi'' w^2, psi''' w^3 of the program written out (oscillating_program), over
+    the whole turn at two speeds (the jerk off the two rows where the cycloid's jerk jumps)."""
+    for rpm in (120.0, 450.0):
+        files, _ = run(oscillating(rpm=rpm))
+        header, data = _table(files["c_follower.csv"])
+        assert header == ["cam_angle_deg", "time_s", "lift_deg", "velocity_rad_per_s", "acceleration_rad_per_s2", "jerk_rad_per_s3"]
+        omega = rpm * TWO_PI / 60.0
+        theta = np.radians(data[:, 0])
+        assert data.shape[0] == 3600 and np.allclose(data[:, 1], theta / omega, atol=1e-9)
+        psi, dpsi, d2psi, d3psi = oscillating_program(theta)
+        assert np.allclose(data[:, 2], np.degrees(psi), rtol=0, atol=2e-9)
+        assert np.allclose(data[:, 3], dpsi * omega, rtol=1e-12, atol=2e-9)
+        assert np.allclose(data[:, 4], d2psi * omega**2, rtol=1e-11, atol=2e-9)
+        smooth = np.min(np.abs(data[:, 0, None] - np.array([0.0, 100.0, 360.0])), axis=1) > 1e-6
+        assert np.allclose(data[smooth, 5], d3psi[smooth] * omega**3, rtol=1e-11, atol=2e-9)
+        assert np.max(np.abs(data[:, 4])) > 10.0 and np.max(np.abs(data[:, 5])) > 1e3  # the columns are not ~0
+
+
+def _instant_centre_pressure_angle(keys: dict, theta: np.ndarray, psi: np.ndarray, dpsi: np.ndarray, rest: float) -> np.ndarray:
+    """|pressure angle| (rad) of an oscillating roller or flat face by Kennedy's theorem: the common
+    normal passes through the instant centre of cam and arm, I = -r P / (1 - r) on the line from the
+    cam axis to the pivot P, r = (arm's angular velocity) / (cam's) = sigma tau psi'.  Roller: the
+    angle between the normal through the roller centre C and C's velocity (perpendicular to the
+    arm); flat face (normal w, offset f from the pivot): tan(alpha) = f / xi with the contact's
+    distance along the face from the pivot's foot xi = (I - P) . J w."""
+    pivot = np.array([keys["pivot_x_mm"], keys["pivot_y_mm"]])
+    sigma = 1.0 if keys.get("rotation", "ccw") == "ccw" else -1.0
+    tau = 1.0 if keys.get("swing_turn", "ccw") == "ccw" else -1.0
+    r = sigma * tau * dpsi
+    centre = -r[:, None] * pivot / (1.0 - r)[:, None]
+    angle = rest + tau * psi
+    u = np.stack([np.cos(angle), np.sin(angle)], axis=-1)
+    along = np.stack([-u[:, 1], u[:, 0]], axis=-1)  # J u
+    if keys.get("follower") == "flat":
+        xi = np.sum((centre - pivot) * along, axis=1)
+        return np.arctan(np.abs(keys["face_offset_mm"] / xi))
+    normal = pivot + keys["arm_length_mm"] * u - centre
+    return np.arccos(np.abs(np.sum(normal * along, axis=1)) / np.hypot(*normal.T))
+
+
+@pytest.mark.parametrize("case", ["roller ccw", "roller cw", "flat"])
+def test_oscillating_report_figures_are_in_degrees(case):
+    """report.json of an oscillating follower: every *_deg figure in degrees, against plane
+    geometry and the program written out: the stroke (the swing), the arm's rest angle (the arm
+    circle meets the prime circle where a positive swing moves outward; a face's rest normal: the
+    face tangent to the base circle) and the largest pressure angle (Kennedy's instant centre,
+    on a 0.01 deg grid) with where it is; the speeds in rad/s, rad/s^2, rad/s^3 (the cycloid's
+    peaks 2, 2 pi, 4 pi^2 x swing / beta^n x w^n: the larger of the program's two motions).
+    camgen's pressure angle is the largest on its check grid: within 1e-4 deg below the peak."""
+    from camgen.synthesis.followers import FollowerSpec
+    from camgen.tests.test_followers import rest_arm_angle, rest_face_angle
+
+    scene = {"roller ccw": oscillating(), "roller cw": oscillating(swing_turn="cw", pivot_x_mm=-90.0, rotation="cw"),
+             "flat": _oscillating_flat(10.0)}[case]
+    keys = scene["cams"]["c"]
+    swing = D(8.0) if case == "flat" else D(15.0)
+    rpm, omega = keys["rpm"], keys["rpm"] * TWO_PI / 60.0
+    figures = run(scene)[1]["cams"]["c"]
+    checks, figures = {c["name"]: c for c in figures["checks"]}, figures["figures"]
+    assert figures["stroke_deg"] == pytest.approx(math.degrees(swing), rel=1e-12)
+    spec = dict(base_radius=keys["base_radius_mm"], motion="oscillating", pivot=(keys["pivot_x_mm"], keys["pivot_y_mm"]),
+                rotation=keys.get("rotation", "ccw"), lift_turn=keys.get("swing_turn", "ccw"))
+    if case == "flat":
+        rest = rest_face_angle(FollowerSpec("flat", face_offset=keys["face_offset_mm"], **spec))
+        got = figures["follower"]["rest_face_normal_deg"]
+    else:
+        rest = rest_arm_angle(FollowerSpec("roller", roller_radius=keys["roller_radius_mm"], arm_length=keys["arm_length_mm"], **spec))
+        got = figures["follower"]["rest_arm_angle_deg"]
+    assert abs(math.remainder(got - math.degrees(rest), 360.0)) <= 1e-9
+    theta = np.arange(36000) * (TWO_PI / 36000)
+    psi, dpsi, _, _ = oscillating_program(theta, swing)
+    alpha = _instant_centre_pressure_angle(keys, theta, psi, dpsi, rest)
+    pressure = checks["pressure_angle"]
+    assert pressure["unit"] == "deg" and pressure["limit"] == 45.0  # the oscillating default (README)
+    peak = math.degrees(np.max(alpha))  # camgen's is the largest on its check grid: a little below, never above
+    assert peak - 1e-4 <= pressure["value"] <= peak + 1e-9
+    assert pressure["where_deg"][0] == pytest.approx(math.degrees(theta[np.argmax(alpha)]), abs=0.1)
+    stroke = checks["follower_motion"]
+    assert stroke["value"] == pytest.approx(swing if stroke["unit"] == "rad" else math.degrees(swing), rel=1e-12)
+    beta = D(100)
+    assert figures["motion_at_rpm"] == pytest.approx({"rpm": rpm, "max_velocity_rad_per_s": 2 * swing / beta * omega,
+                                                      "max_acceleration_rad_per_s2": TWO_PI * swing / beta**2 * omega**2,
+                                                      "max_jerk_rad_per_s3": TWO_PI**2 * swing / beta**3 * omega**3}, rel=1e-9)
 
 
 def test_follower_table_of_a_yoke_cam(tmp_path):

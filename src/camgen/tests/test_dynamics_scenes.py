@@ -495,6 +495,180 @@ def test_report_json_and_html_carry_the_dynamics():
 
 
 # --------------------------------------------------------------------------------------------
+# Every dynamics figure of report.json against a force balance computed here
+# --------------------------------------------------------------------------------------------
+REFERENCE_SAMPLES = 72000  # 0.005 deg: the reference's own grid (camgen's check grid is its own)
+
+
+def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+
+
+def _turn(v: np.ndarray, angle: np.ndarray) -> np.ndarray:
+    c, s = np.cos(angle), np.sin(angle)
+    return np.stack([c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1]], axis=-1)
+
+
+def reference_dynamics(keys: dict) -> dict:
+    """The force balance of a spring-loaded roller follower (translating with an offset, or an
+    oscillating arm) of a cycloidal rise-dwell-return-dwell cam, in SI units, from plane geometry
+    and the program written out (rise_return); nothing of camgen's but its conventions.
+
+    * the generalised force along the follower's coordinate q (s mm, or the arm angle psi rad):
+      Q = M w^2 q'' + C w q' + K q + P0 + weight (translating N: m, c, k; arm N*mm: I, c_t, k_t and
+      the arm's weight m g at r_g along the arm, -tau (r x W)_z) = A + B w + C w^2;
+    * the common normal through the roller centre C and the instant centre of cam and follower
+      (Kennedy): I = (sigma s', 0) for a follower moving along +y, I = -r P / (1 - r) on the line to
+      the pivot P for an arm (r = sigma tau psi' its angular velocity over the cam's); the contact
+      force F = Q / (lever cos(alpha)), alpha between that normal and C's velocity;
+    * the camshaft torque as the moment of F n at the contact point X = C - r_roller n about the
+      cam axis, in the direction of rotation (not the power balance camgen uses);
+    * the Hertz stress (Rothbart eq. 9.11) with the profile's radius of curvature: the pitch
+      curve's R(-sigma theta) C(theta) from its closed-form derivatives, less the roller radius.
+    """
+    from camgen.synthesis.followers import FollowerSpec
+    from camgen.tests.test_followers import rest_arm_angle
+
+    rpm, w = keys["rpm"], _omega(keys["rpm"])
+    sigma = 1.0 if keys.get("rotation", "ccw") == "ccw" else -1.0
+    roller, base = keys["roller_radius_mm"], keys["base_radius_mm"]
+    segs = keys["segments"]
+    rise, dwell, ret = D(segs[0]["span_deg"]), D(segs[1]["span_deg"]), D(segs[2]["span_deg"])
+    theta = np.arange(REFERENCE_SAMPLES) * (TWO_PI / REFERENCE_SAMPLES)
+    g = G if keys.get("gravity", True) else 0.0
+    n = theta.size
+    zero = np.zeros(n)
+    if keys.get("follower_motion", "translating") == "translating":
+        e = keys.get("follower_offset_mm", 0.0)
+        h = segs[0]["lift_mm"]
+        q, dq, d2q = rise_return(theta, "cycloidal", h, rise, dwell, ret)
+        m, k, p0, c = keys["mass_kg"], keys["spring_rate_n_per_mm"], keys["spring_preload_n"], keys.get("damping_n_s_per_m", 0.0)
+        quad = (k * q + p0 + m * g, c * dq / 1000, m * d2q / 1000)  # N: A, B per rad/s, C per (rad/s)^2
+        centre = np.stack([np.full(n, e), math.sqrt((base + roller) ** 2 - e * e) + q], axis=-1)
+        d1c, d2c = np.stack([zero, dq], axis=-1), np.stack([zero, d2q], axis=-1)
+        instant = np.stack([sigma * dq, zero], axis=-1)
+        velocity = np.tile([0.0, 1.0], (n, 1))
+        lever = 1.0
+    else:
+        tau = 1.0 if keys.get("swing_turn", "ccw") == "ccw" else -1.0
+        pivot = np.array([keys["pivot_x_mm"], keys["pivot_y_mm"]])
+        arm = keys["arm_length_mm"]
+        q, dq, d2q = rise_return(theta, "cycloidal", D(segs[0]["swing_deg"]), rise, dwell, ret)
+        rest = rest_arm_angle(FollowerSpec("roller", base, motion="oscillating", roller_radius=roller, pivot=tuple(pivot),
+                                           arm_length=arm, rotation=keys.get("rotation", "ccw"), lift_turn=keys.get("swing_turn", "ccw")))
+        gamma = rest + tau * q
+        u = np.stack([np.cos(gamma), np.sin(gamma)], axis=-1)
+        ju = np.stack([-u[:, 1], u[:, 0]], axis=-1)
+        m, r_g = keys.get("mass_kg", 0.0), keys.get("cg_distance_mm", 0.0)
+        gravity = D(keys.get("gravity_deg", -90.0))
+        weight = m * g * np.array([math.cos(gravity), math.sin(gravity)])  # N
+        weight_moment = -tau * _cross(r_g * u, np.broadcast_to(weight, (n, 2)))  # N*mm, against the swing
+        inertia, k_t, t0, c_t = keys["inertia_kg_m2"], keys["spring_rate_n_mm_per_rad"], keys["spring_preload_n_mm"], \
+            keys.get("damping_n_m_s_per_rad", 0.0)
+        quad = (k_t * q + t0 + weight_moment, c_t * dq * 1000, inertia * d2q * 1000)  # N*mm
+        centre = pivot + arm * u
+        d1c = arm * tau * dq[:, None] * ju
+        d2c = arm * tau * d2q[:, None] * ju - arm * (dq**2)[:, None] * u
+        ratio = sigma * tau * dq
+        instant = -ratio[:, None] * pivot / (1.0 - ratio)[:, None]
+        velocity = tau * ju
+        lever = arm
+    normal = centre - instant
+    normal /= np.hypot(*normal.T)[:, None]
+    normal *= np.sign(np.sum(normal * centre, axis=1))[:, None]  # from the cam into the roller
+    cos_alpha = np.abs(np.sum(normal * velocity, axis=1))
+    a_, b_, c_ = quad
+    force = (a_ + b_ * w + c_ * w * w) / (lever * cos_alpha)  # N
+    contact = centre - roller * normal
+    torque = sigma * _cross(contact, force[:, None] * normal) / 1000  # N*m
+    # the pitch curve seen from the cam: P = R(-sigma theta) C, P' = R(C' - sigma J C), P'' = R(C'' - 2 sigma J C' - C)
+    jc, jd1 = np.stack([-centre[:, 1], centre[:, 0]], -1), np.stack([-d1c[:, 1], d1c[:, 0]], -1)
+    p1, p2 = d1c - sigma * jc, d2c - 2 * sigma * jd1 - centre
+    pitch_radius = -sigma * np.hypot(*p1.T) ** 3 / _cross(p1, p2)  # > 0 convex (the curve runs clockwise for sigma = +1)
+    width = keys.get("contact_width_mm", keys.get("thickness_mm"))
+    compliance = 2 * (1 - 0.3**2) / 210e3  # steel on steel, 1/MPa
+    hertz = np.sqrt(force * (1 / (pitch_radius - roller) + 1 / roller) / (math.pi * width * compliance))
+    # the jump (the follower leaves the cam): the smallest w > 0 with A + B w + C w^2 = 0, the quadratic formula per angle
+    disc = b_ * b_ - 4 * a_ * c_
+    with np.errstate(invalid="ignore", divide="ignore"):
+        roots = np.stack([(-b_ + sgn * np.sqrt(disc)) / (2 * c_) for sgn in (1.0, -1.0)])
+    roots = np.where((disc >= 0) & (roots > 0), roots, np.inf)
+    jump = float(np.min(roots)) * 60 / TWO_PI
+    # the least preload (and spring rate) that keeps the contact force at the margin at this speed
+    margin = keys.get("jump_margin_n", 0.0)
+    need = margin * lever * cos_alpha - (b_ * w + c_ * w * w)
+    spring = (k * q) if lever == 1.0 else (k_t * q)
+    rate_need = need - (a_ - spring)
+    lifted = q > 1e-9
+    min_rate = None if np.any((rate_need > 0) & ~lifted) else float(np.max(np.where(lifted, rate_need / np.where(lifted, q, 1), 0)))
+    return {"theta": theta, "force": force, "torque": torque, "hertz": hertz, "jump_rpm": jump, "omega": w,
+            "min_preload": max(0.0, float(np.max(need - (a_ - (p0 if lever == 1.0 else t0))))), "min_rate": min_rate,
+            "dissipated": (keys.get("damping_n_s_per_m", 0.0) * 1.5 * (h / 1000) ** 2 if lever == 1.0 else
+                           keys.get("damping_n_m_s_per_rad", 0.0) * 1.5 * D(segs[0]["swing_deg"]) ** 2) * w * (1 / rise + 1 / ret)}
+
+
+DYNAMICS_CASES = {
+    "translating roller": plate(follower_offset_mm=8.0, damping_n_s_per_m=20.0, rpm=420.0, jump_margin_n=10.0, torque_limit_n_m=5.0,
+                                allowable_contact_stress_mpa=900.0, contact_width_mm=8.0),
+    "cw translating roller": plate(follower_offset_mm=-5.0, rotation="cw", damping_n_s_per_m=20.0, jump_margin_n=10.0,
+                                   segments=program("cycloidal", 20.0, 150.0, 60.0, 90.0)),  # the return drives the cam: T < 0 peaks
+    "oscillating roller": oscillating(mass_kg=0.3, cg_distance_mm=35.0, damping_n_m_s_per_rad=0.05, rpm=360.0, jump_margin_n=5.0,
+                                      allowable_contact_stress_mpa=900.0, torque_limit_n_m=5.0),
+    "cw oscillating roller": oscillating(mass_kg=0.3, cg_distance_mm=35.0, rotation="cw", swing_turn="cw", pivot_x_mm=-90.0,
+                                         damping_n_m_s_per_rad=0.05, gravity_deg=-60.0, jump_margin_n=5.0),
+}
+
+
+@pytest.mark.parametrize("case", DYNAMICS_CASES)
+def test_every_dynamics_figure_is_the_independent_force_balance(case):
+    """Each number under figures.dynamics of report.json (the run's file, read as JSON) against
+    reference_dynamics on its own 0.005 deg grid: the peaks (camgen's are its grid's largest: the
+    same to 1e-6), where they are (the reference's value there is the peak), the RMS values and
+    the work per turn (the energy the damping dissipates, c w int q'^2 dtheta = 1.5 c h^2 w
+    (1/beta_rise + 1/beta_return) for cycloidal motion), the jump speed, the least preload and
+    spring rate, and the inputs echoed."""
+    scene = DYNAMICS_CASES[case]
+    keys = scene["cams"]["c"]
+    figures = run(scene)[1]["cams"]["c"]["figures"]["dynamics"]
+    ref = reference_dynamics(keys)
+    theta, force, torque, hertz, w = ref["theta"], ref["force"], ref["torque"], ref["hertz"], ref["omega"]
+    arm = keys.get("follower_motion") == "oscillating"
+    unit, rate_unit = ("Nmm", "Nmm_per_rad") if arm else ("N", "N_per_mm")
+
+    def at(deg: float, values: np.ndarray) -> float:  # the reference at a reported cam angle
+        return float(np.interp(deg, np.degrees(theta), values, period=360.0))
+
+    def rms(values: np.ndarray) -> float:  # uniform grid over one turn: the mean square
+        return float(np.sqrt(np.mean(values**2)))
+
+    assert figures["closure"] == "force" and figures["follower_motion"] == ("oscillating" if arm else "translating")
+    assert figures["rpm"] == keys["rpm"] and figures["jump_margin_N"] == keys["jump_margin_n"]
+    assert figures[f"spring_preload_{unit}"] == keys["spring_preload_n_mm" if arm else "spring_preload_n"]
+    assert figures["min_contact_force_N"] == pytest.approx(float(np.min(force)), rel=1e-6)
+    assert figures["max_contact_force_N"] == pytest.approx(float(np.max(force)), rel=1e-6)
+    assert at(figures["min_contact_force_deg"], force) == pytest.approx(figures["min_contact_force_N"], rel=1e-5)
+    assert at(figures["max_contact_force_deg"], force) == pytest.approx(figures["max_contact_force_N"], rel=1e-5)
+    assert figures["torque_peak_Nm"] == pytest.approx(float(np.max(np.abs(torque))), rel=1e-6)
+    assert abs(at(figures["torque_peak_deg"], torque)) == pytest.approx(figures["torque_peak_Nm"], rel=1e-5)
+    assert figures["torque_rms_Nm"] == pytest.approx(rms(torque), rel=1e-6)
+    assert figures["power_peak_W"] == pytest.approx(float(np.max(np.abs(torque))) * w, rel=1e-6)
+    assert figures["power_rms_W"] == pytest.approx(rms(torque) * w, rel=1e-6)
+    assert figures["energy_per_turn_J"] == pytest.approx(ref["dissipated"], rel=1e-5)
+    assert figures["mean_power_W"] == pytest.approx(ref["dissipated"] * w / TWO_PI, rel=1e-5)
+    assert figures["jump_rpm"] == pytest.approx(ref["jump_rpm"], rel=1e-6)
+    assert keys["rpm"] < figures["jump_rpm"] and figures["jump_ranges_deg"] == []
+    assert figures[f"min_preload_{unit}"] == pytest.approx(ref["min_preload"], rel=1e-5, abs=1e-9)
+    assert figures[f"min_spring_rate_{rate_unit}"] == pytest.approx(ref["min_rate"], rel=1e-5, abs=1e-9)
+    if "allowable_contact_stress_mpa" in keys:
+        assert figures["hertz_stress_peak_MPa"] == pytest.approx(float(np.max(hertz)), rel=1e-6)
+        assert at(figures["hertz_stress_peak_deg"], hertz) == pytest.approx(figures["hertz_stress_peak_MPa"], rel=1e-5)
+        assert figures["allowable_contact_stress_MPa"] == keys["allowable_contact_stress_mpa"]
+        assert figures["contact_width_mm"] == keys.get("contact_width_mm", keys["thickness_mm"])
+    if "torque_limit_n_m" in keys:
+        assert figures["torque_limit_Nm"] == keys["torque_limit_n_m"]
+
+
+# --------------------------------------------------------------------------------------------
 # Refusals
 # --------------------------------------------------------------------------------------------
 def _three_arc(**changes) -> dict:

@@ -161,6 +161,23 @@ def test_fit_tol_sets_the_accuracy_and_bounds_the_piece_count():
         cam_envelope(f, motion, fit_tol=0.0)
 
 
+def test_breaks_an_ulp_apart_are_one_joint():
+    """A constant-velocity segment whose blends take the whole span but an ulp (blend = 0.5 - 2^-54,
+    within the documented 0 <= blend <= 0.5) has two breaks 4e-16 rad apart: the cam is made (it
+    was refused: "breaks too close for spline knots") and rides the law (tests/ride.py)."""
+    segments = [MotionSegment("cycloidal", D(55.49132947976879), 1.0), MotionSegment("dwell", D(55.49132947976879), 0.0),
+                MotionSegment("cycloidal", D(41.61849710982659), -0.5), MotionSegment("dwell", D(24.277456647398843), 0.0),
+                MotionSegment("constant_velocity", D(55.49132947976879), 0.5, 0.5 - 2.0**-54),
+                MotionSegment("dwell", D(55.49132947976879), 0.0), MotionSegment("cycloidal", D(55.49132947976879), -1.0),
+                MotionSegment("dwell", D(16.647398843930603), 0.0)]
+    motion = MotionProgram(segments)
+    assert np.min(np.diff(np.sort(motion.breaks))) < 1e-15
+    f = FollowerSpec("knife", 1.0)
+    cam = cam_envelope(f, motion, fit_tol=1e-7)
+    theta = np.concatenate([RIDE_THETA, motion.breaks + 1e-4])
+    assert np.max(np.abs(ride_position(f, cam.profile, theta) - required_position(f, motion(theta)[0]))) <= 1e-6
+
+
 # --------------------------------------------------------------------------------------------
 # Continuity: G1 exactly where the law's acceleration jumps, the jerk is the law's
 # --------------------------------------------------------------------------------------------

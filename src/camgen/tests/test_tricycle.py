@@ -418,6 +418,42 @@ def test_fit_to_measured_tables_and_advice(cam):
     assert abs(fits["A2"].values["steering_gain"] - 1) < abs(fits["A1"].values["steering_gain"] - 1)
 
 
+@pytest.mark.parametrize("name", ["A1", "A2"])
+def test_fit_uncertainties_are_the_least_squares_covariance_with_n_minus_p_degrees_of_freedom(cam, name):
+    """One standard deviation of each fitted parameter, two routes outside the fit's own code, at
+    the fit's solution p (the model, y(x; p), is the ride the fit uses):
+
+    * the textbook covariance s^2 (J^T J)^-1, s^2 = RSS / (n - p) (n = 40 measured points after
+      the start row, p = 5 parameters), with J by central differences (steps 1e-5 of each
+      parameter's scale) and (J^T J)^-1 from J's singular value decomposition;
+    * scipy.optimize.curve_fit started at p (absolute_sigma=False: the same n - p scaling).
+
+    With n instead of n - p the uncertainties would be sqrt(35 / 40) = 0.935 times these."""
+    from scipy.optimize import curve_fit
+
+    from camgen.mechanisms.tricycle_fit import PARAMETER_SCALE, PARAMETERS, fit_error_model, model_y
+
+    table = tc.load_measured_table(name)
+    fit = fit_error_model(cam, table)
+    geom = tc.ride_geometry(cam.profile, cam.device.rod_radius, 4)
+    x, y = table.x[1:], table.measured[1:]
+    p = np.array([fit.values[k] for k in PARAMETERS])
+    n, k = x.size, p.size
+    assert (n, k) == (40, 5) and fit.n_points == n
+    residual = model_y(cam, geom, p, x) - y
+    jac = np.empty((n, k))
+    for j in range(k):
+        step = 1e-5 * PARAMETER_SCALE[j] * np.eye(k)[j]
+        jac[:, j] = (model_y(cam, geom, p + step, x) - model_y(cam, geom, p - step, x)) / (2 * step[j])
+    _, singular, vt = np.linalg.svd(jac, full_matrices=False)
+    covariance = (vt.T / singular**2) @ vt * float(residual @ residual) / (n - k)
+    reported = np.array([fit.uncertainty[key] for key in PARAMETERS])
+    assert np.allclose(reported, np.sqrt(np.diag(covariance)), rtol=1e-3, atol=0)
+    _, scipy_cov = curve_fit(lambda xs, *q: model_y(cam, geom, np.array(q), xs), x, y, p0=p, absolute_sigma=False)
+    assert np.allclose(reported, np.sqrt(np.diag(scipy_cov)), rtol=1e-3, atol=0)
+    assert fit.residual_rms_mm == pytest.approx(math.sqrt(float(residual @ residual) / n), rel=1e-9)
+
+
 # --- table input and bad input ----------------------------------------------------------------------
 def test_table_trajectory_matches_expression(tmp_path, traj):
     x = np.linspace(0, 2000, 201)
@@ -468,6 +504,34 @@ def test_fine_tuning_equations_16_and_17():
     assert tc.worm_teeth_for(0.019) == 53 and tc.worm_teeth_for(0.05) == 20
     with pytest.raises(ParameterError, match="step_deg"):
         tc.worm_teeth_for(0.0)
+
+
+@pytest.mark.parametrize("step, knob, teeth", [
+    (0.0199, 1.0, 51),   # 1 / 0.0199 = 50.25: 50 teeth give 0.02 deg, above the step; rounding to nearest misses it
+    (0.0201, 1.0, 50),   # 49.75: 50 teeth give 0.0200 <= 0.0201 (49 would give 0.0204)
+    (0.03, 1.0, 34),     # 33.3: 34 teeth, 0.0294 deg
+    (0.3, 1.0, 4),       # 3.33
+    (0.7, 1.0, 2),       # 1.43
+    (2.0, 1.0, 1),       # any wheel meets a step larger than the knob's
+    (0.01, 0.5, 50),     # a half-degree knob step: half the teeth of a whole degree's
+    (0.0125, 2.0, 160),
+])
+def test_worm_teeth_are_the_least_whole_number_that_meets_the_step(step, knob, teeth):
+    """Eq. (17): a knob step of k deg turns the steering by k / Z3; the step e is met when
+    k / Z3 <= e, so Z3 = ceil(k / e) (round up, never to the nearest): counts worked out by hand."""
+    assert tc.worm_teeth_for(step, knob) == teeth
+
+
+def test_worm_teeth_for_random_steps_are_the_least_count_meeting_them():
+    """The least Z3 with k / Z3 <= e, checked with exact fractions on 2,000 random steps and knobs."""
+    from fractions import Fraction
+
+    rng = np.random.default_rng(17)
+    for e, k in zip(10.0 ** rng.uniform(-3.0, 0.5, 2000), rng.choice([0.5, 1.0, 2.0, 5.0], 2000)):
+        z = tc.worm_teeth_for(float(e), float(k))
+        ratio = Fraction(float(k)) / Fraction(float(e))
+        assert z >= ratio * (1 - Fraction(1, 10**8)), (e, k, z)  # the step is met (to the function's 1e-9 guard)
+        assert z == 1 or z - 1 < ratio, (e, k, z)  # and one tooth fewer would not meet it
 
 
 @pytest.mark.parametrize("name", ["A1", "A2"])
