@@ -15,9 +15,39 @@ WARNING_FILTERS = (
 )
 
 
+#: The test modules that count their generated cases (CASE_COUNTS), summed over xdist workers.
+COUNTING_MODULES = ("camgen.tests.test_properties", "camgen.tests.test_bad_input")
+
+
 def pytest_configure(config: pytest.Config) -> None:
     for line in WARNING_FILTERS:
         config.addinivalue_line("filterwarnings", line)
+    if config.pluginmanager.hasplugin("xdist"):
+        config.pluginmanager.register(_WorkerCounts(), "camgen-worker-counts")
+
+
+class _WorkerCounts:
+    """With pytest-xdist (``-n 2``) the generated cases run in worker processes: each worker sends
+    its case counts to the controller, which adds them up for the terminal summary."""
+
+    @pytest.hookimpl
+    def pytest_sessionfinish(self, session: pytest.Session) -> None:
+        import sys
+
+        output = getattr(session.config, "workeroutput", None)
+        if output is not None:  # a worker
+            output["camgen_case_counts"] = {
+                name: [[family, outcome, n] for (family, outcome), n in getattr(sys.modules.get(name), "CASE_COUNTS", {}).items()]
+                for name in COUNTING_MODULES}
+
+    @pytest.hookimpl(optionalhook=True)
+    def pytest_testnodedown(self, node, error) -> None:
+        import importlib
+
+        for name, rows in getattr(node, "workeroutput", {}).get("camgen_case_counts", {}).items():
+            counts = importlib.import_module(name).CASE_COUNTS
+            for family, outcome, n in rows:
+                counts[(family, outcome)] += n
 
 
 @pytest.fixture(scope="session")

@@ -35,7 +35,7 @@ def _section(text: str, title: str) -> str:
 def test_the_first_block_is_the_two_commands_ci_runs(tree):
     first = _blocks(_readme(tree), "sh")[0].strip().splitlines()
     assert first == ['python3 -m pip install . && camgen run',
-                     'python3 -m pip install ".[test]" && python3 -m pytest -q --pyargs camgen']
+                     'python3 -m pip install ".[test]" && python3 -m pytest -q -n auto --pyargs camgen']
 
 
 CAM_KEYS_MARK = "# keys of a cam table"
