@@ -15,6 +15,7 @@ import textwrap
 import pytest
 
 from camgen.cli import main
+from camgen.tests.test_solid import THIN_WALL as THIN_WALL_AT
 
 PLATE = """
 [output]
@@ -311,19 +312,8 @@ def test_signal_handlers_are_put_back_after_a_command(tmp_path):
 # --------------------------------------------------------------------------------------------
 # Item 11: check refuses what run refuses, fails what run fails
 # --------------------------------------------------------------------------------------------
-THIN_WALL = """
-[output]
-formats = ["stl", "dxf"]
-chord_tol_mm = 0.01
-[cams.c]
-kind = "three_arc"
-a_mm = 60.0
-b_mm = 40.0
-c_mm = 5.0
-thickness_mm = 5.0
-bore_diameter_mm = 9.996
-min_wall_mm = 0.001
-"""
+# the section falls apart at this chord tolerance: the STL is a failed solid_export check (test_solid)
+THIN_WALL = THIN_WALL_AT.format(tol=0.01)
 
 AGREEMENT = {
     # the issue's case: the follower table needs rpm
@@ -331,7 +321,6 @@ AGREEMENT = {
     "two outputs, one file": PLATE.format(cam="x").replace('["dxf", "points", "lift"]', '["stl", "stl_ascii"]')
     + PLATE.format(cam="x_ascii").split("[output]")[1].split("\n", 2)[2],
     "G-code digits against the chord tolerance": PLATE.format(cam="c").replace('["dxf", "points", "lift"]', '["ngc"]\nchord_tol_mm = 1e-6'),
-    # the section falls apart at this chord tolerance: the STL is a failed solid_export check (test_solid)
     "an export that fails": THIN_WALL,
 }
 
