@@ -58,8 +58,7 @@ def main() -> None:
                 if tol != 1e-3 and label in ("dxf (bspline)", "lift csv (1 deg)", "step (exact)"):
                     continue  # independent of the chord tolerance
                 out = job()
-                size = len(out) if isinstance(out, (str, bytes)) else len(out.triangles)
-                size = len(out.cells) if label.startswith("fea mesh") else size
+                size = len(out) if isinstance(out, (str, bytes)) else len(out.cells) if label.startswith("fea mesh") else len(out.triangles)
                 unit = "triangles" if label.startswith("solid") else "elements" if label.startswith("fea mesh") else "bytes"
                 seconds = median_time(job, repeats=5, min_total=0.02)
                 rows.append([name, f"{tol:g}", label, f"{seconds * 1e3:.2f}", f"{size} {unit}"])
