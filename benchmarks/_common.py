@@ -5,6 +5,7 @@ import math
 import os
 import platform
 import statistics
+import sys
 import time
 from pathlib import Path
 from typing import Callable, Iterator
@@ -12,6 +13,8 @@ from typing import Callable, Iterator
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
+# the tests' independent references (tests/ride.py, tests/helpers.py) serve the benchmarks too
+sys.path.append(str(ROOT / "tests"))
 
 
 def median_time(func: Callable[[], object], repeats: int = 21, min_total: float = 0.05) -> float:

@@ -5,7 +5,7 @@ The case of shared/research/peers.md section 3 in millimetres: cycloidal rise 25
 180 deg and fall over 180 deg, base radius 76.2 mm, roller radius 12.7 mm, radial translating
 follower.  For each tool: the median time to make the profile from the motion description (law,
 follower, profile in memory) and the ride error: the roller riding the profile (the independent
-simulator camgen/tests/ride.py, on the exact curve where the tool gives one, else on its points)
+simulator tests/ride.py, on the exact curve where the tool gives one, else on its points)
 against the required lift, at 720 cam angles between the tools' samples.
 
 `mechanism` (PyPI, MIT) is installed by hand for this run (``pip install mechanism``); it is not
@@ -22,7 +22,7 @@ from _common import machine, median_time, orientations, print_table
 
 from camgen.synthesis.followers import DEFAULT_FIT_TOL, FollowerSpec, cam_envelope
 from camgen.synthesis.laws import MotionProgram, Segment
-from camgen.tests import ride
+import ride  # tests/ride.py (on the path through _common)
 
 BASE, ROLLER, LIFT = 76.2, 12.7, 25.4
 N = 3600  # mechanism's samples per turn

@@ -9,7 +9,7 @@ import _common  # noqa: F401  (shared helpers: median_time, print_table)
 from _common import median_time, print_table
 
 import camgen
-from camgen.tests.helpers import chord_deviation
+from helpers import chord_deviation  # tests/helpers.py (on the path through _common)
 
 CAMS = {"stride_length (220, 160, 25)": (220.0, 160.0, 25.0), "stride_height (220, 220, 10)": (220.0, 220.0, 10.0)}
 

@@ -4,7 +4,7 @@
 
 Each ``bench_*.py`` runs in its own process; its printed tables go into RESULTS.md under its
 name.  The header names the machine, the commit and the SHA-256 of the benchmark sources: a test
-(camgen/tests/test_benchmarks.py) checks that RESULTS.md was produced by the current scripts and
+(tests/test_benchmarks.py) checks that RESULTS.md was produced by the current scripts and
 that README.md's block between the ``benchmarks:summary`` markers is the summary written here.
 """
 from __future__ import annotations
