@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Mapping
 
 import numpy as np
 
@@ -511,11 +511,13 @@ def motion_check(motion: Motion, rpm: float | None) -> CheckResult:
 # --------------------------------------------------------------------------------------------
 # All checks of one cam
 # --------------------------------------------------------------------------------------------
-@dataclass
+@dataclass(frozen=True)
 class CamEvaluation:
-    """The checks of one cam and the curves report.html draws (cam angles in rad)."""
+    """The checks stage's result for one cam (frozen): its checks, the figures they add to the
+    report (``figures``: the follower, the motion at speed) and the curves report.html draws
+    (cam angles in rad)."""
 
-    checks: list[CheckResult]
+    checks: tuple[CheckResult, ...]
     follower: Follower | None  # the generic follower model; None for kinds with their own (disk cams)
     motion: Motion | None
     pressure_angle: tuple[np.ndarray, np.ndarray] | None  # (cam angle, rad)
@@ -527,6 +529,13 @@ class CamEvaluation:
     curvature_angle_label: str = "polar angle on the cam (deg)"  # what the curvature curve's angles are
     follower_drawing: list[tuple[str, np.ndarray]] | None = None  # (label, polyline (n, 2) mm) at cam angle 0
     animation: Any = None  # camgen.report.animation.RideAnimation: the follower riding the cam
+    figures: Mapping[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        from types import MappingProxyType
+
+        object.__setattr__(self, "checks", tuple(self.checks))
+        object.__setattr__(self, "figures", MappingProxyType(dict(self.figures)))
 
 
 def evaluate_cam(contour: Contour | None, follower: Follower, tool_radius: float | None = None, rpm: float | None = None,

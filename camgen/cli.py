@@ -18,7 +18,7 @@ from camgen.errors import CamgenError, ParameterError
 
 if TYPE_CHECKING:
     from camgen.checks import CheckResult
-    from camgen.pipeline import RunResult
+    from camgen.results import RunResult
     from camgen.scene import Scene
 
 #: The run folders this command has written (a signal after that does not undo them).

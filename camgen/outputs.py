@@ -14,6 +14,8 @@ from camgen.schema import Angle, Choice, ChoiceList, Count, Flag, Key, Number
 #: Stages: ``mesh`` (the extruded solid), ``analysis`` (ride simulations, fits, sweeps: report
 #: figures beyond the checks), ``plots`` (the data report.html draws).
 MESH = frozenset({"mesh"})
+#: ``fea``: the FEA volume mesh (gmsh), made once per cam for the vtu, msh and inp files.
+FEA = frozenset({"fea"})
 ANALYSIS = frozenset({"analysis"})
 
 
@@ -59,11 +61,11 @@ _FORMATS = (
     OutputFormat("obj", "{cam}.obj", "Wavefront OBJ mesh of the body", "camgen.writers:mesh", MESH),
     OutputFormat("ply", "{cam}.ply", "binary PLY mesh of the body", "camgen.writers:mesh", MESH),
     OutputFormat("vtu", "{cam}.vtu", "VTK unstructured grid of the body (FEA: wedges or tetrahedra meshed by gmsh); needs the fea "
-                 "extra (gmsh)", "camgen.export.fea:writer", MESH),
+                 "extra (gmsh)", "camgen.export.fea:writer", FEA),
     OutputFormat("msh", "{cam}.msh", "Gmsh 2.2 mesh of the body (FEA: wedges or tetrahedra); needs the fea extra (gmsh)",
-                 "camgen.export.fea:writer", MESH),
+                 "camgen.export.fea:writer", FEA),
     OutputFormat("inp", "{cam}.inp", "Abaqus/CalculiX input mesh of the body (FEA: C3D6 or C3D4, node sets PROFILE, BORE with a "
-                 "bore, BOTTOM, TOP); needs the fea extra (gmsh)", "camgen.export.fea:writer", MESH),
+                 "bore, BOTTOM, TOP); needs the fea extra (gmsh)", "camgen.export.fea:writer", FEA),
     OutputFormat("step", "{cam}.step", "exact solid (circles and B-splines), AP214, mm; needs the step extra (cadquery-ocp-novtk)",
                  "camgen.writers:step"),
     OutputFormat("ngc", "{cam}.ngc", "RS274/NGC G-code milling the outside profile (LinuxCNC or GRBL)", "camgen.writers:gcode"),
@@ -97,7 +99,7 @@ MIN_FEA_ELEMENT_SIZE = 1e-6
 #: Largest ``output.chord_tol_mm`` (mm).
 MAX_CHORD_TOL = 1.0
 #: The FEA volume-mesh formats (``output.fea_*`` keys need one of them).
-FEA_FORMATS = ("vtu", "msh", "inp")
+FEA_FORMATS = tuple(f.name for f in _FORMATS if "fea" in f.stages)
 
 
 @dataclass(frozen=True)

@@ -10,9 +10,8 @@ from camgen.errors import ParameterError
 
 if TYPE_CHECKING:
     from camgen.export.gcode import MachiningSpec
-    from camgen.kinds.base import BuiltCam
     from camgen.outputs import OutputSpec
-    from camgen.pipeline import RunResult
+    from camgen.results import CamResult, RunResult
 
 
 @dataclass(frozen=True)
@@ -28,7 +27,7 @@ class RunSettings:
 DXF_CENTER_MARK_MM = 5.0
 
 
-def dxf(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
+def dxf(cam: "CamResult", run: RunSettings, fmt: str) -> str:
     """What is cut (profile, bore, keyway); with ``output.dxf_construction`` also the PITCH,
     CENTER and ZERO layers."""
     from camgen.export.dxf import DxfOptions, contour_to_dxf
@@ -43,19 +42,19 @@ def dxf(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
     return contour_to_dxf(cam.contour, cam.body, pitch, options, cam.zero_mark)
 
 
-def points(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
+def points(cam: "CamResult", run: RunSettings, fmt: str) -> str:
     from camgen.export.points import points_csv
 
     return points_csv(cam.contour, run.output.chord_tol)
 
 
-def lift(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
+def lift(cam: "CamResult", run: RunSettings, fmt: str) -> str:
     from camgen.export.points import lift_csv
 
     return lift_csv(cam.contour, run.output.lift_step)
 
 
-def follower(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
+def follower(cam: "CamResult", run: RunSettings, fmt: str) -> str:
     from camgen.errors import GeometryError
     from camgen.export.motion import follower_csv
 
@@ -65,19 +64,19 @@ def follower(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
     return follower_csv(motion, cam.rpm)
 
 
-def mesh(cam: "BuiltCam", run: RunSettings, fmt: str) -> bytes:
+def mesh(cam: "CamResult", run: RunSettings, fmt: str) -> bytes:
     from camgen.export.solid import mesh_bytes
 
     return mesh_bytes(cam.solid, fmt, cam.name)
 
 
-def step(cam: "BuiltCam", run: RunSettings, fmt: str) -> bytes:
+def step(cam: "CamResult", run: RunSettings, fmt: str) -> bytes:
     from camgen.export.step import step_bytes
 
     return step_bytes(cam.contour, cam.body, cam.name)
 
 
-def gcode(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
+def gcode(cam: "CamResult", run: RunSettings, fmt: str) -> str:
     from camgen.export.gcode import gcode_program
 
     from camgen.kinds.base import rename_errors

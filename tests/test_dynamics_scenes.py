@@ -241,7 +241,7 @@ def test_shaft_torque_is_the_moment_of_the_contact_force_about_the_cam_axis(case
         "cw oscillating roller": oscillating(mass_kg=0.3, cg_distance_mm=35.0, rotation="cw", swing_turn="cw", pivot_x_mm=-90.0),
     }[case]
     cam, _, _ = run(scene)
-    res, f, k = cam.dynamics.result, cam.spec_follower, cam.envelope.data
+    res, f, k = cam.dynamics.result, cam.built.spec_follower, cam.built.envelope.data
     theta = k.theta
     c, s = np.cos(f.sigma * theta), np.sin(f.sigma * theta)
 
@@ -278,7 +278,7 @@ def test_an_arms_weight_is_balanced_about_the_pivot(follower):
     make = oscillating if follower == "roller" else oscillating_flat
     with_weight = run(make(mass_kg=m, cg_distance_mm=r_g, gravity_deg=-60.0))[0]
     without = run(make(mass_kg=m, cg_distance_mm=r_g, gravity=False))[0].dynamics.result
-    f, k = with_weight.spec_follower, with_weight.envelope.data
+    f, k = with_weight.built.spec_follower, with_weight.built.envelope.data
     if follower == "roller":  # along the arm, from the pivot to the roller centre
         arm = k.follower_point - np.asarray(f.pivot)
         r = r_g * arm / np.hypot(arm[:, 0], arm[:, 1])[:, None]

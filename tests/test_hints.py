@@ -156,7 +156,7 @@ def test_the_least_step_down_quoted_is_accepted(thickness, breakthrough):
     """The refusal of too many passes quotes a least step_down_mm; that value is accepted and one
     unit of its last digit less is refused (40.1 mm once gave 0.0401 mm, itself refused)."""
     from camgen.errors import ParameterError
-    from camgen.pipeline import MAX_PASSES, _check_machining
+    from camgen.planning import MAX_PASSES, _check_machining
 
     def scene(step: str):
         s = _scene("oscillating_roller", thickness_mm=float(thickness))
@@ -208,7 +208,7 @@ def test_the_gcode_chord_tolerance_quoted_is_accepted():
     import dataclasses
 
     from camgen.errors import ParameterError
-    from camgen.pipeline import _check_machining
+    from camgen.planning import _check_machining
 
     scene = _scene("oscillating_roller")
     scene["output"] = {"formats": ["ngc"], "chord_tol_mm": 1e-6}

@@ -207,7 +207,7 @@ def test_a_sharp_peak_needs_samples_or_undercuts_by_name(width, samples, works):
             assert "steering rod" in check.note and "cusp" in check.note
         return
     bound, _ = ride_bound(cam, path)
-    ride = tc.simulate_cam(cam.tricycle)
+    ride = tc.simulate_cam(cam.built.tricycle)
     x = np.mod(ride.x, path.period)
     lateral = np.abs((ride.y - path(x)) / path.speed(x))
     assert np.max(lateral) <= bound
@@ -400,7 +400,7 @@ def test_roller_at_the_pitch_curvature_radius(eps):
         assert min(abs(w - where) for w in check.where_deg) <= 0.2 + 3e4 * eps
         return
     angles = np.linspace(0, 2 * math.pi, 72, endpoint=False)
-    gap = follower_gap(cam.spec_follower, cam.contour.flatten(1e-7), angles, _cycloidal(angles)[0])
+    gap = follower_gap(cam.built.spec_follower, cam.contour.flatten(1e-7), angles, _cycloidal(angles)[0])
     assert np.max(np.abs(gap)) <= 2 * cam.figures["fit_tol_mm"] + 1e-7
     convex = next(c for c in cam.checks if c.name == "min_convex_radius")
     assert convex.value == pytest.approx(rho_min - roller, rel=1e-2)  # the profile: the pitch curve offset inward by the roller
@@ -420,7 +420,7 @@ def test_disk_cams_at_their_scales(base, fit_tol):
     cam = compute(parse_scene({"cams": {"x": table}}, "limits"), Plan((), frozenset())).cams[0]
     size = cam.contour.size
     theta = np.linspace(0, 2 * math.pi, 36, endpoint=False)
-    gap = follower_gap(cam.spec_follower, cam.contour.flatten(1e-8 * size), theta, cam.law(theta)[0])
+    gap = follower_gap(cam.built.spec_follower, cam.contour.flatten(1e-8 * size), theta, cam.built.law(theta)[0])
     assert np.max(np.abs(gap)) <= 2 * fit_tol + 1e-8 * size
 
 

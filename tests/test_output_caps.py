@@ -1,4 +1,4 @@
-"""The caps on file size (pipeline.MAX_FLAT_POINTS, pipeline.MAX_PASSES, gcode.MAX_PROGRAM_MOVES,
+"""The caps on file size (planning.MAX_FLAT_POINTS, planning.MAX_PASSES, gcode.MAX_PROGRAM_MOVES,
 fea.MAX_FILE_BYTES and fea.MAX_MESHER_BYTES):
 each refusal names the key and a least value that is itself accepted, and what is written at
 that value holds no more than the cap (counted in the file, not taken from the code).
@@ -63,7 +63,7 @@ def _least(err: str, key: str) -> float:
 def test_suggested_chord_tolerance_is_accepted_and_the_file_fits(tmp_path, capsys, monkeypatch):
     import pandas
 
-    import camgen.pipeline as pipeline
+    import camgen.planning as pipeline
 
     cap = 3000
     monkeypatch.setattr(pipeline, "MAX_FLAT_POINTS", cap)
@@ -83,7 +83,7 @@ def test_dxf_alone_is_not_capped_by_the_flattened_count(tmp_path, capsys, monkey
     point list is refused writes a DXF of few entities (counted by ezdxf)."""
     import ezdxf
 
-    import camgen.pipeline as pipeline
+    import camgen.planning as pipeline
 
     monkeypatch.setattr(pipeline, "MAX_FLAT_POINTS", 3000)
     assert _run(tmp_path, capsys, "points", tol=1e-5)[0] == 2
@@ -95,7 +95,7 @@ def test_dxf_alone_is_not_capped_by_the_flattened_count(tmp_path, capsys, monkey
 
 def test_least_step_down_is_accepted(tmp_path, capsys):
     """10.0345 mm + 0.2 mm breakthrough over at most 1000 passes: 0.0102345 mm, quoted rounded up."""
-    import camgen.pipeline as pipeline
+    import camgen.planning as pipeline
 
     status, err, folder = _run(tmp_path, capsys, "steps", formats='["ngc"]', step=0.001, thickness=10.0345)
     assert status == 2 and not folder.exists(), err

@@ -350,8 +350,8 @@ def fourier_paths(draw) -> FourierPath:
 
 def ride_bound(cam, path: AnalyticPath) -> tuple[float, float]:
     """(bound on the ride's lateral error, mm; arc length S): see the module docstring."""
-    device = cam.tricycle.device
-    n = cam.tricycle.synthesis.theta.size
+    device = cam.built.tricycle.device
+    n = cam.built.tricycle.synthesis.theta.size
     theta = 2 * math.pi * (np.arange(4 * n) + 0.5) / (4 * n)
     q_design, total = path.design(theta, device)
     dq = float(np.max(np.abs(cam.pitch.polar_radius(-theta) - q_design))) + 1e-9  # + the profile's offset refit (1e-9 mm)
@@ -378,7 +378,7 @@ def test_trajectory_cam_is_closed_smooth_and_rides_within_its_bound(path, sample
     joints_closed_and_g1(cam.contour, size, 1e-9 * size, 1e-6)
     flatten_within_bound(cam.contour, 1e-4 * size)
     bound, total = ride_bound(cam, path)
-    ride = tc.simulate_cam(cam.tricycle)
+    ride = tc.simulate_cam(cam.built.tricycle)
     x = np.mod(ride.x, path.period)
     lateral = (ride.y - path(x)) / path.speed(x)
     assert np.all(np.isfinite(lateral))
@@ -653,7 +653,7 @@ def least_concave_radius(cam, family: str) -> float:
     cam's from disk_margins, a trajectory cam's from central differences of its profile's points
     at 200,000 polar angles of the rod centre (the spline's parameter)."""
     if family == "motion_law":
-        _, _, radius = disk_margins(cam.spec_follower, cam.law)
+        _, _, radius = disk_margins(cam.built.spec_follower, cam.built.law)
     else:
         phi = np.linspace(0.0, 2 * math.pi, 200_001)[:-1]
         p = cam.contour.segments[0].eval_t(phi)
@@ -672,7 +672,7 @@ def _in_ranges(angle_deg: float, where: list, tol: float = 0.1) -> bool:
 def check_disk_verdict(cam) -> bool:
     """camgen's verdict on a disk cam (made, or the undercut check failed, saying where) against the
     tests' own (disk_margins); returns whether the cam can be made."""
-    theta, margins, _ = disk_margins(cam.spec_follower, cam.law)
+    theta, margins, _ = disk_margins(cam.built.spec_follower, cam.built.law)
     worst = min(float(np.nanmin(m)) for m in margins.values())
     made = cam.contour is not None
     if abs(worst) > VERDICT_MARGIN:
@@ -719,8 +719,8 @@ def test_the_undercut_verdict_flips_at_the_tests_own_limit(name):
     probe = build(100.0)  # the follower and the law as camgen reads the keys (the law does not depend on the base radius)
 
     def worst(base: float) -> float:
-        f = dataclasses.replace(probe.spec_follower, base_radius=base)
-        return min(float(np.nanmin(m)) for m in disk_margins(f, probe.law)[1].values())
+        f = dataclasses.replace(probe.built.spec_follower, base_radius=base)
+        return min(float(np.nanmin(m)) for m in disk_margins(f, probe.built.law)[1].values())
 
     hi = 100.0
     assert worst(lo) < 0 < worst(hi)
@@ -739,7 +739,7 @@ def _disk_properties(cam, family: str, tool_radius: float, solid: bool = False) 
     if not check_disk_verdict(cam):  # cannot be made, as the tests' own geometry says too
         counted(family, "undercut named")
         return
-    contour, f, law = cam.contour, cam.spec_follower, cam.law
+    contour, f, law = cam.contour, cam.built.spec_follower, cam.built.law
     size = contour.size
     joints_closed_and_g1(contour, size, 1e-9 * size, 1e-6)
     flatten_within_bound(contour, 1e-4 * size)

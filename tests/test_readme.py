@@ -108,7 +108,7 @@ def test_the_limits_quoted_are_the_codes(tree):
     from camgen.kinds.base import MIN_RPM
     from camgen.kinds.trajectory import MAX_SAMPLES
     from camgen.mechanisms.tricycle_fit import FIT_MAX_CONDITION
-    from camgen.pipeline import MAX_FLAT_POINTS, MAX_PASSES
+    from camgen.planning import MAX_FLAT_POINTS, MAX_PASSES
     from camgen.synthesis import trajectory
 
     def short(x: float) -> str:  # 8.5e-6, 1e6: as written by hand

@@ -214,9 +214,12 @@ def test_a_kind_whose_files_would_overwrite_the_report_is_refused(tmp_path, caps
     real = camgen.pipeline.compute
 
     def compute(*args, **kwargs):
+        import dataclasses
+
         result = real(*args, **kwargs)
-        result.cams[0].files["report.json"] = "{}"
-        return result
+        cam = result.cams[0]
+        built = dataclasses.replace(cam.built, files={"report.json": "{}"})  # a kind that writes its own report.json
+        return dataclasses.replace(result, cams=(cam.with_(built=built),) + result.cams[1:])
 
     monkeypatch.setattr(camgen.pipeline, "compute", compute)
     text = PLATE.format(cam="c").replace('["dxf", "points", "lift"]', '["dxf"]')

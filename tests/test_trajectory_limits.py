@@ -108,7 +108,7 @@ def test_the_polar_spline_converges_to_the_exact_undercut_factor():
     has the exact smallest 1 - r_d kappa of the bump within 1e-5 (w = 40 mm: 0.4307)."""
     exact = float(exact_undercut_factor(40.0).min())
     cam = _cam(40.0, 2880)
-    curves = cam.tricycle.curves
+    curves = cam.built.tricycle.curves
     dense = np.linspace(0, 2 * math.pi, 64 * 2880, endpoint=False)
     ours = float(np.min(1 - RD * curves.pitch_curvature(dense)))
     assert exact == pytest.approx(0.4307, abs=1e-4)
@@ -298,7 +298,7 @@ def test_the_report_figures_are_the_ride_errors_of_an_independent_integration():
     table = {"kind": "trajectory", "expression": "202.4396*sin(pi*x/1000)", "period_mm": 2000.0, "samples": 180,
              "curvature": "central", "ride_periods": 3}
     cam = compute(parse_scene({"cams": {"x": table}}, "ride"), Plan((), frozenset({"analysis"}))).cams[0]
-    one, three = _dop853_ride_on(*_dxf_profile(cam.tricycle), periods=3)
+    one, three = _dop853_ride_on(*_dxf_profile(cam.built.tricycle), periods=3)
     assert three > 2.5 * one > 0.04  # the error grows turn by turn: the two figures differ
     assert cam.figures["ride_max_error_mm"] == pytest.approx(one, rel=1e-5)
     assert cam.figures["ride_max_error_3_periods_mm"] == pytest.approx(three, rel=1e-5)

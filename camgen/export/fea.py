@@ -788,24 +788,10 @@ def check_caps(contour: Contour, body: BodySpec, formats, chord_tol: float, elem
 # --------------------------------------------------------------------------------------------
 # The registered writer (camgen.outputs: vtu, msh, inp)
 # --------------------------------------------------------------------------------------------
-#: The last mesh made, for the cam's other FEA formats: (weak reference to the contour, body,
-#: settings, mesh); one mesh at most is kept.
-_last: list = []
-
-
 def writer(cam, run, fmt: str) -> bytes:
-    """File content of FEA format ``fmt`` of the built ``cam`` with the run's settings; the mesh
-    is made once for the cam's FEA formats.  Its figures go to report.json
-    (``cams.<cam>.figures.fea_mesh``)."""
-    settings = (run.output.chord_tol, run.output.fea_element_size, run.output.fea_elements)
-    if _last and _last[0]() is cam.contour and _last[1] == cam.body and _last[2] == settings:
-        mesh = _last[3]
-    else:
-        import weakref
-
-        _gmsh(fmt)
-        _last.clear()
-        mesh = volume_mesh(cam.contour, cam.body, *settings)
-        _last.extend([weakref.ref(cam.contour), cam.body, settings, mesh])
-    cam.figures["fea_mesh"] = dict(mesh.figures)
-    return fea_bytes(mesh, fmt, cam.name)
+    """File content of FEA format ``fmt`` of ``cam`` (a :class:`camgen.results.CamResult`): its
+    FEA mesh, made once by the pipeline's ``fea`` stage for every FEA format of the cam (its
+    figures are report.json's ``cams.<cam>.figures.fea_mesh``)."""
+    if cam.fea is None:
+        raise GeometryError(f"the FEA mesh of cam '{cam.name}' was not made")
+    return fea_bytes(cam.fea, fmt, cam.name)

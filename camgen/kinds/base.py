@@ -17,15 +17,14 @@ from camgen.schema import Angle, Key, Length, Number, Text
 
 if TYPE_CHECKING:  # the heavy modules stay unimported until a cam is built
     from camgen.body import BodySpec
-    from camgen.checks import CamEvaluation, CheckResult, Follower
+    from camgen.checks import CamEvaluation, Follower
     from camgen.contour import Contour
     from camgen.errors import UndercutError
-    from camgen.export.solid import CamSolid
 
 #: Analysis stages a kind may feed (the pipeline plans them from the requested outputs).
 #: ``analysis``: figures and files beyond the design checks (ride simulations, fits, sweeps);
 #: ``plots``: the data report.html draws.
-STAGES = ("analysis", "plots", "mesh")
+STAGES = ("analysis", "plots", "mesh", "fea")
 
 #: Least cam speed a scene may give, rev/min: one turn in 1000 min (16.7 h), slower than any
 #: machine cam.  Every number derived from it stays a normal float: omega = 2 pi rpm / 60 =
@@ -78,37 +77,34 @@ class CamSpec:
     dynamics: Any = None  # camgen.kinds.dynamics.DynamicsSpec: the follower train, when the scene gives one
 
 
-@dataclass
+@dataclass(frozen=True)
 class BuiltCam:
-    """A synthesised cam: its contour, figures (report numbers), checks and files.
+    """A synthesised cam (the synthesis stage's result, frozen): its contour, figures (report
+    numbers) and the kind's own files.
 
-    ``contour`` is None when the profile cannot be made (an undercut): the checks say why and
-    the report shows it, and no manufacturing file is written.  Kinds extend this class with
-    their own typed data.
+    ``contour`` is None when the profile cannot be made (an undercut, ``undercut`` says why): the
+    checks say so, the report shows it, and no manufacturing file is written.  Kinds extend this
+    class with their own typed data (frozen too).  The later stages' results are composed with it
+    in :class:`camgen.results.CamResult`.
     """
 
     name: str
     kind: str
     contour: "Contour | None"
-    figures: dict[str, Any]
+    figures: Mapping[str, Any]
     body: "BodySpec"
     follower: "Follower | None" = None
     pitch: "Contour | None" = None  # follower-centre path the cam was made for (roller followers)
     breadth: float | None = None  # constant breadth (yoke followers)
-    checks: "list[CheckResult]" = field(default_factory=list)
-    files: dict[str, str] = field(default_factory=dict)
-    evaluation: "CamEvaluation | None" = None
-    solid: "CamSolid | None" = None
+    files: Mapping[str, str] = field(default_factory=dict)
     undercut: "UndercutError | None" = None  # why the profile could not be made (contour None)
-    withheld: list[str] = field(default_factory=list)  # manufacturing files not written
     zero_mark: ZeroMark | None = None  # cam angle 0 and the rotation sense (kinds that know them)
-    rpm: float | None = None  # the cam speed of the motion figures (set by the pipeline from the scene)
-    dynamics: Any = None  # camgen.kinds.dynamics.DynamicsOutcome: forces, torque, stress at rpm (scenes with a follower train)
 
-    @property
-    def manufacturable(self) -> bool:
-        """False when the profile could not be made or a check that blocks manufacture failed."""
-        return self.contour is not None and not any(c.failed and c.blocks_manufacture for c in self.checks)
+    def __post_init__(self) -> None:
+        from camgen.results import frozen_mapping
+
+        object.__setattr__(self, "figures", frozen_mapping(self.figures))  # read-only: no later stage writes into them
+        object.__setattr__(self, "files", frozen_mapping(self.files))
 
 
 @dataclass(frozen=True)

@@ -106,7 +106,7 @@ class DiskParams:
     source: str | None = None
 
 
-@dataclass
+@dataclass(frozen=True)
 class DiskCam(BuiltCam):
     """A built disk cam: the envelope, the law and the follower it was made for, the sizing
     result, the follower motion (exact, per unit cam speed), and the report's drawing data."""
@@ -410,17 +410,18 @@ def build_disk(spec: CamSpec, stages: frozenset[str]) -> DiskCam:
     if p.source is not None:
         figures["source"] = p.source
     zero = kinematics(follower, p.law, np.zeros(1)).contact_point[0]
+    zero_mark = ZeroMark((float(zero[0]), float(zero[1])), follower.sigma)
     pitch = env.pitch if follower.kind == "roller" else None
-    cam = DiskCam(spec.name, spec.kind, profile, figures, spec.body, None, pitch=pitch,
-                  zero_mark=ZeroMark((float(zero[0]), float(zero[1])), follower.sigma),
-                  envelope=env, law=p.law, spec_follower=follower, sizing=sizing, motion=_motion(follower, p.law))
-    size = follower.prime_radius + (p.law.stroke if unit == "mm" else 0.0)
-    face = _face_extent(follower, env.data, p.face_half_length) if follower.kind == "flat" else None
+    drawing = animation = None
     if "plots" in stages:  # what report.html draws: the follower at cam angle 0, the animation
+        size = follower.prime_radius + (p.law.stroke if unit == "mm" else 0.0)
+        face = _face_extent(follower, env.data, p.face_half_length) if follower.kind == "flat" else None
         s0 = float(p.law(np.zeros(1))[0][0])
-        cam.drawing = follower_shapes(follower, s0, size, face)
-        cam.animation = _animation(cam, follower, p.law, size, face)
-    return cam
+        drawing = follower_shapes(follower, s0, size, face)
+        animation = _animation(profile if profile is not None else env.pitch, zero_mark, follower, p.law, size, face)
+    return DiskCam(spec.name, spec.kind, profile, figures, spec.body, None, pitch=pitch, zero_mark=zero_mark,
+                   envelope=env, law=p.law, spec_follower=follower, sizing=sizing, motion=_motion(follower, p.law),
+                   drawing=drawing, animation=animation)
 
 
 def _follower_figures(f: "FollowerSpec") -> dict[str, Any]:
@@ -442,12 +443,12 @@ def _follower_figures(f: "FollowerSpec") -> dict[str, Any]:
     return out
 
 
-def _animation(cam: DiskCam, f: "FollowerSpec", law: Any, size: float, face: tuple[float, float] | None):
-    """The data of the report's animation: the profile (or pitch curve), the follower at zero
-    lift, and per frame the follower's lift (translating, mm) or swing (deg, signed as the arm turns)."""
+def _animation(outline: Any, zero_mark: ZeroMark, f: "FollowerSpec", law: Any, size: float, face: tuple[float, float] | None):
+    """The data of the report's animation: the profile (or, where it cannot be made, the pitch
+    curve) ``outline``, the follower at zero lift, and per frame the follower's lift
+    (translating, mm) or swing (deg, signed as the arm turns)."""
     from camgen.report.animation import RideAnimation
 
-    outline = cam.contour if cam.contour is not None else cam.envelope.pitch
     if outline is None:
         return None
     chord = max(1e-3, 2e-4 * size)
@@ -458,7 +459,7 @@ def _animation(cam: DiskCam, f: "FollowerSpec", law: Any, size: float, face: tup
     else:
         moves, pivot = np.degrees(f.tau * s), tuple(f.pivot)  # type: ignore[arg-type]
     return RideAnimation(outline.flatten(chord), f.sigma, follower_shapes(f, 0.0, size, face), f.motion, pivot, moves,
-                         ANIMATION_SECONDS, cam.zero_mark)
+                         ANIMATION_SECONDS, zero_mark)
 
 
 # --------------------------------------------------------------------------------------------

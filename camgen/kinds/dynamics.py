@@ -19,7 +19,7 @@ Its figures go to report.json (``figures.dynamics``), its curves to report.html.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Mapping
 
@@ -30,6 +30,7 @@ from camgen.schema import Angle, Flag, Key, Length, Number, Text, given_keys
 
 if TYPE_CHECKING:
     from camgen.dynamics import ContactMaterial, DynamicsResult, FollowerTrain, Kinematics
+    from camgen.checks import CheckResult
     from camgen.kinds.base import BuiltCam, CamSpec
 
 _T = {"follower_motion": ("translating",)}
@@ -357,7 +358,7 @@ def _kinematics(make: Any) -> "Kinematics":
 # --------------------------------------------------------------------------------------------
 # The stage
 # --------------------------------------------------------------------------------------------
-@dataclass
+@dataclass(frozen=True)
 class DynamicsOutcome:
     """What the stage computed for one cam: the result at the scene's speed, the kinematics it
     used, and (plots stage) the smallest contact force against cam speed (rpm, N)."""
@@ -368,34 +369,44 @@ class DynamicsOutcome:
     speed_min_force: np.ndarray | None = None
 
 
-def run_dynamics(cam: "BuiltCam", spec: "CamSpec", stages: frozenset[str]) -> None:
-    """Run the dynamics of ``spec`` on the built ``cam``: checks, figures and (``plots`` in
-    ``stages``) the report's curves, on ``cam.dynamics``."""
+@dataclass(frozen=True)
+class DynamicsStage:
+    """The dynamics stage's result for one cam: the ``outcome`` the report draws (None when the
+    profile cannot be made), its ``checks`` and report.json's ``figures.dynamics``."""
+
+    outcome: DynamicsOutcome | None
+    checks: "tuple[CheckResult, ...]"
+    figures: Mapping[str, Any] = field(default_factory=dict)
+
+
+def run_dynamics(cam: "BuiltCam", spec: "CamSpec", stages: frozenset[str]) -> DynamicsStage | None:
+    """The dynamics of ``spec`` on the built ``cam``: checks, figures and (``plots`` in ``stages``)
+    the report's curves; None when the scene gives no follower train."""
     from camgen import dynamics as dy
     from camgen.checks import information
-    from camgen.kinds import get_kind
 
     dyn: DynamicsSpec | None = getattr(spec, "dynamics", None)
     if dyn is None:
-        return
+        return None
     if cam.contour is None:
-        cam.checks.append(information("dynamics", "not computed", "", [], "the profile cannot be made (see the undercut check): "
-                                      "the contact forces, jump and contact stress are computed for a cam that can be made"))
-        return
+        return DynamicsStage(None, (information("dynamics", "not computed", "", [], "the profile cannot be made (see the undercut "
+                                                "check): the contact forces, jump and contact stress are computed for a cam that "
+                                                "can be made"),))
+    from camgen.kinds import get_kind
+
     rpm = spec.checks.rpm
     kin, arm = get_kind(spec.kind).follower_dynamics(cam, spec)
     train = replace(dyn.train, arm_length=arm) if dyn.train.motion == "oscillating" else dyn.train
     result = dy.analyse(kin, train, rpm, dyn.material, jump_margin=dyn.jump_margin, torque_limit=dyn.torque_limit)
-    outcome = DynamicsOutcome(result, kin)
+    speed = speed_min_force = None
     if "plots" in stages and train.closure == "force":
         top = SPEED_SPAN * rpm
         if math.isfinite(result.jump_rpm) and result.jump_rpm > 0:
             top = min(max(top, 1.2 * result.jump_rpm), SPEED_SPAN_MAX * rpm)
-        outcome.speed_rpm = np.linspace(0.0, top, SPEED_SAMPLES)
-        outcome.speed_min_force = dy.min_contact_force(kin, train, outcome.speed_rpm)
-    cam.dynamics = outcome
-    cam.checks.extend(result.checks)
-    cam.figures["dynamics"] = dynamics_figures(result, dyn, train)
+        speed = np.linspace(0.0, top, SPEED_SAMPLES)
+        speed_min_force = dy.min_contact_force(kin, train, speed)
+    return DynamicsStage(DynamicsOutcome(result, kin, speed, speed_min_force), tuple(result.checks),
+                         dynamics_figures(result, dyn, train))
 
 
 def dynamics_figures(result: "DynamicsResult", dyn: DynamicsSpec, train: "FollowerTrain") -> dict[str, Any]:

@@ -111,7 +111,7 @@ class TricyclePlots:
     fits: dict[str, dict[str, np.ndarray]] = field(default_factory=dict)
 
 
-@dataclass
+@dataclass(frozen=True)
 class TrajectoryCam(BuiltCam):
     """A built trajectory cam: the tricycle model and, with the plots stage, the report's data."""
 
@@ -218,10 +218,9 @@ def _analysed(spec: CamSpec, cam: "TricycleCam", stages: frozenset[str]) -> Traj
         figures["fits"] = _fits(f"cams.{spec.name}", cam, p.fit_tables)
     if one is not None:
         files[f"{spec.name}_ride.csv"] = _ride_csv(spec.name, traj, one)
-    built = TrajectoryCam(spec.name, spec.kind, cam.profile, figures, spec.body, spec.follower, pitch=cam.pitch, files=files, tricycle=cam)
-    if "plots" in stages:
-        built.plots = _plots(cam, figures.get("fits", {}), one)
-    return built
+    plots = _plots(cam, figures.get("fits", {}), one) if "plots" in stages else None
+    return TrajectoryCam(spec.name, spec.kind, cam.profile, figures, spec.body, spec.follower, pitch=cam.pitch, files=files, tricycle=cam,
+                         plots=plots)
 
 
 def _fits(where: str, cam: "TricycleCam", tables: tuple[str, ...]) -> dict[str, Any]:

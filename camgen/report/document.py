@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import json
 import math
-from typing import TYPE_CHECKING, Any, Sequence
+from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 from camgen.errors import ExportError
 
@@ -175,7 +175,7 @@ def report_dict(scene: "Scene", cams: "Sequence[BuiltCam]", files: Sequence[str]
 
 def _plain(value: Any, where: str) -> Any:
     """Convert numpy scalars/arrays to plain JSON types; refuse NaN and infinity."""
-    if isinstance(value, dict):
+    if isinstance(value, Mapping):  # a dict, or a stage's read-only figures
         return {str(k): _plain(v, f"{where}.{k}") for k, v in value.items()}
     if isinstance(value, (list, tuple)):
         return [_plain(v, f"{where}[{i}]") for i, v in enumerate(value)]

@@ -96,12 +96,13 @@ def tricycle_section(Figure: Any, cam: "TrajectoryCam") -> str:
     error types, the measured tables against the fitted model."""
     from camgen.mechanisms import tricycle as tc
 
-    if cam.tricycle is None or cam.plots is None:  # undercut: no cam was made, so there is nothing to ride
+    built = cam.built  # a TrajectoryCam
+    if built.tricycle is None or built.plots is None:  # undercut: no cam was made, so there is nothing to ride
         return (f"<h3>{html.escape(cam.name)}: ride on the cam as made</h3><p class='note'>No ride: the steering rod cannot "
                 "follow this cam (see the undercut check), so no profile was made and no ride, error type or fit is shown. "
                 "The profile plot above shows the rod-centre path the cam would need.</p>")
-    traj = cam.tricycle.trajectory
-    plots = cam.plots
+    traj = built.tricycle.trajectory
+    plots = built.plots
     parts = [f"<h3>{html.escape(cam.name)}: ride on the cam as made</h3>"]
     ride = plots.ride
     fig = Figure(figsize=(10, 3.4))
