@@ -363,6 +363,7 @@ def render(result: RunResult, progress: Progress = _quiet) -> None:
 
     from camgen.outputs import OUTPUTS
     from camgen.report import report_dict, report_json
+    from camgen.report_data import report_input
 
     settings = result.settings()
     files = result.files
@@ -406,12 +407,12 @@ def render(result: RunResult, progress: Progress = _quiet) -> None:
     for name in ("report.json",) + (("report.html",) if html else ()):
         claim_file(owners, name, "the run's report")
     names = sorted(files) + ["report.json"] + (["report.html"] if html else [])
-    mechanisms = {name: job.report for name, job in result.jobs.items()}
-    files["report.json"] = report_json(report_dict(result.scene, result.cams, names, mechanisms, result.plan.stages))
+    report = report_input(result.scene, result.cams, result.jobs, result.plan.stages, names, drawn=html)
+    files["report.json"] = report_json(report_dict(report))
     if html:
         progress("writing report.html")
         module, function = OUTPUTS["html"].writer.split(":")
-        files["report.html"] = getattr(importlib.import_module(module), function)(result)
+        files["report.html"] = getattr(importlib.import_module(module), function)(report)
 
 
 def _check_finite(files: dict[str, str | bytes]) -> None:

@@ -12,7 +12,7 @@ if TYPE_CHECKING:
     from camgen.export.gcode import MachiningSpec
     from camgen.kinds.base import BuiltCam
     from camgen.outputs import OutputSpec
-    from camgen.pipeline import RunResult
+    from camgen.report.model import ReportInput
 
 
 @dataclass(frozen=True)
@@ -91,7 +91,8 @@ def gcode(cam: "BuiltCam", run: RunSettings, fmt: str) -> str:
         raise ParameterError(name, exc.value, f"{exc.valid} for cam '{cam.name}'", exc.why) from None
 
 
-def html(result: "RunResult") -> str:
+def html(report: "ReportInput") -> str:
+    """report.html of the run's report input (:mod:`camgen.report_data`)."""
     from camgen.report.html import report_html
 
-    return report_html(result)
+    return report_html(report)
