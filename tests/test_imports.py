@@ -1,5 +1,5 @@
-"""The import graph of the installed camgen (issue 22, item 4): no cycle anywhere, and no module
-reaching into another module's private names.
+"""The import graph of the installed camgen (issue 22, item 4): no cycle anywhere, no module
+reaching into another module's private names, and a report that imports nothing of the run.
 
 Every module of the installed package is parsed (``ast``), and every import statement in it
 counts: at the top, inside functions (camgen imports its heavy modules lazily) and under
@@ -191,6 +191,21 @@ def test_the_import_graph_of_camgen_has_no_cycle():
     loops = cycles(graph)
     assert not loops, "import cycles (each module with the line of its import of the next):\n" + "\n".join(
         f"{describe(path)}  (the knot: {', '.join(members)})" for members, path in loops)
+
+
+def test_the_report_imports_nothing_of_the_run():
+    """report.json and report.html draw the typed input they are given (camgen.report.model, made
+    by camgen.report_data): the report's modules import each other and camgen.errors, never the
+    pipeline, a kind, the checks, the scene or a job."""
+    found = modules(PACKAGE, "camgen")
+
+    def in_report(name: str) -> bool:
+        return name == "camgen.report" or name.startswith("camgen.report.")
+
+    assert {"camgen.report.html", "camgen.report.model", "camgen.report.document"} <= set(found)
+    outside = sorted(f"{e.source} (line {e.line}) -> {e.target}" for e in edges(found)
+                     if in_report(e.source) and not (in_report(e.target) or e.target == "camgen.errors"))
+    assert not outside, "the report imports modules of the run:\n" + "\n".join(outside)
 
 
 def test_no_module_takes_a_private_name_of_another():

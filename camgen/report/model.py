@@ -14,16 +14,13 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Literal, Protocol, TypeAlias
+from typing import Literal, Protocol, TypeAlias
 
 import numpy as np
 import numpy.typing as npt
 
-if TYPE_CHECKING:
-    from camgen.report.animation import RideAnimation
-
 __all__ = ["CamBody", "CamPlots", "CamReport", "CheckRow", "DynamicsCurves", "FloatArray", "FollowerFaces", "JsonValue",
-           "MechanismReport", "MotionAtSpeed", "MotionCurves", "ReportInput", "RollerAtZero", "SectionData", "ZeroMark",
+           "MechanismReport", "MotionAtSpeed", "MotionCurves", "ReportInput", "RideAnimation", "RollerAtZero", "SectionData", "ZeroMark",
            "json_number", "json_numbers", "json_object", "json_objects"]
 
 #: A value of report.json: what :func:`json.dumps` writes (mappings and sequences read-only).
@@ -69,6 +66,34 @@ class ZeroMark(Protocol):
 
     @property
     def sigma(self) -> float: ...
+
+
+@dataclass(frozen=True)
+class RideAnimation:
+    """What the animation of the follower riding the cam draws (mm, deg, s;
+    :mod:`camgen.report.animation`).
+
+    Attributes
+    ----------
+    profile : (n, 2) the cam's outline at cam angle 0 (cam frame = fixed frame then).
+    sigma : +1 the cam turns counter-clockwise, -1 clockwise.
+    follower : (label, polyline (m, 2)) of the follower at zero lift or swing, fixed frame.
+    motion : ``"translating"`` (moves along +y) or ``"oscillating"`` (turns about ``pivot``).
+    pivot : the pivot (x, y) of an oscillating follower, else None.
+    moves : per frame (uniform cam angles over one turn, from 0): the lift (mm) of a translating
+        follower, or its arm's turn about the pivot (deg, counter-clockwise positive).
+    seconds : duration of one turn on screen.
+    zero_mark : the contact point at cam angle 0 (:class:`ZeroMark`) or None.
+    """
+
+    profile: FloatArray
+    sigma: float
+    follower: Sequence[tuple[str, FloatArray]]
+    motion: str
+    pivot: tuple[float, float] | None
+    moves: FloatArray
+    seconds: float
+    zero_mark: ZeroMark | None = None
 
 
 @dataclass(frozen=True)
@@ -187,7 +212,7 @@ class CamPlots:
     curvature_angle_label: str
     curvature_limit: float | None
     motion: MotionCurves | None
-    animation: "RideAnimation | None"
+    animation: RideAnimation | None
 
 
 @dataclass(frozen=True)
