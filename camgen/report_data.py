@@ -9,7 +9,7 @@ writes it (``drawn``): report.json alone needs none of them.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -39,7 +39,7 @@ __all__ = ["frozen_json", "report_input"]
 DRAWING_CHORD_MM = 0.01
 
 
-def report_input(scene: "Scene", cams: "Sequence[BuiltCam]", jobs: "Mapping[str, JobResult]", stages: Sequence[str],
+def report_input(scene: "Scene", cams: "Sequence[BuiltCam]", jobs: "Mapping[str, JobResult]", stages: Iterable[str],
                  files: Sequence[str], drawn: bool) -> "ReportInput":
     """The report of a run of ``scene`` that built ``cams``, ran ``jobs`` and the ``stages``, and
     writes ``files`` (report.json and report.html included); ``drawn``: with the curves

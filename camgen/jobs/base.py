@@ -40,7 +40,9 @@ class JobResult:
 class MechanismJob:
     """A registered mechanism: ``[mechanisms.<name>]`` keys, ``read(where, parsed, cam_specs)``
     -> its typed spec, ``run(spec, built_cams, stages, scene_name)`` -> :class:`JobResult`, and
-    the ``"module:function"`` drawing its report section."""
+    the ``"module:function"`` drawing its report section (called with the page's figure maker and
+    the job's :class:`camgen.report.model.MechanismReport`, whose ``section`` is
+    :attr:`JobResult.plots`)."""
 
     name: str
     summary: str

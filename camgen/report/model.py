@@ -252,8 +252,12 @@ class DynamicsCurves:
 
 
 class SectionData:
-    """Base of the data a kind's or mechanism's own report section draws (frozen dataclasses
-    defined beside their section, :mod:`camgen.report.sections`)."""
+    """Base of the data a kind's or mechanism's own report section draws: frozen dataclasses
+    defined beside their section (:mod:`camgen.report.sections`), made by the ``plots`` stage.
+    A kind puts its data on its built cam's ``plots`` (``TrajectoryCam.plots``), a mechanism job
+    on :attr:`camgen.jobs.base.JobResult.plots`; the function its ``report_section`` names is
+    called with the page's figure maker and the :class:`CamReport` (:class:`MechanismReport`),
+    and reads the data as its ``section``."""
 
     __slots__ = ()
 

@@ -34,6 +34,8 @@ import numpy as np
 
 from camgen.errors import ParameterError
 
+__all__ = ["Axes", "Figure", "Line", "nice_ticks", "thin"]
+
 PX_PER_INCH = 96.0
 PX_PER_PT = PX_PER_INCH / 72.0
 MARGIN = 0.05  # automatic limits: data range plus 5 % each side (matplotlib's axes.xmargin)
