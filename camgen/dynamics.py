@@ -44,12 +44,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
-from typing import Any
+from dataclasses import dataclass
+from typing import Any, cast
 
 import numpy as np
 
-from camgen.checks import CheckResult, information, limited, run_ends, where_degrees
+from camgen.checks import run_ends
 from camgen.errors import GeometryError, ParameterError, floor_significant, require_finite
 
 TWO_PI = 2.0 * math.pi
@@ -166,7 +166,7 @@ class FollowerTrain:
                                  "0 with no preload for a form-closed train (yoke, conjugate cams: the second contact holds the follower)")
         if not isinstance(self.load, (int, float)) or isinstance(self.load, bool):
             try:
-                angles, values = (np.asarray(a, dtype=float) for a in self.load)  # type: ignore[misc]
+                angles, values = (np.asarray(a, dtype=float) for a in cast("tuple[Sequence[float], Sequence[float]]", self.load))
             except (TypeError, ValueError):
                 raise ParameterError("load", self.load, "a number or a table (angles rad, values)") from None
             if angles.ndim != 1 or angles.shape != values.shape or angles.size < 1:
@@ -373,6 +373,7 @@ def force_coefficients(kin: Kinematics, train: FollowerTrain) -> tuple[np.ndarra
 def _contact_projection(kin: Kinematics, train: FollowerTrain, second: bool = False) -> np.ndarray:
     """``lever * cos(phi)``: the generalised force per newton along the contact normal."""
     phi = kin.pressure_angle_2 if second else kin.pressure_angle
+    assert phi is not None  # a second contact: a form-closed train's kinematics (analyse checks they are given)
     return _lever(train, kin) * np.cos(phi)
 
 
@@ -485,9 +486,7 @@ class DynamicsResult:
     min_spring_rate : the smallest rate (N/mm or N*mm/rad) that does it with the given
         preload; None if no rate can (the force falls short where the spring is at its
         lowest) or for form closure.
-    jump_margin : N, the margin the checks hold the contact force to.
-    checks : the :class:`~camgen.checks.CheckResult` list: "jump" (or "contact_force" for
-        form closure), "hertz_stress" (with a material), "camshaft_torque".
+    jump_margin : N, the margin the jump check holds the contact force to.
     """
 
     rpm: float
@@ -509,7 +508,6 @@ class DynamicsResult:
     min_preload: float | None
     min_spring_rate: float | None
     jump_margin: float
-    checks: list[CheckResult] = field(default_factory=list)
 
     # ---- scalar summaries -------------------------------------------------------------------
     @property
@@ -652,7 +650,7 @@ def spring_hints(result: "DynamicsResult", kin: Kinematics) -> tuple[float | Non
     contact force >= the margin at ``result.rpm``; None where none exists or none applies."""
     train, margin, speed = result.train, result.jump_margin, np.array([result.rpm])
 
-    def keeps(**change: float) -> bool:
+    def keeps(**change: Any) -> bool:
         from dataclasses import replace
 
         return bool(min_contact_force(kin, replace(train, **change), speed)[0] >= margin)
@@ -681,8 +679,9 @@ def spring_hints(result: "DynamicsResult", kin: Kinematics) -> tuple[float | Non
 
 
 def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: ContactMaterial | None = None, *,
-            jump_margin: float = 0.0, torque_limit: float | None = None, position_tol: float = 1e-9) -> DynamicsResult:
-    """Contact forces, camshaft torque and power, Hertz stress and the jump checks at ``rpm``.
+            jump_margin: float = 0.0, position_tol: float = 1e-9) -> DynamicsResult:
+    """Contact forces, camshaft torque and power, Hertz stress, the jump speed and the spring
+    that keeps the contact at ``rpm`` (the checks of them: :func:`camgen.kinds.dynamics.dynamics_checks`).
 
     Parameters
     ----------
@@ -690,8 +689,8 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
     train : the follower train (:class:`FollowerTrain`).
     rpm : cam speed, rev/min (> 0, constant, counter-clockwise).
     material : elastic constants, contact width, allowable stress; None: no Hertz stress.
-    jump_margin : N, the contact force the "jump" check requires everywhere (>= 0).
-    torque_limit : N*m, the largest |camshaft torque| allowed; None: the torque is information.
+    jump_margin : N, the contact force the "jump" check requires everywhere (>= 0): the least
+        preload and rate are those that keep it.
     position_tol : mm (rad for an oscillating arm): samples within it of the lowest position
         count as lowest when finding the smallest spring rate (the spring adds nothing there).
 
@@ -701,8 +700,6 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
     """
     omega = _rpm_to_omega(rpm)
     margin = _nonnegative("jump_margin", jump_margin, "N")
-    if torque_limit is not None and not require_finite("torque_limit", torque_limit) > 0:
-        raise ParameterError("torque_limit", torque_limit, "torque_limit > 0 N*m")
     position_tol = _nonnegative("position_tol", position_tol, "mm")
     form = train.closure == "form"
     if form and (kin.pressure_angle_2 is None or kin.rho_cam_2 is None):
@@ -711,6 +708,7 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
     q = a + b * omega + c * omega**2
     projection = _contact_projection(kin, train)
     if form:
+        assert kin.pressure_angle_2 is not None and kin.rho_cam_2 is not None  # refused above otherwise
         force_1 = np.maximum(q, 0.0) / projection
         force_2 = np.maximum(-q, 0.0) / _contact_projection(kin, train, second=True)
         # the follower-direction component carried by whichever contact is loaded (signed: + pushes along +s)
@@ -726,7 +724,7 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
     hertz = hertz_2 = None
     if material is not None and kin.follower_radius > 0:
         hertz = hertz_line_stress(force_1, kin.rho_cam, kin.follower_radius, material)
-        if form:
+        if form and force_2 is not None and kin.rho_cam_2 is not None:
             r2 = kin.follower_radius if kin.follower_radius_2 is None else kin.follower_radius_2
             hertz_2 = hertz_line_stress(force_2, kin.rho_cam_2, r2, material) if r2 > 0 else None
     if form:
@@ -735,89 +733,5 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
         jump_rpm = jump_speed(kin, train)
         ranges = run_ends(force_1 <= 0, kin.theta)
         min_preload, min_rate = _required_spring(a, b, c, omega, projection, margin, train, kin.s - kin.s.min(), position_tol)
-    result = DynamicsResult(rpm, omega, kin.theta, train, q, force_1, force_2, kin.pressure_angle, along, side, torque, power,
-                            hertz, hertz_2, jump_rpm, ranges, min_preload, min_rate, margin)
-    object.__setattr__(result, "checks", dynamics_checks(result, kin, material, torque_limit))
-    return result
-
-
-# --------------------------------------------------------------------------------------------
-# Checks
-# --------------------------------------------------------------------------------------------
-def dynamics_checks(result: DynamicsResult, kin: Kinematics, material: ContactMaterial | None,
-                    torque_limit: float | None) -> list[CheckResult]:
-    """The "jump" (or "contact_force"), "hertz_stress" and "camshaft_torque" checks of ``result``."""
-    theta = result.theta
-    train = result.train
-    unit = train.force_unit
-    rate_unit = "N/mm" if train.motion == "translating" else "N*mm/rad"
-    checks: list[CheckResult] = []
-    if train.closure == "force":
-        force = result.contact_force
-        i = int(np.argmin(force))
-        bad = force < result.jump_margin
-        where = run_ends(bad, theta) if bad.any() else where_degrees(theta[i])
-        # the jump speed rounded down: below the speed quoted the contact force stays positive
-        jump = ("never (the contact force does not fall with speed)" if math.isinf(result.jump_rpm)
-                else "at rest (the force is not positive even standing still)" if result.jump_rpm == 0
-                else f"at {floor_significant(result.jump_rpm, 6):g} rpm ({result.jump_rpm / result.rpm:.4g} x this speed)")
-        preload, installed, rate = spring_hints(result, kin)
-        lengths = train.spring_free_length is not None
-        note = (f"smallest contact force {force[i]:.6g} N at cam angle {math.degrees(theta[i]):.6g} deg at {result.rpm:g} rpm "
-                f"against a margin of {result.jump_margin:g} N; the follower jumps {jump}; to keep the margin at this speed: ")
-        if lengths:
-            note += (f"installed length <= {installed:g} mm (preload >= {result.min_preload:.6g} {unit} at rate "
-                     f"{train.spring_rate:g} {rate_unit})" if installed is not None
-                     else f"preload >= {result.min_preload:.6g} {unit}" if result.min_preload > train.spring_preload
-                     else f"the spring as given (preload {train.spring_preload:g} {unit})")
-        else:
-            note += (f"preload >= {preload:g} {unit} (rate {train.spring_rate:g} {rate_unit})" if preload is not None
-                     else "no preload found")
-        note += ((f" or rate >= {rate:g} {rate_unit} (" + ("spring lengths given" if lengths else f"preload {train.spring_preload:g} {unit}")
-                  + ")") if rate is not None else "; no spring rate alone can (the force falls short at the lowest position)")
-        if result.jump_ranges_deg:
-            note += "; the follower leaves the cam between the listed pairs of cam angles"
-        checks.append(limited("jump", float(force[i]), ">=", result.jump_margin, "N", where, note))
-    else:
-        f1, f2 = result.contact_force, result.contact_force_2
-        assert f2 is not None
-        # where the load passes from one contact to the other (zero-force stretches skipped)
-        loaded = np.nonzero(result.generalised_force != 0)[0]
-        sign = np.sign(result.generalised_force[loaded])
-        takes_over = loaded[np.nonzero(sign != np.roll(sign, 1))[0]] if loaded.size > 1 else loaded[:0]
-        where = where_degrees(theta[takes_over])
-        note = (f"form-closed train (no spring, no jump): contact 1 carries up to {np.max(f1):.6g} N, contact 2 up to "
-                f"{np.max(f2):.6g} N; the load crosses from one contact to the other at {len(where)} cam angles (listed): "
-                "any backlash there gives a knock")
-        checks.append(information("contact_force", float(max(np.max(f1), np.max(f2))), "N", where[:24], note))
-    if material is not None:
-        peak = result.hertz_peak
-        if peak is None:
-            checks.append(information("hertz_stress", "unbounded", "MPa", [],
-                                      "a sharp knife edge (tip radius 0) has no finite contact stress: give its tip radius"))
-        else:
-            stress = result.hertz_stress if result.hertz_stress is not None else np.zeros_like(theta)
-            if result.hertz_stress_2 is not None:
-                stress = np.maximum(stress, result.hertz_stress_2)
-            i = int(np.argmax(stress))
-            note = (f"largest Hertz line-contact stress {peak:.6g} MPa at cam angle {math.degrees(theta[i]):.6g} deg "
-                    f"(contact width {material.width:g} mm; two-cylinder formula, Rothbart eq. 9.11"
-                    + (", both contacts" if result.hertz_stress_2 is not None else "") + ")")
-            if material.allowable_stress is None:
-                checks.append(information("hertz_stress", peak, "MPa", where_degrees(theta[i]),
-                                          note + "; give an allowable stress to check it"))
-            else:
-                bad = stress > material.allowable_stress
-                where = run_ends(bad, theta) if bad.any() else where_degrees(theta[i])
-                checks.append(limited("hertz_stress", peak, "<=", material.allowable_stress, "MPa", where, note))
-    i = int(np.argmax(np.abs(result.torque)))
-    note = (f"camshaft torque peak {result.torque_peak:.6g} N*m at cam angle {math.degrees(theta[i]):.6g} deg, "
-            f"RMS {result.torque_rms:.6g} N*m; power peak {result.power_peak:.6g} W, RMS {result.power_rms:.6g} W, "
-            f"mean {result.mean_power:.6g} W at {result.rpm:g} rpm (frictionless contact, power balance T w = Q v)")
-    if torque_limit is None:
-        checks.append(information("camshaft_torque", result.torque_peak, "N*m", where_degrees(theta[i]), note + "; no torque limit given"))
-    else:
-        bad = np.abs(result.torque) > torque_limit
-        where = run_ends(bad, theta) if bad.any() else where_degrees(theta[i])
-        checks.append(limited("camshaft_torque", result.torque_peak, "<=", float(torque_limit), "N*m", where, note))
-    return checks
+    return DynamicsResult(rpm, omega, kin.theta, train, q, force_1, force_2, kin.pressure_angle, along, side, torque, power,
+                          hertz, hertz_2, jump_rpm, ranges, min_preload, min_rate, margin)

@@ -92,8 +92,8 @@ def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> "RunResu
             cam = cam.with_(dynamics_stage=with_cam(where, lambda: run_dynamics(built, spec, plan.stages)))
         cams.append(cam)
     for cam in cams:
-        if cam.manufacturable:
-            check_flat_size(cam, plan.formats, scene.output.chord_tol, scene.output)
+        if cam.manufacturable and cam.contour is not None:
+            check_flat_size(cam.name, cam.contour, cam.body, plan.formats, scene.output.chord_tol, scene.output)
     by_name = {c.name: c for c in cams}
     jobs = {}
     for mech in scene.mechanisms:
@@ -178,6 +178,7 @@ def render(result: "RunResult", progress: Progress = _quiet) -> "RunResult":
 
     from camgen.outputs import OUTPUTS
     from camgen.report import report_dict, report_json
+    from camgen.report_data import report_input
     from camgen.results import frozen_mapping
     from camgen.writers import RunSettings
 
@@ -206,13 +207,13 @@ def render(result: "RunResult", progress: Progress = _quiet) -> "RunResult":
     for name in ("report.json",) + (("report.html",) if html else ()):
         claim_file(owners, name, "the run's report")
     names = sorted(files) + ["report.json"] + (["report.html"] if html else [])
-    mechanisms = {name: job.report for name, job in result.jobs.items()}
     result = dataclasses.replace(result, cams=tuple(cams))
-    files["report.json"] = report_json(report_dict(result.scene, result.cams, names, mechanisms, result.plan.stages))
+    report = report_input(result.scene, result.cams, result.jobs, result.plan.stages, names, drawn=html)
+    files["report.json"] = report_json(report_dict(report))
     if html:
         progress("writing report.html")
         module, function = (OUTPUTS["html"].writer or "").split(":")
-        files["report.html"] = getattr(importlib.import_module(module), function)(result)
+        files["report.html"] = getattr(importlib.import_module(module), function)(report)
     return dataclasses.replace(result, files=frozen_mapping(files))
 
 

@@ -14,7 +14,8 @@ from camgen.errors import ParameterError
 
 if TYPE_CHECKING:
     from camgen.outputs import OutputSpec
-    from camgen.results import CamResult
+    from camgen.body import BodySpec
+    from camgen.contour import Contour
     from camgen.scene import Scene
 
 __all__ = ["MAX_FLAT_POINTS", "MAX_PASSES", "Plan", "check_flat_size", "claim_file", "plan_run"]
@@ -148,17 +149,18 @@ MAX_FLAT_POINTS = 500_000
 _FLAT_ALL = ("points",)
 
 
-def _flat_count(cam: "CamResult", chord_tol: float) -> int:
-    """Vertices of ``cam``'s flattened profile (and bore circle) at ``chord_tol`` mm."""
-    count = sum(int(seg.flatten_params(chord_tol).size) for seg in cam.contour.segments)
-    if cam.body.bore_diameter > 0:  # the bore circle of the mesh
-        r = cam.body.bore_diameter / 2.0
+def _flat_count(contour: "Contour", body: "BodySpec", chord_tol: float) -> int:
+    """Vertices of the flattened ``contour`` (and the bore circle of ``body``) at ``chord_tol`` mm."""
+    count = sum(int(seg.flatten_params(chord_tol).size) for seg in contour.segments)
+    if body.bore_diameter > 0:  # the bore circle of the mesh
+        r = body.bore_diameter / 2.0
         count += math.ceil(2.0 * math.pi / (2.0 * math.acos(max(-1.0, 1.0 - chord_tol / r))))
     return count
 
 
-def check_flat_size(cam: "CamResult", formats: Sequence[str], chord_tol: float, output: "OutputSpec | None" = None) -> None:
-    """Refuse a chord tolerance that would flatten ``cam`` into more than :data:`MAX_FLAT_POINTS`
+def check_flat_size(name: str, contour: "Contour", body: "BodySpec", formats: Sequence[str], chord_tol: float,
+                    output: "OutputSpec | None" = None) -> None:
+    """Refuse a chord tolerance that would flatten cam ``name`` into more than :data:`MAX_FLAT_POINTS`
     vertices in a planned point list or surface mesh, or a surface mesh file beyond 100 MB
     (:func:`camgen.export.solid.vertex_limit`; a 200 m cam at 1e-7 mm: 3 million vertices),
     naming ``output.chord_tol_mm`` and the smallest tolerance, as printed, that fits; and FEA
@@ -166,13 +168,11 @@ def check_flat_size(cam: "CamResult", formats: Sequence[str], chord_tol: float, 
     from camgen.errors import ceil_significant
     from camgen.outputs import FEA_FORMATS, MAX_CHORD_TOL, MESH_FORMATS
 
-    if cam.contour is None:
-        return
     if output is not None and any(f in FEA_FORMATS for f in formats):
         from camgen.export.fea import check_caps, require_gmsh
 
         require_gmsh(formats)
-        check_caps(cam.contour, cam.body, formats, chord_tol, output.fea_element_size, output.fea_elements, cam.name, MAX_CHORD_TOL)
+        check_caps(contour, body, formats, chord_tol, output.fea_element_size, output.fea_elements, name, MAX_CHORD_TOL)
     flat = [f for f in formats if f in _FLAT_ALL or f in MESH_FORMATS]
     if not flat:
         return
@@ -182,15 +182,15 @@ def check_flat_size(cam: "CamResult", formats: Sequence[str], chord_tol: float, 
         from camgen.export.solid import vertex_limit
 
         limit, holder = min([(limit, holder)] + [(vertex_limit(f), f"a {f} file") for f in surfaces])
-    count = _flat_count(cam, chord_tol)
+    count = _flat_count(contour, body, chord_tol)
     if count <= limit:
         return
     # chords of arcs and splines: the vertex count grows as chord_tol^-1/2 (at least one per piece)
     need = ceil_significant(min(MAX_CHORD_TOL, chord_tol * (count / limit) ** 2), 2)
-    while need < MAX_CHORD_TOL and _flat_count(cam, need) > limit:
+    while need < MAX_CHORD_TOL and _flat_count(contour, body, need) > limit:
         need = ceil_significant(min(MAX_CHORD_TOL, need * 1.05), 2)
     why = f"at {chord_tol:g} mm its flattened profile would have {count} vertices, more than the {limit} {holder} may hold"
-    if _flat_count(cam, need) > limit:
-        raise ParameterError("output.formats", list(formats), f"formats without the point list and surface meshes for cam '{cam.name}'",
+    if _flat_count(contour, body, need) > limit:
+        raise ParameterError("output.formats", list(formats), f"formats without the point list and surface meshes for cam '{name}'",
                              why + f", and still more at the largest chord_tol_mm ({MAX_CHORD_TOL:g} mm)")
-    raise ParameterError("output.chord_tol_mm", chord_tol, f">= {need:.2g} mm for cam '{cam.name}'", why)
+    raise ParameterError("output.chord_tol_mm", chord_tol, f">= {need:.2g} mm for cam '{name}'", why)

@@ -11,7 +11,8 @@ from camgen.errors import ParameterError
 if TYPE_CHECKING:
     from camgen.export.gcode import MachiningSpec
     from camgen.outputs import OutputSpec
-    from camgen.results import CamResult, RunResult
+    from camgen.report.model import ReportInput
+    from camgen.results import CamResult
 
 
 @dataclass(frozen=True)
@@ -90,7 +91,8 @@ def gcode(cam: "CamResult", run: RunSettings, fmt: str) -> str:
         raise ParameterError(name, exc.value, f"{exc.valid} for cam '{cam.name}'", exc.why) from None
 
 
-def html(result: "RunResult") -> str:
+def html(report: "ReportInput") -> str:
+    """report.html of the run's report input (:mod:`camgen.report_data`)."""
     from camgen.report.html import report_html
 
-    return report_html(result)
+    return report_html(report)

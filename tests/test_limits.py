@@ -318,7 +318,7 @@ def test_alpha1_at_its_assembly_limits():
     from camgen.mechanisms import horse_leg as hl
 
     leg = hl.HorseLeg()
-    stride, height = hl._cams(leg)
+    stride, height = hl.leg_cams(leg)
     (lo, hi), = hl.assembly_range(leg, 3600)
     theta1 = hl.cycle(720)
     for alpha in (lo + D(0.001), hi - D(0.001), D(20.1)):  # 20.1: where the branch once jumped to the other assembly

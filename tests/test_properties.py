@@ -871,7 +871,7 @@ def _leg_cams():
     if "cams" not in _LEG:
         from camgen.mechanisms import horse_leg as hl
 
-        _LEG["cams"] = hl._cams(hl.HorseLeg())
+        _LEG["cams"] = hl.leg_cams(hl.HorseLeg())
     return _LEG["cams"]
 
 

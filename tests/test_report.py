@@ -1,6 +1,8 @@
-"""report.json against its documented layout; report.html rendered by headless Chromium."""
+"""report.json against its documented layout; report.html rendered by headless Chromium; a kind's
+own report section drawn from the typed report input."""
 from __future__ import annotations
 
+import dataclasses
 import json
 import subprocess
 
@@ -8,6 +10,7 @@ import numpy as np
 import pytest
 
 from camgen.report import REPORT_SCHEMA
+from camgen.report.model import SectionData
 from helpers import require_tool
 
 
@@ -169,3 +172,84 @@ def test_the_design_table_holds_the_scenes_values_with_units(template, tmp_path)
     text = tree.text_content()
     for literal in ("{'", "['", "'law'", "'span_deg'", "[0.0", "[5.0"):
         assert literal not in text, literal
+
+
+# --- a kind's own report section takes typed data, never the built cam -------------------------------
+@dataclasses.dataclass(frozen=True)
+class DiscSection(SectionData):
+    """The toy kind's section data: its radius (mm)."""
+
+    radius: float
+
+
+#: What disc_section was called with, in order (this module is the one pytest imported).
+DISC_CALLS: list = []
+
+
+def disc_section(Figure, cam) -> str:
+    """The toy kind's part of report.html (named by its report_section "test_report:disc_section")."""
+    DISC_CALLS.append(cam)
+    return f"<p id='disc-section'>{cam.name}: radius {cam.section.radius:g} mm</p>"
+
+
+def test_a_kinds_report_section_takes_the_typed_report_input():
+    """A disc (radius 30 mm, centred) with a flat face: its section is called with the cam's
+    CamReport (frozen, read-only), whose section data is what the kind's plots stage made, and
+    whose curves are the disc's closed forms: outline within the drawing's chord tolerance of the
+    30 mm circle (chords inside it), the face touching it 30 mm from the axis, a radius of
+    curvature of 30 mm everywhere, pressure angle and lift 0.  A run without report.html draws
+    nothing and calls no section."""
+    import math
+
+    from camgen.checks import Follower
+    from camgen.contour import Arc, Contour
+    from camgen.kinds import register, unregister
+    from camgen.kinds.base import BuiltCam, CamKind, CamSpec, body_keys, check_keys, read_body, read_checks
+    from camgen.pipeline import execute, plan_run
+    from camgen.report.model import CamReport, CheckRow
+    from camgen.report_data import DRAWING_CHORD_MM
+    from camgen.scene import parse_scene
+    from camgen.schema import REQUIRED, Key, Length
+
+    def read(where, name, parsed, base_dir=None):
+        return CamSpec(name, "disc", parsed["radius"], read_body(where, parsed), read_checks(parsed), Follower("flat"))
+
+    def build(spec, stages):
+        contour = Contour([Arc((0.0, 0.0), spec.params, 0.0, 2 * math.pi)])
+        section = DiscSection(spec.params) if "plots" in stages else None  # the section's data: the built cam carries it
+        return BuiltCam(spec.name, spec.kind, contour, {"radius_mm": spec.params}, spec.body, spec.follower, section=section)
+
+    keys = (Key("radius_mm", Length(), "Radius of the disc.", ("profile",), default=REQUIRED),) + body_keys() + check_keys()
+    register(CamKind("disc", "a circular disc", keys, read, build, report_section=f"{__name__}:disc_section"))
+    try:
+        DISC_CALLS.clear()
+        scene = parse_scene({"output": {"formats": ["dxf"]}, "cams": {"d": {"kind": "disc", "radius_mm": 30.0}}}, "t")
+        assert "report.html" not in execute(scene, plan_run(scene)).files and DISC_CALLS == []
+        scene = parse_scene({"output": {"formats": ["html"]}, "cams": {"d": {"kind": "disc", "radius_mm": 30.0}}}, "t")
+        result = execute(scene, plan_run(scene))
+    finally:
+        unregister("disc")
+    (cam,) = DISC_CALLS
+    assert isinstance(cam, CamReport) and not isinstance(cam, BuiltCam)
+    assert cam.section == DiscSection(30.0) and cam.figures["radius_mm"] == 30.0
+    report = json.loads(result.files["report.json"])
+    assert [c.name for c in cam.checks] == [c["name"] for c in report["cams"]["d"]["checks"]]
+    assert all(isinstance(c, CheckRow) for c in cam.checks)
+    page = result.files["report.html"]
+    assert page.count("<p id='disc-section'>d: radius 30 mm</p>") == 1
+    assert page.index("Computed figures") < page.index("disc-section")  # after the cam's own tables
+    # the curves report.html drew, against the disc's closed forms
+    plots = cam.plots
+    radius = np.hypot(*plots.profile.T)
+    assert np.all(radius <= 30.0 + 1e-9) and np.all(radius >= 30.0 - DRAWING_CHORD_MM) and plots.pitch is None
+    assert plots.faces.distances == pytest.approx((30.0,)) and plots.roller is None and plots.follower_drawing is None
+    assert plots.curvature[1] == pytest.approx(np.full(plots.curvature[1].size, 30.0), rel=1e-9)
+    assert np.all(plots.pressure_angle[1] == 0.0) and np.ptp(plots.motion.lift) == pytest.approx(0.0, abs=1e-9)
+    assert plots.outline_bounds == pytest.approx((-30.0, -30.0, 30.0, 30.0))
+    # frozen and read-only: the report cannot change what the run computed
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        cam.section.radius = 1.0
+    with pytest.raises(TypeError):
+        cam.figures["radius_mm"] = 1.0
+    with pytest.raises(ValueError):
+        plots.profile[0, 0] = 0.0

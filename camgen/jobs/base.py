@@ -10,6 +10,7 @@ from camgen.schema import Key
 
 if TYPE_CHECKING:
     from camgen.checks import CheckResult
+    from camgen.report.model import SectionData
 
 
 @dataclass(frozen=True)
@@ -24,21 +25,24 @@ class JobResult:
         the same name: e.g. the pressure angle in the mechanism instead of on a bare face).
     curves : cam name -> (cam angle rad, pressure angle rad, label) report.html draws instead
         of the cam's own pressure-angle curve.
-    plots : the data the job's report section draws (None unless the ``plots`` stage ran).
+    plots : the data the job's report section draws (:class:`camgen.report.model.SectionData`;
+        None unless the ``plots`` stage ran).
     """
 
     report: dict[str, Any]
     files: dict[str, str] = field(default_factory=dict)
     checks: "dict[str, list[CheckResult]]" = field(default_factory=dict)
     curves: dict[str, tuple[np.ndarray, np.ndarray, str]] = field(default_factory=dict)
-    plots: Any = None
+    plots: "SectionData | None" = None
 
 
 @dataclass(frozen=True)
 class MechanismJob:
     """A registered mechanism: ``[mechanisms.<name>]`` keys, ``read(where, parsed, cam_specs)``
     -> its typed spec, ``run(spec, built_cams, stages, scene_name)`` -> :class:`JobResult`, and
-    the ``"module:function"`` drawing its report section."""
+    the ``"module:function"`` drawing its report section (called with the page's figure maker and
+    the job's :class:`camgen.report.model.MechanismReport`, whose ``section`` is
+    :attr:`JobResult.plots`)."""
 
     name: str
     summary: str

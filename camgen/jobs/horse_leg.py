@@ -9,7 +9,7 @@ report data; the pipeline merges them (it never edits the cams itself).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any, Mapping
 
@@ -22,6 +22,7 @@ from camgen.schema import REQUIRED, Angle, Count, Key, Number, NumberList, Text
 if TYPE_CHECKING:
     from camgen.kinds.base import BuiltCam, CamSpec
     from camgen.mechanisms.horse_leg import HorseLeg, LegSolution
+    from camgen.report.sections import HorseLegSection
 
 
 def _ground_default() -> float:
@@ -62,19 +63,6 @@ class HorseLegSpec:
     pressure_angle_limit: float
     ground_y: float
     positions: int
-
-
-@dataclass(frozen=True)
-class HorseLegPlots:
-    """What report.html draws: the leg, the solutions per inclination and of the sweep, the
-    stance body paths (mm, rad)."""
-
-    leg: "HorseLeg"
-    solutions: dict[float, "LegSolution"]
-    sweep: list[dict[str, Any]]
-    sweep_solutions: dict[float, "LegSolution"] = field(default_factory=dict)
-    body_paths: dict[float, np.ndarray | None] = field(default_factory=dict)
-    limit: float = math.radians(45.0)
 
 
 def read(where: str, parsed: Mapping[str, Any], cams: Mapping[str, "CamSpec"]) -> HorseLegSpec:
@@ -222,7 +210,7 @@ def _run(spec: HorseLegSpec, cams: Mapping[str, "BuiltCam"], stages: frozenset[s
     leg = _leg(spec, cams)
     theta1 = hl.cycle(spec.positions)
     limit = spec.pressure_angle_limit
-    cam_contours = hl._cams(leg)
+    cam_contours = hl.leg_cams(leg)
     report: dict[str, Any] = {
         "grashof_margin_mm": hl.grashof_margin(leg),
         "ground_y_mm": leg.ground_y,
@@ -265,16 +253,26 @@ def _run(spec: HorseLegSpec, cams: Mapping[str, "BuiltCam"], stages: frozenset[s
     checks, curves = _checks(leg, spec, solutions, limit)
     for alpha_deg, sol in solutions.items():  # how far along the stride fork's face the cam touches
         report[f"alpha_{label(alpha_deg)}"]["stride_fork_contact_offset_range_mm"] = [float(sol.h.min()), float(sol.h.max())]
-    plots = None
-    if "plots" in stages:
-        paths = {}
-        for alpha, sol in solutions.items():
-            try:
-                paths[alpha] = hl.body_path(leg, sol)
-            except CamgenError:  # a path that misses the ground has no stance
-                paths[alpha] = None
-        plots = HorseLegPlots(leg, solutions, sweep, sweep_solutions, paths, limit)
+    plots = _plots(leg, solutions, sweep_solutions, limit) if "plots" in stages else None
     return JobResult(report, files, checks, curves, plots)
+
+
+def _plots(leg: "HorseLeg", solutions: Mapping[float, "LegSolution"], sweep_solutions: Mapping[float, "LegSolution"],
+           limit: float) -> "HorseLegSection":
+    """What the report section draws: the leg at each inclination with its stance body path,
+    and over the sweep (:class:`camgen.report.sections.HorseLegSection`)."""
+    from camgen.mechanisms import horse_leg as hl
+    from camgen.report.sections import HorseLegSection, LegPath
+
+    legs = []
+    for alpha, sol in solutions.items():
+        try:
+            body = hl.body_path(leg, sol)
+        except CamgenError:  # a path that misses the ground has no stance
+            body = None
+        legs.append(LegPath(alpha, sol.w, sol.theta1, sol.pressure_angle, body))
+    sweep = tuple(LegPath(alpha, sol.w, sol.theta1, sol.pressure_angle) for alpha, sol in sweep_solutions.items())
+    return HorseLegSection(leg.ground_y, limit, tuple(legs), sweep)
 
 
 def _checks(leg: "HorseLeg", spec: HorseLegSpec, solutions: Mapping[float, "LegSolution"], limit: float):

@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, Callable, Mapping
 
 from camgen.errors import CamgenError, ParameterError
@@ -20,6 +21,7 @@ if TYPE_CHECKING:  # the heavy modules stay unimported until a cam is built
     from camgen.checks import CamEvaluation, Follower
     from camgen.contour import Contour
     from camgen.errors import UndercutError
+    from camgen.report.model import SectionData
 
 #: Analysis stages a kind may feed (the pipeline plans them from the requested outputs).
 #: ``analysis``: figures and files beyond the design checks (ride simulations, fits, sweeps);
@@ -99,12 +101,11 @@ class BuiltCam:
     files: Mapping[str, str] = field(default_factory=dict)
     undercut: "UndercutError | None" = None  # why the profile could not be made (contour None)
     zero_mark: ZeroMark | None = None  # cam angle 0 and the rotation sense (kinds that know them)
+    section: "SectionData | None" = None  # the data of the kind's own report section (the plots stage made it)
 
     def __post_init__(self) -> None:
-        from camgen.results import frozen_mapping
-
-        object.__setattr__(self, "figures", frozen_mapping(self.figures))  # read-only: no later stage writes into them
-        object.__setattr__(self, "files", frozen_mapping(self.files))
+        object.__setattr__(self, "figures", MappingProxyType(dict(self.figures)))  # read-only: no later stage writes into them
+        object.__setattr__(self, "files", MappingProxyType(dict(self.files)))
 
 
 @dataclass(frozen=True)

@@ -11,9 +11,10 @@ a form-closed yoke, a contact stress on a knife edge) is refused saying why.
 
 The stage (:func:`run_dynamics`) takes the follower's kinematics from the kind's own closed
 forms (:attr:`camgen.kinds.base.CamKind.follower_dynamics`: :func:`disk_kinematics`,
-:func:`three_arc_kinematics`), runs :func:`camgen.dynamics.analyse` at the scene's speed and
-adds its checks ("jump", or "contact_force" for a yoke; "hertz_stress"; "camshaft_torque") to
-the cam: a failed one fails the run (exit 1) like every design check, none withholds a file.
+:func:`three_arc_kinematics`), runs :func:`camgen.dynamics.analyse` (the physics) at the
+scene's speed and turns its results into checks (:func:`dynamics_checks`: "jump", or
+"contact_force" for a yoke; "hertz_stress"; "camshaft_torque") on the cam: a failed one fails
+the run (exit 1) like every design check, none withholds a file.
 Its figures go to report.json (``figures.dynamics``), its curves to report.html.
 """
 from __future__ import annotations
@@ -29,6 +30,7 @@ from camgen.errors import GeometryError, ParameterError
 from camgen.schema import Angle, Flag, Key, Length, Number, Text, given_keys
 
 if TYPE_CHECKING:
+    from camgen.checks import CheckResult
     from camgen.dynamics import ContactMaterial, DynamicsResult, FollowerTrain, Kinematics
     from camgen.checks import CheckResult
     from camgen.kinds.base import BuiltCam, CamSpec
@@ -235,7 +237,9 @@ def read_dynamics(where: str, parsed: Mapping[str, Any], *, motion: str, followe
 
     load: Any = parsed.get(constant, 0.0)
     if "external_load_csv" in given:
-        load = read_load_table(f"{where}.external_load_csv", parsed["external_load_csv"], base_dir, by_name[constant].type)
+        bound = by_name[constant].type
+        assert isinstance(bound, Number)  # external_load_n and external_load_n_mm are numbers
+        load = read_load_table(f"{where}.external_load_csv", parsed["external_load_csv"], base_dir, bound)
     names = _NAMES[motion]
     get = parsed.get
     train = _renamed(where, names, lambda: dy.FollowerTrain(
@@ -336,6 +340,7 @@ def three_arc_kinematics(cam: "BuiltCam", spec: "CamSpec", samples: int = THREE_
     from camgen import dynamics as dy
 
     follower, contour = cam.follower, cam.contour
+    assert follower is not None and contour is not None  # the stage runs on a cam that was made, with its follower
     theta = 2.0 * math.pi * np.arange(samples) / samples
     psi = follower.direction - theta
     h, dh, d2h = contour.support_derivatives(psi)
@@ -361,10 +366,13 @@ def _kinematics(make: Any) -> "Kinematics":
 @dataclass(frozen=True)
 class DynamicsOutcome:
     """What the stage computed for one cam: the result at the scene's speed, the kinematics it
-    used, and (plots stage) the smallest contact force against cam speed (rpm, N)."""
+    used, the limits it was checked against (N*m, MPa; None: not given), and (plots stage) the
+    smallest contact force against cam speed (rpm, N)."""
 
     result: "DynamicsResult"
     kinematics: "Kinematics"
+    torque_limit: float | None = None
+    allowable_stress: float | None = None
     speed_rpm: np.ndarray | None = None
     speed_min_force: np.ndarray | None = None
 
@@ -394,18 +402,21 @@ def run_dynamics(cam: "BuiltCam", spec: "CamSpec", stages: frozenset[str]) -> Dy
                                                 "can be made"),))
     from camgen.kinds import get_kind
 
-    rpm = spec.checks.rpm
-    kin, arm = get_kind(spec.kind).follower_dynamics(cam, spec)
+    rpm, follower_dynamics = spec.checks.rpm, get_kind(spec.kind).follower_dynamics
+    assert rpm is not None and follower_dynamics is not None  # read_dynamics refuses dynamics without them
+    kin, arm = follower_dynamics(cam, spec)
     train = replace(dyn.train, arm_length=arm) if dyn.train.motion == "oscillating" else dyn.train
-    result = dy.analyse(kin, train, rpm, dyn.material, jump_margin=dyn.jump_margin, torque_limit=dyn.torque_limit)
-    speed = speed_min_force = None
+    result = dy.analyse(kin, train, rpm, dyn.material, jump_margin=dyn.jump_margin)
+    checks = dynamics_checks(result, kin, dyn.material, dyn.torque_limit)
+    speed = force = None
     if "plots" in stages and train.closure == "force":
         top = SPEED_SPAN * rpm
         if math.isfinite(result.jump_rpm) and result.jump_rpm > 0:
             top = min(max(top, 1.2 * result.jump_rpm), SPEED_SPAN_MAX * rpm)
         speed = np.linspace(0.0, top, SPEED_SAMPLES)
-        speed_min_force = dy.min_contact_force(kin, train, speed)
-    return DynamicsStage(DynamicsOutcome(result, kin, speed, speed_min_force), tuple(result.checks),
+        force = dy.min_contact_force(kin, train, speed)
+    allowable = dyn.material.allowable_stress if dyn.material is not None else None
+    return DynamicsStage(DynamicsOutcome(result, kin, dyn.torque_limit, allowable, speed, force), tuple(checks),
                          dynamics_figures(result, dyn, train))
 
 
@@ -423,6 +434,7 @@ def dynamics_figures(result: "DynamicsResult", dyn: DynamicsSpec, train: "Follow
         out[f"spring_preload_{unit}"] = train.spring_preload
     else:
         out["max_contact_force_1_N"] = float(np.max(result.contact_force))
+        assert result.contact_force_2 is not None  # a form-closed train's second contact
         out["max_contact_force_2_N"] = float(np.max(result.contact_force_2))
     out["torque_peak_deg"] = round(float(theta[int(np.argmax(np.abs(result.torque)))]), 6)
     if dyn.torque_limit is not None:
@@ -437,3 +449,96 @@ def dynamics_figures(result: "DynamicsResult", dyn: DynamicsSpec, train: "Follow
         if dyn.material.allowable_stress is not None:
             out["allowable_contact_stress_MPa"] = dyn.material.allowable_stress
     return out
+
+
+# --------------------------------------------------------------------------------------------
+# The checks of the dynamics
+# --------------------------------------------------------------------------------------------
+def dynamics_checks(result: "DynamicsResult", kin: "Kinematics", material: "ContactMaterial | None",
+                    torque_limit: float | None) -> "list[CheckResult]":
+    """The "jump" (or "contact_force" for a form-closed train), "hertz_stress" (with a material)
+    and "camshaft_torque" checks of ``result`` (:func:`camgen.dynamics.analyse` of ``kin``):
+    the jump check's note quotes the least spring that keeps the margin, each value tried
+    (:func:`camgen.dynamics.spring_hints`); ``torque_limit`` N*m, None: the torque is
+    information."""
+    from camgen.checks import information, limited, run_ends, where_degrees
+    from camgen.dynamics import spring_hints
+    from camgen.errors import floor_significant, require_finite
+
+    if torque_limit is not None and not require_finite("torque_limit", torque_limit) > 0:
+        raise ParameterError("torque_limit", torque_limit, "torque_limit > 0 N*m")
+    theta = result.theta
+    train = result.train
+    unit = train.force_unit
+    rate_unit = "N/mm" if train.motion == "translating" else "N*mm/rad"
+    checks: "list[CheckResult]" = []
+    if train.closure == "force":
+        force = result.contact_force
+        i = int(np.argmin(force))
+        bad = force < result.jump_margin
+        where = run_ends(bad, theta) if bad.any() else where_degrees(theta[i])
+        # the jump speed rounded down: below the speed quoted the contact force stays positive
+        jump = ("never (the contact force does not fall with speed)" if math.isinf(result.jump_rpm)
+                else "at rest (the force is not positive even standing still)" if result.jump_rpm == 0
+                else f"at {floor_significant(result.jump_rpm, 6):g} rpm ({result.jump_rpm / result.rpm:.4g} x this speed)")
+        preload, installed, rate = spring_hints(result, kin)
+        lengths = train.spring_free_length is not None
+        note = (f"smallest contact force {force[i]:.6g} N at cam angle {math.degrees(theta[i]):.6g} deg at {result.rpm:g} rpm "
+                f"against a margin of {result.jump_margin:g} N; the follower jumps {jump}; to keep the margin at this speed: ")
+        if lengths:
+            assert result.min_preload is not None  # a force-closed train's
+            note += (f"installed length <= {installed:g} mm (preload >= {result.min_preload:.6g} {unit} at rate "
+                     f"{train.spring_rate:g} {rate_unit})" if installed is not None
+                     else f"preload >= {result.min_preload:.6g} {unit}" if result.min_preload > train.spring_preload
+                     else f"the spring as given (preload {train.spring_preload:g} {unit})")
+        else:
+            note += (f"preload >= {preload:g} {unit} (rate {train.spring_rate:g} {rate_unit})" if preload is not None
+                     else "no preload found")
+        note += ((f" or rate >= {rate:g} {rate_unit} (" + ("spring lengths given" if lengths else f"preload {train.spring_preload:g} {unit}")
+                  + ")") if rate is not None else "; no spring rate alone can (the force falls short at the lowest position)")
+        if result.jump_ranges_deg:
+            note += "; the follower leaves the cam between the listed pairs of cam angles"
+        checks.append(limited("jump", float(force[i]), ">=", result.jump_margin, "N", where, note))
+    else:
+        f1, f2 = result.contact_force, result.contact_force_2
+        assert f2 is not None
+        # where the load passes from one contact to the other (zero-force stretches skipped)
+        loaded = np.nonzero(result.generalised_force != 0)[0]
+        sign = np.sign(result.generalised_force[loaded])
+        takes_over = loaded[np.nonzero(sign != np.roll(sign, 1))[0]] if loaded.size > 1 else loaded[:0]
+        where = where_degrees(theta[takes_over])
+        note = (f"form-closed train (no spring, no jump): contact 1 carries up to {np.max(f1):.6g} N, contact 2 up to "
+                f"{np.max(f2):.6g} N; the load crosses from one contact to the other at {len(where)} cam angles (listed): "
+                "any backlash there gives a knock")
+        checks.append(information("contact_force", float(max(np.max(f1), np.max(f2))), "N", where[:24], note))
+    if material is not None:
+        peak = result.hertz_peak
+        if peak is None:
+            checks.append(information("hertz_stress", "unbounded", "MPa", [],
+                                      "a sharp knife edge (tip radius 0) has no finite contact stress: give its tip radius"))
+        else:
+            stress = result.hertz_stress if result.hertz_stress is not None else np.zeros_like(theta)
+            if result.hertz_stress_2 is not None:
+                stress = np.maximum(stress, result.hertz_stress_2)
+            i = int(np.argmax(stress))
+            note = (f"largest Hertz line-contact stress {peak:.6g} MPa at cam angle {math.degrees(theta[i]):.6g} deg "
+                    f"(contact width {material.width:g} mm; two-cylinder formula, Rothbart eq. 9.11"
+                    + (", both contacts" if result.hertz_stress_2 is not None else "") + ")")
+            if material.allowable_stress is None:
+                checks.append(information("hertz_stress", peak, "MPa", where_degrees(theta[i]),
+                                          note + "; give an allowable stress to check it"))
+            else:
+                bad = stress > material.allowable_stress
+                where = run_ends(bad, theta) if bad.any() else where_degrees(theta[i])
+                checks.append(limited("hertz_stress", peak, "<=", material.allowable_stress, "MPa", where, note))
+    i = int(np.argmax(np.abs(result.torque)))
+    note = (f"camshaft torque peak {result.torque_peak:.6g} N*m at cam angle {math.degrees(theta[i]):.6g} deg, "
+            f"RMS {result.torque_rms:.6g} N*m; power peak {result.power_peak:.6g} W, RMS {result.power_rms:.6g} W, "
+            f"mean {result.mean_power:.6g} W at {result.rpm:g} rpm (frictionless contact, power balance T w = Q v)")
+    if torque_limit is None:
+        checks.append(information("camshaft_torque", result.torque_peak, "N*m", where_degrees(theta[i]), note + "; no torque limit given"))
+    else:
+        bad = np.abs(result.torque) > torque_limit
+        where = run_ends(bad, theta) if bad.any() else where_degrees(theta[i])
+        checks.append(limited("camshaft_torque", result.torque_peak, "<=", float(torque_limit), "N*m", where, note))
+    return checks

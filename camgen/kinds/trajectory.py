@@ -34,6 +34,7 @@ from camgen.schema import Choice, ChoiceList, Count, Key, Length, Text
 
 if TYPE_CHECKING:
     from camgen.mechanisms.tricycle import Ride, Tricycle, TricycleCam
+    from camgen.report.sections import TricycleSection
     from camgen.synthesis.trajectory import Trajectory
 
 #: Largest number of samples per cam turn (the spline and its offset grow with it).
@@ -102,21 +103,11 @@ class TrajectoryParams:
 
 
 @dataclass(frozen=True)
-class TricyclePlots:
-    """What report.html draws for a tricycle cam: the design ride over one turn, rides with
-    the error types over two turns, and each fitted table with its model curve (mm, rad)."""
-
-    ride: "Ride"
-    error_rides: dict[str, "Ride"]
-    fits: dict[str, dict[str, np.ndarray]] = field(default_factory=dict)
-
-
-@dataclass(frozen=True)
 class TrajectoryCam(BuiltCam):
-    """A built trajectory cam: the tricycle model and, with the plots stage, the report's data."""
+    """A built trajectory cam: the tricycle model (and, with the plots stage, its report section's
+    data in ``section``: :class:`camgen.report.sections.TricycleSection`)."""
 
     tricycle: "TricycleCam | None" = None
-    plots: TricyclePlots | None = None
 
 
 def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = None) -> CamSpec:
@@ -220,7 +211,7 @@ def _analysed(spec: CamSpec, cam: "TricycleCam", stages: frozenset[str]) -> Traj
         files[f"{spec.name}_ride.csv"] = _ride_csv(spec.name, traj, one)
     plots = _plots(cam, figures.get("fits", {}), one) if "plots" in stages else None
     return TrajectoryCam(spec.name, spec.kind, cam.profile, figures, spec.body, spec.follower, pitch=cam.pitch, files=files, tricycle=cam,
-                         plots=plots)
+                         section=plots)
 
 
 def _fits(where: str, cam: "TricycleCam", tables: tuple[str, ...]) -> dict[str, Any]:
@@ -297,23 +288,37 @@ ERROR_CASES = {
 }
 
 
-def _plots(cam: "TricycleCam", fits: dict[str, Any], one: "Ride | None") -> TricyclePlots:
+#: Samples of the target path y = f(x) drawn over one period.
+TARGET_SAMPLES = 801
+#: Samples of each fitted table's ideal path and model curve.
+FIT_CURVE_SAMPLES = 400
+
+
+def _plots(cam: "TricycleCam", fits: dict[str, Any], one: "Ride | None") -> "TricycleSection":
+    """What the report section draws: the target path, the ride on the cam as made with its
+    lateral error, the rides with the error types, and each fitted table against its model."""
     from camgen.mechanisms import tricycle as tc
+    from camgen.report.sections import FitCurves, TricycleSection
 
     ride = one if one is not None else tc.simulate_cam(cam)
     error_rides = {label: tc.simulate_cam(cam, tc.ErrorModel(**changes), periods=2) for label, changes in ERROR_CASES.items()}
-    curves: dict[str, dict[str, np.ndarray]] = {}
+    curves: list[FitCurves] = []
     if fits:
         from camgen.mechanisms.tricycle_fit import PARAMETERS, model_y
 
         geom = tc.ride_geometry(cam.profile, cam.device.rod_radius, 4)
         for name, fit in fits.items():
             table = tc.load_measured_table(name)
-            xs = np.linspace(0, table.x.max(), 400)
+            xs = np.linspace(0, table.x.max(), FIT_CURVE_SAMPLES)
             p = np.array([fit["parameters"][k] for k in PARAMETERS])
-            curves[name] = {"x": table.x, "measured": table.measured, "xs": xs,
-                            "ideal": cam.trajectory.f(np.mod(xs, cam.trajectory.period)), "model": model_y(cam, geom, p, xs[1:])}
-    return TricyclePlots(ride, error_rides, curves)
+            curves.append(FitCurves(name, table.x, table.measured, xs, cam.trajectory.f(np.mod(xs, cam.trajectory.period)),
+                                    model_y(cam, geom, p, xs[1:]),
+                                    tuple((k, fit["parameters"][k], fit["uncertainty_1sigma"][k]) for k in PARAMETERS),
+                                    fit["residual_rms_mm"], fit["advice"]["note"]))
+    traj = cam.trajectory
+    x = np.linspace(0, traj.period, TARGET_SAMPLES)
+    return TricycleSection(x, traj.f(x), ride.theta, ride.x, ride.y, tc.lateral_error(traj, ride.x, ride.y),
+                           tuple((label, path.x, path.y) for label, path in error_rides.items()), tuple(curves))
 
 
 KIND = CamKind(

@@ -355,7 +355,8 @@ class LegSolution:
     pressure_angle: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
-def _cams(leg: HorseLeg) -> tuple[Contour, Contour]:
+def leg_cams(leg: HorseLeg) -> tuple[Contour, Contour]:
+    """The leg's stride and height cams (paper 000's three-arc cams of ``leg``)."""
     from camgen.synthesis.three_arc import three_arc_cam
 
     return three_arc_cam(*leg.stride_cam), three_arc_cam(*leg.height_cam)
@@ -395,7 +396,7 @@ def solve_leg(leg: HorseLeg, alpha1: float, theta1: np.ndarray, branches: Branch
     """Solve all loops at the cam angles ``theta1`` (rad) for the inclination ``alpha1`` (rad)."""
     alpha1 = require_finite("alpha1", alpha1)
     theta1 = np.asarray(theta1, dtype=float)
-    stride, height = cams if cams is not None else _cams(leg)
+    stride, height = cams if cams is not None else leg_cams(leg)
     psi = solve_stride_loop(leg, stride, theta1, alpha1, branches.stride_psi0)
     _, _, q, r, s, _ = _stride_residual(leg, stride, psi, theta1, alpha1, derivative=False)
     _, contact_cam = stride.support_point(psi - theta1)
@@ -447,7 +448,7 @@ def assembly_range(leg: HorseLeg, positions: int = 3600, branches: Branches = Br
     For the paper's leg and cams (Section 6): 9.382 to 20.111 deg (3600 positions; test_limits.py
     checks both ends against an independent root count of the paper's eqs. 4-8).
     """
-    stride, height = cams if cams is not None else _cams(leg)
+    stride, height = cams if cams is not None else leg_cams(leg)
     grids = {n: cycle(n) for n in (ASSEMBLY_SCAN_POSITIONS, positions)}
     sides = {n: _height_side(leg, height, theta1, branches) for n, theta1 in grids.items()}
 
@@ -547,7 +548,7 @@ def gait_range(leg: HorseLeg, positions: int = 3600, branches: Branches = Branch
     the foot path's lowest point rises above the ground line (-2060.2 mm at 20.111 deg), so the
     foot never reaches the ground although the leg still assembles.
     """
-    stride, height = cams if cams is not None else _cams(leg)
+    stride, height = cams if cams is not None else leg_cams(leg)
     if assembly is None:
         assembly = assembly_range(leg, positions, branches, (stride, height), step=step, tol=tol)
     theta1 = cycle(positions)
@@ -669,7 +670,7 @@ def body_path(leg: HorseLeg, sol: LegSolution) -> np.ndarray:
 
 def branch_table(leg: HorseLeg, alpha1: float, theta1: np.ndarray) -> list[dict[str, Any]]:
     """Every assembly branch at ``alpha1``: where the foot goes (or why the branch fails)."""
-    stride, height = _cams(leg)
+    stride, height = leg_cams(leg)
     rows = []
     for psi0 in (D(206.5), D(221.5)):
         for fb in (1, -1):

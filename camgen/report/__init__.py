@@ -1,5 +1,6 @@
 """The design-check report: report.json (:mod:`camgen.report.document`) and report.html
-(:mod:`camgen.report.html`, which draws only the data it is given)."""
+(:mod:`camgen.report.html`), both drawn from a typed, frozen input alone
+(:class:`camgen.report.model.ReportInput`, made from a run by :mod:`camgen.report_data`)."""
 from __future__ import annotations
 
 from camgen.report.document import REPORT_SCHEMA, report_dict, report_json

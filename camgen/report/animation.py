@@ -10,37 +10,12 @@ printed with fixed decimals: the same data give the same bytes.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
+from camgen.report.model import RideAnimation
 
-@dataclass(frozen=True)
-class RideAnimation:
-    """What the animation draws (mm, deg, s).
-
-    Attributes
-    ----------
-    profile : (n, 2) the cam's outline at cam angle 0 (cam frame = fixed frame then).
-    sigma : +1 the cam turns counter-clockwise, -1 clockwise.
-    follower : (label, polyline (m, 2)) of the follower at zero lift or swing, fixed frame.
-    motion : ``"translating"`` (moves along +y) or ``"oscillating"`` (turns about ``pivot``).
-    pivot : the pivot (x, y) of an oscillating follower, else None.
-    moves : per frame (uniform cam angles over one turn, from 0): the lift (mm) of a translating
-        follower, or its arm's turn about the pivot (deg, counter-clockwise positive).
-    seconds : duration of one turn on screen.
-    zero_mark : :class:`camgen.kinds.base.ZeroMark` (the contact point at cam angle 0) or None.
-    """
-
-    profile: np.ndarray
-    sigma: float
-    follower: list[tuple[str, np.ndarray]]
-    motion: str
-    pivot: tuple[float, float] | None
-    moves: np.ndarray
-    seconds: float
-    zero_mark: Any = None
+__all__ = ["RideAnimation", "animation_svg"]
 
 
 def _path(points: np.ndarray, closed: bool = False) -> str:

@@ -2,7 +2,8 @@
 found), the motion program segment by segment, and the computed figures, each value with its
 unit.
 
-The numbers are the cam's ``figures`` (the same as report.json's) and its body; a figure's
+The numbers are the cam's ``figures`` (the same as report.json's) and its body
+(:class:`camgen.report.model.CamReport`); a figure's
 unit is read from its key's suffix (``_mm``, ``_deg``, ``_N_per_mm``, ...: report.json's
 convention), so nothing is shown as a Python literal.
 """
@@ -10,7 +11,17 @@ from __future__ import annotations
 
 import html
 import math
-from typing import Any, Iterable, Sequence
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Iterable, Sequence
+
+from camgen.report.format import number, value_text
+
+from camgen.report.model import json_number, json_numbers, json_object, json_objects
+
+if TYPE_CHECKING:
+    from camgen.report.model import CamBody, CamReport, JsonValue
+
+__all__ = ["DESIGN", "LABELS", "OWN_TABLE", "UNITS", "design_table", "dynamics_rows", "figures_table", "program_table", "quantity"]
 
 #: Key suffixes and the unit they name, longest first (report.json's key convention).
 UNITS = (
@@ -88,31 +99,6 @@ def quantity(key: str) -> tuple[str, str]:
     return LABELS.get(key, stem.replace("_", " ")), unit
 
 
-def number(value: float) -> str:
-    """A number as the report writes it: 6 significant digits, no exponent noise for integers."""
-    if isinstance(value, bool):
-        return "yes" if value else "no"
-    if isinstance(value, int):
-        return str(value)
-    if not math.isfinite(value):  # report figures are finite (report.json refuses others); drawn as words all the same
-        return "infinite" if value > 0 else "-infinite" if value < 0 else "not a number"
-    return f"{value:.6g}"
-
-
-def value_text(value: Any) -> str:
-    """A figure's value as text (HTML-escaped): numbers, lists of them, words."""
-    if isinstance(value, (bool, int, float)):
-        return number(value)
-    if value is None:
-        return "-"
-    if isinstance(value, (list, tuple)):
-        if not value:
-            return "none"
-        shown = ", ".join(value_text(v) for v in value[:12])
-        return shown + (f", ... ({len(value)} values)" if len(value) > 12 else "")
-    return html.escape(str(value))
-
-
 def _row(label: str, value: str, unit: str, cls: str = "", numeric: bool = True) -> str:
     attr = f" class='{cls}'" if cls else ""
     align = " class='num'" if numeric else ""
@@ -128,11 +114,11 @@ def _table(rows: Iterable[str], caption: str, cls: str) -> str:
             f"<thead><tr><th>quantity</th><th>value</th><th>unit</th></tr></thead><tbody>{body}</tbody></table>")
 
 
-def _figure_rows(items: Iterable[tuple[str, Any]], prefix: str = "") -> list[str]:
+def _figure_rows(items: Iterable[tuple[str, "JsonValue"]], prefix: str = "") -> list[str]:
     rows = []
     for key, value in items:
         label, unit = quantity(key)
-        if isinstance(value, dict):
+        if isinstance(value, Mapping):
             rows += _figure_rows(value.items(), f"{prefix}{label}: ")
         elif key == "jump_rpm" and value is None:  # report.json's null jump speed: the follower never leaves the cam
             rows.append(_row(prefix + label, "never", "", numeric=False))
@@ -141,23 +127,23 @@ def _figure_rows(items: Iterable[tuple[str, Any]], prefix: str = "") -> list[str
     return rows
 
 
-def _numeric(value: Any) -> bool:
+def _numeric(value: "JsonValue") -> bool:
     if isinstance(value, (list, tuple)):
         return all(_numeric(v) for v in value)
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
-def design_table(cam: Any) -> str:
+def design_table(cam: "CamReport") -> str:
     """The design of ``cam``: follower, rotation, base radius, speed, sizing, body (what the scene
     gave, and the values sizing found, marked so)."""
     figures = cam.figures
-    follower = figures.get("follower", {})
-    sizing = figures.get("sizing")
+    follower = json_object(figures.get("follower"))
+    sizing = json_object(figures.get("sizing"))
     sized = {"base_radius_mm"} | ({"offset_mm"} if "offset_mm" in sizing else set()) if sizing else set()
 
-    def add(key: str, value: Any) -> None:
+    def add(key: str, value: "JsonValue") -> None:
         label, unit = quantity(key)
-        value = _ROTATION.get(value, value) if key == "swing_turn" else value
+        value = _ROTATION.get(value, value) if key == "swing_turn" and isinstance(value, str) else value
         mark = key in sized
         rows.append(_row(label + (" (sized)" if mark else ""), value_text(value), unit, "sized" if mark else "", _numeric(value)))
 
@@ -166,14 +152,14 @@ def design_table(cam: Any) -> str:
         rows.append(_row("follower", html.escape(", ".join(str(follower[k]) for k in ("kind", "motion") if k in follower)), "",
                          numeric=False))
         if "rotation" in follower:
-            shown = _ROTATION.get(follower["rotation"], str(follower["rotation"]))
-            rows.append(_row("cam rotation (as the DXF is drawn)", html.escape(shown), "", numeric=False))
+            rotation = str(follower["rotation"])
+            rows.append(_row("cam rotation (as the DXF is drawn)", html.escape(_ROTATION.get(rotation, rotation)), "", numeric=False))
     if sizing:
-        limits = f"pressure angle <= {number(sizing['pressure_angle_limit_deg'])} deg"
+        limits = f"pressure angle <= {number(json_number(sizing['pressure_angle_limit_deg']))} deg"
         if sizing.get("min_concave_radius_mm"):
-            limits += f", concave radii >= {number(sizing['min_concave_radius_mm'])} mm"
-        rows.append(_row("sizing", html.escape(f"{_SIZING.get(sizing['method'], sizing['method'])} meeting {limits}"), "",
-                         numeric=False))
+            limits += f", concave radii >= {number(json_number(sizing['min_concave_radius_mm']))} mm"
+        method = str(sizing["method"])
+        rows.append(_row("sizing", html.escape(f"{_SIZING.get(method, method)} meeting {limits}"), "", numeric=False))
     if "base_radius_mm" in figures:
         add("base_radius_mm", figures["base_radius_mm"])
     for key, value in follower.items():
@@ -182,9 +168,8 @@ def design_table(cam: Any) -> str:
     for key in DESIGN:
         if key in figures and key not in ("base_radius_mm", "fit_tol_mm", "source"):
             add(key, figures[key])
-    rpm = getattr(cam, "rpm", None)
-    if rpm:
-        rows.append(_row("cam speed", number(rpm), "rpm"))
+    if cam.rpm:
+        rows.append(_row("cam speed", number(cam.rpm), "rpm"))
     rows += _body_rows(cam.body)
     for key in ("fit_tol_mm", "source"):
         if key in figures:
@@ -192,7 +177,7 @@ def design_table(cam: Any) -> str:
     return _table(rows, "Design: the scene's values" + (" and those sizing found" if sizing else ""), "design")
 
 
-def _body_rows(body: Any) -> list[str]:
+def _body_rows(body: "CamBody | None") -> list[str]:
     if body is None:
         return []
     rows = [_row("thickness", number(body.thickness), "mm")]
@@ -213,45 +198,47 @@ def _conditions(values: Sequence[float], unit: str) -> str:
     return ", ".join(f"{n} = {number(v)} {u}" for (n, u), v in zip(names, values))
 
 
-def program_table(cam: Any) -> str:
+def program_table(cam: "CamReport") -> str:
     """The motion program of a ``motion_law`` cam: each segment's law, where it starts and ends
     (cam angle, in the direction of rotation from cam angle 0), its span, lift or swing, and
     its parameters."""
-    segments = cam.figures.get("segments")
+    segments = json_objects(cam.figures.get("segments"))
     if not segments:
         return ""
     swing = any("swing_deg" in s for s in segments)
     unit = "deg" if swing else "mm"
-    rotation = cam.figures.get("follower", {}).get("rotation")
+    rotation = json_object(cam.figures.get("follower")).get("rotation")
     rows = []
     start = 0.0
     for i, seg in enumerate(segments):
-        end = start + seg["span_deg"]
+        span = json_number(seg["span_deg"])
+        end = start + span
         if "start" in seg and "end" in seg:  # a polynomial: the motion follows from its end conditions
-            motion = seg["end"][0] - seg["start"][0]
-            params = f"start: {_conditions(seg['start'], unit)}; end: {_conditions(seg['end'], unit)}"
+            first, last = json_numbers(seg["start"]), json_numbers(seg["end"])
+            motion = last[0] - first[0]
+            params = f"start: {_conditions(first, unit)}; end: {_conditions(last, unit)}"
         else:
-            motion = seg.get("swing_deg" if swing else "lift_mm", 0.0)
+            motion = json_number(seg.get("swing_deg" if swing else "lift_mm", 0.0))
             params = ""
         if "blend" in seg:
-            params = f"blend {number(seg['blend'])} of the span at each end (velocity ramps)"
-        rows.append(f"<tr><td class='num'>{i}</td><td>{html.escape(seg['law'])}</td><td class='num'>{number(start)}</td>"
-                    f"<td class='num'>{number(end)}</td><td class='num'>{number(seg['span_deg'])}</td>"
+            params = f"blend {number(json_number(seg['blend']))} of the span at each end (velocity ramps)"
+        rows.append(f"<tr><td class='num'>{i}</td><td>{html.escape(str(seg['law']))}</td><td class='num'>{number(start)}</td>"
+                    f"<td class='num'>{number(end)}</td><td class='num'>{number(span)}</td>"
                     f"<td class='num'>{number(motion)}</td><td>{html.escape(params)}</td></tr>")
         start = end
-    direction = f", in the direction of rotation ({_ROTATION.get(rotation, rotation)})" if rotation else ""
+    direction = f", in the direction of rotation ({_ROTATION.get(str(rotation), rotation)})" if rotation else ""
     what = "swing (deg)" if swing else "lift (mm)"
     return (f"<table class='program'><caption>Motion program: cam angles from cam angle 0{html.escape(direction)}</caption>"
             f"<thead><tr><th>segment</th><th>law</th><th>from (deg)</th><th>to (deg)</th><th>span (deg)</th><th>{what}</th>"
             f"<th>parameters</th></tr></thead><tbody>{''.join(rows)}</tbody></table>")
 
 
-def figures_table(cam: Any) -> str:
+def figures_table(cam: "CamReport") -> str:
     """The computed figures of ``cam`` (those not in the design or a table of their own)."""
     items = [(k, v) for k, v in cam.figures.items() if k not in DESIGN and k not in OWN_TABLE]
     return _table(_figure_rows(items), "Computed figures", "figures")
 
 
-def dynamics_rows(figures: dict[str, Any]) -> str:
+def dynamics_rows(figures: "Mapping[str, JsonValue]") -> str:
     """The dynamics figures (report.json's ``figures.dynamics``) as table rows with units."""
     return "".join(_figure_rows(figures.items()))

@@ -32,13 +32,15 @@ from __future__ import annotations
 
 import json
 import math
-from typing import TYPE_CHECKING, Any, Mapping, Sequence
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
 
 from camgen.errors import ExportError
 
 if TYPE_CHECKING:
-    from camgen.kinds.base import BuiltCam
-    from camgen.scene import Scene
+    from camgen.report.model import JsonValue, ReportInput
+
+__all__ = ["REPORT_SCHEMA", "report_dict", "report_json"]
 
 _CHECK = {
     "type": "object",
@@ -147,29 +149,23 @@ REPORT_SCHEMA = {
 }
 
 
-def report_dict(scene: "Scene", cams: "Sequence[BuiltCam]", files: Sequence[str], mechanisms: dict | None = None,
-                stages: Sequence[str] = ()) -> dict[str, Any]:
-    """Assemble the report for a run of ``scene`` that built ``cams`` and writes ``files``."""
-    from camgen import __version__
-    from camgen.export.tablemeta import tables_metadata
-    from camgen.textfile import display_path
-
-    failed = any(c.failed for cam in cams for c in cam.checks)
+def report_dict(report: "ReportInput") -> dict[str, "JsonValue"]:
+    """report.json's object for ``report`` (:data:`REPORT_SCHEMA`)."""
     return {
-        "scene": scene.name,
-        "camgen_version": __version__,
-        "source_file": display_path(scene.source),
-        "chord_tol_mm": scene.output.chord_tol,
-        "status": "fail" if failed else "pass",
-        "stages": sorted(stages),
-        "files": list(files),
+        "scene": report.scene,
+        "camgen_version": report.camgen_version,
+        "source_file": report.source_file,
+        "chord_tol_mm": report.chord_tol_mm,
+        "status": "fail" if report.failed else "pass",
+        "stages": list(report.stages),
+        "files": list(report.files),
         "cams": {
-            cam.name: {"kind": cam.kind, "manufacturable": cam.manufacturable, "withheld_files": list(cam.withheld),
-                       "figures": cam.figures, "checks": [c.as_dict() for c in cam.checks]}
-            for cam in cams
+            cam.name: {"kind": cam.kind, "manufacturable": cam.manufacturable, "withheld_files": list(cam.withheld_files),
+                       "figures": cam.figures, "checks": [c.as_json() for c in cam.checks]}
+            for cam in report.cams
         },
-        "mechanisms": mechanisms or {},
-        "tables": tables_metadata(scene, cams, files, mechanisms),
+        "mechanisms": {m.name: m.figures for m in report.mechanisms},
+        "tables": report.tables,
     }
 
 
@@ -190,6 +186,6 @@ def _plain(value: Any, where: str) -> Any:
     raise ExportError(f"report value {where} has unsupported type {type(value).__name__}")
 
 
-def report_json(report: dict[str, Any]) -> str:
-    """Deterministic JSON text of ``report`` (sorted keys inside figures, 2-space indent)."""
+def report_json(report: Mapping[str, Any]) -> str:
+    """Deterministic JSON text of ``report`` (keys in the order given, 2-space indent)."""
     return json.dumps(_plain(report, "report"), indent=2, allow_nan=False) + "\n"

@@ -1,5 +1,5 @@
 """report.html's cam-follower dynamics of one cam: the curves the dynamics stage computed
-(:class:`camgen.kinds.dynamics.DynamicsOutcome`), drawn with :mod:`camgen.report.svgplot`.
+(:class:`camgen.report.model.DynamicsCurves`), drawn with :mod:`camgen.report.svgplot`.
 
 Six panels against cam angle at the scene's speed: the contact force (both faces of a yoke)
 with the jump margin; its direction, the pressure angle; the camshaft torque with its limit;
@@ -10,33 +10,39 @@ side force on the guide instead).  Nothing is computed here beyond unit-free thi
 from __future__ import annotations
 
 import math
-from typing import Any
+from collections.abc import Mapping
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from camgen.report.html import _thin
+from camgen.report.format import FigureMaker, thin
+
+if TYPE_CHECKING:
+    from camgen.report.model import CamReport
+
+__all__ = ["ROUNDING", "dynamics_section"]
 
 _LIMIT = {"color": "tab:red", "dash": "--", "width": 0.8}
 #: A mean power below this fraction of the peak is shown as 0 in the plot's title (rounding of a zero integral).
 ROUNDING = 1e-9
 
 
-def dynamics_section(Figure: Any, cam: Any) -> str:
+def dynamics_section(Figure: FigureMaker, cam: "CamReport") -> str:
     """The dynamics part of a cam's section of report.html (an empty string without dynamics)."""
-    outcome = getattr(cam, "dynamics", None)
-    if outcome is None:
+    res = cam.dynamics
+    if res is None:
         return ""
-    res = outcome.result
-    train = res.train
-    form = train.closure == "form"
+    form = res.closure == "form"
     figures = cam.figures.get("dynamics", {})
-    keep = _thin(res.theta.size, 1200)
+    assert isinstance(figures, Mapping)
+    keep = thin(res.theta.size, 1200)
     deg = np.degrees(res.theta)[keep]
     fig = Figure(figsize=(10, 8.4))
     axes = fig.subplots(3, 2)
     (ax_f, ax_p), (ax_t, ax_w), (ax_h, ax_s) = axes
     # contact force
     if form:
+        assert res.contact_force_2 is not None  # a yoke's second face
         ax_f.plot(deg, res.contact_force[keep], color="tab:blue", width=1, label="face 1 (pushes the follower out)")
         ax_f.plot(deg, res.contact_force_2[keep], color="tab:orange", width=1, label="face 2 (pulls it back)")
         ax_f.title("contact force on the yoke's two faces", font_size=8)
@@ -55,7 +61,7 @@ def dynamics_section(Figure: Any, cam: Any) -> str:
     ax_p.title("direction of the contact force: the pressure angle (from the follower's motion)", font_size=8)
     # torque and power
     ax_t.plot(deg, res.torque[keep], color="tab:green", width=1)
-    limit = figures.get("torque_limit_Nm")
+    limit = res.torque_limit
     if limit is not None:
         for sign in (1, -1):
             ax_t.hline(sign * limit, **_LIMIT)
@@ -76,7 +82,7 @@ def dynamics_section(Figure: Any, cam: Any) -> str:
             ax_h.plot(deg, res.hertz_stress[keep], color="tab:blue", width=1, label="face 1" if form else None)
         if res.hertz_stress_2 is not None:
             ax_h.plot(deg, res.hertz_stress_2[keep], color="tab:orange", width=1, label="face 2")
-        allowable = figures.get("allowable_contact_stress_MPa")
+        allowable = res.allowable_stress
         if allowable is not None:
             ax_h.hline(allowable, label=f"allowable {allowable:g} MPa", **_LIMIT)
         ax_h.title(f"Hertz contact stress: peak {res.hertz_peak:.4g} MPa"
@@ -86,11 +92,11 @@ def dynamics_section(Figure: Any, cam: Any) -> str:
     ax_h.ylabel("contact stress (MPa)", font_size=8)
     ax_h.xlabel("cam angle (deg)", font_size=8)
     # the jump margin against speed (force closure) or the follower and side forces (yoke)
-    if outcome.speed_rpm is not None:
-        ax_s.plot(outcome.speed_rpm, outcome.speed_min_force, color="tab:blue", width=1)
+    if res.speed_rpm is not None and res.speed_min_force is not None:
+        ax_s.plot(res.speed_rpm, res.speed_min_force, color="tab:blue", width=1)
         ax_s.hline(res.jump_margin, **_LIMIT)
         ax_s.vline(res.rpm, color="k", dash=":", width=0.8)
-        if math.isfinite(res.jump_rpm) and 0 < res.jump_rpm <= outcome.speed_rpm[-1]:
+        if math.isfinite(res.jump_rpm) and 0 < res.jump_rpm <= res.speed_rpm[-1]:
             ax_s.vline(res.jump_rpm, color="tab:red", dash=":", width=0.8)
         ax_s.xlabel("cam speed (rpm)", font_size=8)
         ax_s.ylabel("smallest contact force (N)", font_size=8)
@@ -105,7 +111,7 @@ def dynamics_section(Figure: Any, cam: Any) -> str:
         ax_s.legend(font_size=7)
     for ax in (ax_f, ax_p, ax_t, ax_w):
         ax.xlabel("cam angle (deg)", font_size=8)
-    fig.suptitle(f"{cam.name}: follower dynamics at {res.rpm:g} rpm ({train.motion}, "
+    fig.suptitle(f"{cam.name}: follower dynamics at {res.rpm:g} rpm ({res.motion}, "
                  f"{'form-closed yoke' if form else 'spring-loaded'})", font_size=9)
     from camgen.report.design import dynamics_rows
 

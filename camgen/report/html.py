@@ -16,15 +16,18 @@ most 125 mm tall, headings kept with what follows, the animation left out.
 from __future__ import annotations
 
 import html
-import itertools
 import math
-from typing import TYPE_CHECKING, Any, Callable, Sequence
+from typing import TYPE_CHECKING, Callable, Sequence
 
 import numpy as np
 
+from camgen.report.format import FigureMaker, figure_factory, fmt, thin
 
 if TYPE_CHECKING:
-    from camgen.pipeline import RunResult
+    from camgen.report.model import CamReport, CheckRow, ReportInput, ZeroMark
+    from camgen.report.svgplot import Axes
+
+__all__ = ["report_html"]
 
 _CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;margin:2em auto;max-width:1100px;color:#222;padding:0 1em}
@@ -45,40 +48,14 @@ thead{display:table-header-group}table{margin:.3em 0}td,th{padding:.15em .4em}
 """
 
 
-def _figure_factory() -> Callable[..., Any]:
-    """A maker of :class:`camgen.report.svgplot.Figure`s numbered in page order, so every
-    figure's clip-path ids are unique on the page and the same run gives the same bytes."""
-    from camgen.report.svgplot import Figure
-
-    ids = itertools.count(1)
-
-    def make(figsize: tuple[float, float]) -> Any:
-        return Figure(figsize=figsize, id_prefix=f"f{next(ids)}")
-
-    return make
-
-
-def _thin(n: int, most: int = 900) -> slice:
-    """A slice that keeps at most about ``most`` of ``n`` evenly spaced samples (plots only)."""
-    return slice(None, None, max(1, math.ceil(n / most)))
-
-
-def _fmt(value: Any) -> str:
-    if isinstance(value, float):
-        return f"{value:.6g}"
-    if isinstance(value, (list, tuple)):
-        return ", ".join(_fmt(v) for v in value[:12]) + (" ..." if len(value) > 12 else "")
-    return html.escape(str(value))
-
-
 _STATUS = {"pass": ("pass", "pass"), "fail": ("fail", "FAIL"), "info": ("info", "info")}
 
 
-def _checks_table(checks: Sequence[Any]) -> str:
+def _checks_table(checks: "Sequence[CheckRow]") -> str:
     rows = "".join(
         f"<tr><td>{html.escape(c.name)}</td><td class='{_STATUS[c.status][0]}'>{_STATUS[c.status][1]}</td>"
-        f"<td class='nw'>{_fmt(c.value)}</td><td class='nw'>{html.escape(c.comparison)} {_fmt(c.limit) if c.limit is not None else '(no limit)'}</td>"
-        f"<td class='nw'>{html.escape(c.unit)}</td><td>{_fmt(c.where_deg)}</td>"
+        f"<td class='nw'>{fmt(c.value)}</td><td class='nw'>{html.escape(c.comparison)} {fmt(c.limit) if c.limit is not None else '(no limit)'}</td>"
+        f"<td class='nw'>{html.escape(c.unit)}</td><td>{fmt(c.where_deg)}</td>"
         f"<td>{html.escape(c.note)}{' <b>(blocks manufacture)</b>' if c.failed and c.blocks_manufacture else ''}</td></tr>"
         for c in checks
     )
@@ -86,70 +63,63 @@ def _checks_table(checks: Sequence[Any]) -> str:
             f"<th>note</th></tr>{rows}</table>")
 
 
-def _profile_figure(Figure: Any, cam: Any) -> str:
-    ev = cam.evaluation
+def _profile_figure(Figure: FigureMaker, cam: "CamReport") -> str:
+    plots = cam.plots
+    assert plots is not None
     fig = Figure(figsize=(5.2, 5.2))
     ax = fig.add_subplot()
-    outline = cam.contour if cam.contour is not None else ev.pitch
-    if cam.contour is not None:
-        pts = cam.contour.flatten(0.01)
+    if plots.profile is not None:
+        pts = plots.profile
         closed = np.vstack([pts, pts[:1]])
         ax.plot(closed[:, 0], closed[:, 1], color="k", width=1.2, label="profile")
-    if ev.pitch is not None:
-        pitch = ev.pitch.flatten(0.01)
-        pitch = np.vstack([pitch, pitch[:1]])
+    if plots.pitch is not None:
+        pitch = np.vstack([plots.pitch, plots.pitch[:1]])
         ax.plot(pitch[:, 0], pitch[:, 1], "--", color="tab:blue", width=0.8, label="pitch curve (roller centre)")
     body = cam.body
     if body is not None and body.bore_diameter > 0:
         a = np.linspace(0, 2 * math.pi, 181)
         r = body.bore_diameter / 2
         ax.plot(r * np.cos(a), r * np.sin(a), color="tab:orange", width=0.8, label="bore")
-        if body.keyway_width > 0:
-            rect = body.keyway_corners()
-            rect = np.vstack([rect, rect[:1]])
+        if body.keyway_corners is not None:
+            rect = np.vstack([body.keyway_corners, body.keyway_corners[:1]])
             ax.plot(rect[:, 0], rect[:, 1], color="tab:green", width=0.8, label="keyway")
-    follower = ev.follower
-    if outline is None:  # nothing to draw to scale: the checks table says why
+    if plots.outline_bounds is None:  # nothing to draw to scale: the checks table says why
         ax.text(0.5, 0.5, "the profile cannot be made (see the checks)", anchor="middle", coords="axes")
         return fig.to_svg()
-    if cam.contour is None:
+    if plots.profile is None:
         ax.title(f"{cam.name}: pitch curve to scale; the profile cannot be made (undercut)")
-    if ev.follower_drawing is not None:  # the kind drew its follower at cam angle 0
+    if plots.follower_drawing is not None:  # the kind drew its follower at cam angle 0
         colours = {"roller": "tab:red", "knife": "tab:red", "follower face": "tab:red"}
         seen: set[str] = set()
-        for label, poly in ev.follower_drawing:
+        for label, poly in plots.follower_drawing:
             ax.plot(poly[:, 0], poly[:, 1], color=colours.get(label, "#737373"), width=1.0,
                     label=None if label in seen else f"{label} at cam angle 0")
             seen.add(label)
-    elif follower is not None and cam.contour is not None:
-        xmin, ymin, xmax, ymax = outline.bounds
+    elif plots.faces is not None:
+        xmin, ymin, xmax, ymax = plots.outline_bounds
         span = max(xmax - xmin, ymax - ymin)
-        d = np.array([math.cos(follower.direction), math.sin(follower.direction)])
+        d = np.array([math.cos(plots.faces.direction), math.sin(plots.faces.direction)])
         side = np.array([-d[1], d[0]])
-        if follower.kind in ("yoke", "flat"):
-            h = float(cam.contour.support(np.array([follower.direction]))[0])
-            faces = [h] + ([h - cam.breadth] if follower.kind == "yoke" and cam.breadth is not None else [])
-            for k, dist in enumerate(faces):
-                line = np.array([dist * d - 0.6 * span * side, dist * d + 0.6 * span * side])
-                ax.plot(line[:, 0], line[:, 1], color="tab:red", width=1.0, label="follower face at cam angle 0" if k == 0 else None)
-        elif ev.motion is not None and follower.motion == "translating":
-            centre = ev.motion.displacement[0] * d + follower.offset * side
-            a = np.linspace(0, 2 * math.pi, 91)
-            ax.plot(centre[0] + follower.roller_radius * np.cos(a), centre[1] + follower.roller_radius * np.sin(a), color="tab:red", width=1.0,
-                    label="follower at cam angle 0")
-    if cam.zero_mark is not None:
-        _zero_mark(ax, cam.zero_mark)
+        for k, dist in enumerate(plots.faces.distances):
+            line = np.array([dist * d - 0.6 * span * side, dist * d + 0.6 * span * side])
+            ax.plot(line[:, 0], line[:, 1], color="tab:red", width=1.0, label="follower face at cam angle 0" if k == 0 else None)
+    elif plots.roller is not None:
+        (cx, cy), radius = plots.roller.centre, plots.roller.radius
+        a = np.linspace(0, 2 * math.pi, 91)
+        ax.plot(cx + radius * np.cos(a), cy + radius * np.sin(a), color="tab:red", width=1.0, label="follower at cam angle 0")
+    if plots.zero_mark is not None:
+        _zero_mark(ax, plots.zero_mark)
     ax.plot([0], [0], "+", color="k", marker_size=10)
     ax.equal_aspect()
     ax.xlabel("x (mm)")
     ax.ylabel("y (mm)")
-    if cam.contour is not None:
+    if plots.profile is not None:
         ax.title(f"{cam.name}: profile to scale (cam frame)")
     ax.legend("upper right", font_size=7)
     return fig.to_svg()
 
 
-def _zero_mark(ax: Any, mark: Any) -> None:
+def _zero_mark(ax: "Axes", mark: "ZeroMark") -> None:
     """Cam angle 0 (a line from the axis to the point the follower touches then) and an arrow
     showing the direction of rotation."""
     p = np.asarray(mark.point, dtype=float)
@@ -166,21 +136,23 @@ def _zero_mark(ax: Any, mark: Any) -> None:
         c, s_ = math.cos(turn), math.sin(turn)
         end = tip + np.array([c * back[0] - s_ * back[1], s_ * back[0] + c * back[1]])
         ax.plot([tip[0], end[0]], [tip[1], end[1]], color="tab:purple", width=1.0)
-    ax.text(*(0.55 * r * np.array([math.cos(a[20]), math.sin(a[20])])), "ccw" if mark.sigma > 0 else "cw", color="tab:purple",
-            font_size=7, anchor="middle", valign="middle")
+    label_at = 0.55 * r * np.array([math.cos(a[20]), math.sin(a[20])])
+    ax.text(float(label_at[0]), float(label_at[1]), "ccw" if mark.sigma > 0 else "cw", color="tab:purple", font_size=7,
+            anchor="middle", valign="middle")
 
 
-def _curves_figure(Figure: Any, cam: Any, tool_radius: float) -> str:
-    ev = cam.evaluation
+def _curves_figure(Figure: FigureMaker, cam: "CamReport", tool_radius: float) -> str:
+    plots = cam.plots
+    assert plots is not None
     fig = Figure(figsize=(10, 3.2))
     ax1, ax2 = fig.subplots(1, 2)
-    if ev.pressure_angle is None or ev.curvature_radius is None:
+    if plots.pressure_angle is None or plots.curvature is None:
         ax1.text(0.5, 0.5, "no curves: the profile cannot be made (see the checks)", anchor="middle", coords="axes")
         return fig.to_svg()
-    angle, pressure = ev.pressure_angle
+    angle, pressure = plots.pressure_angle
     pa_check = next((c for c in cam.checks if c.name == "pressure_angle"), None)
-    limit = float(pa_check.limit) if pa_check is not None else math.degrees(ev.follower.limit) if ev.follower is not None else None
-    keep = _thin(angle.size, 900)
+    limit = float(pa_check.limit) if pa_check is not None and pa_check.limit is not None else plots.follower_limit_deg
+    keep = thin(angle.size, 900)
     ax1.plot(np.degrees(angle)[keep], np.degrees(pressure)[keep], color="tab:blue", width=1)
     for sign in (1, -1):
         if limit is not None:
@@ -188,49 +160,49 @@ def _curves_figure(Figure: Any, cam: Any, tool_radius: float) -> str:
     ax1.xlabel("cam angle (deg)")
     ax1.ylabel("pressure angle (deg)")
     title = "pressure angle, limit dashed"
-    if ev.pressure_angle_label:
-        title += f" ({ev.pressure_angle_label})"
+    if plots.pressure_angle_label:
+        title += f" ({plots.pressure_angle_label})"
     ax1.title(title, font_size=8)
-    rho_angle, rho = ev.curvature_radius
+    rho_angle, rho = plots.curvature
     order = np.argsort(np.mod(rho_angle, 2 * math.pi))
-    outline = cam.contour if cam.contour is not None else ev.pitch
-    size = max(abs(v) for v in outline.bounds) if outline is not None else float(np.max(np.abs(rho[np.isfinite(rho)])))
+    bounds = plots.outline_bounds
+    size = max(abs(v) for v in bounds) if bounds is not None else float(np.max(np.abs(rho[np.isfinite(rho)])))
     # near an inflection the radius runs off to infinity: the plot shows +-3 cam sizes and its note says what it leaves out
     shown, known = 3 * size, rho[~np.isnan(rho)]
     if known.size:
         ax2.ylim(-shown if known.min() < -shown else None, shown if known.max() > shown else None)
-    keep = _thin(order.size, 1200)
+    keep = thin(order.size, 1200)
     ax2.plot(np.degrees(np.mod(rho_angle[order], 2 * math.pi))[keep], rho[order][keep], ".", marker_size=1.5, color="tab:blue")
-    if ev.curvature_limit is not None:  # the radius the curve must stay above (roller radius, or 0)
-        ax2.hline(ev.curvature_limit, color="tab:red", dash="--", width=0.8)
-        ax2.title(f"{ev.curvature_label}; must stay above {ev.curvature_limit:g} mm (dashed)", font_size=8)
+    if plots.curvature_limit is not None:  # the radius the curve must stay above (roller radius, or 0)
+        ax2.hline(plots.curvature_limit, color="tab:red", dash="--", width=0.8)
+        ax2.title(f"{plots.curvature_label}; must stay above {plots.curvature_limit:g} mm (dashed)", font_size=8)
     else:
         for sign in (1, -1):
             ax2.hline(sign * tool_radius, color="tab:red", dash="--", width=0.8)
         ax2.title(f"radius of curvature; tool radius {tool_radius:g} mm dashed", font_size=8)
-    ax2.xlabel(ev.curvature_angle_label)
-    ax2.ylabel(ev.curvature_label)
+    ax2.xlabel(plots.curvature_angle_label)
+    ax2.ylabel(plots.curvature_label)
     return fig.to_svg()
 
 
-def _motion_figure(Figure: Any, cam: Any) -> str:
+def _motion_figure(Figure: FigureMaker, cam: "CamReport") -> str:
     """Lift (from zero), velocity, acceleration and jerk against cam angle: at the scene's rpm in
     mm, mm/s, m/s^2, m/s^3 (rad, rad/s ... for an oscillating arm; lift in deg) with the time on a
     second axis, else per unit cam speed (per rad of cam angle)."""
-    m = cam.evaluation.motion
-    rpm = getattr(cam, "rpm", None)
+    assert cam.plots is not None and cam.plots.motion is not None
+    m = cam.plots.motion
     fig = Figure(figsize=(10, 4.6))
     axes = fig.subplots(2, 2).ravel()
-    keep = _thin(m.cam_angle.size, 720)
+    keep = thin(m.cam_angle.size, 720)
     deg = np.degrees(m.cam_angle)[keep]
     lift = np.degrees(m.lift) if m.unit == "rad" else m.lift
     lift_unit = "deg" if m.unit == "rad" else m.unit
-    if rpm:
-        v, a, j, units = m.rates(rpm)
-        values = (lift[keep], v[keep], a[keep], j[keep])
-        labels = (f"lift ({lift_unit})", f"velocity ({units['velocity']})", f"acceleration ({units['acceleration']})",
-                  f"jerk ({units['jerk']})")
-        title = f"{cam.name}: follower motion at {rpm:g} rpm (one turn {60.0 / rpm:.4g} s)"
+    fast = m.at_speed
+    if fast is not None:
+        values = (lift[keep], fast.velocity[keep], fast.acceleration[keep], fast.jerk[keep])
+        labels = (f"lift ({lift_unit})", f"velocity ({fast.velocity_unit})", f"acceleration ({fast.acceleration_unit})",
+                  f"jerk ({fast.jerk_unit})")
+        title = f"{cam.name}: follower motion at {fast.rpm:g} rpm (one turn {60.0 / fast.rpm:.4g} s)"
     else:
         values = (lift[keep], m.velocity[keep], m.acceleration[keep], m.jerk[keep])
         labels = (f"lift ({lift_unit})", f"velocity ({m.unit}/rad)", f"acceleration ({m.unit}/rad^2)", f"jerk ({m.unit}/rad^3)")
@@ -238,8 +210,8 @@ def _motion_figure(Figure: Any, cam: Any) -> str:
     for ax, value, label in zip(axes, values, labels):
         ax.plot(deg, value, width=1, color="tab:purple")
         ax.ylabel(label, font_size=8)
-    if rpm:  # the same curves against time: a time axis above the top row (the columns share the cam angle)
-        seconds = 60.0 / rpm / 360.0
+    if fast is not None:  # the same curves against time: a time axis above the top row (the columns share the cam angle)
+        seconds = 60.0 / fast.rpm / 360.0
         for ax in axes[:2]:
             ax.top_axis(seconds, "time (s)", font_size=8)
     for angle in m.jerk_impulses_deg:
@@ -250,75 +222,77 @@ def _motion_figure(Figure: Any, cam: Any) -> str:
     return fig.to_svg()
 
 
-def _animation(cam: Any) -> str:
+def _animation(cam: "CamReport") -> str:
     from camgen.report.animation import animation_svg
 
-    anim = cam.evaluation.animation
-    speed = f"; the cam runs at {cam.rpm:g} rpm" if getattr(cam, "rpm", None) else ""
+    assert cam.plots is not None and cam.plots.animation is not None
+    anim = cam.plots.animation
+    speed = f"; the cam runs at {cam.rpm:g} rpm" if cam.rpm else ""
     svg = animation_svg(anim, html.escape(f"{cam.name}: the follower riding the cam"))
     return (f"<div class='fig anim'>{svg}<p class='note'>The follower riding the cam, one turn in {anim.seconds:g} s on screen{speed}; "
             "the purple line marks cam angle 0 on the cam.</p></div>")
 
 
-def report_html(result: "RunResult") -> str:
-    """The page for a run (UTF-8 text): every cam, then every mechanism."""
+def _section(path: str) -> Callable[..., str]:
+    """The function ``"module:function"`` names (a kind's or mechanism's own report section)."""
     import importlib
 
-    from camgen import __version__
-    from camgen.jobs import get_job
-    from camgen.kinds import get_kind
-    from camgen.report.design import design_table, figures_table, program_table
-    from camgen.textfile import display_path
+    module, function = path.split(":")
+    drawn: Callable[..., str] = getattr(importlib.import_module(module), function)
+    return drawn
 
-    Figure = _figure_factory()
-    scene, cams = result.scene, result.cams
-    tool_radius = scene.machining.tool_radius
+
+def report_html(report: "ReportInput") -> str:
+    """The page of a run (UTF-8 text): every cam, then every mechanism.
+
+    A cam kind's or mechanism's own part of the page is drawn by the function its
+    ``report_section`` names, called with the page's figure maker and the
+    :class:`~camgen.report.model.CamReport` (a mechanism: its
+    :class:`~camgen.report.model.MechanismReport`, when its section has data)."""
+    from camgen.report.design import design_table, figures_table, program_table
+
+    Figure = figure_factory()
+    cams = report.cams
+    tool_radius = report.tool_radius_mm
     summary = "".join(
         f"<tr><td><a href='#{html.escape(c.name)}'>{html.escape(c.name)}</a></td><td>{html.escape(c.kind)}</td>"
-        f"<td class='{'fail' if any(k.failed for k in c.checks) else 'pass'}'>"
+        f"<td class='{'fail' if c.failed else 'pass'}'>"
         f"{sum(k.status == 'pass' for k in c.checks)} passed, {sum(k.failed for k in c.checks)} failed, "
         f"{sum(k.status == 'info' for k in c.checks)} information</td>"
-        f"<td>{'yes' if c.manufacturable else 'no: ' + html.escape(', '.join(c.withheld) or 'no manufacturing file')}</td></tr>"
+        f"<td>{'yes' if c.manufacturable else 'no: ' + html.escape(', '.join(c.withheld_files) or 'no manufacturing file')}</td></tr>"
         for c in cams
     )
     parts = [
         "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>",
-        f"<title>camgen report: {html.escape(scene.name)}</title><style>{_CSS}</style></head><body>",
-        f"<h1>camgen design-check report: {html.escape(scene.name)}</h1>",
-        f"<p class='note'>camgen {__version__}; scene <code>{html.escape(display_path(scene.source))}</code>; chord tolerance "
-        f"{scene.output.chord_tol:g} mm; units mm and deg.</p>",
+        f"<title>camgen report: {html.escape(report.scene)}</title><style>{_CSS}</style></head><body>",
+        f"<h1>camgen design-check report: {html.escape(report.scene)}</h1>",
+        f"<p class='note'>camgen {report.camgen_version}; scene <code>{html.escape(report.source_file)}</code>; chord tolerance "
+        f"{report.chord_tol_mm:g} mm; units mm and deg.</p>",
         f"<table><tr><th>cam</th><th>kind</th><th>checks</th><th>manufacturing files written</th></tr>{summary}</table>",
     ]
-
-    def section(path: str):
-        module, function = path.split(":")
-        return getattr(importlib.import_module(module), function)
-
     for cam in cams:
         parts.append(f"<h2 id='{html.escape(cam.name)}'>{html.escape(cam.name)} ({html.escape(cam.kind)})</h2>")
-        if cam.evaluation is not None:  # the profile to scale beside the design's numbers
+        if cam.plots is not None:  # the profile to scale beside the design's numbers
             parts.append(f"<div class='tables'><div class='fig'>{_profile_figure(Figure, cam)}</div>{design_table(cam)}</div>")
         else:
             parts.append(design_table(cam))
         parts.append(program_table(cam))
-        if cam.evaluation is not None:
+        if cam.plots is not None:
             parts.append(f"<div class='fig'>{_curves_figure(Figure, cam, tool_radius)}</div>")
-            if cam.evaluation.motion is not None:
+            if cam.plots.motion is not None:
                 parts.append(f"<div class='fig'>{_motion_figure(Figure, cam)}</div>")
-            if cam.evaluation.animation is not None:
+            if cam.plots.animation is not None:
                 parts.append(_animation(cam))
-        if getattr(cam, "dynamics", None) is not None:
+        if cam.dynamics is not None:
             from camgen.report.dynamics import dynamics_section
 
             parts.append(dynamics_section(Figure, cam))
         parts.append("<h3>Checks</h3>" + _checks_table(cam.checks))
         parts.append(figures_table(cam))
-        kind_section = get_kind(cam.kind).report_section
-        if kind_section:
-            parts.append(section(kind_section)(Figure, cam))
-    for name, job_result in result.jobs.items():
-        job_section = get_job(name).report_section
-        if job_section and job_result.plots is not None:
-            parts.append(section(job_section)(Figure, job_result.report, job_result.plots))
+        if cam.report_section:
+            parts.append(_section(cam.report_section)(Figure, cam))
+    for mechanism in report.mechanisms:
+        if mechanism.report_section and mechanism.section is not None:
+            parts.append(_section(mechanism.report_section)(Figure, mechanism))
     parts.append("</body></html>\n")
     return "".join(parts)

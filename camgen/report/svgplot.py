@@ -34,6 +34,8 @@ import numpy as np
 
 from camgen.errors import ParameterError
 
+__all__ = ["Axes", "Figure", "Line", "nice_ticks", "thin"]
+
 PX_PER_INCH = 96.0
 PX_PER_PT = PX_PER_INCH / 72.0
 MARGIN = 0.05  # automatic limits: data range plus 5 % each side (matplotlib's axes.xmargin)
@@ -547,9 +549,14 @@ class Axes:
         size = self._top[2] if self._top[2] is not None else self._figure.font_size
         return 3.5 * PX_PER_PT * 2 + 1.1 * fs + size * PX_PER_PT * 1.25 + 4.0
 
+    def _laid_out(self) -> tuple[tuple[float, float, float, float], tuple[float, float, float, float]]:
+        """(area, limits) of the panel, once :meth:`Figure.to_svg` has laid it out."""
+        assert self.area is not None and self.limits is not None, "drawn before the figure's layout"
+        return self.area, self.limits
+
     def _top_svg(self, fs: float) -> str:
-        left, top, w, _ = self.area
-        x0, x1 = self.limits[0], self.limits[1]
+        (left, top, w, _), limits = self._laid_out()
+        x0, x1 = limits[0], limits[1]
         k, label, size = self._top
         ticks, labels, _ = self._tt
         px = left + (ticks / k - x0) * (w / (x1 - x0))
@@ -563,15 +570,14 @@ class Axes:
                 f'{_esc(label)}</text>')
 
     def _px(self, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        left, top, w, h = self.area
-        x0, x1, y0, y1 = self.limits
+        (left, top, w, h), (x0, x1, y0, y1) = self._laid_out()
         px = left + (x - x0) * (w / (x1 - x0))
         py = top + h - (y - y0) * (h / (y1 - y0))
         return np.clip(px, -MAX_PX, MAX_PX), np.clip(py, -MAX_PX, MAX_PX)
 
     # ---- drawing
     def _svg(self, clip_id: str, fs: float, max_vertices: int) -> str:
-        left, top, w, h = self.area
+        (left, top, w, h), _ = self._laid_out()
         right, bottom = left + w, top + h
         out = [f'<g class="axes"><clipPath id="{clip_id}"><rect x="{_n(left)}" y="{_n(top)}" width="{_n(w)}" height="{_n(h)}"/></clipPath>']
         xt, xl, xp = self._xt
@@ -678,8 +684,8 @@ class Axes:
             if coords == "axes":
                 px_, py_ = left + x * w, top + (1 - y) * h
             else:
-                a, b = self._px(np.array([x]), np.array([y]))
-                px_, py_ = float(a[0]), float(b[0])
+                at_x, at_y = self._px(np.array([x]), np.array([y]))
+                px_, py_ = float(at_x[0]), float(at_y[0])
             py_ += {"baseline": 0.0, "middle": 0.35 * tf, "top": 0.8 * tf}[valign]
             anchor_attr = "" if anchor == "start" else f' text-anchor="{anchor}"'
             fill = "" if color == "#222222" else f' fill="{color}"'
@@ -691,7 +697,7 @@ class Axes:
 
     def _legend_svg(self, drawn: list[tuple[np.ndarray, np.ndarray]], fs: float) -> str:
         entries = [a for a in self._artists if a.label is not None and not str(a.label).startswith("_")]
-        if not entries:
+        if not entries or self._legend is None:
             return ""
         loc, size, ncol = self._legend
         lf = (size or self._figure.font_size) * PX_PER_PT
@@ -704,7 +710,7 @@ class Axes:
         widths = [handle + hpad + max(_text_width(str(a.label), lf) for a in col) for col in cols]
         bw = 2 * bpad + sum(widths) + cspace * (ncol - 1)
         bh = 2 * bpad + nrow * row
-        left, top, w, h = self.area
+        (left, top, w, h), _ = self._laid_out()
         spots = {
             "upper right": (left + w - apad - bw, top + apad), "upper left": (left + apad, top + apad),
             "lower left": (left + apad, top + h - apad - bh), "lower right": (left + w - apad - bw, top + h - apad - bh),
@@ -805,6 +811,7 @@ class Figure:
         """The figure as an ``<svg>`` element (no XML prolog)."""
         if self._grid is None:
             self.subplots(1, 1)
+        assert self._grid is not None
         nrow, ncol = self._grid
         fs = self.font_size * PX_PER_PT
         sup_h = 0.0
@@ -814,13 +821,13 @@ class Figure:
         cw, ch = self.width / ncol, (self.height - sup_h) / nrow
         self._cell_width = cw
         limits = [ax._auto_limits() for ax in self._axes]
-        margins = [(70.0, 10.0, 30.0, 40.0)] * len(self._axes)
+        margins: list[tuple[float, ...]] = [(70.0, 10.0, 30.0, 40.0)] * len(self._axes)
         for it in range(4):
             lefts = [max(m[0] for m, ax in zip(margins, self._axes) if ax._col == c) for c in range(ncol)]
             rights = [max(m[1] for m, ax in zip(margins, self._axes) if ax._col == c) for c in range(ncol)]
             tops = [max(m[2] for m, ax in zip(margins, self._axes) if ax._row == r) for r in range(nrow)]
             bottoms = [max(m[3] for m, ax in zip(margins, self._axes) if ax._row == r) for r in range(nrow)]
-            need = []
+            need: list[tuple[float, ...]] = []
             for ax, lim in zip(self._axes, limits):
                 r, c = ax._row, ax._col
                 box = (c * cw + lefts[c], sup_h + r * ch + tops[r], cw - lefts[c] - rights[c], ch - tops[r] - bottoms[r])
@@ -838,7 +845,7 @@ class Figure:
             out.append(f'<text class="suptitle" x="{_n(self.width / 2)}" y="{_n(4.0 + 1.1 * sup_fs)}" text-anchor="middle"'
                        f'{_size_attr(sup_fs, fs)}>{_esc(self._suptitle[0])}</text>')
         for ax in self._axes:
-            rect = ",".join(_n(v) for v in ax.area)
+            rect = ",".join(_n(v) for v in ax._laid_out()[0])
             clip_id = f"{self.id_prefix}-clip-{hashlib.sha1(rect.encode()).hexdigest()[:10]}"
             out.append(ax._svg(clip_id, fs, self.max_vertices))
         out.append("</svg>")

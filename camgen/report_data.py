@@ -1,0 +1,218 @@
+"""The report's input from a run's results: the one place that reads the built cams, their
+evaluations and the mechanism jobs' results for the report (:mod:`camgen.report.model`).
+
+:func:`report_input` is called by the pipeline once every other file of the run is rendered
+(the cams' checks then hold the export failures, their withheld files are known).  It copies;
+the report never sees the run.  The curves report.html draws are taken only for a run that
+writes it (``drawn``): report.json alone needs none of them.
+"""
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping, Sequence
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from camgen.checks import CamEvaluation, CheckResult
+    from camgen.jobs.base import JobResult
+    from camgen.kinds.base import BuiltCam
+    from camgen.report.model import (
+        CamBody,
+        CamPlots,
+        CamReport,
+        CheckRow,
+        DynamicsCurves,
+        FloatArray,
+        JsonValue,
+        MotionCurves,
+        ReportInput,
+        SectionData,
+    )
+    from camgen.scene import Scene
+
+__all__ = ["frozen_json", "report_input"]
+
+#: Chord tolerance (mm) of the profile and pitch curve drawn to scale in report.html.
+DRAWING_CHORD_MM = 0.01
+
+
+def report_input(scene: "Scene", cams: "Sequence[BuiltCam]", jobs: "Mapping[str, JobResult]", stages: Iterable[str],
+                 files: Sequence[str], drawn: bool) -> "ReportInput":
+    """The report of a run of ``scene`` that built ``cams``, ran ``jobs`` and the ``stages``, and
+    writes ``files`` (report.json and report.html included); ``drawn``: with the curves
+    report.html draws."""
+    from camgen import __version__
+    from camgen.export.tablemeta import tables_metadata
+    from camgen.jobs import get_job
+    from camgen.report.model import MechanismReport, ReportInput
+    from camgen.textfile import display_path
+
+    mechanisms = {name: job.report for name, job in jobs.items()}
+    return ReportInput(
+        scene=scene.name,
+        camgen_version=__version__,
+        source_file=display_path(scene.source),
+        chord_tol_mm=scene.output.chord_tol,
+        tool_radius_mm=scene.machining.tool_radius,
+        stages=tuple(sorted(stages)),
+        files=tuple(files),
+        cams=tuple(_cam(cam, drawn) for cam in cams),
+        mechanisms=tuple(MechanismReport(name, _json_object(job.report), get_job(name).report_section,
+                                         _section(job.plots) if drawn else None) for name, job in jobs.items()),
+        tables=_json_object(tables_metadata(scene, cams, files, mechanisms)),
+    )
+
+
+def frozen_json(value: Any) -> "JsonValue":
+    """A read-only copy of a report.json tree: dicts as read-only mappings, lists as tuples,
+    numpy values as Python's (what report.json writes)."""
+    if isinstance(value, Mapping):
+        return MappingProxyType({str(k): frozen_json(v) for k, v in value.items()})
+    if isinstance(value, (list, tuple)):
+        return tuple(frozen_json(v) for v in value)
+    if isinstance(value, np.ndarray):
+        return frozen_json(value.tolist())
+    if isinstance(value, np.generic):
+        return frozen_json(value.item())
+    if value is None or isinstance(value, (bool, int, float, str)):
+        return value
+    from camgen.errors import ExportError
+
+    raise ExportError(f"report value {value!r} has unsupported type {type(value).__name__}")
+
+
+def _json_object(value: Mapping[str, Any]) -> "Mapping[str, JsonValue]":
+    frozen = frozen_json(value)
+    assert isinstance(frozen, Mapping)
+    return frozen
+
+
+def _array(values: Any) -> "FloatArray":
+    """A read-only view of ``values`` as floats (no copy of a float array)."""
+    out = np.asarray(values, dtype=float).view()
+    out.flags.writeable = False
+    return out
+
+
+def _check(check: "CheckResult") -> "CheckRow":
+    from camgen.report.model import CheckRow
+
+    status: Literal["pass", "fail", "info"] = "info" if check.passed is None else "pass" if check.passed else "fail"
+    return CheckRow(check.name, status, check.value, check.limit, check.comparison, check.unit, tuple(check.where_deg), check.note,
+                    check.blocks_manufacture)
+
+
+def _cam(cam: "BuiltCam", drawn: bool) -> "CamReport":
+    from camgen.kinds import get_kind
+    from camgen.report.model import CamReport
+
+    ev = cam.evaluation
+    return CamReport(
+        name=cam.name,
+        kind=cam.kind,
+        manufacturable=cam.manufacturable,
+        withheld_files=tuple(cam.withheld),
+        figures=_json_object(cam.figures),
+        checks=tuple(_check(c) for c in cam.checks),
+        rpm=cam.rpm,
+        body=_body(cam) if drawn else None,
+        plots=_plots(cam, ev) if drawn and ev is not None else None,
+        dynamics=_dynamics(cam) if drawn else None,
+        report_section=get_kind(cam.kind).report_section,
+        section=_section(cam.built.section) if drawn else None,
+    )
+
+
+def _section(data: object) -> "SectionData | None":
+    from camgen.report.model import SectionData
+
+    return data if isinstance(data, SectionData) else None
+
+
+def _body(cam: "BuiltCam") -> "CamBody | None":
+    from camgen.report.model import CamBody
+
+    body = cam.body
+    if body is None:
+        return None
+    corners = _array(body.keyway_corners()) if body.bore_diameter > 0 and body.keyway_width > 0 else None
+    return CamBody(body.thickness, body.bore_diameter, body.keyway_width, body.keyway_depth, body.keyway_angle, body.min_wall, corners)
+
+
+def _plots(cam: "BuiltCam", ev: "CamEvaluation") -> "CamPlots":
+    from camgen.report.model import CamPlots, FollowerFaces, RollerAtZero
+
+    outline = cam.contour if cam.contour is not None else ev.pitch
+    follower = ev.follower
+    faces = roller = None
+    if ev.follower_drawing is None and follower is not None and cam.contour is not None:
+        d = np.array([math.cos(follower.direction), math.sin(follower.direction)])
+        side = np.array([-d[1], d[0]])
+        if follower.kind in ("yoke", "flat"):  # the face touches the profile where its support function says
+            h = float(cam.contour.support(np.array([follower.direction]))[0])
+            faces = FollowerFaces(follower.direction, (h,) + ((h - cam.breadth,) if follower.kind == "yoke" and cam.breadth is not None else ()))
+        elif ev.motion is not None and follower.motion == "translating":
+            centre = ev.motion.displacement[0] * d + follower.offset * side
+            roller = RollerAtZero((float(centre[0]), float(centre[1])), follower.roller_radius)
+    return CamPlots(
+        profile=_array(cam.contour.flatten(DRAWING_CHORD_MM)) if cam.contour is not None else None,
+        pitch=_array(ev.pitch.flatten(DRAWING_CHORD_MM)) if ev.pitch is not None else None,
+        outline_bounds=_bounds(outline.bounds) if outline is not None else None,
+        zero_mark=cam.zero_mark,
+        follower_drawing=tuple((label, _array(poly)) for label, poly in ev.follower_drawing) if ev.follower_drawing is not None else None,
+        faces=faces,
+        roller=roller,
+        pressure_angle=(_array(ev.pressure_angle[0]), _array(ev.pressure_angle[1])) if ev.pressure_angle is not None else None,
+        pressure_angle_label=ev.pressure_angle_label,
+        follower_limit_deg=math.degrees(follower.limit) if follower is not None else None,
+        curvature=(_array(ev.curvature_radius[0]), _array(ev.curvature_radius[1])) if ev.curvature_radius is not None else None,
+        curvature_label=ev.curvature_label,
+        curvature_angle_label=ev.curvature_angle_label,
+        curvature_limit=ev.curvature_limit,
+        motion=_motion(ev, cam.rpm),
+        animation=ev.animation,
+    )
+
+
+def _bounds(bounds: tuple[float, float, float, float]) -> tuple[float, float, float, float]:
+    xmin, ymin, xmax, ymax = bounds
+    return float(xmin), float(ymin), float(xmax), float(ymax)
+
+
+def _motion(ev: "CamEvaluation", rpm: float | None) -> "MotionCurves | None":
+    from camgen.report.model import MotionAtSpeed, MotionCurves
+
+    m = ev.motion
+    if m is None:
+        return None
+    at_speed = None
+    if rpm:
+        v, a, j, units = m.rates(rpm)
+        at_speed = MotionAtSpeed(rpm, _array(v), _array(a), _array(j), units["velocity"], units["acceleration"], units["jerk"])
+    return MotionCurves(_array(m.cam_angle), _array(m.lift), _array(m.velocity), _array(m.acceleration), _array(m.jerk), m.unit,
+                        tuple(m.jerk_impulses_deg), at_speed)
+
+
+def _dynamics(cam: "BuiltCam") -> "DynamicsCurves | None":
+    from camgen.report.model import DynamicsCurves
+
+    outcome = cam.dynamics
+    if outcome is None:
+        return None
+    res = outcome.result
+
+    def optional(values: Any) -> "FloatArray | None":
+        return _array(values) if values is not None else None
+
+    return DynamicsCurves(
+        rpm=res.rpm, closure=res.train.closure, motion=res.train.motion, theta=_array(res.theta),
+        contact_force=_array(res.contact_force), contact_force_2=optional(res.contact_force_2),
+        pressure_angle=_array(res.pressure_angle), torque=_array(res.torque), power=_array(res.power),
+        hertz_stress=optional(res.hertz_stress), hertz_stress_2=optional(res.hertz_stress_2),
+        follower_force=_array(res.follower_force), side_force=_array(res.side_force), jump_margin=res.jump_margin,
+        jump_rpm=res.jump_rpm, torque_peak=res.torque_peak, torque_rms=res.torque_rms, power_peak=res.power_peak,
+        power_rms=res.power_rms, mean_power=res.mean_power, hertz_peak=res.hertz_peak, torque_limit=outcome.torque_limit,
+        allowable_stress=outcome.allowable_stress, speed_rpm=optional(outcome.speed_rpm), speed_min_force=optional(outcome.speed_min_force))
