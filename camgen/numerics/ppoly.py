@@ -1,0 +1,96 @@
+"""Piecewise polynomials of one variable: breaks ``x`` (p + 1,) and coefficients ``c`` (k + 1, p)
+or (k + 1, p, d), highest power first, in powers of ``(t - x[i])`` on piece ``i`` (scipy's ``PPoly``
+layout): evaluation, derivatives, and the real roots of every piece.
+
+:class:`PiecewisePolynomial` is a function ``y(t)`` (a lift table's displacement, a spline's
+coordinates side by side); :class:`camgen.contour.Spline` is the planar *curve* segment of a
+contour (always (degree + 1, K, 2), with the geometry a contour needs: tangents, curvature,
+offsets, support, ray hits).  Both evaluate with the kernels of :mod:`camgen.numerics.polynomial`.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from camgen.errors import ParameterError
+from camgen.numerics.polynomial import horner
+
+__all__ = ["PiecewisePolynomial"]
+
+
+class PiecewisePolynomial:
+    """A piecewise polynomial: breaks ``x`` (p + 1,), coefficients ``c`` (k + 1, p[, d]) highest
+    power first, ``P(t) = sum_r c[r, i] (t - x[i]) ** (k - r)`` on ``x[i] <= t < x[i+1]``.
+    Outside ``[x[0], x[-1]]`` the end pieces are extended."""
+
+    def __init__(self, x: np.ndarray, c: np.ndarray) -> None:
+        self.x = np.asarray(x, dtype=float)
+        self.c = np.asarray(c, dtype=float)
+        if self.x.ndim != 1 or self.c.shape[1] != self.x.size - 1:
+            raise ParameterError("coefficients", f"shape {self.c.shape}", f"(order, {self.x.size - 1}, ...) for {self.x.size} breaks")
+
+    @property
+    def degree(self) -> int:
+        return self.c.shape[0] - 1
+
+    def derivative(self, n: int = 1) -> "PiecewisePolynomial":
+        """The ``n``-th derivative (a constant 0 piece beyond the degree)."""
+        c = self.c
+        for _ in range(n):
+            k = c.shape[0] - 1
+            if k == 0:
+                return PiecewisePolynomial(self.x, np.zeros_like(c))
+            powers = np.arange(k, 0, -1, dtype=float).reshape((k,) + (1,) * (c.ndim - 1))
+            c = c[:-1] * powers
+        return PiecewisePolynomial(self.x, c)
+
+    def piece(self, t: np.ndarray) -> np.ndarray:
+        """Index of the piece holding each ``t`` (the right-hand piece at a break)."""
+        return np.clip(np.searchsorted(self.x, t, side="right") - 1, 0, self.x.size - 2)
+
+    def __call__(self, t: np.ndarray) -> np.ndarray:
+        t = np.asarray(t, dtype=float)
+        flat = t.ravel()
+        i = self.piece(flat)
+        h = flat - self.x[i]
+        if self.c.ndim == 3:
+            h = h[:, None]
+        value = horner(np.moveaxis(self.c[:, i], 0, 1), h)  # the pieces' rows (n, k + 1[, d])
+        return value.reshape(t.shape + self.c.shape[2:])
+
+    def roots(self) -> np.ndarray:
+        """Sorted real roots inside the pieces (``x[i] <= t <= x[i+1]``; a scalar polynomial):
+        eigenvalues of the companion matrices of all pieces at once; a root shared by two
+        pieces at a break is listed once."""
+        if self.c.ndim != 1 + 1:
+            raise ParameterError("roots", f"coefficients of shape {self.c.shape}", "a scalar piecewise polynomial")
+        c = self.c
+        # drop leading zero coefficients piece by piece: scale by the leading coefficient where nonzero
+        k = c.shape[0] - 1
+        if k < 1:
+            return np.empty(0)
+        h = np.diff(self.x)
+        found = []
+        lead = c[0]
+        full = np.abs(lead) > 1e-14 * np.max(np.abs(c), axis=0)
+        if k >= 1 and np.any(full):
+            idx = np.flatnonzero(full)
+            comp = np.zeros((idx.size, k, k))
+            comp[:, 0, :] = -c[1:, idx].T / lead[idx, None]
+            if k > 1:
+                comp[:, np.arange(1, k), np.arange(k - 1)] = 1.0
+            eig = np.linalg.eigvals(comp)
+            real = np.abs(eig.imag) <= 1e-9 * np.maximum(1.0, np.abs(eig.real))
+            r = eig.real
+            inside = real & (r >= -1e-12 * h[idx, None]) & (r <= h[idx, None] * (1 + 1e-12))
+            rows, cols = np.nonzero(inside)
+            found.append(self.x[idx[rows]] + np.clip(r[rows, cols], 0.0, h[idx[rows]]))
+        for i in np.flatnonzero(~full):  # lower-degree pieces (rare): drop the zero lead
+            lower = PiecewisePolynomial(self.x[i:i + 2], c[1:, i:i + 1])
+            found.append(lower.roots())
+        if not found:
+            return np.empty(0)
+        roots = np.sort(np.concatenate(found))
+        if roots.size:
+            keep = np.concatenate([[True], np.diff(roots) > 1e-12 * max(1.0, float(np.max(np.abs(self.x))))])
+            roots = roots[keep]
+        return roots
