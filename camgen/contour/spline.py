@@ -21,15 +21,12 @@ from camgen.numerics.bernstein import bernstein_max_norm, power_to_bezier
 from camgen.numerics.hermite import cubic_hermite_coefficients, quintic_hermite_coefficients
 from camgen.numerics.interpolate import clamped_cubic, periodic_spline
 from camgen.numerics.polynomial import derivative_factors, exponents, horner, scaled_ascending
-from camgen.numerics.roots import sign_change_roots
+from camgen.numerics.roots import ROOT_TOL, roots_in_pieces, sign_change_roots
 
-__all__ = ["ROOT_TOL", "SPLINE_DEGREES", "Spline", "piece_green_areas"]
+__all__ = ["SPLINE_DEGREES", "Spline", "piece_green_areas"]
 
 #: Polynomial degrees a :class:`Spline` piece may have.
 SPLINE_DEGREES = (3, 5)
-#: Relative slack (of a piece's parameter length) within which a root of a piece's polynomial
-#: just outside the piece, by rounding, still counts as on its end (knot).
-ROOT_TOL = 1e-9
 
 
 def _as_array(values: object) -> np.ndarray:
@@ -303,15 +300,6 @@ class Spline:
         """Coefficients (K, degree + 1, 2), lowest power first, of ``Q(s) = P(breaks[i] + h_i s)``, s in [0, 1]."""
         return scaled_ascending(self.coeffs, np.diff(self.breaks))
 
-    def _roots_in_pieces(self, a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Pieces and offsets ``tau`` of the sign changes of the polynomials in ``s`` with ascending
-        coefficients ``a`` (K, m) (one per piece) on ``[0, 1]``; one just outside (within
-        :data:`ROOT_TOL`, by rounding at a knot) counts as on the end."""
-        s = sign_change_roots(a, -ROOT_TOL, 1.0 + ROOT_TOL)  # (K, m - 1)
-        piece, col = np.nonzero(np.isfinite(s))
-        h = np.diff(self.breaks)
-        return piece, np.clip(s[piece, col], 0.0, 1.0) * h[piece]
-
     def _min_turning_generic(self) -> float:
         """:meth:`min_turning` for any degree: with ``Q(s) = sum_i q_i s^i`` (``s = tau / h``),
         ``Q' x Q'' = sum_{k<m} k m (m - k) (q_k x q_m) s^(k+m-3)`` (degree ``2 degree - 4``; 6 for a
@@ -322,7 +310,7 @@ class Spline:
         for k in range(1, d + 1):
             for m in range(k + 1, d + 1):
                 w[:, k + m - 3] += k * m * (m - k) * (q[:, k, 0] * q[:, m, 1] - q[:, k, 1] * q[:, m, 0])
-        piece, tau = self._roots_in_pieces(w[:, 1:] * np.arange(1, w.shape[1]))
+        piece, tau = roots_in_pieces(w[:, 1:] * np.arange(1, w.shape[1]), np.diff(self.breaks))
         h = np.diff(self.breaks)
         everywhere = np.arange(self.n_pieces)
         idx = np.concatenate([everywhere, everywhere, piece])
@@ -359,7 +347,7 @@ class Spline:
             q = self._scaled()
             pts = [self.eval_t(self.breaks)]
             for axis in range(2):
-                piece, tau = self._roots_in_pieces(q[:, 1:, axis] * np.arange(1, self.degree + 1))
+                piece, tau = roots_in_pieces(q[:, 1:, axis] * np.arange(1, self.degree + 1), np.diff(self.breaks))
                 pts.append(self.eval_piece(piece, tau))
             return np.concatenate(pts)
         c = self.coeffs

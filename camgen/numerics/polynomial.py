@@ -64,11 +64,12 @@ def horner_ascending(a: np.ndarray, x: np.ndarray) -> np.ndarray:
 
 
 def scaled_ascending(coeffs: np.ndarray, h: np.ndarray) -> np.ndarray:
-    """Coefficients (K, degree + 1, 2), lowest power first, of the pieces ``Q(s) = P(h s)`` on
-    ``s`` in [0, 1], from ``coeffs`` (degree + 1, K, 2) highest power first in ``tau`` and the
+    """Coefficients (K, degree + 1, ...), lowest power first, of the pieces ``Q(s) = P(h s)`` on
+    ``s`` in [0, 1], from ``coeffs`` (degree + 1, K, ...) highest power first in ``tau`` and the
     piece lengths ``h`` (K,)."""
     degree = coeffs.shape[0] - 1
-    return np.stack([coeffs[degree - i] * (h ** i)[:, None] for i in range(degree + 1)], axis=1)
+    column = (1,) * (coeffs.ndim - 2)
+    return np.stack([coeffs[degree - i] * (h ** i).reshape(h.shape + column) for i in range(degree + 1)], axis=1)
 
 
 def power_coefficients(q: np.ndarray, h: np.ndarray) -> np.ndarray:

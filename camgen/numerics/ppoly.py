@@ -12,7 +12,8 @@ from __future__ import annotations
 import numpy as np
 
 from camgen.errors import ParameterError
-from camgen.numerics.polynomial import horner
+from camgen.numerics.polynomial import horner, scaled_ascending
+from camgen.numerics.roots import roots_in_pieces
 
 __all__ = ["PiecewisePolynomial"]
 
@@ -58,38 +59,21 @@ class PiecewisePolynomial:
         return value.reshape(t.shape + self.c.shape[2:])
 
     def roots(self) -> np.ndarray:
-        """Sorted real roots inside the pieces (``x[i] <= t <= x[i+1]``; a scalar polynomial):
-        eigenvalues of the companion matrices of all pieces at once; a root shared by two
-        pieces at a break is listed once."""
+        """Sorted points inside the pieces (``x[i] <= t <= x[i+1]``; a scalar polynomial) where the
+        polynomial changes sign: its real roots of odd multiplicity, found piece by piece by
+        :func:`~camgen.numerics.roots.roots_in_pieces` on the pieces scaled to [0, 1] (a root within
+        :data:`~camgen.numerics.roots.ROOT_TOL` of a piece's length outside it, by rounding, counts
+        as on its end);
+        a root shared by two pieces at a break is listed once.  A root of even multiplicity (the
+        polynomial touches zero) is not a sign change and is not listed: the callers want the
+        extrema of the antiderivative."""
         if self.c.ndim != 1 + 1:
             raise ParameterError("roots", f"coefficients of shape {self.c.shape}", "a scalar piecewise polynomial")
-        c = self.c
-        # drop leading zero coefficients piece by piece: scale by the leading coefficient where nonzero
-        k = c.shape[0] - 1
+        k = self.c.shape[0] - 1
         if k < 1:
             return np.empty(0)
-        h = np.diff(self.x)
-        found = []
-        lead = c[0]
-        full = np.abs(lead) > 1e-14 * np.max(np.abs(c), axis=0)
-        if k >= 1 and np.any(full):
-            idx = np.flatnonzero(full)
-            comp = np.zeros((idx.size, k, k))
-            comp[:, 0, :] = -c[1:, idx].T / lead[idx, None]
-            if k > 1:
-                comp[:, np.arange(1, k), np.arange(k - 1)] = 1.0
-            eig = np.linalg.eigvals(comp)
-            real = np.abs(eig.imag) <= 1e-9 * np.maximum(1.0, np.abs(eig.real))
-            r = eig.real
-            inside = real & (r >= -1e-12 * h[idx, None]) & (r <= h[idx, None] * (1 + 1e-12))
-            rows, cols = np.nonzero(inside)
-            found.append(self.x[idx[rows]] + np.clip(r[rows, cols], 0.0, h[idx[rows]]))
-        for i in np.flatnonzero(~full):  # lower-degree pieces (rare): drop the zero lead
-            lower = PiecewisePolynomial(self.x[i:i + 2], c[1:, i:i + 1])
-            found.append(lower.roots())
-        if not found:
-            return np.empty(0)
-        roots = np.sort(np.concatenate(found))
+        piece, tau = roots_in_pieces(scaled_ascending(self.c, np.diff(self.x)), np.diff(self.x))
+        roots = np.sort(self.x[piece] + tau)
         if roots.size:
             keep = np.concatenate([[True], np.diff(roots) > 1e-12 * max(1.0, float(np.max(np.abs(self.x))))])
             roots = roots[keep]

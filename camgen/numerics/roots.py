@@ -12,11 +12,14 @@ import numpy as np
 
 from camgen.numerics.polynomial import horner_ascending
 
-__all__ = ["ROOT_STEPS", "sign_change_roots"]
+__all__ = ["ROOT_STEPS", "ROOT_TOL", "roots_in_pieces", "sign_change_roots"]
 
 #: Largest number of safeguarded Newton steps of :func:`sign_change_roots` (each step that
 #: would leave the bracket is a bisection; Newton on a monotonic bracket converges in a few).
 ROOT_STEPS = 64
+#: Relative slack (of a piece's parameter length) within which a root of a piece's polynomial
+#: just outside the piece, by rounding, still counts as on its end (knot): :func:`roots_in_pieces`.
+ROOT_TOL = 1e-9
 
 
 def sign_change_roots(a: np.ndarray, lo: float, hi: float) -> np.ndarray:
@@ -65,3 +68,12 @@ def sign_change_roots(a: np.ndarray, lo: float, hi: float) -> np.ndarray:
         out[row, col] = x
     return out
 
+
+def roots_in_pieces(a: np.ndarray, h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Pieces (M,) and offsets ``tau`` (M,) from their starts of the sign changes of the pieces'
+    polynomials, given by ascending coefficients ``a`` (K, m) in ``s = tau / h`` (``h`` (K,) the
+    pieces' lengths) on ``[0, 1]``; one just outside (within :data:`ROOT_TOL`, by rounding at a
+    knot) counts as on the end."""
+    s = sign_change_roots(a, -ROOT_TOL, 1.0 + ROOT_TOL)  # (K, m - 1)
+    piece, col = np.nonzero(np.isfinite(s))
+    return piece, np.clip(s[piece, col], 0.0, 1.0) * h[piece]
