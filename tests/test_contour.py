@@ -675,9 +675,9 @@ def test_spline_green_area_against_gauss_legendre_quadrature():
 @pytest.mark.parametrize("n", [1, 2, 3, 7, 64, 1500])
 @pytest.mark.parametrize("q", [0.0, 0.5, 0.9, 0.999])
 def test_cyclic_reduction_step_count_against_a_dense_solve(n, q):
-    """Non-cyclic systems whose dominance ratio max (|lower| + |upper|) / |diag| is q: the steps
-    follow from q (Heller's bound) or from n (every coupling outside the system), never from a
-    convergence check; the solution is numpy's dense solve's."""
+    """Non-cyclic systems whose dominance ratio max (|lower| + |upper|) / |diag| is q: the reduction
+    stops once the couplings are eliminated (q^(2^k), Heller's bound) or the distance reaches n
+    (every coupling outside the system); the solution is numpy's dense solve's."""
     from camgen.numerics.tridiagonal import solve_tridiagonal
 
     rng = np.random.default_rng(int(1000 * q) + n)

@@ -106,16 +106,17 @@ class Contour:
     def _convex_arc_table(self) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
         """For a G1 chain of convex arcs, the normal-angle ranges tile the circle: start angles
         (sorted, mod 2 pi), centres and radii, for an O(log n) support function."""
-        if not all(isinstance(s, Arc) and s.sweep > 0 for s in self.segments):
+        arcs = [s for s in self.segments if isinstance(s, Arc) and s.sweep > 0]
+        if len(arcs) != len(self.segments):
             return None
-        starts = np.array([s.start_angle for s in self.segments]) % TWO_PI
-        ends = np.array([s.start_angle + s.sweep for s in self.segments])
+        starts = np.array([s.start_angle for s in arcs]) % TWO_PI
+        ends = np.array([s.start_angle + s.sweep for s in arcs])
         # convex arcs join with a common tangent iff each ends at the normal angle the next starts at
         if np.any(np.abs(_wrap_pi(ends - np.roll(starts, -1))) > 1e-9):
             return None
         order = np.argsort(starts)
-        centres = np.array([s.center for s in self.segments])[order]
-        radii = np.array([s.radius for s in self.segments])[order]
+        centres = np.array([s.center for s in arcs])[order]
+        radii = np.array([s.radius for s in arcs])[order]
         return starts[order], centres, radii
 
     def __repr__(self) -> str:
@@ -246,7 +247,7 @@ class Contour:
                 f"offset {distance:g} mm of a contour with a corner: segments {i} and {(i + 1) % self.n_segments} meet at cam angle "
                 f"{polar:.3f} deg, the tangent turning by {math.degrees(turn[i]):.3f} deg ({kind}); a disk cam has a corner where "
                 "its law's velocity jumps (a knife follower): blend the velocity there (e.g. constant_velocity with blend > 0)")
-        new = []
+        new: list[Segment] = []
         for i, seg in enumerate(self.segments):
             if isinstance(seg, Arc):
                 new.append(seg.offset(distance, index=i))
@@ -327,10 +328,10 @@ class Contour:
             first = last
         if best is None:
             return None
-        i, j = best
-        o3 = float(cross(d[j], a[i] - a[j]))
-        o4 = float(cross(d[j], a[i] + d[i] - a[j]))
-        return a[i] + o3 / (o3 - o4) * d[i]
+        first_chord, second_chord = best
+        o3_at = float(cross(d[second_chord], a[first_chord] - a[second_chord]))
+        o4_at = float(cross(d[second_chord], a[first_chord] + d[first_chord] - a[second_chord]))
+        return a[first_chord] + o3_at / (o3_at - o4_at) * d[first_chord]
 
     # -- support function -----------------------------------------------------------------------
     def _support(self, psi: object, chunk: int = 2048) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -156,8 +156,8 @@ class StarTable:
                 segment += [i] * seg.n_pieces
                 piece += list(range(seg.n_pieces))
                 points.append(pts[:-1])
-        points = np.concatenate(points)
-        angle = np.arctan2(points[:, 1], points[:, 0])
+        starts = np.concatenate(points)
+        angle = np.arctan2(starts[:, 1], starts[:, 0])
         step = np.mod(np.diff(angle, append=angle[:1]) + math.pi, TWO_PI) - math.pi
         if not (np.all(step > 0) and abs(float(step.sum()) - TWO_PI) < 1e-9):
             return None
