@@ -14,10 +14,16 @@ never over rows.  Small systems, and any system whose couplings do not die out b
 reduction would wrap around a cyclic system, are solved densely (``numpy.linalg.solve``) up to
 :data:`DENSE_LIMIT` unknowns; beyond it a :class:`~camgen.errors.GeometryError` says so.
 
-Scalar systems (b = 1: the cubic splines' moment and slope systems) take the same steps with the
-1 x 1 blocks' products and inverses as elementwise products and divisions instead of a LAPACK
-call per row (:func:`_reduce_scalar`); :func:`solve_tridiagonal` is that case with scalar
-diagonals.
+Scalar systems (b = 1: the cubic splines' moment systems) take the same steps with the 1 x 1
+blocks' products and inverses as elementwise products and divisions instead of a LAPACK call per
+row (:func:`_reduce_scalar`); :func:`solve_tridiagonal` is that case with scalar diagonals.  This
+module replaces two solvers (issue 22): the block solver, and a scalar one that
+``camgen.contour`` had for the cubic splines.  Measured on cubic-spline moment systems with
+uneven knots (two right-hand sides; errors against scipy's ``solve_banded`` or a dense LU, all
+within 6e-16): cyclic, 0.26 ms at n = 720 and 29 ms at 1e5, as the former scalar solver (0.29
+and 26 ms) and 2.8 times faster than the (n, 1, 1) block form; not cyclic (no caller outside
+the tests), 0.14 ms and 15 ms against the former scalar solver's 0.10 and 7.7 ms (it knew its
+step count in advance and reused its buffers).
 """
 from __future__ import annotations
 
