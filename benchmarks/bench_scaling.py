@@ -102,7 +102,7 @@ def timed(func, size: int) -> float:
 
 
 def main() -> None:
-    from camgen.biarc import to_arc_spline
+    from camgen.contour.arcspline import to_arc_spline
     from camgen.export.dxf import DxfOptions, contour_to_dxf
     from camgen.export.gcode import MachiningSpec, gcode_program
     from camgen.export.solid import cam_solid

@@ -25,7 +25,7 @@ class TerminalProgress:
         if self.bar is None:
             if time.perf_counter() - self.start < SHOW_AFTER_S:
                 return
-            from rich.console import Console  # lazily: rich comes with meshio
+            from rich.console import Console  # lazily: only when a run is slow enough to show it
             from rich.progress import (
                 Progress,
                 SpinnerColumn,

@@ -317,7 +317,7 @@ def test_numpy_cubic_splines_equal_scipys(n):
 
 @pytest.mark.parametrize("cyclic", [False, True])
 def test_cyclic_reduction_against_a_dense_solve(cyclic):
-    from camgen.contour import solve_tridiagonal
+    from camgen.numerics.tridiagonal import solve_tridiagonal
 
     rng = np.random.default_rng(3 + cyclic)
     n = 257
@@ -376,8 +376,8 @@ def concave_arcs_contour() -> Contour:
 
 @pytest.fixture(scope="module")
 def biarc_tricycle(steering):
-    """The tricycle steering cam as arcs within 1 um (camgen.biarc.to_arc_spline): 572 arcs."""
-    from camgen.biarc import to_arc_spline
+    """The tricycle steering cam as arcs within 1 um (camgen.contour.arcspline.to_arc_spline): 572 arcs."""
+    from camgen.contour.arcspline import to_arc_spline
 
     contour = to_arc_spline(steering.profile, 1e-6)
     assert contour.n_segments > 500 and all(isinstance(s, Arc) for s in contour.segments)
@@ -540,7 +540,7 @@ def test_self_intersection_equals_all_pairs(distance):
 
 
 # --------------------------------------------------------------------------------------------
-# Least-squares fits within a tolerance (camgen.splinefit)
+# Least-squares fits within a tolerance (camgen.numerics.splinefit)
 # --------------------------------------------------------------------------------------------
 def _ellipse(a: float = 50.0, b: float = 30.0):
     def curve(t):
@@ -566,7 +566,7 @@ def _ellipse_distance(points: np.ndarray, a: float = 50.0, b: float = 30.0) -> n
 
 @pytest.mark.parametrize("tol", [1e-5, 1e-7, 1e-9])
 def test_periodic_fit_is_within_tol_between_the_probes_and_c2(tol):
-    from camgen.splinefit import fit_periodic
+    from camgen.numerics.splinefit import fit_periodic
 
     fit = fit_periodic(_ellipse(), 0.0, 2 * math.pi, tol)
     spline = Spline(fit.breaks, fit.coeffs)
@@ -583,7 +583,7 @@ def test_periodic_fit_is_within_tol_between_the_probes_and_c2(tol):
 
 def test_periodic_fit_pieces_scale_as_tol_to_the_minus_quarter():
     """A cubic's error falls as h^4, so the fewest pieces within tol grow as tol^(-1/4)."""
-    from camgen.splinefit import fit_periodic
+    from camgen.numerics.splinefit import fit_periodic
 
     tols = np.array([1e-4, 1e-6, 1e-8, 1e-10])
     pieces = np.array([fit_periodic(_ellipse(), 0.0, 2 * math.pi, tol).breaks.size - 1 for tol in tols])
@@ -595,7 +595,7 @@ def test_least_squares_fit_has_no_one_signed_radial_error():
     """Why the fits are least squares: a cubic spline interpolating a circle at its knots lies
     inside it between them (radial error one-signed, mean about -half its extreme); the L2 fit's
     error changes sign, its mean is ~1e-3 of its extreme (circle of radius 50 mm, closed form)."""
-    from camgen.splinefit import fit_periodic
+    from camgen.numerics.splinefit import fit_periodic
 
     r = 50.0
     fit = fit_periodic(lambda t: np.stack([r * np.cos(t), r * np.sin(t)], 1), 0.0, 2 * math.pi, 1e-7)
@@ -613,7 +613,7 @@ def test_least_squares_fit_has_no_one_signed_radial_error():
 
 def test_clamped_fit_keeps_the_end_conditions_exactly():
     """A quarter of the ellipse (closed-form point, first and second derivative at both ends)."""
-    from camgen.splinefit import fit_clamped
+    from camgen.numerics.splinefit import fit_clamped
 
     a, b = 50.0, 30.0
     lo, hi = 0.2, 1.9
@@ -639,7 +639,7 @@ def test_clamped_fit_keeps_the_end_conditions_exactly():
 
 
 def test_fits_reject_bad_tolerances_and_give_up_with_a_clear_error():
-    from camgen.splinefit import fit_clamped, fit_periodic
+    from camgen.numerics.splinefit import fit_clamped, fit_periodic
 
     with pytest.raises(ParameterError, match="tol"):
         fit_periodic(_ellipse(), 0.0, 2 * math.pi, 1e-15)
@@ -675,10 +675,10 @@ def test_spline_green_area_against_gauss_legendre_quadrature():
 @pytest.mark.parametrize("n", [1, 2, 3, 7, 64, 1500])
 @pytest.mark.parametrize("q", [0.0, 0.5, 0.9, 0.999])
 def test_cyclic_reduction_step_count_against_a_dense_solve(n, q):
-    """Non-cyclic systems whose dominance ratio max (|lower| + |upper|) / |diag| is q: the steps
-    follow from q (Heller's bound) or from n (every coupling outside the system), never from a
-    convergence check; the solution is numpy's dense solve's."""
-    from camgen.contour import solve_tridiagonal
+    """Non-cyclic systems whose dominance ratio max (|lower| + |upper|) / |diag| is q: the reduction
+    stops once the couplings are eliminated (q^(2^k), Heller's bound) or the distance reaches n
+    (every coupling outside the system); the solution is numpy's dense solve's."""
+    from camgen.numerics.tridiagonal import solve_tridiagonal
 
     rng = np.random.default_rng(int(1000 * q) + n)
     lower, upper = rng.uniform(-1, 1, n) * (q > 0), rng.uniform(-1, 1, n) * (q > 0)  # q = 0: a diagonal system

@@ -171,7 +171,7 @@ def test_part_left_matches_the_profile_in_a_polygon_sweep(template_cams, tmp_pat
 def test_biarcs_follow_a_concave_spline_with_tangent_joints():
     from scipy.spatial import cKDTree
 
-    from camgen.biarc import to_arc_spline
+    from camgen.contour.arcspline import to_arc_spline
 
     spline = trefoil()
     tol = 6e-4

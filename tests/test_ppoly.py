@@ -7,8 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from camgen.linsolve import solve_block_tridiagonal
-from camgen.ppoly import PiecewisePolynomial, periodic_spline
+from camgen.numerics.interpolate import periodic_spline
+from camgen.numerics.ppoly import PiecewisePolynomial
+from camgen.numerics.tridiagonal import solve_block_tridiagonal
 
 
 @pytest.mark.parametrize("degree", [3, 5])

@@ -146,7 +146,7 @@ def test_compact_form_of_a_quintic_is_cubic_within_tol(contour, tol):
 def test_a_quintic_that_no_cubic_reaches_is_a_geometry_error(contour):
     """A quintic run is never kept: below what cubics can reach (the fit's piece limit) the
     compact form is a GeometryError, not the quintic written with cubic formulas."""
-    import camgen.splinefit as splinefit
+    import camgen.numerics.splinefit as splinefit
     from camgen.export.dxf import compact_spline
 
     seg = contour.segments[0]

@@ -217,7 +217,8 @@ def test_bezier_control_points_equal_scipy_bpoly():
     BPoly.from_power_basis of the same derivative (1e-12 relative)."""
     from scipy.interpolate import BPoly
 
-    from camgen.contour import _bernstein_max_norm, _derivative_factors, _power_to_bezier, _scaled_ascending
+    from camgen.numerics.bernstein import bernstein_max_norm as _bernstein_max_norm, power_to_bezier as _power_to_bezier
+    from camgen.numerics.polynomial import derivative_factors as _derivative_factors, scaled_ascending as _scaled_ascending
 
     spline = _random_quintic(seed=9)
     h = np.diff(spline.breaks)
@@ -543,7 +544,7 @@ def test_sign_change_roots_against_numpys_eigenvalue_roots():
     (eigenvalues of clustered roots are themselves that uncertain) and each a true sign change: the
     polynomial, evaluated here in exact rational arithmetic, has opposite signs either side at the
     distance its float evaluation allows (64 ulps of sum |a_i| over the slope, at least 1e-12)."""
-    from camgen.contour import _sign_change_roots
+    from camgen.numerics.roots import sign_change_roots as _sign_change_roots
 
     rng = np.random.default_rng(2026)
     polys = [np.array([-0.00509335, 0.20612288, 0.02145751, 0.00346926, -0.00023837]),

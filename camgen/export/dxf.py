@@ -7,7 +7,7 @@ always gives the same bytes (no time stamps or GUIDs).
 Spline segments are written in one of two ways (:class:`DxfOptions` ``splines``):
 
 * ``"biarc"`` (default): G1 chains of circular ARCs (and LINEs where the curve is straight)
-  within ``biarc_tol`` mm of the exact curve (:mod:`camgen.biarc`).  OpenSCAD, laser and CAM
+  within ``biarc_tol`` mm of the exact curve (:mod:`camgen.numerics.biarc`).  OpenSCAD, laser and CAM
   programs import these; many of them ignore or reject SPLINE entities.
 * ``"bspline"``: clamped cubic B-splines (always cubic, whatever the segment's degree: LibreCAD
   and most CAM readers take SPLINEs of degree <= 3 only) for CAD programs (fit-point-only or raw periodic-knot
@@ -147,15 +147,15 @@ def compact_spline(spline: Spline, tol: float = DEFAULT_BSPLINE_TOL) -> Spline:
     cubic spline that keeps the run's end points, first and second derivatives exactly (so the
     joints keep their continuity: G2 stays G2) and lies within ``tol`` mm of the run at the
     probe points of every new piece (least squares with knots placed by the error,
-    :func:`camgen.splinefit.fit_clamped`).  A cubic run keeps its own pieces where the refit
+    :func:`camgen.numerics.splinefit.fit_clamped`).  A cubic run keeps its own pieces where the refit
     would not have fewer; a run of higher degree (quintic) is always refitted, with as many
     cubic pieces as ``tol`` needs (a cubic's error falls as h^4, a quintic's as h^6: usually
     more pieces than the run), and :class:`GeometryError` when no cubic within ``tol`` exists
-    (:data:`camgen.splinefit.MAX_PIECES`).  The parameter range is unchanged (the parameter
+    (:data:`camgen.numerics.splinefit.MAX_PIECES`).  The parameter range is unchanged (the parameter
     along the new pieces is not the old one: compare curves by distance, not at equal parameters).
     """
     from camgen.errors import GeometryError
-    from camgen.splinefit import MAX_PIECES, fit_clamped
+    from camgen.numerics.splinefit import MAX_PIECES, fit_clamped
 
     tol = require_positive("bspline_tol", tol, "mm")
     cubic = _degree_of(spline) == 3
@@ -233,7 +233,7 @@ def _is_line(seg: Spline) -> bool:
 def _arc_spline(contour: Contour, tol: float) -> Contour:
     """``contour`` with every curved spline segment replaced by biarcs within ``tol`` mm (arcs
     and straight pieces kept as they are)."""
-    from camgen.biarc import spline_to_biarcs
+    from camgen.contour.arcspline import spline_to_biarcs
 
     if all(isinstance(seg, Arc) or _is_line(seg) for seg in contour.segments):
         return contour

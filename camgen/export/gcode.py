@@ -286,7 +286,7 @@ def _line_tolerance(contour: Contour, spec: MachiningSpec) -> float:
 def _primitives(contour: Contour, spec: MachiningSpec) -> list[tuple]:
     """Counter-clockwise primitives: ('arc', Arc) or ('lines', points (n, 2) excluding the start)."""
     if spec.spline_mode == "biarcs" and any(not isinstance(s, Arc) for s in contour.segments):
-        from camgen.biarc import to_arc_spline
+        from camgen.contour.arcspline import to_arc_spline
 
         contour = to_arc_spline(contour, FIT_SHARE * spec.chord_tol)
     tol = _line_tolerance(contour, spec)

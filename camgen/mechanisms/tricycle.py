@@ -241,7 +241,7 @@ def tricycle_cam(
     closed form in ``R, R'``: :class:`PolarCurves`) are represented by one periodic C2 cubic
     spline each, least-squares fits on shared knots placed by the tolerance (not by ``N``):
     within ``fit_tol`` mm of the exact curves at the probe points of every piece
-    (:func:`camgen.splinefit.fit_periodic`).  Their spline parameter is ``phi``.
+    (:func:`camgen.numerics.splinefit.fit_periodic`).  Their spline parameter is ``phi``.
 
     ``form="cartesian"``: the earlier form, kept for comparison: a periodic C2 *parametric*
     cubic through the points at polar angles ``phi_j`` with radius ``rho_j + r_d`` (its radial
@@ -300,7 +300,7 @@ def _difference_noise(synth: CamSynthesis, trajectory: Trajectory, device: Tricy
 def _polar_cam(synth: CamSynthesis, phi: np.ndarray, radius: np.ndarray, device: Tricycle, trajectory: Trajectory,
                degree: int, fit_tol: float) -> TricycleCam:
     """The ``"polar"`` form of :func:`tricycle_cam`."""
-    from camgen.splinefit import RELATIVE_FLOOR, fit_periodic
+    from camgen.numerics.splinefit import RELATIVE_FLOOR, fit_periodic
 
     n = phi.size - 1
     radius = radius.copy()

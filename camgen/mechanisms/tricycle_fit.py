@@ -3,7 +3,7 @@
 Paper 004, Section 4.2 and Appendix A.  The error model (:class:`ErrorModel`) has five
 parameters: steering offset ``delta`` (type I), steering gain ``g`` (type II), drive-distance
 scale ``sigma``, start phase ``theta0`` and start-heading offset.  They are fitted by
-nonlinear least squares (``scipy.optimize.least_squares``): the residual at every measured
+nonlinear least squares (:func:`camgen.numerics.least_squares.levenberg_marquardt`): the residual at every measured
 point is the simulated ride's ``y`` at the measured ``x`` minus the measured ``y``; the ride
 is simulated on the cam as made (:func:`camgen.mechanisms.tricycle.ride`).
 
@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
@@ -47,6 +47,7 @@ from camgen.mechanisms.tricycle import (
     ride,
     ride_geometry,
 )
+from camgen.numerics.least_squares import LeastSquares, levenberg_marquardt
 
 PARAMETERS = ("steering_offset_deg", "steering_gain", "drive_scale", "start_phase_deg", "start_heading_deg")
 
@@ -126,72 +127,6 @@ class FitNotDetermined(GeometryError):
         self.reason = reason
 
 
-@dataclass(frozen=True)
-class LeastSquares:
-    """A Levenberg-Marquardt solution: parameters, residuals and Jacobian there, cost (half the
-    residual sum of squares) and the number of residual evaluations."""
-
-    x: np.ndarray
-    fun: np.ndarray
-    jac: np.ndarray
-    cost: float
-    nfev: int
-
-
-def levenberg_marquardt(residual: Callable[[np.ndarray], np.ndarray], p0: np.ndarray, scale: np.ndarray,
-                        max_nfev: int = 400, ftol: float = FIT_FTOL) -> LeastSquares:
-    """Minimise ``|residual(p)|^2 / 2`` from ``p0`` (Marquardt 1963, with Nielsen's damping update).
-
-    Forward-difference Jacobian with steps ``sqrt(eps) * max(|p|, scale)``; the damping
-    ``mu * diag(scale^-2)`` makes the steps scale-aware, as ``x_scale`` does in MINPACK.  Stops
-    when an accepted step lowers the cost by less than ``ftol`` of it, or after ``max_nfev``
-    evaluations.  Small problems only (a handful of parameters): the normal equations are solved directly.
-    """
-    p = np.asarray(p0, dtype=float).copy()
-    scale = np.asarray(scale, dtype=float)
-    r = residual(p)
-    nfev = 1
-
-    def jacobian(p: np.ndarray, r: np.ndarray) -> np.ndarray:
-        nonlocal nfev
-        h = math.sqrt(np.finfo(float).eps) * np.maximum(np.abs(p), scale)
-        nfev += p.size
-        return np.stack([(residual(p + h[j] * np.eye(p.size)[j]) - r) / h[j] for j in range(p.size)], axis=1)
-
-    cost = 0.5 * float(r @ r)
-    jac = jacobian(p, r)
-    weight = 1.0 / scale**2
-    mu, nu = 1e-3 * float(np.max(np.diag(jac.T @ jac) / weight)), 2.0
-    while nfev < max_nfev and cost > 0.0:
-        a, g = jac.T @ jac, jac.T @ r
-        if not mu * float(np.min(weight)) < 1e16 * max(float(np.max(np.diag(a))), np.finfo(float).tiny):
-            break  # no step lowers the cost however short: a minimum (to rounding)
-        try:
-            delta = np.linalg.solve(a + mu * np.diag(weight), -g)
-        except np.linalg.LinAlgError:
-            mu *= nu
-            nu *= 2.0
-            continue
-        trial = p + delta
-        r_trial = residual(trial)
-        nfev += 1
-        cost_trial = 0.5 * float(r_trial @ r_trial)
-        predicted = -(delta @ g) - 0.5 * delta @ (a @ delta)
-        rho = (cost - cost_trial) / predicted if predicted > 0 else -1.0
-        if rho > 0:  # accepted
-            done = cost - cost_trial <= ftol * cost
-            p, r, cost = trial, r_trial, cost_trial
-            jac = jacobian(p, r)
-            mu *= max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3)
-            nu = 2.0
-            if done:
-                break
-        else:
-            mu *= nu
-            nu *= 2.0
-    return LeastSquares(p, r, jac, cost, nfev)
-
-
 def fit_error_model(cam: TricycleCam, table: MeasuredTable, nodes: int = 4, starts: str = "one",
                     max_condition: float = FIT_MAX_CONDITION) -> FitResult:
     """Least-squares fit of the five error-model parameters to ``table``.
@@ -228,7 +163,7 @@ def fit_error_model(cam: TricycleCam, table: MeasuredTable, nodes: int = 4, star
     for sigma0 in sigmas:
         for phase0 in phases:
             p0 = np.array([0.0, 1.0, sigma0, phase0 % 360.0, 0.0])
-            fit = levenberg_marquardt(residual, p0, PARAMETER_SCALE)
+            fit = levenberg_marquardt(residual, p0, PARAMETER_SCALE, ftol=FIT_FTOL)
             if best is None or fit.cost < best.cost:
                 best = fit
     assert best is not None

@@ -33,7 +33,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from camgen.errors import ParameterError
-from camgen.ppoly import periodic_spline
+from camgen.numerics.interpolate import periodic_spline
 from camgen.synthesis.laws import SMOOTH, Peaks
 
 TWO_PI = 2.0 * math.pi

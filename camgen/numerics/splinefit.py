@@ -32,6 +32,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from camgen.errors import GeometryError, ParameterError, require_positive
+from camgen.numerics.polynomial import horner
+
+__all__ = ["Fit", "MAX_PIECES", "PROBES", "RELATIVE_FLOOR", "fit_clamped", "fit_periodic"]
 
 Curve = Callable[[np.ndarray], np.ndarray]
 
@@ -186,8 +189,7 @@ def _solve_periodic_normal(index: np.ndarray, basis: np.ndarray, w: np.ndarray, 
 def _eval(breaks: np.ndarray, coeffs: np.ndarray, t: np.ndarray) -> np.ndarray:
     i = np.clip(np.searchsorted(breaks, t, side="right") - 1, 0, breaks.size - 2)
     tau = (t - breaks[i])[:, None]
-    c = coeffs[:, i]
-    return ((c[0] * tau + c[1]) * tau + c[2]) * tau + c[3]
+    return horner(np.moveaxis(coeffs[:, i], 0, 1), tau)
 
 
 def _redistribute(breaks: np.ndarray, err: np.ndarray, tol: float, max_pieces: int) -> np.ndarray:

@@ -1,10 +1,12 @@
-"""Arc splines: a contour's spline segments replaced by G1-continuous biarcs within a tolerance.
+"""Biarcs: a parametric curve replaced by G1-continuous circular arcs within a tolerance.
 
 Every CAM program and CNC control reads arcs (DXF ``ARC``, G-code ``G2/G3``); few read
 B-splines well.  A biarc joins two points with given tangents by two circular arcs that meet
-with a common tangent.  camgen builds the equal-tangent-length biarc on every interval, checks
-its distance to the curve and splits the interval in two where it is too far, all intervals of
-a level at once (vectorised).
+with a common tangent.  :func:`fit_biarcs` builds the equal-tangent-length biarc on every
+interval of the curve's parameter, checks its distance to the curve and splits the interval in
+two where it is too far, all intervals of a level at once (vectorised); it returns arrays
+(:class:`Biarcs`).  :func:`camgen.contour.arcspline.spline_to_biarcs` turns them into a contour's
+:class:`~camgen.contour.Arc` segments.
 
 Tolerance: the distance from the curve to the biarc is measured at ``CHECK_SAMPLES`` points of
 the curve per interval and must be <= ``(1 - SAMPLING_MARGIN) tol``: the deviation is smooth
@@ -15,24 +17,56 @@ exactly through the interval ends with the curve's tangent there (G1 everywhere)
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 
-from camgen.contour import Arc, Contour, Spline
 from camgen.errors import GeometryError, require_positive
 from camgen.geometry import angle_in_sweep
 
+__all__ = ["CHECK_SAMPLES", "MAX_LEVELS", "SAMPLING_MARGIN", "STRAIGHT", "Biarcs", "arc_through", "fit_biarcs"]
+
 CHECK_SAMPLES = 33
 SAMPLING_MARGIN = 0.05
-_MAX_LEVELS = 30
-_STRAIGHT = 1e-12  # |sagitta / chord| below which an arc is treated as a straight line
+#: Most halvings of an interval before the fit gives up.
+MAX_LEVELS = 30
+#: |sagitta / chord| below which an arc is treated as a straight line.
+STRAIGHT = 1e-12
+
+
+class Curve(Protocol):
+    """A parametric planar curve on ``breaks[0] <= t <= breaks[-1]`` (:class:`camgen.contour.Spline`)."""
+
+    breaks: np.ndarray
+
+    def derivatives(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """P, dP/dt, d2P/dt2 (each (n, 2)) at ``t`` (n,)."""
+        ...
+
+    def eval_t(self, t: np.ndarray, order: int = 0) -> np.ndarray:
+        """d^order P / dt^order (n, 2) at ``t`` (n,)."""
+        ...
+
+
+@dataclass(frozen=True)
+class Biarcs:
+    """The biarcs of a curve, one per parameter interval in order along it (K intervals): each
+    runs from ``start`` with unit tangent ``start_tangent`` to ``junction``, then on to ``end``
+    arriving with unit tangent ``end_tangent`` (all (K, 2), mm)."""
+
+    start: np.ndarray
+    start_tangent: np.ndarray
+    junction: np.ndarray
+    end: np.ndarray
+    end_tangent: np.ndarray
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
     return v / np.linalg.norm(v, axis=-1, keepdims=True)
 
 
-def _arc_through(p: np.ndarray, tangent: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def arc_through(p: np.ndarray, tangent: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Arc from ``p`` with unit tangent ``tangent`` to ``q``: centre (n, 2), signed curvature (n,), sweep (n,)."""
     chord = q - p
     left = np.stack([-tangent[:, 1], tangent[:, 0]], axis=1)
@@ -46,7 +80,7 @@ def _arc_through(p: np.ndarray, tangent: np.ndarray, q: np.ndarray) -> tuple[np.
     return centre, kappa, sweep
 
 
-def _biarcs(p0: np.ndarray, t0: np.ndarray, p1: np.ndarray, t1: np.ndarray) -> np.ndarray:
+def _junctions(p0: np.ndarray, t0: np.ndarray, p1: np.ndarray, t1: np.ndarray) -> np.ndarray:
     """Junction points (n, 2) of equal-tangent-length biarcs between (p0, t0) and (p1, t1)."""
     v = p1 - p0
     t = t0 + t1
@@ -64,7 +98,7 @@ def _biarcs(p0: np.ndarray, t0: np.ndarray, p1: np.ndarray, t1: np.ndarray) -> n
 def _distance_to_arc(points: np.ndarray, start: np.ndarray, centre: np.ndarray, kappa: np.ndarray,
                      sweep: np.ndarray, end: np.ndarray) -> np.ndarray:
     """Distance of points (n, s, 2) to arcs (n,) given by start, centre, curvature, sweep and end."""
-    straight = np.abs(kappa) * np.linalg.norm(end - start, axis=-1) < _STRAIGHT
+    straight = np.abs(kappa) * np.linalg.norm(end - start, axis=-1) < STRAIGHT
     # straight pieces: distance to the segment
     ab = (end - start)[:, None, :]
     w = np.clip(np.einsum("nsi,nsi->ns", points - start[:, None], ab) / np.einsum("nsi,nsi->ns", ab, ab), 0, 1)
@@ -81,22 +115,26 @@ def _distance_to_arc(points: np.ndarray, start: np.ndarray, centre: np.ndarray, 
     return np.where(straight[:, None], seg_dist, arc_dist)
 
 
-def spline_to_biarcs(spline: Spline, tol: float) -> list[Arc | Spline]:
-    """Replace ``spline`` by biarcs within ``tol`` mm (straight pieces become linear splines)."""
+def fit_biarcs(curve: Curve, tol: float) -> Biarcs:
+    """Biarcs within ``tol`` mm of ``curve`` over its whole parameter range (module notes):
+    four intervals to start, each halved where its biarc is too far, all of a level at once.
+
+    Raises :class:`~camgen.errors.GeometryError` when an interval still misses ``tol`` after
+    :data:`MAX_LEVELS` halvings."""
     tol = require_positive("biarc_tol", tol)
-    edges = np.linspace(spline.breaks[0], spline.breaks[-1], 5)  # start coarse; split where needed
+    edges = np.linspace(curve.breaks[0], curve.breaks[-1], 5)  # start coarse; split where needed
     lo, hi = edges[:-1], edges[1:]
     done_lo, done_hi, done_j = [], [], []
     s = np.linspace(0.0, 1.0, CHECK_SAMPLES)[1:-1]
-    for _ in range(_MAX_LEVELS):
-        p0, d0, _ = spline.derivatives(lo)
-        p1, d1, _ = spline.derivatives(hi)
+    for _ in range(MAX_LEVELS):
+        p0, d0, _ = curve.derivatives(lo)
+        p1, d1, _ = curve.derivatives(hi)
         t0, t1 = _unit(d0), _unit(d1)
-        junction = _biarcs(p0, t0, p1, t1)
-        c1, k1, w1 = _arc_through(p0, t0, junction)
+        junction = _junctions(p0, t0, p1, t1)
+        c1, k1, w1 = arc_through(p0, t0, junction)
         # second arc: from the junction to p1, tangent at p1 is t1: build it backwards from p1
-        c2, k2, w2 = _arc_through(p1, -t1, junction)
-        samples = spline.eval_t((lo[:, None] + s[None, :] * (hi - lo)[:, None]).ravel()).reshape(lo.size, s.size, 2)
+        c2, k2, w2 = arc_through(p1, -t1, junction)
+        samples = curve.eval_t((lo[:, None] + s[None, :] * (hi - lo)[:, None]).ravel()).reshape(lo.size, s.size, 2)
         dist = np.minimum(
             _distance_to_arc(samples, p0, c1, k1, w1, junction),
             _distance_to_arc(samples, p1, c2, k2, w2, junction),
@@ -110,50 +148,10 @@ def spline_to_biarcs(spline: Spline, tol: float) -> list[Arc | Spline]:
         mid = 0.5 * (lo[~ok] + hi[~ok])
         lo, hi = np.concatenate([lo[~ok], mid]), np.concatenate([mid, hi[~ok]])
     else:
-        raise GeometryError(f"biarc fit did not reach tol = {tol:g} mm in {_MAX_LEVELS} subdivisions")
+        raise GeometryError(f"biarc fit did not reach tol = {tol:g} mm in {MAX_LEVELS} subdivisions")
     lo, hi, junction = np.concatenate(done_lo), np.concatenate(done_hi), np.concatenate(done_j)
     order = np.argsort(lo)
     lo, hi, junction = lo[order], hi[order], junction[order]
-    p0, d0, _ = spline.derivatives(lo)
-    p1, d1, _ = spline.derivatives(hi)
-    out: list[Arc | Spline] = []
-    for a, ta, j, b, tb in zip(p0, _unit(d0), junction, p1, _unit(d1)):
-        out.append(_segment(a, ta, j))
-        out.append(_segment_end(j, b, tb))
-    return out
-
-
-def _segment(p: np.ndarray, tangent: np.ndarray, q: np.ndarray) -> Arc | Spline:
-    """Arc from p (tangent given) to q, or a straight piece where it is flat."""
-    centre, kappa, sweep = _arc_through(p[None], tangent[None], q[None])
-    if not np.isfinite(kappa[0]) or abs(kappa[0]) * np.linalg.norm(q - p) < _STRAIGHT:
-        return _line(p, q)
-    start = math.atan2(p[1] - centre[0, 1], p[0] - centre[0, 0])
-    return Arc((centre[0, 0], centre[0, 1]), 1.0 / abs(kappa[0]), start, float(sweep[0]))
-
-
-def _segment_end(p: np.ndarray, q: np.ndarray, tangent_at_q: np.ndarray) -> Arc | Spline:
-    """Arc from p to q whose tangent at q is given."""
-    centre, kappa, sweep = _arc_through(q[None], -tangent_at_q[None], p[None])
-    if not np.isfinite(kappa[0]) or abs(kappa[0]) * np.linalg.norm(q - p) < _STRAIGHT:
-        return _line(p, q)
-    start = math.atan2(p[1] - centre[0, 1], p[0] - centre[0, 0])
-    return Arc((centre[0, 0], centre[0, 1]), 1.0 / abs(kappa[0]), start, float(-sweep[0]))
-
-
-def _line(p: np.ndarray, q: np.ndarray) -> Spline:
-    coeffs = np.zeros((4, 1, 2))
-    coeffs[2, 0] = q - p
-    coeffs[3, 0] = p
-    return Spline(np.array([0.0, 1.0]), coeffs)
-
-
-def to_arc_spline(contour: Contour, tol: float) -> Contour:
-    """``contour`` with every spline segment replaced by biarcs within ``tol`` mm (arcs kept)."""
-    segments: list[Arc | Spline] = []
-    for seg in contour.segments:
-        if isinstance(seg, Arc):
-            segments.append(seg)
-        else:
-            segments.extend(spline_to_biarcs(seg, tol))
-    return Contour(segments, closure_tol=1e-6)
+    p0, d0, _ = curve.derivatives(lo)
+    p1, d1, _ = curve.derivatives(hi)
+    return Biarcs(p0, _unit(d0), junction, p1, _unit(d1))
