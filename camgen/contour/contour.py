@@ -435,7 +435,7 @@ class Contour:
         """The polar-angle table of :meth:`polar_radius`, or None if the contour is not
         star-shaped about the axis at the resolution of its breaks (built once)."""
         if "_star" not in self.__dict__:
-            self.__dict__["_star"] = StarTable.build(self)
+            self.__dict__["_star"] = StarTable.build(self.segments, self._tables())
         return self.__dict__["_star"]
 
     def _polar_radius_all_pieces(self, flat: np.ndarray) -> np.ndarray:

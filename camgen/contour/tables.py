@@ -15,7 +15,9 @@ from camgen.geometry import angle_in_sweep, signed_curvature, unit_vectors
 from camgen.numerics.polynomial import horner
 
 if TYPE_CHECKING:
-    from camgen.contour.contour import Contour
+    from collections.abc import Sequence
+
+    from camgen.contour.spline import Spline
 
 __all__ = ["RAY_ITERATIONS", "SegmentTables", "StarTable"]
 
@@ -127,10 +129,11 @@ class StarTable:
         self.psi, self.segment, self.piece, self.tables, self.ends = psi, segment, piece, tables, ends
 
     @classmethod
-    def build(cls, contour: "Contour") -> "StarTable | None":
-        tables = contour._tables()
+    def build(cls, segments: "Sequence[Arc | Spline]", tables: SegmentTables) -> "StarTable | None":
+        """The table of a contour's ``segments`` (with their :class:`SegmentTables`), or None if
+        the contour is not star-shaped about the axis at the resolution of its breaks."""
         segment, piece, points, ends = [], [], [], []
-        for i, seg in enumerate(contour.segments):
+        for i, seg in enumerate(segments):
             if isinstance(seg, Arc):
                 # P x P' = r s (r + c . u(a)) along the arc (s: sign of the sweep) keeps its
                 # sign iff the polar angle is monotonic there: check its extremes over the sweep
