@@ -560,10 +560,15 @@ def _law_joins(cam: DiskCam, rpm: float | None) -> "CheckResult":
     from camgen.synthesis.laws import SMOOTH
 
     law = cam.law
-    if not hasattr(law, "joins"):
-        rows = len(getattr(law, "angles", ()))
+    if not hasattr(law, "joins") and hasattr(law, "angles"):
+        rows = len(law.angles)
         return information("law_joins", 0, "", [], f"lift table: a periodic quintic spline through {rows} rows, continuous through the "
                            "jerk everywhere (its 4th derivative steps at the rows)")
+    if not hasattr(law, "joins"):  # another law (camgen.motions): its breaks and the continuity the law states there
+        breaks, continuity = np.asarray(law.breaks, dtype=float), np.asarray(law.break_continuity, dtype=int)
+        where = where_degrees(breaks[continuity < SMOOTH])
+        return information("law_joins", len(where), "", where, "breaks where a derivative up to the jerk jumps" if where else
+                           "no break: the law is continuous through the jerk everywhere")
     jumps = [j for j in law.joins() if j.continuity < SMOOTH]
     note = "; ".join(j.describe() for j in jumps) if jumps else "every segment joins its neighbours smoothly up to the jerk"
     if rpm and jumps and cam.spec_follower.motion == "translating":

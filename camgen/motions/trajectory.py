@@ -1,11 +1,13 @@
-"""Cam kind ``trajectory``: a steering cam from a required periodic path (paper 004, the tricycle).
+"""Motion ``trajectory``: a steering cam from a required periodic path (paper 004, the tricycle).
 
 Synthesis by arc length, curvature and a periodic cubic spline
 (:func:`camgen.mechanisms.tricycle.tricycle_cam`); the follower is the steering rod, a
 radially translating roller of radius ``rod_radius_mm``.  Stages: ``analysis`` simulates the
 ride on the cam as made (figures and ``<cam>_ride.csv``) and fits the paper's error model to
 the measured tables; ``plots`` computes what report.html draws (rides with the error types,
-fitted model curves).
+fitted model curves).  The path is what the vehicle must do, not a follower law: the paper's
+synthesis realises it as an open plate cam (form ``plate``) directly, so this motion is a design
+of its own.
 """
 from __future__ import annotations
 
@@ -30,6 +32,7 @@ from camgen.kinds.base import (
     source_key,
     with_cam,
 )
+from camgen.motions.base import Motion
 from camgen.schema import Choice, ChoiceList, Count, Key, Length, Text
 
 if TYPE_CHECKING:
@@ -321,11 +324,11 @@ def _plots(cam: "TricycleCam", fits: dict[str, Any], one: "Ride | None") -> "Tri
                            tuple((label, path.x, path.y) for label, path in error_rides.items()), tuple(curves))
 
 
-KIND = CamKind(
+_SUMMARY = "steering cam from a required periodic path y = f(x), by arc length and a periodic spline (paper 004)"
+
+MOTION = Motion(
     name="trajectory",
-    summary="steering cam from a required periodic path y = f(x), by arc length and a periodic spline (paper 004)",
-    keys=KEYS,
-    read=read,
-    build=build,
-    report_section="camgen.report.sections:tricycle_section",
+    summary=_SUMMARY,
+    realisations={"plate": CamKind(name="trajectory", summary=_SUMMARY, keys=KEYS, read=read, build=build,
+                                   report_section="camgen.report.sections:tricycle_section")},
 )
