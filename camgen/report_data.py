@@ -208,7 +208,7 @@ def _dynamics(cam: "CamResult") -> "DynamicsCurves | None":
         return _array(values) if values is not None else None
 
     return DynamicsCurves(
-        rpm=res.rpm, closure=res.train.closure, motion=res.train.motion, theta=_array(res.theta),
+        rpm=res.rpm, closure="form" if res.train.closure == "form" else "force", motion=res.train.motion, theta=_array(res.theta),
         contact_force=_array(res.contact_force), contact_force_2=optional(res.contact_force_2),
         pressure_angle=_array(res.pressure_angle), torque=_array(res.torque), power=_array(res.power),
         hertz_stress=optional(res.hertz_stress), hertz_stress_2=optional(res.hertz_stress_2),

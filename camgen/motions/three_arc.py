@@ -115,6 +115,7 @@ def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = 
 def build(spec: CamSpec, stages: frozenset[str]) -> BuiltCam:
     """The six-arc cam and its figures (exact; no analysis stage needed)."""
     from camgen import checks
+    from camgen.contour import Arc
     from camgen.synthesis import three_arc
 
     p: ThreeArcParams = spec.params
@@ -133,7 +134,7 @@ def build(spec: CamSpec, stages: frozenset[str]) -> BuiltCam:
         "area_mm2": contour.area,
         "perimeter_mm": contour.length,
         "bounds_mm": list(contour.bounds),
-        "arc_radii_mm": [seg.radius for seg in contour.segments],
+        "arc_radii_mm": [seg.radius for seg in contour.segments if isinstance(seg, Arc)],  # six arcs, nothing else
     }
     if p.source is not None:
         figures["source"] = p.source

@@ -158,8 +158,11 @@ def build(spec: CamSpec, stages: frozenset[str]) -> TrajectoryCam:
     try:
         cam = with_cam(where, lambda: tc.tricycle_cam(traj, device, p.samples, p.curvature))
     except UndercutError as exc:  # the rod cannot follow this cam: the report shows where and why
+        from camgen.contour import Contour
+
         figures = {"trajectory": traj.source, "period_mm": traj.period, "base_radius_mm": device.base_radius}
-        return TrajectoryCam(spec.name, spec.kind, None, figures, spec.body, spec.follower, pitch=exc.pitch, undercut=exc)
+        pitch = exc.pitch if isinstance(exc.pitch, Contour) else None
+        return TrajectoryCam(spec.name, spec.kind, None, figures, spec.body, spec.follower, pitch=pitch, undercut=exc)
     except PathError as exc:  # a path this device cannot steer: the key that gave it, and which paths it can
         why = str(exc).removeprefix(f"{where}: ")
         raise ParameterError(f"{where}.{p.path_key}", p.path_value, exc.valid, why) from None
@@ -175,6 +178,7 @@ def build(spec: CamSpec, stages: frozenset[str]) -> TrajectoryCam:
 
 def _analysed(spec: CamSpec, cam: "TricycleCam", stages: frozenset[str]) -> TrajectoryCam:
     """The figures, files and plots of a synthesised steering cam."""
+    from camgen.contour import Spline
     from camgen.mechanisms import tricycle as tc
 
     p: TrajectoryParams = spec.params
@@ -203,7 +207,9 @@ def _analysed(spec: CamSpec, cam: "TricycleCam", stages: frozenset[str]) -> Traj
         figures["ride_max_error_mm"] = float(abs(tc.lateral_error(traj, one.x, one.y)).max())
         # one cam turn at a time, the running maximum only: memory O(samples) for any ride_periods
         figures[f"ride_max_error_{p.ride_periods}_periods_mm"] = tc.ride_max_lateral_error(cam, p.ride_periods)
-    figures["profile_pieces"] = int(cam.profile.segments[0].n_pieces)
+    (profile,) = cam.profile.segments  # one periodic spline (paper 004's synthesis)
+    assert isinstance(profile, Spline)
+    figures["profile_pieces"] = int(profile.n_pieces)
     figures["area_mm2"] = cam.profile.area
     figures["perimeter_mm"] = cam.profile.length
     if p.source is not None:
