@@ -50,7 +50,7 @@ from typing import Any
 
 import numpy as np
 
-from camgen.contour import Contour
+from camgen.contour import Arc, Contour
 from camgen.errors import GeometryError, ParameterError, require_finite
 from camgen.geometry import unit_vectors as _unit
 from camgen.geometry import wrap_pi
@@ -272,6 +272,7 @@ def lifting_loop(leg: HorseLeg, cam: Contour, theta4: np.ndarray, side: int = 1,
     best = np.full(theta4.shape, np.nan)
     found = np.zeros(theta4.shape, dtype=int)
     for seg in cam.segments:
+        assert isinstance(seg, Arc)  # the height cam is made of circular arcs (the paper's cam)
         centre = _rotate(np.broadcast_to(np.asarray(seg.center), theta4.shape + (2,)), theta4)
         dv = o5 - centre
         dist = np.hypot(dv[..., 0], dv[..., 1])
