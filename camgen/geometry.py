@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import numpy.typing as npt
 
 TWO_PI = 2.0 * math.pi
 
@@ -17,7 +18,7 @@ TWO_PI = 2.0 * math.pi
 SWEEP_TOL = 1e-12
 
 
-def wrap_pi(angle: np.ndarray) -> np.ndarray:
+def wrap_pi(angle: npt.ArrayLike) -> np.ndarray:
     """Angles wrapped to [-pi, pi) (rad)."""
     return np.mod(np.asarray(angle, dtype=float) + math.pi, TWO_PI) - math.pi
 

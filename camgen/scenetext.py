@@ -197,6 +197,7 @@ def scan_scene_text(text: str, max_nesting: int) -> ScannedText:
         assert match is not None  # "other" matches any character
         pos = match.end()
         kind = match.lastgroup
+        assert kind is not None  # every alternative of _TOKEN is a named group
         if kind == "comment":
             continue
         token = match.group(kind)

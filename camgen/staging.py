@@ -82,7 +82,7 @@ def _alive(pid: int) -> bool:
 def _entries(target: Path) -> list[tuple[Path, int, str]]:
     """Hidden staging/retired entries of ``target``'s scene: (path, pid, state)."""
     prefix = f".camgen-{target.name}."
-    out = []
+    out: list[tuple[Path, int, str]] = []
     if not target.parent.is_dir():
         return out
     for entry in target.parent.iterdir():
