@@ -26,6 +26,14 @@ from camgen.contour import Contour
 from camgen.errors import GeometryError, ParameterError, require_finite
 from camgen.geometry import wrap_pi
 
+__all__ = [
+    "COMPARISONS", "CamEvaluation", "CheckResult", "FOLLOWER_KINDS", "Follower", "MAX_CHECK_SAMPLES", "MOTIONS",
+    "Motion", "NO_CONCAVE_PART", "RollerKinematics", "breadth_error", "constant_breadth_check", "continuity_check",
+    "convexity_check", "evaluate_cam", "face_length_check", "flat_motion", "information", "limited",
+    "machinability_check", "machinability_from_radii", "motion_check", "pitch_curve", "pressure_angle_check",
+    "radius_of_curvature", "roller_kinematics", "roller_motion", "run_ends", "undercut_check", "where_degrees",
+]
+
 _ORDER = ["none", "G0", "G1", "G2"]
 FOLLOWER_KINDS = ("yoke", "flat", "roller")
 MOTIONS = ("translating", "oscillating")

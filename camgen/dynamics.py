@@ -52,6 +52,13 @@ import numpy as np
 from camgen.checks import run_ends
 from camgen.errors import GeometryError, ParameterError, floor_significant, require_finite
 
+__all__ = [
+    "CLOSURES", "ContactMaterial", "DynamicsResult", "FollowerTrain", "GPA_TO_MPA", "KG_M2_PER_S2_TO_N_MM",
+    "KG_MM_PER_S2_TO_N", "Kinematics", "MOTIONS", "N_MM_TO_N_M", "N_M_TO_N_MM", "N_S_PER_M_TIMES_MM_PER_S_TO_N",
+    "RPM_TO_RAD_PER_S", "STANDARD_GRAVITY", "analyse", "force_coefficients", "hertz_line_stress", "jump_speed",
+    "min_contact_force", "smallest_positive_root", "spring_hints",
+]
+
 TWO_PI = 2.0 * math.pi
 MOTIONS = ("translating", "oscillating")
 CLOSURES = ("force", "form")

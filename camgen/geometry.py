@@ -11,6 +11,8 @@ import math
 import numpy as np
 import numpy.typing as npt
 
+__all__ = ["SWEEP_TOL", "angle_in_sweep", "cross", "outward_normal", "signed_curvature", "unit_vectors", "wrap_pi"]
+
 TWO_PI = 2.0 * math.pi
 
 #: Tolerance (rad) of :func:`angle_in_sweep`: an angle this close outside a sweep's ends counts

@@ -25,6 +25,8 @@ from typing import Callable, Mapping
 
 from camgen.errors import ExportError
 
+__all__ = ["check_files", "first_nonfinite"]
+
 # The spellings formatters give a NaN or an infinity (found case-sensitively: a literal search).
 _WORDS = ("nan", "NaN", "NAN", "inf", "Inf", "INF")
 _FIND_TEXT = re.compile("|".join(_WORDS))

@@ -39,6 +39,8 @@ from typing import Mapping
 from camgen.errors import ExportError
 from camgen.interrupt import checkpoint, deferred, scratch
 
+__all__ = ["WrittenRun", "exchange", "preflight", "recover", "write_run"]
+
 _RENAME_EXCHANGE = 2  # linux/fs.h
 _AT_FDCWD = -100
 

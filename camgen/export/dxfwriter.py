@@ -35,6 +35,8 @@ import numpy.typing as npt
 
 from camgen.errors import ExportError
 
+__all__ = ["ACADVER", "DxfDocument", "INSUNITS_MM", "PAPER_MM", "ZOOM_MARGIN"]
+
 #: DXF version written: R2010.
 ACADVER = "AC1024"
 #: Characters a DXF symbol-table name may not contain (AutoCAD's naming rules).

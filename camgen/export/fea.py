@@ -72,6 +72,15 @@ from camgen.contour import Contour
 from camgen.errors import CamgenError, ExportError, GeometryError, ParameterError
 from camgen.export.tables import format_rows
 
+__all__ = [
+    "DEFAULT_SECTION_ELEMENTS", "ESTIMATE_MARGIN", "FEA_ELEMENTS", "FEA_FORMATS", "GRADING", "MAX_BOUNDARY",
+    "MAX_ELEMENT_SIZE", "MAX_FILE_BYTES", "MAX_MESHER_BYTES", "MESHER_BYTES", "MIN_LAYERS", "MeshEstimate",
+    "PER_CIRCLE", "Section", "VolumeMesh", "check_caps", "default_element_size", "estimate", "fea_bytes",
+    "file_bytes", "inp_text", "layer_count", "loop_sizes", "mesher_memory", "msh_text", "planned_load",
+    "require_gmsh", "section_outline", "section_triangles", "tetra_dihedral_angles", "tetra_mesh", "triangle_angles",
+    "volume_mesh", "vtu_bytes", "wedge_mesh", "writer",
+]
+
 #: Largest ``output.fea_element_size_mm`` (mm).
 MAX_ELEMENT_SIZE = 1e5
 #: FEA element choices (``output.fea_elements``).

@@ -47,6 +47,11 @@ import math
 
 import numpy as np
 
+__all__ = [
+    "CENTRE_SEGMENTS", "DECIMATION", "LAST_STEP", "MAX_RINGS", "MIN_SINE", "RING_ASPECT", "SEAM_SEGMENTS",
+    "fill_section", "star_angles",
+]
+
 TWO_PI = 2.0 * math.pi
 #: About one ray in DECIMATION is kept from one ring to the next while the rings are finer than
 #: the seam circles: the interior vertices add up to about N / (DECIMATION - 1).

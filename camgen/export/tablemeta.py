@@ -22,6 +22,8 @@ if TYPE_CHECKING:
     from camgen.results import CamResult
     from camgen.scene import Scene
 
+__all__ = ["LEG_PATH_PREFIX", "LEG_PATH_SUFFIX", "tables_metadata"]
+
 #: File name prefix and suffix of the horse leg's path tables.
 LEG_PATH_PREFIX, LEG_PATH_SUFFIX = "leg_path_alpha_", ".csv"
 

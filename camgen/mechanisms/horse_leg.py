@@ -55,6 +55,13 @@ from camgen.errors import GeometryError, ParameterError, require_finite
 from camgen.geometry import unit_vectors as _unit
 from camgen.geometry import wrap_pi
 
+__all__ = [
+    "ASSEMBLY_SCAN", "ASSEMBLY_SCAN_POSITIONS", "ASSEMBLY_STEP", "ASSEMBLY_TOL", "Branches", "HorseLeg",
+    "LegSolution", "PARALLEL_TOL", "assembly_range", "body_path", "branch_table", "cycle", "four_bar", "gait_figures",
+    "gait_range", "grashof_margin", "ground_crossings", "ground_lines", "height_fork_pressure_angle",
+    "lead_screw_length", "leg_cams", "leg_loop", "lifting_loop", "pressure_angle", "solve_leg", "solve_stride_loop",
+]
+
 D = math.radians
 
 

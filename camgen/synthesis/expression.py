@@ -26,6 +26,11 @@ import numpy as np
 
 from camgen.errors import ParameterError
 
+__all__ = [
+    "Bin", "Const", "Expression", "FUNCTIONS", "Func", "MAX_DEPTH", "MAX_DERIVED_DEPTH", "MAX_LENGTH", "MAX_NODES",
+    "Node", "ONE", "Value", "Var", "ZERO", "add", "div", "mul", "neg", "parse_expression", "power", "sub",
+]
+
 #: Longest expression, characters.
 MAX_LENGTH = 2000
 #: Deepest nesting of operations and calls (a sum of n terms nests n levels: the length limit

@@ -99,6 +99,12 @@ from camgen.errors import (
     require_positive,
 )
 
+__all__ = [
+    "BOUND_SPACING", "BREAK_MERGE", "CamEnvelope", "CheckGrid", "DEFAULT_CHECK_STEP", "DEFAULT_FIT_TOL",
+    "Displacement", "FollowerSpec", "KINDS", "Kinematics", "MOTIONS", "ROTATIONS", "SCREEN_CLEARANCE",
+    "SCREEN_UNDERCUT", "cam_envelope", "check_grid", "kinematics", "profile_failures",
+]
+
 TWO_PI = 2.0 * math.pi
 #: A law's ``(s, ds, d2s, d3s)`` at some cam angles, (n,) each.
 _LawValues: TypeAlias = "tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]"

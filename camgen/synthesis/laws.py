@@ -91,6 +91,12 @@ import numpy as np
 
 from camgen.errors import ParameterError, require_finite, require_positive
 
+__all__ = [
+    "ALIASES", "Displacement", "Join", "KEPLER_MAX_STEPS", "KEPLER_STEP_TOL", "LAWS", "Law", "LawBreak",
+    "MODIFIED_CYCLOID_TILT", "MotionProgram", "ORDER_NAMES", "Peaks", "SMOOTH", "Segment", "constant_velocity",
+    "polynomial",
+]
+
 TWO_PI = 2.0 * math.pi
 #: names of the derivative orders 0..3, for messages
 ORDER_NAMES = ("displacement", "velocity", "acceleration", "jerk")

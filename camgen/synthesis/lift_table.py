@@ -37,6 +37,11 @@ from camgen.errors import ParameterError
 from camgen.numerics.interpolate import periodic_spline
 from camgen.synthesis.laws import SMOOTH, Peaks
 
+__all__ = [
+    "DEGREES", "LiftTable", "MAX_BYTES", "MAX_ROWS", "MIN_ROWS", "parse_lift_table", "parse_two_column_table",
+    "read_lift_table", "read_two_column_table",
+]
+
 TWO_PI = 2.0 * math.pi
 #: default largest number of rows
 MAX_ROWS = 100_000

@@ -32,6 +32,12 @@ from camgen.synthesis.followers import (
     kinematics,
 )
 
+__all__ = [
+    "BaseRadiusAdvice", "DEFAULT_SIZE_TOL", "DesignLimits", "DesignMeasures", "FaceWidth", "MAX_BASE_RADIUS",
+    "SizingResult", "base_radius_advice", "face_width", "measure", "min_base_radius", "min_base_radius_and_offset",
+    "require_design",
+]
+
 #: Default resolution of the base-radius (and offset) search, mm.
 DEFAULT_SIZE_TOL = 1e-4
 

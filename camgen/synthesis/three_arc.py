@@ -40,6 +40,11 @@ from camgen.contour import Arc, Contour
 from camgen.errors import ParameterError, require_positive
 from camgen.geometry import wrap_pi
 
+__all__ = [
+    "YokeMotion", "breadth", "contact_from_normal", "normal_angle", "region_bounds", "sign", "theta_x",
+    "three_arc_cam", "validate_three_arc", "yoke_law", "yoke_motion",
+]
+
 
 def validate_three_arc(a: float, b: float, c: float) -> tuple[float, float, float]:
     """Check ``(a, b, c)`` (mm) against the domain in the module docstring; return them as floats.
