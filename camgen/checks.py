@@ -20,10 +20,19 @@ from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 import numpy as np
+import numpy.typing as npt
 
 from camgen.contour import Contour
 from camgen.errors import GeometryError, ParameterError, require_finite
 from camgen.geometry import wrap_pi
+
+__all__ = [
+    "COMPARISONS", "CamEvaluation", "CheckResult", "FOLLOWER_KINDS", "Follower", "MAX_CHECK_SAMPLES", "MOTIONS",
+    "Motion", "NO_CONCAVE_PART", "RollerKinematics", "breadth_error", "constant_breadth_check", "continuity_check",
+    "convexity_check", "evaluate_cam", "face_length_check", "flat_motion", "information", "limited",
+    "machinability_check", "machinability_from_radii", "motion_check", "pitch_curve", "pressure_angle_check",
+    "radius_of_curvature", "roller_kinematics", "roller_motion", "run_ends", "undercut_check", "where_degrees",
+]
 
 _ORDER = ["none", "G0", "G1", "G2"]
 FOLLOWER_KINDS = ("yoke", "flat", "roller")
@@ -148,7 +157,7 @@ class Follower:
         return math.radians(30.0 if (self.motion == "translating" and self.kind != "yoke") else 45.0)
 
 
-def where_degrees(angles: np.ndarray) -> list[float]:
+def where_degrees(angles: npt.ArrayLike) -> list[float]:
     return [round(float(a), 6) for a in np.mod(np.degrees(np.atleast_1d(angles)), 360.0)]
 
 
@@ -583,14 +592,14 @@ def evaluate_cam(contour: Contour | None, follower: Follower, tool_radius: float
         checks.append(motion_check(motion, rpm))
     if tool_radius is not None:  # the radii sampled above (machinability_check would sample them again)
         checks.extend(machinability_from_radii(rho, rho_angle, tool_radius, tool_is_limit))
-    return CamEvaluation(checks, follower, motion, pressure, (rho_angle, rho), pitch)
+    return CamEvaluation(tuple(checks), follower, motion, pressure, (rho_angle, rho), pitch)
 
 
 def _evaluate_pitch_only(follower: Follower, pitch: Contour | None, rpm: float | None) -> CamEvaluation:
     """The checks of a roller cam whose profile cannot be made: undercut, pressure angle and
     motion from the pitch curve; the curvature plot shows the pitch curve against the roller."""
     if pitch is None or follower.kind != "roller":
-        return CamEvaluation([], follower, None, None, None, pitch)
+        return CamEvaluation((), follower, None, None, None, pitch)
     checks = [undercut_check(pitch, follower)]
     kin = roller_kinematics(pitch, follower)
     what = f"{follower.motion} roller follower" + (f" (offset {follower.offset:g} mm)" if follower.offset else "")
@@ -598,5 +607,5 @@ def _evaluate_pitch_only(follower: Follower, pitch: Contour | None, rpm: float |
     motion = roller_motion(kin, unit="mm" if follower.motion == "translating" else "rad")
     checks.append(motion_check(motion, rpm))
     rho, angle = radius_of_curvature(pitch)
-    return CamEvaluation(checks, follower, motion, (kin.cam_angle, kin.pressure_angle), (angle, rho), pitch,
+    return CamEvaluation(tuple(checks), follower, motion, (kin.cam_angle, kin.pressure_angle), (angle, rho), pitch,
                          curvature_label="radius of curvature of the pitch curve (mm)", curvature_limit=follower.roller_radius)

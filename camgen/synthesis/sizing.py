@@ -32,6 +32,12 @@ from camgen.synthesis.followers import (
     kinematics,
 )
 
+__all__ = [
+    "BaseRadiusAdvice", "DEFAULT_SIZE_TOL", "DesignLimits", "DesignMeasures", "FaceWidth", "MAX_BASE_RADIUS",
+    "SizingResult", "base_radius_advice", "face_width", "measure", "min_base_radius", "min_base_radius_and_offset",
+    "require_design",
+]
+
 #: Default resolution of the base-radius (and offset) search, mm.
 DEFAULT_SIZE_TOL = 1e-4
 
@@ -170,7 +176,7 @@ def _base_range(follower: FollowerSpec, offset: float) -> tuple[float, float | N
     if follower.motion == "translating":
         lo = max(0.0, abs(offset) - r) if follower.kind != "flat" else 0.0
         return lo, None
-    d = math.hypot(*follower.pivot)  # type: ignore[misc]
+    d = math.hypot(*follower.pivot_xy)
     if follower.kind == "flat":
         f = follower.face_offset
         return max(0.0, -d - f), d - f
@@ -266,7 +272,8 @@ def min_base_radius(follower: FollowerSpec, law: Displacement, limits: DesignLim
     law = law if isinstance(law, _SampledLaw) else _SampledLaw(law)
     low, _, _ = _search(follower, law, limits, tol, scan, upper=False)
     spec = _with_base(follower, low)
-    return SizingResult(float(low), follower.offset, spec, measure(spec, law, limits.check_step), tol)  # type: ignore[arg-type]
+    assert spec is not None  # the search returns a base radius that passed: its spec was valid
+    return SizingResult(float(low), follower.offset, spec, measure(spec, law, limits.check_step), tol)
 
 
 @dataclass(frozen=True)
@@ -328,7 +335,8 @@ def base_radius_advice(follower: FollowerSpec, law: Displacement, limits: Design
     step = None
     if high is not None:
         lo, hi = _base_range(follower, follower.offset)
-        step = (hi - lo) / (scan + 1)  # type: ignore[operator]
+        assert hi is not None  # an upper end is sought only for oscillating followers, whose range is bounded
+        step = (hi - lo) / (scan + 1)
     return BaseRadiusAdvice(float(low), None if high is None else float(high), tried, digits, step)
 
 
@@ -391,7 +399,8 @@ def min_base_radius_and_offset(follower: FollowerSpec, law: Displacement, limits
     if not math.isfinite(base):
         raise GeometryError("no offset in the range meets the limits: widen offset_range or relax the limits")
     spec = _with_base(follower, base, e)
-    return SizingResult(float(base), float(e), spec, measure(spec, law, limits.check_step), tol)  # type: ignore[arg-type]
+    assert spec is not None  # base and e came from the candidates that passed: a valid spec
+    return SizingResult(float(base), float(e), spec, measure(spec, law, limits.check_step), tol)
 
 
 def require_design(follower: FollowerSpec, law: Displacement, limits: DesignLimits = DesignLimits()) -> DesignMeasures:
@@ -437,6 +446,7 @@ def face_width(follower: FollowerSpec, law: Displacement, check_step: float = DE
         raise ParameterError("follower", follower.kind, "a flat follower")
     theta = check_grid(law, check_step)
     xi = kinematics(follower, law, theta).face_position
+    assert xi is not None  # a flat face's Kinematics carry the contact's position on the face
     deg = np.degrees(theta)
     i, j = int(np.argmin(xi)), int(np.argmax(xi))
     if follower.motion == "translating":
