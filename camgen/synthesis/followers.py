@@ -101,7 +101,7 @@ from camgen.errors import (
 
 __all__ = [
     "BOUND_SPACING", "BREAK_MERGE", "CamEnvelope", "CheckGrid", "DEFAULT_CHECK_STEP", "DEFAULT_FIT_TOL",
-    "Displacement", "FollowerSpec", "KINDS", "Kinematics", "MOTIONS", "ROTATIONS", "SCREEN_CLEARANCE",
+    "Displacement", "FollowerSpec", "Kinematics", "MOTIONS", "ROTATIONS", "SCREEN_CLEARANCE",
     "SCREEN_UNDERCUT", "cam_envelope", "check_grid", "kinematics", "profile_failures",
 ]
 
@@ -111,7 +111,6 @@ _LawValues: TypeAlias = "tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]"
 #: A curve in the cam frame and its first two derivatives by the cam angle, ``(Q, dQ, d2Q)``, complex (n,) each.
 _Curve: TypeAlias = "tuple[np.ndarray, np.ndarray, np.ndarray]"
 
-KINDS = ("roller", "flat", "knife")
 MOTIONS = ("translating", "oscillating")
 ROTATIONS = ("ccw", "cw")
 
@@ -153,7 +152,9 @@ class FollowerSpec:
 
     Attributes
     ----------
-    kind : ``"roller"``, ``"flat"`` or ``"knife"``.
+    kind : a registered follower with a point or face contact (:mod:`camgen.followers`:
+        ``"roller"``, ``"knife"``, ``"flat"``, ...); ``contact`` is its contact and
+        ``has_radius`` whether its point contact has a radius (a roller) or not (a knife edge).
     base_radius : float
         ``Rb`` (mm, > 0): the cam radius where the follower rests at zero lift or swing.
     motion : ``"translating"`` or ``"oscillating"``.
@@ -186,17 +187,24 @@ class FollowerSpec:
     face_offset: float = 0.0
     lift_turn: str = "ccw"
     rotation: str = "ccw"
+    contact: str = field(init=False, repr=False, compare=False)
+    has_radius: bool = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        _choice("kind", self.kind, KINDS)
+        from camgen.followers import follower_names, get_follower
+
+        _choice("kind", self.kind, follower_names(("point", "face")))
+        model = get_follower(self.kind)
+        object.__setattr__(self, "contact", model.contact)
+        object.__setattr__(self, "has_radius", model.has_radius)
         _choice("motion", self.motion, MOTIONS)
         _choice("rotation", self.rotation, ROTATIONS)
         _choice("lift_turn", self.lift_turn, ROTATIONS)
         base = require_positive("base_radius", self.base_radius)
         r = require_finite("roller_radius", self.roller_radius)
-        if self.kind == "roller" and r <= 0:
-            raise ParameterError("roller_radius", self.roller_radius, "roller_radius > 0 mm for a roller follower")
-        if self.kind != "roller" and r != 0:
+        if self.has_radius and r <= 0:
+            raise ParameterError("roller_radius", self.roller_radius, f"roller_radius > 0 mm for a {self.kind} follower")
+        if not self.has_radius and r != 0:
             raise ParameterError("roller_radius", self.roller_radius, f"0 for a {self.kind} follower")
         offset = require_finite("offset", self.offset)
         arm = require_finite("arm_length", self.arm_length)
@@ -214,7 +222,7 @@ class FollowerSpec:
                 raise ParameterError("arm_length", arm, "0 for a translating follower")
             if face != 0:
                 raise ParameterError("face_offset", face, "0 for a translating follower (use offset)")
-            if self.kind != "flat" and abs(offset) >= prime:
+            if self.contact == "point" and abs(offset) >= prime:
                 raise ParameterError("offset", offset, f"|offset| < prime radius = {prime:g} mm (base_radius + roller_radius)")
             return
         if offset != 0:
@@ -224,7 +232,7 @@ class FollowerSpec:
         pivot = (require_finite("pivot", self.pivot[0]), require_finite("pivot", self.pivot[1]))
         object.__setattr__(self, "pivot", pivot)
         d = math.hypot(*pivot)
-        if self.kind == "flat":
+        if self.contact == "face":
             if arm != 0:
                 raise ParameterError("arm_length", arm, "0 for an oscillating flat face (its face_offset places the face)")
             if not abs(base + face) < d:
@@ -244,6 +252,12 @@ class FollowerSpec:
                                  f"the arm must reach the prime circle of radius {prime:g} mm from the pivot at distance {d:g} mm")
 
     # -- derived constants ---------------------------------------------------------------------
+    @property
+    def edge(self) -> bool:
+        """A point contact of radius 0 (a knife edge): the profile is the pitch curve itself, and
+        a corner of it (a velocity jump of the law) can be cut."""
+        return self.contact == "point" and not self.has_radius
+
     @property
     def sigma(self) -> float:
         """+1 for a ccw cam, -1 for a cw cam."""
@@ -599,7 +613,7 @@ def _roller(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d
 
 def _kinematics_from(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray,
                      back: np.ndarray | None = None) -> Kinematics:
-    if f.kind == "flat":
+    if f.contact == "face":
         return _flat(f, theta, s, ds, d2s, d3s, True, back)
     return _roller(f, theta, s, ds, d2s, d3s, True, back=back)
 
@@ -621,7 +635,7 @@ def kinematics(follower: FollowerSpec, law: Displacement, theta: object) -> Kine
 # --------------------------------------------------------------------------------------------
 def profile_failures(f: FollowerSpec, k: Kinematics) -> list[tuple[str, np.ndarray]]:
     """(reason, mask) pairs of the conditions that make the profile impossible."""
-    if f.kind == "flat":
+    if f.contact == "face":
         assert k.normal_turn_rate is not None  # a flat face's Kinematics carry its normal's turn rate
         return _flat_failures(f, k.s, k.normal_turn_rate, k.profile_radius)
     return _pitch_failures(f, k.s, k.ds, k.d2s)
@@ -662,7 +676,7 @@ def _pitch_failures(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndar
         speed2 = vx * vx
         speed2 += vy * vy
         out.append((_CUSP_REASON, ~(speed2 > (1e-12 * scale) ** 2)))
-        if f.kind == "roller":
+        if f.has_radius:
             cross = vx * ay
             cross -= vy * ax
             cross *= -f.sigma * f.roller_radius
@@ -706,7 +720,7 @@ def _pitch_terms(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray
     (_, cy), (vx, vy), (ax, ay), (bx, by), _, _ = _centre(f, s, ds, d2s, d3s)
     _, speed2, dot, kappa, kappa1 = _pitch_curvature(f.sigma, vx, vy, ax, ay, bx, by)
     roller = None
-    if f.kind == "roller":
+    if f.has_radius:
         roller = f.roller_radius * kappa, f.roller_radius * kappa1
     return _PitchTerms(cy, ds, vx, vy, ax, ay, speed2, dot, roller)
 
@@ -1136,7 +1150,7 @@ def _failure_message(f: FollowerSpec, failures: list[dict]) -> str:
         parts.append(f"{item['reason']} at cam angles {ranges} deg")
     return (f"{f.kind} follower ({f.motion}, base_radius {f.base_radius:g} mm) cannot ride this law: " + "; ".join(parts)
             + "; increase base_radius (camgen.synthesis.sizing.min_base_radius gives the smallest that works)"
-            + (" or reduce the roller radius" if f.kind == "roller" else ""))
+            + (" or reduce the roller radius" if f.has_radius else ""))
 
 
 def _fit_failure(fit_tol: float, reached: float, pieces: int) -> FitToleranceError:
@@ -1174,7 +1188,7 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
     fit_tol = require_positive("fit_tol", fit_tol)
     f = follower
     brk, cont = _breaks_of(law)
-    if f.kind != "knife" and np.any(cont <= 0):
+    if not f.edge and np.any(cont <= 0):
         where = ", ".join(f"{math.degrees(b):.3f}" for b in brk[cont <= 0])
         raise GeometryError(f"the law's velocity jumps at cam angles {where} deg: a {f.kind} follower cannot follow "
                             "a corner of the pitch curve exactly; use laws with continuous velocity there (or a knife follower)")
@@ -1185,7 +1199,7 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
     n_coarse, added_coarse = _grid_layout(law, BOUND_SPACING)
     coarse = _law_on_grid(law, n_coarse, added_coarse)
     flat_data = None
-    terms = None if f.kind == "flat" else _pitch_terms(f, *coarse)
+    terms = None if f.contact == "face" else _pitch_terms(f, *coarse)
     if terms is None:  # a flat face: its checks need most of its kinematics: made now, kept for `data`
         flat_data = _kinematics_from(f, grid.theta, *grid.values, grid.sorted(_grid_to_cam(f, n_uniform, added)))
         masks = profile_failures(f, flat_data)
@@ -1205,11 +1219,11 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
     sigma = f.sigma
     pitch = profile = None
     error = float("nan")
-    pitch_ok = f.kind != "flat" and not any(item["reason"].startswith(("cusp", "the follower passes")) for item in failures)
+    pitch_ok = f.contact == "point" and not any(item["reason"].startswith(("cusp", "the follower passes")) for item in failures)
     # the curves to represent: roller: pitch and profile (pitch only when the profile cannot be made);
     # knife: its pitch curve is its profile; flat: the profile
     want = [] if failures else ["profile"]
-    if pitch_ok and f.kind == "roller":
+    if pitch_ok and f.has_radius:
         want.insert(0, "pitch")
 
     def exact(th: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -1217,7 +1231,7 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
         from one evaluation of the law: (Q, dQ, d2Q), complex (n, len(want)) each (the curves side by side)."""
         s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(th))
         block = np.empty((3, th.size, len(want)), dtype=complex)
-        if f.kind == "flat":
+        if f.contact == "face":
             block[:, :, 0] = _flat(f, th, s, ds, d2s, d3s, False)[0]
         else:
             _roller(f, th, s, ds, d2s, d3s, False, tuple(want), out=block)
@@ -1243,7 +1257,7 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
             pitch, error = made["pitch"]
         if "profile" in made:
             profile, error = made["profile"]
-            if f.kind == "knife":
+            if f.edge:
                 pitch = profile
     envelope = CamEnvelope(f, profile, pitch, grid, failures, fit_tol, error)
     if flat_data is not None:
