@@ -7,11 +7,11 @@ placement that carry that contact, with its checks, sizing, dynamics and drawing
 """
 from __future__ import annotations
 
-import importlib
-
 from camgen.followers.base import CONTACTS, Contact, FollowerKind
+from camgen.registry import Registry
 
-__all__ = ["CONTACTS", "FOLLOWER_MODULES", "Contact", "FollowerKind", "follower_names", "get_follower", "register", "unregister"]
+__all__ = ["CONTACTS", "FOLLOWER_MODULES", "Contact", "FollowerKind", "follower_names", "get_follower", "known", "register",
+           "unregister"]
 
 #: follower name (the ``follower`` value in scene files) -> module defining ``FOLLOWER``
 FOLLOWER_MODULES: dict[str, str] = {
@@ -21,28 +21,29 @@ FOLLOWER_MODULES: dict[str, str] = {
     "yoke": "camgen.followers.yoke",
 }
 
-_EXTRA: dict[str, FollowerKind] = {}
+_REGISTRY: Registry[FollowerKind] = Registry(FOLLOWER_MODULES, "FOLLOWER")
 
 
 def register(follower: FollowerKind) -> None:
     """Register a follower defined outside this package (plug-ins, tests)."""
-    _EXTRA[follower.name] = follower
+    _REGISTRY.register(follower)
 
 
 def unregister(name: str) -> None:
-    _EXTRA.pop(name, None)
+    _REGISTRY.unregister(name)
+
+
+def known(name: str) -> bool:
+    """Whether ``name`` is a registered follower."""
+    return _REGISTRY.known(name)
 
 
 def follower_names(contacts: tuple[Contact, ...] = CONTACTS) -> tuple[str, ...]:
     """The registered followers whose contact is one of ``contacts``, in registry order (then
     the registered ones by name)."""
-    names = list(FOLLOWER_MODULES) + sorted(set(_EXTRA) - set(FOLLOWER_MODULES))
-    return tuple(n for n in names if get_follower(n).contact in contacts)
+    return tuple(n for n in _REGISTRY.names() if _REGISTRY.get(n).contact in contacts)
 
 
 def get_follower(name: str) -> FollowerKind:
     """The registered follower ``name`` (KeyError if none)."""
-    if name in _EXTRA:
-        return _EXTRA[name]
-    follower: FollowerKind = importlib.import_module(FOLLOWER_MODULES[name]).FOLLOWER
-    return follower
+    return _REGISTRY.get(name)

@@ -6,9 +6,8 @@ Adding a form: write ``camgen/forms/<name>.py`` exposing ``FORM`` (a
 """
 from __future__ import annotations
 
-import importlib
-
 from camgen.forms.base import CamForm
+from camgen.registry import Registry
 
 __all__ = ["FORM_MODULES", "CamForm", "form_names", "get_form", "register", "unregister"]
 
@@ -18,25 +17,22 @@ FORM_MODULES: dict[str, str] = {
     "constant_breadth": "camgen.forms.constant_breadth",
 }
 
-_EXTRA: dict[str, CamForm] = {}
+_REGISTRY: Registry[CamForm] = Registry(FORM_MODULES, "FORM")
 
 
 def register(form: CamForm) -> None:
     """Register a form defined outside this package (plug-ins, tests)."""
-    _EXTRA[form.name] = form
+    _REGISTRY.register(form)
 
 
 def unregister(name: str) -> None:
-    _EXTRA.pop(name, None)
+    _REGISTRY.unregister(name)
 
 
 def form_names() -> list[str]:
-    return sorted(set(FORM_MODULES) | set(_EXTRA))
+    return sorted(_REGISTRY.names())
 
 
 def get_form(name: str) -> CamForm:
     """The registered form ``name`` (KeyError if none)."""
-    if name in _EXTRA:
-        return _EXTRA[name]
-    form: CamForm = importlib.import_module(FORM_MODULES[name]).FORM
-    return form
+    return _REGISTRY.get(name)

@@ -7,9 +7,8 @@ when a scene names them (or when the key reference lists them all).
 """
 from __future__ import annotations
 
-import importlib
-
 from camgen.motions.base import LawReading, Motion
+from camgen.registry import Registry
 
 __all__ = ["MOTION_MODULES", "LawReading", "Motion", "get_motion", "motion_names", "register", "unregister"]
 
@@ -21,25 +20,22 @@ MOTION_MODULES: dict[str, str] = {
     "lift_table": "camgen.motions.lift_table",
 }
 
-_EXTRA: dict[str, Motion] = {}
+_REGISTRY: Registry[Motion] = Registry(MOTION_MODULES, "MOTION")
 
 
 def register(motion: Motion) -> None:
     """Register a motion defined outside this package (plug-ins, tests)."""
-    _EXTRA[motion.name] = motion
+    _REGISTRY.register(motion)
 
 
 def unregister(name: str) -> None:
-    _EXTRA.pop(name, None)
+    _REGISTRY.unregister(name)
 
 
 def motion_names() -> list[str]:
-    return sorted(set(MOTION_MODULES) | set(_EXTRA))
+    return sorted(_REGISTRY.names())
 
 
 def get_motion(name: str) -> Motion:
     """The registered motion ``name`` (KeyError if none)."""
-    if name in _EXTRA:
-        return _EXTRA[name]
-    motion: Motion = importlib.import_module(MOTION_MODULES[name]).MOTION
-    return motion
+    return _REGISTRY.get(name)

@@ -191,10 +191,12 @@ class FollowerSpec:
     has_radius: bool = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        from camgen.followers import follower_names, get_follower
+        from camgen.followers import follower_names, get_follower, known
 
-        _choice("kind", self.kind, follower_names(("point", "face")))
-        model = get_follower(self.kind)
+        model = get_follower(self.kind) if known(self.kind) else None
+        if model is None or model.contact not in ("point", "face"):
+            _choice("kind", self.kind, follower_names(("point", "face")))
+        assert model is not None
         object.__setattr__(self, "contact", model.contact)
         object.__setattr__(self, "has_radius", model.has_radius)
         _choice("motion", self.motion, MOTIONS)
