@@ -60,12 +60,6 @@ def _overlay(cam: "CamResult", job: "JobResult") -> "CamResult":
     return cam
 
 
-def tool_limit(scene: "Scene", plan: Plan) -> tuple[float, bool]:
-    """The cutting tool's radius (mm) and whether it is a limit: where the scene names a tool or
-    the run machines the cam (``ngc`` in the scene's formats or in ``--only``)."""
-    return scene.machining.tool_radius, scene.machining_given or "ngc" in scene.output.formats or "ngc" in plan.formats
-
-
 def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> "RunResult":
     """Synthesis, design checks, dynamics, mechanism jobs and the planned stages of ``scene``
     (no files): each stage's result a frozen value (:mod:`camgen.results`)."""
@@ -75,16 +69,14 @@ def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> "RunResu
     from camgen.kinds.base import with_cam
     from camgen.results import CamResult, RunResult, frozen_mapping
 
-    tool_radius, tool_is_limit = tool_limit(scene, plan)
+    tool_radius = scene.machining.tool_radius  # a limit where the cam's checks say so (the scene reader decided)
     cams: list[CamResult] = []
     for spec in scene.cams:
-        if tool_is_limit:  # a kind that sizes its cam holds the concave radii to the named tool
-            spec = dataclasses.replace(spec, checks=dataclasses.replace(spec.checks, tool_radius=tool_radius))
         where = f"cams.{spec.name}"
         progress(f"building cam '{spec.name}' ({spec.kind})")
         built = get_kind(spec.kind).build(spec, plan.stages)
         progress(f"checking cam '{spec.name}'")
-        cam = CamResult(spec, built, with_cam(where, lambda: evaluate(built, spec, tool_radius, tool_is_limit)))
+        cam = CamResult(spec, built, with_cam(where, lambda: evaluate(built, spec, tool_radius, spec.checks.tool_is_limit)))
         if spec.dynamics is not None:  # forces, jump, torque, contact stress: checks like the geometric ones
             from camgen.kinds.dynamics import run_dynamics
 

@@ -1,11 +1,11 @@
 """Planning a run, once, for `camgen run` and `camgen check` alike: which outputs, which stages,
-and every refusal that does not need the cams built (the follower table's speed, the G-code's
-settings against the chord tolerance, file names that collide), then the size caps of the files
-that flatten a profile (checked per cam once it is built, before anything is rendered).
+and every refusal that does not need the cams built (the follower table's speed, file names that
+collide), then the size caps of the files that flatten a profile (checked per cam once it is
+built, before anything is rendered).  The specs it plans from are final: the scene reader
+validated them, the G-code's settings against the chord tolerance included (:mod:`camgen.scene`).
 """
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Sequence
@@ -18,7 +18,7 @@ if TYPE_CHECKING:
     from camgen.contour import Contour
     from camgen.scene import Scene
 
-__all__ = ["MAX_FLAT_POINTS", "MAX_PASSES", "Plan", "check_flat_size", "claim_file", "plan_run"]
+__all__ = ["MAX_FLAT_POINTS", "Plan", "check_flat_size", "claim_file", "plan_run"]
 
 
 @dataclass(frozen=True)
@@ -55,8 +55,8 @@ def plan_run(scene: "Scene", only: Sequence[str] | None = None) -> Plan:
             if spec.checks.rpm is None:
                 raise ParameterError(f"cams.{spec.name}.rpm", None, "a cam speed in rev/min (> 0)",
                                      'the "follower" output (<cam>_follower.csv) tabulates the follower motion at the cam speed')
-    if "ngc" in formats:
-        _check_machining(scene)
+    # the scene reader checked the machining settings for a run that writes G-code (the specs are final)
+    assert "ngc" not in formats or scene.machined, "a run writing G-code needs a scene read with its --only formats (load_scene(only=...))"
     planned: dict[str, str] = {}
     for name in formats:
         output = OUTPUTS[name]
@@ -91,52 +91,6 @@ def claim_file(files: "dict[str, str]", name: str, owner: str) -> None:
             raise SceneError(f"{other} and {owner} would both write '{name}' ({same}): rename one of the cams "
                              "(each output of a run needs a file of its own)")
     files[name] = owner
-
-
-def _check_machining(scene: "Scene") -> None:
-    """The G-code settings against the run's chord tolerance, before any cam is built: the
-    printed decimals must resolve a share of ``output.chord_tol_mm``
-    (:class:`camgen.export.gcode.MachiningSpec`); the error names the key to change."""
-    from camgen.outputs import machining_keys
-
-    tol = scene.output.chord_tol
-    try:
-        dataclasses.replace(scene.machining, chord_tol=tol)
-    except ParameterError as exc:
-        try:
-            dataclasses.replace(scene.machining, chord_tol=tol, decimals=6)
-        except ParameterError:  # not even 6 decimals resolve this tolerance
-            from camgen.export.gcode import ROUNDING_SHARE, rounding_error
-
-            raise ParameterError("output.chord_tol_mm", tol, f'>= {rounding_error(6) / ROUNDING_SHARE:.2g} mm with "ngc" in '
-                                 "output.formats and machining.decimals = 6 (G-code is printed with at most 6 decimals)", exc.why) from None
-        key = {k.field: k.name for k in machining_keys()}.get(exc.name, exc.name)
-        raise ParameterError(f"machining.{key}", exc.value, exc.valid, exc.why) from None
-    step = scene.machining.step_down
-    for spec in scene.cams:
-        depth = spec.body.thickness + scene.machining.breakthrough
-        if _passes(depth, step) > MAX_PASSES:
-            from camgen.errors import ceil_significant
-
-            least = ceil_significant(depth / MAX_PASSES, 3)
-            while _passes(depth, least) > MAX_PASSES:  # the quoted least is tried: depth / least may round above
-                least = float(f"{least + 10.0 ** (math.floor(math.log10(least)) - 2):.3g}")  # one unit of the 3rd digit up
-            passes = _passes(depth, step)
-            raise ParameterError("machining.step_down_mm", step, f">= {least:.3g} mm for cam '{spec.name}'",
-                                 f"its {depth:g} mm (thickness + breakthrough) would take "
-                                 f"{passes if passes < 1e9 else 'more than 10^9'} passes, more than "
-                                 f"the {MAX_PASSES} a program may hold")
-
-
-def _passes(depth: float, step: float) -> float:
-    """Depth passes of a G-code program, as :func:`camgen.export.gcode.gcode_program` counts them
-    (inf for a step so small that the count overflows)."""
-    ratio = depth / step
-    return max(1, math.ceil(ratio - 1e-9)) if math.isfinite(ratio) else math.inf
-
-
-#: Most depth passes of a G-code program (thickness + breakthrough over step_down_mm).
-MAX_PASSES = 1000
 
 
 #: Largest number of vertices of one flattened contour in the point list and the surface meshes

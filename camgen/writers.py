@@ -2,7 +2,6 @@
 settings in, the file content out.  Each imports its export module when called."""
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -78,17 +77,18 @@ def step(cam: "CamResult", run: RunSettings, fmt: str) -> bytes:
 
 
 def gcode(cam: "CamResult", run: RunSettings, fmt: str) -> str:
+    """The cam's G-code: the machining spec is final (the scene reader checked it against the
+    chord tolerance and the cam's depth); the cam's thickness is the stock's."""
     from camgen.export.gcode import gcode_program
+    from camgen.keynames import renamed
+    from camgen.outputs import machining_keys, output_keys
 
-    from camgen.kinds.base import rename_errors
-    from camgen.outputs import machining_keys
-
-    spec = dataclasses.replace(run.machining, thickness=cam.body.thickness, chord_tol=run.output.chord_tol)
+    assert run.machining.chord_tol == run.output.chord_tol, "the scene reader gives a G-code run its chord tolerance"
     try:  # a program too long: the error names the scene key to change
-        return rename_errors("machining", lambda: gcode_program(cam.contour, spec, cam.name, run.scene_name), machining_keys())
+        return renamed("machining", machining_keys(), lambda: gcode_program(cam.contour, run.machining, cam.name, run.scene_name,
+                                                                             cam.body.thickness), also=(("output", output_keys()),))
     except ParameterError as exc:
-        name = "output.chord_tol_mm" if exc.name == "machining.chord_tol" else exc.name
-        raise ParameterError(name, exc.value, f"{exc.valid} for cam '{cam.name}'", exc.why) from None
+        raise ParameterError(exc.name, exc.value, f"{exc.valid} for cam '{cam.name}'", exc.why) from None
 
 
 def html(report: "ReportInput") -> str:

@@ -11,7 +11,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from camgen.errors import ParameterError
+from camgen.keynames import renamed
 from camgen.kinds.base import CamKind, CamSpec, body_keys, check_keys, source_key
 from camgen.kinds.disk import build_disk, disk_spec, evaluate_disk, follower_keys, read_follower
 from camgen.kinds.dynamics import disk_kinematics, dynamics_keys
@@ -32,10 +32,8 @@ def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = 
     path = Path(parsed["lift_table_csv"])
     path = path if path.is_absolute() or base_dir is None else base_dir / path
     oscillating = follower.motion == "oscillating"
-    try:
-        table = read_lift_table(path, unit="rad" if oscillating else "mm", lift_scale=math.pi / 180.0 if oscillating else 1.0)
-    except ParameterError as exc:
-        raise ParameterError(f"{where}.{exc.name}", exc.value, exc.valid, exc.why) from None
+    table = renamed(where, KEYS, lambda: read_lift_table(path, unit="rad" if oscillating else "mm",
+                                                      lift_scale=math.pi / 180.0 if oscillating else 1.0))
     figures = {"lift_table_csv": parsed["lift_table_csv"], "table_rows": int(table.angles.size), "table_spline_degree": table.degree}
     return disk_spec(where, name, "lift_table", parsed, table, follower, sizing, figures, base_dir)
 
