@@ -38,7 +38,7 @@ class Plan:
 def plan_run(scene: "Scene", only: Sequence[str] | None = None) -> Plan:
     """The outputs and stages of a run of ``scene``; ``only`` restricts the outputs to those
     formats (whether or not the scene lists them; report.json is always written)."""
-    from camgen.outputs import OUTPUTS
+    from camgen.outputs import ALWAYS, MACHINING_FORMATS, OUTPUTS
 
     if only is None:
         wanted = list(scene.output.formats) + [f.name for f in OUTPUTS.values() if f.implied]
@@ -47,16 +47,18 @@ def plan_run(scene: "Scene", only: Sequence[str] | None = None) -> Plan:
         unknown = [f for f in only if f not in OUTPUTS]
         if unknown or not only:
             raise ParameterError("--only", ",".join(only), "a comma-separated list of formats from " + ", ".join(OUTPUTS))
-        wanted = list(only) + ["json"]
-        full = "json" in only
+        wanted = list(only) + list(ALWAYS)
+        full = all(f in only for f in ALWAYS)  # the report carries the analysis figures when asked for by name
     formats = tuple(f for f in OUTPUTS if f in wanted)
-    if "follower" in formats:  # the follower table is the motion at the cam's speed
-        for spec in scene.cams:
+    for name in formats:
+        why = OUTPUTS[name].needs_rpm
+        for spec in scene.cams if why else ():
             if spec.checks.rpm is None:
                 raise ParameterError(f"cams.{spec.name}.rpm", None, "a cam speed in rev/min (> 0)",
-                                     'the "follower" output (<cam>_follower.csv) tabulates the follower motion at the cam speed')
+                                     f'the "{name}" output ({OUTPUTS[name].files.replace("{cam}", "<cam>")}) {why}')
     # the scene reader checked the machining settings for a run that writes G-code (the specs are final)
-    assert "ngc" not in formats or scene.machined, "a run writing G-code needs a scene read with its --only formats (load_scene(only=...))"
+    assert scene.machined or not set(formats) & set(MACHINING_FORMATS), \
+        "a run writing G-code needs a scene read with its --only formats (load_scene(only=...))"
     planned: dict[str, str] = {}
     for name in formats:
         output = OUTPUTS[name]
@@ -67,7 +69,7 @@ def plan_run(scene: "Scene", only: Sequence[str] | None = None) -> Plan:
             claim_file(planned, output.files, f"the run ({name})")
     stages: set[str] = set()
     for name in formats:
-        if name != "json" or full:
+        if not OUTPUTS[name].always or full:
             stages |= OUTPUTS[name].stages
     return Plan(formats, frozenset(stages), full)
 
@@ -99,8 +101,6 @@ def claim_file(files: "dict[str, str]", name: str, owner: str) -> None:
 #: the DXF writes arcs and splines exactly or as few biarcs; the G-code has its own cap on the
 #: program's moves (:data:`camgen.export.gcode.MAX_PROGRAM_MOVES`).
 MAX_FLAT_POINTS = 500_000
-#: Formats that flatten the whole profile (besides the surface meshes).
-_FLAT_ALL = ("points",)
 
 
 def _flat_count(contour: "Contour", body: "BodySpec", chord_tol: float) -> int:
@@ -120,18 +120,20 @@ def check_flat_size(name: str, contour: "Contour", body: "BodySpec", formats: Se
     naming ``output.chord_tol_mm`` and the smallest tolerance, as printed, that fits; and FEA
     meshes beyond their caps (:func:`camgen.export.fea.check_caps`, which needs gmsh)."""
     from camgen.errors import ceil_significant
-    from camgen.outputs import FEA_FORMATS, MAX_CHORD_TOL, MESH_FORMATS
+    from camgen.outputs import FEA_FORMATS, MAX_CHORD_TOL, MESH_FORMATS, OUTPUTS
+
+    flattened = tuple(f.name for f in OUTPUTS.values() if f.flattens)  # the whole profile, besides the surface meshes
 
     if output is not None and any(f in FEA_FORMATS for f in formats):
         from camgen.export.fea import check_caps, require_gmsh
 
         require_gmsh(formats)
         check_caps(contour, body, formats, chord_tol, output.fea_element_size, output.fea_elements, name, MAX_CHORD_TOL)
-    flat = [f for f in formats if f in _FLAT_ALL or f in MESH_FORMATS]
+    flat = [f for f in formats if f in flattened or f in MESH_FORMATS]
     if not flat:
         return
     limit, holder = MAX_FLAT_POINTS, "a file"
-    surfaces = [f for f in flat if f not in _FLAT_ALL]
+    surfaces = [f for f in flat if f not in flattened]
     if surfaces:  # each surface mesh file at most solid.MAX_FILE_BYTES (bytes per outline vertex)
         from camgen.export.solid import vertex_limit
 

@@ -104,14 +104,15 @@ def _machining(table: object, output: "OutputSpec", machined: bool) -> "Machinin
     scene key (``machining.decimals``, ``output.chord_tol_mm``)."""
     from camgen.export.gcode import MachiningSpec
     from camgen.keynames import renamed
-    from camgen.outputs import machining_keys, output_keys
+    from camgen.outputs import MACHINING_FORMATS, machining_keys, output_keys
 
     keys = machining_keys()
     table = {} if table is None else table
     p = parse_table("machining", table, keys)
-    if "ngc" not in output.formats:  # the tool diameter also sets the machinability check's limit
+    if not set(MACHINING_FORMATS) & set(output.formats):  # the tool diameter also sets the machinability check's limit
+        gcode = " or ".join(f'"{name}"' for name in MACHINING_FORMATS)
         for key in sorted(set(table) - {"tool_diameter_mm"}, key=str):
-            raise ParameterError(f"machining.{key}", table[key], 'only with "ngc" in output.formats', "it changes only the G-code")
+            raise ParameterError(f"machining.{key}", table[key], f"only with {gcode} in output.formats", "it changes only the G-code")
     if not machined:  # no G-code: the spec gives the tool radius only
         return renamed("machining", keys, lambda: MachiningSpec(**p))
     return renamed("machining", keys, lambda: MachiningSpec(**p, chord_tol=output.chord_tol), also=(("output", output_keys()),))
@@ -195,7 +196,9 @@ def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", ba
     if not isinstance(cams_table, dict) or not cams_table:
         raise SceneError("scene: [cams] must hold at least one [cams.<name>] table")
     output = _output(data.get("output"))
-    machined = "ngc" in output.formats or (only is not None and "ngc" in only)
+    from camgen.outputs import MACHINING_FORMATS
+
+    machined = bool(set(MACHINING_FORMATS) & (set(output.formats) | set(only or ())))
     machining = _machining(data.get("machining"), output, machined)
     # the tool is a limit where the scene names it or the run machines the cam
     tool_limit = machining.tool_radius if "machining" in data or machined else None

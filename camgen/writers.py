@@ -91,6 +91,13 @@ def gcode(cam: "CamResult", run: RunSettings, fmt: str) -> str:
         raise ParameterError(exc.name, exc.value, f"{exc.valid} for cam '{cam.name}'", exc.why) from None
 
 
+def json_report(report: "ReportInput") -> str:
+    """report.json of the run's report input (:mod:`camgen.report_data`)."""
+    from camgen.report import report_dict, report_json
+
+    return report_json(report_dict(report))
+
+
 def html(report: "ReportInput") -> str:
     """report.html of the run's report input (:mod:`camgen.report_data`)."""
     from camgen.report.html import report_html
