@@ -86,7 +86,7 @@ def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> "RunResu
         cams.append(cam)
     for cam in cams:
         if cam.manufacturable and cam.contour is not None:
-            check_flat_size(cam.name, cam.contour, cam.body, plan.formats, scene.output.chord_tol, scene.output)
+            check_flat_size(cam.name, cam.contour, cam.body, plan.formats, scene.output)
     by_name = {c.name: c for c in cams}
     jobs = {}
     for mech in scene.mechanisms:

@@ -112,9 +112,8 @@ def _flat_count(contour: "Contour", body: "BodySpec", chord_tol: float) -> int:
     return count
 
 
-def check_flat_size(name: str, contour: "Contour", body: "BodySpec", formats: Sequence[str], chord_tol: float,
-                    output: "OutputSpec | None" = None) -> None:
-    """Refuse a chord tolerance that would flatten cam ``name`` into more than :data:`MAX_FLAT_POINTS`
+def check_flat_size(name: str, contour: "Contour", body: "BodySpec", formats: Sequence[str], output: "OutputSpec") -> None:
+    """Refuse a chord tolerance (``output.chord_tol``) that would flatten cam ``name`` into more than :data:`MAX_FLAT_POINTS`
     vertices in a planned point list or surface mesh, or a surface mesh file beyond 100 MB
     (:func:`camgen.export.solid.vertex_limit`; a 200 m cam at 1e-7 mm: 3 million vertices),
     naming ``output.chord_tol_mm`` and the smallest tolerance, as printed, that fits; and FEA
@@ -122,9 +121,9 @@ def check_flat_size(name: str, contour: "Contour", body: "BodySpec", formats: Se
     from camgen.errors import ceil_significant
     from camgen.outputs import FEA_FORMATS, MAX_CHORD_TOL, MESH_FORMATS, OUTPUTS
 
+    chord_tol = output.chord_tol
     flattened = tuple(f.name for f in OUTPUTS.values() if f.flattens)  # the whole profile, besides the surface meshes
-
-    if output is not None and any(f in FEA_FORMATS for f in formats):
+    if any(f in FEA_FORMATS for f in formats):
         from camgen.export.fea import check_caps, require_gmsh
 
         require_gmsh(formats)

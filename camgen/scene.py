@@ -86,6 +86,7 @@ def _output(table: object) -> "OutputSpec":
         if isinstance(table, dict) and key in table:
             raise ParameterError(f"output.{key}", table[key], f"no such key: it was replaced by {replacement}", "a removed key")
     p = parse_table("output", table, output_keys())
+    assert isinstance(table, dict)  # parse_table refuses anything else
     for key, needs in (("dxf_splines", "dxf"), ("dxf_construction", "dxf"), ("lift_step_deg", "lift")):
         if key in table and needs not in p["formats"]:
             raise ParameterError(f"output.{key}", table[key], f'only with "{needs}" in output.formats', "it changes only that file")
@@ -109,6 +110,7 @@ def _machining(table: object, output: "OutputSpec", machined: bool) -> "Machinin
     keys = machining_keys()
     table = {} if table is None else table
     p = parse_table("machining", table, keys)
+    assert isinstance(table, dict)  # parse_table refuses anything else
     if not set(MACHINING_FORMATS) & set(output.formats):  # the tool diameter also sets the machinability check's limit
         gcode = " or ".join(f'"{name}"' for name in MACHINING_FORMATS)
         for key in sorted(set(table) - {"tool_diameter_mm"}, key=str):

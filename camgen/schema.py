@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, Mapping, Sequence
+from typing import Any, Mapping, Sequence, TypeGuard
 
 from camgen.errors import ParameterError, SceneError, quoted
 
@@ -57,7 +57,7 @@ class ValueType:
         return value
 
 
-def _is_number(value: object) -> bool:
+def _is_number(value: object) -> TypeGuard[int | float]:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
@@ -406,9 +406,9 @@ def too_deep(value: object, limit: int, path: str = "scene") -> str | None:
     """The path (``cams.x.a_mm[0][0]``) of the first place where lists/tables in a decoded TOML
     value nest more than ``limit`` levels, or None (iterative: deep input cannot exhaust the
     interpreter's stack)."""
-    level = [(path, value)]
+    level: list[tuple[str, object]] = [(path, value)]
     for _ in range(limit + 1):
-        children = []
+        children: list[tuple[str, object]] = []
         for where, item in level:
             if isinstance(item, dict):
                 children.extend((f"{where}.{k}" if where != "scene" else str(k), v) for k, v in item.items())

@@ -254,6 +254,7 @@ def rotate(path: Contour, t: float) -> Contour:
         order = segs[i:] + segs[:i]
     else:
         head, tail = _split(segs[i], u)
+        assert tail is not None  # u < 1: the tail is never empty
         order = [tail] + segs[i + 1 :] + segs[:i] + ([head] if head is not None else [])
     return Contour(order, closure_tol=1e-5)
 
