@@ -146,6 +146,8 @@ def _placeholder_base(kind: str, motion: str, roller: float, offset: float, pivo
 
 def read_follower(where: str, parsed: Mapping[str, Any]) -> tuple["FollowerSpec", str]:
     """The follower of a disk cam table and its sizing method; errors name the scene keys."""
+    from camgen.keynames import scene_key
+
     kind, motion, sizing = parsed["follower"], parsed["follower_motion"], parsed["sizing"]
     roller = parsed["roller_radius"] if kind == "roller" else 0.0
     if sizing == "none" and "base_radius" not in parsed:
@@ -166,7 +168,8 @@ def read_follower(where: str, parsed: Mapping[str, Any]) -> tuple["FollowerSpec"
     if motion == "oscillating":
         for key in ("pivot_x", "pivot_y") + (("arm_length",) if kind != "flat" else ()):
             if key not in parsed:
-                raise ParameterError(f"{where}.{key}_mm", None, "a length in mm", f"required for an oscillating {kind} follower")
+                raise ParameterError(f"{where}.{scene_key(follower_keys(), key)}", None, "a length in mm",
+                                     f"required for an oscillating {kind} follower")
         pivot = (parsed["pivot_x"], parsed["pivot_y"])
         arm = parsed.get("arm_length", 0.0)
         face = parsed.get("face_offset", 0.0) if kind == "flat" else 0.0
