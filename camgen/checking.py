@@ -29,7 +29,7 @@ def evaluate(cam: "BuiltCam", spec: "CamSpec", tool_radius: float, tool_is_limit
     from camgen.kinds import get_kind
 
     follower = cam.follower
-    own = get_kind(spec.kind).evaluate
+    own = get_kind(spec.kind, spec.form).evaluate
     if own is not None:  # the kind's own (closed-form) checks
         evaluation = own(cam, spec, tool_radius, tool_is_limit)
     else:

@@ -18,7 +18,7 @@ import numpy as np
 if TYPE_CHECKING:
     from camgen.checks import CamEvaluation, CheckResult
     from camgen.jobs.base import JobResult
-    from camgen.kinds.base import BuiltCam
+    from camgen.results import CamResult
     from camgen.report.model import (
         CamBody,
         CamPlots,
@@ -39,7 +39,7 @@ __all__ = ["frozen_json", "report_input"]
 DRAWING_CHORD_MM = 0.01
 
 
-def report_input(scene: "Scene", cams: "Sequence[BuiltCam]", jobs: "Mapping[str, JobResult]", stages: Iterable[str],
+def report_input(scene: "Scene", cams: "Sequence[CamResult]", jobs: "Mapping[str, JobResult]", stages: Iterable[str],
                  files: Sequence[str], drawn: bool) -> "ReportInput":
     """The report of a run of ``scene`` that built ``cams``, ran ``jobs`` and the ``stages``, and
     writes ``files`` (report.json and report.html included); ``drawn``: with the curves
@@ -105,7 +105,7 @@ def _check(check: "CheckResult") -> "CheckRow":
                     check.blocks_manufacture)
 
 
-def _cam(cam: "BuiltCam", drawn: bool) -> "CamReport":
+def _cam(cam: "CamResult", drawn: bool) -> "CamReport":
     from camgen.kinds import get_kind
     from camgen.report.model import CamReport
 
@@ -121,7 +121,7 @@ def _cam(cam: "BuiltCam", drawn: bool) -> "CamReport":
         body=_body(cam) if drawn else None,
         plots=_plots(cam, ev) if drawn and ev is not None else None,
         dynamics=_dynamics(cam) if drawn else None,
-        report_section=get_kind(cam.kind).report_section,
+        report_section=get_kind(cam.kind, cam.spec.form).report_section,
         section=_section(cam.built.section) if drawn else None,
     )
 
@@ -132,7 +132,7 @@ def _section(data: object) -> "SectionData | None":
     return data if isinstance(data, SectionData) else None
 
 
-def _body(cam: "BuiltCam") -> "CamBody | None":
+def _body(cam: "CamResult") -> "CamBody | None":
     from camgen.report.model import CamBody
 
     body = cam.body
@@ -142,7 +142,7 @@ def _body(cam: "BuiltCam") -> "CamBody | None":
     return CamBody(body.thickness, body.bore_diameter, body.keyway_width, body.keyway_depth, body.keyway_angle, body.min_wall, corners)
 
 
-def _plots(cam: "BuiltCam", ev: "CamEvaluation") -> "CamPlots":
+def _plots(cam: "CamResult", ev: "CamEvaluation") -> "CamPlots":
     from camgen.report.model import CamPlots, FollowerFaces, RollerAtZero
 
     outline = cam.contour if cam.contour is not None else ev.pitch
@@ -196,7 +196,7 @@ def _motion(ev: "CamEvaluation", rpm: float | None) -> "MotionCurves | None":
                         tuple(m.jerk_impulses_deg), at_speed)
 
 
-def _dynamics(cam: "BuiltCam") -> "DynamicsCurves | None":
+def _dynamics(cam: "CamResult") -> "DynamicsCurves | None":
     from camgen.report.model import DynamicsCurves
 
     outcome = cam.dynamics
@@ -208,7 +208,7 @@ def _dynamics(cam: "BuiltCam") -> "DynamicsCurves | None":
         return _array(values) if values is not None else None
 
     return DynamicsCurves(
-        rpm=res.rpm, closure=res.train.closure, motion=res.train.motion, theta=_array(res.theta),
+        rpm=res.rpm, closure="form" if res.train.closure == "form" else "force", motion=res.train.motion, theta=_array(res.theta),
         contact_force=_array(res.contact_force), contact_force_2=optional(res.contact_force_2),
         pressure_angle=_array(res.pressure_angle), torque=_array(res.torque), power=_array(res.power),
         hertz_stress=optional(res.hertz_stress), hertz_stress_2=optional(res.hertz_stress_2),

@@ -16,6 +16,7 @@ integer beyond the float range included) raise :class:`~camgen.errors.SceneError
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 import tomllib
@@ -141,7 +142,7 @@ def _check_passes(machining: "MachiningSpec", cams: "tuple[CamSpec, ...]") -> No
 
 
 def _cam(name: str, table: object, base_dir: Path | None, tool_limit: float | None) -> "CamSpec":
-    from camgen.kinds import get_kind, kind_names
+    from camgen.kinds import form_key, get_kind, kind_names
 
     where = f"cams.{name}"
     check_name(where, name, "a cam's name is used in its file names")
@@ -149,10 +150,12 @@ def _cam(name: str, table: object, base_dir: Path | None, tool_limit: float | No
         raise SceneError(f"[{where}] must be a table, not {type_name(table)}")
     kinds = tuple(kind_names())
     kind_name = Choice(kinds).parse(f"{where}.kind", table.get("kind"))
-    kind = get_kind(kind_name)
+    form = form_key(kind_name)
+    form_name = form.type.parse(f"{where}.form", table.get("form", form.default))
+    kind = get_kind(kind_name, form_name)
     parsed = parse_table(where, {k: v for k, v in table.items() if k != "kind"}, kind.keys)
     parsed.tool_limit = tool_limit  # the kind's check settings hold it (read_checks)
-    return kind.read(where, name, parsed, base_dir)
+    return dataclasses.replace(kind.read(where, name, parsed, base_dir), form=form_name)
 
 
 def _mechanisms(table: object, cams: "tuple[CamSpec, ...]") -> tuple[MechanismSpec, ...]:

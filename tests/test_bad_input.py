@@ -745,7 +745,7 @@ def _edge_scene(where: str, kind: str | None, key: Key, value: float) -> tuple[d
             if kind == "motion_law":
                 cam["segments"] = _swing_segments(10.0)
         if oscillating and kind == "three_arc":  # pitch radii 35 .. 315 mm: the arm's circle meets them all
-            cam.update(follower="roller", roller_radius_mm=10.0, pivot_distance_mm=350.0, pivot_angle_deg=0.0, arm_length_mm=330.0)
+            cam.update(follower="roller", roller_radius_mm=10.0, pivot_x_mm=350.0, pivot_y_mm=0.0, arm_length_mm=330.0)
         if cam.get("follower") == "flat" and kind in ("motion_law", "lift_table"):
             cam.pop("roller_radius_mm", None)
         if cam.get("follower") in ("roller",) and kind == "three_arc":
@@ -791,13 +791,14 @@ def _edge_scene(where: str, kind: str | None, key: Key, value: float) -> tuple[d
                 cam[other] = 0.0
                 cam["arm_length_mm"] = reach
             _scale_swing(cam, kind, 80.0 / max(reach, 1e-6) if reach > 80 else 1.0)
-        if name in ("pivot_distance_mm", "arm_length_mm") and kind == "three_arc":
-            if value < 1:  # a cam of 1e-6 mm: pitch radii 2e-6 .. 2.002e-6 mm, the pivot 1e-6 or 2e-6 mm from the axis
-                cam.update(a_mm=1e-6, b_mm=1.998e-6, c_mm=1e-6, roller_radius_mm=1e-6, pivot_distance_mm=1e-6 if name == "pivot_distance_mm" else 2e-6,
-                           arm_length_mm=2e-6 if name == "pivot_distance_mm" else 1e-6, bore_diameter_mm=0.0, keyway_width_mm=0.0, keyway_depth_mm=0.0)
-            else:  # the pivot far away: its arm's circle passes 20 mm from the axis, inside the smallest pitch radius 35
-                cam.update(pivot_distance_mm=value if name == "pivot_distance_mm" else value - 20.0,
-                           arm_length_mm=value - 20.0 if name == "pivot_distance_mm" else value)
+        if name in ("pivot_x_mm", "pivot_y_mm", "arm_length_mm") and kind == "three_arc":
+            if value < 1 and name == "arm_length_mm":  # a cam of 1e-6 mm: pitch radii 2e-6 .. 2.002e-6 mm, the pivot 2e-6 mm from the axis
+                cam.update(a_mm=1e-6, b_mm=1.998e-6, c_mm=1e-6, roller_radius_mm=1e-6, pivot_x_mm=2e-6, pivot_y_mm=0.0,
+                           arm_length_mm=1e-6, bore_diameter_mm=0.0, keyway_width_mm=0.0, keyway_depth_mm=0.0)
+            elif name == "arm_length_mm":  # the pivot far away: its arm's circle passes 20 mm from the axis, inside the smallest pitch radius 35
+                cam.update(pivot_x_mm=value - 20.0, pivot_y_mm=0.0, arm_length_mm=value)
+            else:  # the pivot at the edge value on its axis, the other coordinate 0: the arm's circle passes 20 mm from the cam axis
+                cam.update({name: value, ("pivot_y_mm" if name == "pivot_x_mm" else "pivot_x_mm"): 0.0, "arm_length_mm": abs(value) - 20.0})
         if kind == "trajectory" and name in ("half_track_mm", "lever_mm", "wheelbase_mm", "period_mm"):
             # a gentle path (right-turn radius 1e6 / (A pi^2) for y = A sin(pi x / 1000)), not the paper's: no fits
             cam.pop("fit_tables", None), cam.pop("worm_teeth", None)

@@ -158,12 +158,13 @@ def test_version(capsys):
 
 
 def test_a_kind_registered_from_outside_runs_end_to_end(tmp_path):
-    """Adding a kind is one module and one registry line: a circular disc cam defined here."""
+    """Adding a motion that is a design of its own (it makes its plate cam itself) is one module and one
+    registry line: a circular disc cam defined here."""
     import math
 
     from camgen.checks import Follower
     from camgen.contour import Arc, Contour
-    from camgen.kinds import register, unregister
+    from camgen.motions import Motion, register, unregister
     from camgen.kinds.base import (
         BuiltCam,
         CamKind,
@@ -185,7 +186,7 @@ def test_a_kind_registered_from_outside_runs_end_to_end(tmp_path):
         return BuiltCam(spec.name, spec.kind, contour, {"radius_mm": spec.params}, spec.body, spec.follower)
 
     keys = (Key("radius_mm", Length(), "Radius of the disc.", ("profile",), default=REQUIRED),) + body_keys() + check_keys()
-    register(CamKind("disc", "a circular disc", keys, read, build))
+    register(Motion("disc", "a circular disc", realisations={"plate": CamKind("disc", "a circular disc", keys, read, build)}))
     try:
         scene = parse_scene({"output": {"formats": ["dxf", "points"]}, "cams": {"d": {"kind": "disc", "radius_mm": 30.0}}}, "t")
         result = execute(scene, plan_run(scene))

@@ -618,7 +618,7 @@ def test_polynomial_end_conditions_are_per_degree_of_cam_angle():
 def test_the_kinds_key_lists_are_the_librarys():
     """The kinds name the laws and the default tolerance without importing the library; they agree."""
     from camgen.kinds.disk import DEFAULT_FIT_TOL
-    from camgen.kinds.motion_law import LAW_NAMES
+    from camgen.motions.motion_law import LAW_NAMES
     from camgen.synthesis.followers import DEFAULT_FIT_TOL as LIBRARY_FIT_TOL
     from camgen.synthesis.laws import LAWS
 

@@ -82,10 +82,11 @@ def _specs():
     from camgen.body import BodySpec
     from camgen.checks import Follower
     from camgen.export import gcode
-    from camgen.kinds import disk, motion_law, three_arc, trajectory
+    from camgen.kinds import disk
     from camgen.kinds.base import body_keys
     from camgen.kinds.dynamics import dynamics_keys
     from camgen.mechanisms.tricycle import Tricycle
+    from camgen.motions import motion_law, three_arc, trajectory
     from camgen.outputs import machining_keys, output_keys
     from camgen.synthesis import followers, laws
     from camgen.synthesis import trajectory as tr

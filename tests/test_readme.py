@@ -106,7 +106,7 @@ def test_the_limits_quoted_are_the_codes(tree):
     from camgen.export.solid import MANIFOLD_SNAP
     from camgen.export.step import FOLD_TOL
     from camgen.kinds.base import MIN_RPM
-    from camgen.kinds.trajectory import MAX_SAMPLES
+    from camgen.motions.trajectory import MAX_SAMPLES
     from camgen.mechanisms.tricycle_fit import FIT_MAX_CONDITION
     from camgen.planning import MAX_FLAT_POINTS
     from camgen.synthesis import trajectory

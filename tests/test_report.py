@@ -203,7 +203,7 @@ def test_a_kinds_report_section_takes_the_typed_report_input():
 
     from camgen.checks import Follower
     from camgen.contour import Arc, Contour
-    from camgen.kinds import register, unregister
+    from camgen.motions import Motion, register, unregister
     from camgen.kinds.base import BuiltCam, CamKind, CamSpec, body_keys, check_keys, read_body, read_checks
     from camgen.pipeline import execute, plan_run
     from camgen.report.model import CamReport, CheckRow
@@ -220,7 +220,8 @@ def test_a_kinds_report_section_takes_the_typed_report_input():
         return BuiltCam(spec.name, spec.kind, contour, {"radius_mm": spec.params}, spec.body, spec.follower, section=section)
 
     keys = (Key("radius_mm", Length(), "Radius of the disc.", ("profile",), default=REQUIRED),) + body_keys() + check_keys()
-    register(CamKind("disc", "a circular disc", keys, read, build, report_section=f"{__name__}:disc_section"))
+    kind = CamKind("disc", "a circular disc", keys, read, build, report_section=f"{__name__}:disc_section")
+    register(Motion("disc", "a circular disc", realisations={"plate": kind}))  # a motion that is a design of its own
     try:
         DISC_CALLS.clear()
         scene = parse_scene({"output": {"formats": ["dxf"]}, "cams": {"d": {"kind": "disc", "radius_mm": 30.0}}}, "t")

@@ -9,7 +9,7 @@ CSV written, keyed by the file name::
 
 The settings are each table's own (:func:`camgen.export.points.points_metadata`,
 :func:`~camgen.export.points.lift_metadata`, :func:`camgen.export.motion.follower_metadata`,
-:func:`camgen.kinds.trajectory.ride_metadata`, :func:`camgen.jobs.horse_leg.leg_path_metadata`):
+:func:`camgen.motions.trajectory.ride_metadata`, :func:`camgen.jobs.horse_leg.leg_path_metadata`):
 the chord tolerance of a point list, the angle step and base radius of a lift table, the cam
 speed, follower motion and acceleration jumps of a follower table, the target path of a ride,
 the inclination and ground line of a leg path.
@@ -46,7 +46,7 @@ def _cam_tables(cam: "BuiltCam", scene: "Scene", written: set[str]) -> dict[str,
 
         add(OUTPUTS["follower"].files.format(cam=cam.name), lambda: follower_metadata(motion, cam.rpm))
     if cam.kind == "trajectory":
-        from camgen.kinds.trajectory import ride_metadata
+        from camgen.motions.trajectory import ride_metadata
 
         add(OUTPUTS["ride"].files.format(cam=cam.name), lambda: ride_metadata(str(cam.figures["trajectory"])))
     return out

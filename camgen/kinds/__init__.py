@@ -1,41 +1,79 @@
-"""The cam-kind registry: one module per kind, one line here.
+"""Cam types: a motion (:mod:`camgen.motions`) realised by a cam form (:mod:`camgen.forms`).
 
-Adding a kind: write ``camgen/kinds/<kind>.py`` exposing ``KIND`` (a
-:class:`~camgen.kinds.base.CamKind`) and add its module to :data:`KIND_MODULES`.  Kinds are
-imported when a scene names them (or when the key reference lists them all).
+The scene's ``kind`` names the motion and ``form`` the cam form (default: the motion's own).  A
+displacement-law motion is realised by every form with a law realisation (the form reads the
+follower, body and checks, then the motion's law); a motion that is a design of its own names
+the forms it realises.  :func:`get_kind` composes the two into the :class:`CamKind` the pipeline
+builds, checks and reports; nothing here names a motion or a form.
 """
 from __future__ import annotations
 
-import importlib
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Mapping
 
 from camgen.kinds.base import CamKind
+from camgen.schema import Choice, Key
 
-#: kind name -> module defining ``KIND``
-KIND_MODULES: dict[str, str] = {
-    "three_arc": "camgen.kinds.three_arc",
-    "trajectory": "camgen.kinds.trajectory",
-    "motion_law": "camgen.kinds.motion_law",
-    "lift_table": "camgen.kinds.lift_table",
-}
+if TYPE_CHECKING:
+    from camgen.kinds.base import CamSpec
+    from camgen.motions.base import Motion
 
-_EXTRA: dict[str, CamKind] = {}
-
-
-def register(kind: CamKind) -> None:
-    """Register a kind defined outside this package (plug-ins, tests)."""
-    _EXTRA[kind.name] = kind
-
-
-def unregister(name: str) -> None:
-    _EXTRA.pop(name, None)
+__all__ = ["CamKind", "form_key", "forms_of", "get_kind", "kind_names"]
 
 
 def kind_names() -> list[str]:
-    return sorted(set(KIND_MODULES) | set(_EXTRA))
+    """The motions a scene may name as ``kind``."""
+    from camgen.motions import motion_names
+
+    return motion_names()
 
 
-def get_kind(name: str) -> CamKind:
-    """The registered kind ``name`` (KeyError if none)."""
-    if name in _EXTRA:
-        return _EXTRA[name]
-    return importlib.import_module(KIND_MODULES[name]).KIND
+def forms_of(motion_name: str) -> tuple[str, ...]:
+    """The cam forms that realise motion ``motion_name``: its own realisations, and for a
+    displacement law every form with a law realisation."""
+    from camgen.forms import form_names, get_form
+    from camgen.motions import get_motion
+
+    motion = get_motion(motion_name)
+    own = set(motion.realisations)
+    if motion.read_law is not None:
+        own |= {name for name in form_names() if get_form(name).read is not None}
+    return tuple(sorted(own))
+
+
+def form_key(motion_name: str) -> Key:
+    """The ``form`` key of a cam table whose ``kind`` is ``motion_name``."""
+    from camgen.motions import get_motion
+
+    return Key("form", Choice(forms_of(motion_name)), "Cam form realising the motion (camgen.forms): plate, the open plate cam; "
+               "constant_breadth, a cam of constant breadth for a yoke.", ("profile",), default=get_motion(motion_name).default_form)
+
+
+def get_kind(name: str, form: str | None = None) -> CamKind:
+    """The cam type of motion ``name`` realised by ``form`` (default: the motion's default form);
+    KeyError if either is unknown or the form does not realise the motion."""
+    from camgen.motions import get_motion
+
+    motion = get_motion(name)
+    return _compose(name, form if form is not None else motion.default_form, motion)
+
+
+def _compose(name: str, form_name: str, motion: "Motion") -> CamKind:
+    from camgen.forms import get_form
+
+    if form_name not in forms_of(name):
+        raise KeyError(f"form {form_name!r} does not realise motion {name!r}")
+    key = form_key(name)
+    if form_name in motion.realisations:
+        own = motion.realisations[form_name]
+        return CamKind(own.name, own.summary, (key,) + own.keys, own.read, own.build, own.report_section, own.evaluate,
+                       own.follower_dynamics)
+    form = get_form(form_name)
+    assert form.read is not None and form.build is not None
+    read = form.read
+
+    def read_cam(where: str, cam_name: str, parsed: Mapping[str, Any], base_dir: Path | None = None) -> "CamSpec":
+        return read(where, cam_name, parsed, motion, base_dir)
+
+    return CamKind(name, motion.summary, (key,) + motion.keys + form.keys, read_cam, form.build, form.report_section, form.evaluate,
+                   form.follower_dynamics)

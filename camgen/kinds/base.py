@@ -74,7 +74,9 @@ class ZeroMark:
 
 @dataclass(frozen=True)
 class CamSpec:
-    """One cam of a scene: name, kind, the kind's typed parameters, body, follower and check settings."""
+    """One cam of a scene: name, motion (``kind``), the typed parameters, body, follower and check
+    settings, and the cam form realising the motion (``form``; the scene reader sets it).
+    """
 
     name: str
     kind: str
@@ -83,6 +85,7 @@ class CamSpec:
     checks: CheckSettings
     follower: "Follower | None" = None
     dynamics: Any = None  # camgen.kinds.dynamics.DynamicsSpec: the follower train, when the scene gives one
+    form: str = "plate"  # the cam form (camgen.forms) realising the motion
 
 
 @dataclass(frozen=True)
@@ -116,11 +119,12 @@ class BuiltCam:
 
 @dataclass(frozen=True)
 class CamKind:
-    """A registered cam kind.
+    """A cam type: one motion realised by one cam form (:func:`camgen.kinds.get_kind` composes it
+    from the motion and form registries, or a motion realises a form by its own synthesis).
 
     Attributes
     ----------
-    name : the ``kind`` value in scene files.
+    name : the ``kind`` value in scene files (the motion).
     summary : one line for ``camgen keys`` and the template list.
     keys : every key ``[cams.<name>]`` accepts besides ``kind``.
     read : ``(where, name, parsed, base_dir) -> CamSpec``: the parsed keys (fields in internal

@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Mapping
+from typing import TYPE_CHECKING, Any, Mapping, TypeVar
 
 import numpy as np
 
@@ -30,8 +30,12 @@ from camgen.schema import Choice, Key, Length, Number
 
 if TYPE_CHECKING:
     from camgen.checks import CamEvaluation, CheckResult, Motion
+    from camgen.contour import Contour
+    from camgen.report.model import RideAnimation
     from camgen.synthesis.followers import CamEnvelope, FollowerSpec
     from camgen.synthesis.sizing import SizingResult
+
+_T = TypeVar("_T")
 
 #: Default of ``fit_tol_mm`` (camgen.synthesis.followers.DEFAULT_FIT_TOL, kept here so reading the
 #: key reference imports no synthesis module; a test keeps them equal).
@@ -107,18 +111,25 @@ class DiskParams:
     source: str | None = None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class DiskCam(BuiltCam):
     """A built disk cam: the envelope, the law and the follower it was made for, the sizing
-    result, the follower motion (exact, per unit cam speed), and the report's drawing data."""
+    result (None: not sized), the follower motion (exact, per unit cam speed), and the report's
+    drawing data (None without the plots stage)."""
 
-    envelope: "CamEnvelope | None" = None
-    law: Any = None
-    spec_follower: "FollowerSpec | None" = None
+    envelope: "CamEnvelope"
+    law: Any  # a Displacement (camgen.motions.base.LawReading.law)
+    spec_follower: "FollowerSpec"
+    motion: "Motion"
     sizing: "SizingResult | None" = None
-    motion: "Motion | None" = None
     drawing: list[tuple[str, np.ndarray]] | None = None
-    animation: Any = None
+    animation: "RideAnimation | None" = None
+
+
+def _given(value: "_T | None", what: str) -> "_T":
+    """``value``, which the follower's kind guarantees is there (``what``: what it is)."""
+    assert value is not None, f"{what} is missing"
+    return value
 
 
 # --------------------------------------------------------------------------------------------
@@ -302,7 +313,8 @@ def follower_shapes(f: "FollowerSpec", s: float, size: float, face: tuple[float,
             out.append(("follower face", np.array([[f.offset + lo, y], [f.offset + hi, y]])))
             out.append(("follower stem", np.array([[f.offset, y], [f.offset, y + stem]])))
             return out
-        w = np.array([math.cos(k.arm_angle[0]), math.sin(k.arm_angle[0])])
+        arm_angle = _given(k.arm_angle, "an oscillating face's normal angle")
+        w = np.array([math.cos(arm_angle[0]), math.sin(arm_angle[0])])
         jw = np.array([-w[1], w[0]])
         foot = np.asarray(f.pivot) - f.face_offset * w
         lo, hi = face if face is not None else (-0.3 * size, 0.3 * size)
@@ -454,7 +466,8 @@ def _animation(outline: Any, zero_mark: ZeroMark, f: "FollowerSpec", law: Any, s
     if f.motion == "translating":
         moves, pivot = s, None
     else:
-        moves, pivot = np.degrees(f.tau * s), tuple(f.pivot)  # type: ignore[arg-type]
+        px, py = _given(f.pivot, "an oscillating follower's pivot")
+        moves, pivot = np.degrees(f.tau * s), (px, py)
     return RideAnimation(outline.flatten(chord), f.sigma, follower_shapes(f, 0.0, size, face), f.motion, pivot, moves,
                          ANIMATION_SECONDS, zero_mark)
 
@@ -465,16 +478,20 @@ def _animation(outline: Any, zero_mark: ZeroMark, f: "FollowerSpec", law: Any, s
 _ORDER = ["none", "G0", "G1", "G2"]
 
 
-def _continuity(cam: DiskCam) -> "CheckResult":
+def _continuity(cam: DiskCam, contour: "Contour") -> "CheckResult":
     """The contour's joints against the law: each joint as continuous as the law there (G2, G1
     where the acceleration jumps, G0 where the velocity jumps), its curvature jump the law's."""
     from camgen.checks import CheckResult, where_degrees
+    from camgen.contour import Spline
     from camgen.synthesis.followers import kinematics
 
-    f, contour = cam.spec_follower, cam.contour
+    f = cam.spec_follower
     joints = contour.joints(curvature_tol=CURVATURE_JUMP_TOL)
     # the spline parameter is t = -sigma theta: each joint ends a segment at t = its last break
-    angles = np.array([math.fmod(-f.sigma * float(seg.breaks[-1]), 2.0 * math.pi) for seg in contour.segments]) % (2.0 * math.pi)
+    splines = [seg for seg in contour.segments if isinstance(seg, Spline)]
+    assert len(splines) == len(contour.segments), "a disk cam's envelope is made of splines"
+    ends = [float(seg.breaks[-1]) for seg in splines]
+    angles = np.mod(np.fmod(-f.sigma * np.array(ends), 2.0 * math.pi), 2.0 * math.pi)
     eps = 1e-9
     before = kinematics(f, cam.law, angles + f.sigma * eps).profile_curvature  # the contour runs against sigma theta
     after = kinematics(f, cam.law, angles - f.sigma * eps).profile_curvature
@@ -519,7 +536,7 @@ def _undercut(cam: DiskCam) -> "CheckResult":
         bad |= m
     reasons = [r for r, m in masks if m.any()]
     if f.kind == "roller":
-        rho = k.pitch_radius
+        rho = _given(k.pitch_radius, "a roller's pitch curve")
         convex = np.where(rho > 0, rho, np.inf)
         i = int(np.argmin(convex))
         value: Any = float(convex[i]) if np.isfinite(convex[i]) else "none"
@@ -529,7 +546,7 @@ def _undercut(cam: DiskCam) -> "CheckResult":
         i = int(np.argmin(rho))
         value, limit, unit, what = float(rho[i]), 0.0, "mm", "smallest radius of curvature of the envelope of the face (h + h'') against 0"
     else:
-        speed = np.hypot(*k.pitch_d1.T)
+        speed = np.hypot(*_given(k.pitch_d1, "a knife's pitch curve").T)
         i = int(np.argmin(speed))
         value, limit, unit, what = float(speed[i]), 0.0, "mm/rad", "smallest speed of the knife tip over the cam (|dP/dtheta|, a cusp at 0) against 0"
     if bad.any():
@@ -542,7 +559,7 @@ def _face_length(cam: DiskCam, half: float | None) -> "CheckResult":
     from camgen.checks import face_length_check
 
     f, k = cam.spec_follower, cam.envelope.data
-    xi = k.face_position
+    xi = _given(k.face_position, "a flat face's contact position")
     if f.motion == "translating":
         return face_length_check(xi, k.theta, half)
     mid = 0.5 * (float(np.min(xi)) + float(np.max(xi)))
@@ -557,10 +574,15 @@ def _law_joins(cam: DiskCam, rpm: float | None) -> "CheckResult":
     from camgen.synthesis.laws import SMOOTH
 
     law = cam.law
-    if not hasattr(law, "joins"):
-        rows = len(getattr(law, "angles", ()))
+    if not hasattr(law, "joins") and hasattr(law, "angles"):
+        rows = len(law.angles)
         return information("law_joins", 0, "", [], f"lift table: a periodic quintic spline through {rows} rows, continuous through the "
                            "jerk everywhere (its 4th derivative steps at the rows)")
+    if not hasattr(law, "joins"):  # another law (camgen.motions): its breaks and the continuity the law states there
+        breaks, continuity = np.asarray(law.breaks, dtype=float), np.asarray(law.break_continuity, dtype=int)
+        where = where_degrees(breaks[continuity < SMOOTH])
+        return information("law_joins", len(where), "", where, "breaks where a derivative up to the jerk jumps" if where else
+                           "no break: the law is continuous through the jerk everywhere")
     jumps = [j for j in law.joins() if j.continuity < SMOOTH]
     note = "; ".join(j.describe() for j in jumps) if jumps else "every segment joins its neighbours smoothly up to the jerk"
     if rpm and jumps and cam.spec_follower.motion == "translating":
@@ -603,16 +625,19 @@ def _base_radius_advice(cam: DiskCam, spec: CamSpec, tool_radius: float, tool_is
                        f"{advice.text(cam.spec_follower.base_radius)} ({what}; or set sizing = \"base_radius\")")
 
 
-def evaluate_disk(cam: DiskCam, spec: CamSpec, tool_radius: float, tool_is_limit: bool) -> "CamEvaluation":
-    """The design checks of a disk cam from the closed-form kinematics on the dense cam-angle grid."""
+def evaluate_disk(cam: BuiltCam, spec: CamSpec, tool_radius: float, tool_is_limit: bool) -> "CamEvaluation":
+    """The design checks of a disk cam (built by :func:`build_disk`) from the closed-form
+    kinematics on the dense cam-angle grid."""
     from camgen.checks import CamEvaluation, machinability_from_radii, motion_check, pressure_angle_check
+
+    assert isinstance(cam, DiskCam), f"a disk cam's checks on a {type(cam).__name__}"
 
     f, env = cam.spec_follower, cam.envelope
     k, theta = env.data, env.data.theta
     p: DiskParams = spec.params
-    checks = []
+    checks: list[CheckResult] = []
     if cam.contour is not None:
-        checks.append(_continuity(cam))
+        checks.append(_continuity(cam, cam.contour))
     undercut = _undercut(cam)
     checks.append(undercut)
     what = f"{f.motion} {f.kind} follower" + (f" (offset {f.offset:g} mm)" if f.motion == "translating" and f.offset else "")
@@ -633,9 +658,9 @@ def evaluate_disk(cam: DiskCam, spec: CamSpec, tool_radius: float, tool_is_limit
     if cam.contour is not None:
         rho, label, limit = k.profile_radius, "profile radius of curvature (mm, < 0 concave)", None
     elif f.kind == "roller":
-        rho, label, limit = k.pitch_radius, "radius of curvature of the pitch curve (mm)", f.roller_radius
+        rho, label, limit = _given(k.pitch_radius, "a roller's pitch curve"), "radius of curvature of the pitch curve (mm)", f.roller_radius
     else:
         rho, label, limit = k.profile_radius, "radius of curvature of the envelope (mm)", 0.0
-    return CamEvaluation(checks, None, cam.motion, (theta, k.pressure_angle), (theta, rho), cam.pitch,
+    return CamEvaluation(tuple(checks), None, cam.motion, (theta, k.pressure_angle), (theta, rho), cam.pitch,
                          pressure_angle_label=f"{f.motion} {f.kind}, closed form", curvature_label=label, curvature_limit=limit,
                          curvature_angle_label="cam angle (deg)", follower_drawing=cam.drawing, animation=cam.animation)

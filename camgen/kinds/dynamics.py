@@ -386,7 +386,7 @@ def run_dynamics(cam: "BuiltCam", spec: "CamSpec", stages: frozenset[str]) -> Dy
                                                 "can be made"),))
     from camgen.kinds import get_kind
 
-    rpm, follower_dynamics = spec.checks.rpm, get_kind(spec.kind).follower_dynamics
+    rpm, follower_dynamics = spec.checks.rpm, get_kind(spec.kind, spec.form).follower_dynamics
     assert rpm is not None and follower_dynamics is not None  # read_dynamics refuses dynamics without them
     kin, arm = follower_dynamics(cam, spec)
     train = replace(dyn.train, arm_length=arm) if dyn.train.motion == "oscillating" else dyn.train

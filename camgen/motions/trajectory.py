@@ -1,11 +1,13 @@
-"""Cam kind ``trajectory``: a steering cam from a required periodic path (paper 004, the tricycle).
+"""Motion ``trajectory``: a steering cam from a required periodic path (paper 004, the tricycle).
 
 Synthesis by arc length, curvature and a periodic cubic spline
 (:func:`camgen.mechanisms.tricycle.tricycle_cam`); the follower is the steering rod, a
 radially translating roller of radius ``rod_radius_mm``.  Stages: ``analysis`` simulates the
 ride on the cam as made (figures and ``<cam>_ride.csv``) and fits the paper's error model to
 the measured tables; ``plots`` computes what report.html draws (rides with the error types,
-fitted model curves).
+fitted model curves).  The path is what the vehicle must do, not a follower law: the paper's
+synthesis realises it as an open plate cam (form ``plate``) directly, so this motion is a design
+of its own.
 """
 from __future__ import annotations
 
@@ -30,6 +32,7 @@ from camgen.kinds.base import (
     source_key,
     with_cam,
 )
+from camgen.motions.base import Motion
 from camgen.schema import Choice, ChoiceList, Count, Key, Length, Text
 
 if TYPE_CHECKING:
@@ -155,8 +158,11 @@ def build(spec: CamSpec, stages: frozenset[str]) -> TrajectoryCam:
     try:
         cam = with_cam(where, lambda: tc.tricycle_cam(traj, device, p.samples, p.curvature))
     except UndercutError as exc:  # the rod cannot follow this cam: the report shows where and why
+        from camgen.contour import Contour
+
         figures = {"trajectory": traj.source, "period_mm": traj.period, "base_radius_mm": device.base_radius}
-        return TrajectoryCam(spec.name, spec.kind, None, figures, spec.body, spec.follower, pitch=exc.pitch, undercut=exc)
+        pitch = exc.pitch if isinstance(exc.pitch, Contour) else None
+        return TrajectoryCam(spec.name, spec.kind, None, figures, spec.body, spec.follower, pitch=pitch, undercut=exc)
     except PathError as exc:  # a path this device cannot steer: the key that gave it, and which paths it can
         why = str(exc).removeprefix(f"{where}: ")
         raise ParameterError(f"{where}.{p.path_key}", p.path_value, exc.valid, why) from None
@@ -172,6 +178,7 @@ def build(spec: CamSpec, stages: frozenset[str]) -> TrajectoryCam:
 
 def _analysed(spec: CamSpec, cam: "TricycleCam", stages: frozenset[str]) -> TrajectoryCam:
     """The figures, files and plots of a synthesised steering cam."""
+    from camgen.contour import Spline
     from camgen.mechanisms import tricycle as tc
 
     p: TrajectoryParams = spec.params
@@ -200,7 +207,9 @@ def _analysed(spec: CamSpec, cam: "TricycleCam", stages: frozenset[str]) -> Traj
         figures["ride_max_error_mm"] = float(abs(tc.lateral_error(traj, one.x, one.y)).max())
         # one cam turn at a time, the running maximum only: memory O(samples) for any ride_periods
         figures[f"ride_max_error_{p.ride_periods}_periods_mm"] = tc.ride_max_lateral_error(cam, p.ride_periods)
-    figures["profile_pieces"] = int(cam.profile.segments[0].n_pieces)
+    (profile,) = cam.profile.segments  # one periodic spline (paper 004's synthesis)
+    assert isinstance(profile, Spline)
+    figures["profile_pieces"] = int(profile.n_pieces)
     figures["area_mm2"] = cam.profile.area
     figures["perimeter_mm"] = cam.profile.length
     if p.source is not None:
@@ -321,11 +330,11 @@ def _plots(cam: "TricycleCam", fits: dict[str, Any], one: "Ride | None") -> "Tri
                            tuple((label, path.x, path.y) for label, path in error_rides.items()), tuple(curves))
 
 
-KIND = CamKind(
+_SUMMARY = "steering cam from a required periodic path y = f(x), by arc length and a periodic spline (paper 004)"
+
+MOTION = Motion(
     name="trajectory",
-    summary="steering cam from a required periodic path y = f(x), by arc length and a periodic spline (paper 004)",
-    keys=KEYS,
-    read=read,
-    build=build,
-    report_section="camgen.report.sections:tricycle_section",
+    summary=_SUMMARY,
+    realisations={"plate": CamKind(name="trajectory", summary=_SUMMARY, keys=KEYS, read=read, build=build,
+                                   report_section="camgen.report.sections:tricycle_section")},
 )

@@ -1,8 +1,8 @@
-"""Cam kind ``motion_law``: a disk cam from a motion program (rise, dwell, return segments).
+"""Motion ``motion_law``: a motion program (rise, dwell, return segments), a displacement law.
 
 The segments follow the laws of :mod:`camgen.synthesis.laws` (closed-form displacement,
-velocity, acceleration and jerk on normalised segments); the follower, the exact envelope,
-sizing and the checks are the disk cams' (:mod:`camgen.kinds.disk`).  Segment keys:
+velocity, acceleration and jerk on normalised segments); every cam form that realises a law takes it
+(the open plate cam: :mod:`camgen.forms.plate`).  Segment keys:
 ``law``, ``span_deg``, ``lift_mm`` (translating followers) or ``swing_deg`` (oscillating ones),
 ``blend`` (constant_velocity) and ``start`` / ``end`` (polynomial: the displacement, velocity,
 acceleration and jerk at the segment's ends, per degree of cam angle; converted to per rad).
@@ -11,14 +11,15 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, Mapping
 
 from camgen.errors import ParameterError
 from camgen.keynames import renamed
-from camgen.kinds.base import CamKind, CamSpec, body_keys, check_keys, source_key
-from camgen.kinds.disk import build_disk, disk_spec, evaluate_disk, follower_keys, read_follower
-from camgen.kinds.dynamics import disk_kinematics, dynamics_keys
+from camgen.motions.base import LawReading, Motion
 from camgen.schema import REQUIRED, Angle, Choice, Key, Number, NumberList, TableList
+
+if TYPE_CHECKING:
+    from camgen.synthesis.followers import FollowerSpec
 
 #: Law names scene files may use (camgen.synthesis.laws.LAWS, kept here so reading the key
 #: reference imports no synthesis module; a test keeps them equal).
@@ -46,7 +47,7 @@ KEYS = (
     Key("segments", TableList(SEGMENT_KEYS, what="[[segments]] tables"),
         "The motion program: [[cams.<name>.segments]] tables in order from cam angle 0; spans add up to 360 deg and the "
         "follower returns to where it started.", ("profile",), default=REQUIRED),
-) + follower_keys() + (source_key(),) + body_keys() + check_keys() + dynamics_keys()
+)
 
 
 def _per_rad(values: tuple[float, ...], oscillating: bool) -> tuple[float, ...]:
@@ -108,9 +109,9 @@ def _segment_figures(segments: tuple[dict[str, Any], ...], oscillating: bool) ->
     return out
 
 
-def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = None) -> CamSpec:
-    """The typed spec of a ``motion_law`` cam table."""
-    follower, sizing = read_follower(where, parsed)
+def read_law(where: str, parsed: Mapping[str, Any], follower: "FollowerSpec", base_dir: Path | None = None) -> LawReading:
+    """The motion program of a cam table for ``follower`` (a lift in mm for a translating one, a
+    swing in rad for an oscillating one); a velocity jump is refused unless the follower is a knife."""
     program = read_program(where, parsed["segments"], follower.motion)
     if follower.kind != "knife":
         for join in program.joins():
@@ -121,16 +122,13 @@ def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = 
                     f"the velocity jumps by {join.jumps[0]:.6g} {program.unit}/rad there: a {follower.kind} follower cannot follow the "
                     "corner this makes in its path; blend it (constant_velocity with blend > 0) or use a knife follower")
     figures = {"segments": _segment_figures(parsed["segments"], follower.motion == "oscillating")}
-    return disk_spec(where, name, "motion_law", parsed, program, follower, sizing, figures, base_dir)
+    return LawReading(program, figures)
 
 
-KIND = CamKind(
+MOTION = Motion(
     name="motion_law",
     summary="disk cam from a motion program (cycloidal, harmonic, modified trapezoid/sine/cycloidal, polynomials, ... per segment) "
             "for a translating or oscillating roller, flat face or knife, as the exact envelope",
     keys=KEYS,
-    read=read,
-    build=build_disk,
-    evaluate=evaluate_disk,
-    follower_dynamics=disk_kinematics,
+    read_law=read_law,
 )

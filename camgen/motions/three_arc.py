@@ -1,9 +1,12 @@
-"""Cam kind ``three_arc``: the constant-breadth three-center cam of paper 000 (Section 4.1, Table 1).
+"""Motion ``three_arc``: the constant-breadth three-center cam of paper 000 (Section 4.1, Table 1).
 
 The profile is six exact arcs (:func:`camgen.synthesis.three_arc.three_arc_cam`); it drives a
 flat-faced double (yoke) follower by default.  A single flat face or a roller may be analysed
 instead: the follower keys change the checks in the report (and the DXF PITCH layer for a
-roller), never the profile, which the three parameters fix.
+roller), never the profile, which the three parameters fix.  The follower's motion is the
+three-arc law the arcs give (their support function), so this motion is a design of its own:
+it realises the ``constant_breadth`` form (:mod:`camgen.forms.constant_breadth`) by the paper's
+construction.
 """
 from __future__ import annotations
 
@@ -12,6 +15,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from camgen.errors import ParameterError
+from camgen.keynames import scene_key
 from camgen.kinds.base import (
     BuiltCam,
     CamKind,
@@ -24,7 +29,10 @@ from camgen.kinds.base import (
     source_key,
 )
 from camgen.kinds.dynamics import dynamics_keys, read_dynamics, three_arc_kinematics
+from camgen.motions.base import Motion
 from camgen.schema import REQUIRED, Angle, Choice, Key, Length
+
+__all__ = ["KEYS", "MOTION", "ThreeArcParams", "build", "read"]
 
 
 @dataclass(frozen=True)
@@ -56,9 +64,9 @@ _FOLLOWER = (
         requires={"follower": ("roller",), "follower_motion": ("translating",)}),
     Key("follower_direction_deg", Angle(), "Direction in which the follower translates, in the fixed frame (counter-clockwise from +x).",
         ("report",), default=0.0, requires={"follower_motion": ("translating",)}),
-    Key("pivot_distance_mm", Length(), "Oscillating roller: distance of the arm's pivot from the cam axis.", ("report",),
-        requires={"follower_motion": ("oscillating",)}),
-    Key("pivot_angle_deg", Angle(), "Oscillating roller: polar angle of the pivot in the fixed frame.", ("report",),
+    Key("pivot_x_mm", Length(-1e5, 1e5, low_open=False), "Oscillating roller: x of the arm's pivot (fixed frame, cam axis at 0), "
+        "as for the disk cams.", ("report",), requires={"follower_motion": ("oscillating",)}),
+    Key("pivot_y_mm", Length(-1e5, 1e5, low_open=False), "Oscillating roller: y of the arm's pivot.", ("report",),
         requires={"follower_motion": ("oscillating",)}),
     Key("arm_length_mm", Length(), "Oscillating roller: arm length from the pivot to the roller centre.", ("report",),
         requires={"follower_motion": ("oscillating",)}),
@@ -76,14 +84,22 @@ def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = 
 
     a, b, c = rename_errors(where, lambda: validate_three_arc(parsed["a"], parsed["b"], parsed["c"]), KEYS)
     checks = read_checks(parsed)
+    if parsed["follower_motion"] == "oscillating":  # the pivot placed as for every follower: pivot_x_mm, pivot_y_mm
+        for key in ("pivot_x", "pivot_y", "arm_length"):
+            if key not in parsed:
+                raise ParameterError(f"{where}.{scene_key(KEYS, key)}", None, "a length in mm",
+                                     "required for an oscillating roller follower")
+        if parsed["pivot_x"] == 0.0 and parsed["pivot_y"] == 0.0:
+            raise ParameterError(f"{where}.pivot_x_mm", 0.0, "a pivot away from the cam axis (pivot_x_mm, pivot_y_mm not both 0)",
+                                 "the arm swings about the pivot, which cannot be the cam's rotation axis")
     follower = rename_errors(where, lambda: Follower(
         kind=parsed["follower"],
         motion=parsed["follower_motion"],
         roller_radius=parsed.get("roller_radius", 0.0),
         offset=parsed.get("follower_offset", 0.0),
         direction=parsed["follower_direction"],
-        pivot_distance=parsed.get("pivot_distance", 0.0),
-        pivot_angle=parsed.get("pivot_angle", 0.0),
+        pivot_distance=math.hypot(parsed.get("pivot_x", 0.0), parsed.get("pivot_y", 0.0)),
+        pivot_angle=math.atan2(parsed.get("pivot_y", 0.0), parsed.get("pivot_x", 0.0)),
         arm_length=parsed.get("arm_length", 0.0),
         face_half_length=parsed.get("face_half_length"),
         pressure_angle_limit=checks.pressure_angle_limit,
@@ -101,6 +117,7 @@ def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = 
 def build(spec: CamSpec, stages: frozenset[str]) -> BuiltCam:
     """The six-arc cam and its figures (exact; no analysis stage needed)."""
     from camgen import checks
+    from camgen.contour import Arc
     from camgen.synthesis import three_arc
 
     p: ThreeArcParams = spec.params
@@ -119,18 +136,19 @@ def build(spec: CamSpec, stages: frozenset[str]) -> BuiltCam:
         "area_mm2": contour.area,
         "perimeter_mm": contour.length,
         "bounds_mm": list(contour.bounds),
-        "arc_radii_mm": [seg.radius for seg in contour.segments],
+        "arc_radii_mm": [seg.radius for seg in contour.segments if isinstance(seg, Arc)],  # six arcs, nothing else
     }
     if p.source is not None:
         figures["source"] = p.source
     return BuiltCam(spec.name, spec.kind, contour, figures, spec.body, spec.follower, breadth=width)
 
 
-KIND = CamKind(
+_SUMMARY = "constant-breadth three-center cam of six exact arcs for a yoke follower (paper 000)"
+
+MOTION = Motion(
     name="three_arc",
-    summary="constant-breadth three-center cam of six exact arcs for a yoke follower (paper 000)",
-    keys=KEYS,
-    read=read,
-    build=build,
-    follower_dynamics=three_arc_kinematics,
+    summary=_SUMMARY,
+    realisations={"constant_breadth": CamKind(name="three_arc", summary=_SUMMARY, keys=KEYS, read=read, build=build,
+                                              follower_dynamics=three_arc_kinematics)},
+    default_form="constant_breadth",
 )

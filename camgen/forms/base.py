@@ -1,0 +1,47 @@
+"""The cam-form axis: the body that realises a motion for a follower.
+
+A cam form is one module in :mod:`camgen.forms` exposing ``FORM``, a :class:`CamForm`: its keys
+(the follower it carries, its body, its checks), how to read them with a displacement law into a
+typed :class:`~camgen.kinds.base.CamSpec`, how to build the cam and which checks it owns.  A
+form with ``read`` realises every displacement-law motion (:class:`camgen.motions.base.Motion`
+with ``read_law``); a form without one is realised only by the motions that name it in their
+``realisations`` (the three-arc constant-breadth cam today).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Callable, Mapping
+
+from camgen.schema import Key
+
+if TYPE_CHECKING:
+    from camgen.checks import CamEvaluation
+    from camgen.kinds.base import BuiltCam, CamSpec
+    from camgen.motions.base import Motion
+
+__all__ = ["CamForm"]
+
+
+@dataclass(frozen=True)
+class CamForm:
+    """A registered cam form.
+
+    Attributes
+    ----------
+    name : the ``form`` value in scene files.
+    summary : one line for ``camgen keys``.
+    keys : the form's keys (follower, body, checks, ...), after the motion's.
+    read : ``(where, name, parsed, motion, base_dir) -> CamSpec``: the form's keys and the motion's
+        law (:attr:`Motion.read_law`) into the typed spec; None: no law realisation (see above).
+    build, evaluate, follower_dynamics, report_section : as :class:`camgen.kinds.base.CamKind`.
+    """
+
+    name: str
+    summary: str
+    keys: tuple[Key, ...] = ()
+    read: "Callable[[str, str, Mapping[str, Any], Motion, Path | None], CamSpec] | None" = None
+    build: "Callable[[CamSpec, frozenset[str]], BuiltCam] | None" = None
+    evaluate: "Callable[[BuiltCam, CamSpec, float, bool], CamEvaluation] | None" = None
+    follower_dynamics: "Callable[[BuiltCam, CamSpec], tuple[Any, float]] | None" = None
+    report_section: str = ""
