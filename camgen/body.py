@@ -15,6 +15,8 @@ import numpy as np
 from camgen.contour import Contour
 from camgen.errors import ParameterError, require_finite, require_positive
 
+__all__ = ["BodySpec", "WALL_TOL", "wall_left"]
+
 
 @dataclass(frozen=True)
 class BodySpec:

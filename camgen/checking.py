@@ -34,7 +34,7 @@ def evaluate(cam: "BuiltCam", spec: "CamSpec", tool_radius: float, tool_is_limit
         evaluation = own(cam, spec, tool_radius, tool_is_limit)
     else:
         assert follower is not None, f"kind {spec.kind!r} has neither its own checks nor a follower model"
-        pitch = cam.pitch if follower.kind == "roller" else None
+        pitch = cam.pitch if follower.contact == "point" else None
         evaluation = evaluate_cam(cam.contour, follower, tool_radius, spec.checks.rpm, cam.breadth, pitch, tool_is_limit)
     checks: list[CheckResult] = list(evaluation.checks)
     changes: dict[str, Any] = {}

@@ -20,13 +20,30 @@ from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 import numpy as np
+import numpy.typing as npt
 
 from camgen.contour import Contour
 from camgen.errors import GeometryError, ParameterError, require_finite
 from camgen.geometry import wrap_pi
 
+__all__ = [
+    "COMPARISONS", "CamEvaluation", "CheckResult", "Follower", "MAX_CHECK_SAMPLES", "MOTIONS",
+    "Motion", "NO_CONCAVE_PART", "RollerKinematics", "breadth_error", "constant_breadth_check", "continuity_check",
+    "convexity_check", "evaluate_cam", "face_length_check", "flat_motion", "information", "limited",
+    "machinability_check", "machinability_from_radii", "motion_check", "pitch_curve", "pressure_angle_check",
+    "radius_of_curvature", "roller_kinematics", "roller_motion", "run_ends", "sampled_follower_kinds", "undercut_check",
+    "where_degrees",
+]
+
 _ORDER = ["none", "G0", "G1", "G2"]
-FOLLOWER_KINDS = ("yoke", "flat", "roller")
+
+
+def sampled_follower_kinds() -> tuple[str, ...]:
+    """The registered followers :class:`Follower` checks from a sampled contour: faces, a face, a
+    point with a radius (a knife edge's needs the closed forms of the plate cam)."""
+    from camgen.followers import follower_names, get_follower
+
+    return tuple(n for n in follower_names() if get_follower(n).contact != "point" or get_follower(n).has_radius)
 MOTIONS = ("translating", "oscillating")
 
 
@@ -106,7 +123,9 @@ class Follower:
 
     Attributes
     ----------
-    kind : ``"yoke"``, ``"flat"`` or ``"roller"``.
+    kind : a registered follower (:mod:`camgen.followers`) whose contact these sampled checks
+        know: faces (``"yoke"``), a face (``"flat"``) or a point with a radius (``"roller"``);
+        ``contact`` is its contact.
     motion : ``"translating"`` or ``"oscillating"`` (roller only).
     roller_radius : roller radius (> 0 for ``"roller"``).
     offset : translating: distance of the follower axis from the cam axis (e).
@@ -127,15 +146,20 @@ class Follower:
     arm_length: float = 0.0
     face_half_length: float | None = None
     pressure_angle_limit: float | None = None
+    contact: str = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        if self.kind not in FOLLOWER_KINDS:
-            raise ParameterError("follower", self.kind, f"one of {FOLLOWER_KINDS}")
+        kinds = sampled_follower_kinds()
+        if self.kind not in kinds:
+            raise ParameterError("follower", self.kind, f"one of {kinds}")
+        from camgen.followers import get_follower
+
+        object.__setattr__(self, "contact", get_follower(self.kind).contact)
         if self.motion not in MOTIONS:
             raise ParameterError("follower_motion", self.motion, f"one of {MOTIONS}")
-        if self.kind == "roller" and not require_finite("roller_radius", self.roller_radius) > 0:
+        if self.contact == "point" and not require_finite("roller_radius", self.roller_radius) > 0:
             raise ParameterError("roller_radius", self.roller_radius, "roller_radius > 0 mm for a roller follower")
-        if self.kind != "roller" and self.motion != "translating":
+        if self.contact != "point" and self.motion != "translating":
             raise ParameterError("follower_motion", self.motion, "translating for flat and yoke followers")
         if self.motion == "oscillating" and not (self.pivot_distance > 0 and self.arm_length > 0):
             raise ParameterError("arm_length", self.arm_length, "pivot_distance > 0 and arm_length > 0 mm for an oscillating follower")
@@ -145,10 +169,10 @@ class Follower:
         """Pressure-angle limit, rad."""
         if self.pressure_angle_limit is not None:
             return self.pressure_angle_limit
-        return math.radians(30.0 if (self.motion == "translating" and self.kind != "yoke") else 45.0)
+        return math.radians(30.0 if (self.motion == "translating" and self.contact != "faces") else 45.0)
 
 
-def where_degrees(angles: np.ndarray) -> list[float]:
+def where_degrees(angles: npt.ArrayLike) -> list[float]:
     return [round(float(a), 6) for a in np.mod(np.degrees(np.atleast_1d(angles)), 360.0)]
 
 
@@ -556,9 +580,9 @@ def evaluate_cam(contour: Contour | None, follower: Follower, tool_radius: float
     rho, rho_angle = radius_of_curvature(contour)
     pressure = None
     motion = None
-    if follower.kind in ("yoke", "flat"):
+    if follower.contact in ("faces", "face"):
         checks.append(convexity_check(contour))
-        if follower.kind == "yoke" and breadth is not None:
+        if follower.contact == "faces" and breadth is not None:
             checks.append(constant_breadth_check(contour, breadth))
         motion, offsets = flat_motion(contour, follower)
         checks.append(face_length_check(offsets, motion.cam_angle, follower.face_half_length))
@@ -583,14 +607,14 @@ def evaluate_cam(contour: Contour | None, follower: Follower, tool_radius: float
         checks.append(motion_check(motion, rpm))
     if tool_radius is not None:  # the radii sampled above (machinability_check would sample them again)
         checks.extend(machinability_from_radii(rho, rho_angle, tool_radius, tool_is_limit))
-    return CamEvaluation(checks, follower, motion, pressure, (rho_angle, rho), pitch)
+    return CamEvaluation(tuple(checks), follower, motion, pressure, (rho_angle, rho), pitch)
 
 
 def _evaluate_pitch_only(follower: Follower, pitch: Contour | None, rpm: float | None) -> CamEvaluation:
     """The checks of a roller cam whose profile cannot be made: undercut, pressure angle and
     motion from the pitch curve; the curvature plot shows the pitch curve against the roller."""
-    if pitch is None or follower.kind != "roller":
-        return CamEvaluation([], follower, None, None, None, pitch)
+    if pitch is None or follower.contact != "point":
+        return CamEvaluation((), follower, None, None, None, pitch)
     checks = [undercut_check(pitch, follower)]
     kin = roller_kinematics(pitch, follower)
     what = f"{follower.motion} roller follower" + (f" (offset {follower.offset:g} mm)" if follower.offset else "")
@@ -598,5 +622,5 @@ def _evaluate_pitch_only(follower: Follower, pitch: Contour | None, rpm: float |
     motion = roller_motion(kin, unit="mm" if follower.motion == "translating" else "rad")
     checks.append(motion_check(motion, rpm))
     rho, angle = radius_of_curvature(pitch)
-    return CamEvaluation(checks, follower, motion, (kin.cam_angle, kin.pressure_angle), (angle, rho), pitch,
+    return CamEvaluation(tuple(checks), follower, motion, (kin.cam_angle, kin.pressure_angle), (angle, rho), pitch,
                          curvature_label="radius of curvature of the pitch curve (mm)", curvature_limit=follower.roller_radius)

@@ -21,6 +21,11 @@ if TYPE_CHECKING:
     from camgen.results import RunResult
     from camgen.scene import Scene
 
+__all__ = [
+    "EXAMPLES", "EXIT_BAD_INPUT", "EXIT_BROKEN_PIPE", "EXIT_CHECK_FAILED", "EXIT_INTERNAL_ERROR", "EXIT_PASSED",
+    "EXIT_STATUS", "build_parser", "entry", "main",
+]
+
 #: The run folders this command has written (a signal after that does not undo them).
 _WRITTEN: list[str] = []
 

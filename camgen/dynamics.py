@@ -52,6 +52,13 @@ import numpy as np
 from camgen.checks import run_ends
 from camgen.errors import GeometryError, ParameterError, floor_significant, require_finite
 
+__all__ = [
+    "CLOSURES", "ContactMaterial", "DynamicsResult", "FollowerTrain", "GPA_TO_MPA", "KG_M2_PER_S2_TO_N_MM",
+    "KG_MM_PER_S2_TO_N", "Kinematics", "MOTIONS", "N_MM_TO_N_M", "N_M_TO_N_MM", "N_S_PER_M_TIMES_MM_PER_S_TO_N",
+    "RPM_TO_RAD_PER_S", "STANDARD_GRAVITY", "analyse", "force_coefficients", "hertz_line_stress", "jump_speed",
+    "min_contact_force", "smallest_positive_root", "spring_hints",
+]
+
 TWO_PI = 2.0 * math.pi
 MOTIONS = ("translating", "oscillating")
 CLOSURES = ("force", "form")
@@ -655,19 +662,20 @@ def spring_hints(result: "DynamicsResult", kin: Kinematics) -> tuple[float | Non
 
         return bool(min_contact_force(kin, replace(train, **change), speed)[0] >= margin)
 
-    lengths = train.spring_free_length is not None and train.spring_installed_length is not None
+    free, fitted = train.spring_free_length, train.spring_installed_length
+    lengths = None if free is None or fitted is None else (free, fitted)  # a spring given by its lengths (mm)
     preload = installed = rate = None
-    if result.min_preload is not None and not lengths:
+    if result.min_preload is not None and lengths is None:
         preload = _least_quoted(result.min_preload, lambda p: keeps(preload=p))
-    if result.min_preload is not None and lengths and train.spring_rate > 0 and result.min_preload > train.spring_preload:
+    if result.min_preload is not None and lengths is not None and train.spring_rate > 0 and result.min_preload > train.spring_preload:
         from camgen.errors import floor_significant
 
-        longest = train.spring_free_length - result.min_preload / train.spring_rate  # type: ignore[operator]
+        longest = lengths[0] - result.min_preload / train.spring_rate
         if longest > 0.0:
             installed = floor_significant(longest, 6)
             installed = installed if keeps(spring_installed_length=installed) else None
-    if lengths:  # the preload is rate x (free - installed): it grows with the rate (Q is linear in the rate)
-        squeeze = kin.s - kin.s.min() + (train.spring_free_length - train.spring_installed_length)  # type: ignore[operator]
+    if lengths is not None:  # the preload is rate x (free - installed): it grows with the rate (Q is linear in the rate)
+        squeeze = kin.s - kin.s.min() + (lengths[0] - lengths[1])
         short = margin * _contact_projection(kin, train) - result.generalised_force
         pressed = squeeze > 0.0
         if not np.any((short > 0) & ~pressed):

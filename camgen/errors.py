@@ -8,6 +8,12 @@ from __future__ import annotations
 
 import math
 
+__all__ = [
+    "CamgenError", "CornerError", "ExportError", "FitToleranceError", "GeometryError", "MAX_QUOTED", "ParameterError",
+    "SceneError", "UndercutError", "ceil_significant", "floor_significant", "quoted", "require_finite",
+    "require_positive", "shortened",
+]
+
 #: Longest text a message quotes from a value or a name given by the user, characters (a
 #: longer one keeps its first and last characters and says its full length), so every error
 #: line stays short; long enough for a file path followed by ", line 12".

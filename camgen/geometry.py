@@ -9,6 +9,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import numpy.typing as npt
+
+__all__ = ["SWEEP_TOL", "angle_in_sweep", "cross", "outward_normal", "signed_curvature", "unit_vectors", "wrap_pi"]
 
 TWO_PI = 2.0 * math.pi
 
@@ -17,7 +20,7 @@ TWO_PI = 2.0 * math.pi
 SWEEP_TOL = 1e-12
 
 
-def wrap_pi(angle: np.ndarray) -> np.ndarray:
+def wrap_pi(angle: npt.ArrayLike) -> np.ndarray:
     """Angles wrapped to [-pi, pi) (rad)."""
     return np.mod(np.asarray(angle, dtype=float) + math.pi, TWO_PI) - math.pi
 

@@ -25,6 +25,8 @@ from pathlib import Path
 from types import FrameType
 from typing import Iterator
 
+__all__ = ["Interrupted", "SIGNALS", "checkpoint", "deferred", "handling", "received", "scratch", "signal_name"]
+
 #: The signals a run ends on; the exit status of each is 128 + its number, as shells report it.
 SIGNALS = (signal.SIGINT, signal.SIGTERM)
 _SIGNAL_BYTES = frozenset(int(s) for s in SIGNALS)

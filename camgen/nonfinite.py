@@ -25,6 +25,8 @@ from typing import Callable, Mapping
 
 from camgen.errors import ExportError
 
+__all__ = ["check_files", "first_nonfinite"]
+
 # The spellings formatters give a NaN or an infinity (found case-sensitively: a literal search).
 _WORDS = ("nan", "NaN", "NAN", "inf", "Inf", "INF")
 _FIND_TEXT = re.compile("|".join(_WORDS))
@@ -56,13 +58,19 @@ class _Text:
         return count
 
     def find(self, sub: str, start: int = 0, end: int | None = None) -> int:
-        return self.content.find(sub.encode("latin-1") if self.is_bytes else sub, start, end)  # type: ignore[arg-type]
+        if isinstance(self.content, bytes):
+            return self.content.find(sub.encode("latin-1"), start, end)
+        return self.content.find(sub, start, end)
 
     def rfind(self, sub: str, start: int = 0, end: int | None = None) -> int:
-        return self.content.rfind(sub.encode("latin-1") if self.is_bytes else sub, start, end)  # type: ignore[arg-type]
+        if isinstance(self.content, bytes):
+            return self.content.rfind(sub.encode("latin-1"), start, end)
+        return self.content.rfind(sub, start, end)
 
     def count(self, sub: str, start: int, end: int) -> int:
-        return self.content.count(sub.encode("latin-1") if self.is_bytes else sub, start, end)  # type: ignore[arg-type]
+        if isinstance(self.content, bytes):
+            return self.content.count(sub.encode("latin-1"), start, end)
+        return self.content.count(sub, start, end)
 
     def text(self, start: int, end: int) -> str:
         part = self.content[start:end]
@@ -203,11 +211,13 @@ def first_nonfinite(name: str, content: str | bytes) -> tuple[int, str] | None:
     if isinstance(content, bytes) and suffix not in _BY_POSITION and suffix not in _BY_LINE and suffix != ".dxf":
         return None  # a binary format this guard does not know
     text = _Text(content)
-    finder = _FIND_BYTES if text.is_bytes else _FIND_TEXT
+    if isinstance(content, bytes):
+        positions = (match.start() for match in _FIND_BYTES.finditer(content))
+    else:
+        positions = (match.start() for match in _FIND_TEXT.finditer(content))
     line, counted = 1, 0
     seen_line = -1
-    for match in finder.finditer(content):  # type: ignore[arg-type]
-        pos = match.start()
+    for pos in positions:
         line += text.count("\n", counted, pos)
         counted = pos
         if line == seen_line:

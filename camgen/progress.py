@@ -6,6 +6,8 @@ import sys
 import time
 from typing import Any
 
+__all__ = ["SHOW_AFTER_S", "TerminalProgress"]
+
 #: A run shows progress once it has taken this long, s.
 SHOW_AFTER_S = 1.0
 

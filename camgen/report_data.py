@@ -151,9 +151,9 @@ def _plots(cam: "CamResult", ev: "CamEvaluation") -> "CamPlots":
     if ev.follower_drawing is None and follower is not None and cam.contour is not None:
         d = np.array([math.cos(follower.direction), math.sin(follower.direction)])
         side = np.array([-d[1], d[0]])
-        if follower.kind in ("yoke", "flat"):  # the face touches the profile where its support function says
+        if follower.contact in ("faces", "face"):  # the face touches the profile where its support function says
             h = float(cam.contour.support(np.array([follower.direction]))[0])
-            faces = FollowerFaces(follower.direction, (h,) + ((h - cam.breadth,) if follower.kind == "yoke" and cam.breadth is not None else ()))
+            faces = FollowerFaces(follower.direction, (h,) + ((h - cam.breadth,) if follower.contact == "faces" and cam.breadth is not None else ()))
         elif ev.motion is not None and follower.motion == "translating":
             centre = ev.motion.displacement[0] * d + follower.offset * side
             roller = RollerAtZero((float(centre[0]), float(centre[1])), follower.roller_radius)

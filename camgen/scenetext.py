@@ -31,6 +31,11 @@ from typing import Any
 
 from camgen.errors import SceneError
 
+__all__ = [
+    "FLOAT_RANGE_BITS", "LargeInteger", "MAX_SCENE_ITEMS", "ScannedText", "large_integer", "restore_integers",
+    "scan_scene_text",
+]
+
 #: Most keys, values and table headers in a scene (a scene of 200 cams holds about 10,000): the
 #: scan and the parser take a few steps for each.
 MAX_SCENE_ITEMS = 20_000
@@ -197,6 +202,7 @@ def scan_scene_text(text: str, max_nesting: int) -> ScannedText:
         assert match is not None  # "other" matches any character
         pos = match.end()
         kind = match.lastgroup
+        assert kind is not None  # every alternative of _TOKEN is a named group
         if kind == "comment":
             continue
         token = match.group(kind)

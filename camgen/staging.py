@@ -39,6 +39,8 @@ from typing import Mapping
 from camgen.errors import ExportError
 from camgen.interrupt import checkpoint, deferred, scratch
 
+__all__ = ["WrittenRun", "exchange", "preflight", "recover", "write_run"]
+
 _RENAME_EXCHANGE = 2  # linux/fs.h
 _AT_FDCWD = -100
 
@@ -82,7 +84,7 @@ def _alive(pid: int) -> bool:
 def _entries(target: Path) -> list[tuple[Path, int, str]]:
     """Hidden staging/retired entries of ``target``'s scene: (path, pid, state)."""
     prefix = f".camgen-{target.name}."
-    out = []
+    out: list[tuple[Path, int, str]] = []
     if not target.parent.is_dir():
         return out
     for entry in target.parent.iterdir():

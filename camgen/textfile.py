@@ -9,6 +9,8 @@ from __future__ import annotations
 import os
 import stat
 
+__all__ = ["TextFileError", "display_path", "read_text_file"]
+
 
 class TextFileError(Exception):
     """Why a user's file could not be read (the caller turns it into its own CamgenError)."""

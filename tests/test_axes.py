@@ -139,7 +139,7 @@ def _toy_form():
         return BuiltCam(spec.name, spec.kind, contour, {"base_radius_mm": base}, spec.body, spec.follower)
 
     keys = (Key("base_radius_mm", Length(), "Radius at zero lift.", ("profile",), default=REQUIRED),) + body_keys() + check_keys()
-    return CamForm("polar", "the polar cam of a radial knife", keys, read=read, build=build)
+    return CamForm("polar", "the polar cam of a radial knife", lambda: keys, read=read, build=build)
 
 
 def test_a_form_registered_from_outside_realises_every_law_motion_with_every_output():
@@ -213,3 +213,44 @@ def test_three_arc_places_an_oscillating_pivot_as_every_follower_does():
                            pivot_distance=350.0, pivot_angle=math.pi / 2, arm_length=330.0), 0.0)
     want = next(c for c in by_hand.checks if c.name == "pressure_angle")
     assert got["value"] == pytest.approx(math.degrees(want.value) if want.unit == "rad" else want.value, rel=1e-9)
+
+
+def test_a_follower_registered_from_outside_rides_every_form_with_every_output():
+    """One module and one line add a follower: a mushroom follower (a translating stem ending in a
+    circular face of radius 60 mm) is a point contact of that radius; the plate form makes its cam,
+    checks, sizes and draws it with no change elsewhere.  The face's centre at cam angle theta is
+    (R + s) (cos(pi/2 - theta), sin(pi/2 - theta)) in the cam frame (R = base 30 + 60 mm, the
+    cam turning counter-clockwise, the follower along +y); the profile touches that circle of
+    60 mm and never enters it (cycloidal rise of 10 mm over 120 deg, dwell, return: Norton, eq. 8.6)."""
+    from camgen.followers import FollowerKind, register, unregister
+    from camgen.schema import Key, Length
+
+    register(FollowerKind("mushroom", "a mushroom (a stem ending in a circular face)", "point",
+                          (Key("face_radius_mm", Length(), "Radius of the mushroom's face.", ("profile", "pitch"), default=50.0),),
+                          radius=lambda parsed: parsed["face_radius"], has_radius=True))
+    try:
+        segments = [{"law": "cycloidal", "span_deg": 120.0, "lift_mm": 10.0}, {"law": "dwell", "span_deg": 60.0},
+                    {"law": "cycloidal", "span_deg": 120.0, "lift_mm": -10.0}, {"law": "dwell", "span_deg": 60.0}]
+        cam = {"kind": "motion_law", "segments": segments, "follower": "mushroom", "face_radius_mm": 60.0, "base_radius_mm": 30.0,
+               "rpm": 60.0, "thickness_mm": 6.0}
+        files = _run({"output": {"formats": ALL_FORMATS}, "cams": {"m": cam}})
+    finally:
+        unregister("mushroom")
+    report = json.loads(files["report.json"])
+    assert report["status"] == "pass", [c for c in report["cams"]["m"]["checks"] if c["status"] == "fail"]
+    assert {"m.dxf", "m_points.csv", "m_lift.csv", "m_follower.csv", "m.stl", "m.3mf", "m.ngc", "report.html"} <= set(files)
+    assert report["cams"]["m"]["figures"]["follower"]["kind"] == "mushroom"
+    points = _table(files["m_points.csv"])
+    theta = np.linspace(0, 2 * math.pi, 1441)
+    beta = 2 * math.pi / 3
+    x, y = np.clip(theta / beta, 0, 1), np.clip((theta - math.pi) / beta, 0, 1)
+    lift = np.where(theta < math.pi, 10.0 * (x - np.sin(2 * math.pi * x) / (2 * math.pi)),
+                    10.0 - 10.0 * (y - np.sin(2 * math.pi * y) / (2 * math.pi)))
+    centres = (90.0 + lift)[:, None] * np.stack([np.cos(math.pi / 2 - theta), np.sin(math.pi / 2 - theta)], axis=1)
+    gaps = np.linalg.norm(points[None, :, :] - centres[:, None, :], axis=2).min(axis=1) - 60.0
+    assert gaps.min() > -1e-6 and gaps.max() < 0.05  # touches (to the points' spacing), never cuts
+    from camgen.errors import SceneError
+    from camgen.scene import parse_scene
+
+    with pytest.raises(SceneError, match="face_radius_mm"):  # unregistered again: its key is unknown
+        parse_scene({"cams": {"m": cam}}, "t")

@@ -516,6 +516,8 @@ def _scene_text(scene: dict | str) -> str:
 
 @pytest.mark.parametrize("scene, key", CASES)
 def test_bad_scene_is_one_line_naming_the_key_and_writes_nothing(scene, key, tmp_path, capsys):
+    """`camgen run` refuses with one line naming the key and writes nothing; `camgen check` refuses
+    with the same line and status."""
     import copy
 
     scene = copy.deepcopy(scene)
@@ -532,6 +534,8 @@ def test_bad_scene_is_one_line_naming_the_key_and_writes_nothing(scene, key, tmp
     assert key in err, f"the error does not name '{key}': {err}"
     assert list(parent.iterdir()) == []  # nothing written, not even OUTDIR
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["parent", "scene.toml"] + tables)
+    # camgen check shares the reading and the planning: the same status and the same line
+    assert main(["check", str(path)]) == status and capsys.readouterr().err == err
     CASE_COUNTS[("bad_input", key.split(".")[-1].split("[")[0] if key else "?")] += 1
 
 

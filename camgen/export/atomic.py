@@ -12,6 +12,8 @@ from typing import Iterator
 
 from camgen.errors import ExportError
 
+__all__ = ["atomic_path", "write_atomic"]
+
 
 @contextlib.contextmanager
 def atomic_path(path: str | Path) -> Iterator[Path]:

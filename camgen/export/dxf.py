@@ -46,6 +46,12 @@ from camgen.errors import ExportError, ParameterError, require_finite, require_p
 from camgen.export.atomic import write_atomic
 from camgen.export.dxfwriter import DxfDocument
 
+__all__ = [
+    "C1_JUMP", "C2_JUMP", "CONSTRUCTION_LAYERS", "CUT_LAYERS", "DEFAULT_BSPLINE_TOL", "DxfOptions", "PROFILE_LAYER",
+    "SPLINE_MODES", "ZERO_ARROW_RADIUS", "ZERO_ARROW_SWEEP", "compact_spline", "contour_to_dxf", "drawing_bounds",
+    "spline_bezier_controls", "spline_bspline", "write_dxf", "zero_mark_geometry",
+]
+
 PROFILE_LAYER = "PROFILE"
 #: Layers of what is cut (the part) and of construction geometry (drawn only when given), with
 #: their ACI colours.

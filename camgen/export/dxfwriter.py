@@ -31,8 +31,11 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 
 from camgen.errors import ExportError
+
+__all__ = ["ACADVER", "DxfDocument", "INSUNITS_MM", "PAPER_MM", "ZOOM_MARGIN"]
 
 #: DXF version written: R2010.
 ACADVER = "AC1024"
@@ -151,7 +154,7 @@ class DxfDocument:
         c = _points(center, "CIRCLE centre")[0]
         self._add("CIRCLE", layer, (100, "AcDbCircle"), *_xyz(10, c), (40, self._radius(radius, "CIRCLE")))
 
-    def add_lwpolyline(self, points: Sequence[Sequence[float]], closed: bool = False, layer: str = "0") -> None:
+    def add_lwpolyline(self, points: npt.ArrayLike, closed: bool = False, layer: str = "0") -> None:
         """An LWPOLYLINE through ``points`` (n >= 2, 2) with straight segments; ``closed`` joins
         the last point to the first."""
         p = _points(points, "LWPOLYLINE vertices")
@@ -162,7 +165,7 @@ class DxfDocument:
         self._add("LWPOLYLINE", layer, (100, "AcDbPolyline"), (90, str(len(p))), (70, "1" if closed else "0"),
                   (43, "0.0"), *vertices)
 
-    def add_spline(self, control_points: Sequence[Sequence[float]], knots: Sequence[float], degree: int = 3,
+    def add_spline(self, control_points: npt.ArrayLike, knots: npt.ArrayLike, degree: int = 3,
                    layer: str = "0") -> None:
         """A non-rational B-spline SPLINE in the x-y plane: control points (n, 2), knots
         (n + degree + 1,), non-decreasing (clamped: the first and last ``degree + 1`` equal)."""
@@ -188,14 +191,16 @@ class DxfDocument:
         """The drawing's bounding box: ``$EXTMIN``/``$EXTMAX`` (z = 0), the limits
         ``$LIMMIN``/``$LIMMAX`` (unless :meth:`set_limits` gives others), the model layout's
         extents and the zoom of the active viewport."""
-        box = tuple(float(_num(v, f"extent {n}")) for v, n in zip((xmin, ymin, xmax, ymax), ("xmin", "ymin", "xmax", "ymax")))
+        x0, y0, x1, y1 = (float(_num(v, f"extent {n}")) for v, n in zip((xmin, ymin, xmax, ymax), ("xmin", "ymin", "xmax", "ymax")))
+        box = (x0, y0, x1, y1)
         if box[2] < box[0] or box[3] < box[1]:
             raise ExportError(f"cannot write DXF: extents {box} have max < min")
-        self._extents = box  # type: ignore[assignment]
+        self._extents = box
 
     def set_limits(self, xmin: float, ymin: float, xmax: float, ymax: float) -> None:
         """``$LIMMIN``/``$LIMMAX`` (the drawing limits), when they differ from the extents."""
-        self._limits = tuple(float(_num(v, "limit")) for v in (xmin, ymin, xmax, ymax))  # type: ignore[assignment]
+        x0, y0, x1, y1 = (float(_num(v, "limit")) for v in (xmin, ymin, xmax, ymax))
+        self._limits = (x0, y0, x1, y1)
 
     def add_custom_property(self, tag: str, value: str) -> None:
         """A custom drawing property (``$CUSTOMPROPERTYTAG`` / ``$CUSTOMPROPERTY``)."""

@@ -62,6 +62,8 @@ import base64
 import math
 import zlib
 from dataclasses import dataclass, field
+from types import TracebackType
+from typing import Literal
 
 import numpy as np
 
@@ -69,6 +71,15 @@ from camgen.body import BodySpec
 from camgen.contour import Contour
 from camgen.errors import CamgenError, ExportError, GeometryError, ParameterError
 from camgen.export.tables import format_rows
+
+__all__ = [
+    "DEFAULT_SECTION_ELEMENTS", "ESTIMATE_MARGIN", "FEA_ELEMENTS", "FEA_FORMATS", "GRADING", "MAX_BOUNDARY",
+    "MAX_ELEMENT_SIZE", "MAX_FILE_BYTES", "MAX_MESHER_BYTES", "MESHER_BYTES", "MIN_LAYERS", "MeshEstimate",
+    "PER_CIRCLE", "Section", "VolumeMesh", "check_caps", "default_element_size", "estimate", "fea_bytes",
+    "file_bytes", "inp_text", "layer_count", "loop_sizes", "mesher_memory", "msh_text", "planned_load",
+    "require_gmsh", "section_outline", "section_triangles", "tetra_dihedral_angles", "tetra_mesh", "triangle_angles",
+    "volume_mesh", "vtu_bytes", "wedge_mesh", "writer",
+]
 
 #: Largest ``output.fea_element_size_mm`` (mm).
 MAX_ELEMENT_SIZE = 1e5
@@ -152,6 +163,14 @@ class Section:
     h: float
     area: float
 
+    def loops(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        """(polygon, sizes at its vertices) of the profile, then of the hole when there is one."""
+        loops = [(self.outer, self.outer_sizes)]
+        if self.hole is not None:
+            assert self.hole_sizes is not None  # given with the hole (section_outline)
+            loops.append((self.hole, self.hole_sizes))
+        return loops
+
 
 def _shoelace(loop: np.ndarray) -> float:
     x, y = loop[:, 0], loop[:, 1]
@@ -214,7 +233,7 @@ def estimate(section: Section, thickness: float, elements: str) -> MeshEstimate:
     chord plus ``V / h^3``.
     """
     h, g = section.h, GRADING
-    loops = [(section.outer, section.outer_sizes)] + ([(section.hole, section.hole_sizes)] if section.hole is not None else [])
+    loops = section.loops()
     boundary = 0.0
     band2 = 0.0  # sum of l / s_b
     band3 = 0.0  # sum of l / s_b^2
@@ -334,7 +353,7 @@ class _Session:
         gmsh.model.add("camgen")
         return gmsh
 
-    def __exit__(self, kind, exc, tb) -> bool:
+    def __exit__(self, kind: type[BaseException] | None, exc: BaseException | None, tb: TracebackType | None) -> Literal[False]:
         self.gmsh.finalize()
         if exc is not None and isinstance(exc, Exception) and not isinstance(exc, CamgenError):
             raise GeometryError(f"{self.what}: gmsh could not mesh it ({' '.join(str(exc).split())})") from None
@@ -346,12 +365,10 @@ def _outline_geometry(gmsh, section: Section) -> tuple[int, list[int], list[int]
     of the section in gmsh's built-in kernel: the surface tag, the profile's and the hole's
     line tags.  gmsh's API adds one point or line per call: a loop over the vertices."""
     geo = gmsh.model.geo
-    loops, lines = [], []
+    loops: list[int] = []
+    lines: list[list[int]] = []
     first = 1
-    for loop, sizes in ((section.outer, section.outer_sizes), (section.hole, section.hole_sizes)):
-        if loop is None:
-            lines.append([])
-            continue
+    for loop, sizes in section.loops():
         n = len(loop)
         tags = list(range(first, first + n))
         for tag, (x, y), size in zip(tags, loop.tolist(), sizes.tolist()):
@@ -361,6 +378,8 @@ def _outline_geometry(gmsh, section: Section) -> tuple[int, list[int], list[int]
         loops.append(geo.addCurveLoop(tags))
         lines.append(tags)
         first += n
+    if section.hole is None:
+        lines.append([])
     surface = geo.addPlaneSurface(loops)
     return surface, lines[0], lines[1]
 
@@ -764,7 +783,7 @@ def check_caps(contour: Contour, body: BodySpec, formats, chord_tol: float, elem
         why = f"its boundary would have {_boundary_count(contour, body, chord_tol)} vertices, more than the {MAX_BOUNDARY} an FEA file may hold"
     else:
         sizes, memory = load
-        worst = max(sizes, key=sizes.get)
+        worst = max(sizes, key=lambda name: sizes[name])
         why = (f"its {worst} file could reach {sizes[worst] / 1e6:.4g} MB (at most {MAX_FILE_BYTES / 1e6:g} MB) and meshing "
                f"{memory / 1e6:.4g} MB of memory (at most {MAX_MESHER_BYTES / 1e6:g} MB)")
     least = _least(lambda tol: _fits(contour, body, formats, tol, element_size, elements), chord_tol, max_chord_tol)

@@ -16,6 +16,8 @@ from camgen.export.tables import csv_table
 if TYPE_CHECKING:
     from camgen.checks import Motion
 
+__all__ = ["follower_columns", "follower_csv", "follower_metadata"]
+
 
 def follower_columns(oscillating: bool) -> dict[str, str]:
     """Columns of the follower table and what they hold: translating followers in mm, mm/s,

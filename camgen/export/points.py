@@ -16,6 +16,11 @@ from camgen.contour import Contour
 from camgen.export.atomic import write_atomic
 from camgen.export.tables import csv_table
 
+__all__ = [
+    "LIFT_COLUMNS", "POINTS_COLUMNS", "base_radius", "lift_angles", "lift_csv", "lift_metadata", "points_csv",
+    "points_metadata", "write_points_csv",
+]
+
 #: Columns of the point list (``<cam>_points.csv``) and what they hold.
 POINTS_COLUMNS = {
     "x_mm": "x of a vertex of the profile polygon in the cam frame (origin on the rotation axis), mm",

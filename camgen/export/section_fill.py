@@ -47,6 +47,11 @@ import math
 
 import numpy as np
 
+__all__ = [
+    "CENTRE_SEGMENTS", "DECIMATION", "LAST_STEP", "MAX_RINGS", "MIN_SINE", "RING_ASPECT", "SEAM_SEGMENTS",
+    "fill_section", "star_angles",
+]
+
 TWO_PI = 2.0 * math.pi
 #: About one ray in DECIMATION is kept from one ring to the next while the rings are finer than
 #: the seam circles: the interior vertices add up to about N / (DECIMATION - 1).
@@ -206,7 +211,8 @@ MAX_RINGS = 10000
 def _march(ring: _Ring, rho: float, inward: bool, first_id: int, seam_step: float) -> tuple[_Ring, list[np.ndarray], list[np.ndarray]] | None:
     """Rings from a loop to the circle of radius ``rho``: the last ring, the new vertices (one
     array per ring, in id order) and the bands' triangles."""
-    points, tris = [], []
+    points: list[np.ndarray] = []
+    tris: list[np.ndarray] = []
     for _ in range(MAX_RINGS):
         if ring.done.all():
             return ring, points, tris
@@ -287,12 +293,14 @@ def fill_section(outer: np.ndarray, hole: np.ndarray | None = None) -> tuple[np.
     r_o = np.hypot(outer[:, 0], outer[:, 1])
     seam_step = TWO_PI / SEAM_SEGMENTS
     points = [outer]
+    hole_ring: _Ring | None = None  # the hole's loop as the first ring of its band (with a hole)
     if hole is not None:
         hole = np.asarray(hole, dtype=float)
         theta_h = star_angles(hole)
         if theta_h is None:
             return None
         r_h = np.hypot(hole[:, 0], hole[:, 1])
+        hole_ring = _Ring(len(outer) + np.arange(len(hole)), theta_h, hole / r_h[:, None], hole, np.zeros(len(hole), bool))
         gap = math.log(float(r_o.min()) / float(r_h.max()))  # log width of the free annulus
         if not gap > 0.0:
             return None
@@ -311,9 +319,8 @@ def fill_section(outer: np.ndarray, hole: np.ndarray | None = None) -> tuple[np.
     last_o, new, tris = marched
     points += new
     first += sum(len(p) for p in new)
-    if hole is not None:
-        start = _Ring(len(outer) + np.arange(len(hole)), theta_h, hole / r_h[:, None], hole, np.zeros(len(hole), bool))
-        marched = _march(start, rho_q, False, first, seam_step)
+    if hole_ring is not None:
+        marched = _march(hole_ring, rho_q, False, first, seam_step)
         if marched is None:
             return None
         last_h, new, tris_h = marched
@@ -326,8 +333,8 @@ def fill_section(outer: np.ndarray, hole: np.ndarray | None = None) -> tuple[np.
             return None
         points += centre[0]
         tris += centre[1]
-    points = np.concatenate(points)
-    tris = np.concatenate(tris)
-    if not _positive(points, tris).all():
+    all_points = np.concatenate(points)
+    all_tris = np.concatenate(tris)
+    if not _positive(all_points, all_tris).all():
         return None
-    return points, tris
+    return all_points, all_tris

@@ -40,6 +40,12 @@ from camgen.errors import (
     ParameterError,
 )
 
+__all__ = [
+    "BYTES_PER_VERTEX", "CamSolid", "EXTRA_VERTICES", "FILLS", "MANIFOLD_SNAP", "MAX_FILE_BYTES", "MESH_FORMATS",
+    "SUFFIX", "VOLUME_RTOL", "bore_polygon", "cam_solid", "cross_section", "mesh_bytes", "section_triangulation",
+    "stl_ascii", "stl_binary", "three_mf", "unsnap", "vertex_limit",
+]
+
 #: Mesh formats and how they are written.
 MESH_FORMATS = {
     "stl": "binary STL (numpy writer)",

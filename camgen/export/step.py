@@ -41,6 +41,8 @@ import numpy as np
 from camgen.contour import Arc, Contour, Spline
 from camgen.errors import ExportError, GeometryError
 
+__all__ = ["EDGE_SPANS", "FOLD_TOL", "fold_short", "step_bytes", "step_volume"]
+
 #: Most knot spans of one B-spline edge (see the module notes: OCCT's volume integration).
 EDGE_SPANS = 64
 #: Pieces of the profile shorter than this (mm) are folded into their neighbours, and the least

@@ -19,14 +19,16 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 if TYPE_CHECKING:
-    from camgen.kinds.base import BuiltCam
+    from camgen.results import CamResult
     from camgen.scene import Scene
+
+__all__ = ["LEG_PATH_PREFIX", "LEG_PATH_SUFFIX", "tables_metadata"]
 
 #: File name prefix and suffix of the horse leg's path tables.
 LEG_PATH_PREFIX, LEG_PATH_SUFFIX = "leg_path_alpha_", ".csv"
 
 
-def _cam_tables(cam: "BuiltCam", scene: "Scene", written: set[str]) -> dict[str, dict[str, Any]]:
+def _cam_tables(cam: "CamResult", scene: "Scene", written: set[str]) -> dict[str, dict[str, Any]]:
     from camgen.outputs import OUTPUTS
 
     out: dict[str, dict[str, Any]] = {}
@@ -63,7 +65,7 @@ def _leg_tables(report: Mapping[str, Any], written: set[str]) -> dict[str, dict[
     return out
 
 
-def tables_metadata(scene: "Scene", cams: "Sequence[BuiltCam]", files: Sequence[str],
+def tables_metadata(scene: "Scene", cams: "Sequence[CamResult]", files: Sequence[str],
                     mechanisms: Mapping[str, Any] | None = None) -> dict[str, dict[str, Any]]:
     """The ``tables`` object of report.json: for every CSV among ``files`` (the names a run
     writes) what it holds; ``mechanisms`` are the jobs' report sections (the horse leg's

@@ -10,6 +10,8 @@ from typing import Mapping
 
 import numpy as np
 
+__all__ = ["COLUMN_NAME", "csv_table", "format_rows"]
+
 #: A column name: a lower-case identifier (letters, digits, '_'), its unit as the last part.
 COLUMN_NAME = re.compile(r"^[a-z][a-z0-9_]*$")
 

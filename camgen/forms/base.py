@@ -31,7 +31,8 @@ class CamForm:
     ----------
     name : the ``form`` value in scene files.
     summary : one line for ``camgen keys``.
-    keys : the form's keys (follower, body, checks, ...), after the motion's.
+    keys : ``() -> keys``: the form's keys (follower, body, checks, ...), after the motion's; a
+        function, so that a follower registered later is among them.
     read : ``(where, name, parsed, motion, base_dir) -> CamSpec``: the form's keys and the motion's
         law (:attr:`Motion.read_law`) into the typed spec; None: no law realisation (see above).
     build, evaluate, follower_dynamics, report_section : as :class:`camgen.kinds.base.CamKind`.
@@ -39,7 +40,7 @@ class CamForm:
 
     name: str
     summary: str
-    keys: tuple[Key, ...] = ()
+    keys: Callable[[], tuple[Key, ...]] = tuple
     read: "Callable[[str, str, Mapping[str, Any], Motion, Path | None], CamSpec] | None" = None
     build: "Callable[[CamSpec, frozenset[str]], BuiltCam] | None" = None
     evaluate: "Callable[[BuiltCam, CamSpec, float, bool], CamEvaluation] | None" = None

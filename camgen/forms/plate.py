@@ -35,7 +35,7 @@ def read(where: str, name: str, parsed: Mapping[str, Any], motion: "Motion", bas
 FORM = CamForm(
     name="plate",
     summary="open plate (disk) cam: the exact envelope of a translating or oscillating roller, flat face or knife",
-    keys=follower_keys() + (source_key(),) + body_keys() + check_keys() + dynamics_keys(),
+    keys=lambda: follower_keys() + (source_key(),) + body_keys() + check_keys() + dynamics_keys(),
     read=read,
     build=build_disk,
     evaluate=evaluate_disk,

@@ -5,6 +5,8 @@ import importlib
 
 from camgen.jobs.base import MechanismJob
 
+__all__ = ["JOB_MODULES", "get_job", "job_names"]
+
 #: mechanism name -> module defining ``JOB``
 JOB_MODULES: dict[str, str] = {
     "horse_leg": "camgen.jobs.horse_leg",

@@ -12,6 +12,8 @@ if TYPE_CHECKING:
     from camgen.checks import CheckResult
     from camgen.report.model import SectionData
 
+__all__ = ["JobResult", "MechanismJob"]
+
 
 @dataclass(frozen=True)
 class JobResult:

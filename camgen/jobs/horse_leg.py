@@ -24,6 +24,11 @@ if TYPE_CHECKING:
     from camgen.mechanisms.horse_leg import HorseLeg, LegSolution
     from camgen.report.sections import HorseLegSection
 
+__all__ = [
+    "HorseLegSpec", "JOB", "KEYS", "LEG_PATH_COLUMNS", "MAX_SWEEP_STEPS", "WHERE", "label", "leg_path_metadata",
+    "read", "run", "sweep_steps", "sweep_values",
+]
+
 
 def _ground_default() -> float:
     from camgen.kinds.base import field_default

@@ -75,5 +75,5 @@ def _compose(name: str, form_name: str, motion: "Motion") -> CamKind:
     def read_cam(where: str, cam_name: str, parsed: Mapping[str, Any], base_dir: Path | None = None) -> "CamSpec":
         return read(where, cam_name, parsed, motion, base_dir)
 
-    return CamKind(name, motion.summary, (key,) + motion.keys + form.keys, read_cam, form.build, form.report_section, form.evaluate,
+    return CamKind(name, motion.summary, (key,) + motion.keys + form.keys(), read_cam, form.build, form.report_section, form.evaluate,
                    form.follower_dynamics)

@@ -31,6 +31,7 @@ from camgen.schema import Choice, Key, Length, Number
 if TYPE_CHECKING:
     from camgen.checks import CamEvaluation, CheckResult, Motion
     from camgen.contour import Contour
+    from camgen.followers import Contact
     from camgen.report.model import RideAnimation
     from camgen.synthesis.followers import CamEnvelope, FollowerSpec
     from camgen.synthesis.sizing import SizingResult
@@ -56,8 +57,25 @@ SIZING = ("none", "base_radius", "base_radius_and_offset")
 _OSC = {"follower_motion": ("oscillating",)}
 
 
+def own_keys(contacts: "tuple[Contact, ...]") -> tuple[Key, ...]:
+    """The own keys of the registered followers with one of ``contacts`` (a roller's radius, ...),
+    each allowed only with the followers that own it."""
+    from camgen.followers import follower_names, get_follower
+
+    owners: dict[str, list[str]] = {}
+    first: dict[str, Key] = {}
+    for name in follower_names(contacts):
+        for key in get_follower(name).keys:
+            owners.setdefault(key.name, []).append(name)
+            first.setdefault(key.name, key)
+    return tuple(replace(key, requires={**key.requires, "follower": tuple(owners[key.name])}) for key in first.values())
+
+
 def follower_keys() -> tuple[Key, ...]:
-    """The keys of a disk cam's follower, rotation, base radius, sizing and representation."""
+    """The keys of a disk cam's follower (every registered follower with a point or face
+    contact), rotation, base radius, sizing and representation."""
+    from camgen.followers import follower_names, get_follower
+
     return (
         Key("base_radius_mm", Length(), "Radius of the cam where the follower rests at zero lift or swing (roller: where the roller "
             "touches, its centre on the prime circle base + roller radius; flat: the face's distance from the axis). "
@@ -66,12 +84,13 @@ def follower_keys() -> tuple[Key, ...]:
             "(base_radius_and_offset: translating roller or knife) that meets the pressure-angle limit and, when a tool is named, "
             "the tool radius as the smallest concave radius; base_radius_mm (and follower_offset_mm) are then refused and the "
             "result is in the report's figures.", ("profile",), default="none"),
-        Key("follower", Choice(("roller", "flat", "knife")), "Follower: a roller, a flat face, or a knife edge.", ("profile",),
+        Key("follower", Choice(follower_names(("point", "face"))), "Follower (camgen.followers): " + "; ".join(
+            f"{name}, {get_follower(name).summary}" for name in follower_names(("point", "face"))) + ".", ("profile",),
             default="roller", feeds=("kind",)),
         Key("follower_motion", Choice(("translating", "oscillating")),
             "Translating along +y (the line x = follower_offset_mm), or oscillating about a pivot (pivot_x_mm, pivot_y_mm).",
             ("profile",), default="translating", feeds=("motion",)),
-        Key("roller_radius_mm", Length(), "Roller radius.", ("profile", "pitch"), default=10.0, requires={"follower": ("roller",)}),
+    ) + own_keys(("point", "face")) + (
         Key("follower_offset_mm", Length(-1e5, 1e5, low_open=False),
             "Translating follower: its axis is the line x = offset (> 0: right of the cam axis, looking at the DXF with the "
             "follower above the cam); default 0. A flat face's offset moves only the face centre (the face-length check and "
@@ -81,16 +100,16 @@ def follower_keys() -> tuple[Key, ...]:
         Key("pivot_y_mm", Length(-1e5, 1e5, low_open=False), "Oscillating follower: y of the arm's pivot.", ("profile",), requires=_OSC,
             feeds=("pivot",)),
         Key("arm_length_mm", Length(), "Oscillating roller or knife: pivot to roller centre (knife tip).", ("profile",),
-            requires={**_OSC, "follower": ("roller", "knife")}),
+            requires={**_OSC, "follower": follower_names(("point",))}),
         Key("face_offset_mm", Length(-1e5, 1e5, low_open=False), "Oscillating flat face: distance of the face line from the pivot "
             "(> 0: the face lies between the pivot and the cam axis; 0: the face line passes through the pivot).", ("profile",),
-            default=0.0, requires={**_OSC, "follower": ("flat",)}),
+            default=0.0, requires={**_OSC, "follower": follower_names(("face",))}),
         Key("swing_turn", Choice(("ccw", "cw")), "Oscillating follower: the way the arm turns about its pivot for a positive swing "
             "(the follower moves away from the cam).", ("profile",), default="ccw", requires=_OSC, feeds=("lift_turn",)),
         Key("rotation", Choice(("ccw", "cw")), "Direction the cam turns, seen looking at the DXF (from +z); the cam angle is "
             "measured in this direction.", ("profile",), default="ccw"),
         Key("face_half_length_mm", Length(), "Flat face: usable half-length of the face (checked against the contact's reach; "
-            "oscillating: about the middle of the contact's range).", ("report",), requires={"follower": ("flat",)}),
+            "oscillating: about the middle of the contact's range).", ("report",), requires={"follower": follower_names(("face",))}),
         Key("fit_tol_mm", Number("mm", 1e-10, FIT_TOL_MAX), "Largest distance of the profile's spline representation from the exact "
             "envelope (measured at the quarter and mid points of every piece).", ("profile",), default=DEFAULT_FIT_TOL),
     )
@@ -145,22 +164,25 @@ def _follower_spec(where: str, **kwargs: Any) -> "FollowerSpec":
         raise GeometryError(f"{where}: {exc}") from None
 
 
-def _placeholder_base(kind: str, motion: str, roller: float, offset: float, pivot: tuple[float, float] | None,
+def _placeholder_base(contact: str, motion: str, roller: float, offset: float, pivot: tuple[float, float] | None,
                       arm: float, face: float) -> float:
     """A base radius the other follower parameters allow (sizing replaces it)."""
     if motion == "translating":
-        return abs(offset) + 1.0 if kind != "flat" else 1.0
+        return abs(offset) + 1.0 if contact == "point" else 1.0
     d = math.hypot(*pivot)  # type: ignore[misc]
-    lo, hi = (max(0.0, -d - face), d - face) if kind == "flat" else (max(0.0, abs(d - arm) - roller), d - roller)
+    lo, hi = (max(0.0, -d - face), d - face) if contact == "face" else (max(0.0, abs(d - arm) - roller), d - roller)
     return 0.5 * (lo + hi) if hi > lo else 1.0
 
 
 def read_follower(where: str, parsed: Mapping[str, Any]) -> tuple["FollowerSpec", str]:
     """The follower of a disk cam table and its sizing method; errors name the scene keys."""
+    from camgen.followers import get_follower
     from camgen.keynames import scene_key
 
     kind, motion, sizing = parsed["follower"], parsed["follower_motion"], parsed["sizing"]
-    roller = parsed["roller_radius"] if kind == "roller" else 0.0
+    model = get_follower(kind)
+    contact = model.contact
+    roller = model.radius(parsed)
     if sizing == "none" and "base_radius" not in parsed:
         raise ParameterError(f"{where}.base_radius_mm", None, "a length in mm, > 0",
                              'required unless sizing = "base_radius" or "base_radius_and_offset" computes it')
@@ -168,7 +190,7 @@ def read_follower(where: str, parsed: Mapping[str, Any]) -> tuple["FollowerSpec"
         raise ParameterError(f"{where}.base_radius_mm", parsed["base_radius"], "no base_radius_mm with sizing",
                              f"sizing = {sizing!r} computes the base radius")
     if sizing == "base_radius_and_offset":
-        if motion != "translating" or kind == "flat":
+        if motion != "translating" or contact != "point":
             raise ParameterError(f"{where}.sizing", sizing, '"none" or "base_radius" for this follower',
                                  "an offset is sized for a translating roller or knife only (a flat face's offset does not change the cam)")
         if "follower_offset" in parsed:
@@ -177,17 +199,17 @@ def read_follower(where: str, parsed: Mapping[str, Any]) -> tuple["FollowerSpec"
     pivot = None
     arm = face = 0.0
     if motion == "oscillating":
-        for key in ("pivot_x", "pivot_y") + (("arm_length",) if kind != "flat" else ()):
+        for key in ("pivot_x", "pivot_y") + (("arm_length",) if contact == "point" else ()):
             if key not in parsed:
                 raise ParameterError(f"{where}.{scene_key(follower_keys(), key)}", None, "a length in mm",
                                      f"required for an oscillating {kind} follower")
         pivot = (parsed["pivot_x"], parsed["pivot_y"])
         arm = parsed.get("arm_length", 0.0)
-        face = parsed.get("face_offset", 0.0) if kind == "flat" else 0.0
+        face = parsed.get("face_offset", 0.0) if contact == "face" else 0.0
     offset = parsed.get("follower_offset", 0.0) if motion == "translating" else 0.0
     base = parsed.get("base_radius")
     if base is None:
-        base = _placeholder_base(kind, motion, roller, offset, pivot, arm, face)
+        base = _placeholder_base(contact, motion, roller, offset, pivot, arm, face)
     spec = _follower_spec(where, kind=kind, base_radius=base, motion=motion, roller_radius=roller, offset=offset, pivot=pivot,
                           arm_length=arm, face_offset=face, lift_turn=parsed.get("swing_turn", "ccw"), rotation=parsed["rotation"])
     return spec, sizing
@@ -306,7 +328,7 @@ def follower_shapes(f: "FollowerSpec", s: float, size: float, face: tuple[float,
     k = kinematics(f, _At(), np.zeros(1))
     out: list[tuple[str, np.ndarray]] = []
     stem = 0.35 * size
-    if f.kind == "flat":
+    if f.contact == "face":
         if f.motion == "translating":
             y = f.base_radius + s
             lo, hi = face if face is not None else (-0.3 * size, 0.3 * size)
@@ -327,13 +349,13 @@ def follower_shapes(f: "FollowerSpec", s: float, size: float, face: tuple[float,
     if f.motion == "translating":
         up = np.array([0.0, 1.0])
         top = c + (f.roller_radius + stem) * up
-        out.append(("follower stem", np.stack([c if f.kind == "roller" else c + 0.25 * size * up, top])))
+        out.append(("follower stem", np.stack([c if f.has_radius else c + 0.25 * size * up, top])))
     else:
         out.append(("arm", np.stack([np.asarray(f.pivot), c])))
         out.append(("pivot", _circle(np.asarray(f.pivot), 0.03 * size, 25)))
         up = (c - np.asarray(f.pivot)) / f.arm_length
         up = np.array([-up[1], up[0]]) * f.tau  # the direction of lift: the knife's body lies that way from its tip
-    if f.kind == "roller":
+    if f.has_radius:
         out.append(("roller", _circle(c, f.roller_radius)))
     else:
         side = np.array([-up[1], up[0]])
@@ -420,11 +442,11 @@ def build_disk(spec: CamSpec, stages: frozenset[str]) -> DiskCam:
         figures["source"] = p.source
     zero = kinematics(follower, p.law, np.zeros(1)).contact_point[0]
     zero_mark = ZeroMark((float(zero[0]), float(zero[1])), follower.sigma)
-    pitch = env.pitch if follower.kind == "roller" else None
+    pitch = env.pitch if follower.has_radius else None  # a knife's pitch curve is its profile
     drawing = animation = None
     if "plots" in stages:  # what report.html draws: the follower at cam angle 0, the animation
         size = follower.prime_radius + (p.law.stroke if unit == "mm" else 0.0)
-        face = _face_extent(follower, env.data, p.face_half_length) if follower.kind == "flat" else None
+        face = _face_extent(follower, env.data, p.face_half_length) if follower.contact == "face" else None
         s0 = float(p.law(np.zeros(1))[0][0])
         drawing = follower_shapes(follower, s0, size, face)
         animation = _animation(profile if profile is not None else env.pitch, zero_mark, follower, p.law, size, face)
@@ -435,7 +457,7 @@ def build_disk(spec: CamSpec, stages: frozenset[str]) -> DiskCam:
 
 def _follower_figures(f: "FollowerSpec") -> dict[str, Any]:
     out: dict[str, Any] = {"kind": f.kind, "motion": f.motion, "rotation": f.rotation}
-    if f.kind == "roller":
+    if f.has_radius:
         out["roller_radius_mm"] = f.roller_radius
     out["prime_radius_mm"] = f.prime_radius
     if f.motion == "translating":
@@ -443,7 +465,7 @@ def _follower_figures(f: "FollowerSpec") -> dict[str, Any]:
     else:
         out["pivot_mm"] = list(f.pivot)  # type: ignore[arg-type]
         out["swing_turn"] = f.lift_turn
-        if f.kind == "flat":
+        if f.contact == "face":
             out["face_offset_mm"] = f.face_offset
             out["rest_face_normal_deg"] = math.degrees(f.rest_face_angle)
         else:
@@ -535,13 +557,13 @@ def _undercut(cam: DiskCam) -> "CheckResult":
     for _, m in masks:
         bad |= m
     reasons = [r for r, m in masks if m.any()]
-    if f.kind == "roller":
+    if f.has_radius:
         rho = _given(k.pitch_radius, "a roller's pitch curve")
         convex = np.where(rho > 0, rho, np.inf)
         i = int(np.argmin(convex))
         value: Any = float(convex[i]) if np.isfinite(convex[i]) else "none"
         limit, unit, what = f.roller_radius, "mm", "smallest convex radius of the pitch curve (roller-centre path) against the roller radius"
-    elif f.kind == "flat":
+    elif f.contact == "face":
         rho = k.profile_radius
         i = int(np.argmin(rho))
         value, limit, unit, what = float(rho[i]), 0.0, "mm", "smallest radius of curvature of the envelope of the face (h + h'') against 0"
@@ -643,12 +665,12 @@ def evaluate_disk(cam: BuiltCam, spec: CamSpec, tool_radius: float, tool_is_limi
     what = f"{f.motion} {f.kind} follower" + (f" (offset {f.offset:g} mm)" if f.motion == "translating" and f.offset else "")
     pressure = pressure_angle_check(k.pressure_angle, theta, pressure_limit(spec), what)
     pressure = replace(pressure, limit=round(pressure.limit, 9))  # the scene's degrees, not their radian round trip
-    if f.kind == "flat" and f.motion == "translating":
+    if f.contact == "face" and f.motion == "translating":
         pressure = replace(pressure, note="a translating flat face moves along its own normal: pressure angle 0 at every cam angle")
     checks.append(pressure)
     checks.append(motion_check(cam.motion, spec.checks.rpm))
     checks.append(_law_joins(cam, spec.checks.rpm))
-    if f.kind == "flat":
+    if f.contact == "face":
         checks.append(_face_length(cam, p.face_half_length))
     if cam.contour is not None:
         checks.extend(machinability_from_radii(k.profile_radius, theta, tool_radius, tool_is_limit, "cam angles"))
@@ -657,7 +679,7 @@ def evaluate_disk(cam: BuiltCam, spec: CamSpec, tool_radius: float, tool_is_limi
         checks.append(advice)
     if cam.contour is not None:
         rho, label, limit = k.profile_radius, "profile radius of curvature (mm, < 0 concave)", None
-    elif f.kind == "roller":
+    elif f.has_radius:
         rho, label, limit = _given(k.pitch_radius, "a roller's pitch curve"), "radius of curvature of the pitch curve (mm)", f.roller_radius
     else:
         rho, label, limit = k.profile_radius, "radius of curvature of the envelope (mm)", 0.0

@@ -188,15 +188,19 @@ def read_dynamics(where: str, parsed: Mapping[str, Any], *, motion: str, followe
     if rpm is None:
         raise ParameterError(f"{where}.rpm", None, "a cam speed in rev/min (> 0)",
                              f"the follower dynamics ({trigger} given) are computed at the cam speed")
-    if follower == "yoke":
+    from camgen.followers import get_follower
+
+    model = get_follower(follower)
+    if model.contact == "faces":
         for name in (*SPRING_KEYS, "jump_margin_n"):
             if name in given:
-                refuse(name, "left out for a yoke follower", "a yoke is form-closed: its second face holds it on the cam, so it "
+                refuse(name, f"left out for a {follower} follower", "a yoke is form-closed: its second face holds it on the cam, so it "
                        "has no spring and cannot jump (both contacts are checked instead)")
-    if follower == "knife":
+    edge = model.contact == "point" and not model.has_radius
+    if edge:
         for name in CONTACT_KEYS:
             if name in given:
-                refuse(name, "left out for a knife follower", "a sharp knife edge touches the cam along a line of zero radius: "
+                refuse(name, f"left out for a {follower} follower", "a sharp knife edge touches the cam along a line of zero radius: "
                        "its Hertz contact stress is unbounded (use a roller to have it checked)")
     lengths = ("spring_free_length_mm", "spring_installed_length_mm")
     if (lengths[0] in given) != (lengths[1] in given):
@@ -227,14 +231,14 @@ def read_dynamics(where: str, parsed: Mapping[str, Any], *, motion: str, followe
     spring_rate, preload, damping = (scene_key(keys, name) for name in ("spring_rate", "preload", "damping"))
     get = parsed.get
     train = renamed(where, keys, lambda: dy.FollowerTrain(
-        motion=motion, closure="form" if follower == "yoke" else "force", mass=get("mass_kg", 0.0), inertia=get("inertia_kg_m2", 0.0),
+        motion=motion, closure="form" if model.contact == "faces" else "force", mass=get("mass_kg", 0.0), inertia=get("inertia_kg_m2", 0.0),
         arm_length=0.0 if translating else 1.0,  # placeholder: the stage sets the arm from the follower geometry
         cg_distance=get("cg_distance_mm", 0.0), spring_rate=get(spring_rate, 0.0), preload=get(preload),
         spring_free_length=get("spring_free_length_mm"), spring_installed_length=get("spring_installed_length_mm"),
         damping=get(damping, 0.0), load=load, gravity=dy.STANDARD_GRAVITY if parsed.get("gravity", True) else 0.0,
         gravity_angle=get("gravity_angle", -math.pi / 2)))
     material = None
-    if follower != "knife":
+    if not edge:
         material = renamed(where, keys, lambda: dy.ContactMaterial(
             width=get("contact_width_mm", thickness), cam_modulus=get("cam_modulus_gpa", 210.0), cam_poisson=get("cam_poisson", 0.3),
             follower_modulus=get("follower_modulus_gpa", 210.0), follower_poisson=get("follower_poisson", 0.3),
@@ -295,12 +299,12 @@ def disk_kinematics(cam: "BuiltCam", spec: "CamSpec") -> tuple["Kinematics", flo
 
     f = cam.spec_follower  # type: ignore[attr-defined]
     k = cam.envelope.data  # type: ignore[attr-defined]
-    radius = f.roller_radius if f.kind == "roller" else math.inf if f.kind == "flat" else 0.0
+    radius = f.roller_radius if f.contact == "point" else math.inf  # a point contact's radius (a knife's 0); a face is straight
     lever = None
     if f.motion == "translating":
         direction: Any = math.pi / 2  # the follower moves along fixed +y
         arm = 0.0
-    elif f.kind == "flat":
+    elif f.contact == "face":
         # the face normal w (away from the cam) turns by tau per unit swing: the centre of mass, on
         # the perpendicular from the pivot towards the cam (-w), moves along -tau J w; the pressure angle
         # arctan(f / xi) refers to the contact point, hypot(xi, f) from the pivot
@@ -330,7 +334,7 @@ def three_arc_kinematics(cam: "BuiltCam", spec: "CamSpec", samples: int = THREE_
     h, dh, d2h = contour.support_derivatives(psi)
     zero = np.zeros(samples)
     second: dict[str, Any] = {}
-    if follower.kind == "yoke":
+    if follower.contact == "faces":
         h2, _, d2h2 = contour.support_derivatives(psi + math.pi)
         second = {"pressure_angle_2": zero, "rho_cam_2": h2 + d2h2, "follower_radius_2": math.inf}
     return _kinematics(lambda: dy.Kinematics(theta, h, -dh, d2h, zero, h + d2h, math.inf, follower.direction, **second)), 0.0

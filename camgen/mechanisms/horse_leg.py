@@ -50,10 +50,17 @@ from typing import Any
 
 import numpy as np
 
-from camgen.contour import Contour
+from camgen.contour import Arc, Contour
 from camgen.errors import GeometryError, ParameterError, require_finite
 from camgen.geometry import unit_vectors as _unit
 from camgen.geometry import wrap_pi
+
+__all__ = [
+    "ASSEMBLY_SCAN", "ASSEMBLY_SCAN_POSITIONS", "ASSEMBLY_STEP", "ASSEMBLY_TOL", "Branches", "HorseLeg",
+    "LegSolution", "PARALLEL_TOL", "assembly_range", "body_path", "branch_table", "cycle", "four_bar", "gait_figures",
+    "gait_range", "grashof_margin", "ground_crossings", "ground_lines", "height_fork_pressure_angle",
+    "lead_screw_length", "leg_cams", "leg_loop", "lifting_loop", "pressure_angle", "solve_leg", "solve_stride_loop",
+]
 
 D = math.radians
 
@@ -272,6 +279,7 @@ def lifting_loop(leg: HorseLeg, cam: Contour, theta4: np.ndarray, side: int = 1,
     best = np.full(theta4.shape, np.nan)
     found = np.zeros(theta4.shape, dtype=int)
     for seg in cam.segments:
+        assert isinstance(seg, Arc)  # the height cam is made of circular arcs (the paper's cam)
         centre = _rotate(np.broadcast_to(np.asarray(seg.center), theta4.shape + (2,)), theta4)
         dv = o5 - centre
         dist = np.hypot(dv[..., 0], dv[..., 1])

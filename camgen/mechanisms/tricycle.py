@@ -44,6 +44,13 @@ from camgen.errors import GeometryError, ParameterError, UndercutError, require_
 from camgen.geometry import outward_normal, signed_curvature
 from camgen.synthesis.trajectory import CamSynthesis, PathError, Trajectory, steerable_paths, synthesize_rho
 
+__all__ = [
+    "DEFAULT_FIT_TOL", "ErrorModel", "MEASURED_TABLES", "MeasuredTable", "NOISE_FACTOR", "PolarCurves", "RHO_DEGREES",
+    "Ride", "RideGeometry", "SPLINE_FORMS", "Tricycle", "TricycleCam", "UNDERCUT_GRID", "contact_vs_rho",
+    "design_start", "fine_tuning_step", "lateral_error", "load_measured_table", "ride", "ride_geometry",
+    "ride_max_lateral_error", "simulate_cam", "steering_curvature", "tricycle_cam", "worm_teeth_for",
+]
+
 
 @dataclass(frozen=True)
 class Tricycle:
@@ -146,8 +153,8 @@ class PolarCurves:
         column = np.zeros(n)
         column[(np.arange(k + 1) - centre) % n] += poly[:, 0]
         controls = np.real(np.fft.ifft(np.fft.fft(radius[:-1]) / np.fft.fft(column)))
-        j = np.arange(n)
-        gathered = controls[(j[None, :] + centre - np.arange(k + 1)[:, None]) % n]  # (k + 1, N)
+        sample = np.arange(n)
+        gathered = controls[(sample[None, :] + centre - np.arange(k + 1)[:, None]) % n]  # (k + 1, N)
         in_s = poly.T @ gathered  # (k + 1, N): powers of s
         return cls(in_s / h ** np.arange(k + 1)[:, None], rod_radius)
 
@@ -415,6 +422,7 @@ def ride_geometry(profile: Contour, rod_radius: float, nodes: int = 6) -> RideGe
     the spline parameter of every piece of ``C``, where the integrand is smooth.
     """
     (seg,) = profile.segments
+    assert isinstance(seg, Spline)  # a tricycle cam's profile is one closed spline (tricycle_cam)
     tau, weights, integ = _gauss_integration_matrix(nodes)
     h = np.diff(seg.breaks)
     t = seg.breaks[:-1, None] + 0.5 * h[:, None] * (tau[None, :] + 1.0)  # (K, m)
@@ -582,7 +590,7 @@ def ride_max_lateral_error(cam: TricycleCam, periods: int = 1, errors: ErrorMode
     speed = errors.drive_scale * cam.synthesis.arc_length / (2.0 * math.pi)
     rate = speed * steering_curvature(geom.rod, cam.device, errors)[None]  # (1, K, m): d heading / d theta
     shape = rate.shape
-    at_nodes = np.ones(shape[:-1] + (shape[-1] + 1,), dtype=bool)
+    at_nodes: np.ndarray = np.ones(shape[:-1] + (shape[-1] + 1,), dtype=bool)
     at_nodes[..., -1] = False
     at_nodes = at_nodes.ravel()
     # the two rigid moves of simulate_cam: ride() turns by the start-heading error, then onto the design

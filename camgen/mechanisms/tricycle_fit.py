@@ -49,6 +49,11 @@ from camgen.mechanisms.tricycle import (
 )
 from camgen.numerics.least_squares import LeastSquares, levenberg_marquardt
 
+__all__ = [
+    "FIT_FTOL", "FIT_MAX_CONDITION", "FitNotDetermined", "FitResult", "PARAMETERS", "PARAMETER_SCALE",
+    "START_PHASES_DEG", "adjustment_advice", "fit_error_model", "model_y",
+]
+
 PARAMETERS = ("steering_offset_deg", "steering_gain", "drive_scale", "start_phase_deg", "start_heading_deg")
 
 

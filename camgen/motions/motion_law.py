@@ -113,7 +113,7 @@ def read_law(where: str, parsed: Mapping[str, Any], follower: "FollowerSpec", ba
     """The motion program of a cam table for ``follower`` (a lift in mm for a translating one, a
     swing in rad for an oscillating one); a velocity jump is refused unless the follower is a knife."""
     program = read_program(where, parsed["segments"], follower.motion)
-    if follower.kind != "knife":
+    if not follower.edge:  # a knife edge rides the corner; a roller or a face cannot
         for join in program.joins():
             if join.continuity < 1:
                 raise ParameterError(

@@ -52,16 +52,27 @@ _PARAMS = (
     source_key(),
 )
 
+def _followers(*contacts: str) -> tuple[str, ...]:
+    """The followers the sampled checks know (camgen.checks.sampled_follower_kinds) with one of ``contacts``."""
+    from camgen.followers import follower_names, get_follower
+
+    return tuple(n for n in follower_names() if get_follower(n).contact in contacts
+                 and (get_follower(n).contact != "point" or get_follower(n).has_radius))
+
+
+_SAMPLED, _POINTS, _FACES = _followers("point", "face", "faces"), _followers("point"), _followers("face", "faces")
+
 _FOLLOWER = (
-    Key("follower", Choice(("yoke", "flat", "roller")),
-        "Follower analysed by the checks: a yoke (two parallel flat faces, the constant-breadth drive), one flat face, or a roller.",
+    Key("follower", Choice(_SAMPLED),
+        "Follower analysed by the checks: a yoke (two parallel flat faces, the constant-breadth drive), one flat face, or a roller "
+        "(camgen.followers: every follower with faces, a face or a point contact with a radius).",
         ("report", "pitch"), default="yoke"),
     Key("follower_motion", Choice(("translating", "oscillating")),
         "Translating, or (roller only) oscillating about a pivot.", ("report",), default="translating"),
-    Key("roller_radius_mm", Length(), "Roller radius.", ("report", "pitch"), requires={"follower": ("roller",)}),
+    Key("roller_radius_mm", Length(), "Roller radius.", ("report", "pitch"), requires={"follower": _POINTS}),
     Key("follower_offset_mm", Length(-1e5, 1e5, low_open=False),
         "Distance of a translating roller's axis from the cam axis (to the left of the motion direction).", ("report",),
-        requires={"follower": ("roller",), "follower_motion": ("translating",)}),
+        requires={"follower": _POINTS, "follower_motion": ("translating",)}),
     Key("follower_direction_deg", Angle(), "Direction in which the follower translates, in the fixed frame (counter-clockwise from +x).",
         ("report",), default=0.0, requires={"follower_motion": ("translating",)}),
     Key("pivot_x_mm", Length(-1e5, 1e5, low_open=False), "Oscillating roller: x of the arm's pivot (fixed frame, cam axis at 0), "
@@ -71,7 +82,7 @@ _FOLLOWER = (
     Key("arm_length_mm", Length(), "Oscillating roller: arm length from the pivot to the roller centre.", ("report",),
         requires={"follower_motion": ("oscillating",)}),
     Key("face_half_length_mm", Length(), "Flat face or yoke: usable half-length of the face (checked against the contact's reach).",
-        ("report",), requires={"follower": ("flat", "yoke")}),
+        ("report",), requires={"follower": _FACES}),
 )
 
 KEYS = _PARAMS + body_keys() + _FOLLOWER + check_keys() + dynamics_keys(oscillating=False)  # yoke and flat face: translating
@@ -110,7 +121,7 @@ def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = 
                              base_dir=base_dir, unavailable=(
                                  "the follower dynamics of a three_arc cam are computed for its yoke or a flat face (their motion "
                                  "follows exactly from the arcs' support function); a roller's is not available here"
-                                 if follower.kind == "roller" else None))
+                                 if follower.contact == "point" else None))
     return CamSpec(name, "three_arc", ThreeArcParams(a, b, c, parsed.get("source")), body, checks, follower, dynamics)
 
 

@@ -65,7 +65,8 @@ def animation_svg(anim: RideAnimation, title: str, width_px: int = 420) -> str:
         motion = (f"<animateTransform attributeName='transform' type='translate' values='{values}' dur='{dur}' "
                   "repeatCount='indefinite' calcMode='linear'/>")
     else:
-        px, py = anim.pivot  # type: ignore[misc]
+        assert anim.pivot is not None  # an oscillating follower's animation has its pivot (RideAnimation)
+        px, py = anim.pivot
         values = ";".join(f"{v:.4f} {px:.3f} {py:.3f}" for v in np.append(anim.moves, anim.moves[0]))
         motion = (f"<animateTransform attributeName='transform' type='rotate' values='{values}' dur='{dur}' "
                   "repeatCount='indefinite' calcMode='linear'/>")

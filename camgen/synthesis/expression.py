@@ -20,10 +20,16 @@ from __future__ import annotations
 import ast
 import math
 from dataclasses import dataclass
+from typing import TypeAlias
 
 import numpy as np
 
 from camgen.errors import ParameterError
+
+__all__ = [
+    "Bin", "Const", "Expression", "FUNCTIONS", "Func", "MAX_DEPTH", "MAX_DERIVED_DEPTH", "MAX_LENGTH", "MAX_NODES",
+    "Node", "ONE", "Value", "Var", "ZERO", "add", "div", "mul", "neg", "parse_expression", "power", "sub",
+]
 
 #: Longest expression, characters.
 MAX_LENGTH = 2000
@@ -37,12 +43,15 @@ MAX_NODES = 20_000
 MAX_DERIVED_DEPTH = 4 * MAX_DEPTH
 FUNCTIONS = ("sin", "cos", "tan", "exp", "log", "sqrt", "abs")
 _ALLOWED = "numbers, x, pi, + - * / **, parentheses and sin cos tan exp log sqrt abs"
+#: What a node evaluates to: an array, or a numpy scalar for a constant part (and for a 0-d x:
+#: numpy's ufuncs return scalars there).
+Value: TypeAlias = "np.ndarray | np.float64"
 
 
 class Node:
     """A node of an expression tree; evaluate with :meth:`__call__`, differentiate with :meth:`diff`."""
 
-    def __call__(self, x: np.ndarray) -> np.ndarray:  # pragma: no cover - abstract
+    def __call__(self, x: np.ndarray) -> Value:  # pragma: no cover - abstract
         raise NotImplementedError
 
     def diff(self) -> "Node":  # pragma: no cover - abstract
@@ -53,7 +62,7 @@ class Node:
 class Const(Node):
     value: float
 
-    def __call__(self, x: np.ndarray) -> np.ndarray:
+    def __call__(self, x: np.ndarray) -> Value:
         return np.float64(self.value)  # a scalar: numpy broadcasting spreads it (see Expression)
 
     def diff(self) -> Node:
@@ -65,7 +74,7 @@ class Const(Node):
 
 @dataclass(frozen=True)
 class Var(Node):
-    def __call__(self, x: np.ndarray) -> np.ndarray:
+    def __call__(self, x: np.ndarray) -> Value:
         x = np.asarray(x)
         return x if np.iscomplexobj(x) else x.astype(float)  # complex input: complex-step checks
 
@@ -141,7 +150,7 @@ class Bin(Node):
     left: Node
     right: Node
 
-    def __call__(self, x: np.ndarray) -> np.ndarray:
+    def __call__(self, x: np.ndarray) -> Value:
         a, b = self.left(x), self.right(x)
         if self.op == "+":
             return a + b
@@ -181,7 +190,7 @@ class Func(Node):
     name: str
     arg: Node
 
-    def __call__(self, x: np.ndarray) -> np.ndarray:
+    def __call__(self, x: np.ndarray) -> Value:
         return _NUMPY[self.name](self.arg(x))
 
     def diff(self) -> Node:
@@ -248,7 +257,7 @@ def _convert(node: ast.AST, text: str) -> Node:
 
 
 class _Vectorised:
-    """A node evaluated to an array of the input's shape (constant parts come back as scalars)."""
+    """A node evaluated to an array of the input's shape (a constant node's scalar spread over it)."""
 
     def __init__(self, node: Node) -> None:
         self.node = node
@@ -256,7 +265,9 @@ class _Vectorised:
     def __call__(self, x: np.ndarray) -> np.ndarray:
         value = self.node(x)
         shape = np.shape(x)
-        return value if np.shape(value) == shape else np.broadcast_to(value, shape).copy()
+        if isinstance(value, np.ndarray) and value.shape == shape:
+            return value
+        return np.broadcast_to(value, shape).copy()
 
 
 @dataclass(frozen=True)

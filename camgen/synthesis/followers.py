@@ -78,7 +78,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Callable, NamedTuple, Protocol
+from typing import Any, Callable, Literal, NamedTuple, Protocol, TypeAlias, overload
 
 import numpy as np
 
@@ -99,9 +99,18 @@ from camgen.errors import (
     require_positive,
 )
 
-TWO_PI = 2.0 * math.pi
+__all__ = [
+    "BOUND_SPACING", "BREAK_MERGE", "CamEnvelope", "CheckGrid", "DEFAULT_CHECK_STEP", "DEFAULT_FIT_TOL",
+    "Displacement", "FollowerSpec", "Kinematics", "MOTIONS", "ROTATIONS", "SCREEN_CLEARANCE",
+    "SCREEN_UNDERCUT", "cam_envelope", "check_grid", "kinematics", "profile_failures",
+]
 
-KINDS = ("roller", "flat", "knife")
+TWO_PI = 2.0 * math.pi
+#: A law's ``(s, ds, d2s, d3s)`` at some cam angles, (n,) each.
+_LawValues: TypeAlias = "tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]"
+#: A curve in the cam frame and its first two derivatives by the cam angle, ``(Q, dQ, d2Q)``, complex (n,) each.
+_Curve: TypeAlias = "tuple[np.ndarray, np.ndarray, np.ndarray]"
+
 MOTIONS = ("translating", "oscillating")
 ROTATIONS = ("ccw", "cw")
 
@@ -143,7 +152,9 @@ class FollowerSpec:
 
     Attributes
     ----------
-    kind : ``"roller"``, ``"flat"`` or ``"knife"``.
+    kind : a registered follower with a point or face contact (:mod:`camgen.followers`:
+        ``"roller"``, ``"knife"``, ``"flat"``, ...); ``contact`` is its contact and
+        ``has_radius`` whether its point contact has a radius (a roller) or not (a knife edge).
     base_radius : float
         ``Rb`` (mm, > 0): the cam radius where the follower rests at zero lift or swing.
     motion : ``"translating"`` or ``"oscillating"``.
@@ -176,17 +187,24 @@ class FollowerSpec:
     face_offset: float = 0.0
     lift_turn: str = "ccw"
     rotation: str = "ccw"
+    contact: str = field(init=False, repr=False, compare=False)
+    has_radius: bool = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        _choice("kind", self.kind, KINDS)
+        from camgen.followers import follower_names, get_follower
+
+        _choice("kind", self.kind, follower_names(("point", "face")))
+        model = get_follower(self.kind)
+        object.__setattr__(self, "contact", model.contact)
+        object.__setattr__(self, "has_radius", model.has_radius)
         _choice("motion", self.motion, MOTIONS)
         _choice("rotation", self.rotation, ROTATIONS)
         _choice("lift_turn", self.lift_turn, ROTATIONS)
         base = require_positive("base_radius", self.base_radius)
         r = require_finite("roller_radius", self.roller_radius)
-        if self.kind == "roller" and r <= 0:
-            raise ParameterError("roller_radius", self.roller_radius, "roller_radius > 0 mm for a roller follower")
-        if self.kind != "roller" and r != 0:
+        if self.has_radius and r <= 0:
+            raise ParameterError("roller_radius", self.roller_radius, f"roller_radius > 0 mm for a {self.kind} follower")
+        if not self.has_radius and r != 0:
             raise ParameterError("roller_radius", self.roller_radius, f"0 for a {self.kind} follower")
         offset = require_finite("offset", self.offset)
         arm = require_finite("arm_length", self.arm_length)
@@ -204,7 +222,7 @@ class FollowerSpec:
                 raise ParameterError("arm_length", arm, "0 for a translating follower")
             if face != 0:
                 raise ParameterError("face_offset", face, "0 for a translating follower (use offset)")
-            if self.kind != "flat" and abs(offset) >= prime:
+            if self.contact == "point" and abs(offset) >= prime:
                 raise ParameterError("offset", offset, f"|offset| < prime radius = {prime:g} mm (base_radius + roller_radius)")
             return
         if offset != 0:
@@ -214,7 +232,7 @@ class FollowerSpec:
         pivot = (require_finite("pivot", self.pivot[0]), require_finite("pivot", self.pivot[1]))
         object.__setattr__(self, "pivot", pivot)
         d = math.hypot(*pivot)
-        if self.kind == "flat":
+        if self.contact == "face":
             if arm != 0:
                 raise ParameterError("arm_length", arm, "0 for an oscillating flat face (its face_offset places the face)")
             if not abs(base + face) < d:
@@ -235,6 +253,12 @@ class FollowerSpec:
 
     # -- derived constants ---------------------------------------------------------------------
     @property
+    def edge(self) -> bool:
+        """A point contact of radius 0 (a knife edge): the profile is the pitch curve itself, and
+        a corner of it (a velocity jump of the law) can be cut."""
+        return self.contact == "point" and not self.has_radius
+
+    @property
     def sigma(self) -> float:
         """+1 for a ccw cam, -1 for a cw cam."""
         return 1.0 if self.rotation == "ccw" else -1.0
@@ -243,6 +267,14 @@ class FollowerSpec:
     def tau(self) -> float:
         """+1 if a positive swing turns the arm counter-clockwise about the pivot, else -1."""
         return 1.0 if self.lift_turn == "ccw" else -1.0
+
+    @property
+    def pivot_xy(self) -> tuple[float, float]:
+        """The pivot ``(x, y)`` (mm) of an oscillating follower (``__post_init__`` requires it there);
+        a translating follower has none: :class:`~camgen.errors.ParameterError`."""
+        if self.pivot is None:
+            raise ParameterError("pivot", None, "a point (x, y) in mm for an oscillating follower")
+        return self.pivot
 
     @property
     def prime_radius(self) -> float:
@@ -262,7 +294,7 @@ class FollowerSpec:
     @property
     def rest_arm_angle(self) -> float:
         """Oscillating roller / knife: the arm angle ``g0`` at zero swing (rad, fixed frame)."""
-        px, py = self.pivot  # type: ignore[misc]
+        px, py = self.pivot_xy
         d, rp, arm = math.hypot(px, py), self.prime_radius, self.arm_length
         # the roller centre C0 on both circles |C| = Rp and |C - pivot| = L (law of cosines)
         half = math.acos(max(-1.0, min(1.0, (d * d + rp * rp - arm * arm) / (2.0 * d * rp))))
@@ -278,7 +310,7 @@ class FollowerSpec:
     @property
     def rest_face_angle(self) -> float:
         """Oscillating flat: the angle of the face normal ``w0`` at zero swing (rad, fixed frame)."""
-        px, py = self.pivot  # type: ignore[misc]
+        px, py = self.pivot_xy
         d = math.hypot(px, py)
         half = math.acos((self.base_radius + self.face_offset) / d)  # pivot . w0 = Rb + f
         base = math.atan2(py, px)
@@ -382,7 +414,7 @@ def _centre(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s
         b = None if d3s is None else (sigma * (3.0 * d2s - y), d3s - 3.0 * ds + sigma * e)
         return (e, y), v, a, b, None, None
     tau, arm = f.tau, f.arm_length
-    px, py = f.pivot  # type: ignore[misc]
+    px, py = f.pivot_xy
     g = f.rest_arm_angle + tau * s
     g1, g2 = tau * ds, tau * d2s
     cg, sg = np.cos(g), np.sin(g)  # u = (cg, sg), J u = (-sg, cg)
@@ -409,10 +441,20 @@ def _in_cam(back: np.ndarray, x: np.ndarray | float, y: np.ndarray | float, out:
     return z
 
 
-def _flat(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, back: np.ndarray | None = None):
+@overload
+def _flat(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray,
+          full: Literal[True], back: np.ndarray | None = None) -> Kinematics: ...
+@overload
+def _flat(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray,
+          full: Literal[False], back: np.ndarray | None = None) -> tuple[_Curve]: ...
+def _flat(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray,
+          full: bool, back: np.ndarray | None = None) -> Kinematics | tuple[_Curve]:
     """Flat face: the :class:`Kinematics` (``full``) or just the profile curve's (Q, dQ, d2Q) in the cam frame
     (``back``: :func:`_to_cam` at ``theta`` when known)."""
     sigma, n = f.sigma, theta.size
+    wx: float | np.ndarray  # the face normal w: fixed (translating) or turning with the arm (oscillating)
+    wy: float | np.ndarray
+    q: np.ndarray | None  # oscillating: pivot . J w
     if f.motion == "translating":
         # the face normal w = u(pi/2) is fixed: psi1 = -sigma, psi2 = psi3 = 0 in the formulas below
         wx, wy = math.cos(math.pi / 2), math.sin(math.pi / 2)
@@ -426,7 +468,7 @@ def _flat(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, back:
         psi_f = q = None
     else:
         tau, face = f.tau, f.face_offset
-        px, py = f.pivot  # type: ignore[misc]
+        px, py = f.pivot_xy
         psi_f = f.rest_face_angle + tau * s
         wx, wy = np.cos(psi_f), np.sin(psi_f)
         p, q = wx * px + wy * py, wx * py - wy * px  # pivot . w and pivot . J w
@@ -451,13 +493,14 @@ def _flat(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, back:
         r2 = psi1 * psi1 * rho
         d1x, d1y, d2x, d2y = -wy * d1, wx * d1, -wy * d2 - wx * r2, wx * d2 - wy * r2
     # full: rows 0-3 the contact point in the fixed frame, in the cam frame and its two derivatives
-    cplx = np.empty((4, n), dtype=complex) if full else [None] * 4
+    cplx: np.ndarray | list[None] = np.empty((4, n), dtype=complex) if full else [None] * 4
     x_fixed = (h * wx - dh * wy, h * wy + dh * wx)  # h w + dh J w
     back = _to_cam(f, theta) if back is None else back
     contact = _in_cam(back, *x_fixed, cplx[1])
     q1, q2 = _in_cam(back, d1x, d1y, cplx[2]), _in_cam(back, d2x, d2y, cplx[3])
     if not full:
         return ((contact, q1, q2),)
+    assert isinstance(cplx, np.ndarray)  # full: the rows, not the placeholders
     cplx[0].real, cplx[0].imag = x_fixed
     real = np.empty((4, n))  # curvature, face position, pressure angle, normal turn rate
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -468,6 +511,7 @@ def _flat(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, back:
             alpha.fill(0.0)
             turn.fill(1.0)
         else:
+            assert q is not None  # set with psi_f (an oscillating face)
             face_pos = np.subtract(dh, q, out=real[1])
             alpha = real[2]
             alpha[...] = np.where(face_pos != 0, np.arctan(face / face_pos), math.copysign(math.pi / 2, face or 1.0))
@@ -500,8 +544,17 @@ def _pitch_curvature(sigma: float, vx: np.ndarray, vy: np.ndarray, ax: np.ndarra
     return speed, speed2, dot, kappa, kappa1
 
 
-def _roller(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, want: tuple[str, ...] = ("pitch", "profile"),
-            back: np.ndarray | None = None, out: np.ndarray | None = None):
+@overload
+def _roller(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray,
+            full: Literal[True], want: tuple[str, ...] = ("pitch", "profile"), back: np.ndarray | None = None,
+            out: np.ndarray | None = None) -> Kinematics: ...
+@overload
+def _roller(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray,
+            full: Literal[False], want: tuple[str, ...] = ("pitch", "profile"), back: np.ndarray | None = None,
+            out: np.ndarray | None = None) -> tuple[_Curve, ...]: ...
+def _roller(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray,
+            full: bool, want: tuple[str, ...] = ("pitch", "profile"), back: np.ndarray | None = None,
+            out: np.ndarray | None = None) -> Kinematics | tuple[_Curve, ...]:
     """Roller / knife: the :class:`Kinematics` (``full``) or the (Q, dQ, d2Q) of the curves named in
     ``want`` ("pitch", "profile") in the cam frame (``back``: :func:`_to_cam` at ``theta`` when known;
     ``out``: a complex (3, n, len(want)) block to write them into, curve c in ``out[:, :, c]``).  (The
@@ -510,12 +563,12 @@ def _roller(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, wan
     sigma, r, n = f.sigma, f.roller_radius, theta.size
     # full: rows 0-6 follower point, pitch curve and its two derivatives, profile and its two; rows
     # 0-3 of `real`: pressure angle, pitch and profile curvature, profile radius of curvature
-    cplx = np.empty((7, n), dtype=complex) if full else [None] * 7
+    cplx: np.ndarray | list[np.ndarray | None] = np.empty((7, n), dtype=complex) if full else [None] * 7
     if out is not None:
         for c, name in enumerate(want):
             first = 1 if name == "pitch" else 4
             cplx[first: first + 3] = out[0, :, c], out[1, :, c], out[2, :, c]
-    real = np.empty((4, n)) if full else [None] * 4
+    real: np.ndarray | list[None] = np.empty((4, n)) if full else [None] * 4
     (cx, cy), (vx, vy), (ax, ay), (bx, by), m, g = _centre(f, s, ds, d2s, d3s)
     # P = R(-sigma theta) C; P' = R V, P'' = R A, P''' = R B
     back = _to_cam(f, theta) if back is None else back
@@ -542,6 +595,7 @@ def _roller(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, wan
     if not full:
         curves = {"pitch": (pitch, p1, p2), "profile": (contact, q1, q2)}
         return tuple(curves[name] for name in want)
+    assert isinstance(cplx, np.ndarray) and isinstance(real, np.ndarray)  # full: the rows, not the placeholders
     if m is None:  # translating: m = (0, 1), V . m = Vy, V x m = Vx
         alpha = np.arctan2(vy, np.abs(vx), out=real[0])
     else:
@@ -557,8 +611,9 @@ def _roller(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, full: bool, wan
                       _xy(contact), kappa, rho, None, None, _xy(p1), _xy(p2), _xy(q1), _xy(q2))
 
 
-def _kinematics_from(f: FollowerSpec, theta: np.ndarray, s, ds, d2s, d3s, back: np.ndarray | None = None) -> Kinematics:
-    if f.kind == "flat":
+def _kinematics_from(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray,
+                     back: np.ndarray | None = None) -> Kinematics:
+    if f.contact == "face":
         return _flat(f, theta, s, ds, d2s, d3s, True, back)
     return _roller(f, theta, s, ds, d2s, d3s, True, back=back)
 
@@ -580,7 +635,8 @@ def kinematics(follower: FollowerSpec, law: Displacement, theta: object) -> Kine
 # --------------------------------------------------------------------------------------------
 def profile_failures(f: FollowerSpec, k: Kinematics) -> list[tuple[str, np.ndarray]]:
     """(reason, mask) pairs of the conditions that make the profile impossible."""
-    if f.kind == "flat":
+    if f.contact == "face":
+        assert k.normal_turn_rate is not None  # a flat face's Kinematics carry its normal's turn rate
         return _flat_failures(f, k.s, k.normal_turn_rate, k.profile_radius)
     return _pitch_failures(f, k.s, k.ds, k.d2s)
 
@@ -620,7 +676,7 @@ def _pitch_failures(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndar
         speed2 = vx * vx
         speed2 += vy * vy
         out.append((_CUSP_REASON, ~(speed2 > (1e-12 * scale) ** 2)))
-        if f.kind == "roller":
+        if f.has_radius:
             cross = vx * ay
             cross -= vy * ax
             cross *= -f.sigma * f.roller_radius
@@ -645,7 +701,7 @@ _CUBIC_RISE = 0.3
 class _PitchTerms(NamedTuple):
     """The roller-centre motion relative to the cam at some cam angles (fixed frame, (n,) arrays):
     the follower height ``cy`` (translating) and the law's ``s'``; ``V``, ``A`` (:func:`_centre`),
-    ``|V|^2``, ``V . A``; roller only (else None): ``r kappa`` and ``r d kappa / d theta`` of the
+    ``|V|^2``, ``V . A``; roller only (else None): ``(r kappa, r d kappa / d theta)`` of the
     pitch curve (:func:`_pitch_curvature`)."""
 
     cy: np.ndarray
@@ -656,18 +712,17 @@ class _PitchTerms(NamedTuple):
     ay: np.ndarray
     speed2: np.ndarray
     dot: np.ndarray
-    r_kappa: np.ndarray | None
-    r_slope: np.ndarray | None
+    roller: tuple[np.ndarray, np.ndarray] | None
 
 
 def _pitch_terms(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray) -> _PitchTerms:
     """:class:`_PitchTerms` of a roller or knife from the law's displacement and its three derivatives."""
     (_, cy), (vx, vy), (ax, ay), (bx, by), _, _ = _centre(f, s, ds, d2s, d3s)
     _, speed2, dot, kappa, kappa1 = _pitch_curvature(f.sigma, vx, vy, ax, ay, bx, by)
-    r_kappa = r_slope = None
-    if f.kind == "roller":
-        r_kappa, r_slope = f.roller_radius * kappa, f.roller_radius * kappa1
-    return _PitchTerms(cy, ds, vx, vy, ax, ay, speed2, dot, r_kappa, r_slope)
+    roller = None
+    if f.has_radius:
+        roller = f.roller_radius * kappa, f.roller_radius * kappa1
+    return _PitchTerms(cy, ds, vx, vy, ax, ay, speed2, dot, roller)
 
 
 def _pitch_clear(f: FollowerSpec, terms: _PitchTerms, spacing: float) -> bool:
@@ -688,9 +743,10 @@ def _pitch_clear(f: FollowerSpec, terms: _PitchTerms, spacing: float) -> bool:
     low = float(t.speed2.min()) - reach * 2.0 * float(np.abs(t.dot).max())
     if not low > (SCREEN_CLEARANCE * scale) ** 2:
         return False
-    if t.r_kappa is None:
+    if t.roller is None:
         return True
-    high = float(t.r_kappa.max()) + reach * float(np.abs(t.r_slope).max())
+    r_kappa, r_slope = t.roller
+    high = float(r_kappa.max()) + reach * float(np.abs(r_slope).max())
     return high <= SCREEN_UNDERCUT
 
 
@@ -704,11 +760,11 @@ def _pitch_second_derivatives(f: FollowerSpec, theta: np.ndarray, terms: _PitchT
     vx, vy, ax, ay = terms.vx[:n], terms.vy[:n], terms.ax[:n], terms.ay[:n]
     out = np.empty((len(want), n), dtype=complex)
     for row, name in zip(out, want):
-        if name == "pitch" or terms.r_kappa is None:
+        if name == "pitch" or terms.roller is None:
             _in_cam(back, ax, ay, row)
         else:
-            factor = 1.0 - terms.r_kappa[:n]
-            slope = terms.r_slope[:n]
+            factor = 1.0 - terms.roller[0][:n]
+            slope = terms.roller[1][:n]
             _in_cam(back, ax * factor - slope * vx, ay * factor - slope * vy, row)
     return out
 
@@ -760,16 +816,18 @@ def _insert_added(uniform: np.ndarray, added: np.ndarray, added_values: np.ndarr
     return np.insert(uniform, at, added if added_values is None else added_values)
 
 
-def _law_on_grid(law: Displacement, n: int, added: np.ndarray) -> tuple[np.ndarray, ...]:
+def _law_on_grid(law: Displacement, n: int, added: np.ndarray) -> _LawValues:
     """``law`` (the displacement and its three derivatives) at the angles of the check grid in
     :class:`CheckGrid` order: the uniform part ``k 2 pi / n`` (k = 0 .. n - 1), then the ``added``
     angles; from the law's ``on_uniform_grid`` when it has one (a motion program: its sines and
     cosines by angle addition)."""
     uniform = getattr(law, "on_uniform_grid", None)
     if uniform is not None:
-        return tuple(uniform(n, added))
+        s, ds, d2s, d3s = uniform(n, added)
+        return s, ds, d2s, d3s
     theta = np.concatenate([np.arange(n) * (TWO_PI / n), added])
-    return tuple(np.asarray(x, dtype=float).ravel() for x in law(theta))
+    s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(theta))
+    return s, ds, d2s, d3s
 
 
 #: Length of the short table of unit phasors of a uniform grid (:func:`_grid_to_cam`).
@@ -914,7 +972,7 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
 
     # one-sided dQ/dt and d2Q/dt2 at every segment's two ends, evaluated with the first round
     lead = (np.stack([lo, hi])[:, :, None] + np.array([1.0, -1.0])[:, None, None] * _ONE_SIDED_STEPS).ravel()
-    ends1 = ends2 = None  # (2 [start, end], nseg, dims), complex
+    ends: tuple[np.ndarray, np.ndarray] | None = None  # (dQ/dt, d2Q/dt2): (2 [start, end], nseg, dims) complex each
     fits: list[tuple[np.ndarray, np.ndarray] | None] = [None] * nseg
     errors = np.zeros((nseg, dims))
     # per segment and curve: its start and end point and its Green area (the contours' closure and
@@ -930,13 +988,14 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
         if not (span > 0.0).all():
             raise GeometryError(f"the law's breaks are too close for spline knots between them (fit_tol {fit_tol:g} mm)")
         probes = x[:-1, None] + _PROBES * span[:, None]  # (knots - 1, 3)
-        nlead = 0 if ends1 is not None else lead.size
+        nlead = 0 if ends is not None else lead.size
         q, q1, q2 = exact(-sigma * np.concatenate([lead[:nlead], x, probes.ravel()]))
         q1 *= -sigma  # d/dt = -sigma d/dtheta
-        if ends1 is None:  # quadratic extrapolation from 1, 2, 3 steps inside the segment
-            ends1 = _ONE_SIDED_WEIGHTS @ q1[:nlead].reshape(2 * nseg, 3, dims).transpose(1, 0, 2).reshape(3, -1)
-            ends2 = _ONE_SIDED_WEIGHTS @ q2[:nlead].reshape(2 * nseg, 3, dims).transpose(1, 0, 2).reshape(3, -1)
-            ends1, ends2 = ends1.reshape(2, nseg, dims), ends2.reshape(2, nseg, dims)
+        if ends is None:  # quadratic extrapolation from 1, 2, 3 steps inside the segment
+            lead1 = _ONE_SIDED_WEIGHTS @ q1[:nlead].reshape(2 * nseg, 3, dims).transpose(1, 0, 2).reshape(3, -1)
+            lead2 = _ONE_SIDED_WEIGHTS @ q2[:nlead].reshape(2 * nseg, 3, dims).transpose(1, 0, 2).reshape(3, -1)
+            ends = lead1.reshape(2, nseg, dims), lead2.reshape(2, nseg, dims)
+        ends1, ends2 = ends
         knots = slice(nlead, nlead + x.size)
         qk, q1k, q2k = q[knots], q1[knots], q2[knots]
         q1k[first], q2k[first] = ends1[0, todo], ends2[0, todo]
@@ -974,10 +1033,12 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
         raise GeometryError("the exact curve is not finite at some spline knots or probes (a cusp the checks did not see)")
     closed = (np.abs(seg_end - np.concatenate([seg_start[1:], seg_start[:1]])) <= DEFAULT_CLOSURE_TOL).all(axis=0)
     area = seg_area.sum(axis=0)
+    made = [fit for fit in fits if fit is not None]
+    assert len(made) == nseg  # every segment is fitted once none is left to do
     contours = []
     for c in range(dims):  # the knots increase (uniform in each segment) and the distances are finite
         # coefficients (6, pieces) complex of curve c -> (6, pieces, 2) float (a view where the fit's block allows it)
-        segments = [Spline._checked_by_caller(x, coeffs[c].view(np.float64).reshape(6, -1, 2)) for x, coeffs in fits]  # type: ignore[misc]
+        segments = [Spline._checked_by_caller(x, coeffs[c].view(np.float64).reshape(6, -1, 2)) for x, coeffs in made]
         # closed and counter-clockwise: checked above; else the constructor raises the message naming the failure
         contours.append(Contour._checked_by_caller(segments, float(area[c])) if closed[c] and area[c] > 0.0 else Contour(segments))
     return contours, [float(v) for v in errors.max(axis=0)]
@@ -1014,7 +1075,7 @@ class CheckGrid:
     added: np.ndarray
 
     @cached_property
-    def raw(self) -> tuple[np.ndarray, ...]:
+    def raw(self) -> _LawValues:
         return _law_on_grid(self.law, self.uniform_size, self.added)
 
     def sorted(self, values: np.ndarray) -> np.ndarray:
@@ -1032,9 +1093,10 @@ class CheckGrid:
         return np.searchsorted(self.theta, self.added)
 
     @cached_property
-    def values(self) -> tuple[np.ndarray, ...]:
+    def values(self) -> _LawValues:
         """``(s, ds, d2s, d3s)`` at ``theta``."""
-        return tuple(self.sorted(v) for v in self.raw)
+        s, ds, d2s, d3s = self.raw
+        return self.sorted(s), self.sorted(ds), self.sorted(d2s), self.sorted(d3s)
 
     s = property(lambda self: self.values[0])
     ds = property(lambda self: self.values[1])
@@ -1088,7 +1150,7 @@ def _failure_message(f: FollowerSpec, failures: list[dict]) -> str:
         parts.append(f"{item['reason']} at cam angles {ranges} deg")
     return (f"{f.kind} follower ({f.motion}, base_radius {f.base_radius:g} mm) cannot ride this law: " + "; ".join(parts)
             + "; increase base_radius (camgen.synthesis.sizing.min_base_radius gives the smallest that works)"
-            + (" or reduce the roller radius" if f.kind == "roller" else ""))
+            + (" or reduce the roller radius" if f.has_radius else ""))
 
 
 def _fit_failure(fit_tol: float, reached: float, pieces: int) -> FitToleranceError:
@@ -1126,7 +1188,7 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
     fit_tol = require_positive("fit_tol", fit_tol)
     f = follower
     brk, cont = _breaks_of(law)
-    if f.kind != "knife" and np.any(cont <= 0):
+    if not f.edge and np.any(cont <= 0):
         where = ", ".join(f"{math.degrees(b):.3f}" for b in brk[cont <= 0])
         raise GeometryError(f"the law's velocity jumps at cam angles {where} deg: a {f.kind} follower cannot follow "
                             "a corner of the pitch curve exactly; use laws with continuous velocity there (or a knife follower)")
@@ -1137,15 +1199,15 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
     n_coarse, added_coarse = _grid_layout(law, BOUND_SPACING)
     coarse = _law_on_grid(law, n_coarse, added_coarse)
     flat_data = None
-    terms = None if f.kind == "flat" else _pitch_terms(f, *coarse)
-    if f.kind == "flat":  # the face's checks need most of its kinematics: made now, kept for `data`
+    terms = None if f.contact == "face" else _pitch_terms(f, *coarse)
+    if terms is None:  # a flat face: its checks need most of its kinematics: made now, kept for `data`
         flat_data = _kinematics_from(f, grid.theta, *grid.values, grid.sorted(_grid_to_cam(f, n_uniform, added)))
         masks = profile_failures(f, flat_data)
     elif _pitch_clear(f, terms, TWO_PI / n_coarse):
         masks = []
     else:  # the dense check, in the grid's own order (uniform part, then the added angles)
         masks = [(reason, grid.sorted(mask)) for reason, mask in _pitch_failures(f, *grid.raw[:3]) if mask.any()]
-    failures = []
+    failures: list[dict[str, Any]] = []
     for reason, mask in masks:
         if mask.any():
             theta = grid.theta
@@ -1157,11 +1219,11 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
     sigma = f.sigma
     pitch = profile = None
     error = float("nan")
-    pitch_ok = f.kind != "flat" and not any(item["reason"].startswith(("cusp", "the follower passes")) for item in failures)
+    pitch_ok = f.contact == "point" and not any(item["reason"].startswith(("cusp", "the follower passes")) for item in failures)
     # the curves to represent: roller: pitch and profile (pitch only when the profile cannot be made);
     # knife: its pitch curve is its profile; flat: the profile
     want = [] if failures else ["profile"]
-    if pitch_ok and f.kind == "roller":
+    if pitch_ok and f.has_radius:
         want.insert(0, "pitch")
 
     def exact(th: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -1169,7 +1231,7 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
         from one evaluation of the law: (Q, dQ, d2Q), complex (n, len(want)) each (the curves side by side)."""
         s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(th))
         block = np.empty((3, th.size, len(want)), dtype=complex)
-        if f.kind == "flat":
+        if f.contact == "face":
             block[:, :, 0] = _flat(f, th, s, ds, d2s, d3s, False)[0]
         else:
             _roller(f, th, s, ds, d2s, d3s, False, tuple(want), out=block)
@@ -1179,7 +1241,8 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
         # d2Q/dtheta2 of the wanted curves on the uniform part of the coarse grid: the sixth-derivative bound
         at = np.arange(n_coarse) * (TWO_PI / n_coarse)
         if terms is None:
-            d2 = _flat(f, at, *(v[:n_coarse] for v in coarse), False)[0][2][None]
+            s_c, ds_c, d2s_c, d3s_c = coarse
+            d2 = _flat(f, at, s_c[:n_coarse], ds_c[:n_coarse], d2s_c[:n_coarse], d3s_c[:n_coarse], False)[0][2][None]
         else:
             d2 = _pitch_second_derivatives(f, at, terms, want)
         try:
@@ -1194,7 +1257,7 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
             pitch, error = made["pitch"]
         if "profile" in made:
             profile, error = made["profile"]
-            if f.kind == "knife":
+            if f.edge:
                 pitch = profile
     envelope = CamEnvelope(f, profile, pitch, grid, failures, fit_tol, error)
     if flat_data is not None:

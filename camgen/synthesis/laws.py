@@ -91,6 +91,12 @@ import numpy as np
 
 from camgen.errors import ParameterError, require_finite, require_positive
 
+__all__ = [
+    "ALIASES", "Displacement", "Join", "KEPLER_MAX_STEPS", "KEPLER_STEP_TOL", "LAWS", "Law", "LawBreak",
+    "MODIFIED_CYCLOID_TILT", "MotionProgram", "ORDER_NAMES", "Peaks", "SMOOTH", "Segment", "constant_velocity",
+    "polynomial",
+]
+
 TWO_PI = 2.0 * math.pi
 #: names of the derivative orders 0..3, for messages
 ORDER_NAMES = ("displacement", "velocity", "acceleration", "jerk")
@@ -408,6 +414,7 @@ class Law:
     cv: float = field(init=False)
     ca: float = field(init=False)
     cj: float = field(init=False)
+    _los: np.ndarray = field(init=False, repr=False)  # each piece's lower tau end (n,), for evaluate's search
 
     def __post_init__(self) -> None:
         los = np.array([p.lo for p in self.pieces])
@@ -450,7 +457,8 @@ class Law:
         piece).  Closed form, vectorised over ``tau``."""
         tau = np.asarray(tau, dtype=float)
         if len(self.pieces) == 1:
-            return tuple(self.pieces[0].values(tau))  # type: ignore[return-value]
+            s, v, a, j = self.pieces[0].values(tau)
+            return s, v, a, j
         flat = tau.ravel()
         idx = np.clip(np.searchsorted(self._los, flat, side="right") - 1, 0, len(self.pieces) - 1)
         order, bounds = _grouped(idx, len(self.pieces))
@@ -546,17 +554,17 @@ def polynomial(start: Sequence[float], end: Sequence[float]) -> Law:
     degree ``len(start) + len(end) - 1``.  The coefficients come from the Hermite conditions solved
     exactly in rational arithmetic (the floats are converted exactly), then rounded once.
     """
-    start = [Fraction(require_finite("start", x)) for x in start]
-    end = [Fraction(require_finite("end", x)) for x in end]
-    m0, m1 = len(start), len(end)
+    start_q = [Fraction(require_finite("start", x)) for x in start]
+    end_q = [Fraction(require_finite("end", x)) for x in end]
+    m0, m1 = len(start_q), len(end_q)
     if not (1 <= m0 <= 4 and 1 <= m1 <= 4):
         raise ParameterError("polynomial conditions", (m0, m1), "1 to 4 values (s, v, a, j) at each end")
     n = m0 + m1
     c = [Fraction(0)] * n
     for k in range(m0):
-        c[k] = start[k] / math.factorial(k)
+        c[k] = start_q[k] / math.factorial(k)
     # end conditions: sum_i c_i i!/(i-k)! = end[k]; unknowns c[m0:] (Gaussian elimination, exact)
-    rows = [[Fraction(_falling(m0 + j, k)) for j in range(m1)] + [end[k] - sum(c[i] * _falling(i, k) for i in range(m0))]
+    rows = [[Fraction(_falling(m0 + j, k)) for j in range(m1)] + [end_q[k] - sum(c[i] * _falling(i, k) for i in range(m0))]
             for k in range(m1)]
     for col in range(m1):
         piv = next(r for r in range(col, m1) if rows[r][col] != 0)  # the Hermite system is regular
@@ -572,7 +580,7 @@ def polynomial(start: Sequence[float], end: Sequence[float]) -> Law:
     ends = (at0, at1)
     return Law("polynomial", (_Piece(0.0, 1.0, tuple(float(x) for x in c)),), (),
                "Norton, Design of Machinery, ch. 8 (polynomial functions from boundary conditions)",
-               {"start": tuple(float(x) for x in start), "end": tuple(float(x) for x in end), "degree": n - 1},
+               {"start": tuple(float(x) for x in start_q), "end": tuple(float(x) for x in end_q), "degree": n - 1},
                ends, polynomial)
 
 
@@ -757,7 +765,8 @@ class Segment:
     def end_values(self, at_end: bool) -> tuple[float, float, float, float]:
         """Exact (s - start level, v, a, j) at the segment's start (``False``) or end (``True``)."""
         e = self.shape.end if at_end else self.shape.start
-        return tuple(self.scale * e[n] / self.span**n for n in range(4))  # type: ignore[return-value]
+        s, v, a, j = (self.scale * e[n] / self.span**n for n in range(4))
+        return s, v, a, j
 
 
 # --------------------------------------------------------------------------------------------
@@ -862,6 +871,7 @@ class MotionProgram:
             if seg.start_level is not None:
                 level = seg.start_level
             levels.append(level)
+            assert seg.lift is not None  # Segment.__post_init__ sets every segment's lift
             level = level + seg.lift
         self.levels = np.array(levels)
         self._bookkeeping = (starts, levels)  # the same, as Python floats (for the plan)
@@ -897,7 +907,7 @@ class MotionProgram:
                                      f"starting where {names[prev]} ends (s = {left[0]:.9g} {unit})",
                                      f"the displacement jumps by {diff[0]:.6g} {unit} at {where:.9g} deg")
             continuity = next((k - 1 for k in (1, 2, 3) if not ok[k]), SMOOTH)
-            self._joins.append(Join(starts[i], prev, i, continuity, left, right, tuple(diff[1:]), unit))
+            self._joins.append(Join(starts[i], prev, i, continuity, left, right, (diff[1], diff[2], diff[3]), unit))
         # breaks: joins and internal law breaks; evaluation pieces in cam angle
         brk, cont = [], []
         piece_lo, piece_ref = [], []
@@ -1057,9 +1067,10 @@ class MotionProgram:
 
     def peak_values(self) -> Peaks:
         """Largest |s'|, |s''|, |s'''| (unit/rad^n) over the turn and where (see :class:`Peaks`)."""
-        best = []
+        best = []  # (value, where) of the velocity, acceleration and jerk
         for k in range(3):
             value, at = max((p[k] for p in self._seg_peaks), key=lambda x: x[0])
-            best.extend([float(value), float(at % TWO_PI)])
-        return Peaks(*best, infinite_acceleration=any(j.continuity < 1 for j in self._joins),
+            best.append((float(value), float(at % TWO_PI)))
+        (vel, vel_at), (acc, acc_at), (jerk, jerk_at) = best
+        return Peaks(vel, vel_at, acc, acc_at, jerk, jerk_at, infinite_acceleration=any(j.continuity < 1 for j in self._joins),
                      infinite_jerk=any(j.continuity < 2 for j in self._joins) or any(c < 2 for c in self.break_continuity))

@@ -31,10 +31,16 @@ import os
 from collections.abc import Sequence
 
 import numpy as np
+import numpy.typing as npt
 
 from camgen.errors import ParameterError
 from camgen.numerics.interpolate import periodic_spline
 from camgen.synthesis.laws import SMOOTH, Peaks
+
+__all__ = [
+    "DEGREES", "LiftTable", "MAX_BYTES", "MAX_ROWS", "MIN_ROWS", "parse_lift_table", "parse_two_column_table",
+    "read_lift_table", "read_two_column_table",
+]
 
 TWO_PI = 2.0 * math.pi
 #: default largest number of rows
@@ -69,7 +75,7 @@ class LiftTable:
         Parameter name used in errors; ``rows``: labels of the rows for errors (default "row i").
     """
 
-    def __init__(self, angles_deg: Sequence[float], lifts: Sequence[float], degree: int = 5, unit: str = "mm",
+    def __init__(self, angles_deg: npt.ArrayLike, lifts: npt.ArrayLike, degree: int = 5, unit: str = "mm",
                  close_tol: float = 1e-9, max_rows: int = MAX_ROWS, key: str = "lift_table",
                  rows: Sequence[str] | None = None) -> None:
         if degree not in DEGREES or isinstance(degree, bool):
@@ -202,11 +208,12 @@ class LiftTable:
     def peak_values(self) -> Peaks:
         """Largest |s'|, |s''|, |s'''| (unit/rad^n) and where (rad); a cubic's jerk steps at rows."""
         if self._peaks is None:
-            best: list[float] = []
+            best: list[tuple[float, float]] = []  # (value, where) of the velocity, acceleration and jerk
             for n in (1, 2, 3):
                 mn, tmn, mx, tmx = self._extremes(n)
-                best.extend([abs(mn), tmn] if abs(mn) > abs(mx) else [abs(mx), tmx])
-            self._peaks = Peaks(*best, infinite_acceleration=False, infinite_jerk=False)
+                best.append((abs(mn), tmn) if abs(mn) > abs(mx) else (abs(mx), tmx))
+            (vel, vel_at), (acc, acc_at), (jerk, jerk_at) = best
+            self._peaks = Peaks(vel, vel_at, acc, acc_at, jerk, jerk_at, infinite_acceleration=False, infinite_jerk=False)
         return self._peaks
 
 

@@ -32,6 +32,12 @@ from camgen.synthesis.followers import (
     kinematics,
 )
 
+__all__ = [
+    "BaseRadiusAdvice", "DEFAULT_SIZE_TOL", "DesignLimits", "DesignMeasures", "FaceWidth", "MAX_BASE_RADIUS",
+    "SizingResult", "base_radius_advice", "face_width", "measure", "min_base_radius", "min_base_radius_and_offset",
+    "require_design",
+]
+
 #: Default resolution of the base-radius (and offset) search, mm.
 DEFAULT_SIZE_TOL = 1e-4
 
@@ -133,7 +139,7 @@ def measure(follower: FollowerSpec, law: Displacement, check_step: float = DEFAU
     rho = k.profile_radius
     convex = np.where(rho > 0, rho, np.inf)
     concave = np.where(rho < 0, -rho, np.inf)
-    if follower.kind == "flat":  # a flat face bridges any concave part: that is the undercut itself
+    if follower.contact == "face":  # a flat face bridges any concave part: that is the undercut itself
         concave = np.full(theta.shape, np.inf)
     j, m = int(np.argmin(convex)), int(np.argmin(concave))
     return DesignMeasures(float(alpha[i]), float(deg[i]), float(convex[j]), float(deg[j]), float(concave[m]), float(deg[m]), failures)
@@ -168,10 +174,10 @@ def _base_range(follower: FollowerSpec, offset: float) -> tuple[float, float | N
     """Open range of base radii the follower's other parameters allow (upper None: unbounded)."""
     r = follower.roller_radius
     if follower.motion == "translating":
-        lo = max(0.0, abs(offset) - r) if follower.kind != "flat" else 0.0
+        lo = max(0.0, abs(offset) - r) if follower.contact == "point" else 0.0
         return lo, None
-    d = math.hypot(*follower.pivot)  # type: ignore[misc]
-    if follower.kind == "flat":
+    d = math.hypot(*follower.pivot_xy)
+    if follower.contact == "face":
         f = follower.face_offset
         return max(0.0, -d - f), d - f
     return max(0.0, abs(d - follower.arm_length) - r), d - r
@@ -216,7 +222,7 @@ def _search(follower: FollowerSpec, law: Displacement, limits: DesignLimits, tol
             bad, good = (bad, mid) if ok(mid) else (mid, good)
         return good
 
-    if follower.motion == "translating" and follower.kind != "flat":
+    if follower.motion == "translating" and follower.contact == "point":
         bound = _pressure_bound(follower, law, limits, theta)
         if bound > MAX_BASE_RADIUS:
             raise GeometryError(_no_base_message(follower, law, limits, theta, MAX_BASE_RADIUS))
@@ -266,7 +272,8 @@ def min_base_radius(follower: FollowerSpec, law: Displacement, limits: DesignLim
     law = law if isinstance(law, _SampledLaw) else _SampledLaw(law)
     low, _, _ = _search(follower, law, limits, tol, scan, upper=False)
     spec = _with_base(follower, low)
-    return SizingResult(float(low), follower.offset, spec, measure(spec, law, limits.check_step), tol)  # type: ignore[arg-type]
+    assert spec is not None  # the search returns a base radius that passed: its spec was valid
+    return SizingResult(float(low), follower.offset, spec, measure(spec, law, limits.check_step), tol)
 
 
 @dataclass(frozen=True)
@@ -328,7 +335,8 @@ def base_radius_advice(follower: FollowerSpec, law: Displacement, limits: Design
     step = None
     if high is not None:
         lo, hi = _base_range(follower, follower.offset)
-        step = (hi - lo) / (scan + 1)  # type: ignore[operator]
+        assert hi is not None  # an upper end is sought only for oscillating followers, whose range is bounded
+        step = (hi - lo) / (scan + 1)
     return BaseRadiusAdvice(float(low), None if high is None else float(high), tried, digits, step)
 
 
@@ -336,7 +344,7 @@ def _no_base_message(follower: FollowerSpec, law: Displacement, limits: DesignLi
     spec = _with_base(follower, largest)
     why = "; ".join(measure(spec, law, theta=theta).violations(limits)) if spec is not None else "invalid geometry"
     if follower.motion == "oscillating":
-        change = ("move the pivot farther from the cam axis or change arm_length" if follower.kind != "flat"
+        change = ("move the pivot farther from the cam axis or change arm_length" if follower.contact == "point"
                   else "move the pivot or change face_offset")
         return f"no base radius the pivot and arm allow meets the limits ({why} at base_radius_mm = {largest:.6g}): {change}, or relax the limits"
     return f"no base radius up to {largest:.6g} mm meets the limits ({why}): change the roller radius, the offset or the limits"
@@ -352,8 +360,8 @@ def min_base_radius_and_offset(follower: FollowerSpec, law: Displacement, limits
     are scanned at ``offsets`` points, then the best one is refined by golden-section search in the
     bracket around it (the minimum base radius is assumed unimodal in the offset there) to ``tol``.
     """
-    if follower.motion != "translating" or follower.kind == "flat":
-        raise ParameterError("follower", f"{follower.motion} {follower.kind}", "a translating roller or knife (the offset of a flat face does not change the cam)")
+    if follower.motion != "translating" or follower.contact != "point":
+        raise ParameterError("follower", f"{follower.motion} {follower.kind}", "a translating roller or knife (a point contact: the offset of a face does not change the cam)")
     tol = require_positive("tol", tol)
     law = _SampledLaw(law)
     centred = min_base_radius(replace(follower, offset=0.0), law, limits, tol=tol)
@@ -391,7 +399,8 @@ def min_base_radius_and_offset(follower: FollowerSpec, law: Displacement, limits
     if not math.isfinite(base):
         raise GeometryError("no offset in the range meets the limits: widen offset_range or relax the limits")
     spec = _with_base(follower, base, e)
-    return SizingResult(float(base), float(e), spec, measure(spec, law, limits.check_step), tol)  # type: ignore[arg-type]
+    assert spec is not None  # base and e came from the candidates that passed: a valid spec
+    return SizingResult(float(base), float(e), spec, measure(spec, law, limits.check_step), tol)
 
 
 def require_design(follower: FollowerSpec, law: Displacement, limits: DesignLimits = DesignLimits()) -> DesignMeasures:
@@ -433,10 +442,11 @@ class FaceWidth:
 
 def face_width(follower: FollowerSpec, law: Displacement, check_step: float = DEFAULT_CHECK_STEP) -> FaceWidth:
     """The face extent a flat follower needs (see :class:`FaceWidth`); add a clearance to it."""
-    if follower.kind != "flat":
-        raise ParameterError("follower", follower.kind, "a flat follower")
+    if follower.contact != "face":
+        raise ParameterError("follower", follower.kind, "a flat follower (a face contact)")
     theta = check_grid(law, check_step)
     xi = kinematics(follower, law, theta).face_position
+    assert xi is not None  # a flat face's Kinematics carry the contact's position on the face
     deg = np.degrees(theta)
     i, j = int(np.argmin(xi)), int(np.argmax(xi))
     if follower.motion == "translating":

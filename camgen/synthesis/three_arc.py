@@ -34,10 +34,16 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 
 from camgen.contour import Arc, Contour
 from camgen.errors import ParameterError, require_positive
 from camgen.geometry import wrap_pi
+
+__all__ = [
+    "YokeMotion", "breadth", "contact_from_normal", "normal_angle", "region_bounds", "sign", "theta_x",
+    "three_arc_cam", "validate_three_arc", "yoke_law", "yoke_motion",
+]
 
 
 def validate_three_arc(a: float, b: float, c: float) -> tuple[float, float, float]:
@@ -122,7 +128,7 @@ def sign(phi: np.ndarray) -> np.ndarray:
     return np.where(np.asarray(phi) >= 0.0, 1.0, -1.0)
 
 
-def yoke_law(a: float, b: float, c: float, phi: object) -> tuple[np.ndarray, np.ndarray]:
+def yoke_law(a: float, b: float, c: float, phi: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Table 1: output angle ``beta`` (rad) and radius vector ``R`` (mm) for input angles ``phi``.
 
     ``phi`` is the polar angle of the contact point N (rad, wrapped to [-pi, pi)).  ``R`` is

@@ -31,6 +31,12 @@ import numpy as np
 
 from camgen.errors import GeometryError, ParameterError, ceil_significant, quoted, require_positive
 
+__all__ = [
+    "ArcLength", "CHECK_GRID", "CamSynthesis", "Func", "MAX_ROWS", "MAX_TABLE_BYTES", "PathError", "SCHEMES",
+    "Trajectory", "arc_length", "cam_radius", "path_curvature", "read_trajectory_csv", "sample_path",
+    "steerable_paths", "steerable_radius", "synthesize_rho", "trajectory_from_expression", "trajectory_from_table",
+]
+
 Func = Callable[[np.ndarray], np.ndarray]
 
 SCHEMES = ("exact", "forward", "central")
