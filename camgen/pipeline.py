@@ -24,7 +24,7 @@ if TYPE_CHECKING:
     from camgen.scene import Scene
     from camgen.writers import RunSettings
 
-__all__ = ["Plan", "Progress", "compute", "execute", "plan_run", "render", "run_scene"]
+__all__ = ["Plan", "Progress", "compute", "execute", "fea_stage", "mesh_stage", "plan_run", "render", "run_scene"]
 
 #: Called with a short description before each step of a run (progress display).
 Progress = Callable[[str], None]
