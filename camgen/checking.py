@@ -40,7 +40,8 @@ def evaluate(cam: "BuiltCam", spec: "CamSpec", tool_radius: float, tool_is_limit
     changes: dict[str, Any] = {}
     if cam.contour is None and cam.undercut is not None and not any(c.name == "undercut" and c.failed for c in checks):
         exc = cam.undercut  # the synthesis found the undercut: a failed check, with its curvature curve when it has one
-        value: Any = float(exc.curve[1].min()) if exc.curve is not None else "undercut"
+        curve: Any = exc.curve  # (cam angle rad, radius of curvature mm) arrays, or None
+        value: Any = float(curve[1].min()) if curve is not None else "undercut"
         checks = [CheckResult("undercut", value, exc.limit, ">", "mm", False, exc.where_deg, " ".join(str(exc).split()),
                               blocks_manufacture=True)] + [c for c in checks if c.name != "undercut"]
         if exc.curve is not None:

@@ -60,14 +60,15 @@ EXAMPLES = {
 }
 
 
-def _scene(path: str | None) -> "Scene":
+def _scene(path: str | None, only: "list[str] | None" = None) -> "Scene":
+    """The scene at ``path`` (None: the bundled default), read for a run restricted to ``only``."""
     from camgen.scene import load_scene, load_template
 
     if path is None:
-        return load_template("default")
+        return load_template("default", only)
     if not path.strip():
         raise ParameterError("SCENE", path, "the path of a scene file (TOML); give none for the bundled default scene")
-    return load_scene(path)
+    return load_scene(path, only=only)
 
 
 def _number(value: object) -> str:
@@ -126,7 +127,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     only = [f.strip() for f in args.only.split(",") if f.strip()] if args.only is not None else None
     if not args.outdir.strip():
         raise ParameterError("-o/--outdir", args.outdir, "a folder path (default: outputs)")
-    scene = _scene(args.scene)
+    scene = _scene(args.scene, only)
     plan = plan_run(scene, only)
     target = Path(args.outdir) / scene.name
     preflight(target)  # before anything is computed: the folder must be able to take the run

@@ -1,8 +1,12 @@
 """The output registry: one line per format, naming its file, writer and the stages it needs.
 
-Adding a format: a writer function in :mod:`camgen.writers` (``(cam, run, fmt) -> content``
-per cam, ``(result) -> content`` per run) and one :class:`OutputFormat` line in
-:data:`OUTPUTS`.  The pipeline plans the stages from the requested formats and runs only those.
+Adding a format: a writer function (in :mod:`camgen.writers` or a module of its own:
+``(cam, run, fmt) -> content`` per cam, ``(report) -> content`` per run) and one
+:class:`OutputFormat` line in :data:`OUTPUTS`.  Everything the planner, the scene reader and the
+pipeline need to know about a format is in its line (its stages, scope, whether it is
+manufacturing, always written, needs the cam speed or the machining settings, flattens the
+profile); none of them names a format.  The per-cam stages the formats need are registered in
+:data:`CAM_STAGES`.  The pipeline plans the stages from the requested formats and runs only those.
 """
 from __future__ import annotations
 
@@ -35,6 +39,13 @@ class OutputFormat:
         (files a kind's or a mechanism job's stages made).
     implied : written whenever the scene has something for it, without being listed in
         ``output.formats`` (``--only`` still filters it).
+    always : written by every run, ``--only`` or not (the report); the run's other files are
+        listed in it, so it is written first.
+    needs_rpm : why the format needs the cam speed (``rpm``), or "" (a cam without one is refused).
+    machining : the format is G-code: the run then checks the ``[machining]`` settings against
+        the chord tolerance and holds the cams' concave radii to the tool.
+    flattens : the file holds the whole profile flattened at the chord tolerance (the point-count
+        cap of :func:`camgen.planning.check_flat_size` applies; the surface meshes have theirs).
     """
 
     name: str
@@ -45,16 +56,22 @@ class OutputFormat:
     manufacturing: bool = True
     scope: str = "cam"
     implied: bool = False
+    always: bool = False
+    needs_rpm: str = ""
+    machining: bool = False
+    flattens: bool = False
 
 
 _FORMATS = (
     OutputFormat("dxf", "{cam}.dxf", "2-D drawing of what is cut: PROFILE (exact ARCs, B-splines or biarcs), BORE, KEYWAY layers "
                  "(with output.dxf_construction: PITCH, CENTER, ZERO too); R2010, mm", "camgen.writers:dxf"),
-    OutputFormat("points", "{cam}_points.csv", "XY point list of the profile at the chord tolerance", "camgen.writers:points"),
+    OutputFormat("points", "{cam}_points.csv", "XY point list of the profile at the chord tolerance", "camgen.writers:points",
+                 flattens=True),
     OutputFormat("lift", "{cam}_lift.csv", "polar lift table of the profile: polar angle on the cam -> radius, lift above the base radius",
                  "camgen.writers:lift"),
     OutputFormat("follower", "{cam}_follower.csv", "follower inspection table at the cam's rpm: cam angle, time, lift, velocity, "
-                 "acceleration, jerk (needs rpm)", "camgen.writers:follower", manufacturing=False),
+                 "acceleration, jerk (needs rpm)", "camgen.writers:follower", manufacturing=False,
+                 needs_rpm="tabulates the follower motion at the cam speed"),
     OutputFormat("stl", "{cam}.stl", "binary STL of the extruded body", "camgen.writers:mesh", MESH),
     OutputFormat("stl_ascii", "{cam}_ascii.stl", "ASCII STL of the extruded body", "camgen.writers:mesh", MESH),
     OutputFormat("3mf", "{cam}.3mf", "3MF mesh of the body (units mm)", "camgen.writers:mesh", MESH),
@@ -68,11 +85,12 @@ _FORMATS = (
                  "bore, BOTTOM, TOP); needs the fea extra (gmsh)", "camgen.export.fea:writer", FEA),
     OutputFormat("step", "{cam}.step", "exact solid (circles and B-splines), AP214, mm; needs the step extra (cadquery-ocp-novtk)",
                  "camgen.writers:step"),
-    OutputFormat("ngc", "{cam}.ngc", "RS274/NGC G-code milling the outside profile (LinuxCNC or GRBL)", "camgen.writers:gcode"),
+    OutputFormat("ngc", "{cam}.ngc", "RS274/NGC G-code milling the outside profile (LinuxCNC or GRBL)", "camgen.writers:gcode",
+                 machining=True),
     OutputFormat("html", "report.html", "the design-check report with plots, one self-contained page",
                  "camgen.writers:html", frozenset({"analysis", "plots"}), manufacturing=False, scope="run"),
     OutputFormat("json", "report.json", "the machine-readable report: figures and checks of every cam and mechanism (always written)",
-                 None, ANALYSIS, manufacturing=False, scope="run", implied=True),
+                 "camgen.writers:json_report", ANALYSIS, manufacturing=False, scope="run", implied=True, always=True),
     OutputFormat("ride", "{cam}_ride.csv", "trajectory cams: the simulated ride on the cam as made", None, ANALYSIS, manufacturing=False,
                  scope="kind", implied=True),
     OutputFormat("legs", "leg_path_alpha_<deg>.csv", "horse leg: the leg end point's path per inclination", None, manufacturing=False,
@@ -84,6 +102,29 @@ OUTPUTS: dict[str, OutputFormat] = {f.name: f for f in _FORMATS}
 #: formats a scene lists in ``output.formats`` (the implied ones are always on)
 SELECTABLE = tuple(f.name for f in _FORMATS if not f.implied)
 MESH_FORMATS = tuple(f.name for f in _FORMATS if "mesh" in f.stages)
+#: formats written by every run (the report)
+ALWAYS = tuple(f.name for f in _FORMATS if f.always)
+#: the G-code formats (they need the [machining] settings)
+MACHINING_FORMATS = tuple(f.name for f in _FORMATS if f.machining)
+
+
+@dataclass(frozen=True)
+class CamStage:
+    """A stage run on every cam that can be made, after the checks and the mechanism jobs, when a
+    planned output needs it (its name in :attr:`OutputFormat.stages`).
+
+    ``runner``: ``"module:function"``, ``(cam, output spec, progress) -> cam`` (a
+    :class:`camgen.results.CamResult` with the stage's result, or the failure that stopped it)."""
+
+    name: str
+    runner: str
+
+
+#: The per-cam stages, in the order they run.
+CAM_STAGES = (
+    CamStage("mesh", "camgen.pipeline:mesh_stage"),
+    CamStage("fea", "camgen.pipeline:fea_stage"),
+)
 
 
 #: Keys removed from ``[output]``: name -> what replaced it (a scene that sets one is refused naming it).

@@ -9,12 +9,11 @@ when an output needs it, and its libraries are imported only then.
 from __future__ import annotations
 
 import dataclasses
-import math
-from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Callable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Mapping, Sequence
 
 from camgen.errors import GeometryError
+from camgen.outputs import CAM_STAGES
 from camgen.planning import Plan, check_flat_size, claim_file, plan_run
 
 if TYPE_CHECKING:
@@ -25,7 +24,7 @@ if TYPE_CHECKING:
     from camgen.scene import Scene
     from camgen.writers import RunSettings
 
-__all__ = ["Plan", "Progress", "compute", "execute", "plan_run", "render", "run_scene"]
+__all__ = ["Plan", "Progress", "compute", "execute", "fea_stage", "mesh_stage", "plan_run", "render", "run_scene"]
 
 #: Called with a short description before each step of a run (progress display).
 Progress = Callable[[str], None]
@@ -60,12 +59,6 @@ def _overlay(cam: "CamResult", job: "JobResult") -> "CamResult":
     return cam
 
 
-def tool_limit(scene: "Scene", plan: Plan) -> tuple[float, bool]:
-    """The cutting tool's radius (mm) and whether it is a limit: where the scene names a tool or
-    the run machines the cam (``ngc`` in the scene's formats or in ``--only``)."""
-    return scene.machining.tool_radius, scene.machining_given or "ngc" in scene.output.formats or "ngc" in plan.formats
-
-
 def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> "RunResult":
     """Synthesis, design checks, dynamics, mechanism jobs and the planned stages of ``scene``
     (no files): each stage's result a frozen value (:mod:`camgen.results`)."""
@@ -75,16 +68,14 @@ def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> "RunResu
     from camgen.kinds.base import with_cam
     from camgen.results import CamResult, RunResult, frozen_mapping
 
-    tool_radius, tool_is_limit = tool_limit(scene, plan)
+    tool_radius = scene.machining.tool_radius  # a limit where the cam's checks say so (the scene reader decided)
     cams: list[CamResult] = []
     for spec in scene.cams:
-        if tool_is_limit:  # a kind that sizes its cam holds the concave radii to the named tool
-            spec = dataclasses.replace(spec, checks=dataclasses.replace(spec.checks, tool_radius=tool_radius))
         where = f"cams.{spec.name}"
         progress(f"building cam '{spec.name}' ({spec.kind})")
         built = get_kind(spec.kind, spec.form).build(spec, plan.stages)
         progress(f"checking cam '{spec.name}'")
-        cam = CamResult(spec, built, with_cam(where, lambda: evaluate(built, spec, tool_radius, tool_is_limit)))
+        cam = CamResult(spec, built, with_cam(where, lambda: evaluate(built, spec, tool_radius, spec.checks.tool_is_limit)))
         if spec.dynamics is not None:  # forces, jump, torque, contact stress: checks like the geometric ones
             from camgen.kinds.dynamics import run_dynamics
 
@@ -93,7 +84,7 @@ def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> "RunResu
         cams.append(cam)
     for cam in cams:
         if cam.manufacturable and cam.contour is not None:
-            check_flat_size(cam.name, cam.contour, cam.body, plan.formats, scene.output.chord_tol, scene.output)
+            check_flat_size(cam.name, cam.contour, cam.body, plan.formats, scene.output)
     by_name = {c.name: c for c in cams}
     jobs = {}
     for mech in scene.mechanisms:
@@ -102,26 +93,35 @@ def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> "RunResu
         jobs[mech.name] = job
         by_name = {name: _overlay(cam, job) for name, cam in by_name.items()}
     cams = list(by_name.values())
-    if "mesh" in plan.stages:
-        cams = [_meshed(cam, scene.output.chord_tol, progress) if cam.manufacturable else cam for cam in cams]
-    if "fea" in plan.stages:
-        cams = [_fea_meshed(cam, scene.output, progress) if cam.manufacturable else cam for cam in cams]
+    for stage in CAM_STAGES:  # the per-cam stages the planned outputs need (camgen.outputs)
+        if stage.name in plan.stages:
+            run_stage = _load(stage.runner)
+            cams = [run_stage(cam, scene.output, progress) if cam.manufacturable else cam for cam in cams]
     return RunResult(scene, plan, tuple(cams), frozen_mapping(jobs))
 
 
-def _meshed(cam: "CamResult", chord_tol: float, progress: Progress) -> "CamResult":
-    """``cam`` with its extruded solid, or the failure that stopped it (a failed check)."""
+def _load(reference: str) -> Callable[..., Any]:
+    """The function a registry names as ``"module:function"`` (its module imported now)."""
+    import importlib
+
+    module, function = reference.split(":")
+    return getattr(importlib.import_module(module), function)
+
+
+def mesh_stage(cam: "CamResult", output: "OutputSpec", progress: Progress) -> "CamResult":
+    """``cam`` with its extruded solid at the chord tolerance, or the failure that stopped it (a
+    failed check)."""
     from camgen.export.solid import cam_solid
 
     progress(f"meshing cam '{cam.name}'")
     assert cam.contour is not None
     try:
-        return cam.with_(solid=cam_solid(cam.contour, cam.body, chord_tol, cam.name))
+        return cam.with_(solid=cam_solid(cam.contour, cam.body, output.chord_tol, cam.name))
     except GeometryError as exc:
         return cam.with_(mesh_failures=cam.mesh_failures + (_export_failure("solid", exc),))
 
 
-def _fea_meshed(cam: "CamResult", output: "OutputSpec", progress: Progress) -> "CamResult":
+def fea_stage(cam: "CamResult", output: "OutputSpec", progress: Progress) -> "CamResult":
     """``cam`` with its FEA volume mesh (gmsh), made once for every FEA format."""
     from camgen.export.fea import volume_mesh
 
@@ -141,8 +141,6 @@ def execute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> "RunResu
 def _made(cam: "CamResult", plan: Plan, settings: "RunSettings", progress: Progress) -> "MadeFiles":
     """The files of one cam's planned per-cam outputs: a manufacturing output that fails withholds
     every manufacturing file of the cam (a failed check says why); the others are still written."""
-    import importlib
-
     from camgen.outputs import OUTPUTS
     from camgen.results import MadeFiles, frozen_mapping
 
@@ -157,9 +155,9 @@ def _made(cam: "CamResult", plan: Plan, settings: "RunSettings", progress: Progr
         if blocked and output.manufacturing:
             continue
         progress(f"writing {path}")
-        module, function = (output.writer or "").split(":")
+        assert output.writer is not None, f"per-cam format {name!r} has no writer"
         try:
-            files[path] = getattr(importlib.import_module(module), function)(cam, settings, name)
+            files[path] = _load(output.writer)(cam, settings, name)
         except GeometryError as exc:  # the cam cannot be made this way: a failed check
             failures.append(_export_failure(name, exc, blocks_manufacture=output.manufacturing))
             if output.manufacturing:
@@ -173,11 +171,8 @@ def _made(cam: "CamResult", plan: Plan, settings: "RunSettings", progress: Progr
 
 def render(result: "RunResult", progress: Progress = _quiet) -> "RunResult":
     """``result`` with every planned file rendered in memory: per-cam writers, the kinds' and
-    jobs' files, report.json and report.html."""
-    import importlib
-
+    jobs' files, then the run's files (report.json, report.html) from the report input."""
     from camgen.outputs import OUTPUTS
-    from camgen.report import report_dict, report_json
     from camgen.report_data import report_input
     from camgen.results import frozen_mapping
     from camgen.writers import RunSettings
@@ -191,29 +186,30 @@ def render(result: "RunResult", progress: Progress = _quiet) -> "RunResult":
             claim_file(owners, path, owner)
         files.update(new)
 
+    planned = [OUTPUTS[name] for name in result.plan.formats]
     cams = []
     for cam in result.cams:
         cam = cam.with_(made=_made(cam, result.plan, settings, progress))
         assert cam.made is not None
         add(cam.made.files, f"cams.{cam.name}")
-        if "ride" in result.plan.formats:
+        if any(f.scope == "kind" for f in planned):  # the files a kind's stages made (ride tables)
             add(cam.files, f"cams.{cam.name}")
         cams.append(cam)
-    if "legs" in result.plan.formats:
+    if any(f.scope == "job" for f in planned):  # the files the mechanism jobs made (leg paths)
         for name, job in result.jobs.items():
             add(job.files, f"mechanisms.{name}")
-    html = "html" in result.plan.formats
     _check_finite(files)
-    for name in ("report.json",) + (("report.html",) if html else ()):
-        claim_file(owners, name, "the run's report")
-    names = sorted(files) + ["report.json"] + (["report.html"] if html else [])
+    run_files = sorted((f for f in planned if f.scope == "run"), key=lambda f: not f.always)  # the report first: it lists the others
+    for output in run_files:
+        claim_file(owners, output.files, "the run's report")
+    names = sorted(files) + [f.files for f in run_files]
     result = dataclasses.replace(result, cams=tuple(cams))
-    report = report_input(result.scene, result.cams, result.jobs, result.plan.stages, names, drawn=html)
-    files["report.json"] = report_json(report_dict(report))
-    if html:
-        progress("writing report.html")
-        module, function = (OUTPUTS["html"].writer or "").split(":")
-        files["report.html"] = getattr(importlib.import_module(module), function)(report)
+    report = report_input(result.scene, result.cams, result.jobs, result.plan.stages, names, drawn="plots" in result.plan.stages)
+    for output in run_files:
+        assert output.writer is not None, f"run format {output.name!r} has no writer"
+        if not output.always:  # the report is the run's last step, not a file of its own to wait for
+            progress(f"writing {output.files}")
+        files[output.files] = _load(output.writer)(report)
     return dataclasses.replace(result, files=frozen_mapping(files))
 
 

@@ -1,11 +1,11 @@
 """Planning a run, once, for `camgen run` and `camgen check` alike: which outputs, which stages,
-and every refusal that does not need the cams built (the follower table's speed, the G-code's
-settings against the chord tolerance, file names that collide), then the size caps of the files
-that flatten a profile (checked per cam once it is built, before anything is rendered).
+and every refusal that does not need the cams built (the follower table's speed, file names that
+collide), then the size caps of the files that flatten a profile (checked per cam once it is
+built, before anything is rendered).  The specs it plans from are final: the scene reader
+validated them, the G-code's settings against the chord tolerance included (:mod:`camgen.scene`).
 """
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Sequence
@@ -18,7 +18,7 @@ if TYPE_CHECKING:
     from camgen.contour import Contour
     from camgen.scene import Scene
 
-__all__ = ["MAX_FLAT_POINTS", "MAX_PASSES", "Plan", "check_flat_size", "claim_file", "plan_run"]
+__all__ = ["MAX_FLAT_POINTS", "Plan", "check_flat_size", "claim_file", "plan_run"]
 
 
 @dataclass(frozen=True)
@@ -38,7 +38,7 @@ class Plan:
 def plan_run(scene: "Scene", only: Sequence[str] | None = None) -> Plan:
     """The outputs and stages of a run of ``scene``; ``only`` restricts the outputs to those
     formats (whether or not the scene lists them; report.json is always written)."""
-    from camgen.outputs import OUTPUTS
+    from camgen.outputs import ALWAYS, MACHINING_FORMATS, OUTPUTS
 
     if only is None:
         wanted = list(scene.output.formats) + [f.name for f in OUTPUTS.values() if f.implied]
@@ -47,16 +47,18 @@ def plan_run(scene: "Scene", only: Sequence[str] | None = None) -> Plan:
         unknown = [f for f in only if f not in OUTPUTS]
         if unknown or not only:
             raise ParameterError("--only", ",".join(only), "a comma-separated list of formats from " + ", ".join(OUTPUTS))
-        wanted = list(only) + ["json"]
-        full = "json" in only
+        wanted = list(only) + list(ALWAYS)
+        full = all(f in only for f in ALWAYS)  # the report carries the analysis figures when asked for by name
     formats = tuple(f for f in OUTPUTS if f in wanted)
-    if "follower" in formats:  # the follower table is the motion at the cam's speed
-        for spec in scene.cams:
+    for name in formats:
+        why = OUTPUTS[name].needs_rpm
+        for spec in scene.cams if why else ():
             if spec.checks.rpm is None:
                 raise ParameterError(f"cams.{spec.name}.rpm", None, "a cam speed in rev/min (> 0)",
-                                     'the "follower" output (<cam>_follower.csv) tabulates the follower motion at the cam speed')
-    if "ngc" in formats:
-        _check_machining(scene)
+                                     f'the "{name}" output ({OUTPUTS[name].files.replace("{cam}", "<cam>")}) {why}')
+    # the scene reader checked the machining settings for a run that writes G-code (the specs are final)
+    assert scene.machined or not set(formats) & set(MACHINING_FORMATS), \
+        "a run writing G-code needs a scene read with its --only formats (load_scene(only=...))"
     planned: dict[str, str] = {}
     for name in formats:
         output = OUTPUTS[name]
@@ -67,7 +69,7 @@ def plan_run(scene: "Scene", only: Sequence[str] | None = None) -> Plan:
             claim_file(planned, output.files, f"the run ({name})")
     stages: set[str] = set()
     for name in formats:
-        if name != "json" or full:
+        if not OUTPUTS[name].always or full:
             stages |= OUTPUTS[name].stages
     return Plan(formats, frozenset(stages), full)
 
@@ -93,60 +95,12 @@ def claim_file(files: "dict[str, str]", name: str, owner: str) -> None:
     files[name] = owner
 
 
-def _check_machining(scene: "Scene") -> None:
-    """The G-code settings against the run's chord tolerance, before any cam is built: the
-    printed decimals must resolve a share of ``output.chord_tol_mm``
-    (:class:`camgen.export.gcode.MachiningSpec`); the error names the key to change."""
-    from camgen.outputs import machining_keys
-
-    tol = scene.output.chord_tol
-    try:
-        dataclasses.replace(scene.machining, chord_tol=tol)
-    except ParameterError as exc:
-        try:
-            dataclasses.replace(scene.machining, chord_tol=tol, decimals=6)
-        except ParameterError:  # not even 6 decimals resolve this tolerance
-            from camgen.export.gcode import ROUNDING_SHARE, rounding_error
-
-            raise ParameterError("output.chord_tol_mm", tol, f'>= {rounding_error(6) / ROUNDING_SHARE:.2g} mm with "ngc" in '
-                                 "output.formats and machining.decimals = 6 (G-code is printed with at most 6 decimals)", exc.why) from None
-        key = {k.field: k.name for k in machining_keys()}.get(exc.name, exc.name)
-        raise ParameterError(f"machining.{key}", exc.value, exc.valid, exc.why) from None
-    step = scene.machining.step_down
-    for spec in scene.cams:
-        depth = spec.body.thickness + scene.machining.breakthrough
-        if _passes(depth, step) > MAX_PASSES:
-            from camgen.errors import ceil_significant
-
-            least = ceil_significant(depth / MAX_PASSES, 3)
-            while _passes(depth, least) > MAX_PASSES:  # the quoted least is tried: depth / least may round above
-                least = float(f"{least + 10.0 ** (math.floor(math.log10(least)) - 2):.3g}")  # one unit of the 3rd digit up
-            passes = _passes(depth, step)
-            raise ParameterError("machining.step_down_mm", step, f">= {least:.3g} mm for cam '{spec.name}'",
-                                 f"its {depth:g} mm (thickness + breakthrough) would take "
-                                 f"{passes if passes < 1e9 else 'more than 10^9'} passes, more than "
-                                 f"the {MAX_PASSES} a program may hold")
-
-
-def _passes(depth: float, step: float) -> float:
-    """Depth passes of a G-code program, as :func:`camgen.export.gcode.gcode_program` counts them
-    (inf for a step so small that the count overflows)."""
-    ratio = depth / step
-    return max(1, math.ceil(ratio - 1e-9)) if math.isfinite(ratio) else math.inf
-
-
-#: Most depth passes of a G-code program (thickness + breakthrough over step_down_mm).
-MAX_PASSES = 1000
-
-
 #: Largest number of vertices of one flattened contour in the point list and the surface meshes
 #: (STL, 3MF, OBJ, PLY): about 16 MB of coordinates in the point list.  The FEA meshes have caps
 #: of their own on each file's bytes and the mesher's memory (:func:`camgen.export.fea.check_caps`);
 #: the DXF writes arcs and splines exactly or as few biarcs; the G-code has its own cap on the
 #: program's moves (:data:`camgen.export.gcode.MAX_PROGRAM_MOVES`).
 MAX_FLAT_POINTS = 500_000
-#: Formats that flatten the whole profile (besides the surface meshes).
-_FLAT_ALL = ("points",)
 
 
 def _flat_count(contour: "Contour", body: "BodySpec", chord_tol: float) -> int:
@@ -158,26 +112,27 @@ def _flat_count(contour: "Contour", body: "BodySpec", chord_tol: float) -> int:
     return count
 
 
-def check_flat_size(name: str, contour: "Contour", body: "BodySpec", formats: Sequence[str], chord_tol: float,
-                    output: "OutputSpec | None" = None) -> None:
-    """Refuse a chord tolerance that would flatten cam ``name`` into more than :data:`MAX_FLAT_POINTS`
+def check_flat_size(name: str, contour: "Contour", body: "BodySpec", formats: Sequence[str], output: "OutputSpec") -> None:
+    """Refuse a chord tolerance (``output.chord_tol``) that would flatten cam ``name`` into more than :data:`MAX_FLAT_POINTS`
     vertices in a planned point list or surface mesh, or a surface mesh file beyond 100 MB
     (:func:`camgen.export.solid.vertex_limit`; a 200 m cam at 1e-7 mm: 3 million vertices),
     naming ``output.chord_tol_mm`` and the smallest tolerance, as printed, that fits; and FEA
     meshes beyond their caps (:func:`camgen.export.fea.check_caps`, which needs gmsh)."""
     from camgen.errors import ceil_significant
-    from camgen.outputs import FEA_FORMATS, MAX_CHORD_TOL, MESH_FORMATS
+    from camgen.outputs import FEA_FORMATS, MAX_CHORD_TOL, MESH_FORMATS, OUTPUTS
 
-    if output is not None and any(f in FEA_FORMATS for f in formats):
+    chord_tol = output.chord_tol
+    flattened = tuple(f.name for f in OUTPUTS.values() if f.flattens)  # the whole profile, besides the surface meshes
+    if any(f in FEA_FORMATS for f in formats):
         from camgen.export.fea import check_caps, require_gmsh
 
         require_gmsh(formats)
         check_caps(contour, body, formats, chord_tol, output.fea_element_size, output.fea_elements, name, MAX_CHORD_TOL)
-    flat = [f for f in formats if f in _FLAT_ALL or f in MESH_FORMATS]
+    flat = [f for f in formats if f in flattened or f in MESH_FORMATS]
     if not flat:
         return
     limit, holder = MAX_FLAT_POINTS, "a file"
-    surfaces = [f for f in flat if f not in _FLAT_ALL]
+    surfaces = [f for f in flat if f not in flattened]
     if surfaces:  # each surface mesh file at most solid.MAX_FILE_BYTES (bytes per outline vertex)
         from camgen.export.solid import vertex_limit
 

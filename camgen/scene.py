@@ -17,12 +17,12 @@ integer beyond the float range included) raise :class:`~camgen.errors.SceneError
 from __future__ import annotations
 
 import dataclasses
-
+import math
 import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Mapping
+from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 from camgen.errors import ParameterError, SceneError
 from camgen.schema import Choice, Key, Text, check_keys, parse_table, quoted_names, too_deep, type_name
@@ -53,7 +53,13 @@ class MechanismSpec:
 
 @dataclass(frozen=True)
 class Scene:
-    """A validated scene."""
+    """A validated scene: every spec in it final (tolerances, decimals, the tool radius of the
+    cams' checks), so that the later stages trust it.
+
+    ``machining_given``: the scene has a [machining] table.  ``machined``: the run writes G-code
+    (``ngc`` in ``output.formats`` or in the run's ``--only``): ``machining`` is then checked
+    against the chord tolerance and every cam's depth, and carries ``output.chord_tol``.
+    """
 
     name: str
     source: str
@@ -61,7 +67,8 @@ class Scene:
     machining: "MachiningSpec"
     cams: "tuple[CamSpec, ...]" = field(default_factory=tuple)
     mechanisms: tuple[MechanismSpec, ...] = field(default_factory=tuple)
-    machining_given: bool = False  # the scene has a [machining] table
+    machining_given: bool = False
+    machined: bool = False
 
 
 def check_name(where: str, name: object, hint: str = "") -> str:
@@ -80,6 +87,7 @@ def _output(table: object) -> "OutputSpec":
         if isinstance(table, dict) and key in table:
             raise ParameterError(f"output.{key}", table[key], f"no such key: it was replaced by {replacement}", "a removed key")
     p = parse_table("output", table, output_keys())
+    assert isinstance(table, dict)  # parse_table refuses anything else
     for key, needs in (("dxf_splines", "dxf"), ("dxf_construction", "dxf"), ("lift_step_deg", "lift")):
         if key in table and needs not in p["formats"]:
             raise ParameterError(f"output.{key}", table[key], f'only with "{needs}" in output.formats', "it changes only that file")
@@ -91,27 +99,49 @@ def _output(table: object) -> "OutputSpec":
                       p.get("fea_element_size"), p["fea_elements"])
 
 
-def _machining(table: object, output: "OutputSpec") -> "MachiningSpec":
+def _machining(table: object, output: "OutputSpec", machined: bool) -> "MachiningSpec":
+    """The final machining spec: where the run writes G-code, with the run's chord tolerance and
+    checked against it (the printed decimals must resolve a share of it:
+    :class:`camgen.export.gcode.MachiningSpec`), before anything is computed; errors name the
+    scene key (``machining.decimals``, ``output.chord_tol_mm``)."""
     from camgen.export.gcode import MachiningSpec
-    from camgen.kinds.base import rename_errors
-    from camgen.outputs import machining_keys
+    from camgen.keynames import renamed
+    from camgen.outputs import MACHINING_FORMATS, machining_keys, output_keys
 
     keys = machining_keys()
     table = {} if table is None else table
     p = parse_table("machining", table, keys)
-    if "ngc" not in output.formats:  # the tool diameter also sets the machinability check's limit
+    assert isinstance(table, dict)  # parse_table refuses anything else
+    if not set(MACHINING_FORMATS) & set(output.formats):  # the tool diameter also sets the machinability check's limit
+        gcode = " or ".join(f'"{name}"' for name in MACHINING_FORMATS)
         for key in sorted(set(table) - {"tool_diameter_mm"}, key=str):
-            raise ParameterError(f"machining.{key}", table[key], 'only with "ngc" in output.formats', "it changes only the G-code")
-        return rename_errors("machining", lambda: MachiningSpec(**p), keys)
-    try:  # the G-code's error budget needs the chord tolerance: checked now, before anything is computed
-        return rename_errors("machining", lambda: MachiningSpec(**p, chord_tol=output.chord_tol), keys)
-    except ParameterError as exc:
-        if exc.name == "machining.chord_tol":
-            raise ParameterError("output.chord_tol_mm", exc.value, exc.valid, exc.why) from None
-        raise
+            raise ParameterError(f"machining.{key}", table[key], f"only with {gcode} in output.formats", "it changes only the G-code")
+    if not machined:  # no G-code: the spec gives the tool radius only
+        return renamed("machining", keys, lambda: MachiningSpec(**p))
+    return renamed("machining", keys, lambda: MachiningSpec(**p, chord_tol=output.chord_tol), also=(("output", output_keys()),))
 
 
-def _cam(name: str, table: object, base_dir: Path | None) -> "CamSpec":
+def _check_passes(machining: "MachiningSpec", cams: "tuple[CamSpec, ...]") -> None:
+    """Refuse a ``step_down_mm`` that would take a cam's depth (thickness + breakthrough) in more
+    than :data:`camgen.export.gcode.MAX_PASSES` passes, quoting the least step that fits."""
+    from camgen.errors import ceil_significant
+    from camgen.export.gcode import MAX_PASSES, depth_passes
+
+    step = machining.step_down
+    for spec in cams:
+        depth = spec.body.thickness + machining.breakthrough
+        if depth_passes(depth, step) > MAX_PASSES:
+            least = ceil_significant(depth / MAX_PASSES, 3)
+            while depth_passes(depth, least) > MAX_PASSES:  # the quoted least is tried: depth / least may round above
+                least = float(f"{least + 10.0 ** (math.floor(math.log10(least)) - 2):.3g}")  # one unit of the 3rd digit up
+            passes = depth_passes(depth, step)
+            raise ParameterError("machining.step_down_mm", step, f">= {least:.3g} mm for cam '{spec.name}'",
+                                 f"its {depth:g} mm (thickness + breakthrough) would take "
+                                 f"{passes if passes < 1e9 else 'more than 10^9'} passes, more than "
+                                 f"the {MAX_PASSES} a program may hold")
+
+
+def _cam(name: str, table: object, base_dir: Path | None, tool_limit: float | None) -> "CamSpec":
     from camgen.kinds import form_key, get_kind, kind_names
 
     where = f"cams.{name}"
@@ -124,6 +154,7 @@ def _cam(name: str, table: object, base_dir: Path | None) -> "CamSpec":
     form_name = form.type.parse(f"{where}.form", table.get("form", form.default))
     kind = get_kind(kind_name, form_name)
     parsed = parse_table(where, {k: v for k, v in table.items() if k != "kind"}, kind.keys)
+    parsed.tool_limit = tool_limit  # the kind's check settings hold it (read_checks)
     return dataclasses.replace(kind.read(where, name, parsed, base_dir), form=form_name)
 
 
@@ -145,11 +176,14 @@ def _mechanisms(table: object, cams: "tuple[CamSpec, ...]") -> tuple[MechanismSp
     return tuple(out)
 
 
-def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", base_dir: Path | None = None) -> Scene:
-    """Validate a decoded TOML table and return a :class:`Scene`.
+def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", base_dir: Path | None = None,
+                only: Sequence[str] | None = None) -> Scene:
+    """Validate a decoded TOML table and return a :class:`Scene` whose specs are final.
 
     ``name`` is the scene's name when the table has none (the file's stem); ``base_dir`` is
-    where relative file names in the scene point.
+    where relative file names in the scene point; ``only``: the formats the run is restricted
+    to (``--only``; :func:`camgen.planning.plan_run` takes the same), which decide with
+    ``output.formats`` whether the run writes G-code.
     """
     deep = too_deep(data, MAX_NESTING)
     if deep is not None:
@@ -167,10 +201,17 @@ def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", ba
     if not isinstance(cams_table, dict) or not cams_table:
         raise SceneError("scene: [cams] must hold at least one [cams.<name>] table")
     output = _output(data.get("output"))
-    machining = _machining(data.get("machining"), output)
-    cams = tuple(_cam(k, v, base_dir) for k, v in cams_table.items())
+    from camgen.outputs import MACHINING_FORMATS
+
+    machined = bool(set(MACHINING_FORMATS) & (set(output.formats) | set(only or ())))
+    machining = _machining(data.get("machining"), output, machined)
+    # the tool is a limit where the scene names it or the run machines the cam
+    tool_limit = machining.tool_radius if "machining" in data or machined else None
+    cams = tuple(_cam(k, v, base_dir, tool_limit) for k, v in cams_table.items())
     mechanisms = _mechanisms(data.get("mechanisms", {}), cams)
-    return Scene(scene_name, source, output, machining, cams, mechanisms, "machining" in data)
+    if machined:
+        _check_passes(machining, cams)
+    return Scene(scene_name, source, output, machining, cams, mechanisms, "machining" in data, machined)
 
 
 def read_text_bounded(path: Path, what: str, limit: int = MAX_SCENE_BYTES) -> str:
@@ -184,8 +225,9 @@ def read_text_bounded(path: Path, what: str, limit: int = MAX_SCENE_BYTES) -> st
         raise SceneError(f"cannot read {what} '{path}': {exc}") from None
 
 
-def load_scene(path: str | Path, display: str | None = None) -> Scene:
-    """Read and validate a scene file; ``display`` is how reports name it (default: ``path``).
+def load_scene(path: str | Path, display: str | None = None, only: Sequence[str] | None = None) -> Scene:
+    """Read and validate a scene file; ``display`` is how reports name it (default: ``path``);
+    ``only``: the run's ``--only`` formats (:func:`parse_scene`).
 
     Raises
     ------
@@ -206,7 +248,7 @@ def load_scene(path: str | Path, display: str | None = None) -> Scene:
         raise SceneError(f"scene file '{path}' nests tables or lists more than {MAX_NESTING} levels deep") from None
     except ValueError as exc:  # a number Python cannot convert (the scan leaves none: a last guard)
         raise SceneError(f"scene file '{path}' is not valid TOML: {exc}") from None
-    return parse_scene(restore_integers(data, scanned.integers), path.stem, display or str(path), path.parent)
+    return parse_scene(restore_integers(data, scanned.integers), path.stem, display or str(path), path.parent, only)
 
 
 def template_dir() -> Path:
@@ -228,6 +270,6 @@ def template_path(name: str) -> Path:
     return path
 
 
-def load_template(name: str) -> Scene:
-    """Load a bundled template scene."""
-    return load_scene(template_path(name), display=f"templates/{name}.toml")
+def load_template(name: str, only: Sequence[str] | None = None) -> Scene:
+    """Load a bundled template scene (``only``: the run's ``--only`` formats, :func:`parse_scene`)."""
+    return load_scene(template_path(name), display=f"templates/{name}.toml", only=only)

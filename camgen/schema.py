@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, Mapping, Sequence
+from typing import Any, Mapping, Sequence, TypeGuard
 
 from camgen.errors import ParameterError, SceneError, quoted
 
@@ -57,7 +57,7 @@ class ValueType:
         return value
 
 
-def _is_number(value: object) -> bool:
+def _is_number(value: object) -> TypeGuard[int | float]:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
@@ -284,6 +284,10 @@ class Key:
     requires : other keys' values this key needs (``{"follower": ("roller",)}``): given
         without them, it is refused.
     attr : the attribute it is stored under, when not the name without its unit suffix.
+    feeds : the internal parameter names its value becomes beyond ``field``, when a spec built
+        from the parsed table names it otherwise (``follower`` is a FollowerSpec's ``kind``; the
+        two keys ``pivot_x_mm`` and ``pivot_y_mm`` are its ``pivot``): the errors of that spec
+        are renamed to the scene key through them (:func:`camgen.keynames.scene_key`).
     """
 
     name: str
@@ -294,6 +298,7 @@ class Key:
     example: Any = None
     requires: Mapping[str, tuple[Any, ...]] = field(default_factory=dict)
     attr: str | None = None
+    feeds: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         unknown = set(self.affects) - set(EFFECTS)
@@ -349,9 +354,15 @@ def check_keys(where: str, table: Mapping[str, Any], keys: Sequence[Key]) -> Non
 class Parsed(dict):
     """What :func:`parse_table` returns: ``{field: value}`` in internal units, and ``given``: the
     scene names of the keys the table itself gave (a default filled in is not given), for
-    keys refused unless another is given (e.g. the dynamics keys without a mass)."""
+    keys refused unless another is given (e.g. the dynamics keys without a mass).
+
+    ``tool_limit``: for a cam table, the radius (mm) of the cutting tool its concave radii are
+    held to, set by the scene reader where the scene names a tool or the run machines the cam
+    (None: the tool is information only); :func:`camgen.kinds.base.read_checks` puts it into the
+    cam's check settings."""
 
     given: frozenset[str] = frozenset()
+    tool_limit: float | None = None
 
 
 def given_keys(parsed: Mapping[str, Any], keys: Sequence[Key]) -> frozenset[str]:
@@ -395,9 +406,9 @@ def too_deep(value: object, limit: int, path: str = "scene") -> str | None:
     """The path (``cams.x.a_mm[0][0]``) of the first place where lists/tables in a decoded TOML
     value nest more than ``limit`` levels, or None (iterative: deep input cannot exhaust the
     interpreter's stack)."""
-    level = [(path, value)]
+    level: list[tuple[str, object]] = [(path, value)]
     for _ in range(limit + 1):
-        children = []
+        children: list[tuple[str, object]] = []
         for where, item in level:
             if isinstance(item, dict):
                 children.extend((f"{where}.{k}" if where != "scene" else str(k), v) for k, v in item.items())

@@ -2,13 +2,13 @@
 settings in, the file content out.  Each imports its export module when called."""
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from camgen.errors import ParameterError
 
 if TYPE_CHECKING:
+    from camgen.contour import Contour
     from camgen.export.gcode import MachiningSpec
     from camgen.outputs import OutputSpec
     from camgen.report.model import ReportInput
@@ -28,31 +28,38 @@ class RunSettings:
 DXF_CENTER_MARK_MM = 5.0
 
 
+def _profile(cam: "CamResult") -> "Contour":
+    """The cam's profile: a manufacturing output is written only for a cam that has one (the
+    pipeline withholds it otherwise)."""
+    assert cam.contour is not None, f"cam {cam.name!r} has no profile to write"
+    return cam.contour
+
+
 def dxf(cam: "CamResult", run: RunSettings, fmt: str) -> str:
     """What is cut (profile, bore, keyway); with ``output.dxf_construction`` also the PITCH,
     CENTER and ZERO layers."""
     from camgen.export.dxf import DxfOptions, contour_to_dxf
 
     construction = run.output.dxf_construction
-    options = DxfOptions(splines=run.output.dxf_splines, biarc_tol=run.output.chord_tol,
+    options = DxfOptions(splines=run.output.dxf_splines, chord_tol=run.output.chord_tol,
                          center_mark=DXF_CENTER_MARK_MM if construction else 0.0)
     if not construction:
-        return contour_to_dxf(cam.contour, cam.body, None, options, None)
+        return contour_to_dxf(_profile(cam), cam.body, None, options, None)
     # the synthesis' follower-centre path, else the roller checks' pitch curve
     pitch = cam.pitch if cam.pitch is not None else (cam.evaluation.pitch if cam.evaluation is not None else None)
-    return contour_to_dxf(cam.contour, cam.body, pitch, options, cam.zero_mark)
+    return contour_to_dxf(_profile(cam), cam.body, pitch, options, cam.zero_mark)
 
 
 def points(cam: "CamResult", run: RunSettings, fmt: str) -> str:
     from camgen.export.points import points_csv
 
-    return points_csv(cam.contour, run.output.chord_tol)
+    return points_csv(_profile(cam), run.output.chord_tol)
 
 
 def lift(cam: "CamResult", run: RunSettings, fmt: str) -> str:
     from camgen.export.points import lift_csv
 
-    return lift_csv(cam.contour, run.output.lift_step)
+    return lift_csv(_profile(cam), run.output.lift_step)
 
 
 def follower(cam: "CamResult", run: RunSettings, fmt: str) -> str:
@@ -68,27 +75,36 @@ def follower(cam: "CamResult", run: RunSettings, fmt: str) -> str:
 def mesh(cam: "CamResult", run: RunSettings, fmt: str) -> bytes:
     from camgen.export.solid import mesh_bytes
 
+    assert cam.solid is not None, f"cam {cam.name!r} has no solid (the mesh stage withholds its meshes)"
     return mesh_bytes(cam.solid, fmt, cam.name)
 
 
 def step(cam: "CamResult", run: RunSettings, fmt: str) -> bytes:
     from camgen.export.step import step_bytes
 
-    return step_bytes(cam.contour, cam.body, cam.name)
+    return step_bytes(_profile(cam), cam.body, cam.name)
 
 
 def gcode(cam: "CamResult", run: RunSettings, fmt: str) -> str:
+    """The cam's G-code: the machining spec is final (the scene reader checked it against the
+    chord tolerance and the cam's depth); the cam's thickness is the stock's."""
     from camgen.export.gcode import gcode_program
+    from camgen.keynames import renamed
+    from camgen.outputs import machining_keys, output_keys
 
-    from camgen.kinds.base import rename_errors
-    from camgen.outputs import machining_keys
-
-    spec = dataclasses.replace(run.machining, thickness=cam.body.thickness, chord_tol=run.output.chord_tol)
+    assert run.machining.chord_tol == run.output.chord_tol, "the scene reader gives a G-code run its chord tolerance"
     try:  # a program too long: the error names the scene key to change
-        return rename_errors("machining", lambda: gcode_program(cam.contour, spec, cam.name, run.scene_name), machining_keys())
+        return renamed("machining", machining_keys(), lambda: gcode_program(_profile(cam), run.machining, cam.name, run.scene_name,
+                                                                             cam.body.thickness), also=(("output", output_keys()),))
     except ParameterError as exc:
-        name = "output.chord_tol_mm" if exc.name == "machining.chord_tol" else exc.name
-        raise ParameterError(name, exc.value, f"{exc.valid} for cam '{cam.name}'", exc.why) from None
+        raise ParameterError(exc.name, exc.value, f"{exc.valid} for cam '{cam.name}'", exc.why) from None
+
+
+def json_report(report: "ReportInput") -> str:
+    """report.json of the run's report input (:mod:`camgen.report_data`)."""
+    from camgen.report import report_dict, report_json
+
+    return report_json(report_dict(report))
 
 
 def html(report: "ReportInput") -> str:

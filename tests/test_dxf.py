@@ -570,8 +570,8 @@ def test_concave_profiles_round_trip(shape, mode, tmp_path):
     contour = {"trefoil": trefoil, "notched": notched}[shape]()
     assert not contour.is_convex()
     tol = 1e-3
-    text = contour_to_dxf(contour, options=DxfOptions(splines=mode, biarc_tol=tol))
-    assert text == contour_to_dxf(contour, options=DxfOptions(splines=mode, biarc_tol=tol))  # deterministic
+    text = contour_to_dxf(contour, options=DxfOptions(splines=mode, chord_tol=tol))
+    assert text == contour_to_dxf(contour, options=DxfOptions(splines=mode, chord_tol=tol))  # deterministic
     doc = read_dxf(text)
     _, _, kinds = dxf_layer(doc, "PROFILE")
     path = tmp_path / "cam.dxf"
@@ -641,7 +641,7 @@ def test_bspline_dxf_read_by_gdal_within_1e6(name, contours, tmp_path):
 @pytest.mark.parametrize("tol", [1e-2, 1e-3, 1e-4])
 def test_biarcs_within_tolerance_and_fewer_than_the_spline_pieces(tol, contours, tmp_path):
     contour = contours["steering"]
-    text = contour_to_dxf(contour, options=DxfOptions(biarc_tol=tol))  # biarc is the default
+    text = contour_to_dxf(contour, options=DxfOptions(chord_tol=tol))  # biarc is the default
     doc = read_dxf(text)
     path = tmp_path / "cam.dxf"
     path.write_text(text)
@@ -657,8 +657,8 @@ def test_dxf_options_are_checked():
 
     with pytest.raises(ParameterError, match="dxf_splines"):
         DxfOptions(splines="nurbs")
-    with pytest.raises(ParameterError, match="biarc_tol"):
-        DxfOptions(biarc_tol=0.0)
+    with pytest.raises(ParameterError, match="chord_tol"):
+        DxfOptions(chord_tol=0.0)
     assert DxfOptions().splines == "biarc"
 
 

@@ -153,10 +153,11 @@ def _passes(depth: str, step: str) -> int:
 @pytest.mark.parametrize("thickness, breakthrough", [("40", "0.1"), ("20", "0.5"), ("8", "0.3"), ("12.7", "0.25"), ("100", "1"),
                                                      ("3.3", "0"), ("55.5", "0.05")])
 def test_the_least_step_down_quoted_is_accepted(thickness, breakthrough):
-    """The refusal of too many passes quotes a least step_down_mm; that value is accepted and one
-    unit of its last digit less is refused (40.1 mm once gave 0.0401 mm, itself refused)."""
+    """The refusal of too many passes (by the scene reader) quotes a least step_down_mm; that value
+    is accepted and one unit of its last digit less is refused (40.1 mm once gave 0.0401 mm, itself
+    refused)."""
     from camgen.errors import ParameterError
-    from camgen.planning import MAX_PASSES, _check_machining
+    from camgen.export.gcode import MAX_PASSES
 
     def scene(step: str):
         s = _scene("oscillating_roller", thickness_mm=float(thickness))
@@ -166,14 +167,14 @@ def test_the_least_step_down_quoted_is_accepted(thickness, breakthrough):
 
     depth = str(Fraction(thickness) + Fraction(breakthrough))
     with pytest.raises(ParameterError, match="machining.step_down_mm") as info:
-        _check_machining(scene("0.001"))
+        scene("0.001")
     least = re.search(r">= ([\d.e-]+) mm", info.value.valid).group(1)
-    _check_machining(scene(least))  # accepted
+    scene(least)  # accepted
     assert _passes(depth, least) <= MAX_PASSES
     lower = Fraction(least) - Fraction(10) ** (math.floor(math.log10(float(least))) - 2)  # one unit of the 3rd digit less
     assert _passes(depth, str(float(lower))) > MAX_PASSES  # the quoted value is the least of its three digits
     with pytest.raises(ParameterError):
-        _check_machining(scene(str(float(lower))))
+        scene(str(float(lower)))
 
 
 # --------------------------------------------------------------------------------------------
@@ -205,22 +206,18 @@ def test_the_follower_radius_hint_of_a_concave_contact_is_rounded_down():
 
 def test_the_gcode_chord_tolerance_quoted_is_accepted():
     """"output.chord_tol_mm >= 8.5e-06 mm with ngc": that tolerance with 6 decimals is accepted."""
-    import dataclasses
-
     from camgen.errors import ParameterError
-    from camgen.planning import _check_machining
 
     scene = _scene("oscillating_roller")
     scene["output"] = {"formats": ["ngc"], "chord_tol_mm": 1e-6}
     scene["machining"] = {"tool_diameter_mm": 6.0}
     with pytest.raises(ParameterError, match="output.chord_tol_mm") as info:
-        _check_machining(parse_scene(scene, "hint"))
+        parse_scene(scene, "hint")
     least = float(re.search(r">= ([\d.e-]+) mm", info.value.valid).group(1))
     scene["output"]["chord_tol_mm"] = least
     scene["machining"]["decimals"] = 6
-    parsed = parse_scene(scene, "hint")
-    _check_machining(parsed)
-    assert dataclasses.replace(parsed.machining, chord_tol=least).decimals == 6
+    parsed = parse_scene(scene, "hint")  # accepted
+    assert parsed.machining.chord_tol == least and parsed.machining.decimals == 6  # the final spec carries the tolerance
     scene["output"]["chord_tol_mm"] = least - 10.0 ** (math.floor(math.log10(least)) - 1)  # a unit of its 2nd digit less: refused
     with pytest.raises(ParameterError, match="output.chord_tol_mm"):
-        _check_machining(parse_scene(scene, "hint"))
+        parse_scene(scene, "hint")

@@ -1,4 +1,4 @@
-"""The caps on file size (planning.MAX_FLAT_POINTS, planning.MAX_PASSES, gcode.MAX_PROGRAM_MOVES,
+"""The caps on file size (planning.MAX_FLAT_POINTS, gcode.MAX_PASSES, gcode.MAX_PROGRAM_MOVES,
 fea.MAX_FILE_BYTES and fea.MAX_MESHER_BYTES):
 each refusal names the key and a least value that is itself accepted, and what is written at
 that value holds no more than the cap (counted in the file, not taken from the code).
@@ -95,12 +95,12 @@ def test_dxf_alone_is_not_capped_by_the_flattened_count(tmp_path, capsys, monkey
 
 def test_least_step_down_is_accepted(tmp_path, capsys):
     """10.0345 mm + 0.2 mm breakthrough over at most 1000 passes: 0.0102345 mm, quoted rounded up."""
-    import camgen.planning as pipeline
+    import camgen.export.gcode as gcode
 
     status, err, folder = _run(tmp_path, capsys, "steps", formats='["ngc"]', step=0.001, thickness=10.0345)
     assert status == 2 and not folder.exists(), err
     least = _least(err, "machining.step_down_mm")
-    assert least == pytest.approx(0.0103) and (10.0345 + 0.2) / least <= pipeline.MAX_PASSES
+    assert least == pytest.approx(0.0103) and (10.0345 + 0.2) / least <= gcode.MAX_PASSES
 
 
 @pytest.mark.parametrize("mode", ["biarcs", "lines"])

@@ -210,13 +210,13 @@ def test_bspline_dxf_of_a_quintic_contour_reads_back_cubic_within_tol(contour, t
 
 
 @pytest.mark.parametrize("tol", [1e-3, 1e-4])
-def test_biarc_dxf_of_a_quintic_contour_is_within_biarc_tol(contour, tol, tmp_path):
-    """The default DXF (biarcs) read back by ezdxf: ARCs and LINEs only, within biarc_tol + FIT of
+def test_biarc_dxf_of_a_quintic_contour_is_within_chord_tol(contour, tol, tmp_path):
+    """The default DXF (biarcs) read back by ezdxf: ARCs and LINEs only, within chord_tol + FIT of
     the exact curve both ways."""
     from camgen.export.dxf import DxfOptions, contour_to_dxf
     from test_dxf import dxf_layer, read_dxf
 
-    doc = read_dxf(contour_to_dxf(contour, options=DxfOptions(biarc_tol=tol)))
+    doc = read_dxf(contour_to_dxf(contour, options=DxfOptions(chord_tol=tol)))
     chain, points, kinds = dxf_layer(doc, "PROFILE")
     assert set(kinds) <= {"ARC", "LINE"} and "ARC" in kinds
     assert np.max(exact_distance(points)) <= tol + FIT

@@ -102,13 +102,13 @@ def test_the_plate_cam_figures_quoted_are_the_programs(tree):
 def test_the_limits_quoted_are_the_codes(tree):
     """The README's Limits section quotes camgen's caps and tolerances: each must be the value the
     code enforces (the behaviour at each limit is tested in test_limits.py and its neighbours)."""
-    from camgen.export.gcode import MAX_PROGRAM_MOVES, MIN_GCODE_CHORD_TOL
+    from camgen.export.gcode import MAX_PASSES, MAX_PROGRAM_MOVES, MIN_GCODE_CHORD_TOL
     from camgen.export.solid import MANIFOLD_SNAP
     from camgen.export.step import FOLD_TOL
     from camgen.kinds.base import MIN_RPM
     from camgen.motions.trajectory import MAX_SAMPLES
     from camgen.mechanisms.tricycle_fit import FIT_MAX_CONDITION
-    from camgen.planning import MAX_FLAT_POINTS, MAX_PASSES
+    from camgen.planning import MAX_FLAT_POINTS
     from camgen.synthesis import trajectory
 
     def short(x: float) -> str:  # 8.5e-6, 1e6: as written by hand

@@ -7,7 +7,7 @@ always gives the same bytes (no time stamps or GUIDs).
 Spline segments are written in one of two ways (:class:`DxfOptions` ``splines``):
 
 * ``"biarc"`` (default): G1 chains of circular ARCs (and LINEs where the curve is straight)
-  within ``biarc_tol`` mm of the exact curve (:mod:`camgen.numerics.biarc`).  OpenSCAD, laser and CAM
+  within ``chord_tol`` mm of the exact curve (:mod:`camgen.numerics.biarc`).  OpenSCAD, laser and CAM
   programs import these; many of them ignore or reject SPLINE entities.
 * ``"bspline"``: clamped cubic B-splines (always cubic, whatever the segment's degree: LibreCAD
   and most CAM readers take SPLINEs of degree <= 3 only) for CAD programs (fit-point-only or raw periodic-knot
@@ -205,11 +205,11 @@ class DxfOptions:
     ----------
     splines : {"biarc", "bspline"}
         ``"biarc"`` (default): spline segments of PROFILE and PITCH become ARCs and LINEs within
-        ``biarc_tol`` mm (every DXF reader takes them); ``"bspline"``: clamped cubic B-spline
+        ``chord_tol`` mm (every DXF reader takes them); ``"bspline"``: clamped cubic B-spline
         SPLINEs within ``bspline_tol`` mm (for CAD programs).
-    biarc_tol : float
-        Largest distance between a spline segment and its biarcs, mm (the pipeline passes the
-        scene's ``chord_tol_mm``).
+    chord_tol : float
+        Largest distance between a spline segment and its biarcs, mm: the run's chord tolerance
+        (``output.chord_tol_mm``, under the one name it has from the scene to every writer).
     bspline_tol : float
         Largest distance between a spline segment and its written B-spline (``"bspline"``), mm.
     center_mark : float
@@ -218,14 +218,14 @@ class DxfOptions:
     """
 
     splines: str = "biarc"
-    biarc_tol: float = DEFAULT_CHORD_TOL
+    chord_tol: float = DEFAULT_CHORD_TOL
     center_mark: float = 0.0
     bspline_tol: float = DEFAULT_BSPLINE_TOL
 
     def __post_init__(self) -> None:
         if self.splines not in SPLINE_MODES:
             raise ParameterError("dxf_splines", self.splines, f"one of {', '.join(SPLINE_MODES)}")
-        require_positive("biarc_tol", self.biarc_tol)
+        require_positive("chord_tol", self.chord_tol)
         require_positive("bspline_tol", self.bspline_tol)
         if require_finite("center_mark", self.center_mark) < 0:
             raise ParameterError("center_mark", self.center_mark, "center_mark >= 0 mm")
@@ -313,7 +313,7 @@ def contour_to_dxf(contour: Contour, body: Any = None, pitch: Contour | None = N
     each only when asked for: ``PITCH`` (``pitch``, the follower-centre path), ``CENTER``
     (``options.center_mark`` > 0) and ``ZERO`` (``zero_mark``: cam angle 0 and the direction of
     rotation, see the module notes).  Only the layers drawn are defined.  Spline segments follow
-    ``options.splines`` (default: biarcs within ``options.biarc_tol`` mm).
+    ``options.splines`` (default: biarcs within ``options.chord_tol`` mm).
     """
     return _contour_to_dxf(contour, body, pitch, options, zero_mark)
 
@@ -362,7 +362,7 @@ def drawing_bounds(contour: Contour, body: Any = None, pitch: Contour | None = N
 def _contour_to_dxf(contour: Contour, body: Any, pitch: Contour | None, options: DxfOptions, zero_mark: Any = None) -> str:
     # the curves as drawn: biarcs, or the compact cubic form of every spline segment
     def drawn(c: Contour) -> Contour:
-        return _arc_spline(c, options.biarc_tol) if options.splines == "biarc" else _cubic_contour(c, options.bspline_tol)
+        return _arc_spline(c, options.chord_tol) if options.splines == "biarc" else _cubic_contour(c, options.bspline_tol)
 
     contour = drawn(contour)
     pitch = drawn(pitch) if pitch is not None else None
@@ -371,7 +371,7 @@ def _contour_to_dxf(contour: Contour, body: Any, pitch: Contour | None, options:
     msp.set_extents(*drawing_bounds(contour, body, pitch, options.center_mark, zero_mark))
     msp.add_custom_property("camgen_splines", options.splines)
     if options.splines == "biarc":
-        msp.add_custom_property("camgen_biarc_tol_mm", repr(float(options.biarc_tol)))
+        msp.add_custom_property("camgen_biarc_tol_mm", repr(float(options.chord_tol)))
     else:
         msp.add_custom_property("camgen_bspline_tol_mm", repr(float(options.bspline_tol)))
     r, keyway = _bore_and_keyway(body)

@@ -254,6 +254,7 @@ def rotate(path: Contour, t: float) -> Contour:
         order = segs[i:] + segs[:i]
     else:
         head, tail = _split(segs[i], u)
+        assert tail is not None  # u < 1: the tail is never empty
         order = [tail] + segs[i + 1 :] + segs[:i] + ([head] if head is not None else [])
     return Contour(order, closure_tol=1e-5)
 
@@ -415,21 +416,34 @@ def _blend_word(tol: float, decimals: int) -> str:
 MAX_PROGRAM_MOVES = 2_000_000
 
 
-def _refuse_long_program(spec: MachiningSpec, n_passes: int, moves: int) -> None:
+#: Most depth passes of a G-code program (thickness + breakthrough over step_down_mm).
+MAX_PASSES = 1000
+
+
+def depth_passes(depth: float, step: float) -> float:
+    """Depth passes of a program cutting ``depth`` mm in steps of ``step`` mm, as
+    :func:`gcode_program` counts them (inf for a step so small that the count overflows)."""
+    ratio = depth / step
+    return max(1, math.ceil(ratio - 1e-9)) if math.isfinite(ratio) else math.inf
+
+
+def _refuse_long_program(spec: MachiningSpec, depth: float, n_passes: int, moves: int) -> None:
     """Raise the :class:`ParameterError` for a program of more than :data:`MAX_PROGRAM_MOVES`
     moves: fewer passes (``step_down_mm``) where one pass fits, else a coarser path."""
     why = f"{n_passes} passes of {moves} moves would make {n_passes * moves} lines, more than the {MAX_PROGRAM_MOVES} a program may hold"
     passes = MAX_PROGRAM_MOVES // moves
     if passes >= 1:
-        raise ParameterError("step_down_mm", spec.step_down, f">= {ceil_significant(spec.depth / passes, 3):.3g} mm", why)
+        raise ParameterError("step_down_mm", spec.step_down, f">= {ceil_significant(depth / passes, 3):.3g} mm", why)
     coarser = '"biarcs" or a larger chord_tol' if spec.spline_mode == "lines" else "a larger chord_tol"
     raise ParameterError("spline_mode" if spec.spline_mode == "lines" else "chord_tol", spec.spline_mode if spec.spline_mode == "lines" else spec.chord_tol,
                          coarser, why)
 
 
-def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene: str = "") -> str:
-    """RS274/NGC program text that mills ``contour`` (the cam profile) to ``spec.thickness``
-    plus ``spec.breakthrough``, with tangent lead-in and lead-out (see the module docstring)."""
+def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene: str = "", thickness: float | None = None) -> str:
+    """RS274/NGC program text that mills ``contour`` (the cam profile) to ``thickness`` (mm; the
+    cam's, default ``spec.thickness``) plus ``spec.breakthrough``, with tangent lead-in and
+    lead-out (see the module docstring).  ``spec`` is final (the scene reader checked it against
+    its chord tolerance and the cam's depth): it is used as it is."""
     from camgen import __version__
 
     comp = spec.cutter_compensation
@@ -476,13 +490,15 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     def xy(p: np.ndarray) -> str:
         return f"X{p[0]:.{d}f} Y{p[1]:.{d}f}"
 
-    n_passes = max(1, math.ceil(spec.depth / spec.step_down - 1e-9))
+    stock = spec.thickness if thickness is None else require_positive("thickness", thickness, "mm")
+    depth = stock + spec.breakthrough
+    n_passes = max(1, math.ceil(depth / spec.step_down - 1e-9))
     moves = contour_moves.count("\n") + 6  # + plunge, feed down, lead-in (2), lead-out (2)
     if n_passes * moves > MAX_PROGRAM_MOVES:
-        _refuse_long_program(spec, n_passes, moves)
-    depths = -np.minimum(spec.step_down * np.arange(1, n_passes + 1), spec.depth)
-    tol = spec.chord_tol
-    blend = _blend_word(BLEND_SHARE * tol, d)
+        _refuse_long_program(spec, depth, n_passes, moves)
+    depths = -np.minimum(spec.step_down * np.arange(1, n_passes + 1), depth)
+    chord_tol = spec.chord_tol
+    blend = _blend_word(BLEND_SHARE * chord_tol, d)
     if comp:
         # G41: tool left of the travel direction = outside of a clockwise (climb) path
         side = "G41.1" if climb else "G42.1"
@@ -497,9 +513,10 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     lines = [
         _comment(f"camgen {__version__}: cam '{cam}'" + (f", scene '{scene}'" if scene else "")),
         _comment(f"units mm; tool diameter {spec.tool_diameter:g}; {mode}; {spec.direction} milling, outside contour"),
-        _comment(f"stock top Z0, bottom Z{-spec.thickness:g}; last pass Z{-spec.depth:g} = {spec.breakthrough:g} below the stock bottom "
+        _comment(f"stock top Z0, bottom Z{-stock:g}; last pass Z{-depth:g} = {spec.breakthrough:g} below the stock bottom "
                  f"(breakthrough); {n_passes} passes of <= {spec.step_down:g}"),
-        _comment(f"path tolerance {tol:g} = {fit_what} fit {FIT_SHARE * tol:.3g} + offset refit {min(1e-6, REFIT_SHARE * tol):.3g} "
+        _comment(f"path tolerance {chord_tol:g} = {fit_what} fit {FIT_SHARE * chord_tol:.3g} + offset refit "
+                 f"{min(1e-6, REFIT_SHARE * chord_tol):.3g} "
                  f"+ {d} printed decimals {rounding_error(d):.3g}"
                  + (f" + G64 blending {blend}" if spec.dialect == "linuxcnc" else "")),
         _comment(f"tangent lead-in and lead-out of {lead:g} at tool-centre point {xy(centre_start)}, plunge at {xy(plunge)}"),

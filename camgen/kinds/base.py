@@ -42,15 +42,21 @@ def field_default(cls: type, name: str) -> Any:
 
 @dataclass(frozen=True)
 class CheckSettings:
-    """Limits and conditions of the design checks (rad, rev/min, mm).
+    """Limits and conditions of the design checks (rad, rev/min, mm), final when the scene is read.
 
-    ``tool_radius``: the cutting tool's radius when the scene names a tool or writes G-code (the
-    pipeline fills it in before building; a kind that sizes its cam holds the concave radii to it).
+    ``tool_radius``: the cutting tool's radius when it is a limit: the scene names a tool or the
+    run writes G-code (the scene reader sets it; a kind that sizes its cam holds the concave radii
+    to it, the machinability check fails below it); None: the tool is information only.
     """
 
     pressure_angle_limit: float | None = None
     rpm: float | None = None
     tool_radius: float | None = None
+
+    @property
+    def tool_is_limit(self) -> bool:
+        """The concave radii are held to the tool (``tool_radius`` is set)."""
+        return self.tool_radius is not None
 
 
 @dataclass(frozen=True)
@@ -199,19 +205,18 @@ def read_body(where: str, parsed: Mapping[str, Any]) -> "BodySpec":
 
 
 def read_checks(parsed: Mapping[str, Any]) -> CheckSettings:
-    return CheckSettings(parsed.get("pressure_angle_limit"), parsed.get("rpm"))
+    """The check settings of a cam table: its limits, and the tool radius the scene reader set as
+    a limit (:attr:`camgen.schema.Parsed.tool_limit`)."""
+    return CheckSettings(parsed.get("pressure_angle_limit"), parsed.get("rpm"), getattr(parsed, "tool_limit", None))
 
 
 def rename_errors(where: str, make: Callable[[], Any], keys: tuple[Key, ...]) -> Any:
     """Call ``make``; a :class:`ParameterError` naming an internal parameter (``bore_diameter``)
-    is re-raised naming its scene key (``cams.x.bore_diameter_mm``) so the user finds the line."""
-    try:
-        return make()
-    except ParameterError as exc:
-        if "." in exc.name:  # already a scene path
-            raise
-        key = {k.field: k.name for k in keys}.get(exc.name, exc.name)
-        raise ParameterError(f"{where}.{key}", exc.value, exc.valid, exc.why) from None
+    is re-raised naming its scene key (``cams.x.bore_diameter_mm``) so the user finds the line
+    (:func:`camgen.keynames.renamed`)."""
+    from camgen.keynames import renamed
+
+    return renamed(where, keys, make)
 
 
 def with_cam(where: str, make: Callable[[], Any]) -> Any:

@@ -86,25 +86,26 @@ def follower_keys() -> tuple[Key, ...]:
             "result is in the report's figures.", ("profile",), default="none"),
         Key("follower", Choice(follower_names(("point", "face"))), "Follower (camgen.followers): " + "; ".join(
             f"{name}, {get_follower(name).summary}" for name in follower_names(("point", "face"))) + ".", ("profile",),
-            default="roller"),
+            default="roller", feeds=("kind",)),
         Key("follower_motion", Choice(("translating", "oscillating")),
             "Translating along +y (the line x = follower_offset_mm), or oscillating about a pivot (pivot_x_mm, pivot_y_mm).",
-            ("profile",), default="translating"),
+            ("profile",), default="translating", feeds=("motion",)),
     ) + own_keys(("point", "face")) + (
         Key("follower_offset_mm", Length(-1e5, 1e5, low_open=False),
             "Translating follower: its axis is the line x = offset (> 0: right of the cam axis, looking at the DXF with the "
             "follower above the cam); default 0. A flat face's offset moves only the face centre (the face-length check and "
-            "drawing).", ("profile", "report"), requires={"follower_motion": ("translating",)}),
+            "drawing).", ("profile", "report"), requires={"follower_motion": ("translating",)}, feeds=("offset",)),
         Key("pivot_x_mm", Length(-1e5, 1e5, low_open=False), "Oscillating follower: x of the arm's pivot (fixed frame, cam axis at 0).",
-            ("profile",), requires=_OSC),
-        Key("pivot_y_mm", Length(-1e5, 1e5, low_open=False), "Oscillating follower: y of the arm's pivot.", ("profile",), requires=_OSC),
+            ("profile",), requires=_OSC, feeds=("pivot",)),
+        Key("pivot_y_mm", Length(-1e5, 1e5, low_open=False), "Oscillating follower: y of the arm's pivot.", ("profile",), requires=_OSC,
+            feeds=("pivot",)),
         Key("arm_length_mm", Length(), "Oscillating roller or knife: pivot to roller centre (knife tip).", ("profile",),
             requires={**_OSC, "follower": follower_names(("point",))}),
         Key("face_offset_mm", Length(-1e5, 1e5, low_open=False), "Oscillating flat face: distance of the face line from the pivot "
             "(> 0: the face lies between the pivot and the cam axis; 0: the face line passes through the pivot).", ("profile",),
             default=0.0, requires={**_OSC, "follower": follower_names(("face",))}),
         Key("swing_turn", Choice(("ccw", "cw")), "Oscillating follower: the way the arm turns about its pivot for a positive swing "
-            "(the follower moves away from the cam).", ("profile",), default="ccw", requires=_OSC),
+            "(the follower moves away from the cam).", ("profile",), default="ccw", requires=_OSC, feeds=("lift_turn",)),
         Key("rotation", Choice(("ccw", "cw")), "Direction the cam turns, seen looking at the DXF (from +z); the cam angle is "
             "measured in this direction.", ("profile",), default="ccw"),
         Key("face_half_length_mm", Length(), "Flat face: usable half-length of the face (checked against the contact's reach; "
@@ -153,19 +154,12 @@ def _given(value: "_T | None", what: str) -> "_T":
 # --------------------------------------------------------------------------------------------
 # Reading
 # --------------------------------------------------------------------------------------------
-#: FollowerSpec parameters -> scene keys (for error messages)
-_SCENE_NAMES = {"kind": "follower", "base_radius": "base_radius_mm", "motion": "follower_motion", "roller_radius": "roller_radius_mm",
-                "offset": "follower_offset_mm", "pivot": "pivot_x_mm/pivot_y_mm", "arm_length": "arm_length_mm",
-                "face_offset": "face_offset_mm", "lift_turn": "swing_turn", "rotation": "rotation"}
-
-
 def _follower_spec(where: str, **kwargs: Any) -> "FollowerSpec":
+    from camgen.keynames import renamed
     from camgen.synthesis.followers import FollowerSpec
 
     try:
-        return FollowerSpec(**kwargs)
-    except ParameterError as exc:
-        raise ParameterError(f"{where}.{_SCENE_NAMES.get(exc.name, exc.name)}", exc.value, exc.valid, exc.why) from None
+        return renamed(where, follower_keys(), lambda: FollowerSpec(**kwargs))
     except GeometryError as exc:
         raise GeometryError(f"{where}: {exc}") from None
 
@@ -183,6 +177,7 @@ def _placeholder_base(contact: str, motion: str, roller: float, offset: float, p
 def read_follower(where: str, parsed: Mapping[str, Any]) -> tuple["FollowerSpec", str]:
     """The follower of a disk cam table and its sizing method; errors name the scene keys."""
     from camgen.followers import get_follower
+    from camgen.keynames import scene_key
 
     kind, motion, sizing = parsed["follower"], parsed["follower_motion"], parsed["sizing"]
     model = get_follower(kind)
@@ -206,7 +201,8 @@ def read_follower(where: str, parsed: Mapping[str, Any]) -> tuple["FollowerSpec"
     if motion == "oscillating":
         for key in ("pivot_x", "pivot_y") + (("arm_length",) if contact == "point" else ()):
             if key not in parsed:
-                raise ParameterError(f"{where}.{key}_mm", None, "a length in mm", f"required for an oscillating {kind} follower")
+                raise ParameterError(f"{where}.{scene_key(follower_keys(), key)}", None, "a length in mm",
+                                     f"required for an oscillating {kind} follower")
         pivot = (parsed["pivot_x"], parsed["pivot_y"])
         arm = parsed.get("arm_length", 0.0)
         face = parsed.get("face_offset", 0.0) if contact == "face" else 0.0

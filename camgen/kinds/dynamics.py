@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING, Any, Mapping
 import numpy as np
 
 from camgen.errors import GeometryError, ParameterError
+from camgen.keynames import renamed, scene_key
 from camgen.schema import Angle, Flag, Key, Length, Number, Text, given_keys
 
 if TYPE_CHECKING:
@@ -72,32 +73,34 @@ def _keys() -> tuple[Key, ...]:
         Key("mass_kg", Number("kg", 0.0, 1e5), "Translating follower: its effective moving mass (follower, roller and about a "
             "third of the spring), for its inertia and weight; with rpm it turns the dynamics on (contact force, jump, camshaft "
             "torque, Hertz stress). Oscillating follower: the arm's mass, for its weight only (with cg_distance_mm).", _R,
-            example=0.5),
+            example=0.5, feeds=("mass",)),
         Key("inertia_kg_m2", Number("kg*m^2", 0.0, 1e4), "Oscillating follower: moment of inertia of the arm with its roller "
-            "about the pivot; with rpm it turns the dynamics on.", _R, example=1e-3, requires=_O),
+            "about the pivot; with rpm it turns the dynamics on.", _R, example=1e-3, requires=_O, feeds=("inertia",)),
         Key("cg_distance_mm", Length(-1e5, 1e5, low_open=False), "Oscillating follower with mass_kg: distance from the pivot to "
             "the arm's centre of mass, along the arm towards the roller (a flat face: perpendicular to the face, from the pivot "
-            "towards the cam; < 0 beyond the pivot), for its weight.", _R, example=30.0, requires=_O),
+            "towards the cam; < 0 beyond the pivot), for its weight.", _R, example=30.0, requires=_O, feeds=("cg_distance",)),
         Key("spring_rate_n_per_mm", Number("N/mm", 0.0, 1e7), "Translating follower: rate of the spring pressing it onto the "
-            "cam (default 0).", _R, example=2.0, requires=_T),
+            "cam (default 0).", _R, example=2.0, requires=_T, feeds=("spring_rate",)),
         Key("spring_preload_n", Number("N", 0.0, 1e8), "Translating follower: the spring force with the follower at its lowest "
-            "position (default 0); or give spring_free_length_mm and spring_installed_length_mm.", _R, example=50.0, requires=_T),
+            "position (default 0); or give spring_free_length_mm and spring_installed_length_mm.", _R, example=50.0, requires=_T,
+            feeds=("preload",)),
         Key("spring_free_length_mm", Length(), "Translating follower: the spring's free length; with spring_installed_length_mm "
-            "it sets the preload, rate x (free - installed).", _R, example=60.0, requires=_T),
+            "it sets the preload, rate x (free - installed).", _R, example=60.0, requires=_T, feeds=("spring_free_length",)),
         Key("spring_installed_length_mm", Length(), "Translating follower: the spring's length with the follower at its lowest "
-            "position (<= spring_free_length_mm).", _R, example=50.0, requires=_T),
+            "position (<= spring_free_length_mm).", _R, example=50.0, requires=_T, feeds=("spring_installed_length",)),
         Key("spring_rate_n_mm_per_rad", Number("N*mm/rad", 0.0, 1e10), "Oscillating follower: rate of the torsional spring "
-            "about the pivot (default 0).", _R, example=5000.0, requires=_O),
+            "about the pivot (default 0).", _R, example=5000.0, requires=_O, feeds=("spring_rate",)),
         Key("spring_preload_n_mm", Number("N*mm", 0.0, 1e10), "Oscillating follower: the spring torque about the pivot with the "
-            "arm at its lowest position (default 0).", _R, example=2000.0, requires=_O),
+            "arm at its lowest position (default 0).", _R, example=2000.0, requires=_O, feeds=("preload",)),
         Key("damping_n_s_per_m", Number("N*s/m", 0.0, 1e7), "Translating follower: viscous damping of its motion (default 0).",
-            _R, example=20.0, requires=_T),
+            _R, example=20.0, requires=_T, feeds=("damping",)),
         Key("damping_n_m_s_per_rad", Number("N*m*s/rad", 0.0, 1e7), "Oscillating follower: viscous damping of the arm's "
-            "rotation (default 0).", _R, example=0.05, requires=_O),
+            "rotation (default 0).", _R, example=0.05, requires=_O, feeds=("damping",)),
         Key("external_load_n", Number("N", -1e8, 1e8), "Translating follower: a constant external load pressing it onto the cam "
-            "(< 0 pulls it off; default 0); or external_load_csv.", _R, example=20.0, requires=_T),
+            "(< 0 pulls it off; default 0); or external_load_csv.", _R, example=20.0, requires=_T, feeds=("load",)),
         Key("external_load_n_mm", Number("N*mm", -1e10, 1e10), "Oscillating follower: a constant external torque about the pivot "
-            "pressing the arm onto the cam (< 0 pulls it off; default 0); or external_load_csv.", _R, example=500.0, requires=_O),
+            "pressing the arm onto the cam (< 0 pulls it off; default 0); or external_load_csv.", _R, example=500.0, requires=_O,
+            feeds=("load",)),
         Key("external_load_csv", Text(), "CSV file of rows 'cam_angle_deg, load' relative to the scene file: the external load "
             "pressing the follower onto the cam against cam angle (N; oscillating: N*mm about the pivot), interpolated linearly "
             "and periodically; cam angles increasing in [0, 360); loads within the range of external_load_n (external_load_n_mm); '#' "
@@ -107,17 +110,17 @@ def _keys() -> tuple[Key, ...]:
         Key("gravity_deg", Angle(), "Direction of gravity in the fixed frame, counter-clockwise from +x (-90: down the drawing, "
             "-y).", _R, default=-90.0, requires={"gravity": (True,)}, attr="gravity_angle"),
         Key("contact_width_mm", Length(), "Length of the contact line for the Hertz stress: the smaller of the cam's thickness and "
-            "the roller's (or face's) width; default: thickness_mm.", _R, example=8.0),
+            "the roller's (or face's) width; default: thickness_mm.", _R, example=8.0, feeds=("width",)),
         Key("cam_modulus_gpa", Number("GPa", 0.0, 1e4, low_open=True), "Young's modulus of the cam material (steel: 210).", _R,
-            default=210.0),
+            default=210.0, feeds=("cam_modulus",)),
         Key("cam_poisson", Number("", -1.0, 0.5, low_open=True, high_open=True), "Poisson's ratio of the cam material (steel: "
             "0.3).", _R, default=0.3),
         Key("follower_modulus_gpa", Number("GPa", 0.0, 1e4, low_open=True), "Young's modulus of the follower (roller or face) "
-            "material (steel: 210).", _R, default=210.0),
+            "material (steel: 210).", _R, default=210.0, feeds=("follower_modulus",)),
         Key("follower_poisson", Number("", -1.0, 0.5, low_open=True, high_open=True), "Poisson's ratio of the follower material "
             "(steel: 0.3).", _R, default=0.3),
         Key("allowable_contact_stress_mpa", Number("MPa", 0.0, 1e6, low_open=True), "Allowable Hertz contact stress: the "
-            "hertz_stress check fails above it (left out: the stress is information).", _R, example=1200.0),
+            "hertz_stress check fails above it (left out: the stress is information).", _R, example=1200.0, feeds=("allowable_stress",)),
         Key("jump_margin_n", Number("N", 0.0, 1e8), "Smallest contact force the jump check requires at every cam angle (0: the "
             "follower must only stay on the cam).", _R, default=0.0),
         Key("torque_limit_n_m", Number("N*m", 0.0, 1e8, low_open=True), "Largest camshaft torque allowed: the camshaft_torque "
@@ -136,27 +139,6 @@ class DynamicsSpec:
     jump_margin: float
     torque_limit: float | None
     given: tuple[str, ...]
-
-
-#: FollowerTrain / ContactMaterial parameters -> scene keys (error messages), per follower motion
-_NAMES = {
-    "translating": {"mass": "mass_kg", "spring_rate": "spring_rate_n_per_mm", "preload": "spring_preload_n",
-                    "spring_free_length": "spring_free_length_mm", "spring_installed_length": "spring_installed_length_mm",
-                    "damping": "damping_n_s_per_m", "load": "external_load_n"},
-    "oscillating": {"mass": "mass_kg", "inertia": "inertia_kg_m2", "cg_distance": "cg_distance_mm",
-                    "spring_rate": "spring_rate_n_mm_per_rad", "preload": "spring_preload_n_mm", "damping": "damping_n_m_s_per_rad",
-                    "load": "external_load_n_mm"},
-}
-_MATERIAL_NAMES = {"width": "contact_width_mm", "cam_modulus": "cam_modulus_gpa", "cam_poisson": "cam_poisson",
-                   "follower_modulus": "follower_modulus_gpa", "follower_poisson": "follower_poisson",
-                   "allowable_stress": "allowable_contact_stress_mpa"}
-
-
-def _renamed(where: str, names: Mapping[str, str], make: Any) -> Any:
-    try:
-        return make()
-    except ParameterError as exc:
-        raise ParameterError(f"{where}.{names.get(exc.name, exc.name)}", exc.value, exc.valid, exc.why) from None
 
 
 def read_dynamics(where: str, parsed: Mapping[str, Any], *, motion: str, follower: str, rpm: float | None, thickness: float,
@@ -244,18 +226,20 @@ def read_dynamics(where: str, parsed: Mapping[str, Any], *, motion: str, followe
         bound = by_name[constant].type
         assert isinstance(bound, Number)  # external_load_n and external_load_n_mm are numbers
         load = read_load_table(f"{where}.external_load_csv", parsed["external_load_csv"], base_dir, bound)
-    names = _NAMES[motion]
+    # the keys of this follower motion: an error of the train or the material names the key that gave the value
+    keys = tuple(k for k in keys if motion in k.requires.get("follower_motion", (motion,)))
+    spring_rate, preload, damping = (scene_key(keys, name) for name in ("spring_rate", "preload", "damping"))
     get = parsed.get
-    train = _renamed(where, names, lambda: dy.FollowerTrain(
+    train = renamed(where, keys, lambda: dy.FollowerTrain(
         motion=motion, closure="form" if model.contact == "faces" else "force", mass=get("mass_kg", 0.0), inertia=get("inertia_kg_m2", 0.0),
         arm_length=0.0 if translating else 1.0,  # placeholder: the stage sets the arm from the follower geometry
-        cg_distance=get("cg_distance_mm", 0.0), spring_rate=get(names["spring_rate"], 0.0), preload=get(names["preload"]),
+        cg_distance=get("cg_distance_mm", 0.0), spring_rate=get(spring_rate, 0.0), preload=get(preload),
         spring_free_length=get("spring_free_length_mm"), spring_installed_length=get("spring_installed_length_mm"),
-        damping=get(names["damping"], 0.0), load=load, gravity=dy.STANDARD_GRAVITY if parsed.get("gravity", True) else 0.0,
+        damping=get(damping, 0.0), load=load, gravity=dy.STANDARD_GRAVITY if parsed.get("gravity", True) else 0.0,
         gravity_angle=get("gravity_angle", -math.pi / 2)))
     material = None
     if not edge:
-        material = _renamed(where, _MATERIAL_NAMES, lambda: dy.ContactMaterial(
+        material = renamed(where, keys, lambda: dy.ContactMaterial(
             width=get("contact_width_mm", thickness), cam_modulus=get("cam_modulus_gpa", 210.0), cam_poisson=get("cam_poisson", 0.3),
             follower_modulus=get("follower_modulus_gpa", 210.0), follower_poisson=get("follower_poisson", 0.3),
             allowable_stress=get("allowable_contact_stress_mpa")))

@@ -11,7 +11,7 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Mapping
 
-from camgen.errors import ParameterError
+from camgen.keynames import renamed
 from camgen.motions.base import LawReading, Motion
 from camgen.schema import REQUIRED, Key, Text
 
@@ -33,10 +33,8 @@ def read_law(where: str, parsed: Mapping[str, Any], follower: "FollowerSpec", ba
     path = Path(parsed["lift_table_csv"])
     path = path if path.is_absolute() or base_dir is None else base_dir / path
     oscillating = follower.motion == "oscillating"
-    try:
-        table = read_lift_table(path, unit="rad" if oscillating else "mm", lift_scale=math.pi / 180.0 if oscillating else 1.0)
-    except ParameterError as exc:
-        raise ParameterError(f"{where}.{exc.name}", exc.value, exc.valid, exc.why) from None
+    table = renamed(where, KEYS, lambda: read_lift_table(path, unit="rad" if oscillating else "mm",
+                                                      lift_scale=math.pi / 180.0 if oscillating else 1.0))
     figures = {"lift_table_csv": parsed["lift_table_csv"], "table_rows": int(table.angles.size), "table_spline_degree": table.degree}
     return LawReading(table, figures)
 

@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Mapping
 
 from camgen.errors import ParameterError
+from camgen.keynames import renamed
 from camgen.motions.base import LawReading, Motion
 from camgen.schema import REQUIRED, Angle, Choice, Key, Number, NumberList, TableList
 
@@ -34,7 +35,7 @@ SEGMENT_KEYS = (
     Key("lift_mm", Number("mm", -1e4, 1e4), "Translating follower: travel over the segment (> 0 rise, < 0 return; 0 or left out "
         "for a dwell; a polynomial's follows from its start and end).", ("profile",)),
     Key("swing_deg", Angle(-180.0, 180.0), "Oscillating follower: swing of the arm over the segment (> 0 away from the cam, "
-        "< 0 back; 0 or left out for a dwell).", ("profile",)),
+        "< 0 back; 0 or left out for a dwell).", ("profile",), feeds=("lift",)),
     Key("blend", Number("", 0.0, 0.5), "constant_velocity only: fraction of the span in each end blend that ramps the velocity "
         "(0: plain constant velocity, whose velocity jumps at the ends: a knife follower only).", ("profile",)),
     Key("start", _CONDITIONS, "polynomial only: [s, v, a] (optionally j) at the segment's start: lift mm (oscillating: swing deg), "
@@ -62,6 +63,7 @@ def read_program(where: str, segments: tuple[dict[str, Any], ...], motion: str):
     oscillating = motion == "oscillating"
     key, other = ("swing_deg", "lift_mm") if oscillating else ("lift_mm", "swing_deg")
     field, other_field = key.rsplit("_", 1)[0], other.rsplit("_", 1)[0]
+    segment_keys = tuple(k for k in SEGMENT_KEYS if k.name != other)  # the segment's lift is this follower's key
     built = []
     for i, seg in enumerate(segments):
         path = f"{where}.segments[{i}]"
@@ -84,11 +86,7 @@ def read_program(where: str, segments: tuple[dict[str, Any], ...], motion: str):
                                  "[s, v, a] (optionally j) at both ends of a polynomial segment")
         start = _per_rad(seg["start"], oscillating) if "start" in seg else None
         end = _per_rad(seg["end"], oscillating) if "end" in seg else None
-        try:
-            built.append(laws.Segment(law, seg["span"], lift, seg.get("blend"), start, end, where=path))
-        except ParameterError as exc:
-            name = exc.name.replace(".lift", f".{key}").replace(".span", ".span_deg")
-            raise ParameterError(name, exc.value, exc.valid, exc.why) from None
+        built.append(renamed(path, segment_keys, lambda: laws.Segment(law, seg["span"], lift, seg.get("blend"), start, end, where=path)))
     try:
         return laws.MotionProgram(built, unit="rad" if oscillating else "mm")
     except ParameterError as exc:

@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from camgen.errors import ParameterError
+from camgen.keynames import scene_key
 from camgen.kinds.base import (
     BuiltCam,
     CamKind,
@@ -97,7 +98,8 @@ def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = 
     if parsed["follower_motion"] == "oscillating":  # the pivot placed as for every follower: pivot_x_mm, pivot_y_mm
         for key in ("pivot_x", "pivot_y", "arm_length"):
             if key not in parsed:
-                raise ParameterError(f"{where}.{key}_mm", None, "a length in mm", "required for an oscillating roller follower")
+                raise ParameterError(f"{where}.{scene_key(KEYS, key)}", None, "a length in mm",
+                                     "required for an oscillating roller follower")
         if parsed["pivot_x"] == 0.0 and parsed["pivot_y"] == 0.0:
             raise ParameterError(f"{where}.pivot_x_mm", 0.0, "a pivot away from the cam axis (pivot_x_mm, pivot_y_mm not both 0)",
                                  "the arm swings about the pivot, which cannot be the cam's rotation axis")

@@ -59,10 +59,10 @@ KEYS = (
     Key("expression", Text(2000), "The path y = f(x) over one period, mm: numbers, x, pi, + - * / **, sin cos tan exp log sqrt abs. "
         "Give exactly one of expression (with period_mm) and trajectory_csv. Right turns must keep a radius > "
         "half_track_mm + lever_mm * wheelbase_mm / (wheelbase_mm - rod_radius_mm) (80.6 mm for Table 2), else the cam "
-        "radius of eq. (13) is <= 0: such a path is refused naming this key.", ("profile",)),
+        "radius of eq. (13) is <= 0: such a path is refused naming this key.", ("profile",), feeds=("trajectory",)),
     Key("trajectory_csv", Text(), "A CSV file of x, y rows (mm) over one period, relative to the scene file: two fields a row "
         "(comma, semicolon or blanks; no decimal commas), # comments, one optional header row, at most 100000 rows. The path "
-        "obeys expression's limits.", ("profile",)),
+        "obeys expression's limits.", ("profile",), feeds=("trajectory", "trajectory table")),
     Key("period_mm", Length(), "Period of the expression's path: the distance travelled per cam turn along x.", ("profile",)),
     Key("samples", Count(16, MAX_SAMPLES), "Cam angles per turn at which the cam radius is computed (N).", ("profile",), default=720),
     Key("curvature", Choice(("exact", "forward", "central")),
@@ -125,7 +125,7 @@ def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = 
         if "period" not in parsed:
             raise SceneError(f"[{where}]: 'expression' needs 'period_mm'")
         traj = rename_errors(where, lambda: tr.trajectory_from_expression(parsed["expression"], parsed["period"]),
-                             KEYS + (Key("expression", Text(), "", (), attr="trajectory"),))
+                             tuple(k for k in KEYS if k.name != "trajectory_csv"))
     else:
         if "period" in parsed:
             raise ParameterError(f"{where}.period_mm", parsed["period"], "only with expression",
@@ -133,7 +133,7 @@ def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = 
         path = Path(parsed["trajectory_csv"])
         path = path if path.is_absolute() or base_dir is None else base_dir / path
         traj = rename_errors(where, lambda: tr.read_trajectory_csv(str(path)),
-                             KEYS + (Key("trajectory_csv", Text(), "", (), attr="trajectory table"),))
+                             tuple(k for k in KEYS if k.name != "expression"))
     if "worm_teeth" in parsed and not parsed.get("fit_tables"):
         raise ParameterError(f"{where}.worm_teeth", parsed["worm_teeth"], "only with fit_tables",
                              "Z3 enters only the fitted error model's worm-knob advice")
