@@ -46,6 +46,8 @@ class OutputFormat:
         the chord tolerance and holds the cams' concave radii to the tool.
     flattens : the file holds the whole profile flattened at the chord tolerance (the point-count
         cap of :func:`camgen.planning.check_flat_size` applies; the surface meshes have theirs).
+    keys : the ``[output]`` keys that change this format only (with other formats that list
+        them): given without one of their formats in ``output.formats``, they are refused.
     """
 
     name: str
@@ -60,15 +62,20 @@ class OutputFormat:
     needs_rpm: str = ""
     machining: bool = False
     flattens: bool = False
+    keys: tuple[str, ...] = ()
 
+
+#: The FEA meshes' keys (every FEA format takes them).
+_FEA_KEYS = ("fea_element_size_mm", "fea_elements")
 
 _FORMATS = (
     OutputFormat("dxf", "{cam}.dxf", "2-D drawing of what is cut: PROFILE (exact ARCs, B-splines or biarcs), BORE, KEYWAY layers "
-                 "(with output.dxf_construction: PITCH, CENTER, ZERO too); R2010, mm", "camgen.writers:dxf"),
+                 "(with output.dxf_construction: PITCH, CENTER, ZERO too); R2010, mm", "camgen.writers:dxf",
+                 keys=("dxf_splines", "dxf_construction")),
     OutputFormat("points", "{cam}_points.csv", "XY point list of the profile at the chord tolerance", "camgen.writers:points",
                  flattens=True),
     OutputFormat("lift", "{cam}_lift.csv", "polar lift table of the profile: polar angle on the cam -> radius, lift above the base radius",
-                 "camgen.writers:lift"),
+                 "camgen.writers:lift", keys=("lift_step_deg",)),
     OutputFormat("follower", "{cam}_follower.csv", "follower inspection table at the cam's rpm: cam angle, time, lift, velocity, "
                  "acceleration, jerk (needs rpm)", "camgen.writers:follower", manufacturing=False,
                  needs_rpm="tabulates the follower motion at the cam speed"),
@@ -78,11 +85,11 @@ _FORMATS = (
     OutputFormat("obj", "{cam}.obj", "Wavefront OBJ mesh of the body", "camgen.writers:mesh", MESH),
     OutputFormat("ply", "{cam}.ply", "binary PLY mesh of the body", "camgen.writers:mesh", MESH),
     OutputFormat("vtu", "{cam}.vtu", "VTK unstructured grid of the body (FEA: wedges or tetrahedra meshed by gmsh); needs the fea "
-                 "extra (gmsh)", "camgen.export.fea:writer", FEA),
+                 "extra (gmsh)", "camgen.export.fea:writer", FEA, keys=_FEA_KEYS),
     OutputFormat("msh", "{cam}.msh", "Gmsh 2.2 mesh of the body (FEA: wedges or tetrahedra); needs the fea extra (gmsh)",
-                 "camgen.export.fea:writer", FEA),
+                 "camgen.export.fea:writer", FEA, keys=_FEA_KEYS),
     OutputFormat("inp", "{cam}.inp", "Abaqus/CalculiX input mesh of the body (FEA: C3D6 or C3D4, node sets PROFILE, BORE with a "
-                 "bore, BOTTOM, TOP); needs the fea extra (gmsh)", "camgen.export.fea:writer", FEA),
+                 "bore, BOTTOM, TOP); needs the fea extra (gmsh)", "camgen.export.fea:writer", FEA, keys=_FEA_KEYS),
     OutputFormat("step", "{cam}.step", "exact solid (circles and B-splines), AP214, mm; needs the step extra (cadquery-ocp-novtk)",
                  "camgen.writers:step"),
     OutputFormat("ngc", "{cam}.ngc", "RS274/NGC G-code milling the outside profile (LinuxCNC or GRBL)", "camgen.writers:gcode",

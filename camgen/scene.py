@@ -80,7 +80,7 @@ def check_name(where: str, name: object, hint: str = "") -> str:
 
 
 def _output(table: object) -> "OutputSpec":
-    from camgen.outputs import FEA_FORMATS, REMOVED_OUTPUT_KEYS, OutputSpec, output_keys
+    from camgen.outputs import OUTPUTS, REMOVED_OUTPUT_KEYS, OutputSpec, output_keys
 
     table = {} if table is None else table
     for key, replacement in REMOVED_OUTPUT_KEYS.items():
@@ -88,13 +88,12 @@ def _output(table: object) -> "OutputSpec":
             raise ParameterError(f"output.{key}", table[key], f"no such key: it was replaced by {replacement}", "a removed key")
     p = parse_table("output", table, output_keys())
     assert isinstance(table, dict)  # parse_table refuses anything else
-    for key, needs in (("dxf_splines", "dxf"), ("dxf_construction", "dxf"), ("lift_step_deg", "lift")):
-        if key in table and needs not in p["formats"]:
-            raise ParameterError(f"output.{key}", table[key], f'only with "{needs}" in output.formats', "it changes only that file")
-    for key in ("fea_element_size_mm", "fea_elements"):  # the FEA meshes' keys
-        if key in table and not set(FEA_FORMATS) & set(p["formats"]):
-            raise ParameterError(f"output.{key}", table[key], f"only with {', '.join(FEA_FORMATS)} in output.formats",
-                                 "it changes only the FEA meshes")
+    for key in table:  # a key of some formats only (the registry's OutputFormat.keys), none of them written
+        owners = [f.name for f in OUTPUTS.values() if key in f.keys]
+        if owners and not set(owners) & set(p["formats"]):
+            needs = f'"{owners[0]}"' if len(owners) == 1 else ", ".join(owners)
+            raise ParameterError(f"output.{key}", table[key], f"only with {needs} in output.formats",
+                                 "it changes only that file" if len(owners) == 1 else "it changes only those files")
     return OutputSpec(p["formats"], p["chord_tol"], p["dxf_splines"], p["dxf_construction"], p["lift_step"],
                       p.get("fea_element_size"), p["fea_elements"])
 

@@ -65,3 +65,21 @@ def test_a_format_that_needs_the_cam_speed_refuses_a_cam_without_one(toys):
     assert info.value.name == f"cams.{name}.rpm"
     assert info.value.why == 'the "toy_speed" output (<cam>_speed.txt) tabulates the toy at the cam speed'
     plan_run(scene, ["toy"])  # a format that does not need it is planned
+
+
+def test_every_key_a_format_owns_is_an_output_key_refused_without_the_format():
+    """OutputFormat.keys: each names an [output] key, and the key given with none of its formats
+    is refused naming it and the formats (the plain plate scene of the default template, its
+    formats replaced by one that owns none of the keys)."""
+    from camgen.outputs import output_keys
+
+    names = {k.name for k in output_keys()}
+    owned = {key: [f.name for f in OUTPUTS.values() if key in f.keys] for f in OUTPUTS.values() for key in f.keys}
+    assert owned and set(owned) <= names
+    cams = {"c": {"kind": "three_arc", "a_mm": 100.0, "b_mm": 100.0, "c_mm": 35.0}}
+    value = {"dxf_splines": "bspline", "dxf_construction": True, "lift_step_deg": 2.0, "fea_element_size_mm": 2.0, "fea_elements": "tetra"}
+    for key, formats in owned.items():
+        with pytest.raises(ParameterError) as caught:
+            parse_scene({"output": {"formats": ["points"], key: value[key]}, "cams": cams}, "t")
+        assert caught.value.name == f"output.{key}" and all(f in str(caught.value) for f in formats), str(caught.value)
+        parse_scene({"output": {"formats": [formats[-1]], key: value[key]}, "cams": cams}, "t")  # with one of them: taken
