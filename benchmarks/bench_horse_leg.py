@@ -68,7 +68,7 @@ def per_angle_loop(leg: hl.HorseLeg, alpha1: float, theta1: np.ndarray, cams) ->
 
 def main() -> None:
     leg = hl.HorseLeg()
-    cams = hl._cams(leg)
+    cams = hl.leg_cams(leg)
     theta1 = hl.cycle(3600)
     rows = []
     for alpha_deg in (12.5, 14.5, 18.5):
