@@ -25,6 +25,7 @@ import numpy.typing as npt
 from camgen.contour import Contour
 from camgen.errors import GeometryError, ParameterError, require_finite
 from camgen.geometry import wrap_pi
+from camgen.numerics.order import median
 
 __all__ = [
     "COMPARISONS", "CamEvaluation", "CheckResult", "Follower", "MAX_CHECK_SAMPLES", "MOTIONS",
@@ -477,7 +478,7 @@ def flat_motion(contour: Contour, follower: Follower, samples: int = 3600) -> tu
     step = theta[1] - theta[0]
     jerk = (np.roll(acc, -1) - np.roll(acc, 1)) / (2.0 * step)
     jumps = np.abs(np.roll(acc, -1) - acc)
-    typical = np.median(np.abs(np.diff(acc))) + 1e-12
+    typical = median(np.abs(np.diff(acc))) + 1e-12
     impulses = jumps > 50.0 * typical
     # the finite part of the jerk: drop the differences that straddle a jump
     finite = ~(impulses | np.roll(impulses, 1))

@@ -254,3 +254,22 @@ def test_levenberg_marquardt_reaches_nists_certified_values(name, start):
     assert np.array_equal(fit.fun, residual(fit.x)) and fit.nfev <= 400
     jac = np.stack([1.0 - np.exp(-fit.x[1] * x), fit.x[0] * x * np.exp(-fit.x[1] * x)], axis=1)  # closed form
     assert np.allclose(fit.jac, jac, rtol=1e-5, atol=1e-8 * np.max(np.abs(jac)))
+
+
+def test_median_is_numpys_bit_for_bit():
+    """camgen.numerics.order.median against numpy.median (the library it stands in for): odd and
+    even counts, ties, a 2-D input, and NaN anywhere giving NaN."""
+    from camgen.numerics.order import median
+
+    rng = np.random.default_rng(7)
+    for n in (1, 2, 3, 10, 11, 3599, 3600):
+        values = rng.normal(size=n) * 10.0 ** rng.integers(-8, 8)
+        assert median(values) == float(np.median(values))
+        rounded = np.round(values, 1)  # ties
+        assert median(rounded) == float(np.median(rounded))
+    grid = rng.random((7, 9))
+    assert median(grid) == float(np.median(grid))
+    with_nan = rng.random(101)
+    with_nan[37] = np.nan
+    assert np.isnan(median(with_nan)) and np.isnan(np.median(with_nan))
+    assert np.isnan(median(np.array([])))

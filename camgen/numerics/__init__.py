@@ -15,6 +15,7 @@ on it.
 ``splinefit``      least-squares cubic B-spline fits within a tolerance (scipy in the clamped fit)
 ``biarc``          biarcs within a tolerance of a parametric curve
 ``least_squares``  Levenberg-Marquardt for small nonlinear least-squares problems
+``order``          the median from one partition (numpy's imports numpy.ma on first use)
 =================  ===========================================================================
 
 The package namespace imports none of them: import the module you need.

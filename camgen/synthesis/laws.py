@@ -80,6 +80,7 @@ reported.
 """
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 from collections.abc import Callable, Mapping, Sequence
@@ -373,6 +374,19 @@ class LawBreak:
         return min(self.jumps - 1, SMOOTH)
 
 
+@dataclass(frozen=True)
+class _LawSummary:
+    """What :class:`Law` finds about itself on first use (see its attributes)."""
+
+    s_range: tuple[float, float, float, float]
+    peaks: tuple[tuple[float, float], ...]
+    start: tuple[float, float, float, float]
+    end: tuple[float, float, float, float]
+    cv: float
+    ca: float
+    cj: float
+
+
 @dataclass(frozen=True, eq=False)
 class Law:
     """A motion law on the normalised segment ``tau in [0, 1]``.
@@ -407,30 +421,54 @@ class Law:
     options: Mapping[str, object] = field(default_factory=dict)
     exact_ends: tuple[tuple[float, ...], tuple[float, ...]] | None = field(default=None, repr=False)
     builder: Callable[..., Law] | None = field(default=None, repr=False)
-    start: tuple[float, float, float, float] = field(init=False)
-    end: tuple[float, float, float, float] = field(init=False)
-    peaks: tuple[tuple[float, float], ...] = field(init=False, repr=False)
-    s_range: tuple[float, float, float, float] = field(init=False, repr=False)
-    cv: float = field(init=False)
-    ca: float = field(init=False)
-    cj: float = field(init=False)
     _los: np.ndarray = field(init=False, repr=False)  # each piece's lower tau end (n,), for evaluate's search
 
     def __post_init__(self) -> None:
-        los = np.array([p.lo for p in self.pieces])
-        object.__setattr__(self, "_los", los)
+        object.__setattr__(self, "_los", np.array([p.lo for p in self.pieces]))
+
+    # The extrema, the exact ends and the peak coefficients are found on first use (a search over
+    # every piece and derivative: ~3 ms a law), so importing the catalogue costs nothing for the
+    # laws a run does not use.
+    @property
+    def start(self) -> tuple[float, float, float, float]:
+        return self._summary.start
+
+    @property
+    def end(self) -> tuple[float, float, float, float]:
+        return self._summary.end
+
+    @property
+    def peaks(self) -> tuple[tuple[float, float], ...]:
+        return self._summary.peaks
+
+    @property
+    def s_range(self) -> tuple[float, float, float, float]:
+        return self._summary.s_range
+
+    @property
+    def cv(self) -> float:
+        return self._summary.cv
+
+    @property
+    def ca(self) -> float:
+        return self._summary.ca
+
+    @property
+    def cj(self) -> float:
+        return self._summary.cj
+
+    @functools.cached_property
+    def _summary(self) -> "_LawSummary":
         ext = []
         for n in range(4):
             per_piece = [_extrema(p, n) for p in self.pieces]
             lo = min(per_piece, key=lambda e: e[0])
             hi = max(per_piece, key=lambda e: e[2])
             ext.append((lo[0], lo[1], hi[2], hi[3]))
-        object.__setattr__(self, "s_range", ext[0])
         peaks = []
         for n in (1, 2, 3):
             mn, tmn, mx, tmx = ext[n]
             peaks.append((abs(mn), tmn) if abs(mn) > abs(mx) else (abs(mx), tmx))
-        object.__setattr__(self, "peaks", tuple(peaks))
         if self.exact_ends is not None:
             start, end = (tuple(float(x) for x in e) for e in self.exact_ends)
         else:
@@ -442,14 +480,13 @@ class Law:
             end = tuple(0.0 if abs(x) <= 1e-12 * s else x for x, s in zip(end, scale))
             if abs(end[0] - round(end[0])) <= 1e-12:  # S(1) = 1 (a rise) or 0 (a dwell) up to rounding
                 end = (float(round(end[0])),) + end[1:]
-        object.__setattr__(self, "start", start)
-        object.__setattr__(self, "end", end)
         # Norton's convention: a rise between two dwells
         v_impulse = start[1] != 0 or end[1] != 0 or any(b.jumps <= 1 for b in self.breaks)
         a_impulse = v_impulse or start[2] != 0 or end[2] != 0 or any(b.jumps <= 2 for b in self.breaks)
-        object.__setattr__(self, "cv", peaks[0][0])
-        object.__setattr__(self, "ca", math.inf if v_impulse else peaks[1][0])
-        object.__setattr__(self, "cj", math.inf if a_impulse else peaks[2][0])
+        s0, v0, a0, j0 = start
+        s1, v1, a1, j1 = end
+        return _LawSummary(ext[0], tuple(peaks), (s0, v0, a0, j0), (s1, v1, a1, j1), peaks[0][0],
+                           math.inf if v_impulse else peaks[1][0], math.inf if a_impulse else peaks[2][0])
 
     # -- evaluation ---------------------------------------------------------------------------
     def evaluate(self, tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
