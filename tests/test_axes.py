@@ -14,7 +14,10 @@ import math
 import numpy as np
 import pytest
 
-ALL_FORMATS = ["dxf", "points", "lift", "follower", "stl", "stl_ascii", "3mf", "obj", "ply", "ngc", "html"]
+#: Every per-cam format and the report (STEP and the FEA meshes need the step and fea extras,
+#: which the test extra installs).
+ALL_FORMATS = ["dxf", "points", "lift", "follower", "stl", "stl_ascii", "3mf", "obj", "ply", "vtu", "msh", "inp", "step", "ngc",
+               "html"]
 
 
 class HarmonicTurn:
@@ -89,8 +92,8 @@ def test_a_law_motion_registered_from_outside_is_realised_as_a_plate_cam_with_ev
         unregister("harmonic_turn")
     report = json.loads(files["report.json"])
     assert report["status"] == "pass", [c for c in report["cams"]["h"]["checks"] if c["status"] == "fail"]
-    expected = {"h.dxf", "h_points.csv", "h_lift.csv", "h_follower.csv", "h.stl", "h_ascii.stl", "h.3mf", "h.obj", "h.ply", "h.ngc",
-                "report.html", "report.json"}
+    expected = {"h.dxf", "h_points.csv", "h_lift.csv", "h_follower.csv", "h.stl", "h_ascii.stl", "h.3mf", "h.obj", "h.ply", "h.vtu",
+                "h.msh", "h.inp", "h.step", "h.ngc", "report.html", "report.json"}
     assert expected <= set(files)
     points = _table(files["h_points.csv"])
     theta = np.linspace(0, 2 * math.pi, 721)
@@ -157,11 +160,11 @@ def test_a_form_registered_from_outside_realises_every_law_motion_with_every_out
         segments = [{"law": "cycloidal", "span_deg": 120.0, "lift_mm": 10.0}, {"law": "dwell", "span_deg": 60.0},
                     {"law": "cycloidal", "span_deg": 120.0, "lift_mm": -10.0}, {"law": "dwell", "span_deg": 60.0}]
         cam = {"kind": "motion_law", "form": "polar", "segments": segments, "base_radius_mm": 30.0, "thickness_mm": 6.0}
-        files = _run({"output": {"formats": ["dxf", "points", "lift", "stl", "3mf", "obj", "ply", "ngc", "html"]},
-                      "cams": {"p": cam}})
+        files = _run({"output": {"formats": [f for f in ALL_FORMATS if f != "follower"]}, "cams": {"p": cam}})
     finally:
         unregister("polar")
-    assert {"p.dxf", "p_points.csv", "p_lift.csv", "p.stl", "p.3mf", "p.obj", "p.ply", "p.ngc", "report.html"} <= set(files)
+    assert {"p.dxf", "p_points.csv", "p_lift.csv", "p.stl", "p.3mf", "p.obj", "p.ply", "p.vtu", "p.msh", "p.inp", "p.step", "p.ngc",
+            "report.html"} <= set(files)
     points = _table(files["p_points.csv"])
     phi = np.mod(np.arctan2(points[:, 1], points[:, 0]), 2 * math.pi)
     beta = 2 * math.pi / 3
@@ -238,7 +241,7 @@ def test_a_follower_registered_from_outside_rides_every_form_with_every_output()
         unregister("mushroom")
     report = json.loads(files["report.json"])
     assert report["status"] == "pass", [c for c in report["cams"]["m"]["checks"] if c["status"] == "fail"]
-    assert {"m.dxf", "m_points.csv", "m_lift.csv", "m_follower.csv", "m.stl", "m.3mf", "m.ngc", "report.html"} <= set(files)
+    assert {"m.dxf", "m_points.csv", "m_lift.csv", "m_follower.csv", "m.stl", "m.3mf", "m.vtu", "m.step", "m.ngc", "report.html"} <= set(files)
     assert report["cams"]["m"]["figures"]["follower"]["kind"] == "mushroom"
     points = _table(files["m_points.csv"])
     theta = np.linspace(0, 2 * math.pi, 1441)
