@@ -141,7 +141,8 @@ def _check_passes(machining: "MachiningSpec", cams: "tuple[CamSpec, ...]") -> No
 
 
 def _cam(name: str, table: object, base_dir: Path | None, tool_limit: float | None) -> "CamSpec":
-    from camgen.kinds import form_key, get_kind, kind_names
+    from camgen.forms import form_names
+    from camgen.kinds import form_key, forms_of, get_kind, kind_names
 
     where = f"cams.{name}"
     check_name(where, name, "a cam's name is used in its file names")
@@ -150,7 +151,12 @@ def _cam(name: str, table: object, base_dir: Path | None, tool_limit: float | No
     kinds = tuple(kind_names())
     kind_name = Choice(kinds).parse(f"{where}.kind", table.get("kind"))
     form = form_key(kind_name)
-    form_name = form.type.parse(f"{where}.form", table.get("form", form.default))
+    given = table.get("form", form.default)
+    if isinstance(given, str) and given in form_names() and given not in forms_of(kind_name):  # a form, not this motion's
+        assert isinstance(form.type, Choice)
+        raise ParameterError(f"{where}.form", given, form.type.describe(), f"the {given} form does not realise the motion "
+                             f"kind = {kind_name!r} (camgen.forms, camgen.motions)")
+    form_name = form.type.parse(f"{where}.form", given)
     kind = get_kind(kind_name, form_name)
     parsed = parse_table(where, {k: v for k, v in table.items() if k != "kind"}, kind.keys)
     parsed.tool_limit = tool_limit  # the kind's check settings hold it (read_checks)
