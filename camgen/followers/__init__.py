@@ -23,14 +23,9 @@ FOLLOWER_MODULES: dict[str, str] = {
 
 _REGISTRY: Registry[FollowerKind] = Registry(FOLLOWER_MODULES, "FOLLOWER")
 
-
-def register(follower: FollowerKind) -> None:
-    """Register a follower defined outside this package (plug-ins, tests)."""
-    _REGISTRY.register(follower)
-
-
-def unregister(name: str) -> None:
-    _REGISTRY.unregister(name)
+#: Register (or remove) an entry defined outside this package (plug-ins, tests).
+register = _REGISTRY.register
+unregister = _REGISTRY.unregister
 
 
 def known(name: str) -> bool:

@@ -19,14 +19,9 @@ FORM_MODULES: dict[str, str] = {
 
 _REGISTRY: Registry[CamForm] = Registry(FORM_MODULES, "FORM")
 
-
-def register(form: CamForm) -> None:
-    """Register a form defined outside this package (plug-ins, tests)."""
-    _REGISTRY.register(form)
-
-
-def unregister(name: str) -> None:
-    _REGISTRY.unregister(name)
+#: Register (or remove) an entry defined outside this package (plug-ins, tests).
+register = _REGISTRY.register
+unregister = _REGISTRY.unregister
 
 
 def form_names() -> list[str]:

@@ -22,14 +22,9 @@ MOTION_MODULES: dict[str, str] = {
 
 _REGISTRY: Registry[Motion] = Registry(MOTION_MODULES, "MOTION")
 
-
-def register(motion: Motion) -> None:
-    """Register a motion defined outside this package (plug-ins, tests)."""
-    _REGISTRY.register(motion)
-
-
-def unregister(name: str) -> None:
-    _REGISTRY.unregister(name)
+#: Register (or remove) an entry defined outside this package (plug-ins, tests).
+register = _REGISTRY.register
+unregister = _REGISTRY.unregister
 
 
 def motion_names() -> list[str]:
