@@ -32,19 +32,11 @@ __all__ = [
     "Motion", "NO_CONCAVE_PART", "RollerKinematics", "breadth_error", "constant_breadth_check", "continuity_check",
     "convexity_check", "evaluate_cam", "face_length_check", "flat_motion", "information", "limited",
     "machinability_check", "machinability_from_radii", "motion_check", "pitch_curve", "pressure_angle_check",
-    "radius_of_curvature", "roller_kinematics", "roller_motion", "run_ends", "sampled_follower_kinds", "undercut_check",
+    "radius_of_curvature", "roller_kinematics", "roller_motion", "run_ends", "undercut_check",
     "where_degrees",
 ]
 
 _ORDER = ["none", "G0", "G1", "G2"]
-
-
-def sampled_follower_kinds() -> tuple[str, ...]:
-    """The registered followers :class:`Follower` checks from a sampled contour: faces, a face, a
-    point with a radius (a knife edge's needs the closed forms of the plate cam)."""
-    from camgen.followers import follower_names, get_follower
-
-    return tuple(n for n in follower_names() if get_follower(n).contact != "point" or get_follower(n).has_radius)
 MOTIONS = ("translating", "oscillating")
 
 
@@ -150,10 +142,11 @@ class Follower:
     contact: str = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        kinds = sampled_follower_kinds()
+        from camgen.followers import get_follower, sampled_follower_names
+
+        kinds = sampled_follower_names()
         if self.kind not in kinds:
             raise ParameterError("follower", self.kind, f"one of {kinds}")
-        from camgen.followers import get_follower
 
         object.__setattr__(self, "contact", get_follower(self.kind).contact)
         if self.motion not in MOTIONS:

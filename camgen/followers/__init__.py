@@ -11,7 +11,7 @@ from camgen.followers.base import CONTACTS, Contact, FollowerKind
 from camgen.registry import Registry
 
 __all__ = ["CONTACTS", "FOLLOWER_MODULES", "Contact", "FollowerKind", "follower_names", "get_follower", "known", "register",
-           "unregister"]
+           "sampled_follower_names", "unregister"]
 
 #: follower name (the ``follower`` value in scene files) -> module defining ``FOLLOWER``
 FOLLOWER_MODULES: dict[str, str] = {
@@ -37,6 +37,13 @@ def follower_names(contacts: tuple[Contact, ...] = CONTACTS) -> tuple[str, ...]:
     """The registered followers whose contact is one of ``contacts``, in registry order (then
     the registered ones by name)."""
     return tuple(n for n in _REGISTRY.names() if _REGISTRY.get(n).contact in contacts)
+
+
+def sampled_follower_names(contacts: tuple[Contact, ...] = CONTACTS) -> tuple[str, ...]:
+    """The followers with one of ``contacts`` whose checks can be sampled from a contour
+    (:class:`camgen.checks.Follower`): faces, a face, a point with a radius (a knife edge needs
+    the plate cam's closed forms)."""
+    return tuple(n for n in follower_names(contacts) if get_follower(n).contact != "point" or get_follower(n).has_radius)
 
 
 def get_follower(name: str) -> FollowerKind:

@@ -43,10 +43,12 @@ def forms_of(motion_name: str) -> tuple[str, ...]:
 
 def form_key(motion_name: str) -> Key:
     """The ``form`` key of a cam table whose ``kind`` is ``motion_name``."""
+    from camgen.forms import get_form
     from camgen.motions import get_motion
 
-    return Key("form", Choice(forms_of(motion_name)), "Cam form realising the motion (camgen.forms): plate, the open plate cam; "
-               "constant_breadth, a cam of constant breadth for a yoke.", ("profile",), default=get_motion(motion_name).default_form)
+    forms = forms_of(motion_name)
+    doc = "Cam form realising the motion (camgen.forms): " + "; ".join(f"{name}, {get_form(name).summary}" for name in forms) + "."
+    return Key("form", Choice(forms), doc, ("profile",), default=get_motion(motion_name).default_form)
 
 
 def get_kind(name: str, form: str | None = None) -> CamKind:

@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from camgen.errors import ParameterError
+from camgen.followers import sampled_follower_names
 from camgen.keynames import scene_key
 from camgen.kinds.base import (
     BuiltCam,
@@ -52,15 +53,8 @@ _PARAMS = (
     source_key(),
 )
 
-def _followers(*contacts: str) -> tuple[str, ...]:
-    """The followers the sampled checks know (camgen.checks.sampled_follower_kinds) with one of ``contacts``."""
-    from camgen.followers import follower_names, get_follower
-
-    return tuple(n for n in follower_names() if get_follower(n).contact in contacts
-                 and (get_follower(n).contact != "point" or get_follower(n).has_radius))
-
-
-_SAMPLED, _POINTS, _FACES = _followers("point", "face", "faces"), _followers("point"), _followers("face", "faces")
+#: The followers the sampled checks know (camgen.checks.Follower): all, the rollers, the faces.
+_SAMPLED, _POINTS, _FACES = sampled_follower_names(), sampled_follower_names(("point",)), sampled_follower_names(("face", "faces"))
 
 _FOLLOWER = (
     Key("follower", Choice(_SAMPLED),
@@ -122,7 +116,8 @@ def read(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = 
                                  "the follower dynamics of a three_arc cam are computed for its yoke or a flat face (their motion "
                                  "follows exactly from the arcs' support function); a roller's is not available here"
                                  if follower.contact == "point" else None))
-    return CamSpec(name, "three_arc", ThreeArcParams(a, b, c, parsed.get("source")), body, checks, follower, dynamics)
+    return CamSpec(name, "three_arc", ThreeArcParams(a, b, c, parsed.get("source")), body, checks, follower, dynamics,
+                   form="constant_breadth")
 
 
 def build(spec: CamSpec, stages: frozenset[str]) -> BuiltCam:
