@@ -24,7 +24,7 @@ if TYPE_CHECKING:
     from camgen.export.fea import VolumeMesh
     from camgen.export.solid import CamSolid
     from camgen.jobs.base import JobResult
-    from camgen.kinds.base import BuiltCam, CamSpec, ZeroMark
+    from camgen.kinds.base import BuiltCam, CamSpec, Pocket, ZeroMark
     from camgen.kinds.dynamics import DynamicsOutcome, DynamicsStage
     from camgen.planning import Plan
     from camgen.scene import Scene
@@ -102,6 +102,11 @@ class CamResult:
     @property
     def pitch(self) -> "Contour | None":
         return self.built.pitch
+
+    @property
+    def pockets(self) -> "tuple[Pocket, ...]":
+        """Regions cut into the body's top face (a groove cam's groove); () for a prismatic body."""
+        return self.built.pockets
 
     @property
     def breadth(self) -> float | None:

@@ -89,6 +89,37 @@ class CamSpec:
 
 
 @dataclass(frozen=True)
+class Wall:
+    """A closed wall of a pocket: its contour (cam frame, mm, counter-clockwise) and its name,
+    which is the DXF layer it is drawn on and the ``wall`` column of the point list
+    (``GROOVE_INNER``, ``GROOVE_OUTER``, ...)."""
+
+    layer: str
+    contour: "Contour"
+
+
+@dataclass(frozen=True)
+class Pocket:
+    """A region cut into the body from its top face (z = thickness) down ``depth`` mm: inside
+    ``walls[0]`` and outside every other wall (a groove: its outer wall, then its inner wall).
+
+    The body is the cam's outline (:attr:`BuiltCam.contour`) extruded by the body's thickness,
+    minus bore and keyway, minus its pockets.  ``clearance``: what the pocket's width exceeds
+    the follower's by (mm, information for the files' notes); ``centre``: the curve midway
+    between the walls at ``width / 2`` from each (a groove's pitch curve: the path of a tool as
+    wide as the groove), None when the pocket has none; ``note``: one line for the files.
+    """
+
+    name: str
+    walls: tuple[Wall, ...]
+    depth: float
+    width: float | None = None
+    centre: "Contour | None" = None
+    clearance: float = 0.0
+    note: str = ""
+
+
+@dataclass(frozen=True)
 class BuiltCam:
     """A synthesised cam (the synthesis stage's result, frozen): its contour, figures (report
     numbers) and the kind's own files.
@@ -111,6 +142,7 @@ class BuiltCam:
     undercut: "UndercutError | None" = None  # why the profile could not be made (contour None)
     zero_mark: ZeroMark | None = None  # cam angle 0 and the rotation sense (kinds that know them)
     section: "SectionData | None" = None  # the data of the kind's own report section (the plots stage made it)
+    pockets: tuple[Pocket, ...] = ()  # regions cut into the top face (a groove cam's groove); contour is then the outline (rim)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "figures", MappingProxyType(dict(self.figures)))  # read-only: no later stage writes into them
