@@ -84,7 +84,7 @@ def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> "RunResu
         cams.append(cam)
     for cam in cams:
         if cam.manufacturable and cam.contour is not None:
-            check_flat_size(cam.name, cam.contour, cam.body, plan.formats, scene.output)
+            check_flat_size(cam.name, cam.contour, cam.body, plan.formats, scene.output, cam.pockets)
     by_name = {c.name: c for c in cams}
     jobs = {}
     for mech in scene.mechanisms:
@@ -116,17 +116,26 @@ def mesh_stage(cam: "CamResult", output: "OutputSpec", progress: Progress) -> "C
     progress(f"meshing cam '{cam.name}'")
     assert cam.contour is not None
     try:
-        return cam.with_(solid=cam_solid(cam.contour, cam.body, output.chord_tol, cam.name))
+        return cam.with_(solid=cam_solid(cam.contour, cam.body, output.chord_tol, cam.name, pockets=cam.pockets))
     except GeometryError as exc:
         return cam.with_(mesh_failures=cam.mesh_failures + (_export_failure("solid", exc),))
 
 
 def fea_stage(cam: "CamResult", output: "OutputSpec", progress: Progress) -> "CamResult":
-    """``cam`` with its FEA volume mesh (gmsh), made once for every FEA format."""
+    """``cam`` with its FEA volume mesh (gmsh), made once for every FEA format; a body with
+    pockets is refused (a ParameterError naming ``output.formats``: the FEA meshes are of the
+    prismatic body)."""
     from camgen.export.fea import volume_mesh
 
-    progress(f"FEA mesh of cam '{cam.name}'")
     assert cam.contour is not None
+    if cam.pockets:
+        from camgen.export.fea import FEA_FORMATS
+        from camgen.export.pocket import refuse_pocket_format
+
+        fmt = ", ".join([f for f in output.formats if f in FEA_FORMATS] or list(FEA_FORMATS))
+        refuse_pocket_format(cam.name, fmt, cam.pockets, "the FEA meshes are of a prismatic body (the section extruded "
+                             "through the thickness): use the surface meshes (stl, 3mf, obj, ply) or the STEP solid")
+    progress(f"FEA mesh of cam '{cam.name}'")
     try:
         return cam.with_(fea=volume_mesh(cam.contour, cam.body, output.chord_tol, output.fea_element_size, output.fea_elements))
     except GeometryError as exc:

@@ -16,6 +16,7 @@ if TYPE_CHECKING:
     from camgen.outputs import OutputSpec
     from camgen.body import BodySpec
     from camgen.contour import Contour
+    from camgen.kinds.base import Pocket
     from camgen.scene import Scene
 
 __all__ = ["MAX_FLAT_POINTS", "Plan", "check_flat_size", "claim_file", "plan_run"]
@@ -103,21 +104,27 @@ def claim_file(files: "dict[str, str]", name: str, owner: str) -> None:
 MAX_FLAT_POINTS = 500_000
 
 
-def _flat_count(contour: "Contour", body: "BodySpec", chord_tol: float) -> int:
-    """Vertices of the flattened ``contour`` (and the bore circle of ``body``) at ``chord_tol`` mm."""
+def _flat_count(contour: "Contour", body: "BodySpec", chord_tol: float, pockets: "Sequence[Pocket]" = ()) -> int:
+    """Vertices of the flattened ``contour`` (and the bore circle of ``body``, and the walls of
+    ``pockets``) at ``chord_tol`` mm."""
     count = sum(int(seg.flatten_params(chord_tol).size) for seg in contour.segments)
+    if pockets:  # the walls are in the point list and the meshes too
+        from camgen.export.pocket import wall_flat_count
+
+        count += wall_flat_count(pockets, chord_tol)
     if body.bore_diameter > 0:  # the bore circle of the mesh
         r = body.bore_diameter / 2.0
         count += math.ceil(2.0 * math.pi / (2.0 * math.acos(max(-1.0, 1.0 - chord_tol / r))))
     return count
 
 
-def check_flat_size(name: str, contour: "Contour", body: "BodySpec", formats: Sequence[str], output: "OutputSpec") -> None:
+def check_flat_size(name: str, contour: "Contour", body: "BodySpec", formats: Sequence[str], output: "OutputSpec",
+                    pockets: "Sequence[Pocket]" = ()) -> None:
     """Refuse a chord tolerance (``output.chord_tol``) that would flatten cam ``name`` into more than :data:`MAX_FLAT_POINTS`
     vertices in a planned point list or surface mesh, or a surface mesh file beyond 100 MB
     (:func:`camgen.export.solid.vertex_limit`; a 200 m cam at 1e-7 mm: 3 million vertices),
-    naming ``output.chord_tol_mm`` and the smallest tolerance, as printed, that fits; and FEA
-    meshes beyond their caps (:func:`camgen.export.fea.check_caps`, which needs gmsh)."""
+    naming ``output.chord_tol_mm`` and the smallest tolerance, as printed, that fits (the
+    ``pockets``' walls counted with the outline); and FEA meshes beyond their caps (:func:`camgen.export.fea.check_caps`, which needs gmsh)."""
     from camgen.errors import ceil_significant
     from camgen.outputs import FEA_FORMATS, MAX_CHORD_TOL, MESH_FORMATS, OUTPUTS
 
@@ -137,15 +144,15 @@ def check_flat_size(name: str, contour: "Contour", body: "BodySpec", formats: Se
         from camgen.export.solid import vertex_limit
 
         limit, holder = min([(limit, holder)] + [(vertex_limit(f), f"a {f} file") for f in surfaces])
-    count = _flat_count(contour, body, chord_tol)
+    count = _flat_count(contour, body, chord_tol, pockets)
     if count <= limit:
         return
     # chords of arcs and splines: the vertex count grows as chord_tol^-1/2 (at least one per piece)
     need = ceil_significant(min(MAX_CHORD_TOL, chord_tol * (count / limit) ** 2), 2)
-    while need < MAX_CHORD_TOL and _flat_count(contour, body, need) > limit:
+    while need < MAX_CHORD_TOL and _flat_count(contour, body, need, pockets) > limit:
         need = ceil_significant(min(MAX_CHORD_TOL, need * 1.05), 2)
     why = f"at {chord_tol:g} mm its flattened profile would have {count} vertices, more than the {limit} {holder} may hold"
-    if _flat_count(contour, body, need) > limit:
+    if _flat_count(contour, body, need, pockets) > limit:
         raise ParameterError("output.formats", list(formats), f"formats without the point list and surface meshes for cam '{name}'",
                              why + f", and still more at the largest chord_tol_mm ({MAX_CHORD_TOL:g} mm)")
     raise ParameterError("output.chord_tol_mm", chord_tol, f">= {need:.2g} mm for cam '{name}'", why)

@@ -36,7 +36,7 @@ def _profile(cam: "CamResult") -> "Contour":
 
 
 def dxf(cam: "CamResult", run: RunSettings, fmt: str) -> str:
-    """What is cut (profile, bore, keyway); with ``output.dxf_construction`` also the PITCH,
+    """What is cut (profile, bore, keyway, each pocket wall on its own layer); with ``output.dxf_construction`` also the PITCH,
     CENTER and ZERO layers."""
     from camgen.export.dxf import DxfOptions, contour_to_dxf
 
@@ -44,20 +44,28 @@ def dxf(cam: "CamResult", run: RunSettings, fmt: str) -> str:
     options = DxfOptions(splines=run.output.dxf_splines, chord_tol=run.output.chord_tol,
                          center_mark=DXF_CENTER_MARK_MM if construction else 0.0)
     if not construction:
-        return contour_to_dxf(_profile(cam), cam.body, None, options, None)
+        return contour_to_dxf(_profile(cam), cam.body, None, options, None, cam.pockets)
     # the synthesis' follower-centre path, else the roller checks' pitch curve
     pitch = cam.pitch if cam.pitch is not None else (cam.evaluation.pitch if cam.evaluation is not None else None)
-    return contour_to_dxf(_profile(cam), cam.body, pitch, options, cam.zero_mark)
+    return contour_to_dxf(_profile(cam), cam.body, pitch, options, cam.zero_mark, cam.pockets)
 
 
 def points(cam: "CamResult", run: RunSettings, fmt: str) -> str:
     from camgen.export.points import points_csv
 
-    return points_csv(_profile(cam), run.output.chord_tol)
+    return points_csv(_profile(cam), run.output.chord_tol, cam.pockets)
 
 
 def lift(cam: "CamResult", run: RunSettings, fmt: str) -> str:
+    """The polar lift table of the profile; refused for a body with pockets (its outline is not
+    the surface the follower rides)."""
     from camgen.export.points import lift_csv
+
+    if cam.pockets:
+        from camgen.export.pocket import refuse_pocket_format
+
+        refuse_pocket_format(cam.name, fmt, cam.pockets, "the lift table tabulates the outline's radius about the axis, "
+                             "which no follower rides: the walls are in the point list and the DXF")
 
     return lift_csv(_profile(cam), run.output.lift_step)
 
@@ -82,7 +90,7 @@ def mesh(cam: "CamResult", run: RunSettings, fmt: str) -> bytes:
 def step(cam: "CamResult", run: RunSettings, fmt: str) -> bytes:
     from camgen.export.step import step_bytes
 
-    return step_bytes(_profile(cam), cam.body, cam.name)
+    return step_bytes(_profile(cam), cam.body, cam.name, pockets=cam.pockets)
 
 
 def gcode(cam: "CamResult", run: RunSettings, fmt: str) -> str:

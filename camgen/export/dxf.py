@@ -17,13 +17,17 @@ Spline segments are written in one of two ways (:class:`DxfOptions` ``splines``)
   itself, exactly, where that has no fewer pieces; a quintic segment always refitted), written
   exactly with simple interior knots.
 
-Arc segments (three-arc cams) are exact ARCs in both modes.
+Arc segments (three-arc cams) are exact ARCs in both modes; a segment that is a whole circle
+(a groove cam's rim, a circular groove wall) is a CIRCLE.
 
 What is cut and what is construction: the layers ``PROFILE`` (the outline), ``BORE`` and
 ``KEYWAY`` (the hole: one closed loop of the bore ARC, or CIRCLE, and the keyway's three sides)
 are the part; programs that import a whole file (OpenSCAD's ``import()``, laser and CAM
 programs) cut or extrude every curve they find, so a drawing holds only these unless it is given
-construction geometry: ``PITCH`` (the follower-centre path), ``CENTER`` (a cross on the rotation
+construction geometry.  A body with pockets (a groove, a slot: :class:`camgen.kinds.base.Pocket`)
+has each pocket wall cut on a layer of its own, named after the wall (``GROOVE_OUTER``,
+``GROOVE_INNER``, ...), drawn as PROFILE is; each pocket's depth is a header custom property.
+Construction: ``PITCH`` (the follower-centre path), ``CENTER`` (a cross on the rotation
 axis, :class:`DxfOptions` ``center_mark``) and ``ZERO`` (cams that know their cam angle 0: a LINE
 from the rotation axis to the point of the profile the follower touches at cam angle 0, and an
 ARC about the axis, half that radius, 40 deg, ending in an arrow head of two LINEs in the
@@ -37,7 +41,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -47,7 +51,7 @@ from camgen.export.atomic import write_atomic
 from camgen.export.dxfwriter import DxfDocument
 
 __all__ = [
-    "C1_JUMP", "C2_JUMP", "CONSTRUCTION_LAYERS", "CUT_LAYERS", "DEFAULT_BSPLINE_TOL", "DxfOptions", "PROFILE_LAYER",
+    "C1_JUMP", "C2_JUMP", "CONSTRUCTION_LAYERS", "CUT_LAYERS", "DEFAULT_BSPLINE_TOL", "DxfOptions", "FULL_TURN", "PROFILE_LAYER",
     "SPLINE_MODES", "ZERO_ARROW_RADIUS", "ZERO_ARROW_SWEEP", "compact_spline", "contour_to_dxf", "drawing_bounds",
     "spline_bezier_controls", "spline_bspline", "write_dxf", "zero_mark_geometry",
 ]
@@ -260,11 +264,18 @@ def _cubic_contour(contour: Contour, tol: float) -> Contour:
     return Contour(segments, closure_tol=max(1e-6, 2.0 * gap))
 
 
+#: An arc segment sweeping this much (rad) is a whole circle: written as a CIRCLE (an ARC from 0
+#: to 360 deg reads back as a zero sweep in some readers).
+FULL_TURN = 2.0 * math.pi * (1.0 - 1e-12)
+
+
 def _add_contour(msp: DxfDocument, contour: Contour, layer: str) -> None:
     """ARCs, LINEs and cubic SPLINEs of ``contour`` as drawn (spline segments already biarcs or
     cubic: :func:`_arc_spline`, :func:`_cubic_contour`)."""
     for seg in contour.segments:
-        if isinstance(seg, Arc):
+        if isinstance(seg, Arc) and abs(seg.sweep) >= FULL_TURN:  # a whole circle (a rim, a circular wall): ARC 0-360 is ambiguous
+            msp.add_circle(seg.center, seg.radius, layer)
+        elif isinstance(seg, Arc):
             start = math.degrees(seg.start_angle)
             end = math.degrees(seg.start_angle + seg.sweep)
             if seg.sweep < 0:  # DXF arcs always run counter-clockwise from start to end
@@ -304,7 +315,7 @@ def zero_mark_geometry(mark: Any) -> tuple[list[tuple[np.ndarray, np.ndarray]], 
 
 
 def contour_to_dxf(contour: Contour, body: Any = None, pitch: Contour | None = None, options: DxfOptions = DxfOptions(),
-                   zero_mark: Any = None) -> str:
+                   zero_mark: Any = None, pockets: Sequence[Any] = ()) -> str:
     """DXF text (R2010, $INSUNITS = 4 mm) of a cam drawing.
 
     What is cut: ``PROFILE`` (the contour), ``BORE`` (circle, or the arc outside the keyway)
@@ -314,8 +325,13 @@ def contour_to_dxf(contour: Contour, body: Any = None, pitch: Contour | None = N
     (``options.center_mark`` > 0) and ``ZERO`` (``zero_mark``: cam angle 0 and the direction of
     rotation, see the module notes).  Only the layers drawn are defined.  Spline segments follow
     ``options.splines`` (default: biarcs within ``options.chord_tol`` mm).
+
+    ``pockets`` (:class:`camgen.kinds.base.Pocket`, a body with a groove or a slot): each wall is
+    cut too, on its own layer (the wall's ``layer``, after KEYWAY, colours
+    :data:`camgen.export.pocket.POCKET_LAYER_COLORS`), drawn as PROFILE is; the header's custom
+    property ``camgen_pocket_<name>_depth_mm`` states each pocket's depth below the top face.
     """
-    return _contour_to_dxf(contour, body, pitch, options, zero_mark)
+    return _contour_to_dxf(contour, body, pitch, options, zero_mark, tuple(pockets))
 
 
 def _bore_and_keyway(body: Any) -> tuple[float, np.ndarray | None]:
@@ -328,13 +344,14 @@ def _bore_and_keyway(body: Any) -> tuple[float, np.ndarray | None]:
 
 
 def drawing_bounds(contour: Contour, body: Any = None, pitch: Contour | None = None, center_mark: float = 0.0,
-                   zero_mark: Any = None) -> tuple[float, float, float, float]:
+                   zero_mark: Any = None, walls: Sequence[Contour] = ()) -> tuple[float, float, float, float]:
     """Exact bounding box ``(xmin, ymin, xmax, ymax)``, mm, of the entities of a drawing.
 
-    ``contour`` and ``pitch`` are the contours as drawn (after any biarc conversion); arcs
-    (the bore arc too) count with their end points and the axis-extreme points inside their sweep.
+    ``contour``, ``pitch`` and the pockets' ``walls`` are the contours as drawn (after any biarc
+    conversion); arcs (the bore arc too) count with their end points and the axis-extreme points
+    inside their sweep.
     """
-    boxes = [np.array(contour.bounds).reshape(2, 2)]
+    boxes = [np.array(contour.bounds).reshape(2, 2)] + [np.array(wall.bounds).reshape(2, 2) for wall in walls]
     if pitch is not None:
         boxes.append(np.array(pitch.bounds).reshape(2, 2))
     r, keyway = _bore_and_keyway(body)
@@ -359,28 +376,40 @@ def drawing_bounds(contour: Contour, body: Any = None, pitch: Contour | None = N
     return float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])
 
 
-def _contour_to_dxf(contour: Contour, body: Any, pitch: Contour | None, options: DxfOptions, zero_mark: Any = None) -> str:
+def _contour_to_dxf(contour: Contour, body: Any, pitch: Contour | None, options: DxfOptions, zero_mark: Any = None,
+                    pockets: tuple[Any, ...] = ()) -> str:
+    from camgen.export.pocket import POCKET_LAYER_COLORS, check_pockets
+
+    if pockets:
+        check_pockets(pockets, body.thickness if body is not None else float("inf"), (*CUT_LAYERS, *CONSTRUCTION_LAYERS))
+
     # the curves as drawn: biarcs, or the compact cubic form of every spline segment
     def drawn(c: Contour) -> Contour:
         return _arc_spline(c, options.chord_tol) if options.splines == "biarc" else _cubic_contour(c, options.bspline_tol)
 
     contour = drawn(contour)
     pitch = drawn(pitch) if pitch is not None else None
+    walls = [(wall.layer, drawn(wall.contour)) for pocket in pockets for wall in pocket.walls]
     msp = DxfDocument(insunits=4, measurement=1, lunits=2, luprec=6)  # mm, metric, decimal, 6 places
     # readers zoom to $EXTMIN/$EXTMAX: the exact bounds; the limits are the same box
-    msp.set_extents(*drawing_bounds(contour, body, pitch, options.center_mark, zero_mark))
+    msp.set_extents(*drawing_bounds(contour, body, pitch, options.center_mark, zero_mark, [wall for _, wall in walls]))
     msp.add_custom_property("camgen_splines", options.splines)
     if options.splines == "biarc":
         msp.add_custom_property("camgen_biarc_tol_mm", repr(float(options.chord_tol)))
     else:
         msp.add_custom_property("camgen_bspline_tol_mm", repr(float(options.bspline_tol)))
+    for pocket in pockets:
+        msp.add_custom_property(f"camgen_pocket_{pocket.name}_depth_mm", repr(float(pocket.depth)))
     r, keyway = _bore_and_keyway(body)
     drawn_layers = {PROFILE_LAYER: True, "BORE": r > 0, "KEYWAY": keyway is not None, "PITCH": pitch is not None,
                     "CENTER": options.center_mark > 0, "ZERO": zero_mark is not None}
-    for name, color in {**CUT_LAYERS, **CONSTRUCTION_LAYERS}.items():
-        if drawn_layers[name]:
+    wall_colors = {layer: POCKET_LAYER_COLORS[i % len(POCKET_LAYER_COLORS)] for i, (layer, _) in enumerate(walls)}
+    for name, color in {**CUT_LAYERS, **wall_colors, **CONSTRUCTION_LAYERS}.items():
+        if drawn_layers.get(name, True):  # every wall's layer is drawn
             msp.add_layer(name, color)
     _add_contour(msp, contour, PROFILE_LAYER)
+    for layer, wall in walls:  # each wall as PROFILE is: arcs, biarcs or cubic B-splines
+        _add_contour(msp, wall, layer)
     if pitch is not None:
         _add_contour(msp, pitch, "PITCH")
     if r > 0 and keyway is not None:

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
@@ -16,8 +16,11 @@ from camgen.contour import Contour
 from camgen.export.atomic import write_atomic
 from camgen.export.tables import csv_table
 
+if TYPE_CHECKING:
+    from camgen.kinds.base import Pocket
+
 __all__ = [
-    "LIFT_COLUMNS", "POINTS_COLUMNS", "base_radius", "lift_angles", "lift_csv", "lift_metadata", "points_csv",
+    "LIFT_COLUMNS", "POCKET_POINTS_COLUMNS", "POINTS_COLUMNS", "base_radius", "lift_angles", "lift_csv", "lift_metadata", "points_csv",
     "points_metadata", "write_points_csv",
 ]
 
@@ -25,6 +28,11 @@ __all__ = [
 POINTS_COLUMNS = {
     "x_mm": "x of a vertex of the profile polygon in the cam frame (origin on the rotation axis), mm",
     "y_mm": "y of that vertex in the cam frame, mm",
+}
+#: Columns of the point list of a body with pockets: the vertices and the wall each lies on.
+POCKET_POINTS_COLUMNS = {
+    **POINTS_COLUMNS,
+    "wall": "the loop the vertex lies on: PROFILE (the body's outline) or a pocket wall (its DXF layer name)",
 }
 #: Columns of the polar lift table (``<cam>_lift.csv``) and what they hold.
 LIFT_COLUMNS = {
@@ -34,29 +42,60 @@ LIFT_COLUMNS = {
 }
 
 
-def points_csv(contour: Contour, chord_tol: float) -> str:
+def points_csv(contour: Contour, chord_tol: float, pockets: "Sequence[Pocket]" = ()) -> str:
     """CSV text of the flattened contour: header ``x_mm,y_mm``, one vertex a row, counter-clockwise.
 
     Every chord between consecutive rows (and from the last row back to the first) stays within
     ``chord_tol`` mm of the true contour.
+
+    A body with ``pockets`` (:class:`camgen.kinds.base.Pocket`) has a third column ``wall``: the
+    outline's rows (``PROFILE``), then each wall's (its layer name), each a closed
+    counter-clockwise polygon of its own within ``chord_tol`` mm (its last row joins its first).
     """
     pts = contour.flatten(chord_tol)
-    return csv_table(dict(zip(POINTS_COLUMNS, (pts[:, 0], pts[:, 1]))))
+    if not pockets:
+        return csv_table(dict(zip(POINTS_COLUMNS, (pts[:, 0], pts[:, 1]))))
+    from camgen.errors import ExportError
+    from camgen.export.dxf import PROFILE_LAYER
+    from camgen.export.pocket import wall_loops
+    from camgen.export.tables import format_rows
+
+    rows = []
+    for layer, loop in [(PROFILE_LAYER, pts), *wall_loops(pockets, chord_tol)]:
+        if not np.all(np.isfinite(loop)):
+            raise ExportError(f"point list: the {layer} polygon holds non-finite values")
+        # the numbers as csv_table writes them (9 decimals, no -0), then the wall's name
+        rows.append(format_rows(np.round(loop, 9) + 0.0, "%.9f,%.9f," + layer.replace("%", "%%")))
+    return ",".join(POCKET_POINTS_COLUMNS) + "\n" + "".join(rows)
 
 
-def points_metadata(chord_tol: float) -> dict[str, Any]:
-    """What :func:`points_csv` holds (report.json ``tables``)."""
+def points_metadata(chord_tol: float, pockets: "Sequence[Pocket]" = ()) -> dict[str, Any]:
+    """What :func:`points_csv` holds (report.json ``tables``); with ``pockets`` the ``wall``
+    column and the walls, in the order of the rows."""
+    if not pockets:
+        return {
+            "content": "XY point list of the profile: the vertices of a polygon within chord_tol_mm of it, counter-clockwise, closed "
+                       "(the last row joins the first)",
+            "columns": dict(POINTS_COLUMNS),
+            "chord_tol_mm": float(chord_tol),
+        }
+    from camgen.export.dxf import PROFILE_LAYER
+
     return {
-        "content": "XY point list of the profile: the vertices of a polygon within chord_tol_mm of it, counter-clockwise, closed "
-                   "(the last row joins the first)",
-        "columns": dict(POINTS_COLUMNS),
+        "content": "XY point lists of the body's outline (wall PROFILE) and of each pocket wall (wall: its DXF layer), in that order: "
+                   "each the vertices of a polygon within chord_tol_mm of it, counter-clockwise, closed (a wall's last row joins "
+                   "its first)",
+        "columns": dict(POCKET_POINTS_COLUMNS),
+        "walls": [PROFILE_LAYER] + [wall.layer for pocket in pockets for wall in pocket.walls],
+        "pockets": [{"name": pocket.name, "depth_mm": float(pocket.depth), "walls": [wall.layer for wall in pocket.walls]}
+                    for pocket in pockets],
         "chord_tol_mm": float(chord_tol),
     }
 
 
-def write_points_csv(contour: Contour, path: str | Path, chord_tol: float) -> Path:
+def write_points_csv(contour: Contour, path: str | Path, chord_tol: float, pockets: "Sequence[Pocket]" = ()) -> Path:
     """Write :func:`points_csv` to ``path`` atomically."""
-    return write_atomic(path, points_csv(contour, chord_tol))
+    return write_atomic(path, points_csv(contour, chord_tol, pockets))
 
 
 def lift_angles(step: float) -> np.ndarray:

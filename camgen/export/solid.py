@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
 
@@ -39,6 +40,9 @@ from camgen.errors import (
     GeometryError,
     ParameterError,
 )
+
+if TYPE_CHECKING:
+    from camgen.kinds.base import Pocket
 
 __all__ = [
     "BYTES_PER_VERTEX", "CamSolid", "EXTRA_VERTICES", "FILLS", "MANIFOLD_SNAP", "MAX_FILE_BYTES", "MESH_FORMATS",
@@ -147,8 +151,11 @@ class CamSolid:
     """A cam body: mesh vertices (n, 3, float64, mm), triangles (m, 3) and the manifold figures.
 
     The first ``N`` vertices are the flattened profile at z = 0 (the polygon's own values), the
-    hole's follow, then the section's interior vertices; the same again at z = thickness.
-    ``fill``: how the section was triangulated ("rings" or "manifold", see :data:`FILLS`).
+    hole's follow, then the section's interior vertices; the same again at z = thickness (a body
+    with pockets: the outline and the hole at both heights, then each pocket's walls at the
+    thickness and at the pocket's floor).
+    ``fill``: how the section was triangulated ("rings" or "manifold", see :data:`FILLS`;
+    "pockets": a body with pockets, :mod:`camgen.export.pocket_solid`, the vertices the polygons' own).
     ``snapped``: how far (mm) a vertex lies from its polygon's value: 0.0 but where manifold3d's
     snapping could not be undone (see the module notes).
     """
@@ -184,8 +191,13 @@ def _extrude(points: np.ndarray, triangles: np.ndarray, loops: list[tuple[int, i
     return vertices, faces
 
 
-def cam_solid(contour: Contour, spec: BodySpec, chord_tol: float = 1e-3, cam: str = "cam", fill: str = "auto") -> CamSolid:
+def cam_solid(contour: Contour, spec: BodySpec, chord_tol: float = 1e-3, cam: str = "cam", fill: str = "auto",
+              pockets: "Sequence[Pocket]" = ()) -> CamSolid:
     """Extrude the cam profile (minus bore and keyway) to ``spec.thickness``; checks the wall first.
+
+    With ``pockets`` (:class:`camgen.kinds.base.Pocket`: a groove, a slot) ``contour`` is the
+    body's outline and each pocket is cut from the top face down its depth
+    (:func:`camgen.export.pocket_solid.pocket_solid`; ``fill`` does not apply).
 
     ``fill`` (see :data:`FILLS`): "auto" triangulates the section in linear time
     (:func:`camgen.export.section_fill.fill_section`: rings of interior vertices, well-shaped
@@ -208,6 +220,10 @@ def cam_solid(contour: Contour, spec: BodySpec, chord_tol: float = 1e-3, cam: st
             raise GeometryError(f"cam '{cam}': at chord_tol_mm = {chord_tol:g} the flattened profile reaches the bore/keyway at cam angle "
                                 f"{where:.2f} deg (the wall is {wall + WALL_TOL:.3g} mm): use output.chord_tol_mm < {wall + WALL_TOL:.2g} mm "
                                 "for the meshes")
+    if pockets:
+        from camgen.export.pocket_solid import pocket_solid
+
+        return pocket_solid(contour, spec, pockets, chord_tol, cam)
     if fill == "auto":
         solid = _ring_solid(contour, spec, chord_tol)
         if solid is not None:

@@ -14,7 +14,8 @@ that hold it: :func:`camgen.export.dxf.spline_bspline`).
 Consecutive edges share one vertex (the mean of the ends it joins), so the wire closes exactly;
 a piece shorter than :data:`FOLD_TOL` (a three-arc cam at a + c - b -> 0 has arcs of radius
 3e-14 mm) is folded into its neighbours' shared vertex.  The face (profile minus bore) is extruded to the thickness and the keyway's prism (camgen.body's
-one keyway shape) is cut.  The header's FILE_DESCRIPTION states the tolerance.  Whatever
+one keyway shape) is cut, then each pocket (a groove, a slot: the face between its walls, whose
+edges are made as the profile's, swept from its floor to above the top face).  The header's FILE_DESCRIPTION states the tolerance.  Whatever
 OCCT refuses while building the solid is a :class:`camgen.errors.GeometryError` naming the cam
 (the run reports it as a failed export check), never an OCCT exception.
 
@@ -34,7 +35,7 @@ import math
 import os
 import re
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -184,9 +185,51 @@ def _edges(contour: Contour, bspline_tol: float | None, edge_spans: int | None, 
     return edges
 
 
-def _solid(contour: Contour, body: Any, bspline_tol: float | None, edge_spans: int | None) -> Any:
+def _wire(contour: Contour, bspline_tol: float | None, edge_spans: int | None, what: str) -> Any:
+    """The closed wire of ``contour``'s edges (z = 0)."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeWire
+
+    wire = BRepBuilderAPI_MakeWire()
+    for edge in _edges(contour, bspline_tol, edge_spans):
+        wire.Add(edge)
+    if not wire.IsDone():
+        raise GeometryError(f"the {what}'s edges do not form a wire ({wire.Error()})")
+    return wire.Wire()
+
+
+def _cut_pocket(solid: Any, pocket: Any, thickness: float, bspline_tol: float | None, edge_spans: int | None) -> Any:
+    """``solid`` less ``pocket``: the face inside ``walls[0]`` and outside the other walls, swept
+    from the pocket's floor (``thickness - depth``; below the body for a pocket through it) to
+    above the top face, cut by OCCT's boolean."""
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakePrism
+    from OCP.gp import gp_Trsf, gp_Vec
+    from OCP.TopLoc import TopLoc_Location
+    from OCP.TopoDS import TopoDS
+
+    walls = [_wire(wall.contour, bspline_tol, edge_spans, f"wall {wall.layer}") for wall in pocket.walls]
+    face = BRepBuilderAPI_MakeFace(walls[0])
+    for inner in walls[1:]:
+        face.Add(TopoDS.Wire(inner.Reversed()))
+    if not face.IsDone():
+        raise GeometryError(f"OpenCASCADE cannot make the face of pocket {pocket.name!r} ({face.Error()})")
+    floor = thickness - pocket.depth
+    start = floor if floor > 0.0 else -1.0  # a pocket through the body: start below it (no coplanar faces)
+    height = thickness + max(1.0, pocket.depth) - start  # above the top face
+    prism = BRepPrimAPI_MakePrism(face.Face(), gp_Vec(0, 0, height)).Shape()
+    lift = gp_Trsf()
+    lift.SetTranslation(gp_Vec(0, 0, start))
+    cut = BRepAlgoAPI_Cut(solid, prism.Moved(TopLoc_Location(lift)))
+    if not cut.IsDone():
+        raise GeometryError(f"OpenCASCADE cannot cut pocket {pocket.name!r} from the body")
+    return cut.Shape()
+
+
+def _solid(contour: Contour, body: Any, bspline_tol: float | None, edge_spans: int | None, pockets: tuple[Any, ...] = ()) -> Any:
     """The OCCT solid: the profile face less the bore, extruded to ``body.thickness``, less the
-    keyway; GeometryError unless OCCT's checker (BRepCheck_Analyzer) finds it valid."""
+    keyway, less each of ``pockets`` from the top face down its depth; GeometryError unless
+    OCCT's checker (BRepCheck_Analyzer) finds it valid."""
     from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut
     from OCP.BRepBuilderAPI import (
         BRepBuilderAPI_MakeEdge,
@@ -199,12 +242,7 @@ def _solid(contour: Contour, body: Any, bspline_tol: float | None, edge_spans: i
     from OCP.gp import gp_Ax2, gp_Circ, gp_Dir, gp_Pnt, gp_Vec
     from OCP.TopoDS import TopoDS
 
-    wire = BRepBuilderAPI_MakeWire()
-    for edge in _edges(contour, bspline_tol, edge_spans):
-        wire.Add(edge)
-    if not wire.IsDone():
-        raise GeometryError(f"the profile's edges do not form a wire ({wire.Error()})")
-    face = BRepBuilderAPI_MakeFace(wire.Wire())
+    face = BRepBuilderAPI_MakeFace(_wire(contour, bspline_tol, edge_spans, "profile"))
     if body.bore_diameter > 0:
         circle = gp_Circ(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), body.bore_diameter / 2)
         bore = BRepBuilderAPI_MakeWire(BRepBuilderAPI_MakeEdge(circle).Edge()).Wire()
@@ -222,13 +260,15 @@ def _solid(contour: Contour, body: Any, bspline_tol: float | None, edge_spans: i
         if not cut.IsDone():
             raise GeometryError("OpenCASCADE cannot cut the keyway from the body")
         solid = cut.Shape()
+    for pocket in pockets:
+        solid = _cut_pocket(solid, pocket, body.thickness, bspline_tol, edge_spans)
     if not BRepCheck_Analyzer(solid).IsValid():
         raise GeometryError("OpenCASCADE finds the extruded profile invalid (BRepCheck_Analyzer)")
     return solid
 
 
 def step_bytes(contour: Contour, body: Any, name: str = "cam", bspline_tol: float | None = None, *, exact: bool = False,
-               edge_spans: int | None = EDGE_SPANS) -> bytes:
+               edge_spans: int | None = EDGE_SPANS, pockets: Sequence[Any] = ()) -> bytes:
     """STEP file content of the extruded cam body (``body``: :class:`camgen.export.solid.SolidSpec`).
 
     Spline segments are written within ``bspline_tol`` mm of the contour (default
@@ -237,6 +277,10 @@ def step_bytes(contour: Contour, body: Any, name: str = "cam", bspline_tol: floa
     a quintic segment is refitted).  ``exact=True`` writes every segment's own pieces in their own
     degree (no compact form: a quintic segment becomes a degree-5 B-spline) and ``edge_spans=None``
     one edge per segment: together the earlier form (benchmarks/bench_step.py compares them).
+
+    ``pockets`` (:class:`camgen.kinds.base.Pocket`: a groove, a slot): ``contour`` is the body's
+    outline and each pocket is cut from the top face down its depth, its walls written as the
+    profile is.
     """
     from camgen.errors import ParameterError, require_positive
     from camgen.export.dxf import DEFAULT_BSPLINE_TOL
@@ -248,8 +292,13 @@ def step_bytes(contour: Contour, body: Any, name: str = "cam", bspline_tol: floa
     from OCP.Interface import Interface_Static
     from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
 
+    pockets = tuple(pockets)
+    if pockets:
+        from camgen.export.pocket import check_pockets
+
+        check_pockets(pockets, body.thickness)
     try:
-        solid = _solid(contour, body, None if exact else tol, edge_spans)
+        solid = _solid(contour, body, None if exact else tol, edge_spans, pockets)
     except GeometryError as exc:
         raise GeometryError(f"cam '{name}': STEP: {exc}") from None
     except Exception as exc:  # OCCT's exceptions (Standard_Failure, StdFail_NotDone, ...) share no Python base
@@ -275,7 +324,8 @@ def step_bytes(contour: Contour, body: Any, name: str = "cam", bspline_tol: floa
         raise ExportError(f"cam '{name}': OpenCASCADE could not write the STEP file (status {status})")
     text = stream.getvalue().decode("ascii", errors="replace")
     # the tolerance of the spline edges in the header (FILE_DESCRIPTION)
-    splines = any(isinstance(seg, Spline) for seg in contour.segments)
+    curves = [contour] + [wall.contour for pocket in pockets for wall in pocket.walls]
+    splines = any(isinstance(seg, Spline) for curve in curves for seg in curve.segments)
     what = (f"camgen cam {name}: B-spline edges within {tol!r} mm of the contour" if splines and not exact
             else f"camgen cam {name}: exact arcs, lines and B-splines")
     text = re.sub(r"FILE_DESCRIPTION\(\('[^']*'\)", f"FILE_DESCRIPTION(('{what}')", text, count=1)
