@@ -109,14 +109,18 @@ def _load(reference: str) -> Callable[..., Any]:
 
 
 def mesh_stage(cam: "CamResult", output: "OutputSpec", progress: Progress) -> "CamResult":
-    """``cam`` with its extruded solid at the chord tolerance, or the failure that stopped it (a
-    failed check)."""
+    """``cam`` with its extruded solid at the chord tolerance (with its pockets cut), or the failure
+    that stopped it (a failed check)."""
     from camgen.export.solid import cam_solid
 
     progress(f"meshing cam '{cam.name}'")
     assert cam.contour is not None
     try:
-        return cam.with_(solid=cam_solid(cam.contour, cam.body, output.chord_tol, cam.name, pockets=cam.pockets))
+        if cam.pockets:  # the outline less bore and keyway, less each pocket from the top face down
+            from camgen.export.pocket_solid import pocket_solid
+
+            return cam.with_(solid=pocket_solid(cam.contour, cam.body, cam.pockets, output.chord_tol, cam.name))
+        return cam.with_(solid=cam_solid(cam.contour, cam.body, output.chord_tol, cam.name))
     except GeometryError as exc:
         return cam.with_(mesh_failures=cam.mesh_failures + (_export_failure("solid", exc),))
 

@@ -282,9 +282,9 @@ def test_point_list_metadata_names_the_wall_column_and_the_walls():
 # Surface meshes: the real body
 # --------------------------------------------------------------------------------------------
 def _solid(case, tol=1e-3):
-    from camgen.export.solid import cam_solid
+    from camgen.export.pocket_solid import pocket_solid
 
-    return cam_solid(RIM_CONTOUR, BODY, tol, case, pockets=CASES[case])
+    return pocket_solid(RIM_CONTOUR, BODY, CASES[case], tol, case)
 
 
 @pytest.mark.parametrize("case", list(CASES))
@@ -461,11 +461,14 @@ def test_mesh_file_sizes_stay_within_the_cap_counting_the_walls(tmp_path):
 def test_walls_crossing_the_bore_are_a_geometry_error():
     """A groove whose inner wall runs through the bore is no body: a GeometryError naming the cam."""
     from camgen.errors import GeometryError
-    from camgen.export.solid import cam_solid
+    from camgen.export.pocket_solid import pocket_solid
 
     bad = (Pocket("groove", (Wall("GROOVE_OUTER", circle((0.0, 0.0), 20.0)), Wall("GROOVE_INNER", circle((3.0, 0.0), 7.0))), DEPTH),)
-    with pytest.raises(GeometryError, match="cam 'bad'"):
-        cam_solid(RIM_CONTOUR, BODY, 1e-3, "bad", pockets=bad)
+    with pytest.raises(GeometryError, match="cam 'bad'.*the top face cross or overlap"):
+        pocket_solid(RIM_CONTOUR, BODY, bad, 1e-3, "bad")
+    overlapping = (circle_groove((0.0, 0.0), 25.0), slot(3.0))  # the slot reaches into the groove
+    with pytest.raises(GeometryError, match="cross or overlap"):
+        pocket_solid(RIM_CONTOUR, BODY, overlapping, 1e-3, "bad")
 
 
 # --------------------------------------------------------------------------------------------

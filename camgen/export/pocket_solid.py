@@ -110,7 +110,8 @@ class _Mesh:
 
 def pocket_solid(contour: "Contour", spec: "BodySpec", pockets: "Sequence[Pocket]", chord_tol: float, cam: str = "cam") -> "CamSolid":
     """The :class:`~camgen.export.solid.CamSolid` of the body with ``pockets`` (see the module
-    notes): vertices on the flattened polygons at ``chord_tol`` mm, validated by manifold3d.
+    notes): vertices on the flattened polygons at ``chord_tol`` mm, validated by manifold3d; the
+    bore and keyway checked against the outline first (:func:`camgen.export.solid.check_wall`).
 
     Raises :class:`GeometryError` naming the cam where the faces do not bound one closed body of
     the polygons' volume (a wall crossing another, the bore or the outline; a through pocket
@@ -119,9 +120,10 @@ def pocket_solid(contour: "Contour", spec: "BodySpec", pockets: "Sequence[Pocket
     import manifold3d
 
     from camgen.export.pocket import check_pockets
-    from camgen.export.solid import VOLUME_RTOL, CamSolid, bore_polygon
+    from camgen.export.solid import VOLUME_RTOL, CamSolid, bore_polygon, check_wall
 
     check_pockets(pockets, spec.thickness)
+    check_wall(contour, spec, chord_tol, cam)  # the bore and keyway against the outline
     thickness = spec.thickness
     outer = contour.flatten(chord_tol)
     hole = bore_polygon(spec, chord_tol)

@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
 
@@ -41,12 +40,9 @@ from camgen.errors import (
     ParameterError,
 )
 
-if TYPE_CHECKING:
-    from camgen.kinds.base import Pocket
-
 __all__ = [
     "BYTES_PER_VERTEX", "CamSolid", "EXTRA_VERTICES", "FILLS", "MANIFOLD_SNAP", "MAX_FILE_BYTES", "MESH_FORMATS",
-    "SUFFIX", "VOLUME_RTOL", "bore_polygon", "cam_solid", "cross_section", "mesh_bytes", "section_triangulation",
+    "SUFFIX", "VOLUME_RTOL", "bore_polygon", "cam_solid", "check_wall", "cross_section", "mesh_bytes", "section_triangulation",
     "stl_ascii", "stl_binary", "three_mf", "unsnap", "vertex_limit",
 ]
 
@@ -191,13 +187,25 @@ def _extrude(points: np.ndarray, triangles: np.ndarray, loops: list[tuple[int, i
     return vertices, faces
 
 
-def cam_solid(contour: Contour, spec: BodySpec, chord_tol: float = 1e-3, cam: str = "cam", fill: str = "auto",
-              pockets: "Sequence[Pocket]" = ()) -> CamSolid:
-    """Extrude the cam profile (minus bore and keyway) to ``spec.thickness``; checks the wall first.
+def check_wall(contour: Contour, spec: BodySpec, chord_tol: float, cam: str = "cam") -> None:
+    """Refuse (:class:`GeometryError`) a bore or keyway that leaves less than ``spec.min_wall``
+    to the profile, or that the profile flattened at ``chord_tol`` reaches."""
+    wall, where = wall_left(contour, spec)
+    if wall < spec.min_wall:  # the pipeline reports this as a failed check first; library callers get an error
+        what = "breaks through the profile" if wall <= 0 else f"leaves a wall of only {wall:.3f} mm"
+        raise GeometryError(f"cam '{cam}': the bore/keyway {what} at cam angle {where:.2f} deg (min_wall_mm = {spec.min_wall:g})")
+    if chord_tol > WALL_TOL:  # the meshed polygons: the profile's chords sag inward by up to chord_tol
+        mesh_wall, where = wall_left(contour, spec, chord_tol)
+        if mesh_wall <= 0.0:
+            raise GeometryError(f"cam '{cam}': at chord_tol_mm = {chord_tol:g} the flattened profile reaches the bore/keyway at cam angle "
+                                f"{where:.2f} deg (the wall is {wall + WALL_TOL:.3g} mm): use output.chord_tol_mm < {wall + WALL_TOL:.2g} mm "
+                                "for the meshes")
 
-    With ``pockets`` (:class:`camgen.kinds.base.Pocket`: a groove, a slot) ``contour`` is the
-    body's outline and each pocket is cut from the top face down its depth
-    (:func:`camgen.export.pocket_solid.pocket_solid`; ``fill`` does not apply).
+
+def cam_solid(contour: Contour, spec: BodySpec, chord_tol: float = 1e-3, cam: str = "cam", fill: str = "auto") -> CamSolid:
+    """Extrude the cam profile (minus bore and keyway) to ``spec.thickness``; checks the wall first
+    (:func:`check_wall`).  A body with pockets (a groove, a slot):
+    :func:`camgen.export.pocket_solid.pocket_solid`.
 
     ``fill`` (see :data:`FILLS`): "auto" triangulates the section in linear time
     (:func:`camgen.export.section_fill.fill_section`: rings of interior vertices, well-shaped
@@ -210,20 +218,7 @@ def cam_solid(contour: Contour, spec: BodySpec, chord_tol: float = 1e-3, cam: st
 
     if fill not in FILLS:
         raise ParameterError("fill", fill, f"one of {', '.join(FILLS)}")
-    wall, where = wall_left(contour, spec)
-    if wall < spec.min_wall:  # the pipeline reports this as a failed check first; library callers get an error
-        what = "breaks through the profile" if wall <= 0 else f"leaves a wall of only {wall:.3f} mm"
-        raise GeometryError(f"cam '{cam}': the bore/keyway {what} at cam angle {where:.2f} deg (min_wall_mm = {spec.min_wall:g})")
-    if chord_tol > WALL_TOL:  # the meshed polygons: the profile's chords sag inward by up to chord_tol
-        mesh_wall, where = wall_left(contour, spec, chord_tol)
-        if mesh_wall <= 0.0:
-            raise GeometryError(f"cam '{cam}': at chord_tol_mm = {chord_tol:g} the flattened profile reaches the bore/keyway at cam angle "
-                                f"{where:.2f} deg (the wall is {wall + WALL_TOL:.3g} mm): use output.chord_tol_mm < {wall + WALL_TOL:.2g} mm "
-                                "for the meshes")
-    if pockets:
-        from camgen.export.pocket_solid import pocket_solid
-
-        return pocket_solid(contour, spec, pockets, chord_tol, cam)
+    check_wall(contour, spec, chord_tol, cam)
     if fill == "auto":
         solid = _ring_solid(contour, spec, chord_tol)
         if solid is not None:
