@@ -131,8 +131,8 @@ def pocket_solid(contour: "Contour", spec: "BodySpec", pockets: "Sequence[Pocket
     mesh = _Mesh()
     bottom_loops, bottom = list(part), [mesh.place(loop, 0.0) for loop in part]
     top_loops, top = list(part), [mesh.place(loop, thickness) for loop in part]
-    for low, high in zip(bottom, top):
-        mesh.side(low, high)
+    for down, up in zip(bottom, top):
+        mesh.side(down, up)
     walls, depths = [], []
     for pocket in pockets:
         loops = [wall.contour.flatten(chord_tol) for wall in pocket.walls]
