@@ -57,17 +57,19 @@ def points(cam: "CamResult", run: RunSettings, fmt: str) -> str:
 
 
 def lift(cam: "CamResult", run: RunSettings, fmt: str) -> str:
-    """The polar lift table of the profile; refused for a body with pockets (its outline is not
-    the surface the follower rides)."""
+    """The polar lift table of the profile (and of each pocket wall); a wall that a ray from the
+    axis does not meet exactly once (a slot beside the axis) refuses it (``output.formats``)."""
+    from camgen.errors import GeometryError
     from camgen.export.points import lift_csv
 
-    if cam.pockets:
+    if not cam.pockets:
+        return lift_csv(_profile(cam), run.output.lift_step)
+    try:
+        return lift_csv(_profile(cam), run.output.lift_step, cam.pockets)
+    except GeometryError as exc:
         from camgen.export.pocket import refuse_pocket_format
 
-        refuse_pocket_format(cam.name, fmt, cam.pockets, "the lift table tabulates the outline's radius about the axis, "
-                             "which no follower rides: the walls are in the point list and the DXF")
-
-    return lift_csv(_profile(cam), run.output.lift_step)
+        refuse_pocket_format(cam.name, fmt, cam.pockets, f"the lift table needs every wall star-shaped about the axis ({exc})")
 
 
 def follower(cam: "CamResult", run: RunSettings, fmt: str) -> str:

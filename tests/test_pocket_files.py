@@ -577,15 +577,16 @@ def groove_form():
 
 
 def test_a_form_with_a_groove_gets_its_files_through_the_run(groove_form):
-    """The run writes the DXF with the wall layers, the point list with its wall column (and
-    report.json says so), the meshes and the STEP of the pocketed body (volumes the closed form)."""
+    """The run writes the DXF with the wall layers, the point list with its wall column and the lift
+    table with a column per wall (and report.json says so), the meshes and the STEP of the
+    pocketed body (volumes the closed form)."""
     import trimesh
 
     from camgen.export.step import step_volume
     from camgen.pipeline import execute, plan_run
     from camgen.scene import parse_scene
 
-    scene = parse_scene({"output": {"formats": ["dxf", "points", "stl", "3mf", "step"]}, "cams": {"g": GROOVE_CAM}}, "toy")
+    scene = parse_scene({"output": {"formats": ["dxf", "points", "lift", "stl", "3mf", "step"]}, "cams": {"g": GROOVE_CAM}}, "toy")
     files = execute(scene, plan_run(scene)).files
     report = json.loads(files["report.json"])
     meta = report["tables"]["g_points.csv"]
@@ -601,6 +602,12 @@ def test_a_form_with_a_groove_gets_its_files_through_the_run(groove_form):
     pitch = Chain(segments=np.concatenate([p := (30 + s)[:, None] * np.stack([np.cos(phi), np.sin(phi)], 1), np.roll(p, -1, 0)], 1))
     for layer in ("GROOVE_OUTER", "GROOVE_INNER"):
         assert np.max(np.abs(pitch.distance(loops[layer], k=4) - HALF)) < 1e-5
+    # the lift table: each wall's radius along each ray is a point HALF from the pitch curve
+    lift = np.loadtxt(io.StringIO(files["g_lift.csv"]), delimiter=",", skiprows=1)
+    assert list(report["tables"]["g_lift.csv"]["columns"])[3:] == ["groove_outer_radius_mm", "groove_inner_radius_mm"]
+    ray = np.stack([np.cos(np.radians(lift[:, 0])), np.sin(np.radians(lift[:, 0]))], axis=1)
+    for column in (3, 4):
+        assert np.max(np.abs(pitch.distance(lift[:, column, None] * ray, k=4) - HALF)) < 1e-5
     doc = read_dxf(files["g.dxf"])
     assert {"GROOVE_OUTER", "GROOVE_INNER"} <= {layer.dxf.name for layer in doc.layers}
     # the area between the offsets +-h of a closed convex curve of length L is 2 h L (Steiner's
@@ -614,30 +621,85 @@ def test_a_form_with_a_groove_gets_its_files_through_the_run(groove_form):
     assert abs(step_volume(files["g.step"]) - expected) <= bound
 
 
-@pytest.mark.parametrize("fmt", ["lift", "vtu", "inp"])
-def test_lift_table_and_fea_meshes_are_refused_through_the_cli(fmt, groove_form, tmp_path, capsys):
-    """A body with pockets has no polar lift table of its outline and no prismatic FEA mesh:
-    exit 2, one ``camgen: error:`` line naming output.formats, the format, the cam and why;
-    nothing written."""
+def _slot_form():
+    """A rim with a slot beside the axis (no ray from the axis meets it once: no lift column)."""
+    from camgen.forms import CamForm
+    from camgen.kinds.base import BuiltCam
+
+    form = _groove_form()
+
+    def build(spec, stages):
+        return BuiltCam(spec.name, spec.kind, RIM_CONTOUR, {}, spec.body, spec.follower, pockets=(slot(4.0),))
+
+    return CamForm("toy_slot", "a rim with a slot", form.keys, read=form.read, build=build)
+
+
+@pytest.fixture
+def slot_form():
+    from camgen.forms import register, unregister
+
+    register(_slot_form())
+    yield
+    unregister("toy_slot")
+
+
+def _refused(scene_table, tmp_path, capsys) -> str:
+    """Run the scene through the CLI: exit 2, one ``camgen: error:`` line (returned), nothing written."""
     from camgen.cli import main
     from helpers import scene_toml
 
-    scene = tmp_path / "groove.toml"
-    scene.write_text(scene_toml({"output": {"formats": ["dxf", fmt]}, "cams": {"g": GROOVE_CAM}}))
+    scene = tmp_path / "pockets.toml"
+    scene.write_text(scene_toml(scene_table))
     out = tmp_path / "out"
     assert main(["run", str(scene), "-o", str(out)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("camgen: error:"), err
-    assert "output.formats" in err[0] and fmt in err[0] and "'g'" in err[0] and "pockets" in err[0]
     assert not out.exists() or not any(out.rglob("*"))
+    return err[0]
 
 
-def test_lift_writer_refuses_a_body_with_pockets():
+@pytest.mark.parametrize("fmt", ["vtu", "msh", "inp"])
+def test_fea_meshes_are_refused_through_the_cli(fmt, groove_form, tmp_path, capsys):
+    """A body with pockets has no prismatic FEA mesh: exit 2, one line naming output.formats, the
+    format, the cam and why; nothing written."""
+    line = _refused({"output": {"formats": ["dxf", fmt]}, "cams": {"g": GROOVE_CAM}}, tmp_path, capsys)
+    assert "output.formats" in line and fmt in line and "'g'" in line and "pockets" in line and "prismatic" in line
+
+
+def test_lift_table_of_a_slot_beside_the_axis_is_refused_through_the_cli(slot_form, tmp_path, capsys):
+    cam = dict(GROOVE_CAM, form="toy_slot")
+    line = _refused({"output": {"formats": ["dxf", "lift"]}, "cams": {"s": cam}}, tmp_path, capsys)
+    assert "output.formats" in line and "lift" in line and "'s'" in line and "SLOT" in line and "star-shaped" in line
+
+
+def test_lift_table_has_a_radius_column_per_wall_on_the_closed_form():
+    """Eccentric circular walls (centre c, radius r): the ray at polar angle phi meets a circle
+    about c at rho = c.u + sqrt(r^2 - (c x u)^2), u = (cos phi, sin phi); the rim at R."""
+    from camgen.export.points import lift_csv, lift_metadata
+
+    pockets = CASES["eccentric"]
+    text = lift_csv(RIM_CONTOUR, math.radians(0.5), pockets)
+    assert text.splitlines()[0] == "polar_angle_deg,radius_mm,lift_mm,groove_outer_radius_mm,groove_inner_radius_mm"
+    rows = np.loadtxt(io.StringIO(text), delimiter=",", skiprows=1)
+    phi = np.radians(rows[:, 0])
+    c = np.array([3.0, 1.0])
+    along, across = c[0] * np.cos(phi) + c[1] * np.sin(phi), c[0] * np.sin(phi) - c[1] * np.cos(phi)
+    assert len(rows) == 720 and np.allclose(rows[:, 1], RIM, atol=1e-9) and np.allclose(rows[:, 2], 0.0, atol=1e-9)
+    for column, r in ((3, 30.0 + HALF), (4, 30.0 - HALF)):
+        assert np.max(np.abs(rows[:, column] - (along + np.sqrt(r * r - across**2)))) <= 1e-9
+    meta = lift_metadata(RIM_CONTOUR, math.radians(0.5), pockets)
+    assert list(meta["columns"]) == text.splitlines()[0].split(",")
+
+
+def test_lift_writer_refuses_a_slot_naming_the_wall():
     """The writer itself (library callers): ParameterError naming output.formats and the walls."""
-    from camgen.writers import lift
+    from camgen.writers import RunSettings, lift
 
     class Cam:
-        name, pockets = "g", CASES["eccentric"]
+        name, pockets, contour = "s", CASES["slot"], RIM_CONTOUR
 
-    with pytest.raises(ParameterError, match=r"output\.formats.*GROOVE_OUTER, GROOVE_INNER"):
-        lift(Cam(), None, "lift")
+    class Output:
+        lift_step = math.radians(1.0)
+
+    with pytest.raises(ParameterError, match=r"output\.formats.*walls SLOT.*wall SLOT: contour is not star-shaped"):
+        lift(Cam(), RunSettings("x", Output(), None), "lift")

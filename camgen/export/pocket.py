@@ -8,7 +8,7 @@ names a form: a groove's two walls and a slot's one loop go through the same fun
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Sequence
+from typing import TYPE_CHECKING, NoReturn, Sequence
 
 import numpy as np
 
@@ -66,7 +66,7 @@ def pocket_floor(pocket: "Pocket", thickness: float) -> float:
     return thickness - pocket.depth
 
 
-def refuse_pocket_format(cam: str, fmt: str, pockets: "Sequence[Pocket]", why: str) -> None:
+def refuse_pocket_format(cam: str, fmt: str, pockets: "Sequence[Pocket]", why: str) -> NoReturn:
     """Raise the one-line refusal of output ``fmt`` for cam ``cam``, whose body has ``pockets``:
     a :class:`ParameterError` naming ``output.formats``, the format, the cam and ``why``."""
     walls = ", ".join(wall.layer for pocket in pockets for wall in pocket.walls)

@@ -21,7 +21,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "LIFT_COLUMNS", "POCKET_POINTS_COLUMNS", "POINTS_COLUMNS", "base_radius", "lift_angles", "lift_csv", "lift_metadata", "points_csv",
-    "points_metadata", "write_points_csv",
+    "points_metadata", "wall_column", "write_points_csv",
 ]
 
 #: Columns of the point list (``<cam>_points.csv``) and what they hold.
@@ -105,24 +105,53 @@ def lift_angles(step: float) -> np.ndarray:
     return 2.0 * math.pi * np.arange(count) / count
 
 
-def lift_csv(contour: Contour, step: float) -> str:
+def wall_column(layer: str) -> str:
+    """The lift table's column of a pocket wall: its layer in lower case, ``_radius_mm`` after it
+    (``GROOVE_OUTER`` -> ``groove_outer_radius_mm``; characters a column name cannot hold: ``_``)."""
+    import re
+
+    name = re.sub(r"[^a-z0-9_]", "_", layer.lower())
+    return (name if name[:1].isalpha() else f"wall_{name}") + "_radius_mm"
+
+
+def lift_csv(contour: Contour, step: float, pockets: "Sequence[Pocket]" = ()) -> str:
     """Polar lift table of the profile: polar angle on the cam -> radius and lift above the base radius.
 
     ``step`` is the angle step (rad, :func:`lift_angles`).  The radius is the exact distance
     from the rotation axis to the profile along the ray at that polar angle
     (:meth:`Contour.polar_radius`); the base radius is :func:`base_radius`.
+
+    A body with ``pockets`` has one more column per pocket wall (:func:`wall_column`): the
+    distance from the axis to the wall along the same ray; :class:`GeometryError` naming the
+    wall when a ray from the axis does not meet it exactly once (a slot beside the axis).
     """
+    from camgen.errors import GeometryError
+
     angle = lift_angles(step)
     radius = contour.polar_radius(angle)
-    return csv_table(dict(zip(LIFT_COLUMNS, (np.degrees(angle), radius, radius - base_radius(contour)))))
+    columns = dict(zip(LIFT_COLUMNS, (np.degrees(angle), radius, radius - base_radius(contour))))
+    for pocket in pockets:
+        for wall in pocket.walls:
+            try:
+                columns[wall_column(wall.layer)] = wall.contour.polar_radius(angle)
+            except GeometryError as exc:
+                raise GeometryError(f"wall {wall.layer}: {exc}") from None
+    return csv_table(columns)
 
 
-def lift_metadata(contour: Contour, step: float) -> dict[str, Any]:
-    """What :func:`lift_csv` holds (report.json ``tables``): its angle step and base radius."""
+def lift_metadata(contour: Contour, step: float, pockets: "Sequence[Pocket]" = ()) -> dict[str, Any]:
+    """What :func:`lift_csv` holds (report.json ``tables``): its angle step and base radius (and
+    a column per pocket wall)."""
     count = lift_angles(step).size
+    columns = dict(LIFT_COLUMNS)
+    for pocket in pockets:
+        for wall in pocket.walls:
+            columns[wall_column(wall.layer)] = (f"distance from the rotation axis to the pocket wall {wall.layer} along the ray at "
+                                                "that polar angle, mm")
     return {
-        "content": "polar lift table of the profile: polar angle on the cam -> its radius and the lift above the base radius",
-        "columns": dict(LIFT_COLUMNS),
+        "content": "polar lift table of the profile: polar angle on the cam -> its radius and the lift above the base radius"
+                   + ("; and the radius of each pocket wall" if pockets else ""),
+        "columns": columns,
         "angle_step_deg": 360.0 / count,
         "base_radius_mm": base_radius(contour),
     }

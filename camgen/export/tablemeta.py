@@ -41,7 +41,7 @@ def _cam_tables(cam: "CamResult", scene: "Scene", written: set[str]) -> dict[str
         from camgen.export.points import lift_metadata, points_metadata
 
         add(OUTPUTS["points"].files.format(cam=cam.name), lambda: points_metadata(scene.output.chord_tol, cam.pockets))
-        add(OUTPUTS["lift"].files.format(cam=cam.name), lambda: lift_metadata(cam.contour, scene.output.lift_step))
+        add(OUTPUTS["lift"].files.format(cam=cam.name), lambda: lift_metadata(cam.contour, scene.output.lift_step, cam.pockets))
     motion = cam.evaluation.motion if cam.evaluation is not None else None
     if motion is not None and cam.rpm is not None:
         from camgen.export.motion import follower_metadata
