@@ -317,6 +317,18 @@ def test_body_with_pockets_is_watertight_with_the_closed_form_volume(case):
             assert len(at_floor) and np.max(np.min([c.distance(at_floor) for c in chains], axis=0)) <= 1e-9
     on_rim = np.abs(np.hypot(solid.vertices[:, 0], solid.vertices[:, 1]) - RIM) <= 1e-9
     assert on_rim.sum() == 2 * len(RIM_CONTOUR.flatten(tol))
+    # every vertex within the chord tolerance of an exact curve: the rim, a wall, the bore circle or
+    # the keyway's sides (its cuts of the bore polygon lie on the polygon's chords)
+    xy = solid.vertices[:, :2]
+    rho = np.hypot(xy[:, 0], xy[:, 1])
+    ka = BODY.keyway_angle
+    along, across = xy @ [math.cos(ka), math.sin(ka)], xy @ [-math.sin(ka), math.cos(ka)]
+    reach, half = BODY.bore_diameter / 2 + BODY.keyway_depth, BODY.keyway_width / 2
+    keyway = np.minimum(np.where((along >= 0) & (along <= reach), np.abs(np.abs(across) - half), np.inf),
+                        np.where(np.abs(across) <= half, np.abs(along - reach), np.inf))
+    walls = np.min([exact_chain(w.contour, per_piece=256).distance(xy) for p in pockets for w in p.walls], axis=0)
+    nearest = np.min([np.abs(rho - RIM), np.abs(rho - BODY.bore_diameter / 2), keyway, walls], axis=0)
+    assert np.max(nearest) <= tol
 
 
 def first_hit_from_above(vertices: np.ndarray, triangles: np.ndarray, xy: np.ndarray) -> np.ndarray:
@@ -516,6 +528,9 @@ def test_step_body_is_valid_with_the_closed_form_volume(case):
     lo, hi = box.CornerMin(), box.CornerMax()
     assert lo.Z() == pytest.approx(0.0, abs=1e-6) and hi.Z() == pytest.approx(THICKNESS, abs=1e-6)
     assert hi.X() == pytest.approx(RIM, abs=1e-6)
+    splines = any(isinstance(seg, Spline) for p in pockets for w in p.walls for seg in w.contour.segments)
+    stated = re.search(rb"FILE_DESCRIPTION\(\('([^']*)'", data).group(1).decode()
+    assert stated.endswith("within 1e-08 mm of the contour" if splines else "exact arcs, lines and B-splines"), stated
 
 
 def test_freecad_reads_the_step_if_installed(tmp_path):
@@ -608,6 +623,11 @@ def test_a_form_with_a_groove_gets_its_files_through_the_run(groove_form):
     ray = np.stack([np.cos(np.radians(lift[:, 0])), np.sin(np.radians(lift[:, 0]))], axis=1)
     for column in (3, 4):
         assert np.max(np.abs(pitch.distance(lift[:, column, None] * ray, k=4) - HALF)) < 1e-5
+    # the outer wall beyond the pitch curve along each ray, the inner one inside it (r = 30 + s)
+    u = np.mod(np.radians(lift[:, 0]), 2 * math.pi) / math.pi
+    rise = 6.0 * (u % 1 - np.sin(2 * math.pi * u) / (2 * math.pi))
+    on_pitch = 30.0 + np.where(u < 1, rise, 6.0 - rise)
+    assert np.all(lift[:, 3] > on_pitch + HALF / 2) and np.all(lift[:, 4] < on_pitch - HALF / 2)
     doc = read_dxf(files["g.dxf"])
     assert {"GROOVE_OUTER", "GROOVE_INNER"} <= {layer.dxf.name for layer in doc.layers}
     # the area between the offsets +-h of a closed convex curve of length L is 2 h L (Steiner's
