@@ -174,6 +174,7 @@ def _plots(cam: "CamResult", ev: "CamEvaluation") -> "CamPlots":
         curvature_limit=ev.curvature_limit,
         motion=_motion(ev, cam.rpm),
         animation=ev.animation,
+        walls=tuple((wall.layer, _array(wall.contour.flatten(DRAWING_CHORD_MM))) for pocket in cam.pockets for wall in pocket.walls),
     )
 
 

@@ -71,7 +71,10 @@ def _profile_figure(Figure: FigureMaker, cam: "CamReport") -> str:
     if plots.profile is not None:
         pts = plots.profile
         closed = np.vstack([pts, pts[:1]])
-        ax.plot(closed[:, 0], closed[:, 1], color="k", width=1.2, label="profile")
+        ax.plot(closed[:, 0], closed[:, 1], color="k", width=1.2, label="rim" if plots.walls else "profile")
+    for layer, wall in plots.walls:  # a pocket's walls (a groove's): what the roller runs between
+        closed = np.vstack([wall, wall[:1]])
+        ax.plot(closed[:, 0], closed[:, 1], color="#1f3a5f", width=1.0, label=layer.lower().replace("_", " "))
     if plots.pitch is not None:
         pitch = np.vstack([plots.pitch, plots.pitch[:1]])
         ax.plot(pitch[:, 0], pitch[:, 1], "--", color="tab:blue", width=0.8, label="pitch curve (roller centre)")
