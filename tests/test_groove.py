@@ -351,3 +351,24 @@ def test_sizing_finds_the_least_base_radius_whose_groove_can_be_made(method):
 
         threshold = brentq(lambda b: _pitch_radius_extremes(b, 30.0, 60.0)[1] - (10.0 + CLEARANCE / 2), 0.5, 60.0, xtol=1e-12)
         assert base >= threshold
+
+
+@pytest.mark.parametrize("key_name", ["groove_clearance_mm", "groove_depth_mm", "rim_radius_mm", "sizing"])
+def test_every_groove_key_changes_what_it_documents(key_name, tmp_path):
+    """The walk of tests/test_keys.py over the groove's own keys (the follower's are the plate
+    cam's, walked in tests/test_disk_cams.py)."""
+    from test_keys import _assert_effect, _changed, run, scene
+
+    from camgen.kinds.groove import groove_keys, roller_keys
+
+    key = next(k for k in groove_keys() + roller_keys() if k.name == key_name)
+    base = {"kind": "motion_law", "form": "groove", "follower": "roller", "roller_radius_mm": 5.0, "base_radius_mm": 40.0,
+            "thickness_mm": 12.0, "segments": [{"law": "cycloidal", "span_deg": 180.0, "lift_mm": 10.0},
+                                               {"law": "cycloidal", "span_deg": 180.0, "lift_mm": -10.0}]}
+    if key_name == "sizing":
+        alt = {**{k: v for k, v in base.items() if k != "base_radius_mm"}, "sizing": "base_radius"}
+    else:
+        alt = {**base, key_name: key.example if key.example is not None else _changed(key.default, key)}
+    formats = ("dxf", "points", "ngc", "stl")
+    machining = {"tool_diameter_mm": 8.0}
+    _assert_effect(key, run(scene(base, formats, machining), tmp_path), run(scene(alt, formats, machining), tmp_path))

@@ -62,11 +62,11 @@ def groove_keys() -> tuple[Key, ...]:
     return (
         Key("groove_clearance_mm", Length(0.0, 100.0, low_open=False), "Groove width less the roller diameter: the walls are "
             "the envelopes of a roller of radius roller_radius_mm + clearance / 2 on both sides of the pitch curve.",
-            ("profile",), default=DEFAULT_CLEARANCE),
+            ("profile",), default=DEFAULT_CLEARANCE, example=0.1),
         Key("groove_depth_mm", Length(high=1e4), "Depth of the groove below the plate's top face (< thickness_mm; default: "
-            "half the thickness).", ("profile",)),
+            "half the thickness).", ("thickness",), example=6.0),
         Key("rim_radius_mm", Length(high=1e5), "Radius of the plate's rim (default: the outer wall's largest radius plus "
-            "min_wall_mm, rounded up to 0.5 mm).", ("profile",)),
+            "min_wall_mm, rounded up to 0.5 mm).", ("profile",), example=120.0),
     )
 
 
