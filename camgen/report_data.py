@@ -113,6 +113,7 @@ def _cam(cam: "CamResult", drawn: bool) -> "CamReport":
     return CamReport(
         name=cam.name,
         kind=cam.kind,
+        form=cam.spec.form,
         manufacturable=cam.manufacturable,
         withheld_files=tuple(cam.withheld),
         figures=_json_object(cam.figures),

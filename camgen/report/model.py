@@ -269,14 +269,15 @@ class SectionData:
 
 @dataclass(frozen=True)
 class CamReport:
-    """One cam: report.json's ``cams.<name>`` (kind, manufacturable, withheld files, figures,
-    checks) and what report.html draws besides (``rpm``, ``body``; ``plots``: None when the cam
+    """One cam: report.json's ``cams.<name>`` (kind: the motion, form: the cam form realising it,
+    manufacturable, withheld files, figures, checks) and what report.html draws besides (``rpm``, ``body``; ``plots``: None when the cam
     has no evaluation or the run writes no report.html; ``dynamics``; the kind's own part of the
     page: ``report_section``, the ``"module:function"`` drawing it ("": none), and its data,
     ``section``)."""
 
     name: str
     kind: str
+    form: str
     manufacturable: bool
     withheld_files: tuple[str, ...]
     figures: Mapping[str, JsonValue]
