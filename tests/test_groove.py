@@ -372,3 +372,49 @@ def test_every_groove_key_changes_what_it_documents(key_name, tmp_path):
     formats = ("dxf", "points", "ngc", "stl")
     machining = {"tool_diameter_mm": 8.0}
     _assert_effect(key, run(scene(base, formats, machining), tmp_path), run(scene(alt, formats, machining), tmp_path))
+
+
+def test_the_dynamics_find_the_crossovers_an_external_load_moves():
+    """A form-closed train: with a mass m, a constant load L against the lift and no gravity the
+    cam pushes q = L + m omega^2 s'' along +s; the load crosses from the inner wall (contact 1)
+    to the outer where q changes sign: on the cycloidal rise s'' = (2 pi H / beta^2) sin(2 pi x /
+    beta), at x = beta / (2 pi) (pi + asin(L / (m omega^2 2 pi H / beta^2))) and (2 pi - asin(...)),
+    and on the return where sin(2 pi x / beta) = +L / (...)."""
+    from camgen.pipeline import execute, plan_run
+    from camgen.scene import parse_scene
+
+    mass, load, rpm, lift, span = 2.0, 30.0, 300.0, 20.0, 120.0
+    data = {"output": {"formats": ["dxf"]}, "cams": {"g": {
+        "kind": "motion_law", "form": "groove", "follower": "roller", "roller_radius_mm": 10.0, "base_radius_mm": 50.0, "rpm": rpm,
+        "mass_kg": mass, "external_load_n": load, "gravity": False,
+        "segments": [{"law": "cycloidal", "span_deg": span, "lift_mm": lift}, {"law": "dwell", "span_deg": 60.0},
+                     {"law": "cycloidal", "span_deg": span, "lift_mm": -lift}, {"law": "dwell", "span_deg": 60.0}]}}}
+    scene = parse_scene(data, "g")
+    (cam,) = execute(scene, plan_run(scene)).cams
+    check = next(c for c in cam.checks if c.name == "contact_force")
+    omega, beta = TWO_PI * rpm / 60.0, math.radians(span)
+    peak = mass * omega**2 * 2 * math.pi * lift / beta**2 * 1e-3  # N: the largest inertia force
+    x = beta / TWO_PI * (math.pi + math.asin(load / peak))
+    # the rise: q < 0 where sin(2 pi x / beta) < -L / peak; the return (s'' of the opposite sign): where sin > L / peak
+    expected = sorted([math.degrees(x), math.degrees(beta / TWO_PI * (2 * math.pi - math.asin(load / peak))),
+                       180.0 + math.degrees(beta / TWO_PI * math.asin(load / peak)),
+                       180.0 + math.degrees(beta / TWO_PI * (math.pi - math.asin(load / peak)))])
+    got = sorted(check.where_deg)
+    assert len(got) == 4, check.note
+    assert np.allclose(got, expected, atol=0.11), (got, expected)  # the dynamics grid is 0.1 deg
+    assert "crosses from one contact to the other" in check.note
+
+
+def test_springs_are_refused_on_a_groove(tmp_path):
+    import subprocess
+    import sys
+
+    table = {"kind": "motion_law", "form": "groove", "follower": "roller", "roller_radius_mm": 10.0, "base_radius_mm": 50.0,
+             "rpm": 100.0, "mass_kg": 1.0, "spring_rate_n_per_mm": 2.0,
+             "segments": [{"law": "cycloidal", "span_deg": 180.0, "lift_mm": 20.0}, {"law": "cycloidal", "span_deg": 180.0, "lift_mm": -20.0}]}
+    path = tmp_path / "spring.toml"
+    path.write_text(scene_toml({"output": {"formats": ["dxf"]}, "cams": {"g": table}}), encoding="utf-8")
+    run = subprocess.run([sys.executable, "-m", "camgen", "run", str(path), "--out", str(tmp_path / "out")], capture_output=True,
+                         text=True)
+    assert run.returncode == 2
+    assert "cams.g.spring_rate_n_per_mm" in run.stderr and "groove is form-closed" in run.stderr

@@ -37,7 +37,8 @@ if TYPE_CHECKING:
     from camgen.checks import CamEvaluation, CheckResult
     from camgen.contour import Contour
 
-__all__ = ["DEFAULT_CLEARANCE", "GrooveCam", "GrooveParams", "build_groove", "evaluate_groove", "groove_keys", "groove_spec"]
+__all__ = ["DEFAULT_CLEARANCE", "GrooveCam", "GrooveParams", "build_groove", "evaluate_groove", "groove_keys", "groove_kinematics",
+           "groove_spec"]
 
 #: Default ``groove_clearance_mm``: the groove's width less the roller's diameter (mm); a running
 #: fit for a track roller (a few hundredths of a millimetre).
@@ -434,3 +435,29 @@ def evaluate_groove(cam: Any, spec: CamSpec, tool_radius: float, tool_is_limit: 
                          curvature_label="radius of curvature of the pitch curve (mm, < 0 concave); the walls need |radius| > w",
                          curvature_limit=cam.half_width, curvature_angle_label="cam angle (deg)", follower_drawing=cam.drawing,
                          animation=cam.animation)
+
+
+def groove_kinematics(cam: Any, spec: CamSpec) -> tuple[Any, float]:
+    """The dynamics kinematics of a groove cam: a form-closed train whose contact 1 is the inner
+    wall (radius of curvature rho - w, rho the pitch curve's, signed > 0 convex) and contact 2
+    the outer wall (seen from the roller inside the groove: radius -(rho + w), concave where the
+    pitch curve is convex), both along the one normal through the roller centre (the same
+    pressure angle), each against the roller of radius r (:func:`camgen.kinds.dynamics.disk_kinematics`)."""
+    from camgen import dynamics as dy
+    from camgen.kinds.dynamics import _kinematics
+
+    assert isinstance(cam, GrooveCam), f"a groove cam's dynamics on a {type(cam).__name__}"
+    f, k, w = cam.roller, cam.envelope.data, cam.half_width
+    rho = k.pitch_radius
+    assert rho is not None
+    if f.motion == "translating":
+        direction: Any = math.pi / 2
+        arm = 0.0
+    else:
+        direction = k.arm_angle + f.tau * math.pi / 2  # the roller centre moves along tau J u(arm angle)
+        arm = f.arm_length
+    with np.errstate(invalid="ignore"):
+        inner, outer = rho - w, -(rho + w)  # inf where the pitch curve is straight: inf - w = inf
+    kin = _kinematics(lambda: dy.Kinematics(k.theta, k.s, k.ds, k.d2s, k.pressure_angle, inner, f.roller_radius, direction,
+                                            pressure_angle_2=k.pressure_angle, rho_cam_2=outer, follower_radius_2=f.roller_radius))
+    return kin, arm
