@@ -148,6 +148,13 @@ def _max_radius(contour: "Contour") -> float:
     return float(np.max(np.hypot(pts[:, 0], pts[:, 1]))) + RADIUS_CHORD_TOL
 
 
+def _pieces(contour: "Contour") -> int:
+    """Spline pieces of a wall (the envelopes are quintic splines)."""
+    from camgen.contour import Spline
+
+    return int(sum(seg.n_pieces for seg in contour.segments if isinstance(seg, Spline)))
+
+
 def _rim(radius: float) -> "Contour":
     from camgen.contour import Arc, Contour
 
@@ -205,9 +212,7 @@ def build_groove(spec: CamSpec, stages: frozenset[str]) -> GrooveCam:
     contour = pockets = None
     if inner is not None and outer is not None:
         figures["fit_error_mm"] = fit_error
-        figures["groove"].update(inner_wall_pieces=int(sum(s.n_pieces for s in inner.segments)),
-                                 outer_wall_pieces=int(sum(s.n_pieces for s in outer.segments)),
-                                 groove_area_mm2=outer.area - inner.area)
+        figures["groove"].update(inner_wall_pieces=_pieces(inner), outer_wall_pieces=_pieces(outer), groove_area_mm2=outer.area - inner.area)
         contour = _rim(rim)
         figures["area_mm2"] = contour.area
         pockets = (Pocket("groove", (Wall(OUTER, outer), Wall(INNER, inner)), depth, width=2.0 * w, centre=disk.envelope.pitch,
@@ -221,6 +226,7 @@ def build_groove(spec: CamSpec, stages: frozenset[str]) -> GrooveCam:
         s0 = float(disk.law(np.zeros(1))[0][0])
         drawing = follower_shapes(roller, s0, size)
         walls = tuple(c.flatten(max(1e-3, 2e-4 * size)) for c in (outer, inner) if c is not None)
+        assert disk.zero_mark is not None  # a disk cam knows its cam angle 0
         animation = _animation(contour if contour is not None else disk.envelope.pitch, disk.zero_mark, roller, disk.law, size, None)
         if animation is not None:
             animation = replace(animation, walls=walls)
