@@ -47,13 +47,34 @@ def index() -> str:
             sub = getattr(key.type, "keys", None)
             if sub:
                 lines.append(f"  - each `[[cams.<name>.{key.name}]]`: {_names(sub)}")
+    for name, motions, keys in _other_forms():
+        lines.append(f"- `[cams.<name>]` with form = \"{name}\" (section {name}) and kind = {' or '.join(motions)}: `kind`, `form`, "
+                     f"the motion's own keys, {_names(keys)}")
     for name in job_names():
         lines.append(f"- `[mechanisms.{name}]` (section {name}): {_names(get_job(name).keys)}")
     return "\n".join(lines) + "\n"
 
 
+def _other_forms() -> list[tuple[str, list[str], tuple[Key, ...]]]:
+    """The forms with a law realisation that no motion has as its default (their keys replace the
+    default form's): name, the motions they realise, the form's keys."""
+    from camgen.forms import form_names, get_form
+    from camgen.kinds import forms_of, kind_names
+    from camgen.motions import get_motion
+
+    defaults = {get_motion(name).default_form for name in kind_names()}
+    out = []
+    for name in form_names():
+        form = get_form(name)
+        if form.read is None or name in defaults:
+            continue
+        out.append((name, [m for m in kind_names() if name in forms_of(m)], form.keys()))
+    return out
+
+
 def sections() -> dict[str, str]:
-    """Section name -> its Markdown text: "output", "machining", every kind, every mechanism."""
+    """Section name -> its Markdown text: "output", "machining", every kind, every form that is no
+    motion's default (its keys), every mechanism."""
     from camgen.jobs import get_job, job_names
     from camgen.kinds import get_kind, kind_names
     from camgen.outputs import OUTPUTS, machining_keys, output_keys
@@ -70,6 +91,12 @@ def sections() -> dict[str, str]:
             if sub:
                 text += f"\nEach `[[cams.<name>.{key.name}]]` table:\n\n{_table(sub)}"
         out[name] = text
+    for name, motions, keys in _other_forms():
+        from camgen.forms import get_form
+
+        kinds = ", ".join(f"`{m}`" for m in motions)
+        out[name] = (f"## [cams.<name>] with form = \"{name}\"\n\n{get_form(name).summary}.\n\nWith kind = {kinds}: `form` and the "
+                     f"motion's own keys (the motion's section), then these (instead of the default form's):\n\n{_table(keys)}")
     for name in job_names():
         job = get_job(name)
         out[name] = f"## [mechanisms.{name}]\n\n{job.summary}.\n\n{_table(job.keys)}"

@@ -112,7 +112,7 @@ def conjugate_keys() -> tuple[Key, ...]:
             key = replace(key, type=Choice(rollers), doc="Follower of both rollers (camgen.followers, rollers): " + ", ".join(rollers) + ".")
         elif key.name == "base_radius_mm":
             key = replace(key, doc="Radius of cam A where roller A touches at zero lift or swing (roller A's centre on the prime circle "
-                          "base + roller radius).", default=None)
+                          "base + roller radius). Required.", default=None)
         keys.append(key)
     return tuple(keys) + (
         Key("roller_b_distance_mm", Length(), "Translating pair: distance from roller A's centre to roller B's along the stem; roller "
