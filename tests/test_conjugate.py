@@ -457,3 +457,19 @@ def test_least_roller_distance_is_the_valid_limit():
     scene = parse_scene({"output": {"formats": ["dxf"]}, "cams": {"p": cam}}, "x")
     cams = compute(scene, plan_run(scene)).cams
     assert [c.name for c in cams] == ["p_a", "p_b"] and cams[1].figures["base_radius_mm"] > 0
+
+
+@pytest.mark.parametrize("base, key, value", [("t_ccw", "roller_b_distance_mm", 141.0), ("t_ccw", "roller_b_radius_mm", 9.0),
+                                              ("t_ccw", "conjugate_preload_mm", 0.01), ("o_ccw", "arm_b_angle_deg", -75.0),
+                                              ("o_ccw", "arm_b_length_mm", 97.0)])
+def test_roller_b_keys_change_cam_b_only(base, key, value):
+    """Each key of roller B changes cam B's profile (its DXF), and cam A's not at all."""
+    from camgen.pipeline import execute, plan_run
+    from camgen.scene import parse_scene
+
+    def files(cam):
+        scene = parse_scene({"output": {"formats": ["dxf"]}, "cams": {"p": cam}}, "x")
+        return execute(scene, plan_run(scene)).files
+
+    before, after = files(PAIRS[base]), files({**PAIRS[base], key: value})
+    assert before["p_a.dxf"] == after["p_a.dxf"] and before["p_b.dxf"] != after["p_b.dxf"]
