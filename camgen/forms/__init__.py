@@ -16,6 +16,7 @@ FORM_MODULES: dict[str, str] = {
     "plate": "camgen.forms.plate",
     "constant_breadth": "camgen.forms.constant_breadth",
     "groove": "camgen.forms.groove",
+    "conjugate": "camgen.forms.conjugate",
 }
 
 _REGISTRY: Registry[CamForm] = Registry(FORM_MODULES, "FORM")
