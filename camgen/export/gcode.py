@@ -42,6 +42,11 @@ within ``sqrt(2)/2 * 10^-decimals`` of its value; an arc, whose centre and both 
 printed, within three times that) and ``BLEND_SHARE`` for LinuxCNC's path blending
 (``G64 P``).  ``decimals`` too coarse for ``chord_tol`` is a :class:`ParameterError`.
 
+Pockets.  A cam with pockets (a groove cam's groove, :class:`camgen.kinds.base.Pocket`) has them
+milled first, to their depth, while the stock still holds the part; then its outline as above
+(:mod:`camgen.export.gcode_pockets`: one pass along the pitch curve with a tool of the groove's
+width, or two wall passes and the slot cleared with a smaller one; the header says which).
+
 A concave radius of the profile smaller than the tool radius would be gouged: that is a
 :class:`GeometryError` naming the cam angle.  Z = 0 is the top face of the stock.
 """
@@ -50,12 +55,16 @@ from __future__ import annotations
 import io
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
 
 from camgen.contour import Arc, Contour, Spline
 from camgen.errors import CornerError, GeometryError, ParameterError, ceil_significant, require_finite, require_positive
 from camgen.export.tables import format_rows
+
+if TYPE_CHECKING:
+    from camgen.kinds.base import Pocket
 
 DIALECTS = ("linuxcnc", "grbl")
 DIRECTIONS = ("climb", "conventional")
@@ -284,7 +293,7 @@ def _line_tolerance(contour: Contour, spec: MachiningSpec) -> float:
     return fit * scale
 
 
-def _primitives(contour: Contour, spec: MachiningSpec) -> list[tuple]:
+def primitives(contour: Contour, spec: MachiningSpec) -> list[tuple]:
     """Counter-clockwise primitives: ('arc', Arc) or ('lines', points (n, 2) excluding the start)."""
     if spec.spline_mode == "biarcs" and any(not isinstance(s, Arc) for s in contour.segments):
         from camgen.contour.arcspline import to_arc_spline
@@ -301,7 +310,7 @@ def _primitives(contour: Contour, spec: MachiningSpec) -> list[tuple]:
     return out
 
 
-def _reverse(prims: list[tuple], start: np.ndarray) -> list[tuple]:
+def reverse_primitives(prims: list[tuple], start: np.ndarray) -> list[tuple]:
     """The same closed path travelled the other way round (clockwise), from the same start."""
     out: list[tuple] = []
     ends = [start] + [p[1].end_point if p[0] == "arc" else p[1][-1] for p in prims[:-1]]
@@ -340,44 +349,60 @@ def _check_compensated_arcs(prims: list[tuple], spec: MachiningSpec) -> None:
 # ------------------------------------------------------------------------------------------
 # writing
 # ------------------------------------------------------------------------------------------
-class _Writer:
+class MoveWriter:
     """Moves printed from the printed current point: I/J from printed values, zero-length moves
-    dropped, arcs too short to print safely written as lines."""
+    dropped, arcs too short to print safely written as lines.  A move given ``z`` also prints its
+    Z word (a ramp: lines with Z, helical G2/G3)."""
 
-    def __init__(self, decimals: int, start: np.ndarray) -> None:
+    def __init__(self, decimals: int, start: np.ndarray, z: float | None = None) -> None:
         self.d = decimals
         self.unit = 10.0 ** (-decimals)
         self.current = self.round(start)
+        self.z = None if z is None else self.round_z(z)
         self.out = io.StringIO()
 
     def round(self, p: np.ndarray) -> np.ndarray:
         return np.round(np.asarray(p, dtype=float), self.d) + 0.0
 
+    def round_z(self, z: float) -> float:
+        return round(float(z), self.d) + 0.0
+
     def xy(self, p: np.ndarray) -> str:
         return f"X{p[0]:.{self.d}f} Y{p[1]:.{self.d}f}"
 
-    def line(self, p: np.ndarray, prefix: str = "") -> None:
+    def _z_word(self, z: float | None) -> str:
+        if z is None:
+            return ""
+        self.z = self.round_z(z)
+        return f" Z{self.z:.{self.d}f}"
+
+    def line(self, p: np.ndarray, prefix: str = "", z: float | None = None) -> None:
         q = self.round(p)
-        if np.array_equal(q, self.current) and not prefix:
+        if np.array_equal(q, self.current) and not prefix and (z is None or self.round_z(z) == self.z):
             return
-        self.out.write(f"{prefix}G1 {self.xy(q)}\n")
+        self.out.write(f"{prefix}G1 {self.xy(q)}{self._z_word(z)}\n")
         self.current = q
 
-    def lines(self, points: np.ndarray) -> None:
+    def lines(self, points: np.ndarray, z: np.ndarray | None = None) -> None:
         q = self.round(points)
         keep = np.any(q != np.vstack([self.current[None], q[:-1]]), axis=1)
         q = q[keep]
         if len(q):
-            self.out.write(format_rows(q, f"G1 X%.{self.d}f Y%.{self.d}f"))
+            if z is None:
+                self.out.write(format_rows(q, f"G1 X%.{self.d}f Y%.{self.d}f"))
+            else:
+                zq = np.round(np.asarray(z, dtype=float)[keep], self.d) + 0.0
+                self.out.write(format_rows(np.column_stack([q, zq]), f"G1 X%.{self.d}f Y%.{self.d}f Z%.{self.d}f"))
+                self.z = float(zq[-1])
             self.current = q[-1]
 
-    def arc(self, arc: Arc) -> None:
+    def arc(self, arc: Arc, z: float | None = None) -> None:
         end = self.round(arc.end_point)
         centre = self.round(np.asarray(arc.center))
         chord = float(np.hypot(*(end - self.current)))
         sagitta = arc.radius * (1.0 - math.cos(min(abs(arc.sweep), math.pi) / 2.0))
         if chord < 100.0 * self.unit and sagitta <= math.sqrt(2.0) * self.unit:
-            self.line(end)  # within the rounding budget, and never misread as a full circle
+            self.line(end, z=z)  # within the rounding budget, and never misread as a full circle
             return
         # the sweep the control will run: from the printed start to the printed end about the printed centre
         a0 = math.atan2(self.current[1] - centre[1], self.current[0] - centre[0])
@@ -390,19 +415,35 @@ class _Writer:
             )
         ij = centre - self.current
         word = "G3" if arc.sweep > 0 else "G2"
-        self.out.write(f"{word} {self.xy(end)} I{ij[0]:.{self.d}f} J{ij[1]:.{self.d}f}\n")
+        self.out.write(f"{word} {self.xy(end)}{self._z_word(z)} I{ij[0]:.{self.d}f} J{ij[1]:.{self.d}f}\n")
         self.current = end
 
     def text(self) -> str:
         return self.out.getvalue()
 
 
-def _comment(text: str) -> str:
+def loop_moves(prims: list[tuple], start: np.ndarray, decimals: int) -> str:
+    """The moves of the closed path ``prims`` from ``start`` back to it (XY only: the Z of the
+    pass is modal).  Raises :class:`GeometryError` when the written path does not close."""
+    writer = MoveWriter(decimals, start)
+    for kind, item in prims:
+        if kind == "arc":
+            writer.arc(item)
+        else:
+            writer.lines(item)
+    gap = float(np.hypot(*(writer.current - writer.round(start))))
+    if gap > 1e-4:
+        raise GeometryError(f"the written contour does not close: it ends {gap:.3g} mm from its start")
+    writer.line(start)  # a gap of the offset's closure tolerance, if any
+    return writer.text()
+
+
+def comment(text: str) -> str:
     """An RS274 comment: parentheses cannot nest, so they are replaced in the text."""
     return "(" + text.replace("(", "[").replace(")", "]") + ")"
 
 
-def _blend_word(tol: float, decimals: int) -> str:
+def blend_word(tol: float, decimals: int) -> str:
     """``P`` value of ``G64`` printed rounded down (P0 would mean no tolerance at all)."""
     for k in range(decimals, decimals + 6):
         value = math.floor(tol * 10**k) / 10**k
@@ -439,12 +480,23 @@ def _refuse_long_program(spec: MachiningSpec, depth: float, n_passes: int, moves
                          coarser, why)
 
 
-def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene: str = "", thickness: float | None = None) -> str:
+def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene: str = "", thickness: float | None = None,
+                  pockets: "Sequence[Pocket]" = ()) -> str:
     """RS274/NGC program text that mills ``contour`` (the cam profile) to ``thickness`` (mm; the
     cam's, default ``spec.thickness``) plus ``spec.breakthrough``, with tangent lead-in and
     lead-out (see the module docstring).  ``spec`` is final (the scene reader checked it against
-    its chord tolerance and the cam's depth): it is used as it is."""
+    its chord tolerance and the cam's depth): it is used as it is.
+
+    ``pockets`` (a groove cam's groove) are milled first, to their depth, while the stock still
+    holds the part (:mod:`camgen.export.gcode_pockets`: one pass along the pitch curve, or two
+    wall passes and the slot cleared); then the outline as without them."""
     from camgen import __version__
+
+    pocketed = None
+    if pockets:
+        from camgen.export.gcode_pockets import pocket_program
+
+        pocketed = pocket_program(pockets, spec)
 
     comp = spec.cutter_compensation
     # the start is chosen on the profile; the offset keeps the parameter (arcs: same angles,
@@ -452,7 +504,7 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     t_start = start_parameter(contour, "cutter_compensation" if comp else "lead")
     offset = tool_path(contour, spec)  # in compensation mode still refuses a gouging tool
     path = rotate(contour if comp else offset, t_start)
-    prims = _primitives(path, spec)
+    prims = primitives(path, spec)
     if comp:
         _check_compensated_arcs(prims, spec)
     start = path.segments[0].start_point
@@ -460,7 +512,7 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     normal = np.array([tangent[1], -tangent[0]])  # outward
     climb = spec.direction == "climb"
     if climb:
-        prims = _reverse(prims, start)
+        prims = reverse_primitives(prims, start)
     travel = -tangent if climb else tangent
     r, lead = spec.tool_radius, spec.lead_length
     centre_start = start + r * normal if comp else start  # S': the tool centre at the start
@@ -473,17 +525,7 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
         a_point = start - (lead - entry) * travel
         b_point = start + 0.5 * lead * travel
 
-    writer = _Writer(spec.decimals, start)
-    for kind, item in prims:
-        if kind == "arc":
-            writer.arc(item)
-        else:
-            writer.lines(item)
-    gap = float(np.hypot(*(writer.current - writer.round(start))))
-    if gap > 1e-4:
-        raise GeometryError(f"the written contour does not close: it ends {gap:.3g} mm from its start")
-    writer.line(start)  # a gap of the offset's closure tolerance, if any
-    contour_moves = writer.text()
+    contour_moves = loop_moves(prims, start, spec.decimals)
 
     d = spec.decimals
 
@@ -494,11 +536,13 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     depth = stock + spec.breakthrough
     n_passes = max(1, math.ceil(depth / spec.step_down - 1e-9))
     moves = contour_moves.count("\n") + 6  # + plunge, feed down, lead-in (2), lead-out (2)
+    if pocketed is not None:  # the pockets' levels count as passes of the same length on average
+        moves += -(-pocketed.count // n_passes)
     if n_passes * moves > MAX_PROGRAM_MOVES:
         _refuse_long_program(spec, depth, n_passes, moves)
     depths = -np.minimum(spec.step_down * np.arange(1, n_passes + 1), depth)
     chord_tol = spec.chord_tol
-    blend = _blend_word(BLEND_SHARE * chord_tol, d)
+    blend = blend_word(BLEND_SHARE * chord_tol, d)
     if comp:
         # G41: tool left of the travel direction = outside of a clockwise (climb) path
         side = "G41.1" if climb else "G42.1"
@@ -511,21 +555,25 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
         mode = "tool-centre path = profile offset by the tool radius"
     fit_what = "biarc" if spec.spline_mode == "biarcs" else "chord"
     lines = [
-        _comment(f"camgen {__version__}: cam '{cam}'" + (f", scene '{scene}'" if scene else "")),
-        _comment(f"units mm; tool diameter {spec.tool_diameter:g}; {mode}; {spec.direction} milling, outside contour"),
-        _comment(f"stock top Z0, bottom Z{-stock:g}; last pass Z{-depth:g} = {spec.breakthrough:g} below the stock bottom "
+        comment(f"camgen {__version__}: cam '{cam}'" + (f", scene '{scene}'" if scene else "")),
+        comment(f"units mm; tool diameter {spec.tool_diameter:g}; {mode}; {spec.direction} milling, outside contour"),
+        comment(f"stock top Z0, bottom Z{-stock:g}; last pass Z{-depth:g} = {spec.breakthrough:g} below the stock bottom "
                  f"(breakthrough); {n_passes} passes of <= {spec.step_down:g}"),
-        _comment(f"path tolerance {chord_tol:g} = {fit_what} fit {FIT_SHARE * chord_tol:.3g} + offset refit "
+        comment(f"path tolerance {chord_tol:g} = {fit_what} fit {FIT_SHARE * chord_tol:.3g} + offset refit "
                  f"{min(1e-6, REFIT_SHARE * chord_tol):.3g} "
                  f"+ {d} printed decimals {rounding_error(d):.3g}"
                  + (f" + G64 blending {blend}" if spec.dialect == "linuxcnc" else "")),
-        _comment(f"tangent lead-in and lead-out of {lead:g} at tool-centre point {xy(centre_start)}, plunge at {xy(plunge)}"),
-        "G21 G90 G17 G40 G49 G80 G94",
+        comment(f"tangent lead-in and lead-out of {lead:g} at tool-centre point {xy(centre_start)}, plunge at {xy(plunge)}"),
     ]
+    if pocketed is not None:
+        lines += list(pocketed.header)
+    lines.append("G21 G90 G17 G40 G49 G80 G94")
     if spec.dialect == "linuxcnc":
         lines.append(f"G64 P{blend}")
     lines += [f"G0 Z{spec.safe_z:.{d}f}", f"M3 S{spec.spindle_rpm:.0f}"]
     body = ["\n".join(lines) + "\n"]
+    if pocketed is not None:
+        body.append(pocketed.moves)
     for k, z in enumerate(depths, 1):
         body.append(
             f"(pass {k} of {n_passes}: Z{z:.{d}f})\n"
