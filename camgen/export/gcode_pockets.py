@@ -247,15 +247,15 @@ def pocket_program(pockets: Sequence["Pocket"], spec: MachiningSpec) -> PocketPr
         loop_length = float(sum(float(x.sum()) for x in _lengths(first_prims, first_start)))
         steepest = max(float(-levels[0]), float(np.max(-np.diff(levels), initial=0.0)))
         walls = ", ".join(w.layer for w in pocket.walls)
-        how = (f"{plan.strategy}: tool diameter = width within {one_pass_tol(spec):.3g} (each wall within half the difference)"
+        how = (f"{plan.strategy}: tool diameter = width within {one_pass_tol(spec):.3g}, each wall within half the difference"
                if plan.strategy == ONE_PASS else
                f"{plan.strategy}: {len(plan.passes) - 2} clearing passes at stepover {plan.stepover:.4g} "
-               f"(<= {SLOT_STEPOVER:g} x tool diameter), then a finishing pass along each wall, tool centre {spec.tool_radius:g} into the pocket")
+               f"<= {SLOT_STEPOVER:g} x tool diameter, then a finishing pass along each wall, tool centre {spec.tool_radius:g} into the pocket")
         header += [
-            comment(f"pocket '{pocket.name}' (walls {walls}), width {pocket.width:g}, depth {pocket.depth:g}: {how}"),
+            comment(f"pocket '{pocket.name}', walls {walls}, width {pocket.width:g}, depth {pocket.depth:g}: {how}"),
             comment(f"pocket '{pocket.name}': tool-centre paths, {spec.direction} milling; {n_levels} levels of <= {spec.step_down:g} "
                     f"down to Z{-pocket.depth:g}; entry: a ramp along the first pass, one loop from the previous level "
-                    f"(at most {math.degrees(math.atan2(steepest, loop_length)):.3g} deg), no plunge into the stock"),
+                    f"at {math.degrees(math.atan2(steepest, loop_length)):.3g} deg at most, no plunge into the stock; pockets first, then the outline"),
         ]
         joins = [f"G1 X{s[0]:.{d}f} Y{s[1]:.{d}f}\n" for s, _ in loops]
         for k, z in enumerate(levels, 1):
