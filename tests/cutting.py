@@ -295,9 +295,14 @@ def simulate_pockets(program: str, outline, walls: dict, tool_radius: float, wor
     chains = _passes(canon)
     inside = [part.contains(np.asarray(chain[0]["end"][:2])) for chain in chains]
     order = ["pocket" if i else "outline" for i in inside]
+    cache: dict[bytes, tuple[float, float, bool]] = {}
     for chain in (c for c, i in zip(chains, inside) if not i):
+        xy = [np.concatenate([m["start"][:2], m["end"][:2], m.get("centre", np.zeros(2)), [m.get("turn", 0)]]) for m in chain]
+        key = np.round(np.concatenate(xy), 6).tobytes()
+        if key not in cache:  # passes with the same XY moves cut the same way
+            cache[key] = _check_pass(chain, part, tool_radius, step)
         z = min(min(m["start"][2], m["end"][2]) for m in chain)
-        report.passes.append(PassReport(z, *_check_pass(chain, part, tool_radius, step), moves=len(chain)))
+        report.passes.append(PassReport(z, *cache[key], moves=len(chain)))
     outline_moves = [m for c, i in zip(chains, inside) if not i for m in c]
     report.deepest = min((min(m["start"][2], m["end"][2]) for m in outline_moves), default=0.0)
     for move in canon:
@@ -310,8 +315,10 @@ def simulate_pockets(program: str, outline, walls: dict, tool_radius: float, wor
     profiles = {layer: ExactProfile(wall) for layer, wall in walls.items()}
     samples = [sample_moves(chain, step, with_z=True) for chain in pocket_chains]
     reach = tool_radius + 1.0
-    gouge = {layer: tool_radius - min(_least_distance(p, mv, h, rho, prof, reach) for p, mv, h, rho, _ in samples)
-             for layer, prof in profiles.items()}
+    least: dict[bytes, list[float]] = {}  # levels with the same XY moves come as close to the walls
+    for pts, mv, h, rho, _ in samples:
+        least.setdefault(np.round(pts, 6).tobytes(), [_least_distance(pts, mv, h, rho, prof, reach) for prof in profiles.values()])
+    gouge = {layer: tool_radius - min(v[k] for v in least.values()) for k, layer in enumerate(profiles)}
     pts = np.concatenate([s[0] for s in samples])
     z = np.concatenate([s[4] for s in samples])
     cutting = z < 0.0

@@ -84,7 +84,7 @@ def groove(shape: str) -> tuple[Pocket, dict, callable]:
     splines = {k: Contour([Spline.interpolate(theta, point + side * WIDTH / 2 * normal)]) for k, side in (("GROOVE_OUTER", 1), ("GROOVE_INNER", -1))}
     centre = Contour([Spline.interpolate(theta, point)])
     pocket = Pocket("groove", tuple(Wall(k, v) for k, v in splines.items()), DEPTH, WIDTH, centre, CLEARANCE)
-    dense = np.linspace(0, 2 * math.pi, 400_001)[:-1]
+    dense = np.linspace(0, 2 * math.pi, 100_001)[:-1]
     p, n, rho = trefoil_groove(dense)
     walls = {}
     for layer, side in (("GROOVE_OUTER", 1), ("GROOVE_INNER", -1)):
