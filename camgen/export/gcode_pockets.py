@@ -46,15 +46,18 @@ import numpy as np
 
 from camgen.contour import Arc
 from camgen.errors import GeometryError, ParameterError, floor_significant
-from camgen.export.gcode import (REFIT_SHARE, START_SAMPLING, MachiningSpec, MoveWriter, comment, depth_passes, loop_moves,
-                                 primitives, reverse_primitives, rotate)
+from camgen.export.gcode_moves import START_SAMPLING, MoveWriter, comment, loop_moves, primitives, reverse_primitives, rotate
+from camgen.export.gcode_spec import REFIT_SHARE, MachiningSpec, depth_passes
 
 if TYPE_CHECKING:
     from camgen.contour import Contour
     from camgen.kinds.base import Pocket
 
+__all__ = ["ONE_PASS", "ONE_PASS_SHARE", "SLOT_STEPOVER", "TWO_WALLS", "PocketPass", "PocketPlan", "PocketProgram", "least_concave_radius",
+           "one_pass_tol", "plan_pocket", "pocket_program", "ramp_moves"]
+
 #: Share of ``chord_tol`` the one-pass strategy spends on the tool's mismatch with the width:
-#: the path is the centre itself, so the offset-refit share (:data:`camgen.export.gcode.REFIT_SHARE`)
+#: the path is the centre itself, so the offset-refit share (:data:`camgen.export.gcode_spec.REFIT_SHARE`)
 #: is free; each wall moves by half the mismatch.
 ONE_PASS_SHARE = REFIT_SHARE
 #: Largest stepover between neighbouring passes clearing a slot, as a fraction of the tool
