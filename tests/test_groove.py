@@ -418,3 +418,38 @@ def test_springs_are_refused_on_a_groove(tmp_path):
                          text=True)
     assert run.returncode == 2
     assert "cams.g.spring_rate_n_per_mm" in run.stderr and "groove is form-closed" in run.stderr
+
+
+@pytest.mark.parametrize("tool, strategy", [(20.05, "one pass along the pitch curve"), (16.0, "two wall passes, slot cleared")])
+def test_the_program_cuts_both_exact_walls(tool, strategy, tmp_path):
+    """The G-code of a groove cam made by the pipeline (the groove_cam template's design), run
+    by rs274 and swept over the stock (tests/cutting.py): both walls within CUT_TOL of the exact
+    walls (no gouge, nothing left proud), every cut between them, the rim cut as a plate's
+    outline; with a tool as wide as the groove (one pass) and a narrower one (wall passes)."""
+    from cutting import CUT_TOL, simulate_pockets
+    from helpers import require_tool
+
+    from camgen.pipeline import execute, plan_run
+    from camgen.scene import parse_scene
+
+    require_tool("rs274")
+    data = {"output": {"formats": ["ngc"]}, "machining": {"tool_diameter_mm": tool, "step_down_mm": 4.0},
+            "cams": {"track": {"kind": "motion_law", "form": "groove", "follower": "roller", "roller_radius_mm": 10.0,
+                               "base_radius_mm": 50.0, "groove_depth_mm": 8.0, "thickness_mm": 12.0,
+                               "segments": [{"law": "cycloidal", "span_deg": 120.0, "lift_mm": 20.0}, {"law": "dwell", "span_deg": 60.0},
+                                            {"law": "cycloidal", "span_deg": 120.0, "lift_mm": -20.0},
+                                            {"law": "dwell", "span_deg": 60.0}]}}}
+    scene = parse_scene(data, "g")
+    result = execute(scene, plan_run(scene))
+    (cam,) = result.cams
+    program = result.files["track.ngc"]
+    assert strategy in program
+    walls = {"GROOVE_OUTER": cam.built.outer_wall, "GROOVE_INNER": cam.built.inner_wall}
+    report = simulate_pockets(program, cam.contour, walls, tool / 2, tmp_path)
+    assert report.outline.status == 0, report.outline.message
+    pocket = report.pocket
+    assert pocket is not None and pocket.between
+    for layer in walls:
+        assert pocket.gouge[layer] <= CUT_TOL and pocket.proud[layer] <= CUT_TOL, (layer, pocket.gouge, pocket.proud)
+    assert pocket.deepest == -8.0
+    assert report.outline.gouge <= CUT_TOL and report.outline.proud <= CUT_TOL
