@@ -216,16 +216,17 @@ def read_follower(where: str, parsed: Mapping[str, Any]) -> tuple["FollowerSpec"
 
 
 def disk_spec(where: str, name: str, kind: str, parsed: Mapping[str, Any], law: Any, follower: "FollowerSpec", sizing: str,
-              law_figures: Mapping[str, Any], base_dir: Path | None = None) -> CamSpec:
+              law_figures: Mapping[str, Any], base_dir: Path | None = None, form_closed: bool = False) -> CamSpec:
     """The :class:`CamSpec` of a disk cam (no generic follower model: the kind checks its own),
-    with its follower train when the table gives one (:mod:`camgen.kinds.dynamics`)."""
+    with its follower train when the table gives one (:mod:`camgen.kinds.dynamics`; ``form_closed``:
+    the form holds the follower both ways, a groove)."""
     from camgen.kinds.base import read_body, read_checks
     from camgen.kinds.dynamics import read_dynamics
 
     params = DiskParams(law, follower, sizing, parsed["fit_tol"], parsed.get("face_half_length"), dict(law_figures), parsed.get("source"))
     body, checks = read_body(where, parsed), read_checks(parsed)
     dynamics = read_dynamics(where, parsed, motion=follower.motion, follower=follower.kind, rpm=checks.rpm, thickness=body.thickness,
-                             base_dir=base_dir)
+                             base_dir=base_dir, form_closed=form_closed)
     return CamSpec(name, kind, params, body, checks, None, dynamics)
 
 
