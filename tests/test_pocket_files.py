@@ -724,3 +724,78 @@ def test_lift_writer_refuses_a_slot_naming_the_wall():
 
     with pytest.raises(ParameterError, match=r"output\.formats.*walls SLOT.*wall SLOT: contour is not star-shaped"):
         lift(Cam(), RunSettings("x", Output(), None), "lift")
+
+
+# --------------------------------------------------------------------------------------------
+# The bundled groove cam (templates/groove_cam.toml)
+# --------------------------------------------------------------------------------------------
+def _cycloidal_pitch_length(prime: float, lift: float, samples: int = 400_000) -> float:
+    """Length (mm) of the pitch curve of a radial translating roller on the template's program:
+    polar radius prime + s over the turn, s cycloidal rise of ``lift`` over 120 deg, dwell 60,
+    cycloidal return over 120, dwell 60 (Norton eq. 8.6); the dense polygon (its chords fall
+    short of the curve by ~1e-9 relative)."""
+    theta = 2 * math.pi * np.arange(samples) / samples
+    beta = 2 * math.pi / 3
+    x = np.clip(theta / beta, 0, 1)
+    y = np.clip((theta - math.pi) / beta, 0, 1)
+    s = lift * (x - np.sin(2 * math.pi * x) / (2 * math.pi)) - lift * (y - np.sin(2 * math.pi * y) / (2 * math.pi))
+    p = (prime + s)[:, None] * np.stack([np.cos(theta), np.sin(theta)], axis=1)
+    return float(np.sum(np.hypot(*(np.roll(p, -1, axis=0) - p).T)))
+
+
+def test_groove_cam_template_files_are_the_pocketed_body(tmp_path):
+    """The bundled groove cam: the meshes and the STEP hold the plate of the rim's radius, less bore
+    and keyway, less the groove: the area between the offsets +-w of the pitch curve is 2 w L
+    (Steiner's formula, the walls simple curves), L from the closed-form law; the DXF's wall
+    layers and the point list's walls are the form's walls within the chord tolerance; admesh
+    reads the STL; the lift table has a column per wall; the FEA meshes are refused."""
+    import trimesh
+
+    from camgen.export.step import step_volume
+    from camgen.pipeline import execute, plan_run
+    from camgen.scene import load_template
+
+    scene = load_template("groove_cam")
+    result = execute(scene, plan_run(scene, ["dxf", "points", "lift", "stl", "3mf", "step"]))
+    (cam,) = result.cams
+    files = result.files
+    (groove,) = cam.pockets
+    body, tol = cam.body, scene.output.chord_tol
+    (rim,) = cam.contour.segments
+    assert isinstance(rim, Arc) and rim.center == (0.0, 0.0)
+    w = cam.figures["groove"]["wall_offset_mm"]
+    assert w == pytest.approx(10.0 + 0.05 / 2, abs=1e-12)  # roller radius + clearance / 2 (the template)
+    length = _cycloidal_pitch_length(60.0, 20.0)  # prime radius = base 50 + roller 10
+    exact = (math.pi * rim.radius**2 - hole_area(body)) * body.thickness - 2 * w * length * groove.depth
+    hole_perimeter = math.pi * body.bore_diameter + 2 * (body.keyway_depth + body.keyway_width)
+    bound = tol * ((2 * math.pi * rim.radius + hole_perimeter) * body.thickness + 2 * length * groove.depth) + 1e-7 * exact
+    mesh = trimesh.load(io.BytesIO(files["track.3mf"]), file_type="3mf", force="mesh")
+    assert mesh.is_watertight and mesh.is_volume and abs(mesh.volume - exact) <= bound
+    assert bound < 0.01 * 2 * w * length * groove.depth
+    assert abs(step_volume(files["track.step"]) - exact) <= 1e-6 * exact
+    doc = read_dxf(files["track.dxf"])
+    for wall in groove.walls:
+        assert_layer_is_the_curve(wall.contour, doc, wall.layer, tol)
+    loops = read_points(files["track_points.csv"])
+    assert list(loops) == ["PROFILE", "GROOVE_OUTER", "GROOVE_INNER"]
+    lift = np.loadtxt(io.StringIO(files["track_lift.csv"]), delimiter=",", skiprows=1)
+    # along a ray the walls are at least the width apart (each wall point is w from the pitch curve,
+    # which the ray crosses between them), within the walls' fit tolerance
+    assert np.all(lift[:, 3] - lift[:, 4] >= 2 * w - 1e-6)
+    path = tmp_path / "track.stl"
+    path.write_bytes(files["track.stl"])
+    out = admesh_clean(require_tool("admesh"), path)
+    assert float(re.search(r"Volume\s*:\s*([\d.]+)", out).group(1)) == pytest.approx(exact, rel=max(1e-6, len(mesh.faces) * 2.0**-24))
+
+
+def test_groove_cam_template_fea_is_refused_through_the_cli(tmp_path, capsys):
+    """`camgen run groove_cam.toml --only vtu`: exit 2, one line, nothing written."""
+    from camgen.cli import main
+    from camgen.scene import template_path
+
+    out = tmp_path / "out"
+    assert main(["run", str(template_path("groove_cam")), "-o", str(out), "--only", "vtu"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("camgen: error:") and "output.formats" in err[0] and "vtu" in err[0], err
+    assert "'track'" in err[0] and "GROOVE_OUTER" in err[0]
+    assert not out.exists() or not any(out.rglob("*"))
