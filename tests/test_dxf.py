@@ -142,9 +142,9 @@ def dxf_layer(doc, layer: str, per_span: int = 64):
         if e.dxf.layer != layer:
             continue
         kinds.append(e.dxftype())
-        if e.dxftype() == "ARC":
-            a0 = math.radians(e.dxf.start_angle)
-            sweep = math.radians((e.dxf.end_angle - e.dxf.start_angle) % 360.0)
+        if e.dxftype() in ("ARC", "CIRCLE"):  # a CIRCLE: a whole turn (a groove cam's rim, a circular wall)
+            a0 = math.radians(e.dxf.start_angle) if e.dxftype() == "ARC" else 0.0
+            sweep = math.radians((e.dxf.end_angle - e.dxf.start_angle) % 360.0) if e.dxftype() == "ARC" else 2 * math.pi
             arcs.append([e.dxf.center.x, e.dxf.center.y, e.dxf.radius, a0, sweep])
             t = a0 + sweep * np.linspace(0, 1, 200)
             points.append(np.stack([e.dxf.center.x + e.dxf.radius * np.cos(t), e.dxf.center.y + e.dxf.radius * np.sin(t)], 1))
@@ -291,6 +291,8 @@ def test_template_dxf_has_no_spline_and_reads_back_within_chord_tol(template, te
         path = tmp_path / f"{name}.dxf"
         path.write_text(text)
         assert_round_trip(cam.contour, doc, path, "PROFILE", tol)
+        for wall in (wall for pocket in cam.pockets for wall in pocket.walls):  # a groove's walls, each on its layer
+            assert_round_trip(wall.contour, doc, path, wall.layer, tol)
         if cam.pitch is not None:
             _, with_construction = construction_dxfs[template][1][name]
             path.write_text(with_construction)
@@ -403,6 +405,7 @@ def test_default_dxf_holds_only_what_is_cut(template, template_dxfs, constructio
         doc = read_dxf(text)
         body = cam.body
         cut = {"PROFILE"} | ({"BORE"} if body.bore_diameter > 0 else set()) | ({"KEYWAY"} if body.keyway_width > 0 else set())
+        cut |= {wall.layer for pocket in cam.pockets for wall in pocket.walls}  # a groove's walls are cut too
         assert {e.dxf.layer for e in doc.modelspace()} == cut
         assert defined_layers(doc) == cut | {"0"}
         _, with_construction = construction_dxfs[template][1][name]
