@@ -42,6 +42,8 @@ __all__ = ["BREADTH_TOL_FACTOR", "BreadthCam", "BreadthParams", "DIRECTIONS", "b
 BREADTH_TOL_FACTOR = 2.0
 #: Directions (uniform over the turn) in which the breadth or diameter is measured.
 DIRECTIONS = 3600
+#: Default pressure-angle limit of a yoke, rad (pressure_angle_limit_deg's documented default).
+YOKE_PRESSURE_LIMIT = math.radians(45.0)
 #: Largest |B - (2 Rb + C)| (relative to max(1, B)) when both base_radius_mm and the size are given.
 SIZE_AGREEMENT = 1e-9
 
@@ -67,7 +69,7 @@ def keys() -> tuple[Key, ...]:
     return (
         Key("follower", Choice(allowed), "Follower holding the cam from both sides, translating along +y through the cam axis: "
             + "; ".join(f"{n}, {get_follower(n).summary}" for n in faces) + " (constant breadth: breadth_mm); "
-            + "; ".join(f"{n}, two of {get_follower(n).summary}s on one follower" for n in rollers)
+            + "; ".join(f"{n}, two of them on one follower" for n in rollers)
             + " (constant diameter of the pitch curve: roller_spacing_mm).", ("profile",), default=faces[0] if faces else None,
             feeds=("kind",)),
         Key("half_turn", Flag(), "true: the motion gives the first half-turn (segments' spans add up to 180 deg; a lift table's rows "
@@ -197,7 +199,10 @@ def read_breadth(where: str, name: str, parsed: Mapping[str, Any], motion: "Moti
     figures = dict(reading.figures)
     disk = DiskParams(reading.law, follower, "none", parsed["fit_tol"], parsed.get("face_half_length"), figures, parsed.get("source"))
     params = BreadthParams(disk, kind, faces, float(size), constant, bool(parsed["half_turn"]))
-    return CamSpec(name, motion.name, params, read_body(where, parsed), read_checks(parsed), None, None)
+    checks = read_checks(parsed)
+    if faces and checks.pressure_angle_limit is None:  # the documented default of a yoke (pressure_angle_limit_deg)
+        checks = replace(checks, pressure_angle_limit=YOKE_PRESSURE_LIMIT)
+    return CamSpec(name, motion.name, params, read_body(where, parsed), checks, None, None)
 
 
 # --------------------------------------------------------------------------------------------
