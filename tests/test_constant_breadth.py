@@ -109,9 +109,22 @@ def exported():
     cams = {f"c{i}": {**_cam_table(*case), "fit_tol_mm": FIT_TOL} for i, case in enumerate(CASES)}
     result = _run({"output": {"formats": ["dxf", "points"], "dxf_splines": "bspline", "dxf_construction": True,
                               "chord_tol_mm": CHORD_TOL}, "cams": cams})
-    failed = [(cam, check.name) for cam, check in result.failed_checks()]
-    assert not failed, failed
-    return {name: data for name, data in result.files.items() if isinstance(data, str)}
+    files = {name: data for name, data in result.files.items() if isinstance(data, str)}
+    return files, [(cam, check.name) for cam, check in result.failed_checks()]
+
+
+def test_every_check_of_the_exported_cams_passes(exported):
+    """Every check passes, and report.json states the size: 2 base + C (yoke), 2 (base + roller) + C."""
+    import json
+
+    assert exported[1] == []
+    cams = json.loads(exported[0]["report.json"])["cams"]
+    for index, (follower, _, _, _) in enumerate(CASES):
+        figures = cams[f"c{index}"]["figures"]
+        if follower == "yoke":
+            assert figures["breadth_mm"] == pytest.approx(2 * BASE + LIFT, abs=1e-12)
+        else:
+            assert figures["roller_spacing_mm"] == pytest.approx(2 * (BASE + ROLLER) + LIFT, abs=1e-12)
 
 
 def _contact(follower, cam, theta, sigma, polygon=False):
@@ -132,7 +145,8 @@ def test_both_faces_or_rollers_ride_the_exported_cam(exported, index, source):
     follower, rotation, half, shape = CASES[index]
     sigma = 1.0 if rotation == "ccw" else -1.0
     name = f"c{index}"
-    cam = bspline_contour(exported[f"{name}.dxf"]) if source == "dxf" else csv_points(exported[f"{name}_points.csv"])
+    files = exported[0]
+    cam = bspline_contour(files[f"{name}.dxf"]) if source == "dxf" else csv_points(files[f"{name}_points.csv"])
     theta = np.linspace(0.0, TWO_PI, 1441)[:-1]
     s = required_lift(theta, D(DWELL0), D(RISE), LIFT, shape)
     rest = BASE if follower == "yoke" else BASE + ROLLER
@@ -159,7 +173,7 @@ def test_the_exported_breadth_and_diameter_are_constant(exported):
     psi = TWO_PI * np.arange(3600) / 3600
     reached = {}
     for index, (follower, _, _, _) in enumerate(CASES):
-        text = exported[f"c{index}.dxf"]
+        text = exported[0][f"c{index}.dxf"]
         if follower == "yoke":
             cam = bspline_contour(text)
             err = np.abs(cam.support(psi) + cam.support(psi + math.pi) - (2 * BASE + LIFT))
