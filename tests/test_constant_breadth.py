@@ -231,6 +231,31 @@ def test_a_half_turn_lift_table_is_the_whole_table_mirrored(tmp_path):
     assert np.max(np.abs(s + half(theta + math.pi)[0] - 12.0)) <= 1e-9
 
 
+@pytest.mark.parametrize("law", ["cycloidal", "double_harmonic", "simple_harmonic", "modified_trapezoid", "modified_sine",
+                                 "modified_cycloidal", "poly345", "poly4567", "constant_velocity", "polynomial"])
+def test_every_law_of_a_half_turn_program_completes_by_the_rule(law):
+    """A half-turn program of each law (a rise of 15 mm over 100 deg between dwells; constant
+    velocity with blends 0.25; a polynomial from rest to rest with a jerk at its ends): the law over
+    the whole turn keeps s(theta) + s(theta + 180 deg) = 15 mm and s'(theta) + s'(theta + 180 deg)
+    = 0 (this test's own comparison on 7200 angles), and its second half is not the first."""
+    from camgen.scene import parse_scene
+
+    rise = {"law": law, "span_deg": 100.0, "lift_mm": 15.0}
+    if law == "constant_velocity":
+        rise["blend"] = 0.25
+    if law == "polynomial":
+        rise = {"law": law, "span_deg": 100.0, "start": [0.0, 0.0, 0.0, 0.001], "end": [15.0, 0.0, 0.0, 0.002]}
+    table = {"kind": "motion_law", "form": "constant_breadth", "half_turn": True, "base_radius_mm": 60.0,
+             "segments": [{"law": "dwell", "span_deg": 20.0}, rise, {"law": "dwell", "span_deg": 60.0}]}
+    scene = parse_scene({"cams": {"h": table}}, "t")
+    program = scene.cams[0].params.disk.law
+    theta = np.linspace(0.0, math.pi, 3600, endpoint=False)
+    s0, v0, _, _ = program(theta)
+    s1, v1, _, _ = program(theta + math.pi)
+    assert np.max(np.abs(s0 + s1 - 15.0)) <= 1e-9 and np.max(np.abs(v0 + v1)) <= 1e-9
+    assert np.max(np.abs(s1 - s0)) > 1.0
+
+
 # --------------------------------------------------------------------------------------------
 # The three-arc cam (paper 000)
 # --------------------------------------------------------------------------------------------

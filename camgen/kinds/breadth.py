@@ -166,8 +166,9 @@ def read_breadth(where: str, name: str, parsed: Mapping[str, Any], motion: "Moti
     radius = 0.0 if faces else model.radius(parsed)
     size_key = "breadth" if faces else "roller_spacing"
     size_name = f"{size_key}_mm"
-    base, size = parsed.get("base_radius"), parsed.get(size_key)
-    if base is None and size is None:
+    given_base: float | None = parsed.get("base_radius")
+    given_size: float | None = parsed.get(size_key)
+    if given_base is None and given_size is None:
         raise ParameterError(f"{where}.base_radius_mm", None, "a length in mm", f"required unless {size_name} gives it")
     # the upper face is a flat face (the registered follower with a face contact), the upper roller this roller
     envelope_kind = follower_names(("face",))[0] if faces else kind
@@ -176,20 +177,23 @@ def read_breadth(where: str, name: str, parsed: Mapping[str, Any], motion: "Moti
         return renamed(where, keys(), lambda: FollowerSpec(kind=envelope_kind, base_radius=rb, roller_radius=radius,
                                                            rotation=parsed["rotation"]))
 
-    follower = spec(base if base is not None else 1.0)  # the base radius follows from the size below
+    follower = spec(given_base if given_base is not None else 1.0)  # the base radius follows from the size below
     reading = _law_reading(where, parsed, motion, follower, base_dir)
     from camgen.synthesis.breadth import rule_constant
 
     constant = rule_constant(reading.law)
     extra = 2.0 * radius + constant  # size = 2 base + extra
-    if base is None:
-        base = 0.5 * (size - extra)
+    if given_base is None:
+        assert given_size is not None  # one of the two is given (above)
+        size, base = given_size, 0.5 * (given_size - extra)
         if not base > 0:
             raise ParameterError(f"{where}.{size_name}", size, f"> {extra:.9g} mm ({'' if faces else '2 roller_radius_mm + '}C, "
                                  f"C = s(0) + s(180 deg) = {constant:.9g} mm)", "the base radius, (size - that) / 2, would be <= 0")
-    elif size is None:
-        size = 2.0 * base + extra
-    elif abs(size - (2.0 * base + extra)) > SIZE_AGREEMENT * max(1.0, abs(size)):
+    elif given_size is None:
+        base, size = given_base, 2.0 * given_base + extra
+    else:
+        base, size = given_base, given_size
+    if abs(size - (2.0 * base + extra)) > SIZE_AGREEMENT * max(1.0, abs(size)):
         raise ParameterError(f"{where}.{size_name}", size, f"{2.0 * base + extra:.9g} mm for base_radius_mm = {base:g} (2 base + "
                              f"{'' if faces else '2 roller radius + '}C, C = s(0) + s(180 deg) = {constant:.9g} mm), or leave one out",
                              "the rule s(theta + 180 deg) = C - s(theta) ties the size to the base radius")
