@@ -125,6 +125,17 @@ def test_every_check_of_the_exported_cams_passes(exported):
             assert figures["breadth_mm"] == pytest.approx(2 * BASE + LIFT, abs=1e-12)
         else:
             assert figures["roller_spacing_mm"] == pytest.approx(2 * (BASE + ROLLER) + LIFT, abs=1e-12)
+            # a radial translating roller: tan(alpha) = s' / (Rp + s) (Norton ch. 8), s' by central
+            # differences of this file's law; the lower roller's is the upper's half a turn later
+            _, _, _, shape = CASES[index]
+            theta = np.linspace(0.0, TWO_PI, 720001)
+            step = 1e-6
+            s = required_lift(theta, D(DWELL0), D(RISE), LIFT, shape)
+            ds = (required_lift(theta + step, D(DWELL0), D(RISE), LIFT, shape)
+                  - required_lift(theta - step, D(DWELL0), D(RISE), LIFT, shape)) / (2 * step)
+            alpha = math.degrees(float(np.max(np.abs(np.arctan2(ds, BASE + ROLLER + s)))))
+            pressure = next(c for c in cams[f"c{index}"]["checks"] if c["name"] == "pressure_angle")
+            assert pressure["value"] == pytest.approx(alpha, abs=1e-4)
 
 
 def _contact(follower, cam, theta, sigma, polygon=False):
@@ -489,6 +500,28 @@ def test_bad_constant_breadth_tables_are_refused_naming_the_key(tmp_path, capsys
         assert "100" in err  # 2 x 40 + 20
 
 
+@pytest.mark.parametrize("follower", ["yoke", "roller"])
+def test_the_report_draws_and_animates_both_faces_or_rollers(follower):
+    """The drawing at cam angle 0 and the animation hold both faces (rollers), the size apart, the
+    upper one where the law puts it; the animation moves the follower by the law's lift."""
+    table = _cam_table(follower, "ccw", True, "cycloidal")
+    if follower == "roller":
+        table["roller_radius_mm"] = ROLLER
+    result = _run({"output": {"formats": ["html"]}, "cams": {"d": table}})
+    ev = result.cams[0].evaluation
+    rest = BASE if follower == "yoke" else BASE + ROLLER
+    size = 2 * rest + LIFT
+    label = "follower face" if follower == "yoke" else "roller"
+    for shapes in (ev.follower_drawing, ev.animation.follower):
+        parts = [poly for name, poly in shapes if name == label]
+        assert len(parts) == 2
+        heights = sorted(float(np.mean(poly[:, 1])) for poly in parts)
+        assert heights[1] == pytest.approx(rest, abs=1e-9) and heights[1] - heights[0] == pytest.approx(size, abs=1e-9)
+    frames = ev.animation.moves
+    theta = TWO_PI * np.arange(frames.size) / frames.size
+    assert np.max(np.abs(frames - required_lift(theta, D(DWELL0), D(RISE), LIFT, "cycloidal"))) <= 1e-9
+
+
 def test_breadth_alone_gives_the_base_radius(tmp_path, capsys):
     """breadth_mm = 100 with the 20 mm half-turn rise: base radius (100 - 20) / 2 = 40 mm, the
     same cam as base_radius_mm = 40."""
@@ -497,3 +530,45 @@ def test_breadth_alone_gives_the_base_radius(tmp_path, capsys):
     table["breadth_mm"] = 100.0
     result = _run({"output": {"formats": ["dxf"]}, "cams": {"b": table}})
     assert result.cams[0].built.figures["base_radius_mm"] == 40.0
+
+
+# --------------------------------------------------------------------------------------------
+# The body: every plate-cam output
+# --------------------------------------------------------------------------------------------
+def _stl_volume(data: bytes) -> float:
+    """Signed volume of a binary STL (divergence theorem over its triangles), read with numpy."""
+    count = int(np.frombuffer(data[80:84], dtype="<u4")[0])
+    rows = np.frombuffer(data[84:84 + 50 * count], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]))
+    v = rows["v"].astype(float)
+    return float(np.sum(np.einsum("ij,ij->i", v[:, 0], np.cross(v[:, 1], v[:, 2]))) / 6.0)
+
+
+@pytest.mark.parametrize("follower", ["yoke", "roller"])
+def test_the_body_is_a_plate_cams_prism_in_every_format(follower, tmp_path):
+    """The cam is a plate cam's prism: the STL's volume (numpy, divergence theorem) and the STEP
+    solid's (OpenCASCADE) are the point list's area (shoelace) x thickness - the bore's, within
+    the chord tolerance's band round the perimeter; LinuxCNC's rs274 reads the G-code."""
+    from helpers import require_tool, rs274_canon, shoelace
+    from test_step import _step_shape
+
+    chord, thickness, bore = 1e-3, 8.0, 12.0
+    table = {**_cam_table(follower, "ccw", True, "cycloidal"), "thickness_mm": thickness, "bore_diameter_mm": bore}
+    result = _run({"output": {"formats": ["points", "stl", "step", "ngc"], "chord_tol_mm": chord},
+                   "machining": {"tool_diameter_mm": 6.0}, "cams": {"b": table}})
+    assert result.failed_checks() == []
+    files = result.files
+    points = csv_points(files["b_points.csv"])
+    area = abs(shoelace(points)) - math.pi * (bore / 2) ** 2
+    band = 2 * chord * float(np.sum(np.hypot(*np.diff(points, axis=0).T))) * thickness
+    assert abs(_stl_volume(files["b.stl"]) - area * thickness) <= band
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GProp import GProp_GProps
+
+    props = GProp_GProps()
+    BRepGProp.VolumeProperties_s(_step_shape(files["b.step"].encode() if isinstance(files["b.step"], str) else files["b.step"],
+                                             tmp_path), props)
+    assert abs(props.Mass() - area * thickness) <= band
+    require_tool("rs274")
+    status, message, moves = rs274_canon(files["b.ngc"], tmp_path)
+    assert status == 0, message
+    assert any(m["kind"] == "arc" for m in moves)
