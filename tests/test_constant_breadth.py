@@ -240,6 +240,14 @@ def test_a_half_turn_lift_table_is_the_whole_table_mirrored(tmp_path):
         assert np.max(np.abs(a - b)) <= 1e-9 * max(1.0, float(np.max(np.abs(b))))
     s = half(theta)[0]
     assert np.max(np.abs(s + half(theta + math.pi)[0] - 12.0)) <= 1e-9
+    # the whole table with one row of the second half 0.01 mm off breaks the rule: refused naming the table
+    from camgen.errors import ParameterError
+
+    full_s[len(angles) + 3] += 0.01
+    (tmp_path / "off.csv").write_text("angle_deg,lift\n" + "".join(f"{a},{float(s)!r}\n" for a, s in zip(full_a, full_s)))
+    with pytest.raises(ParameterError) as caught:
+        parse_scene({"cams": {"o": {**common, "lift_table_csv": "off.csv"}}}, "t", base_dir=tmp_path)
+    assert caught.value.name == "cams.o.lift_table_csv"
 
 
 @pytest.mark.parametrize("law", ["cycloidal", "double_harmonic", "simple_harmonic", "modified_trapezoid", "modified_sine",
