@@ -107,11 +107,9 @@ def mirror_segments(segments: Sequence["Segment"]) -> list["Segment"]:
     from camgen.synthesis.laws import Segment
 
     level = 0.0
-    levels = []
     for seg in segments:
         if seg.start_level is not None:
             level = seg.start_level
-        levels.append(level)
         assert seg.lift is not None  # Segment.__post_init__ sets every segment's lift
         level += seg.lift
     constant = (segments[0].start_level or 0.0) + level  # s(0) + s(pi)
@@ -121,13 +119,16 @@ def mirror_segments(segments: Sequence["Segment"]) -> list["Segment"]:
             start: Any = (constant - seg.start[0],) + tuple(-x for x in seg.start[1:])  # type: ignore[index]
             end: Any = (constant - seg.end[0],) + tuple(-x for x in seg.end[1:])  # type: ignore[index]
             out.append(Segment("polynomial", seg.span, start=start, end=end, where=seg.where))
-        elif seg.lift == 0.0:
+            continue
+        lift = seg.lift
+        assert lift is not None  # Segment.__post_init__ sets every segment's lift
+        if lift == 0.0:
             out.append(Segment("dwell", seg.span, where=seg.where))
         else:
             # Segment time-reverses the shape of a negative lift: hand it the reversed shape then
             # (reversal is an involution), so the mirrored segment is -lift times the same shape
-            shape = seg.shape.reversed() if seg.lift > 0 else seg.shape
-            out.append(Segment(shape, seg.span, -seg.lift, where=seg.where))
+            shape = seg.shape.reversed() if lift > 0 else seg.shape
+            out.append(Segment(shape, seg.span, -lift, where=seg.where))
     return out
 
 
