@@ -302,6 +302,7 @@ def _turned(contour: "Contour") -> "Contour":
 
 
 def _turn_shapes(shapes: Sequence[tuple[str, np.ndarray]] | None) -> list[tuple[str, np.ndarray]] | None:
+    """Polylines turned by 180 deg about the axis (cam B's frame back to the machine's)."""
     return None if shapes is None else [(label, -np.asarray(poly)) for label, poly in shapes]
 
 
@@ -371,7 +372,8 @@ def _build_member(spec: CamSpec, stages: frozenset[str]) -> Any:
             figures["bounds_mm"] = list(profile.bounds)
         anim = cam.animation
         if anim is not None:
-            anim = replace(anim, profile=-anim.profile, follower=_turn_shapes(anim.follower), moves=-anim.moves,
+            anim = replace(anim, profile=-anim.profile, follower=[(label, -np.asarray(poly, dtype=float)) for label, poly in anim.follower],
+                           moves=-anim.moves,
                            zero_mark=ZeroMark((-anim.zero_mark.point[0], -anim.zero_mark.point[1]), anim.zero_mark.sigma)
                            if anim.zero_mark is not None else None)
         zero = cam.zero_mark

@@ -318,7 +318,7 @@ def disk_kinematics(cam: "BuiltCam", spec: "CamSpec") -> tuple["Kinematics", flo
     else:
         direction = k.arm_angle + f.tau * math.pi / 2  # the roller centre moves along tau J u(arm angle)
         arm = f.arm_length
-    kin = _kinematics(lambda: dy.Kinematics(k.theta, k.s, k.ds, k.d2s, k.pressure_angle, k.profile_radius, radius, direction,
+    kin = checked_kinematics(lambda: dy.Kinematics(k.theta, k.s, k.ds, k.d2s, k.pressure_angle, k.profile_radius, radius, direction,
                                             lever=lever))
     return kin, arm
 
@@ -341,10 +341,12 @@ def three_arc_kinematics(cam: "BuiltCam", spec: "CamSpec", samples: int = THREE_
     if follower.contact == "faces":
         h2, _, d2h2 = contour.support_derivatives(psi + math.pi)
         second = {"pressure_angle_2": zero, "rho_cam_2": h2 + d2h2, "follower_radius_2": math.inf}
-    return _kinematics(lambda: dy.Kinematics(theta, h, -dh, d2h, zero, h + d2h, math.inf, follower.direction, **second)), 0.0
+    return checked_kinematics(lambda: dy.Kinematics(theta, h, -dh, d2h, zero, h + d2h, math.inf, follower.direction, **second)), 0.0
 
 
-def _kinematics(make: Any) -> "Kinematics":
+def checked_kinematics(make: Any) -> "Kinematics":
+    """``make()``: a :class:`camgen.dynamics.Kinematics`, its refusal of the geometry (valid
+    parameters the contact cannot drive) turned into a :class:`GeometryError` saying so."""
     try:
         return make()
     except ParameterError as exc:  # valid parameters, geometry the contact cannot drive

@@ -220,14 +220,14 @@ def build_groove(spec: CamSpec, stages: frozenset[str]) -> GrooveCam:
                           f"+ clearance {p.clearance:g} mm), {depth:g} mm deep"),)
     drawing, animation = disk.drawing, disk.animation
     if "plots" in stages:
-        from camgen.kinds.disk import _animation, follower_shapes
+        from camgen.kinds.disk import ride_animation, follower_shapes
 
         size = roller.prime_radius + (disk.law.s_bounds[1] - disk.law.s_bounds[0] if roller.lift_unit == "mm" else 0.0)
         s0 = float(disk.law(np.zeros(1))[0][0])
         drawing = follower_shapes(roller, s0, size)
         walls = tuple(c.flatten(max(1e-3, 2e-4 * size)) for c in (outer, inner) if c is not None)
         assert disk.zero_mark is not None  # a disk cam knows its cam angle 0
-        animation = _animation(contour if contour is not None else disk.envelope.pitch, disk.zero_mark, roller, disk.law, size, None)
+        animation = ride_animation(contour if contour is not None else disk.envelope.pitch, disk.zero_mark, roller, disk.law, size, None)
         if animation is not None:
             animation = replace(animation, walls=walls)
     return GrooveCam(spec.name, spec.kind, contour, figures, spec.body, None, pitch=disk.envelope.pitch, zero_mark=disk.zero_mark,
@@ -242,7 +242,7 @@ def build_groove(spec: CamSpec, stages: frozenset[str]) -> GrooveCam:
 def _undercut(cam: GrooveCam) -> "CheckResult":
     """Both walls: the pitch curve's radius against w where it bends towards each wall."""
     from camgen.checks import CheckResult
-    from camgen.kinds.disk import _mask_where
+    from camgen.kinds.disk import mask_where
     from camgen.synthesis.followers import pitch_offset_failures
 
     k, w = cam.envelope.data, cam.half_width
@@ -270,7 +270,7 @@ def _undercut(cam: GrooveCam) -> "CheckResult":
         note += "; " + "; ".join(parts) + ": the groove cannot be made"
     if bad.any():
         i = int(np.argmax(bad))
-    return CheckResult("undercut", value, w, ">", "mm", not bad.any(), _mask_where(bad, theta, i), note, blocks_manufacture=True)
+    return CheckResult("undercut", value, w, ">", "mm", not bad.any(), mask_where(bad, theta, i), note, blocks_manufacture=True)
 
 
 def _continuity(cam: GrooveCam) -> "CheckResult":
@@ -405,7 +405,7 @@ def _crossovers(cam: GrooveCam, rpm: float | None) -> "CheckResult":
 def evaluate_groove(cam: Any, spec: CamSpec, tool_radius: float, tool_is_limit: bool) -> "CamEvaluation":
     """The design checks of a groove cam (built by :func:`build_groove`)."""
     from camgen.checks import CamEvaluation, motion_check, pressure_angle_check
-    from camgen.kinds.disk import _law_joins
+    from camgen.kinds.disk import law_joins_check
 
     assert isinstance(cam, GrooveCam), f"a groove cam's checks on a {type(cam).__name__}"
     f, k = cam.roller, cam.envelope.data
@@ -419,7 +419,7 @@ def evaluate_groove(cam: Any, spec: CamSpec, tool_radius: float, tool_is_limit: 
     pressure = pressure_angle_check(k.pressure_angle, theta, pressure_limit(spec), what)
     checks.append(replace(pressure, limit=round(pressure.limit, 9)))
     checks.append(motion_check(cam.motion, spec.checks.rpm))
-    checks.append(_law_joins(cam, spec.checks.rpm))
+    checks.append(law_joins_check(cam, spec.checks.rpm))
     checks.append(_crossovers(cam, spec.checks.rpm))
     if made:
         checks.extend(_walls(cam))
@@ -450,7 +450,7 @@ def groove_kinematics(cam: Any, spec: CamSpec) -> tuple[Any, float]:
     pitch curve is convex), both along the one normal through the roller centre (the same
     pressure angle), each against the roller of radius r (:func:`camgen.kinds.dynamics.disk_kinematics`)."""
     from camgen import dynamics as dy
-    from camgen.kinds.dynamics import _kinematics
+    from camgen.kinds.dynamics import checked_kinematics
 
     assert isinstance(cam, GrooveCam), f"a groove cam's dynamics on a {type(cam).__name__}"
     f, k, w = cam.roller, cam.envelope.data, cam.half_width
@@ -464,6 +464,6 @@ def groove_kinematics(cam: Any, spec: CamSpec) -> tuple[Any, float]:
         arm = f.arm_length
     with np.errstate(invalid="ignore"):
         inner, outer = rho - w, -(rho + w)  # inf where the pitch curve is straight: inf - w = inf
-    kin = _kinematics(lambda: dy.Kinematics(k.theta, k.s, k.ds, k.d2s, k.pressure_angle, inner, f.roller_radius, direction,
+    kin = checked_kinematics(lambda: dy.Kinematics(k.theta, k.s, k.ds, k.d2s, k.pressure_angle, inner, f.roller_radius, direction,
                                             pressure_angle_2=k.pressure_angle, rho_cam_2=outer, follower_radius_2=f.roller_radius))
     return kin, arm
