@@ -1,5 +1,5 @@
-"""What every export of a body with pockets shares: the walls as drawn and flattened, their
-layers, the pocket's region, and the outputs a body with pockets does not have.
+"""What every export of a body with pockets shares: the walls flattened, their layers and their
+vertex count, the checks every writer makes of them, and the refusal of an output.
 
 A pocket (:class:`camgen.kinds.base.Pocket`) is the region inside its ``walls[0]`` and outside
 its other walls, cut from the body's top face (z = thickness) down ``depth`` mm; the body is the
@@ -17,7 +17,7 @@ from camgen.errors import ExportError, GeometryError, ParameterError
 if TYPE_CHECKING:
     from camgen.kinds.base import Pocket
 
-__all__ = ["POCKET_LAYER_COLORS", "check_pockets", "pocket_floor", "pocket_loops", "refuse_pocket_format", "wall_flat_count", "wall_loops"]
+__all__ = ["POCKET_LAYER_COLORS", "check_pockets", "refuse_pocket_format", "wall_flat_count", "wall_loops"]
 
 #: ACI colours of the pockets' wall layers in the DXF, in order (cycled): 5 blue, 30 orange,
 #: 140, 200, 240; none of the colours of the PROFILE, BORE, KEYWAY and construction layers.
@@ -48,22 +48,10 @@ def wall_loops(pockets: "Sequence[Pocket]", chord_tol: float) -> list[tuple[str,
     return [(wall.layer, wall.contour.flatten(chord_tol)) for pocket in pockets for wall in pocket.walls]
 
 
-def pocket_loops(pocket: "Pocket", chord_tol: float) -> list[np.ndarray]:
-    """The region of ``pocket`` as loops for a non-zero fill: ``walls[0]``'s polygon
-    counter-clockwise, every other wall's clockwise (a hole in it)."""
-    loops = [wall.contour.flatten(chord_tol) for wall in pocket.walls]
-    return [loops[0]] + [loop[::-1] for loop in loops[1:]]
-
-
 def wall_flat_count(pockets: "Sequence[Pocket]", chord_tol: float) -> int:
     """Vertices of every wall flattened at ``chord_tol`` mm (what the point list and the meshes
     hold besides the outline and the hole)."""
     return sum(int(wall.contour.flatten_params(chord_tol).size) for pocket in pockets for wall in pocket.walls)
-
-
-def pocket_floor(pocket: "Pocket", thickness: float) -> float:
-    """Height (mm) of the pocket's floor above the body's bottom face: ``thickness - depth``."""
-    return thickness - pocket.depth
 
 
 def refuse_pocket_format(cam: str, fmt: str, pockets: "Sequence[Pocket]", why: str) -> NoReturn:
