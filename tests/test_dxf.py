@@ -306,7 +306,8 @@ def test_template_dxf_has_no_spline_and_reads_back_within_chord_tol(template, te
 
 def _roller_radius(spec):
     """The roller radius the scene gives a cam (disk cams: their follower spec), else None."""
-    follower = getattr(spec.params, "follower", None)
+    params = spec.params
+    follower = getattr(params, "follower", getattr(getattr(params, "params", None), "first", None))  # a conjugate pair's: roller A
     if follower is not None and hasattr(follower, "roller_radius"):
         return follower.roller_radius if follower.kind == "roller" else None
     return spec.follower.roller_radius if spec.follower is not None and spec.follower.kind == "roller" else None

@@ -6,7 +6,6 @@ import re
 import shlex
 import subprocess
 import sys
-import tomllib
 
 import pytest
 
@@ -52,7 +51,9 @@ def test_a_copied_templates_comments_are_true_where_it_lands(template, tmp_path,
     comments = "\n".join(_comments(text))
     assert comments.strip(), "a template explains itself in comments"
     assert "templates/" not in comments
-    cams = tomllib.loads(text).get("cams", {})
+    from camgen.scene import load_scene
+
+    cams = [spec.name for spec in load_scene(copy).cams]  # the run's cams (a conjugate pair's two among them)
     written = {f.files.replace("{cam}", cam) for f in OUTPUTS.values() for cam in [*cams, "<cam>"]}
     for name in _FILE.findall(comments):
         assert (folder / name).exists() or name in written, f"{template}.toml names {name}: not beside the copy, not an output"

@@ -65,7 +65,7 @@ def groove_keys() -> tuple[Key, ...]:
             "the envelopes of a roller of radius roller_radius_mm + clearance / 2 on both sides of the pitch curve.",
             ("profile",), default=DEFAULT_CLEARANCE, example=0.1),
         Key("groove_depth_mm", Length(high=1e4), "Depth of the groove below the plate's top face (< thickness_mm; default: "
-            "half the thickness).", ("thickness",), example=6.0),
+            "half the thickness; the DXF states it).", ("thickness", "dxf"), example=4.0),
         Key("rim_radius_mm", Length(high=1e5), "Radius of the plate's rim (default: the outer wall's largest radius plus "
             "min_wall_mm, rounded up to 0.5 mm).", ("profile",), example=120.0),
     )
