@@ -20,6 +20,7 @@ VALIDATOR_PACKAGES = {
     "gmsh": "gmsh",
     "openscad": "openscad",
     "librecad": "librecad",
+    "prusa-slicer": "prusa-slicer",
 }
 
 

@@ -419,9 +419,7 @@ def test_openscad_imports_and_renders_the_stl(case, tmp_path):
 def test_prusa_slicer_reads_the_stl(tmp_path):
     """PrusaSlicer (Debian prusa-slicer 2.5) reads the STL: manifold, one part, the volume (its
     float32 facets: the bound as admesh's), the size."""
-    exe = shutil.which("prusa-slicer")
-    if exe is None:
-        pytest.skip("prusa-slicer not installed (Debian package prusa-slicer)")
+    exe = require_tool("prusa-slicer")
     solid, path = _stl("spline", tmp_path)
     proc = subprocess.run([exe, "--loglevel", "1", "--info", str(path)], capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr
