@@ -40,9 +40,14 @@ def dxf(cam: "CamResult", run: RunSettings, fmt: str) -> str:
     CENTER and ZERO layers."""
     from camgen.export.dxf import DxfOptions, contour_to_dxf
 
+    from camgen.export.dxf import DEFAULT_BSPLINE_TOL
+
     construction = run.output.dxf_construction
+    # the B-splines as close to the profile as its own fit (fit_tol_mm) where that is tighter than the default
+    fit = cam.figures.get("fit_tol_mm")
+    bspline_tol = min(DEFAULT_BSPLINE_TOL, float(fit)) if isinstance(fit, (int, float)) else DEFAULT_BSPLINE_TOL
     options = DxfOptions(splines=run.output.dxf_splines, chord_tol=run.output.chord_tol,
-                         center_mark=DXF_CENTER_MARK_MM if construction else 0.0)
+                         center_mark=DXF_CENTER_MARK_MM if construction else 0.0, bspline_tol=bspline_tol)
     if not construction:
         return contour_to_dxf(_profile(cam), cam.body, None, options, None, cam.pockets)
     # the synthesis' follower-centre path, else the roller checks' pitch curve
