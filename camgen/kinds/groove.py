@@ -37,7 +37,7 @@ if TYPE_CHECKING:
     from camgen.checks import CamEvaluation, CheckResult
     from camgen.contour import Contour
 
-__all__ = ["DEFAULT_CLEARANCE", "GrooveCam", "GrooveParams", "build_groove", "evaluate_groove", "groove_keys", "groove_kinematics",
+__all__ = ["DEFAULT_CLEARANCE", "GrooveCam", "GrooveParams", "build_groove", "evaluate_groove", "groove_keys", "groove_kinematics", "roller_keys",
            "groove_spec"]
 
 #: Default ``groove_clearance_mm``: the groove's width less the roller's diameter (mm); a running
