@@ -15,6 +15,7 @@ __all__ = ["FORM_MODULES", "CamForm", "form_names", "get_form", "register", "unr
 FORM_MODULES: dict[str, str] = {
     "plate": "camgen.forms.plate",
     "constant_breadth": "camgen.forms.constant_breadth",
+    "linear": "camgen.forms.linear",
 }
 
 _REGISTRY: Registry[CamForm] = Registry(FORM_MODULES, "FORM")

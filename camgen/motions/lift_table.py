@@ -20,7 +20,8 @@ if TYPE_CHECKING:
 
 KEYS = (
     Key("lift_table_csv", Text(), "CSV file of rows 'angle_deg, lift' (cam angle in deg; lift in mm, or deg of swing for an "
-        "oscillating follower), relative to the scene file; one turn, closed automatically; '#' comments and a header row allowed.",
+        "oscillating follower), relative to the scene file; one turn, closed automatically; '#' comments and a header row allowed. "
+        "A linear cam (form = \"linear\") reads the first column as the plate travel x in mm, one turn = travel_mm.",
         ("profile",), default=REQUIRED),
 )
 
@@ -28,13 +29,20 @@ KEYS = (
 def read_law(where: str, parsed: Mapping[str, Any], follower: "FollowerSpec", base_dir: Path | None = None) -> LawReading:
     """The lift table of a cam table for ``follower`` (lift in mm for a translating one, degrees
     of swing for an oscillating one, read into rad): the file is read now."""
-    from camgen.synthesis.lift_table import read_lift_table
+    from camgen.synthesis.lift_table import LiftTable, read_two_column_table
 
     path = Path(parsed["lift_table_csv"])
     path = path if path.is_absolute() or base_dir is None else base_dir / path
     oscillating = follower.motion == "oscillating"
-    table = renamed(where, KEYS, lambda: read_lift_table(path, unit="rad" if oscillating else "mm",
-                                                      lift_scale=math.pi / 180.0 if oscillating else 1.0))
+    # a linear cam (its form's travel_mm) gives the first column as the travel x in mm: its turn is the travel
+    angle_scale = 360.0 / parsed["travel"] if "travel" in parsed else 1.0
+
+    def read():
+        angles, lifts, labels = read_two_column_table(path, "lift_table_csv", ("angle_deg", "lift"))
+        return LiftTable(angles * angle_scale, lifts * (math.pi / 180.0 if oscillating else 1.0), unit="rad" if oscillating else "mm",
+                         key="lift_table_csv", rows=labels)
+
+    table = renamed(where, KEYS, read)
     figures = {"lift_table_csv": parsed["lift_table_csv"], "table_rows": int(table.angles.size), "table_spline_degree": table.degree}
     return LawReading(table, figures)
 
