@@ -445,13 +445,45 @@ def _undercut(cam: "LinearCam") -> "CheckResult":
     side = np.where(side > 0, side, np.inf)
     i = int(np.argmin(side))
     value: Any = float(side[i]) if np.isfinite(side[i]) else "none"
+    if np.isfinite(side[i]) and need > 0:
+        value = _least_radius(cam, float(k.x[max(i - 1, 0)]), float(k.x[min(i + 1, k.x.size - 1)]), float(side[i]))
     bad = side <= need if need > 0 else np.zeros(side.shape, dtype=bool)
     what = ("smallest convex radius of the pitch curve (the peaks) against the roller radius" if p.form == "edge" else
             "smallest radius of the pitch curve (either side: both walls) against the slot's half width (roller radius + half the "
             "clearance)") if need > 0 else "a knife rides its pitch curve: no undercut"
     where = _runs(bad, k.x) if bad.any() else _where(k.x[i])
     note = what + "; where: plate travel in mm" + ("; the offset loops there: the plate cannot be made" if bad.any() else "")
-    return CheckResult("undercut", value, need, ">", "mm", not bool(bad.any()), where, note, blocks_manufacture=True)
+    passed = not bool(bad.any()) and (not isinstance(value, float) or value > need)
+    return CheckResult("undercut", value, need, ">", "mm", passed, where, note, blocks_manufacture=True)
+
+
+def _least_radius(cam: "LinearCam", lo: float, hi: float, found: float) -> float:
+    """The least radius on the checked side between travels ``lo`` and ``hi`` around the grid's
+    least (``found``): golden-section search on the closed form (a scalar minimum, 80 steps)."""
+    from camgen.synthesis.linear import curves
+
+    p = cam.params
+    edge = p.form == "edge"
+
+    def radius(x: float) -> float:
+        kappa = float(curves(p.follower, p.law, p.travel, np.array([x])).curvature[0])
+        value = -1.0 / kappa if edge else 1.0 / abs(kappa)
+        return value if kappa != 0.0 and value > 0 else math.inf
+
+    g = (math.sqrt(5.0) - 1.0) / 2.0
+    a, b = lo, hi
+    c, d = b - g * (b - a), a + g * (b - a)
+    fc, fd = radius(c), radius(d)
+    for _ in range(80):
+        if fc < fd:
+            b, d, fd = d, c, fc
+            c = b - g * (b - a)
+            fc = radius(c)
+        else:
+            a, c, fc = c, d, fd
+            d = a + g * (b - a)
+            fd = radius(d)
+    return min(found, fc, fd)
 
 
 def _plate_length(cam: "LinearCam") -> "CheckResult":
