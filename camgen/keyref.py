@@ -32,7 +32,7 @@ def _names(keys: tuple[Key, ...]) -> str:
 def index() -> str:
     """The keys of every table in a few lines (the reference's first lines: ``camgen keys | head``)."""
     from camgen.jobs import get_job, job_names
-    from camgen.kinds import get_kind, kind_names
+    from camgen.kinds import get_kind
     from camgen.outputs import machining_keys, output_keys
 
     lines = ["Every table and its keys (each is explained in its section below; `camgen keys SECTION` prints one section):",
@@ -40,36 +40,58 @@ def index() -> str:
              "- top level: `name`, `[output]`, `[machining]`, `[cams.<name>]` (one or more), `[mechanisms.<name>]`",
              f"- `[output]` (section output): {_names(output_keys())}",
              f"- `[machining]` (section machining): {_names(machining_keys())}"]
-    for name in kind_names():
-        keys = get_kind(name).keys
-        lines.append(f"- `[cams.<name>]` with kind = \"{name}\" (section {name}): `kind`, {_names(keys)}")
+    for name, form, section in _kind_forms():
+        keys = get_kind(name, form).keys
+        which = f"kind = \"{name}\"" + (f", form = \"{form}\"" if form is not None else "")
+        lines.append(f"- `[cams.<name>]` with {which} (section {section}): `kind`, {_names(keys)}")
         for key in keys:
             sub = getattr(key.type, "keys", None)
-            if sub:
+            if sub and form is None:
                 lines.append(f"  - each `[[cams.<name>.{key.name}]]`: {_names(sub)}")
     for name in job_names():
         lines.append(f"- `[mechanisms.{name}]` (section {name}): {_names(get_job(name).keys)}")
     return "\n".join(lines) + "\n"
 
 
+def _kind_forms() -> list[tuple[str, str | None, str]]:
+    """(motion, form or None for its default form, section name) of every cam table the scene
+    may hold: each motion with its default form, then each other form realising it
+    (section ``<motion>.<form>``)."""
+    from camgen.kinds import forms_of, kind_names
+    from camgen.motions import get_motion
+
+    out: list[tuple[str, str | None, str]] = []
+    for name in kind_names():
+        out.append((name, None, name))
+        default = get_motion(name).default_form
+        out.extend((name, form, f"{name}.{form}") for form in forms_of(name) if form != default)
+    return out
+
+
 def sections() -> dict[str, str]:
     """Section name -> its Markdown text: "output", "machining", every kind, every mechanism."""
     from camgen.jobs import get_job, job_names
-    from camgen.kinds import get_kind, kind_names
+    from camgen.kinds import get_kind
     from camgen.outputs import OUTPUTS, machining_keys, output_keys
 
     out: dict[str, str] = {}
     formats = "\n".join(f"- `{f.name}`: `{f.files}`: {f.description}" for f in OUTPUTS.values())
     out["output"] = f"## [output]\n\n{_table(output_keys())}\nFormats:\n\n{formats}\n"
     out["machining"] = "## [machining]\n\nG-code settings (output format `ngc`).\n\n" + _table(machining_keys())
-    for name in kind_names():
-        kind = get_kind(name)
-        text = f"## [cams.<name>] with kind = \"{name}\"\n\n{kind.summary}.\n\n{_table(kind.keys)}"
-        for key in kind.keys:
-            sub = getattr(key.type, "keys", None)
-            if sub:
-                text += f"\nEach `[[cams.<name>.{key.name}]]` table:\n\n{_table(sub)}"
-        out[name] = text
+    for name, form, section in _kind_forms():
+        kind = get_kind(name, form)
+        if form is None:
+            text = f"## [cams.<name>] with kind = \"{name}\"\n\n{kind.summary}.\n\n{_table(kind.keys)}"
+            for key in kind.keys:
+                sub = getattr(key.type, "keys", None)
+                if sub:
+                    text += f"\nEach `[[cams.<name>.{key.name}]]` table:\n\n{_table(sub)}"
+        else:  # another form of the motion: its keys (the motion's own tables are as in the motion's section)
+            from camgen.forms import get_form
+
+            text = (f"## [cams.<name>] with kind = \"{name}\", form = \"{form}\"\n\n{get_form(form).summary}.\n\n"
+                    f"{_table(kind.keys)}")
+        out[section] = text
     for name in job_names():
         job = get_job(name)
         out[name] = f"## [mechanisms.{name}]\n\n{job.summary}.\n\n{_table(job.keys)}"
