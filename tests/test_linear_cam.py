@@ -196,15 +196,19 @@ def test_translating_roller_rides_the_dxf_and_the_point_list_within_1e_6_mm(edge
 
 def test_the_plate_spans_its_margins_below_pitch_and_marks_x_zero(edge_files):
     """The outline reaches from -margin_start to travel + margin_end and down to -below_pitch (the
-    point list's extremes); the DXF's ZERO layer draws the line x = 0."""
+    point list's extremes); the DXF's CENTER cross marks the plate frame's origin (x = 0 on the
+    pitch line), and no ZERO layer claims a cam angle 0 or a rotation."""
     import ezdxf
 
     pts = _table(edge_files["c_points.csv"])
     assert pts[:, 0].min() == pytest.approx(-30.0, abs=1e-9) and pts[:, 0].max() == pytest.approx(TRAVEL + 30.0, abs=1e-9)
     assert pts[:, 1].min() == pytest.approx(-45.0, abs=1e-9)
     doc = ezdxf.read(io.StringIO(edge_files["c.dxf"]))
-    zero = [e for e in doc.modelspace() if e.dxf.layer == "ZERO" and e.dxftype() == "LINE"]
-    assert any(abs(e.dxf.start[0]) < 1e-12 and abs(e.dxf.end[0]) < 1e-12 and min(e.dxf.start[1], e.dxf.end[1]) == -45.0 for e in zero)
+    centre = [e for e in doc.modelspace() if e.dxf.layer == "CENTER" and e.dxftype() == "LINE"]
+    assert len(centre) == 2
+    mids = [(np.array(e.dxf.start)[:2] + np.array(e.dxf.end)[:2]) / 2 for e in centre]
+    assert all(np.hypot(*m) < 1e-12 for m in mids)
+    assert not [e for e in doc.modelspace() if e.dxf.layer == "ZERO"]
 
 
 def _arm_ride(poly: np.ndarray, x: np.ndarray, pivot: tuple[float, float], r: float, tau: float) -> np.ndarray:

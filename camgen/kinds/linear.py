@@ -11,6 +11,10 @@ rounded), which every plate-cam output takes.  ``"slot"``: the body is a rectang
 rounded) with a :class:`~camgen.kinds.base.Pocket`: the slot of width ``2 r + clearance`` between
 the pitch curve's two offsets, running out through both ends, cut ``slot_depth_mm`` deep.
 
+x = 0 on the plate is the plate frame's origin (the DXF's CENTER cross with
+``dxf_construction``; the report's section draws the line x = 0): a linear cam has no cam angle
+0 and no rotation, so it gives no :class:`~camgen.kinds.base.ZeroMark` (whose arrow shows one).
+
 Every check comes from the closed forms on a dense travel grid (``CHECK_STEP_MM``), never from
 sampling a contour; the checks' ``where`` lists are plate travels in mm (their notes say so).
 """
@@ -25,7 +29,7 @@ from typing import TYPE_CHECKING, Any, Mapping
 import numpy as np
 
 from camgen.errors import GeometryError, ParameterError
-from camgen.kinds.base import BuiltCam, CamSpec, CheckSettings, ZeroMark, field_default, with_cam
+from camgen.kinds.base import BuiltCam, CamSpec, CheckSettings, field_default, with_cam
 from camgen.schema import REQUIRED, Angle, Choice, Key, Length, Number, Text
 
 if TYPE_CHECKING:
@@ -230,7 +234,6 @@ def _build(spec: CamSpec, stages: frozenset[str]) -> BuiltCam:
     }
     if p.source is not None:
         figures["source"] = p.source
-    zero_mark = ZeroMark((0.0, -p.below), 1.0)  # the DXF's ZERO line: x = 0, from the pitch line down to the bottom
     d = -f.roller_radius if p.form == "edge" else -p.half_width
     failed = lin.offset_failures(grid, d) | (lin.offset_failures(grid, p.half_width) if p.form == "slot" else False)
     contour, pockets = None, ()
@@ -252,7 +255,7 @@ def _build(spec: CamSpec, stages: frozenset[str]) -> BuiltCam:
             raise GeometryError(f"the plate cannot be made: {exc}") from None
     figures["fit_error_mm"] = error
     section = _section(spec, grid, contour, pockets[0].walls[0].contour if pockets else None) if "plots" in stages else None
-    return LinearCam(spec.name, spec.kind, contour, figures, spec.body, None, zero_mark=zero_mark, pockets=pockets, section=section,
+    return LinearCam(spec.name, spec.kind, contour, figures, spec.body, None, zero_mark=None, pockets=pockets, section=section,
                      params=p, grid=grid, x_start=x_start, x_end=x_end, fit_error=error)
 
 
