@@ -308,19 +308,53 @@ def test_undercut_threshold_matches_an_independent_root_search():
     assert checks["undercut"]["status"] == "fail" and "c.dxf" not in above and report["status"] == "fail"
 
 
+def _quintic(length: float, start: tuple, end: tuple) -> np.polynomial.Polynomial:
+    """The quintic with s, s', s'' given at x = 0 and x = length (numpy's linear solve)."""
+    rows = []
+    for x0 in (0.0, length):
+        rows.append([x0**k for k in range(6)])
+        rows.append([k * x0 ** (k - 1) if k >= 1 else 0.0 for k in range(6)])
+        rows.append([k * (k - 1) * x0 ** (k - 2) if k >= 2 else 0.0 for k in range(6)])
+    return np.polynomial.Polynomial(np.linalg.solve(np.array(rows), np.array([*start, *end], dtype=float)))
+
+
+def _least_radius_of(poly, length: float, valley: bool) -> float:
+    """min of (1 + s'^2)^(3/2) / |s''| over the valleys (s'' > 0) or peaks (s'' < 0) of ``poly``
+    on [0, length]: the best of a dense grid refined by scipy's bounded minimiser."""
+    from scipy.optimize import minimize_scalar
+
+    d1, d2 = poly.deriv(1), poly.deriv(2)
+
+    def rho(x: float) -> float:
+        a = float(d2(x))
+        return (1 + float(d1(x)) ** 2) ** 1.5 / abs(a) if (a > 0) == valley and a != 0 else math.inf
+
+    x = np.linspace(0.0, length, 30001)
+    i = int(np.argmin([rho(v) for v in x]))
+    lo, hi = x[max(i - 1, 0)], x[min(i + 1, x.size - 1)]
+    return float(minimize_scalar(rho, bounds=(lo, hi), method="bounded", options={"xatol": 1e-14}).fun)
+
+
 def test_slot_walls_undercut_on_either_side():
-    """A slot needs the pitch radius above the half width on both sides: a valley (concave seen
-    from above) that an edge cam takes fails the slot's upper wall.  The valley's least radius of
-    the cycloidal rise is the peak's (the law is odd about its middle)."""
-    steep = [{"law": "dwell", "span_deg": 144.0}, {"law": "cycloidal", "span_deg": 36.0, "lift_mm": 20.0},
-             {"law": "dwell", "span_deg": 144.0}, {"law": "cycloidal", "span_deg": 36.0, "lift_mm": -20.0}]
-    rho = _least_convex_radius(20.0, 30.0)
-    slot = {"linear_form": "slot", "above_pitch_mm": 45.0, "slot_depth_mm": 6.0, "slot_clearance_mm": 0.0,
-            "pressure_angle_limit_deg": 89.0}
-    ok = _run({"output": {"formats": ["dxf"]}, "cams": {"c": _cam(segments=steep, roller_radius_mm=rho * (1 - 1e-6), **slot)}})
-    assert _checks(ok)[0]["undercut"]["status"] == "pass"
-    bad = _run({"output": {"formats": ["dxf"]}, "cams": {"c": _cam(segments=steep, roller_radius_mm=rho * (1 + 1e-6), **slot)}})
-    assert _checks(bad)[0]["undercut"]["status"] == "fail"
+    """A slot needs the pitch radius above its half width on both sides.  A quintic rise of 20 mm
+    over 30 mm starting with an acceleration of 0.1 mm/mm^2 has tighter valleys (concave seen from
+    above, the slot's upper wall) than peaks: a roller 1e-6 above the valley's least radius passes
+    the edge cam's undercut check (peaks only) but fails the slot's; 1e-6 below it passes both."""
+    travel_per_deg = TRAVEL / 360.0
+    program = [{"law": "dwell", "span_deg": 108.0},
+               {"law": "polynomial", "span_deg": 36.0, "start": [0.0, 0.0, 0.1 * travel_per_deg**2], "end": [20.0, 0.0, 0.0]},
+               {"law": "dwell", "span_deg": 72.0}, {"law": "cycloidal", "span_deg": 144.0, "lift_mm": -20.0}]
+    rise = _quintic(30.0, (0.0, 0.0, 0.1), (20.0, 0.0, 0.0))
+    valley, peak = _least_radius_of(rise, 30.0, True), _least_radius_of(rise, 30.0, False)
+    assert valley < peak * 0.9
+    slot = {"linear_form": "slot", "above_pitch_mm": 45.0, "slot_depth_mm": 6.0, "slot_clearance_mm": 0.0}
+    for form in ({}, slot):
+        for scale, status in ((1 - 1e-6, "pass"), (1 + 1e-6, "pass" if not form else "fail")):
+            files = _run({"output": {"formats": ["dxf"]}, "cams": {"c": _cam(segments=program, roller_radius_mm=valley * scale, **form)}})
+            undercut = _checks(files)[0]["undercut"]
+            assert undercut["status"] == status, (form, scale, undercut)
+            if form:
+                assert undercut["value"] == pytest.approx(valley, rel=1e-9)
 
 
 # --------------------------------------------------------------------------------------------
