@@ -457,3 +457,19 @@ def test_lift_table_reads_x_in_mm(tmp_path):
     xs = np.linspace(0.0, TRAVEL, 301)
     got = roller_height_on_polygon(_table(files["c_points.csv"]), xs, R)
     assert np.max(np.abs(got - cycloidal_lift(xs))) < 2e-3
+
+
+def test_a_plate_too_shallow_for_its_corners_is_refused_with_a_depth_that_works():
+    """below_pitch_mm too small for the top corners' fillets: refused naming the key and the least
+    depth; that hint (plus its printed rounding) is then accepted and the plate made."""
+    import re
+
+    from camgen.errors import ParameterError
+
+    cam = _cam(below_pitch_mm=11.0)
+    with pytest.raises(ParameterError) as caught:
+        _run({"output": {"formats": ["dxf"]}, "cams": {"c": cam}})
+    assert caught.value.name == "cams.c.below_pitch_mm" and caught.value.value == 11.0
+    least = float(re.search(r"> ([0-9.]+) mm", caught.value.valid).group(1))
+    files = _run({"output": {"formats": ["dxf"]}, "cams": {"c": _cam(below_pitch_mm=least + 1e-3, min_wall_mm=0.5)}})
+    assert "c.dxf" in files and _checks(files)[1]["status"] == "pass"

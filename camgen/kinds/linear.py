@@ -42,6 +42,12 @@ __all__ = ["LinearCam", "LinearParams", "build_linear", "evaluate_linear", "line
 #: grid has at least ``MIN_CHECK_SAMPLES`` points over the travel).
 CHECK_STEP_MM = 0.01
 MIN_CHECK_SAMPLES = 20001
+#: Most samples of the travel grid (a cap before the work: a longer travel is checked coarser).
+MAX_CHECK_SAMPLES = 200001
+#: Longest end margin allowed, mm, when the travel is shorter (a margin is otherwise at most the
+#: travel): the edge repeats the motion over the margins, one spline segment per law segment, so
+#: the margins bound the profile's size.
+MARGIN_FLOOR_MM = 500.0
 #: Default of ``fit_tol_mm`` (mm).
 DEFAULT_FIT_TOL = 1e-7
 #: Default pressure-angle limits, rad: translating and oscillating followers.
@@ -84,9 +90,10 @@ def linear_keys() -> tuple[Key, ...]:
             "which must lift the follower (ccw with the pivot left of it, pivot_x_mm < 0; cw with it right, > 0).", ("profile",),
             default="ccw", requires=_OSC, feeds=("lift_turn",)),
         Key("margin_start_mm", Length(0.0, 1e5, low_open=False), "Plate beyond x = 0 at the start (the plate's left end is at "
-            "x = -margin_start_mm); the edge there continues the motion periodically.", ("profile",), default=25.0),
+            "x = -margin_start_mm); the edge there continues the motion periodically; at most travel_mm (or 500 mm).", ("profile",),
+            default=25.0),
         Key("margin_end_mm", Length(0.0, 1e5, low_open=False), "Plate beyond x = travel_mm at the end (its right end is at "
-            "x = travel_mm + margin_end_mm).", ("profile",), default=25.0),
+            "x = travel_mm + margin_end_mm); at most travel_mm (or 500 mm).", ("profile",), default=25.0),
         Key("below_pitch_mm", Length(high=1e5), "Height of the plate below the pitch line y = 0 (its bottom is at "
             "y = -below_pitch_mm).", ("profile",), default=40.0),
         Key("above_pitch_mm", Length(high=1e5), "Slot: height of the plate above the pitch line (its top is at y = above_pitch_mm).",
@@ -178,6 +185,11 @@ def read_linear(where: str, name: str, parsed: Mapping[str, Any], motion: Any, b
         if parsed["slot_depth"] >= parsed["thickness"]:
             raise ParameterError(f"{where}.slot_depth_mm", parsed["slot_depth"], f"< thickness_mm = {parsed['thickness']:g} mm",
                                  "a slot through the plate would cut it in two")
+    for key in ("margin_start", "margin_end"):
+        most = max(parsed["travel"], MARGIN_FLOOR_MM)
+        if parsed[key] > most:
+            raise ParameterError(f"{where}.{key}_mm", parsed[key], f"<= {most:g} mm (travel_mm, or {MARGIN_FLOOR_MM:g} mm for a "
+                                 "shorter travel)", "the edge beyond the travel repeats the motion; a longer plate end is not a cam")
     if 2.0 * parsed["corner_radius"] >= parsed["below_pitch"] + parsed.get("above_pitch", 0.0):
         raise ParameterError(f"{where}.corner_radius_mm", parsed["corner_radius"], "less than half the plate's height")
     follower = LinearFollower(kind, moves, radius, pivot, parsed.get("swing_turn", "ccw"))
@@ -206,8 +218,9 @@ class LinearCam(BuiltCam):
 
 
 def check_grid(travel: float) -> np.ndarray:
-    """The dense travel grid of the checks (mm): 0..travel every ``CHECK_STEP_MM`` or finer."""
-    n = max(MIN_CHECK_SAMPLES, int(math.ceil(travel / CHECK_STEP_MM)) + 1)
+    """The dense travel grid of the checks (mm): 0..travel every ``CHECK_STEP_MM`` or finer, at
+    most ``MAX_CHECK_SAMPLES`` samples."""
+    n = min(MAX_CHECK_SAMPLES, max(MIN_CHECK_SAMPLES, int(math.ceil(travel / CHECK_STEP_MM)) + 1))
     return np.linspace(0.0, travel, n)
 
 
@@ -236,9 +249,16 @@ def _build(spec: CamSpec, stages: frozenset[str]) -> BuiltCam:
         figures["source"] = p.source
     d = -f.roller_radius if p.form == "edge" else -p.half_width
     failed = lin.offset_failures(grid, d) | (lin.offset_failures(grid, p.half_width) if p.form == "slot" else False)
-    contour, pockets = None, ()
+    contour: Any = None
+    pockets: tuple[Pocket, ...] = ()
     x_start, x_end, error = p.x_left, p.x_right, 0.0
     if not np.any(failed):
+        if p.form == "edge":  # the plate deep enough for the top corners' fillets to meet its ends above the bottom's
+            least = 2.0 * p.corner - float(np.min(lin.edge_fillets(f, p.law, p.travel, p.x_left, p.x_right, p.corner)[1].imag))
+            if p.below <= least:
+                raise ParameterError(f"cams.{spec.name}.below_pitch_mm", p.below, f"> {least:.6g} mm",
+                                     f"the profile's corner fillets (corner_radius_mm = {p.corner:g}) reach {least - p.corner:.6g} mm "
+                                     "below the pitch line: the plate's ends would have no straight side")
         try:
             if p.form == "edge":
                 outline = lin.edge_outline(f, p.law, p.travel, p.x_left, p.x_right, -p.below, p.corner, p.fit_tol)

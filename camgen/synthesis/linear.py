@@ -51,7 +51,8 @@ import numpy as np
 from camgen.errors import FitToleranceError, GeometryError
 
 __all__ = [
-    "EdgeOutline", "LinearCurves", "LinearFollower", "SLOT_OVERRUN", "SlotWalls", "curves", "edge_outline", "fit_offset", "law_in_x",
+    "EdgeOutline", "LinearCurves", "LinearFollower", "SLOT_OVERRUN", "SlotWalls", "curves", "edge_fillets", "edge_outline", "fit_offset",
+    "law_in_x",
     "offset_curve", "offset_failures", "pressure_angle", "rounded_rectangle", "slot_walls",
 ]
 
@@ -298,6 +299,17 @@ def _fillet_point(f: LinearFollower, law: Any, travel: float, d: float, target: 
     return 0.5 * (lo + hi)
 
 
+def edge_fillets(f: LinearFollower, law: Any, travel: float, x_left: float, x_right: float, corner: float) -> tuple[np.ndarray, np.ndarray]:
+    """The travels (2,) where an edge cam's profile meets its two top corner fillets (radius
+    ``corner``, tangent to the profile and to the ends ``x_left``, ``x_right``) and the fillets'
+    centres (2,) complex: on the pitch curve offset by ``-(r + corner)``."""
+    r, rc = f.roller_radius, corner
+    reach = r + 2.0 * rc + (f.arm_length if f.motion == "oscillating" else 0.0) + 1.0
+    xs = np.array([_fillet_point(f, law, travel, -(r + rc), x_left + rc, x_left + rc, reach),
+                   _fillet_point(f, law, travel, -(r + rc), x_right - rc, x_right - rc, reach)])
+    return xs, offset_curve(curves(f, law, travel, xs), -(r + rc))[0]
+
+
 @dataclass(frozen=True)
 class EdgeOutline:
     """An edge cam's plate outline (the contour), the travels ``x_start``, ``x_end`` (mm) between
@@ -318,19 +330,15 @@ def edge_outline(f: LinearFollower, law: Any, travel: float, x_left: float, x_ri
     from camgen.contour import Arc, Contour
 
     r, rc = f.roller_radius, corner
-    reach = r + 2.0 * rc + (f.arm_length if f.motion == "oscillating" else 0.0) + 1.0
-    xs = [_fillet_point(f, law, travel, -(r + rc), x_left + rc, x_left + rc, reach),
-          _fillet_point(f, law, travel, -(r + rc), x_right - rc, x_right - rc, reach)]
-    k = curves(f, law, travel, np.array(xs))
-    centres = offset_curve(k, -(r + rc))[0]
-    ups = k.normal
+    xs, centres = edge_fillets(f, law, travel, x_left, x_right, corner)
+    ups = curves(f, law, travel, xs).normal
     for centre, side in zip(centres, ("start", "end")):
         if centre.imag - rc <= y_bottom + rc:
             raise GeometryError(f"the plate's {side} is too low for its corners: the edge's fillet reaches y = "
                                 f"{centre.imag - rc:.6g} mm, the bottom's corner y = {y_bottom + rc:.6g} mm")
     if xs[1] <= xs[0]:
         raise GeometryError("the plate is too short for its corners")
-    profile, worst = fit_offset(f, law, travel, -r, xs[0], xs[1], fit_tol, reverse=True)
+    profile, worst = fit_offset(f, law, travel, -r, float(xs[0]), float(xs[1]), fit_tol, reverse=True)
     left, right = centres[0], centres[1]
     a_right = float(np.angle(ups[1]))
     a_left = float(np.angle(ups[0]))
@@ -344,7 +352,7 @@ def edge_outline(f: LinearFollower, law: Any, travel: float, x_left: float, x_ri
         _line((x_left, left.imag), (x_left, y_bottom + rc)),
         Arc((x_left + rc, y_bottom + rc), rc, math.pi, 0.5 * math.pi),
     ]
-    return EdgeOutline(Contour(segments), xs[0], xs[1], worst)
+    return EdgeOutline(Contour(segments), float(xs[0]), float(xs[1]), worst)
 
 
 def rounded_rectangle(x_left: float, x_right: float, y_bottom: float, y_top: float, corner: float):
