@@ -473,3 +473,35 @@ def test_a_plate_too_shallow_for_its_corners_is_refused_with_a_depth_that_works(
     least = float(re.search(r"> ([0-9.]+) mm", caught.value.valid).group(1))
     files = _run({"output": {"formats": ["dxf"]}, "cams": {"c": _cam(below_pitch_mm=least + 1e-3, min_wall_mm=0.5)}})
     assert "c.dxf" in files and _checks(files)[1]["status"] == "pass"
+
+
+def test_knife_rides_the_point_list_and_the_dxf():
+    """A knife's profile is its pitch curve: the plate's top edge, read from the point list (the
+    polygon's height at x, chords within chord_tol_mm = 2e-7) and from the DXF's B-splines (a
+    roller of radius 1e-9 mm dropped on them), is the closed-form lift within 1e-6 mm."""
+    cam = _cam(follower="knife")
+    del cam["roller_radius_mm"]
+    files = _run({"output": {"formats": ["dxf", "points"], "chord_tol_mm": 2e-7, "dxf_splines": "bspline"}, "cams": {"c": cam}})
+    x = np.linspace(0.0, TRAVEL, 601)
+    poly = _table(files["c_points.csv"])
+    top = poly[poly[:, 1] > -40.0]  # the edge (the bottom is at -45)
+    order = np.argsort(top[:, 0])
+    height = np.interp(x, top[order, 0], top[order, 1])
+    assert np.max(np.abs(height - cycloidal_lift(x))) < 1e-6
+    spline = np.full(x.shape, -np.inf)
+    for curve, lo, hi in dxf_splines(files["c.dxf"]):  # the height where x(u) = x, by bisection on u
+        u = np.linspace(lo, hi, 20001)
+        px = curve(u)[:, 0]
+        for i, xi in enumerate(x):
+            cross = np.flatnonzero((px[:-1] - xi) * (px[1:] - xi) <= 0)
+            for j in cross:
+                a, b = u[j], u[j + 1]
+                fa = curve(a)[0] - xi
+                if fa == 0.0:  # the sample is the point
+                    b = a
+                for _ in range(60 if a != b else 0):
+                    m = 0.5 * (a + b)
+                    fm = curve(m)[0] - xi
+                    a, b, fa = (m, b, fm) if (fm > 0) == (fa > 0) else (a, m, fa)
+                spline[i] = max(spline[i], float(curve(0.5 * (a + b))[1]))
+    assert np.max(np.abs(spline - cycloidal_lift(x))) < 1e-6

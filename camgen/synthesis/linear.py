@@ -231,9 +231,12 @@ def fit_offset(f: LinearFollower, law: Any, travel: float, d: float, x0: float, 
             x = np.linspace(a, b, n + 1)
             shrink = (b - a) * 1e-12
             x_eval = x.copy()
-            x_eval[0] += shrink  # one-sided at the ends: the law's right and left limits there
+            x_eval[0] += shrink
             x_eval[-1] -= shrink
-            q, q1, q2 = offset_curve(curves(f, law, travel, x_eval), d)
+            # the points at the knots themselves (the curve is continuous there: neighbouring segments
+            # share their end points), the derivatives one-sided (the law's right and left limits)
+            q = offset_curve(curves(f, law, travel, x), d)[0]
+            _, q1, q2 = offset_curve(curves(f, law, travel, x_eval), d)
             if reverse:
                 t, pts, d1, d2 = -x[::-1], _xy(q[::-1]), -_xy(q1[::-1]), _xy(q2[::-1])
             else:
