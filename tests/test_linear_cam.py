@@ -505,3 +505,29 @@ def test_knife_rides_the_point_list_and_the_dxf():
                     a, b, fa = (m, b, fm) if (fm > 0) == (fa > 0) else (a, m, fa)
                 spline[i] = max(spline[i], float(curve(0.5 * (a + b))[1]))
     assert np.max(np.abs(spline - cycloidal_lift(x))) < 1e-6
+
+
+def test_the_edge_plate_solid_is_closed_with_the_exact_volume(tmp_path):
+    """A knife's edge is the graph of s itself, so the plate's area is closed form: the margins
+    (15 and 30 mm) lie in dwells at zero lift, the integral of a cycloidal rise or fall of h over
+    L is h L / 2 (Norton eq. 8.6), each of the four corners rounded with radius 2 mm cuts off
+    (1 - pi/4) 2^2.  admesh reads the STL: nothing to repair, one part, and its volume is that area
+    times the thickness within the chords' tolerance."""
+    import re
+
+    from test_solid import admesh_clean
+
+    program = [{"law": "dwell", "span_deg": 60.0}, {"law": "cycloidal", "span_deg": 120.0, "lift_mm": 20.0},
+               {"law": "dwell", "span_deg": 60.0}, {"law": "cycloidal", "span_deg": 96.0, "lift_mm": -20.0},
+               {"law": "dwell", "span_deg": 24.0}]
+    cam = _cam(follower="knife", segments=program, margin_start_mm=15.0, corner_radius_mm=2.0)
+    del cam["roller_radius_mm"]
+    files = _run({"output": {"formats": ["stl"], "chord_tol_mm": 1e-3}, "cams": {"c": cam}})
+    area = (15.0 + TRAVEL + 30.0) * 45.0 + 20.0 * (100.0 / 2 + 50.0 + 80.0 / 2) - 4 * (1 - math.pi / 4) * 2.0**2
+    exact = area * 12.0
+    path = tmp_path / "c.stl"
+    path.write_bytes(files["c.stl"])
+    out = admesh_clean(require_tool("admesh"), path)
+    volume = float(re.search(r"Volume\s*:\s*([\d.]+)", out).group(1))
+    perimeter = 2 * (345.0 + 45.0) + 2 * 20.0  # the outline's length is below this (the rise and fall add < 2 h)
+    assert abs(volume - exact) <= perimeter * 1e-3 * 12.0 + 1e-6 * exact, (volume, exact)
