@@ -140,15 +140,15 @@ def roller_height_on_points(points: np.ndarray, x: np.ndarray, r: float) -> np.n
     return out
 
 
-def roller_height_on_polygon(poly: np.ndarray, x: np.ndarray, r: float) -> np.ndarray:
-    """Height of a roller's centre dropped at x onto a polygon (vertices and edges, exact)."""
-    a, b = poly, np.roll(poly, -1, axis=0)
+def roller_height_on_polygon(poly: np.ndarray, x: np.ndarray, r: float, closed: bool = True) -> np.ndarray:
+    """Height of a roller's centre dropped at x onto a polygon (vertices and edges, exact; an open
+    chain without ``closed``)."""
+    a, b = (poly, np.roll(poly, -1, axis=0)) if closed else (poly[:-1], poly[1:])
     d = b - a
     length = np.hypot(d[:, 0], d[:, 1])
     keep = length > 0
     a, d, length = a[keep], d[keep], length[keep]
     n = np.stack([-d[:, 1], d[:, 0]], axis=1) / length[:, None]
-    up = n[:, 1] > 1e-9  # edges facing up (the top edge runs right to left on a ccw outline: its left normal is... either)
     n = np.where(n[:, 1:2] < 0, -n, n)
     best = roller_height_on_points(poly, x, r)
     for i, xi in enumerate(x):
@@ -160,7 +160,6 @@ def roller_height_on_polygon(poly: np.ndarray, x: np.ndarray, r: float) -> np.nd
         ok = (t >= 0) & (t <= 1)
         if ok.any():
             best[i] = max(best[i], float(np.max(y[ok])))
-    del up
     return best
 
 
@@ -211,14 +210,16 @@ def test_the_plate_spans_its_margins_below_pitch_and_marks_x_zero(edge_files):
     assert not [e for e in doc.modelspace() if e.dxf.layer == "ZERO"]
 
 
-def _arm_ride(poly: np.ndarray, x: np.ndarray, pivot: tuple[float, float], r: float, tau: float) -> np.ndarray:
+def _arm_ride(poly: np.ndarray, x: np.ndarray, pivot: tuple[float, float], r: float, tau: float, edge: bool = False) -> np.ndarray:
     """Swing (rad) at which the arm (pivot fixed, arm to the origin at zero swing) turned down
     from high above rests its roller on the polygon, by bisection on the clearance (the distance
-    from the roller's centre to the polygon less r, negative with the centre inside the plate)."""
+    from the roller's centre to the polygon less r, negative with the centre inside the plate).
+    ``edge``: ``poly`` is the plate's top edge only, an open chain in increasing x (the centre is
+    inside where it is below the chain)."""
     px, py = pivot
     arm = math.hypot(px, py)
     rest = math.atan2(-py, -px)
-    a, b = poly, np.roll(poly, -1, axis=0)
+    a, b = (poly[:-1], poly[1:]) if edge else (poly, np.roll(poly, -1, axis=0))
 
     def clearance(phi: np.ndarray) -> np.ndarray:
         g = rest + tau * phi
@@ -231,6 +232,8 @@ def _arm_ride(poly: np.ndarray, x: np.ndarray, pivot: tuple[float, float], r: fl
             t = np.clip(np.einsum("ij,ij->i", c[i] - aa, d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-300), 0, 1)
             foot = aa + t[:, None] * d
             out[i] = np.min(np.hypot(*(c[i] - foot).T)) - r
+        if edge:
+            return np.where(c[:, 1] < np.interp(c[:, 0], poly[:, 0], poly[:, 1]), -np.abs(out) - r, out)
         # inside the plate (crossing number of a ray to +x): the roller is below the edge
         ya, yb = a[:, 1][None, :], b[:, 1][None, :]
         cy, cx = c[:, 1:2], c[:, 0:1]
@@ -247,17 +250,22 @@ def _arm_ride(poly: np.ndarray, x: np.ndarray, pivot: tuple[float, float], r: fl
     return 0.5 * (lo + hi)
 
 
-def test_oscillating_roller_rides_the_point_list_within_1e_6_rad():
+def test_oscillating_roller_rides_the_point_list_and_the_dxf_within_1e_6_rad():
     """An arm pivoted at (90, 40) mm (cw lifts it) swings 12 deg by the cycloidal program; turned
-    down onto the exported point list at 121 travels, it rests at the closed-form swing within
-    1e-6 rad.  Its pressure angle (the simulated roller path's normal against the arm's motion,
+    down onto the exported point list and onto the DXF's B-splines at 121 travels, it rests at the
+    closed-form swing within 1e-6 rad.  Its pressure angle (the simulated roller path's normal against the arm's motion,
     finite differences) is the report's."""
     cam = _cam(follower_motion="oscillating", pivot_x_mm=90.0, pivot_y_mm=40.0, swing_turn="cw", segments=_segments(swing=True),
                roller_radius_mm=8.0)
-    files = _run({"output": {"formats": ["points"], "chord_tol_mm": 2e-7}, "cams": {"c": cam}})
+    files = _run({"output": {"formats": ["points", "dxf"], "chord_tol_mm": 2e-7, "dxf_splines": "bspline"}, "cams": {"c": cam}})
     x = np.linspace(0.0, TRAVEL, 121)
     swing = _arm_ride(_table(files["c_points.csv"]), x, (90.0, 40.0), 8.0, -1.0)
     expected = np.radians(cycloidal_lift(x, 12.0))
+    assert np.max(np.abs(swing - expected)) < 1e-6, float(np.max(np.abs(swing - expected)))
+    # the DXF's B-splines (the top edge), sampled densely: chords of 0.005 mm sag < 1e-7 mm here
+    edge = np.concatenate([curve(np.linspace(lo, hi, 40001)) for curve, lo, hi in dxf_splines(files["c.dxf"])])
+    edge = edge[np.argsort(edge[:, 0])]
+    swing = _arm_ride(edge, x, (90.0, 40.0), 8.0, -1.0, edge=True)
     assert np.max(np.abs(swing - expected)) < 1e-6, float(np.max(np.abs(swing - expected)))
     # pressure angle, independently: the roller centre path C(x) and the arm's direction of motion
     xs = np.linspace(0.0, TRAVEL, 300001)
@@ -384,6 +392,38 @@ def test_slot_pocket_is_the_roller_path_widened_by_the_clearance():
     assert np.max(np.abs(distance - (R + 0.1))) < 2e-6, float(np.max(np.abs(distance - (R + 0.1))))
     outline = cam.contour.flatten(1e-6)
     assert outline[:, 0].min() == pytest.approx(-30.0) and outline[:, 1].max() == pytest.approx(45.0)
+
+
+def test_roller_rides_both_walls_of_the_slot_with_its_clearance():
+    """The roller (10 mm) in the slot (clearance 0.2 mm), ridden on the pocket's wall flattened at
+    2e-7 mm: resting on the lower wall its centre follows the curve 0.1 mm below the pitch graph
+    (x, s(x)) along its normal, pressed up on the upper wall the curve 0.1 mm above; both curves
+    by brute force from the closed-form graph (the envelope of circles of 0.1 mm about 10^6 of its
+    points), within 1e-6 mm."""
+    from camgen.pipeline import compute, plan_run
+    from camgen.scene import parse_scene
+
+    scene = parse_scene({"output": {"formats": ["dxf"]}, "cams": {"c": _cam(linear_form="slot", above_pitch_mm=45.0,
+                                                                            slot_depth_mm=6.0, slot_clearance_mm=0.2)}}, "lin")
+    (cam,) = compute(scene, plan_run(scene)).cams
+    wall = cam.pockets[0].walls[0].contour.flatten(2e-7)
+    below = wall[:, 1] < cycloidal_lift(wall[:, 0])  # the lower wall (the pitch graph lies between the walls)
+    lower = wall[below][np.argsort(wall[below][:, 0])]
+    upper = wall[~below][np.argsort(wall[~below][:, 0])]
+    x = np.linspace(0.0, TRAVEL, 301)
+    on_lower = roller_height_on_polygon(lower, x, R, closed=False)
+    on_upper = -roller_height_on_polygon(upper * np.array([1.0, -1.0]), x, R, closed=False)  # mirrored: pressed up = dropped down
+    gx = np.linspace(-1.0, TRAVEL + 1.0, 1_000_001)
+    gy = cycloidal_lift(gx)
+    half = 0.1
+    low_curve, high_curve = np.empty(x.size), np.empty(x.size)
+    for i, xi in enumerate(x):
+        near = np.abs(gx - xi) <= half
+        rise = np.sqrt(np.maximum(half * half - (gx[near] - xi) ** 2, 0.0))
+        low_curve[i] = np.min(gy[near] - rise)
+        high_curve[i] = np.max(gy[near] + rise)
+    assert np.max(np.abs(on_lower - low_curve)) < 1e-6, float(np.max(np.abs(on_lower - low_curve)))
+    assert np.max(np.abs(on_upper - high_curve)) < 1e-6, float(np.max(np.abs(on_upper - high_curve)))
 
 
 # --------------------------------------------------------------------------------------------
