@@ -571,3 +571,38 @@ def test_the_edge_plate_solid_is_closed_with_the_exact_volume(tmp_path):
     volume = float(re.search(r"Volume\s*:\s*([\d.]+)", out).group(1))
     perimeter = 2 * (345.0 + 45.0) + 2 * 20.0  # the outline's length is below this (the rise and fall add < 2 h)
     assert abs(volume - exact) <= perimeter * 1e-3 * 12.0 + 1e-6 * exact, (volume, exact)
+
+
+def test_lift_table_x_beyond_the_travel_is_refused_in_mm(tmp_path):
+    """A lift table's x column running past one travel is refused naming lift_table_csv, the line
+    and the x in mm (not as a cam angle)."""
+    from camgen.errors import ParameterError
+    from camgen.scene import parse_scene
+
+    x = np.arange(0.0, TRAVEL + 20.0, 10.0)
+    (tmp_path / "t.csv").write_text("".join(f"{float(a)!r},{float(b)!r}\n" for a, b in zip(x, cycloidal_lift(x))))
+    cam = _cam(kind="lift_table", lift_table_csv=str(tmp_path / "t.csv"))
+    del cam["segments"]
+    with pytest.raises(ParameterError) as caught:
+        parse_scene({"cams": {"c": cam}}, "t")
+    assert caught.value.name == "cams.c.lift_table_csv"
+    assert "line 32: x 310 mm after 300 mm" in str(caught.value) and "<= 300 mm" in str(caught.value), str(caught.value)
+
+
+def test_the_report_draws_against_travel_and_animates_the_plate():
+    """report.html: the linear cam's section plots against the plate travel in mm (not cam angle),
+    draws the plate and follower at travel 0, and slides the plate by the whole travel (SMIL, no
+    script); the generic cam-angle curves are left out."""
+    from camgen.scene import load_template
+
+    from camgen.pipeline import execute, plan_run
+
+    scene = load_template("linear_cam")
+    files = execute(scene, plan_run(scene)).files
+    page = files["report.html"]
+    assert "lifter: linear cam against plate travel" in page and "plate travel x (mm)" in page
+    assert "plate and follower at travel 0" in page
+    assert f"from='0 0' to='{-TRAVEL:.3f} 0'" in page and "<script" not in page
+    assert "no curves: the profile cannot be made" not in page
+    report = json.loads(files["report.json"])
+    assert report["status"] == "pass" and report["cams"]["lifter"]["figures"]["travel_mm"] == TRAVEL
