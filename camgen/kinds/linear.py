@@ -327,10 +327,11 @@ def _section(spec: CamSpec, grid: "LinearCurves", outline: Any, walls: Any) -> A
     conv = (180.0 / math.pi) if degrees else 1.0
     frames = np.linspace(0.0, p.travel, ANIMATION_FRAMES + 1)
     moves = law_in_x(p.law, p.travel, frames)[0] * conv
-    with np.errstate(divide="ignore"):
-        radius = np.where(grid.curvature[keep] == 0.0, np.nan, 1.0 / grid.curvature[keep])
+    kappa = grid.curvature[keep]
+    shown = 1e3  # a straight pitch curve (a dwell) is drawn at the plot's edge, +-1000 mm
+    radius = np.clip(np.divide(1.0, kappa, out=np.full(kappa.shape, shown), where=kappa != 0.0), -shown, shown)
     chord = 0.02
-    return _section_class()(x, s * conv, v * conv, a * conv, np.degrees(pressure_angle(grid))[keep], np.clip(radius, -1e3, 1e3),
+    return _section_class()(x, s * conv, v * conv, a * conv, np.degrees(pressure_angle(grid))[keep], radius,
                          "deg" if degrees else "mm", outline.flatten(chord) if outline is not None else None,
                          walls.flatten(chord) if walls is not None else None, np.stack([grid.c.real, grid.c.imag], axis=1)[keep],
                          _follower_shapes(p), frames, moves, p.travel, f.pivot, f.tau, math.degrees(pressure_limit(spec)))
