@@ -47,8 +47,8 @@ def evaluate(cam: "BuiltCam", spec: "CamSpec", tool_radius: float, tool_is_limit
         if exc.curve is not None:
             changes.update(curvature_radius=exc.curve, curvature_label="radius of curvature of the envelope (mm)",
                            curvature_limit=exc.limit)
-    if cam.body.bore_diameter > 0 and cam.contour is not None:
-        checks.append(wall_check(cam))
+    if cam.body.bore_diameter > 0 and cam.contour is not None and not any(c.name == "wall_thickness" for c in checks):
+        checks.append(wall_check(cam))  # (a form with pockets checks the wall to its innermost wall itself)
     figures: dict[str, Any] = dict(evaluation.figures)
     if own is None and follower is not None:  # a kind with its own checks reports its follower itself
         figures["follower"] = {"kind": follower.kind, "motion": follower.motion, "roller_radius_mm": follower.roller_radius,

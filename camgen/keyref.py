@@ -29,6 +29,28 @@ def _names(keys: tuple[Key, ...]) -> str:
     return ", ".join(f"`{k.name}`" for k in keys)
 
 
+def _kind_sections() -> list[tuple[str, str, str]]:
+    """(motion, form, section name) of every cam type: each motion with its own (default) form
+    in the section named after the motion, then with every other form that realises it in the
+    section ``<motion>/<form>``."""
+    from camgen.kinds import forms_of, kind_names
+    from camgen.motions import get_motion
+
+    out = []
+    for name in kind_names():
+        default = get_motion(name).default_form
+        out.append((name, default, name))
+        out += [(name, form, f"{name}/{form}") for form in forms_of(name) if form != default]
+    return out
+
+
+def _selector(name: str, form: str) -> str:
+    from camgen.motions import get_motion
+
+    own = form == get_motion(name).default_form
+    return f'kind = "{name}"' + ("" if own else f', form = "{form}"')
+
+
 def index() -> str:
     """The keys of every table in a few lines (the reference's first lines: ``camgen keys | head``)."""
     from camgen.jobs import get_job, job_names
@@ -40,36 +62,21 @@ def index() -> str:
              "- top level: `name`, `[output]`, `[machining]`, `[cams.<name>]` (one or more), `[mechanisms.<name>]`",
              f"- `[output]` (section output): {_names(output_keys())}",
              f"- `[machining]` (section machining): {_names(machining_keys())}"]
-    for name, form, section in _kind_forms():
+    for name, form, section in _kind_sections():
         keys = get_kind(name, form).keys
-        which = f"kind = \"{name}\"" + (f", form = \"{form}\"" if form is not None else "")
-        lines.append(f"- `[cams.<name>]` with {which} (section {section}): `kind`, {_names(keys)}")
+        lines.append(f"- `[cams.<name>]` with {_selector(name, form)} (section {section}): `kind`, {_names(keys)}")
         for key in keys:
             sub = getattr(key.type, "keys", None)
-            if sub and form is None:
+            if sub:
                 lines.append(f"  - each `[[cams.<name>.{key.name}]]`: {_names(sub)}")
     for name in job_names():
         lines.append(f"- `[mechanisms.{name}]` (section {name}): {_names(get_job(name).keys)}")
     return "\n".join(lines) + "\n"
 
 
-def _kind_forms() -> list[tuple[str, str | None, str]]:
-    """(motion, form or None for its default form, section name) of every cam table the scene
-    may hold: each motion with its default form, then each other form realising it
-    (section ``<motion>.<form>``)."""
-    from camgen.kinds import forms_of, kind_names
-    from camgen.motions import get_motion
-
-    out: list[tuple[str, str | None, str]] = []
-    for name in kind_names():
-        out.append((name, None, name))
-        default = get_motion(name).default_form
-        out.extend((name, form, f"{name}.{form}") for form in forms_of(name) if form != default)
-    return out
-
-
 def sections() -> dict[str, str]:
     """Section name -> its Markdown text: "output", "machining", every kind, every mechanism."""
+    from camgen.forms import get_form
     from camgen.jobs import get_job, job_names
     from camgen.kinds import get_kind
     from camgen.outputs import OUTPUTS, machining_keys, output_keys
@@ -78,19 +85,14 @@ def sections() -> dict[str, str]:
     formats = "\n".join(f"- `{f.name}`: `{f.files}`: {f.description}" for f in OUTPUTS.values())
     out["output"] = f"## [output]\n\n{_table(output_keys())}\nFormats:\n\n{formats}\n"
     out["machining"] = "## [machining]\n\nG-code settings (output format `ngc`).\n\n" + _table(machining_keys())
-    for name, form, section in _kind_forms():
+    for name, form, section in _kind_sections():
         kind = get_kind(name, form)
-        if form is None:
-            text = f"## [cams.<name>] with kind = \"{name}\"\n\n{kind.summary}.\n\n{_table(kind.keys)}"
-            for key in kind.keys:
-                sub = getattr(key.type, "keys", None)
-                if sub:
-                    text += f"\nEach `[[cams.<name>.{key.name}]]` table:\n\n{_table(sub)}"
-        else:  # another form of the motion: its keys (the motion's own tables are as in the motion's section)
-            from camgen.forms import get_form
-
-            text = (f"## [cams.<name>] with kind = \"{name}\", form = \"{form}\"\n\n{get_form(form).summary}.\n\n"
-                    f"{_table(kind.keys)}")
+        summary = kind.summary if section == name else f"{kind.summary}, realised as a {form} cam: {get_form(form).summary}"
+        text = f"## [cams.<name>] with {_selector(name, form)}\n\n{summary}.\n\n{_table(kind.keys)}"
+        for key in kind.keys:
+            sub = getattr(key.type, "keys", None)
+            if sub:
+                text += f"\nEach `[[cams.<name>.{key.name}]]` table:\n\n{_table(sub)}"
         out[section] = text
     for name in job_names():
         job = get_job(name)

@@ -201,19 +201,22 @@ def machining_keys() -> tuple[Key, ...]:
 
     return (
         Key("tool_diameter_mm", Number("mm", 0.0, 1000.0, low_open=True), "Diameter of the end mill; its radius is also the "
-            "machinability check's limit on concave radii.", ("gcode", "report"), default=d("tool_diameter")),
-        Key("step_down_mm", Number("mm", 0.0, 1000.0, low_open=True), "Largest depth of cut per pass.", ("gcode",), default=d("step_down")),
+            "machinability check's limit on concave radii. A pocket (a groove cam's groove) is cut in one pass along its pitch curve "
+            "by a tool of its width, in two wall passes with the slot cleared by a smaller one; a wider tool is refused.", ("gcode", "report"), default=d("tool_diameter")),
+        Key("step_down_mm", Number("mm", 0.0, 1000.0, low_open=True), "Largest depth of cut per pass (a pocket: per level, each entered by a ramp along the path).", ("gcode",), default=d("step_down")),
         Key("safe_z_mm", Number("mm", 0.0, 1000.0, low_open=True), "Clearance height above the stock top (Z0) for rapid moves.",
             ("gcode",), default=d("safe_z")),
         Key("feed_mm_per_min", Number("mm/min", 0.0, 1e6, low_open=True), "Cutting feed.", ("gcode",), default=d("feed"), attr="feed"),
         Key("plunge_feed_mm_per_min", Number("mm/min", 0.0, 1e6, low_open=True), "Feed of the plunge to each pass depth.", ("gcode",),
             default=d("plunge_feed"), attr="plunge_feed"),
         Key("spindle_rpm", Number("rev/min", 0.0, 2e5, low_open=True), "Spindle speed.", ("gcode",), default=d("spindle_rpm")),
-        Key("direction", Choice(DIRECTIONS), "Climb (clockwise round the outside, spindle M3) or conventional milling.", ("gcode",),
+        Key("direction", Choice(DIRECTIONS), "Climb (clockwise round the outside, spindle M3) or conventional milling; in a groove climb "
+            "runs the outer wall counter-clockwise and the inner wall clockwise.", ("gcode",),
             default=d("direction")),
         Key("dialect", Choice(DIALECTS), "Controller: LinuxCNC (G64 blending, cutter compensation) or GRBL.", ("gcode",),
             default=d("dialect")),
-        Key("cutter_compensation", Flag(), "Program the profile itself with G41.1/G42.1 (LinuxCNC) instead of the tool-centre path.",
+        Key("cutter_compensation", Flag(), "Program the profile itself with G41.1/G42.1 (LinuxCNC) instead of the tool-centre path "
+            "(refused for a cam with pockets: their passes are tool-centre paths).",
             ("gcode",), default=d("cutter_compensation")),
         Key("lead_mm", Number("mm", 0.0, 1000.0, low_open=True), "Length of the tangent lead-in and lead-out moves (default: tool radius + 3 mm).",
             ("gcode",)),

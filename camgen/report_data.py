@@ -113,6 +113,7 @@ def _cam(cam: "CamResult", drawn: bool) -> "CamReport":
     return CamReport(
         name=cam.name,
         kind=cam.kind,
+        form=cam.spec.form,
         manufacturable=cam.manufacturable,
         withheld_files=tuple(cam.withheld),
         figures=_json_object(cam.figures),
@@ -174,6 +175,7 @@ def _plots(cam: "CamResult", ev: "CamEvaluation") -> "CamPlots":
         curvature_limit=ev.curvature_limit,
         motion=_motion(ev, cam.rpm),
         animation=ev.animation,
+        walls=tuple((wall.layer, _array(wall.contour.flatten(DRAWING_CHORD_MM))) for pocket in cam.pockets for wall in pocket.walls),
     )
 
 

@@ -163,6 +163,31 @@ def _cam(name: str, table: object, base_dir: Path | None, tool_limit: float | No
     return dataclasses.replace(kind.read(where, name, parsed, base_dir), form=form_name)
 
 
+def _bodies(cams: "tuple[CamSpec, ...]") -> "tuple[CamSpec, ...]":
+    """The cams of the run: each scene cam as the bodies its form realises it as
+    (:attr:`camgen.forms.base.CamForm.expand`: a conjugate pair is two cams), every name a plain
+    file name and no two the same (a clash names the scene cam whose form made it)."""
+    from camgen.forms import form_names, get_form
+
+    scene_names = {spec.name for spec in cams}
+    owners: dict[str, str] = {}
+    out: list[CamSpec] = []
+    for spec in cams:
+        expand = get_form(spec.form).expand if spec.form in form_names() else None
+        bodies = expand(spec) if expand is not None else (spec,)
+        made = ", ".join(b.name for b in bodies)
+        for body in bodies:
+            if body.name != spec.name:
+                check_name(f"cams.{spec.name}", body.name, f"the {spec.form} form makes its cams {made} of it")
+            clash = body.name in owners or (body.name != spec.name and body.name in scene_names)
+            if clash:
+                raise ParameterError(f"cams.{spec.name}", spec.name, f"a cam name whose {spec.form} cams ({made}) are no other cam's "
+                                     "name", f"cam '{body.name}' is also another cam of the scene")
+            owners[body.name] = spec.name
+        out.extend(bodies)
+    return tuple(out)
+
+
 def _mechanisms(table: object, cams: "tuple[CamSpec, ...]") -> tuple[MechanismSpec, ...]:
     from camgen.jobs import get_job, job_names
 
@@ -212,7 +237,7 @@ def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", ba
     machining = _machining(data.get("machining"), output, machined)
     # the tool is a limit where the scene names it or the run machines the cam
     tool_limit = machining.tool_radius if "machining" in data or machined else None
-    cams = tuple(_cam(k, v, base_dir, tool_limit) for k, v in cams_table.items())
+    cams = _bodies(tuple(_cam(k, v, base_dir, tool_limit) for k, v in cams_table.items()))
     mechanisms = _mechanisms(data.get("mechanisms", {}), cams)
     if machined:
         _check_passes(machining, cams)

@@ -87,7 +87,8 @@ def step(cam: "CamResult", run: RunSettings, fmt: str) -> bytes:
 
 def gcode(cam: "CamResult", run: RunSettings, fmt: str) -> str:
     """The cam's G-code: the machining spec is final (the scene reader checked it against the
-    chord tolerance and the cam's depth); the cam's thickness is the stock's."""
+    chord tolerance and the cam's depth); the cam's thickness is the stock's; its pockets (a
+    groove) are milled before its outline."""
     from camgen.export.gcode import gcode_program
     from camgen.keynames import renamed
     from camgen.outputs import machining_keys, output_keys
@@ -95,7 +96,8 @@ def gcode(cam: "CamResult", run: RunSettings, fmt: str) -> str:
     assert run.machining.chord_tol == run.output.chord_tol, "the scene reader gives a G-code run its chord tolerance"
     try:  # a program too long: the error names the scene key to change
         return renamed("machining", machining_keys(), lambda: gcode_program(_profile(cam), run.machining, cam.name, run.scene_name,
-                                                                             cam.body.thickness), also=(("output", output_keys()),))
+                                                                             cam.body.thickness, cam.pockets),
+                       also=(("output", output_keys()),))
     except ParameterError as exc:
         raise ParameterError(exc.name, exc.value, f"{exc.valid} for cam '{cam.name}'", exc.why) from None
 

@@ -112,7 +112,7 @@ class ExactProfile:
         return bool(np.count_nonzero(crosses & (xc > x)) % 2)
 
 
-def sample_moves(chain: list[dict], step: float = SAMPLE_STEP) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def sample_moves(chain: list[dict], step: float = SAMPLE_STEP, with_z: bool = False) -> tuple[np.ndarray, ...]:
     """Samples of canonical feed moves, ends included, at most ``step`` apart along each move.
 
     Returns the XY points (n, 2), the index of the move of each point (n,), and per move the
@@ -120,6 +120,8 @@ def sample_moves(chain: list[dict], step: float = SAMPLE_STEP) -> tuple[np.ndarr
     ``(1 + (D + h) / rho) h^2 / 4`` with ``h`` the sample spacing, ``rho`` the smallest radius of
     the move (inf for a line) and ``D`` = 1 mm plus the largest distance of interest, added by the
     caller.  Arcs with a start/end radius mismatch run as spirals, as LinuxCNC runs them.
+    ``with_z``: also the Z of every sample (n,), linear along each move as LinuxCNC runs lines
+    with Z and helical arcs.
     """
     m = len(chain)
     start = np.array([mv["start"][:2] for mv in chain])
@@ -142,6 +144,10 @@ def sample_moves(chain: list[dict], step: float = SAMPLE_STEP) -> tuple[np.ndarr
     points = np.where(is_arc[move][:, None], on_arc, on_line)
     h = length / (count - 1)
     rho = np.where(is_arc, np.minimum(r0, r1), np.inf)
+    if with_z:
+        z0 = np.array([mv["start"][2] for mv in chain])
+        z1 = np.array([mv["end"][2] for mv in chain])
+        return points, move, h, rho, z0[move] + (z1 - z0)[move] * w
     return points, move, h, rho
 
 
@@ -219,3 +225,111 @@ def part_left(contour, chain_xy: np.ndarray, tool_radius: float, margin: float =
     inside = poly.representative_point()
     pieces = getattr(left, "geoms", [left])
     return next(p for p in pieces if p.contains(Point(inside))), poly
+
+
+# ---------------------------------------------------------------------------------------------
+# pockets (a groove cam's groove): cut into the top face from inside, down to a floor
+# ---------------------------------------------------------------------------------------------
+@dataclass
+class PocketCut:
+    """The moves of a program that cut inside the outline (a pocket), judged against its walls.
+
+    ``gouge``: per wall, r - the least distance (rigorous lower bound) of any cutting tool-centre
+    position from the wall (> 0: the tool cut into the wall); ``proud``: per wall, the largest
+    distance from a point of the wall to the tool-centre path at the floor, minus r (> 0: wall
+    material left standing at the floor, hence everywhere above it); ``between``: every cutting
+    tool-centre position lies inside the outer wall and outside the others; ``levels``: per chain
+    (a level: a feed down, the ramp, then its loops) the Z of its first sideways move's start
+    (where the ramp begins) and its lowest Z; ``deepest``:
+    the lowest Z of any cutting move; ``floor``: tool-centre samples (n, 2) at that Z.
+    """
+
+    gouge: dict[str, float]
+    proud: dict[str, float]
+    between: bool
+    levels: list[tuple[float, float]]
+    deepest: float
+    floor: np.ndarray
+
+    def island(self, points: np.ndarray, radius: float) -> float:
+        """Largest distance of ``points`` (n, 2) of the floor from the tool-centre path at the
+        floor, minus r (> 0: material left standing there: an island)."""
+        from scipy.spatial import cKDTree
+
+        return float(np.max(cKDTree(self.floor).query(points)[0])) - radius
+
+
+@dataclass
+class GrooveCutReport:
+    """A program for a part with pockets: the outline's passes (as :func:`simulate` judges them)
+    and the pocket's cut; ``order``: "pocket" / "outline" for each cutting chain, in program order."""
+
+    outline: CutReport
+    pocket: PocketCut | None
+    order: list[str]
+
+
+def _least_distance(pts: np.ndarray, move: np.ndarray, h: np.ndarray, rho: np.ndarray, profile: ExactProfile, reach: float) -> float:
+    """Rigorous lower bound of the distance from the tool-centre moves sampled at ``pts`` to the
+    exact ``profile`` (the bound of :func:`_check_pass`, between neighbouring samples too)."""
+    f = profile.distance_lower_bound(pts, reach)
+    same = move[:-1] == move[1:]
+    slack = ((1.0 + (reach + h) / rho) * h * h / 4.0)[move[:-1]]
+    pair = np.minimum(f[:-1], f[1:])
+    low = np.where(pair > 0, np.sqrt(np.maximum(pair * pair - slack, 0.0)), pair)
+    return float(min(np.min(low[same], initial=np.inf), np.min(f)))
+
+
+def simulate_pockets(program: str, outline, walls: dict, tool_radius: float, workdir, step: float = SAMPLE_STEP) -> GrooveCutReport:
+    """Run ``program`` through rs274 and cut a part whose outline is ``outline`` (a contour) and
+    whose pocket lies inside ``walls[first]`` and outside the other walls (``{layer: contour or
+    any object with flatten(tol)}``, the outer wall first).  Cutting chains whose tool centre
+    starts inside the outline are the pocket's; the others are the outline's."""
+    from scipy.spatial import cKDTree
+
+    status, message, canon = rs274_canon(program, workdir)
+    report = CutReport(status, message, canon=canon)
+    if status != 0:
+        return GrooveCutReport(report, None, [])
+    part = ExactProfile(outline)
+    chains = _passes(canon)
+    inside = [part.contains(np.asarray(chain[0]["end"][:2])) for chain in chains]
+    order = ["pocket" if i else "outline" for i in inside]
+    cache: dict[bytes, tuple[float, float, bool]] = {}
+    for chain in (c for c, i in zip(chains, inside) if not i):
+        xy = [np.concatenate([m["start"][:2], m["end"][:2], m.get("centre", np.zeros(2)), [m.get("turn", 0)]]) for m in chain]
+        key = np.round(np.concatenate(xy), 6).tobytes()
+        if key not in cache:  # passes with the same XY moves cut the same way
+            cache[key] = _check_pass(chain, part, tool_radius, step)
+        z = min(min(m["start"][2], m["end"][2]) for m in chain)
+        report.passes.append(PassReport(z, *cache[key], moves=len(chain)))
+    outline_moves = [m for c, i in zip(chains, inside) if not i for m in c]
+    report.deepest = min((min(m["start"][2], m["end"][2]) for m in outline_moves), default=0.0)
+    for move in canon:
+        if move["kind"] == "traverse" and min(move["start"][2], move["end"][2]) < 0.0:
+            pts = sample_moves([move], step)[0]
+            report.rapid_clearance = min(report.rapid_clearance, float(np.min(part.distance_lower_bound(pts))) - tool_radius)
+    pocket_chains = [c for c, i in zip(chains, inside) if i]
+    if not pocket_chains:
+        return GrooveCutReport(report, None, order)
+    profiles = {layer: ExactProfile(wall) for layer, wall in walls.items()}
+    samples = [sample_moves(chain, step, with_z=True) for chain in pocket_chains]
+    reach = tool_radius + 1.0
+    least: dict[bytes, list[float]] = {}  # levels with the same XY moves come as close to the walls
+    for pts, mv, h, rho, _ in samples:
+        least.setdefault(np.round(pts, 6).tobytes(), [_least_distance(pts, mv, h, rho, prof, reach) for prof in profiles.values()])
+    gouge = {layer: tool_radius - min(v[k] for v in least.values()) for k, layer in enumerate(profiles)}
+    pts = np.concatenate([s[0] for s in samples])
+    z = np.concatenate([s[4] for s in samples])
+    cutting = z < 0.0
+    first, *others = profiles.values()
+    between = bool(np.all(first.contains_many(pts[cutting])) and not any(np.any(p.contains_many(pts[cutting])) for p in others))
+    deepest = float(np.min(z))
+    floor = pts[np.abs(z - deepest) < 1e-6]
+    tree = cKDTree(floor)
+    proud = {layer: float(np.max(tree.query(prof.vertices)[0])) - tool_radius for layer, prof in profiles.items()}
+    levels = []
+    for chain in pocket_chains:
+        sideways = [m for m in chain if np.hypot(*(m["end"][:2] - m["start"][:2])) > 0.0]  # after the feed down
+        levels.append((float(sideways[0]["start"][2]), float(min(min(m["start"][2], m["end"][2]) for m in chain))))
+    return GrooveCutReport(report, PocketCut(gouge, proud, between, levels, deepest, floor), order)

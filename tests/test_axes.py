@@ -192,7 +192,7 @@ def test_a_form_that_does_not_realise_the_motion_is_refused_naming_the_key_and_t
             assert caught.value.name == "cams.c.form" and caught.value.value == form
             assert all(f in str(caught.value) for f in forms_of(motion)), str(caught.value)
             refused += 1
-    assert refused >= 3  # trajectory (plate only), three_arc (constant_breadth only), the laws (no constant_breadth yet)
+    assert refused >= 2  # trajectory (plate only), three_arc (constant_breadth only); the laws take both
 
 
 def test_three_arc_places_an_oscillating_pivot_as_every_follower_does():

@@ -189,15 +189,15 @@ def _read(text: str):
     return doc
 
 
-def bspline_contour(text: str):
-    """The PROFILE layer's SPLINEs as piecewise cubics (scipy BSpline -> PPoly), in file order."""
+def bspline_contour(text: str, layer: str = "PROFILE"):
+    """The ``layer``'s SPLINEs as piecewise cubics (scipy BSpline -> PPoly), in file order."""
     from scipy.interpolate import BSpline, PPoly
 
     from camgen.contour import Contour, Spline
 
     segments = []
     for e in _read(text).modelspace():
-        if e.dxf.layer != "PROFILE":
+        if e.dxf.layer != layer:
             continue
         assert e.dxftype() == "SPLINE" and e.dxf.degree == 3
         knots, ctrl = np.array(e.knots, dtype=float), np.array(e.control_points, dtype=float)[:, :2]
@@ -209,15 +209,15 @@ def bspline_contour(text: str):
     return Contour(segments, closure_tol=1e-6)
 
 
-def biarc_contour(text: str):
-    """The PROFILE layer's ARCs and LINEs as one counter-clockwise chain (each entity oriented to
+def biarc_contour(text: str, layer: str = "PROFILE"):
+    """The ``layer``'s ARCs and LINEs as one counter-clockwise chain (each entity oriented to
     start where the previous one ends)."""
     from camgen.contour import Arc, Contour, Spline
     from camgen.errors import GeometryError
 
     pairs = []
     for e in _read(text).modelspace():
-        if e.dxf.layer != "PROFILE":
+        if e.dxf.layer != layer:
             continue
         if e.dxftype() == "ARC":
             c, r = (e.dxf.center.x, e.dxf.center.y), e.dxf.radius
@@ -243,7 +243,7 @@ def biarc_contour(text: str):
             return Contour(chain, closure_tol=1e-6)
         except GeometryError:
             continue
-    raise AssertionError("the PROFILE layer is not one closed chain")
+    raise AssertionError(f"the {layer} layer is not one closed chain")
 
 
 def csv_points(text: str) -> np.ndarray:

@@ -18,7 +18,7 @@ from cams import BODIES, radial_error
 from helpers import distance_to_arcs, require_tool
 
 TEMPLATES = ("default", "horse_leg", "motion_law", "tricycle", "plate_cam", "flat_follower", "knife_follower", "oscillating_roller",
-             "oscillating_flat", "lift_table")
+             "oscillating_flat", "lift_table", "groove_cam", "conjugate_cam", "constant_breadth")
 GDAL_STEP_DEG = 0.05  # OGR_ARC_STEPSIZE: GDAL samples arcs every 0.05 deg
 
 

@@ -20,7 +20,7 @@ from cutting import CUT_TOL, ExactProfile, _passes, part_left, sample_moves, sim
 from helpers import distance_to_arcs, require_tool, rs274_canon
 
 TEMPLATES = ("default", "tricycle", "horse_leg", "motion_law", "plate_cam", "flat_follower", "knife_follower", "oscillating_roller",
-             "oscillating_flat", "lift_table")
+             "oscillating_flat", "lift_table", "groove_cam", "conjugate_cam", "constant_breadth")
 MODES = [(comp, direction) for comp in (False, True) for direction in ("climb", "conventional")]
 
 

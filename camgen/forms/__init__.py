@@ -15,6 +15,8 @@ __all__ = ["FORM_MODULES", "CamForm", "form_names", "get_form", "register", "unr
 FORM_MODULES: dict[str, str] = {
     "plate": "camgen.forms.plate",
     "constant_breadth": "camgen.forms.constant_breadth",
+    "groove": "camgen.forms.groove",
+    "conjugate": "camgen.forms.conjugate",
     "linear": "camgen.forms.linear",
 }
 

@@ -36,6 +36,10 @@ class CamForm:
     read : ``(where, name, parsed, motion, base_dir) -> CamSpec``: the form's keys and the motion's
         law (:attr:`Motion.read_law`) into the typed spec; None: no law realisation (see above).
     build, evaluate, follower_dynamics, report_section : as :class:`camgen.kinds.base.CamKind`.
+    expand : ``(spec) -> specs``: a form that realises one scene cam as several bodies (a conjugate
+        pair: two cams) gives their specs, each then built, checked and written as a cam of the
+        run under its own name (the scene cam's name and a suffix; the scene reader refuses a name
+        that clashes); None: the scene cam is one body.
     """
 
     name: str
@@ -46,3 +50,4 @@ class CamForm:
     evaluate: "Callable[[BuiltCam, CamSpec, float, bool], CamEvaluation] | None" = None
     follower_dynamics: "Callable[[BuiltCam, CamSpec], tuple[Any, float]] | None" = None
     report_section: str = ""
+    expand: "Callable[[CamSpec], tuple[CamSpec, ...]] | None" = None

@@ -216,16 +216,17 @@ def read_follower(where: str, parsed: Mapping[str, Any]) -> tuple["FollowerSpec"
 
 
 def disk_spec(where: str, name: str, kind: str, parsed: Mapping[str, Any], law: Any, follower: "FollowerSpec", sizing: str,
-              law_figures: Mapping[str, Any], base_dir: Path | None = None) -> CamSpec:
+              law_figures: Mapping[str, Any], base_dir: Path | None = None, form_closed: bool = False) -> CamSpec:
     """The :class:`CamSpec` of a disk cam (no generic follower model: the kind checks its own),
-    with its follower train when the table gives one (:mod:`camgen.kinds.dynamics`)."""
+    with its follower train when the table gives one (:mod:`camgen.kinds.dynamics`; ``form_closed``:
+    the form holds the follower both ways, a groove)."""
     from camgen.kinds.base import read_body, read_checks
     from camgen.kinds.dynamics import read_dynamics
 
     params = DiskParams(law, follower, sizing, parsed["fit_tol"], parsed.get("face_half_length"), dict(law_figures), parsed.get("source"))
     body, checks = read_body(where, parsed), read_checks(parsed)
     dynamics = read_dynamics(where, parsed, motion=follower.motion, follower=follower.kind, rpm=checks.rpm, thickness=body.thickness,
-                             base_dir=base_dir)
+                             base_dir=base_dir, form_closed=form_closed)
     return CamSpec(name, kind, params, body, checks, None, dynamics)
 
 
@@ -449,7 +450,7 @@ def build_disk(spec: CamSpec, stages: frozenset[str]) -> DiskCam:
         face = _face_extent(follower, env.data, p.face_half_length) if follower.contact == "face" else None
         s0 = float(p.law(np.zeros(1))[0][0])
         drawing = follower_shapes(follower, s0, size, face)
-        animation = _animation(profile if profile is not None else env.pitch, zero_mark, follower, p.law, size, face)
+        animation = ride_animation(profile if profile is not None else env.pitch, zero_mark, follower, p.law, size, face)
     return DiskCam(spec.name, spec.kind, profile, figures, spec.body, None, pitch=pitch, zero_mark=zero_mark,
                    envelope=env, law=p.law, spec_follower=follower, sizing=sizing, motion=_motion(follower, p.law),
                    drawing=drawing, animation=animation)
@@ -474,7 +475,7 @@ def _follower_figures(f: "FollowerSpec") -> dict[str, Any]:
     return out
 
 
-def _animation(outline: Any, zero_mark: ZeroMark, f: "FollowerSpec", law: Any, size: float, face: tuple[float, float] | None):
+def ride_animation(outline: Any, zero_mark: ZeroMark, f: "FollowerSpec", law: Any, size: float, face: tuple[float, float] | None):
     """The data of the report's animation: the profile (or, where it cannot be made, the pitch
     curve) ``outline``, the follower at zero lift, and per frame the follower's lift
     (translating, mm) or swing (deg, signed as the arm turns)."""
@@ -541,7 +542,9 @@ def _continuity(cam: DiskCam, contour: "Contour") -> "CheckResult":
     return CheckResult("continuity", str(lowest), str(required), "at least", "", passed, where_degrees(angles[jumps]), note)
 
 
-def _mask_where(mask: np.ndarray, theta: np.ndarray, worst: int) -> list[float]:
+def mask_where(mask: np.ndarray, theta: np.ndarray, worst: int) -> list[float]:
+    """Where a check points (deg): the start and end cam angles of every run of ``mask`` over
+    ``theta`` (rad), else the cam angle of sample ``worst``."""
     from camgen.checks import run_ends, where_degrees
 
     return run_ends(mask, theta) if mask.any() else where_degrees(theta[worst])
@@ -574,7 +577,7 @@ def _undercut(cam: DiskCam) -> "CheckResult":
     if bad.any():
         i = int(np.argmax(bad))
     note = what + ("; " + "; ".join(reasons) + " (between the listed pairs of cam angles): the profile cannot be made" if reasons else "")
-    return CheckResult("undercut", value, limit, ">", unit, not reasons, _mask_where(bad, theta, i), note, blocks_manufacture=True)
+    return CheckResult("undercut", value, limit, ">", unit, not reasons, mask_where(bad, theta, i), note, blocks_manufacture=True)
 
 
 def _face_length(cam: DiskCam, half: float | None) -> "CheckResult":
@@ -591,7 +594,9 @@ def _face_length(cam: DiskCam, half: float | None) -> "CheckResult":
                    f"{float(np.min(xi)):.6g} to {float(np.max(xi)):.6g} mm)")
 
 
-def _law_joins(cam: DiskCam, rpm: float | None) -> "CheckResult":
+def law_joins_check(cam: DiskCam, rpm: float | None) -> "CheckResult":
+    """The ``law_joins`` information: where the law's derivatives up to the jerk jump (and the
+    largest acceleration jump at ``rpm``)."""
     from camgen.checks import information, where_degrees
     from camgen.synthesis.laws import SMOOTH
 
@@ -669,7 +674,7 @@ def evaluate_disk(cam: BuiltCam, spec: CamSpec, tool_radius: float, tool_is_limi
         pressure = replace(pressure, note="a translating flat face moves along its own normal: pressure angle 0 at every cam angle")
     checks.append(pressure)
     checks.append(motion_check(cam.motion, spec.checks.rpm))
-    checks.append(_law_joins(cam, spec.checks.rpm))
+    checks.append(law_joins_check(cam, spec.checks.rpm))
     if f.contact == "face":
         checks.append(_face_length(cam, p.face_half_length))
     if cam.contour is not None:

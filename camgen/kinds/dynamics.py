@@ -142,7 +142,7 @@ class DynamicsSpec:
 
 
 def read_dynamics(where: str, parsed: Mapping[str, Any], *, motion: str, follower: str, rpm: float | None, thickness: float,
-                  base_dir: Path | None = None, unavailable: str | None = None) -> DynamicsSpec | None:
+                  base_dir: Path | None = None, unavailable: str | None = None, form_closed: bool = False) -> DynamicsSpec | None:
     """The dynamics of a cam table, or None when it gives no dynamics key.
 
     Parameters
@@ -155,6 +155,8 @@ def read_dynamics(where: str, parsed: Mapping[str, Any], *, motion: str, followe
     thickness : mm, the cam thickness (the default contact width).
     base_dir : where ``external_load_csv`` is relative to.
     unavailable : why this follower has no dynamics (every dynamics key is then refused), or None.
+    form_closed : the cam form holds the follower both ways (a groove's two walls), as a yoke's
+        two faces do: no spring, no jump, both contacts checked.
 
     Raises
     ------
@@ -191,11 +193,13 @@ def read_dynamics(where: str, parsed: Mapping[str, Any], *, motion: str, followe
     from camgen.followers import get_follower
 
     model = get_follower(follower)
-    if model.contact == "faces":
+    form_closed = form_closed or model.contact == "faces"
+    if form_closed:
+        what = "a yoke is form-closed: its second face" if model.contact == "faces" else "a groove is form-closed: its second wall"
         for name in (*SPRING_KEYS, "jump_margin_n"):
             if name in given:
-                refuse(name, f"left out for a {follower} follower", "a yoke is form-closed: its second face holds it on the cam, so it "
-                       "has no spring and cannot jump (both contacts are checked instead)")
+                refuse(name, f"left out for a {follower} follower" if model.contact == "faces" else "left out for a groove cam",
+                       f"{what} holds the follower on the cam, so it has no spring and cannot jump (both contacts are checked instead)")
     edge = model.contact == "point" and not model.has_radius
     if edge:
         for name in CONTACT_KEYS:
@@ -231,7 +235,7 @@ def read_dynamics(where: str, parsed: Mapping[str, Any], *, motion: str, followe
     spring_rate, preload, damping = (scene_key(keys, name) for name in ("spring_rate", "preload", "damping"))
     get = parsed.get
     train = renamed(where, keys, lambda: dy.FollowerTrain(
-        motion=motion, closure="form" if model.contact == "faces" else "force", mass=get("mass_kg", 0.0), inertia=get("inertia_kg_m2", 0.0),
+        motion=motion, closure="form" if form_closed else "force", mass=get("mass_kg", 0.0), inertia=get("inertia_kg_m2", 0.0),
         arm_length=0.0 if translating else 1.0,  # placeholder: the stage sets the arm from the follower geometry
         cg_distance=get("cg_distance_mm", 0.0), spring_rate=get(spring_rate, 0.0), preload=get(preload),
         spring_free_length=get("spring_free_length_mm"), spring_installed_length=get("spring_installed_length_mm"),
@@ -314,7 +318,7 @@ def disk_kinematics(cam: "BuiltCam", spec: "CamSpec") -> tuple["Kinematics", flo
     else:
         direction = k.arm_angle + f.tau * math.pi / 2  # the roller centre moves along tau J u(arm angle)
         arm = f.arm_length
-    kin = _kinematics(lambda: dy.Kinematics(k.theta, k.s, k.ds, k.d2s, k.pressure_angle, k.profile_radius, radius, direction,
+    kin = checked_kinematics(lambda: dy.Kinematics(k.theta, k.s, k.ds, k.d2s, k.pressure_angle, k.profile_radius, radius, direction,
                                             lever=lever))
     return kin, arm
 
@@ -337,10 +341,12 @@ def three_arc_kinematics(cam: "BuiltCam", spec: "CamSpec", samples: int = THREE_
     if follower.contact == "faces":
         h2, _, d2h2 = contour.support_derivatives(psi + math.pi)
         second = {"pressure_angle_2": zero, "rho_cam_2": h2 + d2h2, "follower_radius_2": math.inf}
-    return _kinematics(lambda: dy.Kinematics(theta, h, -dh, d2h, zero, h + d2h, math.inf, follower.direction, **second)), 0.0
+    return checked_kinematics(lambda: dy.Kinematics(theta, h, -dh, d2h, zero, h + d2h, math.inf, follower.direction, **second)), 0.0
 
 
-def _kinematics(make: Any) -> "Kinematics":
+def checked_kinematics(make: Any) -> "Kinematics":
+    """``make()``: a :class:`camgen.dynamics.Kinematics`, its refusal of the geometry (valid
+    parameters the contact cannot drive) turned into a :class:`GeometryError` saying so."""
     try:
         return make()
     except ParameterError as exc:  # valid parameters, geometry the contact cannot drive

@@ -50,6 +50,10 @@ class Motion:
     read_law : ``(where, parsed, follower, base_dir) -> LawReading``: the law, errors naming scene
         keys under ``where``; ``follower`` is the follower it will drive (its motion says whether
         the law is a lift in mm or a swing in rad).  None for a design of its own.
+    read_half_law : as ``read_law``, from a program over the first half-turn (0 to 180 deg)
+        completed by the rule ``s(theta + 180 deg) = C - s(theta)``, ``C = s(0) + s(180 deg)``
+        (the constant-breadth form, :mod:`camgen.synthesis.breadth`); None: the motion takes no
+        half-turn program.
     realisations : form name -> the cam type this motion makes in that form by its own synthesis.
     default_form : the form a cam table without ``form`` gets.
     """
@@ -58,5 +62,6 @@ class Motion:
     summary: str
     keys: tuple[Key, ...] = ()
     read_law: "Callable[[str, Mapping[str, Any], FollowerSpec, Path | None], LawReading] | None" = None
+    read_half_law: "Callable[[str, Mapping[str, Any], FollowerSpec, Path | None], LawReading] | None" = None
     realisations: "Mapping[str, CamKind]" = field(default_factory=dict)
     default_form: str = "plate"

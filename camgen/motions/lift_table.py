@@ -60,10 +60,37 @@ def read_law(where: str, parsed: Mapping[str, Any], follower: "FollowerSpec", ba
     return LawReading(table, figures)
 
 
+def read_half_law(where: str, parsed: Mapping[str, Any], follower: "FollowerSpec", base_dir: Path | None = None) -> LawReading:
+    """The lift table of a cam table whose rows cover the first half-turn (from 0 to 180 deg, both
+    rows given), completed by ``s(theta + 180 deg) = C - s(theta)``
+    (:func:`camgen.synthesis.breadth.mirror_rows`)."""
+    import numpy as np
+
+    from camgen.errors import ParameterError
+    from camgen.synthesis.breadth import mirror_rows
+    from camgen.synthesis.lift_table import LiftTable, read_two_column_table
+
+    path = Path(parsed["lift_table_csv"])
+    path = path if path.is_absolute() or base_dir is None else base_dir / path
+    oscillating = follower.motion == "oscillating"
+    name = f"{where}.lift_table_csv"
+    angles, lifts, _ = renamed(where, KEYS, lambda: read_two_column_table(path, "lift_table_csv", ("angle_deg", "lift")))
+    if angles.size < 2 or angles[0] != 0.0 or angles[-1] != 180.0 or bool(np.any(np.diff(angles) <= 0)):
+        raise ParameterError(name, f"rows from {angles[0]:.9g} to {angles[-1]:.9g} deg" if angles.size else "no rows",
+                             "increasing cam angles from 0 to 180 deg, both rows given",
+                             "half_turn = true: the rows give the first half-turn, the rule s(theta + 180 deg) = C - s(theta) the second")
+    full_angles, full_lifts = mirror_rows(angles, lifts * (math.pi / 180.0 if oscillating else 1.0))
+    table = renamed(where, KEYS, lambda: LiftTable(full_angles, full_lifts, unit="rad" if oscillating else "mm", key="lift_table_csv"))
+    figures = {"lift_table_csv": parsed["lift_table_csv"], "table_rows": int(angles.size), "table_spline_degree": table.degree,
+               "half_turn": True}
+    return LawReading(table, figures)
+
+
 MOTION = Motion(
     name="lift_table",
     summary="disk cam from a CSV table of cam angle and lift (a periodic quintic spline through the rows) for a translating or "
             "oscillating roller, flat face or knife, as the exact envelope",
     keys=KEYS,
     read_law=read_law,
+    read_half_law=read_half_law,
 )

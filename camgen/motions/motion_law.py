@@ -56,8 +56,9 @@ def _per_rad(values: tuple[float, ...], oscillating: bool) -> tuple[float, ...]:
     return tuple(v * factor * (180.0 / math.pi) ** k for k, v in enumerate(values))
 
 
-def read_program(where: str, segments: tuple[dict[str, Any], ...], motion: str):
-    """The :class:`~camgen.synthesis.laws.MotionProgram` of the ``[[segments]]`` tables."""
+def read_program(where: str, segments: tuple[dict[str, Any], ...], motion: str, complete: Any = None):
+    """The :class:`~camgen.synthesis.laws.MotionProgram` of the ``[[segments]]`` tables;
+    ``complete``: segments -> the segments that follow them (a half-turn program's second half)."""
     from camgen.synthesis import laws
 
     oscillating = motion == "oscillating"
@@ -87,6 +88,8 @@ def read_program(where: str, segments: tuple[dict[str, Any], ...], motion: str):
         start = _per_rad(seg["start"], oscillating) if "start" in seg else None
         end = _per_rad(seg["end"], oscillating) if "end" in seg else None
         built.append(renamed(path, segment_keys, lambda: laws.Segment(law, seg["span"], lift, seg.get("blend"), start, end, where=path)))
+    if complete is not None:
+        built += complete(built)
     try:
         return laws.MotionProgram(built, unit="rad" if oscillating else "mm")
     except ParameterError as exc:
@@ -113,16 +116,41 @@ def read_law(where: str, parsed: Mapping[str, Any], follower: "FollowerSpec", ba
     """The motion program of a cam table for ``follower`` (a lift in mm for a translating one, a
     swing in rad for an oscillating one); a velocity jump is refused unless the follower is a knife."""
     program = read_program(where, parsed["segments"], follower.motion)
-    if not follower.edge:  # a knife edge rides the corner; a roller or a face cannot
-        for join in program.joins():
-            if join.continuity < 1:
-                raise ParameterError(
-                    f"{where}.segments[{join.after}].law", parsed["segments"][join.after]["law"],
-                    f"a law whose velocity at {math.degrees(join.angle):.6g} deg matches the end of segments[{join.before}]",
-                    f"the velocity jumps by {join.jumps[0]:.6g} {program.unit}/rad there: a {follower.kind} follower cannot follow the "
-                    "corner this makes in its path; blend it (constant_velocity with blend > 0) or use a knife follower")
+    _refuse_corners(where, program, parsed["segments"], follower)
     figures = {"segments": _segment_figures(parsed["segments"], follower.motion == "oscillating")}
     return LawReading(program, figures)
+
+
+def _refuse_corners(where: str, program: Any, segments: tuple[dict[str, Any], ...], follower: "FollowerSpec") -> None:
+    """A velocity jump is refused unless the follower is a knife (segment i of a completed
+    half-turn program is the user's segment i modulo their number)."""
+    if follower.edge:  # a knife edge rides the corner; a roller or a face cannot
+        return
+    n = len(segments)
+    for join in program.joins():
+        if join.continuity < 1:
+            raise ParameterError(
+                f"{where}.segments[{join.after % n}].law", segments[join.after % n]["law"],
+                f"a law whose velocity at {math.degrees(join.angle):.6g} deg matches the end of segments[{join.before % n}]",
+                f"the velocity jumps by {join.jumps[0]:.6g} {program.unit}/rad there: a {follower.kind} follower cannot follow the "
+                "corner this makes in its path; blend it (constant_velocity with blend > 0) or use a knife follower")
+
+
+def read_half_law(where: str, parsed: Mapping[str, Any], follower: "FollowerSpec", base_dir: Path | None = None) -> LawReading:
+    """The motion program of a cam table whose segments cover the first half-turn (spans adding up
+    to 180 deg), completed by ``s(theta + 180 deg) = C - s(theta)``
+    (:func:`camgen.synthesis.breadth.mirror_segments`)."""
+    from camgen.synthesis.breadth import mirror_segments
+
+    segments = parsed["segments"]
+    total = math.fsum(seg["span"] for seg in segments)
+    if abs(total - math.pi) > 1e-9:
+        raise ParameterError(f"{where}.segments", f"spans adding up to {math.degrees(total):.9g} deg", "spans adding up to 180 deg",
+                             "half_turn = true: the segments give the first half-turn, the rule s(theta + 180 deg) = C - s(theta) "
+                             "the second")
+    program = read_program(where, segments, follower.motion, complete=mirror_segments)
+    _refuse_corners(where, program, segments, follower)
+    return LawReading(program, {"segments": _segment_figures(segments, follower.motion == "oscillating"), "half_turn": True})
 
 
 MOTION = Motion(
@@ -131,4 +159,5 @@ MOTION = Motion(
             "for a translating or oscillating roller, flat face or knife, as the exact envelope",
     keys=KEYS,
     read_law=read_law,
+    read_half_law=read_half_law,
 )

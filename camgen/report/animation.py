@@ -55,6 +55,9 @@ def animation_svg(anim: RideAnimation, title: str, width_px: int = 420) -> str:
              f"<animateTransform attributeName='transform' type='rotate' from='0 0 0' to='{turn:g} 0 0' dur='{dur}' "
              "repeatCount='indefinite'/>",
              f"<path d='{_path(anim.profile, True)}' fill='#d6e4f0' stroke='#1f3a5f' stroke-width='{stroke:.3f}'/>"]
+    # a pocket's walls (a groove): the outer wall filled as the pocket's floor, the inner wall's island as the face
+    for wall, fill in zip(anim.walls, ("#9fb7cf", "#d6e4f0")):
+        parts.append(f"<path d='{_path(wall, True)}' fill='{fill}' stroke='#1f3a5f' stroke-width='{stroke:.3f}'/>")
     if anim.zero_mark is not None:
         p = np.array(anim.zero_mark.point)
         parts.append(f"<path d='M 0,0 {p[0]:.3f},{p[1]:.3f}' stroke='#8e44ad' stroke-width='{1.5 * stroke:.3f}' fill='none'/>")

@@ -168,6 +168,11 @@ def design_table(cam: "CamReport") -> str:
     for key in DESIGN:
         if key in figures and key not in ("base_radius_mm", "fit_tol_mm", "source"):
             add(key, figures[key])
+    groove = json_object(figures.get("groove"))
+    for key, label in (("width_mm", "groove width (roller diameter + clearance)"), ("clearance_mm", "groove clearance"),
+                       ("depth_mm", "groove depth"), ("rim_radius_mm", "rim radius")):
+        if key in groove:
+            rows.append(_row(label, value_text(groove[key]), "mm", "", _numeric(groove[key])))
     if cam.rpm:
         rows.append(_row("cam speed", number(cam.rpm), "rpm"))
     rows += _body_rows(cam.body)

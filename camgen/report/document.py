@@ -4,7 +4,7 @@ Layout (:data:`REPORT_SCHEMA`)::
 
     {"scene": str, "camgen_version": str, "source_file": str, "chord_tol_mm": float,
      "status": "pass" | "fail", "stages": [str, ...], "files": [str, ...],
-     "cams": {name: {"kind": str, "manufacturable": bool, "withheld_files": [str, ...],
+     "cams": {name: {"kind": str, "form": str, "manufacturable": bool, "withheld_files": [str, ...],
               "figures": {..., "dynamics": {...}},
               "checks": [{"name", "status": "pass" | "fail" | "info", "value", "limit",
                           "comparison", "unit", "where_deg", "note", "blocks_manufacture"}, ...]}},
@@ -116,9 +116,10 @@ REPORT_SCHEMA = {
             "type": "object",
             "additionalProperties": {
                 "type": "object",
-                "required": ["kind", "manufacturable", "withheld_files", "figures", "checks"],
+                "required": ["kind", "form", "manufacturable", "withheld_files", "figures", "checks"],
                 "properties": {
                     "kind": {"type": "string"},
+                    "form": {"type": "string"},
                     "manufacturable": {"type": "boolean"},
                     "withheld_files": {"type": "array", "items": {"type": "string"}},
                     "figures": {**_NUMBERS, "properties": {"dynamics": _DYNAMICS}},
@@ -160,7 +161,7 @@ def report_dict(report: "ReportInput") -> dict[str, "JsonValue"]:
         "stages": list(report.stages),
         "files": list(report.files),
         "cams": {
-            cam.name: {"kind": cam.kind, "manufacturable": cam.manufacturable, "withheld_files": list(cam.withheld_files),
+            cam.name: {"kind": cam.kind, "form": cam.form, "manufacturable": cam.manufacturable, "withheld_files": list(cam.withheld_files),
                        "figures": cam.figures, "checks": [c.as_json() for c in cam.checks]}
             for cam in report.cams
         },

@@ -71,7 +71,10 @@ def _profile_figure(Figure: FigureMaker, cam: "CamReport") -> str:
     if plots.profile is not None:
         pts = plots.profile
         closed = np.vstack([pts, pts[:1]])
-        ax.plot(closed[:, 0], closed[:, 1], color="k", width=1.2, label="profile")
+        ax.plot(closed[:, 0], closed[:, 1], color="k", width=1.2, label="rim" if plots.walls else "profile")
+    for layer, wall in plots.walls:  # a pocket's walls (a groove's): what the roller runs between
+        closed = np.vstack([wall, wall[:1]])
+        ax.plot(closed[:, 0], closed[:, 1], color="#1f3a5f", width=1.0, label=layer.lower().replace("_", " "))
     if plots.pitch is not None:
         pitch = np.vstack([plots.pitch, plots.pitch[:1]])
         ax.plot(pitch[:, 0], pitch[:, 1], "--", color="tab:blue", width=0.8, label="pitch curve (roller centre)")
@@ -255,7 +258,7 @@ def report_html(report: "ReportInput") -> str:
     cams = report.cams
     tool_radius = report.tool_radius_mm
     summary = "".join(
-        f"<tr><td><a href='#{html.escape(c.name)}'>{html.escape(c.name)}</a></td><td>{html.escape(c.kind)}</td>"
+        f"<tr><td><a href='#{html.escape(c.name)}'>{html.escape(c.name)}</a></td><td>{html.escape(c.kind)}</td><td>{html.escape(c.form)}</td>"
         f"<td class='{'fail' if c.failed else 'pass'}'>"
         f"{sum(k.status == 'pass' for k in c.checks)} passed, {sum(k.failed for k in c.checks)} failed, "
         f"{sum(k.status == 'info' for k in c.checks)} information</td>"
@@ -268,10 +271,10 @@ def report_html(report: "ReportInput") -> str:
         f"<h1>camgen design-check report: {html.escape(report.scene)}</h1>",
         f"<p class='note'>camgen {report.camgen_version}; scene <code>{html.escape(report.source_file)}</code>; chord tolerance "
         f"{report.chord_tol_mm:g} mm; units mm and deg.</p>",
-        f"<table><tr><th>cam</th><th>kind</th><th>checks</th><th>manufacturing files written</th></tr>{summary}</table>",
+        f"<table><tr><th>cam</th><th>kind (motion)</th><th>form</th><th>checks</th><th>manufacturing files written</th></tr>{summary}</table>",
     ]
     for cam in cams:
-        parts.append(f"<h2 id='{html.escape(cam.name)}'>{html.escape(cam.name)} ({html.escape(cam.kind)})</h2>")
+        parts.append(f"<h2 id='{html.escape(cam.name)}'>{html.escape(cam.name)} ({html.escape(cam.kind)}, {html.escape(cam.form)} cam)</h2>")
         if cam.plots is not None:  # the profile to scale beside the design's numbers
             parts.append(f"<div class='tables'><div class='fig'>{_profile_figure(Figure, cam)}</div>{design_table(cam)}</div>")
         else:

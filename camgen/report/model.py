@@ -84,6 +84,8 @@ class RideAnimation:
         follower, or its arm's turn about the pivot (deg, counter-clockwise positive).
     seconds : duration of one turn on screen.
     zero_mark : the contact point at cam angle 0 (:class:`ZeroMark`) or None.
+    walls : polylines (n, 2) of the walls of a pocket cut into the cam (a groove: its outer wall,
+        then its inner wall), turning with it; () for a plain outline.
     """
 
     profile: FloatArray
@@ -94,6 +96,7 @@ class RideAnimation:
     moves: FloatArray
     seconds: float
     zero_mark: ZeroMark | None = None
+    walls: tuple[FloatArray, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -194,7 +197,8 @@ class CamPlots:
     polyline)), else its ``faces`` or ``roller``; ``pressure_angle`` against cam angle with its
     label and the follower's limit (deg); ``curvature`` (angle, signed radius mm) with its labels
     and the radius it must stay above (None: the tool radius either way); ``motion``;
-    ``animation``: the follower riding the cam.
+    ``animation``: the follower riding the cam; ``walls``: the walls of the pockets cut into the
+    cam (a groove's two walls), each (its layer name, polyline).
     """
 
     profile: FloatArray | None
@@ -213,6 +217,7 @@ class CamPlots:
     curvature_limit: float | None
     motion: MotionCurves | None
     animation: RideAnimation | None
+    walls: tuple[tuple[str, FloatArray], ...] = ()  # (layer, polyline) of every pocket wall (a groove's)
 
 
 @dataclass(frozen=True)
@@ -264,14 +269,15 @@ class SectionData:
 
 @dataclass(frozen=True)
 class CamReport:
-    """One cam: report.json's ``cams.<name>`` (kind, manufacturable, withheld files, figures,
-    checks) and what report.html draws besides (``rpm``, ``body``; ``plots``: None when the cam
+    """One cam: report.json's ``cams.<name>`` (kind: the motion, form: the cam form realising it,
+    manufacturable, withheld files, figures, checks) and what report.html draws besides (``rpm``, ``body``; ``plots``: None when the cam
     has no evaluation or the run writes no report.html; ``dynamics``; the kind's own part of the
     page: ``report_section``, the ``"module:function"`` drawing it ("": none), and its data,
     ``section``)."""
 
     name: str
     kind: str
+    form: str
     manufacturable: bool
     withheld_files: tuple[str, ...]
     figures: Mapping[str, JsonValue]

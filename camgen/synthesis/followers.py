@@ -102,7 +102,7 @@ from camgen.errors import (
 __all__ = [
     "BOUND_SPACING", "BREAK_MERGE", "CamEnvelope", "CheckGrid", "DEFAULT_CHECK_STEP", "DEFAULT_FIT_TOL",
     "Displacement", "FollowerSpec", "Kinematics", "MOTIONS", "ROTATIONS", "SCREEN_CLEARANCE",
-    "SCREEN_UNDERCUT", "cam_envelope", "check_grid", "kinematics", "profile_failures",
+    "SCREEN_UNDERCUT", "cam_envelope", "check_grid", "kinematics", "pitch_offset_failures", "pitch_offsets", "profile_failures",
 ]
 
 TWO_PI = 2.0 * math.pi
@@ -1265,3 +1265,60 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
     if flat_data is not None:
         envelope.__dict__["data"] = flat_data  # the cache of the `data` property, already made
     return envelope
+
+
+def pitch_offsets(follower: FollowerSpec, law: Displacement, distances: Sequence[float], *,
+                  fit_tol: float = DEFAULT_FIT_TOL) -> tuple[list[Contour], list[float]]:
+    """Exact parallel curves of the pitch curve (roller-centre path) of ``follower`` driven by ``law``.
+
+    Curve ``i`` is ``Q = P - d_i n`` with ``d_i = distances[i]`` (mm) and ``n`` the pitch curve's
+    outward normal: ``d > 0`` towards the cam axis (a roller's profile is ``d = r``), ``d < 0``
+    away from it (a groove's outer wall is ``d = -(r + clearance / 2)``).  From the closed forms
+    of :func:`_roller` with ``r -> d``: ``Q' = P' (1 - d kappa)``, ``Q'' = P'' (1 - d kappa) -
+    d kappa' P'`` (kappa the pitch curve's signed curvature); represented as the envelopes are
+    (:func:`_spline_contours`, within ``fit_tol`` mm at the probes; knots at the law's breaks).
+    The caller checks the curves can be made (|radius of the pitch curve| > |d| where it bends
+    towards the offset side: :func:`pitch_offset_failures`).
+
+    Returns the contours (counter-clockwise, cam frame) and the largest measured distance of each
+    from its exact curve (mm).
+    """
+    fit_tol = require_positive("fit_tol", fit_tol)
+    if follower.contact != "point":
+        raise ParameterError("follower", follower.kind, "a follower with a point contact (a pitch curve)")
+    f = follower
+    sigma = f.sigma
+    d = np.asarray([require_finite("distance", float(v)) for v in distances], dtype=float)
+
+    def exact(th: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(th))
+        (cx, cy), (vx, vy), (ax, ay), (bx, by), _, _ = _centre(f, s, ds, d2s, d3s)
+        back = _to_cam(f, th)
+        pitch, p1, p2 = _in_cam(back, cx, cy), _in_cam(back, vx, vy), _in_cam(back, ax, ay)
+        speed, _, _, kappa, kappa1 = _pitch_curvature(sigma, vx, vy, ax, ay, bx, by)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            k = (sigma * d[None, :]) / speed[:, None]  # Q = P - d n = P - i k P' (as in _roller)
+        factor = 1.0 - d[None, :] * kappa[:, None]
+        q = pitch[:, None] - 1j * k * p1[:, None]
+        q1 = p1[:, None] * factor
+        q2 = p2[:, None] * factor - (d[None, :] * kappa1[:, None]) * p1[:, None]
+        return q, q1, q2
+
+    n_coarse, added_coarse = _grid_layout(law, BOUND_SPACING)
+    s_c, ds_c, d2s_c, d3s_c = _law_on_grid(law, n_coarse, added_coarse)
+    at = np.arange(n_coarse) * (TWO_PI / n_coarse)
+    (_, _), (vx, vy), (ax, ay), (bx, by), _, _ = _centre(f, s_c[:n_coarse], ds_c[:n_coarse], d2s_c[:n_coarse], d3s_c[:n_coarse])
+    _, _, _, kappa, kappa1 = _pitch_curvature(sigma, vx, vy, ax, ay, bx, by)
+    back = _to_cam(f, at)
+    d2 = np.stack([_in_cam(back, ax * (1.0 - di * kappa) - di * kappa1 * vx, ay * (1.0 - di * kappa) - di * kappa1 * vy)
+                   for di in d])
+    return _spline_contours(exact, d.size, sigma, law, fit_tol, (at, d2))
+
+
+def pitch_offset_failures(k: Kinematics, distance: float) -> np.ndarray:
+    """Where the parallel curve at ``distance`` (mm, signed as in :func:`pitch_offsets`) of the
+    pitch curve in ``k`` cannot be made: the pitch curve bends towards that side with a radius of
+    curvature at most ``|distance|`` (the offset curve has a cusp or loops back: an undercut).
+    Boolean (n,) over ``k.theta``."""
+    assert k.pitch_curvature is not None, "a pitch curve's kinematics"
+    return k.pitch_curvature * distance >= 1.0

@@ -1,0 +1,475 @@
+"""Conjugate cam pairs (form ``conjugate``): the follower ridden on both exported cams, the checks
+of both cams against closed forms, the undercut thresholds against a root search, the scene.
+
+Every pair is made by the pipeline from a scene, written as camgen writes it and read back:
+
+* **the ride**: one rigid follower carries both rollers.  Roller A is ridden on cam A's DXF (exact
+  B-splines read back by ezdxf, turned into piecewise cubics by scipy: tests/test_disk_cams.py's
+  reader) by the independent simulator tests/ride.py, and on cam A's points CSV as a polygon;
+  its position must be the law's within 1e-6 mm (translating) or 1e-6 rad (oscillating).  Roller
+  B is where the rigid follower puts it (translating: ``roller_b_distance_mm`` below roller A on
+  the stem; oscillating: arm A's angle + ``arm_b_angle_deg``); the gap between roller B and cam B
+  (the distance from its centre to cam B's curve, found here by Newton steps on the read-back
+  curve or by the nearest edge of the point polygon, less its radius) must be the stated
+  ``-conjugate_preload_mm`` within 1e-6 mm at every cam angle, and roller B ridden alone on cam B
+  (as a roller of the envelope radius, roller_b_radius_mm - preload) must find the same follower
+  position within 1e-6 mm (rad).  The points are written at ``chord_tol_mm`` 5e-7 so that the
+  polygon's chords keep within 1e-6 mm.
+* **the checks**: the pressure angle of both cams against the closed forms (Norton's formula for
+  roller A; for every roller the angle between the normal through the instant centre of cam and
+  follower (Kennedy's theorem) and the roller centre's direction of motion).
+* **undercut thresholds**: for a centred translating pair (the pitch curves polar curves
+  ``r(theta)``, radius of curvature ``(r^2 + r'^2)^(3/2) / (r^2 + 2 r'^2 - r r'')``, any calculus
+  text), the roller radius at which cam A undercuts and the roller distance at which cam B does,
+  found by scipy's brentq; the scene 1e-6 relative on the safe side passes, on the other side it
+  fails with the undercut check named.
+"""
+from __future__ import annotations
+
+import functools
+import math
+import types
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import ride
+from camgen.synthesis.followers import FollowerSpec
+from camgen.synthesis.laws import MotionProgram, Segment
+from camgen.synthesis.lift_table import LiftTable
+from test_disk_cams import bspline_contour, csv_points, polygon_oscillating_roller, polygon_translating_roller
+from test_followers import rest_arm_angle
+
+D = math.radians
+TWO_PI = 2.0 * math.pi
+TOL = 1e-6  # mm or rad: the ride, the gap
+POINTS_CHORD = 5e-7  # mm: the points CSV's chord tolerance
+LIFT, SWING = 20.0, 12.0  # mm, deg
+
+
+def segments(key: str, size: float) -> list[dict]:
+    return [{"law": "cycloidal", "span_deg": 120.0, key: size}, {"law": "dwell", "span_deg": 60.0},
+            {"law": "poly345", "span_deg": 120.0, key: -size}, {"law": "dwell", "span_deg": 60.0}]
+
+
+def program(unit: str, size: float) -> MotionProgram:
+    return MotionProgram([Segment("cycloidal", D(120), size), Segment("dwell", D(60), 0.0), Segment("poly345", D(120), -size),
+                          Segment("dwell", D(60), 0.0)], unit=unit)
+
+
+TABLE_ANGLES = np.arange(0.0, 360.0, 4.0)
+TABLE_LIFT = 15.0 * (1 - np.cos(np.radians(TABLE_ANGLES))) / 2 + 1.5 * np.sin(np.radians(2 * TABLE_ANGLES)) * (1 - np.cos(np.radians(TABLE_ANGLES))) / 2
+
+_TRANS = {"kind": "motion_law", "form": "conjugate", "segments": segments("lift_mm", LIFT)}
+_OSC = {"kind": "motion_law", "form": "conjugate", "follower_motion": "oscillating", "segments": segments("swing_deg", SWING)}
+#: the pairs, in scene keys
+PAIRS = {
+    "t_ccw": {**_TRANS, "base_radius_mm": 40.0, "roller_radius_mm": 10.0, "follower_offset_mm": 6.0, "roller_b_distance_mm": 140.0},
+    "t_cw_preload": {**_TRANS, "base_radius_mm": 45.0, "roller_radius_mm": 10.0, "follower_offset_mm": -5.0, "roller_b_radius_mm": 12.0,
+                     "roller_b_distance_mm": 150.0, "rotation": "cw", "conjugate_preload_mm": 0.02},
+    "t_table_backlash": {"kind": "lift_table", "form": "conjugate", "lift_table_csv": "table.csv", "base_radius_mm": 40.0,
+                         "roller_radius_mm": 10.0, "roller_b_distance_mm": 140.0, "conjugate_preload_mm": -0.05},
+    "o_ccw": {**_OSC, "base_radius_mm": 40.0, "roller_radius_mm": 8.0, "pivot_x_mm": 110.0, "pivot_y_mm": 40.0, "arm_length_mm": 95.0,
+              "arm_b_angle_deg": -70.0},
+    "o_cw_backlash": {**_OSC, "base_radius_mm": 40.0, "roller_radius_mm": 8.0, "pivot_x_mm": -100.0, "pivot_y_mm": 50.0,
+                      "arm_length_mm": 90.0, "swing_turn": "cw", "rotation": "cw", "arm_b_length_mm": 85.0, "roller_b_radius_mm": 9.0,
+                      "arm_b_angle_deg": 80.0, "conjugate_preload_mm": -0.03},
+}
+
+
+@functools.lru_cache(maxsize=None)
+def _tables_dir() -> str:
+    import tempfile
+
+    folder = tempfile.mkdtemp(prefix="camgen_conjugate_")
+    Path(folder, "table.csv").write_text("angle_deg,lift\n" + "".join(f"{a:.1f},{v:.12f}\n" for a, v in zip(TABLE_ANGLES, TABLE_LIFT)))
+    return folder
+
+
+@functools.lru_cache(maxsize=None)
+def exported() -> tuple[dict[str, str], object]:
+    """Every pair written by the pipeline: file name -> text, and the run's result."""
+    from camgen.pipeline import execute, plan_run
+    from camgen.scene import parse_scene
+
+    data = {"output": {"formats": ["dxf", "points"], "chord_tol_mm": POINTS_CHORD, "dxf_splines": "bspline"}, "cams": PAIRS}
+    scene = parse_scene(data, "conjugate", base_dir=Path(_tables_dir()))
+    result = execute(scene, plan_run(scene))
+    failed = [(cam, check.name) for cam, check in result.failed_checks() if check.blocks_manufacture]
+    assert not failed, failed
+    return {name: data for name, data in result.files.items() if isinstance(data, str)}, result
+
+
+def law_of(name: str):
+    keys = PAIRS[name]
+    if keys["kind"] == "lift_table":
+        return LiftTable(TABLE_ANGLES, TABLE_LIFT)
+    osc = keys.get("follower_motion") == "oscillating"
+    return program("rad" if osc else "mm", D(SWING) if osc else LIFT)
+
+
+def follower_a(name: str) -> FollowerSpec:
+    k = PAIRS[name]
+    osc = k.get("follower_motion") == "oscillating"
+    return FollowerSpec("roller", k["base_radius_mm"], "oscillating" if osc else "translating", k["roller_radius_mm"],
+                        k.get("follower_offset_mm", 0.0), (k["pivot_x_mm"], k["pivot_y_mm"]) if osc else None, k.get("arm_length_mm", 0.0),
+                        0.0, k.get("swing_turn", "ccw"), k.get("rotation", "ccw"))
+
+
+def roller_b(name: str) -> tuple[float, float]:
+    """Roller B's radius and the radius cam B is the envelope of (mm)."""
+    k = PAIRS[name]
+    r = k.get("roller_b_radius_mm", k["roller_radius_mm"])
+    return r, r - k.get("conjugate_preload_mm", 0.0)
+
+
+def angles(law, count: int) -> np.ndarray:
+    brk = np.asarray(law.breaks)
+    return np.concatenate([np.linspace(0.0, TWO_PI, count, endpoint=False) + D(0.137), brk + 1e-4, brk - 1e-4])
+
+
+def turned(contour):
+    """A read-back contour turned by 180 deg about the axis (a frame in which roller B rides on top)."""
+    from camgen.contour import Contour, Spline
+
+    return Contour([Spline(seg.breaks, -seg.coeffs) for seg in contour.segments], closure_tol=1e-6)
+
+
+def centres(name: str, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Roller A's and roller B's centres (fixed frame, (n, 2) mm) the law requires: plane geometry
+    of the rigid follower (rest positions: tests/test_followers.py)."""
+    f, k, s = follower_a(name), PAIRS[name], law_of(name)(theta)[0]
+    if f.motion == "translating":
+        e = f.offset
+        y = math.sqrt(f.prime_radius**2 - e * e) + s
+        return np.stack([np.full_like(y, e), y], axis=1), np.stack([np.full_like(y, e), y - k["roller_b_distance_mm"]], axis=1)
+    g = rest_arm_angle(f) + f.tau * s
+    gb = g + D(k["arm_b_angle_deg"])
+    p = np.asarray(f.pivot)
+    lb = k.get("arm_b_length_mm", f.arm_length)
+    return (p + f.arm_length * np.stack([np.cos(g), np.sin(g)], axis=1), p + lb * np.stack([np.cos(gb), np.sin(gb)], axis=1))
+
+
+def to_cam(points: np.ndarray, theta: np.ndarray, sigma: float) -> np.ndarray:
+    """Fixed-frame points at cam angles theta in the cam frame: R(-sigma theta) p."""
+    return ride._rot1(-sigma * theta, points)
+
+
+def gap_exact(contour, c: np.ndarray) -> np.ndarray:
+    """Distance (mm) from each point c (M, 2) to the contour: the nearest vertex of a dense polygon,
+    then Newton steps on (X(t) - c) . X'(t) = 0 with the contour's own derivatives."""
+    params = contour.flatten_params(1e-3)
+    pts = contour.evaluate(params)
+    t = np.empty(len(c))
+    for sl in ride._chunks(len(c), len(pts)):
+        d = np.hypot(pts[None, :, 0] - c[sl, None, 0], pts[None, :, 1] - c[sl, None, 1])
+        t[sl] = params[np.argmin(d, axis=1)]
+    for _ in range(40):
+        x, d1, d2 = ride.contour_derivatives(contour, t)
+        rel = x - c
+        g = np.sum(rel * d1, axis=1)
+        dg = np.sum(d1 * d1, axis=1) + np.sum(rel * d2, axis=1)
+        step = np.clip(g / dg, -0.05, 0.05)
+        t = t - step
+        if np.max(np.abs(step)) < 1e-15 * contour.n_segments:
+            break
+    x = ride.contour_derivatives(contour, t)[0]
+    return np.hypot(*(x - c).T)
+
+
+def gap_polygon(pts: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """Distance (mm) from each point c (M, 2) to the closed polygon pts (its nearest edge)."""
+    a, b = pts, np.roll(pts, -1, axis=0)
+    d = b - a
+    out = np.empty(len(c))
+    for sl in ride._chunks(len(c), len(pts)):
+        rel = c[sl, None, :] - a[None]
+        w = np.clip(np.sum(rel * d[None], axis=-1) / np.sum(d * d, axis=-1)[None], 0.0, 1.0)
+        out[sl] = np.min(np.hypot(*(rel - w[..., None] * d[None]).transpose(2, 0, 1)), axis=1)
+    return out
+
+
+def ride_a(name: str, cam, theta, polygon: bool = False) -> np.ndarray:
+    """Roller A's position on cam A: its centre's height (mm) or arm A's angle (rad)."""
+    f = follower_a(name)
+    if f.motion == "translating":
+        if polygon:
+            return polygon_translating_roller(cam, theta, f.offset, f.roller_radius, f.sigma)
+        return ride.translating_roller(cam, theta, f.offset, f.roller_radius, f.sigma)
+    if polygon:
+        return polygon_oscillating_roller(cam, theta, f, rest_arm_angle(f), f.sigma)
+    return ride.oscillating_roller(cam, theta, f.pivot, f.arm_length, f.roller_radius, rest_arm_angle(f), f.tau, f.sigma)
+
+
+def ride_b(name: str, cam, theta, polygon: bool = False) -> np.ndarray:
+    """Roller B (as the roller cam B is the envelope of) ridden alone on cam B: its centre's height
+    (mm, fixed frame) or arm B's angle (rad).  Translating: in the frame turned by 180 deg roller
+    B rides on top of the turned cam on the line x = -offset."""
+    f, k = follower_a(name), PAIRS[name]
+    _, r_env = roller_b(name)
+    if f.motion == "translating":
+        if polygon:
+            return -polygon_translating_roller(-cam, theta, -f.offset, r_env, f.sigma)
+        return -ride.translating_roller(turned(cam), theta, -f.offset, r_env, f.sigma)
+    lb = k.get("arm_b_length_mm", f.arm_length)
+    rest_b = rest_arm_angle(f) + D(k["arm_b_angle_deg"]) + f.tau * float(law_of(name).s_bounds[1])  # arm B at arm A's largest swing
+    arm = types.SimpleNamespace(pivot=f.pivot, arm_length=lb, roller_radius=r_env, tau=-f.tau)
+    if polygon:
+        return polygon_oscillating_roller(cam, theta, arm, rest_b, f.sigma)
+    return ride.oscillating_roller(cam, theta, f.pivot, lb, r_env, rest_b, -f.tau, f.sigma)
+
+
+def required(name: str, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Roller A's and B's positions the law requires: heights (mm) or arm angles (rad)."""
+    a, b = centres(name, theta)
+    f = follower_a(name)
+    if f.motion == "translating":
+        return a[:, 1], b[:, 1]
+    p = np.asarray(f.pivot)
+    return np.arctan2(a[:, 1] - p[1], a[:, 0] - p[0]), np.arctan2(b[:, 1] - p[1], b[:, 0] - p[0])
+
+
+def error(name: str, got: np.ndarray, want: np.ndarray) -> np.ndarray:
+    diff = got - want
+    return np.abs(np.remainder(diff + math.pi, TWO_PI) - math.pi) if follower_a(name).motion == "oscillating" else np.abs(diff)
+
+
+# --------------------------------------------------------------------------------------------
+# The ride
+# --------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("name", sorted(PAIRS))
+def test_follower_rides_both_exported_dxf_cams(name):
+    """Both rollers of the one follower on both cams' exact B-spline DXFs: the law within 1e-6 mm
+    (rad), and the gap between roller B and cam B the stated -preload within 1e-6 mm."""
+    files, _ = exported()
+    law, f = law_of(name), follower_a(name)
+    theta = angles(law, 720)
+    cam_a, cam_b = bspline_contour(files[f"{name}_a.dxf"]), bspline_contour(files[f"{name}_b.dxf"])
+    want_a, want_b = required(name, theta)
+    assert np.max(error(name, ride_a(name, cam_a, theta), want_a)) <= TOL
+    assert np.max(error(name, ride_b(name, cam_b, theta), want_b)) <= TOL
+    r_b, _ = roller_b(name)
+    gap = gap_exact(cam_b, to_cam(centres(name, theta)[1], theta, f.sigma)) - r_b
+    assert np.max(np.abs(gap + PAIRS[name].get("conjugate_preload_mm", 0.0))) <= TOL
+    gap_a = gap_exact(cam_a, to_cam(centres(name, theta)[0], theta, f.sigma)) - f.roller_radius  # roller A touches cam A
+    assert np.max(np.abs(gap_a)) <= TOL
+
+
+@pytest.mark.parametrize("name", sorted(PAIRS))
+def test_follower_rides_both_point_lists(name):
+    """The same on the points CSVs ridden as the polygons they are (chord 5e-7 mm)."""
+    files, _ = exported()
+    law, f = law_of(name), follower_a(name)
+    theta = angles(law, 240)
+    pts_a, pts_b = csv_points(files[f"{name}_a_points.csv"]), csv_points(files[f"{name}_b_points.csv"])
+    want_a, want_b = required(name, theta)
+    assert np.max(error(name, ride_a(name, pts_a, theta, polygon=True), want_a)) <= TOL
+    assert np.max(error(name, ride_b(name, pts_b, theta, polygon=True), want_b)) <= TOL
+    r_b, _ = roller_b(name)
+    gap = gap_polygon(pts_b, to_cam(centres(name, theta)[1], theta, f.sigma)) - r_b
+    assert np.max(np.abs(gap + PAIRS[name].get("conjugate_preload_mm", 0.0))) <= TOL
+
+
+def test_cam_b_is_on_the_other_side_of_the_shaft():
+    """Translating: roller B's centre is below the shaft at every cam angle, and the files state the
+    preload and the distance between the rollers."""
+    _, result = exported()
+    theta = angles(law_of("t_ccw"), 360)
+    assert np.all(centres("t_ccw", theta)[1][:, 1] < 0)
+    cams = {c.name: c for c in result.cams}
+    for member in ("a", "b"):
+        figures = cams[f"t_cw_preload_{member}"].figures["conjugate"]
+        assert figures["preload_mm"] == 0.02 and figures["roller_distance_mm"] == 150.0
+        check = [c for c in cams[f"t_cw_preload_{member}"].checks if c.name == "conjugate_preload"][0]
+        assert check.value == 0.02 and "150 mm" in check.note
+
+
+# --------------------------------------------------------------------------------------------
+# The checks against closed forms
+# --------------------------------------------------------------------------------------------
+def kennedy_pressure_angle(name: str, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """|pressure angle| (rad) of roller A and roller B: the common normal passes through the roller
+    centre and the instant centre I of cam and follower (Kennedy): (sigma s', 0) for a follower
+    moving along y, -q P / (1 - q) on the line to the pivot P for a rocker turning q = sigma tau s'
+    times as fast as the cam; the angle is between that normal and the centre's direction of motion."""
+    f = follower_a(name)
+    ds = law_of(name)(theta)[1]
+    a, b = centres(name, theta)
+    if f.motion == "translating":
+        instant = np.stack([f.sigma * ds, np.zeros_like(ds)], axis=1)
+        motion_a = motion_b = np.stack([np.zeros_like(ds), np.ones_like(ds)], axis=1)
+    else:
+        p = np.asarray(f.pivot)
+        q = f.sigma * f.tau * ds
+        instant = -q[:, None] * p / (1.0 - q)[:, None]
+        motion_a, motion_b = ((c - p)[:, ::-1] * np.array([-1.0, 1.0]) for c in (a, b))
+    out = []
+    for c, m in ((a, motion_a), (b, motion_b)):
+        n = c - instant
+        cos = np.abs(np.sum(n * m, axis=1)) / (np.hypot(*n.T) * np.hypot(*m.T))
+        out.append(np.arccos(np.minimum(cos, 1.0)))
+    return out[0], out[1]
+
+
+@pytest.mark.parametrize("name", sorted(PAIRS))
+def test_pressure_angles_of_both_cams_against_the_closed_forms(name):
+    """Both cams' pressure-angle curves (the checks' data) against Kennedy's instant centre, and cam
+    A's against Norton's formula tan(alpha) = (s' - sigma e) / (sqrt(Rp^2 - e^2) + s) (Design of
+    Machinery, ch. 8); the check's value is the curve's largest |alpha|."""
+    _, result = exported()
+    f = follower_a(name)
+    cams = {c.name: c for c in result.cams}
+    for member, index in (("a", 0), ("b", 1)):
+        cam = cams[f"{name}_{member}"]
+        theta, alpha = cam.evaluation.pressure_angle
+        want = kennedy_pressure_angle(name, theta)[index]
+        assert np.max(np.abs(np.abs(alpha) - want)) <= 1e-9
+        check = [c for c in cam.checks if c.name == "pressure_angle"][0]
+        assert abs(check.value - math.degrees(np.max(want))) <= 1e-7
+        if member == "a" and f.motion == "translating":
+            s, ds = law_of(name)(theta)[:2]
+            norton = np.arctan((ds - f.sigma * f.offset) / (math.sqrt(f.prime_radius**2 - f.offset**2) + s))
+            assert np.max(np.abs(alpha - norton)) <= 1e-9
+
+
+# undercut thresholds of a centred translating pair with simple-harmonic rise and return: the
+# noses of both cams are where the acceleration jumps (the law's breaks, on the check grid)
+THRESHOLD_LIFT = 30.0
+THRESHOLD_SPAN = 45.0  # deg: short rises, sharp noses
+THRESHOLD_SEGMENTS = [{"law": "simple_harmonic", "span_deg": THRESHOLD_SPAN, "lift_mm": THRESHOLD_LIFT},
+                      {"law": "dwell", "span_deg": 180.0 - THRESHOLD_SPAN},
+                      {"law": "simple_harmonic", "span_deg": THRESHOLD_SPAN, "lift_mm": -THRESHOLD_LIFT},
+                      {"law": "dwell", "span_deg": 180.0 - THRESHOLD_SPAN}]
+THRESHOLD_BASE = 15.0
+
+
+def polar_min_radius(height: float, sign: float) -> float:
+    """Smallest convex radius of curvature (mm) of the polar curve r = height + sign s(theta) over
+    the harmonic program (s from its own closed form here), by scipy's bounded minimiser on each
+    segment from the best of a dense grid."""
+    from scipy.optimize import minimize_scalar
+
+    beta, c = D(THRESHOLD_SPAN), THRESHOLD_LIFT
+
+    def s_parts(t):  # s, s', s'' of the program: rise on [0, beta], dwell, return on [pi, pi + beta], dwell
+        t = np.asarray(t, dtype=float)
+        rise, back = t <= beta, (t >= math.pi) & (t <= math.pi + beta)
+        u = np.where(rise, t, np.where(back, t - math.pi, 0.0))
+        k = math.pi / beta
+        s = np.where(rise, c / 2 * (1 - np.cos(k * u)), np.where(back, c / 2 * (1 + np.cos(k * u)), np.where(t < math.pi, c, 0.0)))
+        ds = np.where(rise, c / 2 * k * np.sin(k * u), np.where(back, -c / 2 * k * np.sin(k * u), 0.0))
+        d2s = np.where(rise, c / 2 * k * k * np.cos(k * u), np.where(back, -c / 2 * k * k * np.cos(k * u), 0.0))
+        return s, ds, d2s
+
+    def rho(t):
+        s, ds, d2s = s_parts(t)
+        r, r1, r2 = height + sign * s, sign * ds, sign * d2s
+        den = r * r + 2 * r1 * r1 - r * r2
+        return np.where(den > 0, (r * r + r1 * r1) ** 1.5 / np.where(den > 0, den, 1.0), np.inf)
+
+    best = math.inf
+    for lo, hi in ((0.0, beta), (math.pi, math.pi + beta)):
+        grid = np.linspace(lo, hi, 2001)
+        i = int(np.argmin(rho(grid)))
+        found = minimize_scalar(lambda t: float(rho(np.array([t]))[0]), bounds=(grid[max(i - 1, 0)], grid[min(i + 1, 2000)]),
+                                method="bounded", options={"xatol": 1e-12})
+        best = min(best, float(found.fun), float(rho(grid[[0, -1]]).min()))
+    return best
+
+
+def threshold_cams(roller_mm: float, distance_mm: float):
+    from camgen.pipeline import compute, plan_run
+    from camgen.scene import parse_scene
+
+    cam = {"kind": "motion_law", "form": "conjugate", "base_radius_mm": THRESHOLD_BASE, "roller_radius_mm": roller_mm,
+           "roller_b_radius_mm": 8.0, "roller_b_distance_mm": distance_mm, "segments": THRESHOLD_SEGMENTS}
+    scene = parse_scene({"output": {"formats": ["dxf"]}, "cams": {"u": cam}}, "u")
+    return {c.name: c for c in compute(scene, plan_run(scene)).cams}
+
+
+def undercut(cam):
+    return [c for c in cam.checks if c.name == "undercut"][0]
+
+
+def test_undercut_thresholds_of_both_cams_against_a_root_search():
+    """Cam A undercuts when its roller radius r reaches the pitch curve's smallest convex radius
+    (the pitch curve r = base + r + s itself grows with r): brentq on r; cam B (roller B 8 mm)
+    when the roller distance D brings its pitch curve r = D - (base + r_A) - s to a radius of 8 mm:
+    brentq on D.  1e-6 relative on the safe side passes, on the other side the undercut check fails."""
+    from scipy.optimize import brentq
+
+    r_star = brentq(lambda r: polar_min_radius(THRESHOLD_BASE + r, 1.0) - r, 1.0, 30.0, xtol=1e-13)
+    r_a = 10.0
+    d_star = brentq(lambda d: polar_min_radius(d - THRESHOLD_BASE - r_a, -1.0) - 8.0, THRESHOLD_BASE + r_a + THRESHOLD_LIFT + 8.5, 400.0,
+                    xtol=1e-12)
+    far = 200.0  # roller B far from the shaft: cam B nowhere near its undercut
+    below_a, above_a = threshold_cams(r_star * (1 - 1e-6), far), threshold_cams(r_star * (1 + 1e-6), far)
+    assert undercut(below_a["u_a"]).passed and below_a["u_a"].contour is not None and below_a["u_a"].manufacturable
+    assert not undercut(above_a["u_a"]).passed and undercut(above_a["u_a"]).blocks_manufacture and not above_a["u_a"].manufacturable
+    assert undercut(above_a["u_b"]).passed
+    safe_b, over_b = threshold_cams(r_a, d_star * (1 + 1e-6)), threshold_cams(r_a, d_star * (1 - 1e-6))
+    assert undercut(safe_b["u_b"]).passed and safe_b["u_b"].contour is not None and safe_b["u_b"].manufacturable
+    assert not undercut(over_b["u_b"]).passed and undercut(over_b["u_a"]).passed
+    assert not over_b["u_b"].manufacturable
+
+
+# --------------------------------------------------------------------------------------------
+# The scene
+# --------------------------------------------------------------------------------------------
+def _refusal(base: str, changes: dict, drop: tuple[str, ...] = ()) -> str:
+    from camgen.errors import ParameterError
+    from camgen.scene import parse_scene
+
+    cam = {k: v for k, v in {**PAIRS[base], **changes}.items() if k not in drop}
+    with pytest.raises(ParameterError) as info:
+        parse_scene({"output": {"formats": ["dxf"]}, "cams": {"p": cam}}, "x")
+    return str(info.value)
+
+
+def test_refusals_name_the_key_and_the_valid_range():
+    # roller B must pass below the shaft: Y + s_max + sqrt(r^2 - e^2) = sqrt(50^2 - 6^2) + 20 + sqrt(10^2 - 6^2)
+    least = math.sqrt(50**2 - 36) + LIFT + 8.0
+    text = _refusal("t_ccw", {"roller_b_distance_mm": least - 0.01})
+    assert "cams.p.roller_b_distance_mm" in text and f"> {least:.6g} mm" in text
+    assert "cams.p.roller_b_distance_mm" in _refusal("t_ccw", {}, drop=("roller_b_distance_mm",))
+    assert "cams.p.conjugate_preload_mm" in _refusal("t_ccw", {"conjugate_preload_mm": 10.0})
+    # arm B 60 deg counter-clockwise from arm A: both rollers would move away from their cams together
+    assert "cams.p.arm_b_angle_deg" in _refusal("o_ccw", {"arm_b_angle_deg": 60.0})
+    assert "cams.p.arm_b_angle_deg" in _refusal("o_ccw", {}, drop=("arm_b_angle_deg",))
+
+
+def test_a_name_clash_is_refused():
+    from camgen.errors import ParameterError
+    from camgen.scene import parse_scene
+
+    with pytest.raises(ParameterError, match=r"cams\.p\b.*p_b"):
+        parse_scene({"output": {"formats": ["dxf"]}, "cams": {"p": PAIRS["t_ccw"], "p_b": PAIRS["o_ccw"]}}, "x")
+
+
+def test_least_roller_distance_is_the_valid_limit():
+    """The least distance quoted is verified by using it: just above it the pair is made."""
+    from camgen.pipeline import compute, plan_run
+    from camgen.scene import parse_scene
+
+    least = math.sqrt(50**2 - 36) + LIFT + 8.0
+    cam = {**PAIRS["t_ccw"], "roller_b_distance_mm": least + 1e-3}
+    scene = parse_scene({"output": {"formats": ["dxf"]}, "cams": {"p": cam}}, "x")
+    cams = compute(scene, plan_run(scene)).cams
+    assert [c.name for c in cams] == ["p_a", "p_b"] and cams[1].figures["base_radius_mm"] > 0
+
+
+@pytest.mark.parametrize("base, key, value", [("t_ccw", "roller_b_distance_mm", 141.0), ("t_ccw", "roller_b_radius_mm", 9.0),
+                                              ("t_ccw", "conjugate_preload_mm", 0.01), ("o_ccw", "arm_b_angle_deg", -75.0),
+                                              ("o_ccw", "arm_b_length_mm", 97.0)])
+def test_roller_b_keys_change_cam_b_only(base, key, value):
+    """Each key of roller B changes cam B's profile (its DXF), and cam A's not at all."""
+    from camgen.pipeline import execute, plan_run
+    from camgen.scene import parse_scene
+
+    def files(cam):
+        scene = parse_scene({"output": {"formats": ["dxf"]}, "cams": {"p": cam}}, "x")
+        return execute(scene, plan_run(scene)).files
+
+    before, after = files(PAIRS[base]), files({**PAIRS[base], key: value})
+    assert before["p_a.dxf"] == after["p_a.dxf"] and before["p_b.dxf"] != after["p_b.dxf"]
