@@ -606,3 +606,18 @@ def test_the_report_draws_against_travel_and_animates_the_plate():
     assert "no curves: the profile cannot be made" not in page
     report = json.loads(files["report.json"])
     assert report["status"] == "pass" and report["cams"]["lifter"]["figures"]["travel_mm"] == TRAVEL
+
+
+@pytest.mark.parametrize("fmt", ["lift", "follower"])
+def test_formats_a_linear_cam_cannot_have_are_refused_naming_output_formats(fmt):
+    """The polar lift table and the follower table at a cam speed (a plate turns about no axis,
+    has no rpm) are refused before anything is computed: output.formats, the format, the cam."""
+    from camgen.errors import ParameterError
+    from camgen.planning import plan_run
+    from camgen.scene import parse_scene
+
+    scene = parse_scene({"output": {"formats": ["dxf", fmt]}, "cams": {"c": _cam()}}, "t")
+    with pytest.raises(ParameterError) as caught:
+        plan_run(scene)
+    assert caught.value.name == "output.formats" and caught.value.value == fmt and "cams.c" in str(caught.value)
+    assert caught.value.valid == 'any format but "lift", "follower"'

@@ -26,4 +26,6 @@ FORM = CamForm(
     build=build_linear,
     evaluate=evaluate_linear,
     report_section="camgen.kinds.linear:linear_section",
+    formats_refused={"lift": "its plate turns about no axis, so it has no polar lift table (the point list and the DXF hold the edge)",
+                     "follower": "it has no cam speed (rpm) to tabulate the follower's motion at"},
 )
