@@ -36,6 +36,20 @@ class Plan:
     full_report: bool = True
 
 
+def _refuse_formats_of_forms(scene: "Scene", formats: Sequence[str]) -> None:
+    """A format a cam's form cannot have (:attr:`camgen.forms.base.CamForm.formats_refused`) is
+    refused naming ``output.formats``, the format, the cam and why."""
+    from camgen.forms import form_names, get_form
+
+    known = set(form_names())
+    for spec in scene.cams:
+        refused = get_form(spec.form).formats_refused if spec.form in known else {}
+        for name in formats:
+            if name in refused:
+                raise ParameterError("output.formats", name, "any format but " + ", ".join(f'"{f}"' for f in refused),
+                                     f"cams.{spec.name} is a {spec.form} cam: {refused[name]}")
+
+
 def plan_run(scene: "Scene", only: Sequence[str] | None = None) -> Plan:
     """The outputs and stages of a run of ``scene``; ``only`` restricts the outputs to those
     formats (whether or not the scene lists them; report.json is always written)."""
@@ -51,6 +65,7 @@ def plan_run(scene: "Scene", only: Sequence[str] | None = None) -> Plan:
         wanted = list(only) + list(ALWAYS)
         full = all(f in only for f in ALWAYS)  # the report carries the analysis figures when asked for by name
     formats = tuple(f for f in OUTPUTS if f in wanted)
+    _refuse_formats_of_forms(scene, formats)
     for name in formats:
         why = OUTPUTS[name].needs_rpm
         for spec in scene.cams if why else ():

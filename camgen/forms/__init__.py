@@ -17,6 +17,7 @@ FORM_MODULES: dict[str, str] = {
     "constant_breadth": "camgen.forms.constant_breadth",
     "groove": "camgen.forms.groove",
     "conjugate": "camgen.forms.conjugate",
+    "linear": "camgen.forms.linear",
 }
 
 _REGISTRY: Registry[CamForm] = Registry(FORM_MODULES, "FORM")

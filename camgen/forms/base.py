@@ -9,7 +9,7 @@ with ``read_law``); a form without one is realised only by the motions that name
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable, Mapping
 
@@ -40,6 +40,8 @@ class CamForm:
         pair: two cams) gives their specs, each then built, checked and written as a cam of the
         run under its own name (the scene cam's name and a suffix; the scene reader refuses a name
         that clashes); None: the scene cam is one body.
+    formats_refused : output format -> why this form's cams cannot have it (a polar lift table of
+        a body that turns about no axis); a run asking for one is refused naming ``output.formats``.
     """
 
     name: str
@@ -51,3 +53,4 @@ class CamForm:
     follower_dynamics: "Callable[[BuiltCam, CamSpec], tuple[Any, float]] | None" = None
     report_section: str = ""
     expand: "Callable[[CamSpec], tuple[CamSpec, ...]] | None" = None
+    formats_refused: Mapping[str, str] = field(default_factory=dict)

@@ -4,6 +4,8 @@ The lift follows a periodic quintic spline through the rows
 (:func:`camgen.synthesis.lift_table.read_lift_table`: continuous through the jerk); every cam
 form that realises a law takes it (the open plate cam: :mod:`camgen.forms.plate`).  The
 lift column is in mm for a translating follower and in degrees of swing for an oscillating one.
+A linear cam (:mod:`camgen.forms.linear`, whose ``travel_mm`` is then among the parsed keys)
+reads the first column as the plate travel x in mm, its turn being the travel.
 """
 from __future__ import annotations
 
@@ -11,6 +13,7 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Mapping
 
+from camgen.errors import ParameterError
 from camgen.keynames import renamed
 from camgen.motions.base import LawReading, Motion
 from camgen.schema import REQUIRED, Key, Text
@@ -20,7 +23,8 @@ if TYPE_CHECKING:
 
 KEYS = (
     Key("lift_table_csv", Text(), "CSV file of rows 'angle_deg, lift' (cam angle in deg; lift in mm, or deg of swing for an "
-        "oscillating follower), relative to the scene file; one turn, closed automatically; '#' comments and a header row allowed.",
+        "oscillating follower), relative to the scene file; one turn, closed automatically; '#' comments and a header row allowed. "
+        "A linear cam (form = \"linear\") reads the first column as the plate travel x in mm, one turn = travel_mm.",
         ("profile",), default=REQUIRED),
 )
 
@@ -28,13 +32,30 @@ KEYS = (
 def read_law(where: str, parsed: Mapping[str, Any], follower: "FollowerSpec", base_dir: Path | None = None) -> LawReading:
     """The lift table of a cam table for ``follower`` (lift in mm for a translating one, degrees
     of swing for an oscillating one, read into rad): the file is read now."""
-    from camgen.synthesis.lift_table import read_lift_table
+    from camgen.synthesis.lift_table import LiftTable, read_two_column_table
 
     path = Path(parsed["lift_table_csv"])
     path = path if path.is_absolute() or base_dir is None else base_dir / path
     oscillating = follower.motion == "oscillating"
-    table = renamed(where, KEYS, lambda: read_lift_table(path, unit="rad" if oscillating else "mm",
-                                                      lift_scale=math.pi / 180.0 if oscillating else 1.0))
+    # a linear cam (its form's travel_mm) gives the first column as the travel x in mm: its turn is the travel
+    angle_scale = 360.0 / parsed["travel"] if "travel" in parsed else 1.0
+
+    def read():
+        angles, lifts, labels = read_two_column_table(path, "lift_table_csv", ("angle_deg", "lift"))
+        if "travel" in parsed:  # say what is wrong with the x column in mm (LiftTable speaks of cam angles)
+            import numpy as np
+
+            travel = parsed["travel"]
+            bad = np.flatnonzero((np.diff(angles) <= 0) | (angles[1:] - angles[0] > travel * (1 + 1e-12)))
+            if bad.size:
+                i = int(bad[0]) + 1
+                raise ParameterError("lift_table_csv", f"{labels[i]}: x {angles[i]:.9g} mm after {angles[i - 1]:.9g} mm",
+                                     f"x (mm) strictly increasing and within one travel: <= {angles[0] + travel:.9g} mm (first row + "
+                                     "travel_mm)")
+        return LiftTable(angles * angle_scale, lifts * (math.pi / 180.0 if oscillating else 1.0), unit="rad" if oscillating else "mm",
+                         key="lift_table_csv", rows=labels)
+
+    table = renamed(where, KEYS, read)
     figures = {"lift_table_csv": parsed["lift_table_csv"], "table_rows": int(table.angles.size), "table_spline_degree": table.degree}
     return LawReading(table, figures)
 

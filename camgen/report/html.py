@@ -280,7 +280,9 @@ def report_html(report: "ReportInput") -> str:
         else:
             parts.append(design_table(cam))
         parts.append(program_table(cam))
-        if cam.plots is not None:
+        # a kind that draws its own curves (a linear cam: against travel) gives none here and its section's data
+        own_curves = cam.plots is not None and cam.plots.pressure_angle is None and cam.plots.curvature is None and cam.section is not None
+        if cam.plots is not None and not own_curves:
             parts.append(f"<div class='fig'>{_curves_figure(Figure, cam, tool_radius)}</div>")
             if cam.plots.motion is not None:
                 parts.append(f"<div class='fig'>{_motion_figure(Figure, cam)}</div>")
