@@ -18,7 +18,7 @@ from cams import BODIES, radial_error
 from helpers import distance_to_arcs, require_tool
 
 TEMPLATES = ("default", "horse_leg", "motion_law", "tricycle", "plate_cam", "flat_follower", "knife_follower", "oscillating_roller",
-             "oscillating_flat", "lift_table", "groove_cam", "conjugate_cam", "constant_breadth")
+             "oscillating_flat", "lift_table", "groove_cam", "conjugate_cam", "constant_breadth", "linear_cam")
 GDAL_STEP_DEG = 0.05  # OGR_ARC_STEPSIZE: GDAL samples arcs every 0.05 deg
 
 
@@ -412,7 +412,8 @@ def test_default_dxf_holds_only_what_is_cut(template, template_dxfs, constructio
         _, with_construction = construction_dxfs[template][1][name]
         full = read_dxf(with_construction)
         roller = _roller_radius(next(spec for spec in scene.cams if spec.name == name)) is not None
-        construction = {"CENTER"} | ({"PITCH"} if roller else set()) | ({"ZERO"} if cam.zero_mark is not None else set())
+        linear = next(spec for spec in scene.cams if spec.name == name).form == "linear"  # its pitch curve is open: no PITCH layer
+        construction = {"CENTER"} | ({"PITCH"} if roller and not linear else set()) | ({"ZERO"} if cam.zero_mark is not None else set())
         assert {e.dxf.layer for e in full.modelspace()} == cut | construction
         assert cut_entities(doc) == cut_entities(full)  # the cut layers are the same entities in both files
 

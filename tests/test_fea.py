@@ -32,9 +32,11 @@ def require_module(name: str):
 
 
 def _template_cams():
+    """Every bundled template but the groove cam: the FEA meshes of a body with a pocket are
+    refused (tests/test_pocket_files.py shows it)."""
     from golden.regenerate import TEMPLATES
 
-    return TEMPLATES
+    return tuple(t for t in TEMPLATES if t != "groove_cam")
 
 
 @pytest.fixture(scope="module")
@@ -56,7 +58,7 @@ def template_runs(tmp_path_factory):
         for spec in scene.cams:
             if not (folder / f"{spec.name}.inp").exists():
                 continue
-            cam = get_kind(spec.kind).build(spec, frozenset())
+            cam = get_kind(spec.kind, spec.form).build(spec, frozenset())
             runs[(template, spec.name)] = (folder, cam.contour, cam.body, scene.output.chord_tol,
                                            report["cams"][spec.name]["figures"]["fea_mesh"])
     return runs
@@ -102,7 +104,8 @@ def _totals(dat: str, what: str, where: str) -> np.ndarray:
 TEMPLATE_CAMS = [("default", "stride_length"), ("default", "stride_height"), ("default", "steering"), ("horse_leg", "stride_length"),
                  ("horse_leg", "stride_height"), ("motion_law", "rise_return"), ("tricycle", "steering"), ("plate_cam", "plate"),
                  ("flat_follower", "flat"), ("knife_follower", "knife"), ("oscillating_roller", "rocker"), ("oscillating_flat", "rocker"),
-                 ("lift_table", "table")]
+                 ("lift_table", "table"), ("conjugate_cam", "pair_a"), ("conjugate_cam", "pair_b"), ("constant_breadth", "yoke_cam"),
+                 ("linear_cam", "lifter")]
 
 
 def test_every_template_cam_has_fea_files(template_runs):

@@ -285,7 +285,7 @@ def test_surface_mesh_bytes_per_outline_vertex_are_bounded(tol):
     for template in TEMPLATES:
         scene = load_template(template)
         for spec in scene.cams:
-            cam = get_kind(spec.kind).build(spec, frozenset())
+            cam = get_kind(spec.kind, spec.form).build(spec, frozenset())
             cases.append((cam.contour, cam.body))
     rng = np.random.default_rng(21)
     cases += [_random_star_cam(rng) for _ in range(4)]

@@ -145,7 +145,7 @@ def _template_cams():
     for name in TEMPLATES:
         scene = load_template(name)
         for spec in scene.cams:
-            cam = get_kind(spec.kind).build(spec, frozenset())
+            cam = get_kind(spec.kind, spec.form).build(spec, frozenset())
             out.append((name, spec.name, cam.contour, cam.body, scene.output.chord_tol))
     return out
 
@@ -164,7 +164,8 @@ def _concave_cam():
     return contour, body
 
 
-SECTION_CASES = [(t, c) for t, c, *_ in _template_cams()] + [("concave", "lobes")]
+# (a linear cam's plate is not star-shaped about the axis: manifold3d fills it; tests/test_linear_cam.py reads its solid back)
+SECTION_CASES = [(t, c) for t, c, *_ in _template_cams() if t != "linear_cam"] + [("concave", "lobes")]
 
 
 def _section_case(template, cam):
