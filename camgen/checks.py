@@ -47,6 +47,10 @@ NO_CONCAVE_PART = "no concave part"
 COMPARISONS = ("<=", "<", ">=", ">", "at least")
 
 
+#: What a check's ``where`` list may hold: angles (deg) or a linear cam's plate travel (mm).
+WHERE_UNITS = ("deg", "mm")
+
+
 @dataclass(frozen=True)
 class CheckResult:
     """One design check.
@@ -66,12 +70,15 @@ class CheckResult:
     passed : bool or None
         Whether ``value`` satisfies ``limit``; None for information (never a pass).
     where_deg : list of float
-        Cam angles (deg) where the check is worst or fails.
+        Cam angles (deg) where the check is worst or fails (in ``where_unit``).
     note : str
         One sentence a designer reads.
     blocks_manufacture : bool
         A failure means the cam cannot be made as designed (undercut, gouge, broken wall): no
         manufacturing file is written for it.
+    where_unit : str
+        ``"deg"`` (cam angles or polar angles) or ``"mm"`` (a linear cam's plate travel): what
+        ``where_deg`` holds; report.json names the list ``where_deg`` or ``where_mm`` by it.
     """
 
     name: str
@@ -83,6 +90,10 @@ class CheckResult:
     where_deg: list[float] = field(default_factory=list)
     note: str = ""
     blocks_manufacture: bool = False
+    where_unit: str = "deg"
+
+    def __post_init__(self) -> None:
+        assert self.where_unit in WHERE_UNITS, f"where_unit {self.where_unit!r} not one of {WHERE_UNITS}"
 
     @property
     def status(self) -> str:
@@ -95,7 +106,8 @@ class CheckResult:
 
     def as_dict(self) -> dict[str, Any]:
         return {"name": self.name, "status": self.status, "value": self.value, "limit": self.limit, "comparison": self.comparison,
-                "unit": self.unit, "where_deg": self.where_deg, "note": self.note, "blocks_manufacture": self.blocks_manufacture}
+                "unit": self.unit, f"where_{self.where_unit}": self.where_deg, "note": self.note,
+                "blocks_manufacture": self.blocks_manufacture}
 
 
 def limited(name: str, value: float, comparison: str, limit: float, unit: str, where: list[float], note: str,

@@ -83,12 +83,13 @@ def _number(value: object) -> str:
 
 
 def _where(check: "CheckResult") -> str:
-    """The cam angles a check names, as ``12.5, 30 deg`` (at most six, then how many more)."""
+    """The cam angles a check names, as ``12.5, 30 deg`` (a linear cam's travel: ``mm``; at most
+    six, then how many more)."""
     angles = check.where_deg
     if not angles:
         return ""
     shown = ", ".join(f"{w:g}" for w in angles[:6]) + (f" and {len(angles) - 6} more" if len(angles) > 6 else "")
-    return f"{shown} deg"
+    return f"{shown} {check.where_unit}"
 
 
 def _report_failures(result: "RunResult") -> int:

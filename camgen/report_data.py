@@ -102,7 +102,7 @@ def _check(check: "CheckResult") -> "CheckRow":
 
     status: Literal["pass", "fail", "info"] = "info" if check.passed is None else "pass" if check.passed else "fail"
     return CheckRow(check.name, status, check.value, check.limit, check.comparison, check.unit, tuple(check.where_deg), check.note,
-                    check.blocks_manufacture)
+                    check.blocks_manufacture, check.where_unit)
 
 
 def _cam(cam: "CamResult", drawn: bool) -> "CamReport":

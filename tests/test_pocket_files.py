@@ -532,22 +532,6 @@ def test_step_body_is_valid_with_the_closed_form_volume(case):
     assert stated.endswith("within 1e-08 mm of the contour" if splines else "exact arcs, lines and B-splines"), stated
 
 
-def test_freecad_reads_the_step_if_installed(tmp_path):
-    """FreeCAD's importer (when FreeCAD is on this machine): a valid solid of the closed-form volume."""
-    exe = shutil.which("freecadcmd") or shutil.which("FreeCADCmd")
-    if exe is None:
-        pytest.skip("FreeCAD not installed")
-    from camgen.export.step import step_bytes
-
-    pockets = CASES["eccentric"]
-    (tmp_path / "cam.step").write_bytes(step_bytes(RIM_CONTOUR, BODY, "e", pockets=pockets))
-    script = tmp_path / "read.py"
-    script.write_text("import Part\ns = Part.read('cam.step')\nprint('VOLUME', s.Volume, s.isValid())\n")
-    proc = subprocess.run([exe, str(script)], cwd=tmp_path, capture_output=True, text=True, timeout=300)
-    volume, valid = re.search(r"VOLUME (\S+) (\S+)", proc.stdout).groups()
-    assert valid == "True" and float(volume) == pytest.approx(exact_volume(pockets), rel=1e-6)
-
-
 # --------------------------------------------------------------------------------------------
 # Through the run: a toy form with a groove gets its files; the lift table and FEA meshes are refused
 # --------------------------------------------------------------------------------------------

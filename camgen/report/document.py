@@ -44,7 +44,7 @@ __all__ = ["REPORT_SCHEMA", "report_dict", "report_json"]
 
 _CHECK = {
     "type": "object",
-    "required": ["name", "status", "value", "limit", "comparison", "unit", "where_deg", "note", "blocks_manufacture"],
+    "required": ["name", "status", "value", "limit", "comparison", "unit", "note", "blocks_manufacture"],
     "properties": {
         "name": {"type": "string"},
         "status": {"enum": ["pass", "fail", "info"]},
@@ -53,10 +53,12 @@ _CHECK = {
         "comparison": {"enum": ["<=", "<", ">=", ">", "at least", ""]},
         "unit": {"type": "string"},
         "where_deg": {"type": "array", "items": {"type": "number", "minimum": 0, "maximum": 360}},
+        "where_mm": {"type": "array", "items": {"type": "number"}},  # a linear cam's plate travel
         "note": {"type": "string"},
         "blocks_manufacture": {"type": "boolean"},
     },
     "additionalProperties": False,
+    "oneOf": [{"required": ["where_deg"]}, {"required": ["where_mm"]}],  # angles, or a linear cam's travel
     # information has no limit; a limited check states how the value must compare with it
     "if": {"properties": {"status": {"const": "info"}}},
     "then": {"properties": {"limit": {"type": "null"}, "comparison": {"const": ""}}},

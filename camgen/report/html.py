@@ -55,7 +55,7 @@ def _checks_table(checks: "Sequence[CheckRow]") -> str:
     rows = "".join(
         f"<tr><td>{html.escape(c.name)}</td><td class='{_STATUS[c.status][0]}'>{_STATUS[c.status][1]}</td>"
         f"<td class='nw'>{fmt(c.value)}</td><td class='nw'>{html.escape(c.comparison)} {fmt(c.limit) if c.limit is not None else '(no limit)'}</td>"
-        f"<td class='nw'>{html.escape(c.unit)}</td><td>{fmt(c.where_deg)}</td>"
+        f"<td class='nw'>{html.escape(c.unit)}</td><td>{fmt(c.where_deg)}{'' if c.where_unit == 'deg' or not c.where_deg else ' mm'}</td>"
         f"<td>{html.escape(c.note)}{' <b>(blocks manufacture)</b>' if c.failed and c.blocks_manufacture else ''}</td></tr>"
         for c in checks
     )

@@ -103,7 +103,8 @@ class RideAnimation:
 class CheckRow:
     """One design check as the report shows it (:class:`camgen.checks.CheckResult`'s fields):
     ``status`` "pass", "fail" or "info"; ``value`` and ``limit`` in ``unit``; ``limit`` None
-    and ``comparison`` "" for information; ``where_deg`` the cam angles concerned."""
+    and ``comparison`` "" for information; ``where_deg`` the cam angles concerned (a linear
+    cam's plate travel in mm: ``where_unit``)."""
 
     name: str
     status: Literal["pass", "fail", "info"]
@@ -114,6 +115,7 @@ class CheckRow:
     where_deg: tuple[float, ...]
     note: str
     blocks_manufacture: bool
+    where_unit: str = "deg"
 
     @property
     def failed(self) -> bool:
@@ -122,7 +124,8 @@ class CheckRow:
     def as_json(self) -> dict[str, JsonValue]:
         """The check's object in report.json."""
         return {"name": self.name, "status": self.status, "value": self.value, "limit": self.limit, "comparison": self.comparison,
-                "unit": self.unit, "where_deg": self.where_deg, "note": self.note, "blocks_manufacture": self.blocks_manufacture}
+                "unit": self.unit, f"where_{self.where_unit}": self.where_deg, "note": self.note,
+                "blocks_manufacture": self.blocks_manufacture}
 
 
 @dataclass(frozen=True)
