@@ -7,7 +7,8 @@ first column are fractions of the travel (the lift table's column is read as x i
 pitch curve is the graph ``(x, s(x))`` (translating) or the arm's path over the moving plate
 (oscillating); the profile is its exact offset by the roller radius within ``fit_tol_mm``
 (``linear_form = "edge"``: the plate's top edge) or a slot between its offsets both ways
-(``"slot"``: a :class:`~camgen.kinds.base.Pocket` through the plate's ends).  Conventions and
+(``"slot"``: a :class:`~camgen.kinds.base.Pocket` closed by half circles about the pitch curve's
+ends, inside the plate).  Conventions and
 closed forms: :mod:`camgen.synthesis.linear`; keys, build and checks: :mod:`camgen.kinds.linear`.
 """
 from __future__ import annotations
