@@ -368,54 +368,138 @@ def test_slot_walls_undercut_on_either_side():
 # --------------------------------------------------------------------------------------------
 # The slot's pocket
 # --------------------------------------------------------------------------------------------
-def test_slot_pocket_is_the_roller_path_widened_by_the_clearance():
-    """The slot's wall (one closed contour, the pocket) keeps r + c/2 from the closed-form pitch
-    curve everywhere over the plate, runs out of both ends, and is cut slot_depth_mm deep into a
-    rectangular plate."""
+SLOT_CLEARANCE, SLOT_DEPTH, SLOT_ABOVE, THICKNESS = 0.2, 6.0, 45.0, 12.0
+HALF = R + SLOT_CLEARANCE / 2  # the slot's half width
+
+
+def _slot_cam(**extra):
+    return _cam(linear_form="slot", above_pitch_mm=SLOT_ABOVE, slot_depth_mm=SLOT_DEPTH, slot_clearance_mm=SLOT_CLEARANCE, **extra)
+
+
+def cycloidal_slope(x: np.ndarray, h: float = H) -> np.ndarray:
+    """ds/dx of the program (the derivative of Norton eq. 8.6: h / L (1 - cos(2 pi u)))."""
+    x = np.mod(x, TRAVEL)
+    u, w = (x - 50.0) / L_RISE, (x - 200.0) / L_RISE
+    rise = np.where((u > 0) & (u < 1), h / L_RISE * (1 - np.cos(2 * math.pi * u)), 0.0)
+    fall = np.where((w > 0) & (w < 1), h / L_RISE * (1 - np.cos(2 * math.pi * w)), 0.0)
+    return rise - fall
+
+
+def exact_slot(spacing: float = 0.002) -> np.ndarray:
+    """The slot's boundary from the closed forms (counter-clockwise, points <= ``spacing`` mm
+    apart): the pitch graph (x, s(x)) offset by -HALF along its normal (-s', 1)/sqrt(1 + s'^2)
+    over 0..TRAVEL, the half circle of radius HALF about (TRAVEL, s(TRAVEL)) (a dwell: from
+    straight down to straight up), the offset by +HALF back, the half circle about (0, s(0))."""
+    x = np.linspace(0.0, TRAVEL, int(TRAVEL / spacing * 1.1) + 1)
+    y, d = cycloidal_lift(x), cycloidal_slope(x)
+    n = np.stack([-d, np.ones_like(d)], axis=1) / np.hypot(d, 1.0)[:, None]
+    pitch = np.stack([x, y], axis=1)
+    t = np.linspace(0.0, math.pi, int(math.pi * HALF / spacing) + 1)[1:-1]
+    end = np.stack([TRAVEL + HALF * np.sin(t), cycloidal_lift(np.array([TRAVEL]))[0] - HALF * np.cos(t)], axis=1)
+    start = np.stack([-HALF * np.sin(t), cycloidal_lift(np.array([0.0]))[0] + HALF * np.cos(t)], axis=1)
+    return np.vstack([pitch - HALF * n, end, (pitch + HALF * n)[::-1], start])
+
+
+def slot_area() -> float:
+    """The slot's area: the band of half width HALF about the pitch graph has area 2 HALF x the
+    graph's length (the parallel-curve area, Steiner: the curvature terms of the two sides
+    cancel while |rho| > HALF), plus the two half discs; the length by scipy's quad."""
+    from scipy.integrate import quad
+
+    length = sum(quad(lambda v: math.sqrt(1 + float(cycloidal_slope(np.array([v]))[0]) ** 2), a, b, epsabs=1e-12, epsrel=1e-13)[0]
+                 for a, b in ((0, 50), (50, 150), (150, 200), (200, 300)))
+    return 2 * HALF * length + math.pi * HALF**2
+
+
+@pytest.fixture(scope="module")
+def slot_files():
+    scene = {"output": {"formats": ["dxf", "points", "stl", "step", "ngc"], "dxf_splines": "bspline", "chord_tol_mm": 1e-3},
+             "machining": {"tool_diameter_mm": 2 * HALF}, "cams": {"c": _slot_cam()}}
+    return _run(scene)
+
+
+def _slot_built(**extra):
     from camgen.pipeline import compute, plan_run
     from camgen.scene import parse_scene
 
-    scene = parse_scene({"output": {"formats": ["dxf"]}, "cams": {"c": _cam(linear_form="slot", above_pitch_mm=45.0,
-                                                                            slot_depth_mm=6.0, slot_clearance_mm=0.2)}}, "lin")
+    scene = parse_scene({"output": {"formats": ["dxf"]}, "cams": {"c": _slot_cam(**extra)}}, "lin")
     (cam,) = compute(scene, plan_run(scene)).cams
-    (pocket,) = cam.pockets
-    assert pocket.depth == 6.0 and pocket.width == pytest.approx(2 * R + 0.2) and pocket.clearance == 0.2
-    wall = pocket.walls[0].contour.flatten(1e-6)
-    assert wall[:, 0].min() < -30.0 - 1.0 + 1e-9 and wall[:, 0].max() > TRAVEL + 30.0 + 1.0 - 1e-9
-    xs = np.linspace(-60.0, TRAVEL + 60.0, 400001)
-    pitch = np.stack([xs, cycloidal_lift(xs)], axis=1)
-    over = wall[(wall[:, 0] > -30.0) & (wall[:, 0] < TRAVEL + 30.0)]
+    return cam
+
+
+def test_slot_pocket_is_the_roller_path_widened_by_the_clearance_closed_inside_the_plate():
+    """The slot's wall (one closed contour, the pocket) keeps r + c/2 from the closed-form pitch
+    graph over the travel 0..300 mm (so its ends are half circles about the graph's end points),
+    lies inside the plate (x from -HALF to TRAVEL + HALF), and is cut slot_depth_mm deep into a
+    rectangular plate; the pocket's open centre runs along the graph from (0, s(0)) to its end."""
     from scipy.spatial import cKDTree
 
-    distance = cKDTree(pitch).query(over)[0]
-    # the pitch polyline's spacing (0.001 mm) bounds the nearest-vertex distance's excess by 5e-7 mm
-    assert np.max(np.abs(distance - (R + 0.1))) < 2e-6, float(np.max(np.abs(distance - (R + 0.1))))
+    cam = _slot_built()
+    (pocket,) = cam.pockets
+    assert pocket.depth == SLOT_DEPTH and pocket.width == pytest.approx(2 * HALF) and pocket.clearance == SLOT_CLEARANCE
+    wall = pocket.walls[0].contour.flatten(1e-6)
+    assert wall[:, 0].min() == pytest.approx(-HALF, abs=1e-6) and wall[:, 0].max() == pytest.approx(TRAVEL + HALF, abs=1e-6)
+    xs = np.linspace(0.0, TRAVEL, 300001)
+    pitch = np.stack([xs, cycloidal_lift(xs)], axis=1)
+    distance = cKDTree(pitch).query(wall)[0]
+    # the pitch polyline's spacing (0.001 mm) bounds the nearest-vertex distance's excess by 5e-8 mm
+    assert np.max(np.abs(distance - HALF)) < 2e-6, float(np.max(np.abs(distance - HALF)))
+    centre = np.vstack([seg.point(np.linspace(0, 1, 2001)) for seg in pocket.centre_path])
+    assert np.max(np.abs(centre[:, 1] - cycloidal_lift(centre[:, 0]))) < 1e-6
+    assert centre[0] == pytest.approx([0.0, 0.0], abs=1e-12) and centre[-1] == pytest.approx([TRAVEL, 0.0], abs=1e-9)
     outline = cam.contour.flatten(1e-6)
-    assert outline[:, 0].min() == pytest.approx(-30.0) and outline[:, 1].max() == pytest.approx(45.0)
+    assert outline[:, 0].min() == pytest.approx(-30.0) and outline[:, 1].max() == pytest.approx(SLOT_ABOVE)
 
 
-def test_roller_rides_both_walls_of_the_slot_with_its_clearance():
-    """The roller (10 mm) in the slot (clearance 0.2 mm), ridden on the pocket's wall flattened at
-    2e-7 mm: resting on the lower wall its centre follows the curve 0.1 mm below the pitch graph
-    (x, s(x)) along its normal, pressed up on the upper wall the curve 0.1 mm above; both curves
-    by brute force from the closed-form graph (the envelope of circles of 0.1 mm about 10^6 of its
-    points), within 1e-6 mm."""
-    from camgen.pipeline import compute, plan_run
-    from camgen.scene import parse_scene
+def _slot_layer(text: str) -> tuple[list, np.ndarray]:
+    """The SLOT layer of the DXF read by ezdxf: its SPLINEs as scipy B-splines (with parameter
+    ranges) and its ARCs as dense points."""
+    import ezdxf
+    from scipy.interpolate import BSpline
 
-    scene = parse_scene({"output": {"formats": ["dxf"]}, "cams": {"c": _cam(linear_form="slot", above_pitch_mm=45.0,
-                                                                            slot_depth_mm=6.0, slot_clearance_mm=0.2)}}, "lin")
-    (cam,) = compute(scene, plan_run(scene)).cams
-    wall = cam.pockets[0].walls[0].contour.flatten(2e-7)
-    below = wall[:, 1] < cycloidal_lift(wall[:, 0])  # the lower wall (the pitch graph lies between the walls)
-    lower = wall[below][np.argsort(wall[below][:, 0])]
-    upper = wall[~below][np.argsort(wall[~below][:, 0])]
+    doc = ezdxf.read(io.StringIO(text))
+    assert not doc.audit().has_errors
+    splines, arcs = [], []
+    for e in doc.modelspace().query('*[layer=="SLOT"]'):
+        if e.dxftype() == "SPLINE":
+            knots, ctrl = np.array(e.knots, dtype=float), np.array(e.control_points, dtype=float)[:, :2]
+            k = e.dxf.degree
+            splines.append((BSpline(knots, ctrl, k), float(knots[k]), float(knots[-k - 1])))
+        else:
+            assert e.dxftype() == "ARC", e.dxftype()
+            a0, a1 = math.radians(e.dxf.start_angle), math.radians(e.dxf.end_angle)
+            t = np.linspace(a0, a0 + (a1 - a0) % (2 * math.pi), 20001)
+            arcs.append(np.stack([e.dxf.center[0] + e.dxf.radius * np.cos(t), e.dxf.center[1] + e.dxf.radius * np.sin(t)], axis=1))
+    return splines, np.vstack(arcs)
+
+
+def test_roller_rides_both_walls_of_the_slot_on_the_dxf_with_its_clearance(slot_files):
+    """The roller (10 mm) in the slot (clearance 0.2 mm), dropped onto the SLOT layer of the DXF
+    (ezdxf reads its B-splines and arcs, scipy evaluates them) at 301 travels: resting on the
+    lower wall its centre follows the curve 0.1 mm below the pitch graph (x, s(x)) along its
+    normal, pressed up on the upper wall the curve 0.1 mm above; both curves by brute force from
+    the closed-form graph (the envelope of circles of 0.1 mm about 10^6 of its points), within
+    1e-6 mm."""
+    from scipy.interpolate import BSpline
+
+    splines, arcs = _slot_layer(slot_files["c.dxf"])
+    mid = [(sp, lo, hi) for sp, lo, hi in splines]
+    below = [m for m in mid if m[0](0.5 * (m[1] + m[2]))[1] < cycloidal_lift(np.array([m[0](0.5 * (m[1] + m[2]))[0]]))[0]]
+    above = [m for m in mid if m not in below]
+    assert len(below) >= 1 and len(above) >= 1
+    mirrored = [(BSpline(sp.t, sp.c * np.array([1.0, -1.0]), sp.k), lo, hi) for sp, lo, hi in above]
     x = np.linspace(0.0, TRAVEL, 301)
-    on_lower = roller_height_on_polygon(lower, x, R, closed=False)
-    on_upper = -roller_height_on_polygon(upper * np.array([1.0, -1.0]), x, R, closed=False)  # mirrored: pressed up = dropped down
+
+    def on_arcs(points: np.ndarray) -> np.ndarray:  # the roller's height dropped onto the arcs' points (-inf: none within r)
+        dx = points[None, :, 0] - x[:, None]
+        return np.max(np.where(np.abs(dx) <= R, points[None, :, 1] + np.sqrt(np.maximum(R * R - dx * dx, 0.0)), -np.inf), axis=1)
+
+    low_arcs = arcs[:, 1] < cycloidal_lift(arcs[:, 0])  # the arcs' halves below the graph (its ends: dwells at 0)
+    on_lower = np.maximum(roller_height_on_splines(below, x, R), on_arcs(arcs[low_arcs]))
+    on_upper = -np.maximum(roller_height_on_splines(mirrored, x, R), on_arcs(arcs[~low_arcs] * np.array([1.0, -1.0])))
     gx = np.linspace(-1.0, TRAVEL + 1.0, 1_000_001)
     gy = cycloidal_lift(gx)
-    half = 0.1
+    half = SLOT_CLEARANCE / 2
     low_curve, high_curve = np.empty(x.size), np.empty(x.size)
     for i, xi in enumerate(x):
         near = np.abs(gx - xi) <= half
@@ -424,6 +508,97 @@ def test_roller_rides_both_walls_of_the_slot_with_its_clearance():
         high_curve[i] = np.max(gy[near] + rise)
     assert np.max(np.abs(on_lower - low_curve)) < 1e-6, float(np.max(np.abs(on_lower - low_curve)))
     assert np.max(np.abs(on_upper - high_curve)) < 1e-6, float(np.max(np.abs(on_upper - high_curve)))
+
+
+def test_slot_point_list_holds_the_exact_slot(slot_files):
+    """The point list's SLOT wall: every vertex at HALF from the closed-form pitch graph over the
+    travel within 1e-6 mm (the boundary: the walls and the end half circles), the loop
+    counter-clockwise with the closed-form area within its chords' bound (chord_tol_mm x length)."""
+    from scipy.spatial import cKDTree
+
+    lines = slot_files["c_points.csv"].splitlines()
+    header = lines[0].split(",")
+    assert "wall" in header, header
+    col = header.index("wall")
+    rows = [line.split(",") for line in lines[1:] if line.split(",")[col] == "SLOT"]
+    pts = np.array([[float(r[0]), float(r[1])] for r in rows])
+    xs = np.linspace(0.0, TRAVEL, 300001)
+    distance = cKDTree(np.stack([xs, cycloidal_lift(xs)], axis=1)).query(pts)[0]
+    # the slot's boundary is where the distance from the graph over 0..TRAVEL is HALF; the graph's
+    # spacing (0.001 mm) makes the nearest vertex at most 0.001^2 / (8 HALF) = 1.3e-8 mm farther
+    assert np.max(np.abs(distance - HALF)) < 1e-6, float(np.max(np.abs(distance - HALF)))
+    area = 0.5 * float(np.sum(pts[:, 0] * np.roll(pts[:, 1], -1) - np.roll(pts[:, 0], -1) * pts[:, 1]))
+    assert area == pytest.approx(slot_area(), abs=2e-3 * 700)
+
+
+def _plate_area() -> float:
+    """The plate: 360 x 90 mm, its four corners rounded by 2 mm (the default corner_radius_mm)."""
+    return (TRAVEL + 60.0) * (45.0 + SLOT_ABOVE) - 4 * (1 - math.pi / 4) * 2.0**2
+
+
+def test_slotted_plate_stl_passes_admesh_with_the_closed_form_volume(slot_files, tmp_path):
+    """admesh reads the STL: nothing to repair, one part; its volume is plate area x thickness -
+    slot area x depth (closed forms above) within the chords' bound (every chord within
+    chord_tol_mm = 1e-3 of its curve: each side face sweeps at most its loop's length x tol x its
+    height) and float32's rounding."""
+    import re
+
+    from test_solid import admesh_clean
+
+    path = tmp_path / "c.stl"
+    path.write_bytes(slot_files["c.stl"])
+    out = admesh_clean(require_tool("admesh"), path)
+    volume = float(re.search(r"Volume\s*:\s*([\d.]+)", out).group(1))
+    exact = _plate_area() * THICKNESS - slot_area() * SLOT_DEPTH
+    bound = 1e-3 * (2 * (360.0 + 90.0) * THICKNESS + 2 * 330.0 * SLOT_DEPTH) + 1e-6 * exact
+    assert abs(volume - exact) <= bound, (volume, exact, bound)
+    assert bound < 0.01 * slot_area() * SLOT_DEPTH
+
+
+def test_slotted_plate_step_is_valid_in_occt_with_the_closed_form_volume(slot_files):
+    """OpenCASCADE reads the STEP: BRepCheck valid, one solid, its volume (OCCT's own
+    integration, BRepGProp) the closed form within 1e-6 relative."""
+    pytest.importorskip("OCP")
+    from OCP.BRepCheck import BRepCheck_Analyzer
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GProp import GProp_GProps
+    from OCP.TopAbs import TopAbs_SOLID
+    from OCP.TopExp import TopExp_Explorer
+    from test_pocket_files import _occt_shape
+
+    shape = _occt_shape(slot_files["c.step"])
+    assert BRepCheck_Analyzer(shape).IsValid()
+    solids, count = TopExp_Explorer(shape, TopAbs_SOLID), 0
+    while solids.More():
+        count += 1
+        solids.Next()
+    assert count == 1
+    props = GProp_GProps()
+    BRepGProp.VolumeProperties_s(shape, props)
+    exact = _plate_area() * THICKNESS - slot_area() * SLOT_DEPTH
+    assert abs(props.Mass() - exact) <= 1e-6 * exact, (props.Mass(), exact)
+
+
+def test_a_plate_too_short_for_the_slot_fails_naming_the_margins_and_their_least_values_hold():
+    """margin_end_mm = 12 leaves 12 - HALF = 1.9 mm beyond the slot's end half circle (a dwell
+    there: its rightmost point is TRAVEL + HALF), below min_wall_mm = 3: plate_length fails
+    (exit 1, no manufacturing file) naming margin_end_mm and the least margin, HALF + 3 = 13.1 mm
+    (the closed form); that hint (rounded up to 1e-6 mm, as printed) is then accepted and the
+    slot made."""
+    import re
+
+    scene = {"output": {"formats": ["dxf", "stl"]}, "cams": {"c": _slot_cam(margin_end_mm=12.0, min_wall_mm=3.0)}}
+    files = _run(scene)
+    checks, report = _checks(files)
+    assert checks["plate_length"]["status"] == "fail" and report["status"] == "fail"
+    assert checks["plate_length"]["value"] == pytest.approx(12.0 - HALF, abs=1e-9)
+    assert "c.dxf" not in files and "c.stl" not in files
+    hint = re.search(r"margin_end_mm >= ([\d.]+)", checks["plate_length"]["note"])
+    assert hint and float(hint.group(1)) == pytest.approx(HALF + 3.0, abs=2e-6), checks["plate_length"]["note"]
+    assert "margin_start_mm" not in checks["plate_length"]["note"]
+    files = _run({**scene, "cams": {"c": _slot_cam(margin_end_mm=float(hint.group(1)), min_wall_mm=3.0)}})
+    checks, report = _checks(files)
+    assert checks["plate_length"]["status"] == "pass" and report["status"] == "pass" and "c.stl" in files
 
 
 # --------------------------------------------------------------------------------------------
@@ -460,6 +635,61 @@ def test_gcode_of_the_edge_cuts_the_exact_outline(edge_files, tmp_path):
     assert report.status == 0, report.message
     assert report.gouge <= 1e-3 and report.proud <= 1e-3, (report.gouge, report.proud)
     assert all(p.outside for p in report.passes)
+
+
+def _dense_outline(contour, step: float = 0.02):
+    """The plate's outline as the cutting simulation's profile: flattened within 1e-7 mm (tests/
+    cutting.py's PROFILE_TOL), its long straight chords split to <= ``step`` mm (points on a
+    straight side are on the exact curve: the simulation's distance bound grows with the spacing)."""
+    from test_gcode_pockets import Sampled
+
+    v = contour.flatten(1e-7)
+    w = np.roll(v, -1, axis=0)
+    parts = np.maximum(1, np.ceil(np.hypot(*(w - v).T) / step).astype(int))
+    frac = np.concatenate([np.arange(n) / n for n in parts])
+    start = np.repeat(np.arange(v.shape[0]), parts)
+    return Sampled(v[start] + frac[:, None] * (w[start] - v[start]), 1e-7)
+
+
+def _slot_floor(n: int = 3001) -> np.ndarray:
+    """Points of the slot's floor (closed form): across the band about the graph, and the end half discs."""
+    x = np.linspace(0.0, TRAVEL, n)
+    d = cycloidal_slope(x)
+    nrm = np.stack([-d, np.ones_like(d)], axis=1) / np.hypot(d, 1.0)[:, None]
+    t = np.linspace(-HALF, HALF, 41)
+    band = (np.stack([x, cycloidal_lift(x)], axis=1)[None] + t[:, None, None] * nrm[None]).reshape(-1, 2)
+    rho, phi = np.meshgrid(np.linspace(0.0, HALF, 21), np.linspace(0.0, 2 * math.pi, 181))
+    disc = np.stack([(rho * np.cos(phi)).ravel(), (rho * np.sin(phi)).ravel()], axis=1)
+    return np.vstack([band, disc, disc + np.array([TRAVEL, 0.0])])
+
+
+@pytest.mark.parametrize("diameter, strategy", [(2 * HALF, "one pass along the pitch curve"), (6.0, "pocket cleared, one wall pass")])
+def test_gcode_of_the_slot_cuts_the_exact_slot(diameter, strategy, tmp_path):
+    """rs274 accepts the slotted plate's program; the cutting simulation (tests/cutting.py: the
+    tool disc swept along rs274's moves) leaves the slot's wall (the closed-form boundary,
+    exact_slot) within 1 um (no gouge, nothing proud at the floor), every cut inside it, the floor
+    at slot_depth_mm with no island; the outline is cut through, nothing gouged or proud.  A tool
+    of the slot's width runs along the open pitch curve there and back; a 6 mm tool clears it by
+    the wall's inward offsets (stepover <= 3 mm) and finishes along the wall."""
+    require_tool("rs274")
+    from cutting import CUT_TOL, simulate_pockets
+    from test_gcode_pockets import Sampled
+
+    scene = {"output": {"formats": ["ngc"]}, "machining": {"tool_diameter_mm": diameter, "step_down_mm": 2.5}, "cams": {"c": _slot_cam()}}
+    program = _run(scene)["c.ngc"]
+    assert strategy in program
+    cam = _slot_built()
+    exact = exact_slot(0.002)
+    report = simulate_pockets(program, _dense_outline(cam.contour), {"SLOT": Sampled(exact, 0.002**2 / (8 * HALF))}, diameter / 2, tmp_path)
+    outline, pocket = report.outline, report.pocket
+    assert outline.status == 0, outline.message
+    assert pocket is not None and pocket.between
+    assert pocket.gouge["SLOT"] <= CUT_TOL and pocket.proud["SLOT"] <= CUT_TOL, (pocket.gouge, pocket.proud)
+    assert pocket.deepest == -SLOT_DEPTH and len(pocket.levels) == math.ceil(SLOT_DEPTH / 2.5)
+    starts, floors = np.array(pocket.levels).T
+    assert starts[0] == 0.0 and np.all(starts[1:] == floors[:-1]) and floors[-1] == -SLOT_DEPTH
+    assert pocket.island(_slot_floor(), diameter / 2) <= CUT_TOL
+    assert outline.gouge <= CUT_TOL and outline.proud <= CUT_TOL and all(p.outside for p in outline.passes)
 
 
 # --------------------------------------------------------------------------------------------
