@@ -33,8 +33,8 @@ R = 10.0
 def _segments(swing: bool = False):
     lift = "swing_deg" if swing else "lift_mm"
     h = 12.0 if swing else H
-    return [{"law": "dwell", "span_deg": 60.0}, {"law": "cycloidal", "span_deg": 120.0, lift: h},
-            {"law": "dwell", "span_deg": 60.0}, {"law": "cycloidal", "span_deg": 120.0, lift: -h}]
+    return [{"law": "dwell", "span_mm": 50.0}, {"law": "cycloidal", "span_mm": 100.0, lift: h},
+            {"law": "dwell", "span_mm": 50.0}, {"law": "cycloidal", "span_mm": 100.0, lift: -h}]
 
 
 def cycloidal_lift(x: np.ndarray, h: float = H) -> np.ndarray:
@@ -301,8 +301,8 @@ def test_undercut_threshold_matches_an_independent_root_search():
     """A steep rise (20 mm over 30 mm: cycloidal) has a least convex pitch radius rho*: a roller
     1e-6 relative below it passes the undercut check and is made; 1e-6 above it fails it, named,
     and no manufacturing file is written (exit status 1)."""
-    steep = [{"law": "dwell", "span_deg": 144.0}, {"law": "cycloidal", "span_deg": 36.0, "lift_mm": 20.0},
-             {"law": "dwell", "span_deg": 144.0}, {"law": "cycloidal", "span_deg": 36.0, "lift_mm": -20.0}]
+    steep = [{"law": "dwell", "span_mm": 120.0}, {"law": "cycloidal", "span_mm": 30.0, "lift_mm": 20.0},
+             {"law": "dwell", "span_mm": 120.0}, {"law": "cycloidal", "span_mm": 30.0, "lift_mm": -20.0}]
     rho = _least_convex_radius(20.0, 30.0)
     assert 3.0 < rho < 30.0
     below = _run({"output": {"formats": ["dxf"]}, "cams": {"c": _cam(segments=steep, roller_radius_mm=rho * (1 - 1e-6),
@@ -348,10 +348,9 @@ def test_slot_walls_undercut_on_either_side():
     over 30 mm starting with an acceleration of 0.1 mm/mm^2 has tighter valleys (concave seen from
     above, the slot's upper wall) than peaks: a roller 1e-6 above the valley's least radius passes
     the edge cam's undercut check (peaks only) but fails the slot's; 1e-6 below it passes both."""
-    travel_per_deg = TRAVEL / 360.0
-    program = [{"law": "dwell", "span_deg": 108.0},
-               {"law": "polynomial", "span_deg": 36.0, "start": [0.0, 0.0, 0.1 * travel_per_deg**2], "end": [20.0, 0.0, 0.0]},
-               {"law": "dwell", "span_deg": 72.0}, {"law": "cycloidal", "span_deg": 144.0, "lift_mm": -20.0}]
+    program = [{"law": "dwell", "span_mm": 90.0},  # the conditions per mm of travel: a = 0.1 mm/mm^2
+               {"law": "polynomial", "span_mm": 30.0, "start": [0.0, 0.0, 0.1], "end": [20.0, 0.0, 0.0]},
+               {"law": "dwell", "span_mm": 60.0}, {"law": "cycloidal", "span_mm": 120.0, "lift_mm": -20.0}]
     rise = _quintic(30.0, (0.0, 0.0, 0.1), (20.0, 0.0, 0.0))
     valley, peak = _least_radius_of(rise, 30.0, True), _least_radius_of(rise, 30.0, False)
     assert valley < peak * 0.9
@@ -787,9 +786,9 @@ def test_the_edge_plate_solid_is_closed_with_the_exact_volume(tmp_path):
 
     from test_solid import admesh_clean
 
-    program = [{"law": "dwell", "span_deg": 60.0}, {"law": "cycloidal", "span_deg": 120.0, "lift_mm": 20.0},
-               {"law": "dwell", "span_deg": 60.0}, {"law": "cycloidal", "span_deg": 96.0, "lift_mm": -20.0},
-               {"law": "dwell", "span_deg": 24.0}]
+    program = [{"law": "dwell", "span_mm": 50.0}, {"law": "cycloidal", "span_mm": 100.0, "lift_mm": 20.0},
+               {"law": "dwell", "span_mm": 50.0}, {"law": "cycloidal", "span_mm": 80.0, "lift_mm": -20.0},
+               {"law": "dwell", "span_mm": 20.0}]
     cam = _cam(follower="knife", segments=program, margin_start_mm=15.0, corner_radius_mm=2.0)
     del cam["roller_radius_mm"]
     files = _run({"output": {"formats": ["stl"], "chord_tol_mm": 1e-3}, "cams": {"c": cam}})
@@ -836,6 +835,115 @@ def test_the_report_draws_against_travel_and_animates_the_plate():
     assert "no curves: the profile cannot be made" not in page
     report = json.loads(files["report.json"])
     assert report["status"] == "pass" and report["cams"]["lifter"]["figures"]["travel_mm"] == TRAVEL
+
+
+# --------------------------------------------------------------------------------------------
+# The program's abscissa: plate travel in mm
+# --------------------------------------------------------------------------------------------
+def test_a_program_in_span_mm_is_the_span_deg_program_mapped_onto_the_travel():
+    """A linear cam's program in span_mm with a polynomial's conditions per mm (v in mm/mm, a in
+    mm/mm^2) gives, to rounding, the law the equivalent cam-angle program gives (spans
+    span_mm x 360 / T deg, conditions per degree: v x T / 360, a x (T / 360)^2, the mapping
+    x = T theta / 360 deg), read as a plate cam's program reads it; the travel is the spans' sum
+    (travel_mm left out) and equal when given."""
+    from camgen.motions.motion_law import read_program
+    from camgen.pipeline import compute, plan_run
+    from camgen.scene import parse_scene
+
+    mm = [{"law": "dwell", "span_mm": 40.0}, {"law": "polynomial", "span_mm": 60.0, "start": [0.0, 0.0, 0.01], "end": [10.0, 0.0, -0.005]},
+          {"law": "cycloidal", "span_mm": 50.0, "lift_mm": 8.0}, {"law": "dwell", "span_mm": 30.0},
+          {"law": "poly345", "span_mm": 120.0, "lift_mm": -18.0}]
+    travel = 300.0
+    k = travel / 360.0  # mm of travel per degree
+    deg = [{"law": "dwell", "span": math.radians(40.0 / k)},
+           {"law": "polynomial", "span": math.radians(60.0 / k), "start": (0.0, 0.0, 0.01 * k * k), "end": (10.0, 0.0, -0.005 * k * k)},
+           {"law": "cycloidal", "span": math.radians(50.0 / k), "lift": 8.0}, {"law": "dwell", "span": math.radians(30.0 / k)},
+           {"law": "poly345", "span": math.radians(120.0 / k), "lift": -18.0}]
+    reference = read_program("cams.c", tuple(deg), "translating")
+    for given in ({}, {"travel_mm": travel}):
+        cam = _cam(segments=mm, **given)
+        if not given:
+            del cam["travel_mm"]
+        scene = parse_scene({"output": {"formats": ["dxf"]}, "cams": {"c": cam}}, "lin")
+        (built,) = compute(scene, plan_run(scene)).cams
+        p = built.spec.params
+        assert p.travel == travel
+        theta = (np.arange(72000) + 0.5) * (2 * math.pi / 72000)  # off the breaks (at whole multiples of 2 pi / 72000)
+        for got, want in zip(p.law(theta), reference(theta)):
+            assert np.max(np.abs(got - want)) <= 1e-12 * max(1.0, float(np.max(np.abs(want)))), float(np.max(np.abs(got - want)))
+        # the polynomial's start: a = 0.01 mm/mm^2 at x = 40 mm (the law in x, d2s/dx2 = s''(theta) (2 pi / T)^2)
+        a = p.law(np.array([2 * math.pi * 40.0 / travel + 1e-12]))[2][0] * (2 * math.pi / travel) ** 2
+        assert a == pytest.approx(0.01, rel=1e-6)
+
+
+def _check_cli(tmp_path, text: str):
+    import subprocess
+    import sys
+
+    path = tmp_path / "s.toml"
+    path.write_text(text)
+    return subprocess.run([sys.executable, "-m", "camgen", "check", str(path)], capture_output=True, text=True, timeout=120)
+
+
+_LINEAR_TOML = """[cams.c]
+kind = "motion_law"
+form = "linear"
+follower = "roller"
+roller_radius_mm = 10.0
+{travel}
+[[cams.c.segments]]
+law = "dwell"
+{span} = 60.0
+[[cams.c.segments]]
+law = "cycloidal"
+span_mm = 100.0
+lift_mm = 20.0
+[[cams.c.segments]]
+law = "dwell"
+span_mm = 40.0
+[[cams.c.segments]]
+law = "cycloidal"
+span_mm = 100.0
+lift_mm = -20.0
+"""
+
+
+@pytest.mark.parametrize("travel, span, key, words", [
+    ("", "span_deg", "cams.c.segments[0].span_deg", "use span_mm"),
+    ("travel_mm = 250.0", "span_mm", "cams.c.travel_mm", "300 mm, the sum of the segments' span_mm"),
+    ("", "# no span:", "cams.c.segments[0].span_mm", "every segment gives its span"),
+])
+def test_a_linear_program_in_the_wrong_abscissa_is_refused_naming_the_key(tmp_path, travel, span, key, words):
+    """Exit 2 and one stderr line ``camgen: error:`` naming the key: span_deg on a linear cam (use
+    span_mm), travel_mm other than the spans' sum, a segment without its span."""
+    run = _check_cli(tmp_path, _LINEAR_TOML.format(travel=travel, span=span))
+    lines = run.stderr.strip().splitlines()
+    assert run.returncode == 2 and len(lines) == 1 and lines[0].startswith("camgen: error: "), (run.returncode, run.stderr)
+    assert key in lines[0] and words in lines[0], lines[0]
+
+
+def test_span_mm_on_a_cam_turning_about_an_axis_is_refused_naming_it(tmp_path):
+    """A plate cam's program runs over the cam angle: a segment's span_mm is refused (exit 2, one
+    line naming it and span_deg); a span_deg program there reads as before (exit 0)."""
+    text = """[cams.c]
+kind = "motion_law"
+follower = "roller"
+roller_radius_mm = 8.0
+base_radius_mm = 40.0
+[[cams.c.segments]]
+law = "cycloidal"
+{span} = 180.0
+lift_mm = 10.0
+[[cams.c.segments]]
+law = "cycloidal"
+span_deg = 180.0
+lift_mm = -10.0
+"""
+    run = _check_cli(tmp_path, text.format(span="span_mm"))
+    lines = run.stderr.strip().splitlines()
+    assert run.returncode == 2 and len(lines) == 1 and lines[0].startswith("camgen: error: "), (run.returncode, run.stderr)
+    assert "cams.c.segments[0].span_mm" in lines[0] and "span_deg" in lines[0], lines[0]
+    assert _check_cli(tmp_path, text.format(span="span_deg")).returncode == 0
 
 
 @pytest.mark.parametrize("fmt", ["lift", "follower"])

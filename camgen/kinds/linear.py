@@ -3,8 +3,9 @@
 A plate moving in a straight line (along x) drives a translating (along +y) or oscillating
 roller or knife.  The conventions (where x = 0 is, the pitch line, the offsets, the pressure
 angle) are those of :mod:`camgen.synthesis.linear`; the README repeats them in user terms.
-The motion's law is a function of the cam angle over one turn: a linear cam maps that turn onto
-its ``travel_mm`` (``theta = 2 pi x / travel``).
+The motion's program is written in plate travel (segments' ``span_mm``, polynomial conditions per
+mm; a lift table's x in mm): the follower tells the motion so (``LinearFollower.abscissa``), and
+the motion reads it onto one turn, ``theta = 2 pi x / travel``.
 
 ``linear_form = "edge"``: the body is the closed outline (bottom, ends, the profile edge; corners
 rounded), which every plate-cam output takes.  ``"slot"``: the body is a rectangle (corners
@@ -34,7 +35,7 @@ import numpy as np
 
 from camgen.errors import GeometryError, ParameterError
 from camgen.kinds.base import BuiltCam, CamSpec, CheckSettings, field_default, with_cam
-from camgen.schema import REQUIRED, Angle, Choice, Key, Length, Number, Text
+from camgen.schema import Angle, Choice, Key, Length, Number, Text
 
 if TYPE_CHECKING:
     from camgen.checks import CamEvaluation, CheckResult
@@ -72,10 +73,10 @@ def linear_keys() -> tuple[Key, ...]:
 
     points = follower_names(("point",))
     return (
-        Key("travel_mm", Length(high=1e5), "Plate travel over which the motion runs: the motion's whole turn (360 deg of segment "
-            "spans, or of a lift table's first column) maps onto 0..travel_mm, x = travel_mm * angle / 360 deg; x = 0 on the plate "
-            "is where the follower's point (roller centre, knife tip) is at the start, on the pitch line y = 0.", ("profile",),
-            default=REQUIRED, example=250.0),
+        Key("travel_mm", Length(high=1e5), "Plate travel over which the motion runs (0..travel_mm): the motion program is written "
+            "in it (each segment's span_mm; their sum is the travel: travel_mm may be left out, and given must equal it), a lift "
+            "table's first column is x in mm within it (travel_mm required); x = 0 on the plate is where the follower's point "
+            "(roller centre, knife tip) is at the start, on the pitch line y = 0.", ("profile",), example=250.0),
         Key("linear_form", Choice(LINEAR_FORMS), "edge: the follower rides the plate's top edge (the body is the outline: bottom, "
             "ends, profile); slot: a roller runs in a slot along the pitch curve over the travel, closed by half circles about "
             "its ends (the roller's centre at travel 0 and travel_mm), cut slot_depth_mm into a rectangular plate whose margins "
@@ -190,21 +191,40 @@ def read_linear(where: str, name: str, parsed: Mapping[str, Any], motion: Any, b
         if parsed["slot_depth"] >= parsed["thickness"]:
             raise ParameterError(f"{where}.slot_depth_mm", parsed["slot_depth"], f"< thickness_mm = {parsed['thickness']:g} mm",
                                  "a slot through the plate would cut it in two")
-    for key in ("margin_start", "margin_end"):
-        most = max(parsed["travel"], MARGIN_FLOOR_MM)
-        if parsed[key] > most:
-            raise ParameterError(f"{where}.{key}_mm", parsed[key], f"<= {most:g} mm (travel_mm, or {MARGIN_FLOOR_MM:g} mm for a "
-                                 "shorter travel)", "the edge beyond the travel repeats the motion; a longer plate end is not a cam")
     if 2.0 * parsed["corner_radius"] >= parsed["below_pitch"] + parsed.get("above_pitch", 0.0):
         raise ParameterError(f"{where}.corner_radius_mm", parsed["corner_radius"], "less than half the plate's height")
     follower = LinearFollower(kind, moves, radius, pivot, parsed.get("swing_turn", "ccw"))
     reading = motion.read_law(where, parsed, follower, base_dir)
-    params = LinearParams(reading.law, follower, parsed["travel"], form, parsed["margin_start"], parsed["margin_end"],
+    travel = _travel(where, parsed.get("travel"), reading.figures.get("travel_mm"))
+    for key in ("margin_start", "margin_end"):
+        most = max(travel, MARGIN_FLOOR_MM)
+        if parsed[key] > most:
+            raise ParameterError(f"{where}.{key}_mm", parsed[key], f"<= {most:g} mm (travel_mm, or {MARGIN_FLOOR_MM:g} mm for a "
+                                 "shorter travel)", "the edge beyond the travel repeats the motion; a longer plate end is not a cam")
+    params = LinearParams(reading.law, follower, travel, form, parsed["margin_start"], parsed["margin_end"],
                           parsed["below_pitch"], parsed.get("above_pitch"), parsed["corner_radius"], parsed.get("slot_clearance", 0.0),
                           parsed.get("slot_depth"), parsed["fit_tol"], dict(reading.figures), parsed.get("source"))
     body = BodySpec(thickness=parsed["thickness"], min_wall=parsed["min_wall"])
     checks = CheckSettings(parsed.get("pressure_angle_limit"), None, getattr(parsed, "tool_limit", None))
     return CamSpec(name, motion.name, params, body, checks, None, None, form="linear")
+
+
+#: Largest relative difference between travel_mm and the sum of a program's span_mm.
+TRAVEL_MATCH_REL = 1e-12
+
+
+def _travel(where: str, given: float | None, program: float | None) -> float:
+    """The plate travel (mm): ``travel_mm`` (``given``) or the program's (the sum of its span_mm),
+    equal when both are there; a motion without one (a lift table) needs ``travel_mm``."""
+    if program is None:
+        if given is None:
+            raise ParameterError(f"{where}.travel_mm", None, "a length in mm > 0",
+                                 "required: the motion gives no travel of its own (a lift table's x column runs within it)")
+        return given
+    if given is not None and abs(given - program) > TRAVEL_MATCH_REL * program:
+        raise ParameterError(f"{where}.travel_mm", given, f"{program:.12g} mm, the sum of the segments' span_mm (or leave it out)",
+                             "the program runs over the whole travel")
+    return program
 
 
 # --------------------------------------------------------------------------------------------

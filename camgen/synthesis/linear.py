@@ -10,9 +10,10 @@ the follower reads the plate from left to right.  **x = 0 on the plate** is wher
 reference point (roller centre, knife tip) is at travel 0 and zero lift: the plate frame's
 origin; ``y = 0`` is the *pitch line* (that point's height at zero lift).
 
-**The abscissa.** The displacement law is a function of the cam angle ``theta`` over one turn
-(:class:`~camgen.synthesis.followers.Displacement`); a linear cam maps the turn onto its travel,
-``theta = 2 pi x / travel``, so ``ds/dx = s'(theta) 2 pi / travel`` and so on.
+**The abscissa.** The program is written in plate travel (a motion program's ``span_mm``, a lift
+table's x in mm); the motion reads it onto one turn of ``theta``
+(:class:`~camgen.synthesis.followers.Displacement`), ``theta = 2 pi x / travel``, so
+``ds/dx = s'(theta) 2 pi / travel`` and so on.
 
 **Translating follower**: moves along the fixed ``+y`` axis (the line ``x = 0`` of the fixed
 frame); its reference point is ``(x, s(x))`` in the plate frame: the pitch curve is the graph of
@@ -70,8 +71,8 @@ class LinearFollower:
     the pivot relative to the follower point at zero swing and travel 0) and ``lift_turn``
     (``"ccw"`` | ``"cw"``: the way a positive swing turns the arm).
 
-    ``edge`` and ``kind`` are what a motion asks of its follower (a knife edge may follow a
-    velocity jump; nothing else can)."""
+    ``edge``, ``kind`` and ``abscissa`` are what a motion asks of its follower (a knife edge may
+    follow a velocity jump; nothing else can; a linear cam's program runs over the plate travel)."""
 
     kind: str
     motion: str = "translating"
@@ -86,6 +87,12 @@ class LinearFollower:
             if -self.tau * self.pivot[0] <= 0.0:
                 raise GeometryError(f"a positive swing must lift the follower: with the pivot at x = {self.pivot[0]:g} mm the arm "
                                     f"turns {'cw' if self.pivot[0] > 0 else 'ccw'} to lift it (pivot_x_mm != 0)")
+
+    @property
+    def abscissa(self) -> str:
+        """What the motion's program runs over: the plate travel (mm), not a cam angle
+        (:mod:`camgen.motions.motion_law`: segments give ``span_mm``)."""
+        return "travel"
 
     @property
     def edge(self) -> bool:
