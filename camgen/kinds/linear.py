@@ -598,12 +598,13 @@ def _slot_to_ends(cam: "LinearCam", min_wall: float) -> "CheckResult":
 
     p = cam.params
     assert p.above is not None
+    above = p.above
     z = slot_boundary(cam)
     mid = 0.5 * (p.x_left + p.x_right)
 
     def room_at(start: float, end: float, left: bool) -> float:
         """Least distance of the slot's points on one side from that end (with margins start, end)."""
-        room, at_end = plate_room(z, -start, p.travel + end, -p.below, p.above, p.corner)
+        room, at_end = plate_room(z, -start, p.travel + end, -p.below, above, p.corner)
         side = (z.real < mid) if left else (z.real >= mid)
         sel = at_end & side
         return float(np.min(room[sel])) if sel.any() else math.inf

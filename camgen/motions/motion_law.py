@@ -197,6 +197,7 @@ def read_half_law(where: str, parsed: Mapping[str, Any], follower: "FollowerSpec
     from camgen.synthesis.breadth import mirror_segments
 
     segments = parsed["segments"]
+    _spans(where, segments, ANGLE)  # every segment gives span_deg (a span_mm is refused naming it)
     total = math.fsum(seg["span"] for seg in segments)
     if abs(total - math.pi) > 1e-9:
         raise ParameterError(f"{where}.segments", f"spans adding up to {math.degrees(total):.9g} deg", "spans adding up to 180 deg",
