@@ -244,3 +244,86 @@ def test_a_wall_the_tool_cannot_fit_is_refused_naming_its_least_radius():
     assert 19.99 <= largest < 20.0
     program = gcode_program(circle(RIM + 30), dataclasses.replace(spec, tool_diameter=largest), pockets=(pocket,))
     assert "two wall passes, slot cleared" in program
+
+
+# ---------------------------------------------------------------------------------------------
+# A pocket of one closed wall: a stadium (a straight slot closed by half circles), exact lines and arcs
+# ---------------------------------------------------------------------------------------------
+STADIUM_HALF_LENGTH = 30.0
+
+
+def _segment(p, q) -> Spline:
+    p, q = np.asarray(p, dtype=float), np.asarray(q, dtype=float)
+    length = float(np.hypot(*(q - p)))
+    return Spline.hermite(np.array([0.0, length]), np.stack([p, q]), np.stack([(q - p) / length] * 2))
+
+
+def stadium() -> tuple[Pocket, dict, callable]:
+    """A slot of width WIDTH along the segment from (-30, 0) to (30, 0), closed by half circles
+    about its ends: its one wall (exact lines and arcs), its open centre (the segment), the wall
+    densely sampled for the simulation (chords on lines are exact, on the arcs of radius w/2 their
+    sagitta is s^2 / (8 w/2)), and ``slot(n)``: points of its floor."""
+    a, h = STADIUM_HALF_LENGTH, WIDTH / 2
+    wall = Contour([_segment((-a, -h), (a, -h)), Arc((a, 0.0), h, -math.pi / 2, math.pi), _segment((a, h), (-a, h)),
+                    Arc((-a, 0.0), h, math.pi / 2, math.pi)])
+    pocket = Pocket("slot", (Wall("SLOT", wall),), DEPTH, WIDTH, None, CLEARANCE, centre_path=(_segment((-a, 0.0), (a, 0.0)),))
+    step = 0.002
+    x = np.linspace(-a, a, int(2 * a / step) + 1)
+    t = np.linspace(-math.pi / 2, math.pi / 2, int(math.pi * h / step) + 1)[1:-1]
+    dense = np.vstack([np.stack([x, np.full_like(x, -h)], axis=1), np.stack([a + h * np.cos(t), h * np.sin(t)], axis=1),
+                       np.stack([x[::-1], np.full_like(x, h)], axis=1), np.stack([-a - h * np.cos(t), -h * np.sin(t)], axis=1)])
+
+    def slot(n: int) -> np.ndarray:
+        gx, gy = np.meshgrid(np.linspace(-a - h, a + h, n), np.linspace(-h, h, 61))
+        pts = np.stack([gx.ravel(), gy.ravel()], axis=1)
+        inside = (np.abs(pts[:, 0]) <= a) | (np.hypot(np.abs(pts[:, 0]) - a, pts[:, 1]) <= h)
+        return pts[inside]
+
+    return pocket, {"SLOT": Sampled(dense, (math.pi * h / (t.size + 1)) ** 2 / (8 * h))}, slot
+
+
+@pytest.mark.parametrize(("diameter", "dialect", "direction"), [(WIDTH, "linuxcnc", "climb"), (WIDTH, "grbl", "conventional"),
+                                                                  (4.0, "linuxcnc", "climb"), (2.5, "grbl", "conventional")])
+@pytest.mark.usefixtures("needs_rs274")
+def test_a_pocket_of_one_wall_is_cut_to_its_exact_wall(diameter, dialect, direction, tmp_path):
+    """rs274 runs the program; a tool of the slot's width goes along the open centre there and
+    back, a narrower one clears the slot by the wall's inward offsets (the stated count and
+    stepover: (w/2 - r) split evenly, each <= D/2) and finishes along the wall; the simulation
+    leaves the exact wall within 1 um (no gouge, nothing proud), every cut inside it, the floor
+    at the depth without islands, each level ramped from the previous floor."""
+    pocket, walls, slot = stadium()
+    spec = MachiningSpec(tool_diameter=diameter, thickness=THICKNESS, step_down=1.5, dialect=dialect, direction=direction)
+    program = gcode_program(circle(RIM), spec, "slot_plate", pockets=(pocket,))
+    header = _header(program)
+    one_pass = diameter == WIDTH
+    assert ("one pass along the pitch curve" in header and "run down to its end and back" in header) == one_pass
+    assert ("pocket cleared, one wall pass" in header) == (not one_pass)
+    if not one_pass:
+        inset = WIDTH / 2 - diameter / 2
+        gaps = math.ceil(inset / (diameter / 2))
+        stated = re.search(r"(\d+) clearing passes at stepover ([\d.]+)", header)
+        assert int(stated.group(1)) == gaps - 1 and float(stated.group(2)) == pytest.approx(inset / gaps, abs=1e-4)
+    _assert_groove_cut(program, spec, walls, slot, tmp_path, f"stadium D={diameter} {dialect} {direction}")
+
+
+def test_the_stated_width_tolerance_chooses_the_strategy_of_a_one_wall_pocket():
+    """As for a groove: within the stated tolerance of the width, one pass along the open centre;
+    just outside, smaller: the pocket cleared; larger: refused naming tool_diameter and <= the
+    width; a one-wall pocket without a centre cannot be cut in one pass (a GeometryError names it)."""
+    from camgen.errors import GeometryError
+
+    pocket, _, _ = stadium()
+    spec = MachiningSpec(tool_diameter=WIDTH, thickness=THICKNESS)
+    tol = float(re.search(r"tool diameter = width within ([\d.e-]+)", gcode_program(circle(RIM), spec, pockets=(pocket,))).group(1))
+
+    def strategy(diameter: float) -> str:
+        program = gcode_program(circle(RIM), dataclasses.replace(spec, tool_diameter=diameter), pockets=(pocket,))
+        return "one" if "one pass along the pitch curve" in program else "cleared" if "pocket cleared" in program else "?"
+
+    assert strategy(WIDTH - 0.9 * tol) == "one" and strategy(WIDTH + 0.9 * tol) == "one"
+    assert strategy(WIDTH - 1.1 * tol) == "cleared"
+    with pytest.raises(ParameterError) as err:
+        gcode_program(circle(RIM), dataclasses.replace(spec, tool_diameter=WIDTH + 1.1 * tol), pockets=(pocket,))
+    assert err.value.name == "tool_diameter" and float(re.fullmatch(r"<= ([\d.]+) mm", err.value.valid).group(1)) == pytest.approx(WIDTH)
+    with pytest.raises(GeometryError, match="needs its centre"):
+        gcode_program(circle(RIM), spec, pockets=(dataclasses.replace(pocket, centre_path=None),))

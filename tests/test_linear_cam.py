@@ -33,8 +33,8 @@ R = 10.0
 def _segments(swing: bool = False):
     lift = "swing_deg" if swing else "lift_mm"
     h = 12.0 if swing else H
-    return [{"law": "dwell", "span_deg": 60.0}, {"law": "cycloidal", "span_deg": 120.0, lift: h},
-            {"law": "dwell", "span_deg": 60.0}, {"law": "cycloidal", "span_deg": 120.0, lift: -h}]
+    return [{"law": "dwell", "span_mm": 50.0}, {"law": "cycloidal", "span_mm": 100.0, lift: h},
+            {"law": "dwell", "span_mm": 50.0}, {"law": "cycloidal", "span_mm": 100.0, lift: -h}]
 
 
 def cycloidal_lift(x: np.ndarray, h: float = H) -> np.ndarray:
@@ -301,8 +301,8 @@ def test_undercut_threshold_matches_an_independent_root_search():
     """A steep rise (20 mm over 30 mm: cycloidal) has a least convex pitch radius rho*: a roller
     1e-6 relative below it passes the undercut check and is made; 1e-6 above it fails it, named,
     and no manufacturing file is written (exit status 1)."""
-    steep = [{"law": "dwell", "span_deg": 144.0}, {"law": "cycloidal", "span_deg": 36.0, "lift_mm": 20.0},
-             {"law": "dwell", "span_deg": 144.0}, {"law": "cycloidal", "span_deg": 36.0, "lift_mm": -20.0}]
+    steep = [{"law": "dwell", "span_mm": 120.0}, {"law": "cycloidal", "span_mm": 30.0, "lift_mm": 20.0},
+             {"law": "dwell", "span_mm": 120.0}, {"law": "cycloidal", "span_mm": 30.0, "lift_mm": -20.0}]
     rho = _least_convex_radius(20.0, 30.0)
     assert 3.0 < rho < 30.0
     below = _run({"output": {"formats": ["dxf"]}, "cams": {"c": _cam(segments=steep, roller_radius_mm=rho * (1 - 1e-6),
@@ -348,10 +348,9 @@ def test_slot_walls_undercut_on_either_side():
     over 30 mm starting with an acceleration of 0.1 mm/mm^2 has tighter valleys (concave seen from
     above, the slot's upper wall) than peaks: a roller 1e-6 above the valley's least radius passes
     the edge cam's undercut check (peaks only) but fails the slot's; 1e-6 below it passes both."""
-    travel_per_deg = TRAVEL / 360.0
-    program = [{"law": "dwell", "span_deg": 108.0},
-               {"law": "polynomial", "span_deg": 36.0, "start": [0.0, 0.0, 0.1 * travel_per_deg**2], "end": [20.0, 0.0, 0.0]},
-               {"law": "dwell", "span_deg": 72.0}, {"law": "cycloidal", "span_deg": 144.0, "lift_mm": -20.0}]
+    program = [{"law": "dwell", "span_mm": 90.0},  # the conditions per mm of travel: a = 0.1 mm/mm^2
+               {"law": "polynomial", "span_mm": 30.0, "start": [0.0, 0.0, 0.1], "end": [20.0, 0.0, 0.0]},
+               {"law": "dwell", "span_mm": 60.0}, {"law": "cycloidal", "span_mm": 120.0, "lift_mm": -20.0}]
     rise = _quintic(30.0, (0.0, 0.0, 0.1), (20.0, 0.0, 0.0))
     valley, peak = _least_radius_of(rise, 30.0, True), _least_radius_of(rise, 30.0, False)
     assert valley < peak * 0.9
@@ -368,54 +367,138 @@ def test_slot_walls_undercut_on_either_side():
 # --------------------------------------------------------------------------------------------
 # The slot's pocket
 # --------------------------------------------------------------------------------------------
-def test_slot_pocket_is_the_roller_path_widened_by_the_clearance():
-    """The slot's wall (one closed contour, the pocket) keeps r + c/2 from the closed-form pitch
-    curve everywhere over the plate, runs out of both ends, and is cut slot_depth_mm deep into a
-    rectangular plate."""
+SLOT_CLEARANCE, SLOT_DEPTH, SLOT_ABOVE, THICKNESS = 0.2, 6.0, 45.0, 12.0
+HALF = R + SLOT_CLEARANCE / 2  # the slot's half width
+
+
+def _slot_cam(**extra):
+    return _cam(linear_form="slot", above_pitch_mm=SLOT_ABOVE, slot_depth_mm=SLOT_DEPTH, slot_clearance_mm=SLOT_CLEARANCE, **extra)
+
+
+def cycloidal_slope(x: np.ndarray, h: float = H) -> np.ndarray:
+    """ds/dx of the program (the derivative of Norton eq. 8.6: h / L (1 - cos(2 pi u)))."""
+    x = np.mod(x, TRAVEL)
+    u, w = (x - 50.0) / L_RISE, (x - 200.0) / L_RISE
+    rise = np.where((u > 0) & (u < 1), h / L_RISE * (1 - np.cos(2 * math.pi * u)), 0.0)
+    fall = np.where((w > 0) & (w < 1), h / L_RISE * (1 - np.cos(2 * math.pi * w)), 0.0)
+    return rise - fall
+
+
+def exact_slot(spacing: float = 0.002) -> np.ndarray:
+    """The slot's boundary from the closed forms (counter-clockwise, points <= ``spacing`` mm
+    apart): the pitch graph (x, s(x)) offset by -HALF along its normal (-s', 1)/sqrt(1 + s'^2)
+    over 0..TRAVEL, the half circle of radius HALF about (TRAVEL, s(TRAVEL)) (a dwell: from
+    straight down to straight up), the offset by +HALF back, the half circle about (0, s(0))."""
+    x = np.linspace(0.0, TRAVEL, int(TRAVEL / spacing * 1.1) + 1)
+    y, d = cycloidal_lift(x), cycloidal_slope(x)
+    n = np.stack([-d, np.ones_like(d)], axis=1) / np.hypot(d, 1.0)[:, None]
+    pitch = np.stack([x, y], axis=1)
+    t = np.linspace(0.0, math.pi, int(math.pi * HALF / spacing) + 1)[1:-1]
+    end = np.stack([TRAVEL + HALF * np.sin(t), cycloidal_lift(np.array([TRAVEL]))[0] - HALF * np.cos(t)], axis=1)
+    start = np.stack([-HALF * np.sin(t), cycloidal_lift(np.array([0.0]))[0] + HALF * np.cos(t)], axis=1)
+    return np.vstack([pitch - HALF * n, end, (pitch + HALF * n)[::-1], start])
+
+
+def slot_area() -> float:
+    """The slot's area: the band of half width HALF about the pitch graph has area 2 HALF x the
+    graph's length (the parallel-curve area, Steiner: the curvature terms of the two sides
+    cancel while |rho| > HALF), plus the two half discs; the length by scipy's quad."""
+    from scipy.integrate import quad
+
+    length = sum(quad(lambda v: math.sqrt(1 + float(cycloidal_slope(np.array([v]))[0]) ** 2), a, b, epsabs=1e-12, epsrel=1e-13)[0]
+                 for a, b in ((0, 50), (50, 150), (150, 200), (200, 300)))
+    return 2 * HALF * length + math.pi * HALF**2
+
+
+@pytest.fixture(scope="module")
+def slot_files():
+    scene = {"output": {"formats": ["dxf", "points", "stl", "step", "ngc"], "dxf_splines": "bspline", "chord_tol_mm": 1e-3},
+             "machining": {"tool_diameter_mm": 2 * HALF}, "cams": {"c": _slot_cam()}}
+    return _run(scene)
+
+
+def _slot_built(**extra):
     from camgen.pipeline import compute, plan_run
     from camgen.scene import parse_scene
 
-    scene = parse_scene({"output": {"formats": ["dxf"]}, "cams": {"c": _cam(linear_form="slot", above_pitch_mm=45.0,
-                                                                            slot_depth_mm=6.0, slot_clearance_mm=0.2)}}, "lin")
+    scene = parse_scene({"output": {"formats": ["dxf"]}, "cams": {"c": _slot_cam(**extra)}}, "lin")
     (cam,) = compute(scene, plan_run(scene)).cams
-    (pocket,) = cam.pockets
-    assert pocket.depth == 6.0 and pocket.width == pytest.approx(2 * R + 0.2) and pocket.clearance == 0.2
-    wall = pocket.walls[0].contour.flatten(1e-6)
-    assert wall[:, 0].min() < -30.0 - 1.0 + 1e-9 and wall[:, 0].max() > TRAVEL + 30.0 + 1.0 - 1e-9
-    xs = np.linspace(-60.0, TRAVEL + 60.0, 400001)
-    pitch = np.stack([xs, cycloidal_lift(xs)], axis=1)
-    over = wall[(wall[:, 0] > -30.0) & (wall[:, 0] < TRAVEL + 30.0)]
+    return cam
+
+
+def test_slot_pocket_is_the_roller_path_widened_by_the_clearance_closed_inside_the_plate():
+    """The slot's wall (one closed contour, the pocket) keeps r + c/2 from the closed-form pitch
+    graph over the travel 0..300 mm (so its ends are half circles about the graph's end points),
+    lies inside the plate (x from -HALF to TRAVEL + HALF), and is cut slot_depth_mm deep into a
+    rectangular plate; the pocket's open centre runs along the graph from (0, s(0)) to its end."""
     from scipy.spatial import cKDTree
 
-    distance = cKDTree(pitch).query(over)[0]
-    # the pitch polyline's spacing (0.001 mm) bounds the nearest-vertex distance's excess by 5e-7 mm
-    assert np.max(np.abs(distance - (R + 0.1))) < 2e-6, float(np.max(np.abs(distance - (R + 0.1))))
+    cam = _slot_built()
+    (pocket,) = cam.pockets
+    assert pocket.depth == SLOT_DEPTH and pocket.width == pytest.approx(2 * HALF) and pocket.clearance == SLOT_CLEARANCE
+    wall = pocket.walls[0].contour.flatten(1e-6)
+    assert wall[:, 0].min() == pytest.approx(-HALF, abs=1e-6) and wall[:, 0].max() == pytest.approx(TRAVEL + HALF, abs=1e-6)
+    xs = np.linspace(0.0, TRAVEL, 300001)
+    pitch = np.stack([xs, cycloidal_lift(xs)], axis=1)
+    distance = cKDTree(pitch).query(wall)[0]
+    # the pitch polyline's spacing (0.001 mm) bounds the nearest-vertex distance's excess by 5e-8 mm
+    assert np.max(np.abs(distance - HALF)) < 2e-6, float(np.max(np.abs(distance - HALF)))
+    centre = np.vstack([seg.point(np.linspace(0, 1, 2001)) for seg in pocket.centre_path])
+    assert np.max(np.abs(centre[:, 1] - cycloidal_lift(centre[:, 0]))) < 1e-6
+    assert centre[0] == pytest.approx([0.0, 0.0], abs=1e-12) and centre[-1] == pytest.approx([TRAVEL, 0.0], abs=1e-9)
     outline = cam.contour.flatten(1e-6)
-    assert outline[:, 0].min() == pytest.approx(-30.0) and outline[:, 1].max() == pytest.approx(45.0)
+    assert outline[:, 0].min() == pytest.approx(-30.0) and outline[:, 1].max() == pytest.approx(SLOT_ABOVE)
 
 
-def test_roller_rides_both_walls_of_the_slot_with_its_clearance():
-    """The roller (10 mm) in the slot (clearance 0.2 mm), ridden on the pocket's wall flattened at
-    2e-7 mm: resting on the lower wall its centre follows the curve 0.1 mm below the pitch graph
-    (x, s(x)) along its normal, pressed up on the upper wall the curve 0.1 mm above; both curves
-    by brute force from the closed-form graph (the envelope of circles of 0.1 mm about 10^6 of its
-    points), within 1e-6 mm."""
-    from camgen.pipeline import compute, plan_run
-    from camgen.scene import parse_scene
+def _slot_layer(text: str) -> tuple[list, np.ndarray]:
+    """The SLOT layer of the DXF read by ezdxf: its SPLINEs as scipy B-splines (with parameter
+    ranges) and its ARCs as dense points."""
+    import ezdxf
+    from scipy.interpolate import BSpline
 
-    scene = parse_scene({"output": {"formats": ["dxf"]}, "cams": {"c": _cam(linear_form="slot", above_pitch_mm=45.0,
-                                                                            slot_depth_mm=6.0, slot_clearance_mm=0.2)}}, "lin")
-    (cam,) = compute(scene, plan_run(scene)).cams
-    wall = cam.pockets[0].walls[0].contour.flatten(2e-7)
-    below = wall[:, 1] < cycloidal_lift(wall[:, 0])  # the lower wall (the pitch graph lies between the walls)
-    lower = wall[below][np.argsort(wall[below][:, 0])]
-    upper = wall[~below][np.argsort(wall[~below][:, 0])]
+    doc = ezdxf.read(io.StringIO(text))
+    assert not doc.audit().has_errors
+    splines, arcs = [], []
+    for e in doc.modelspace().query('*[layer=="SLOT"]'):
+        if e.dxftype() == "SPLINE":
+            knots, ctrl = np.array(e.knots, dtype=float), np.array(e.control_points, dtype=float)[:, :2]
+            k = e.dxf.degree
+            splines.append((BSpline(knots, ctrl, k), float(knots[k]), float(knots[-k - 1])))
+        else:
+            assert e.dxftype() == "ARC", e.dxftype()
+            a0, a1 = math.radians(e.dxf.start_angle), math.radians(e.dxf.end_angle)
+            t = np.linspace(a0, a0 + (a1 - a0) % (2 * math.pi), 20001)
+            arcs.append(np.stack([e.dxf.center[0] + e.dxf.radius * np.cos(t), e.dxf.center[1] + e.dxf.radius * np.sin(t)], axis=1))
+    return splines, np.vstack(arcs)
+
+
+def test_roller_rides_both_walls_of_the_slot_on_the_dxf_with_its_clearance(slot_files):
+    """The roller (10 mm) in the slot (clearance 0.2 mm), dropped onto the SLOT layer of the DXF
+    (ezdxf reads its B-splines and arcs, scipy evaluates them) at 301 travels: resting on the
+    lower wall its centre follows the curve 0.1 mm below the pitch graph (x, s(x)) along its
+    normal, pressed up on the upper wall the curve 0.1 mm above; both curves by brute force from
+    the closed-form graph (the envelope of circles of 0.1 mm about 10^6 of its points), within
+    1e-6 mm."""
+    from scipy.interpolate import BSpline
+
+    splines, arcs = _slot_layer(slot_files["c.dxf"])
+    mid = [(sp, lo, hi) for sp, lo, hi in splines]
+    below = [m for m in mid if m[0](0.5 * (m[1] + m[2]))[1] < cycloidal_lift(np.array([m[0](0.5 * (m[1] + m[2]))[0]]))[0]]
+    above = [m for m in mid if m not in below]
+    assert len(below) >= 1 and len(above) >= 1
+    mirrored = [(BSpline(sp.t, sp.c * np.array([1.0, -1.0]), sp.k), lo, hi) for sp, lo, hi in above]
     x = np.linspace(0.0, TRAVEL, 301)
-    on_lower = roller_height_on_polygon(lower, x, R, closed=False)
-    on_upper = -roller_height_on_polygon(upper * np.array([1.0, -1.0]), x, R, closed=False)  # mirrored: pressed up = dropped down
+
+    def on_arcs(points: np.ndarray) -> np.ndarray:  # the roller's height dropped onto the arcs' points (-inf: none within r)
+        dx = points[None, :, 0] - x[:, None]
+        return np.max(np.where(np.abs(dx) <= R, points[None, :, 1] + np.sqrt(np.maximum(R * R - dx * dx, 0.0)), -np.inf), axis=1)
+
+    low_arcs = arcs[:, 1] < cycloidal_lift(arcs[:, 0])  # the arcs' halves below the graph (its ends: dwells at 0)
+    on_lower = np.maximum(roller_height_on_splines(below, x, R), on_arcs(arcs[low_arcs]))
+    on_upper = -np.maximum(roller_height_on_splines(mirrored, x, R), on_arcs(arcs[~low_arcs] * np.array([1.0, -1.0])))
     gx = np.linspace(-1.0, TRAVEL + 1.0, 1_000_001)
     gy = cycloidal_lift(gx)
-    half = 0.1
+    half = SLOT_CLEARANCE / 2
     low_curve, high_curve = np.empty(x.size), np.empty(x.size)
     for i, xi in enumerate(x):
         near = np.abs(gx - xi) <= half
@@ -424,6 +507,97 @@ def test_roller_rides_both_walls_of_the_slot_with_its_clearance():
         high_curve[i] = np.max(gy[near] + rise)
     assert np.max(np.abs(on_lower - low_curve)) < 1e-6, float(np.max(np.abs(on_lower - low_curve)))
     assert np.max(np.abs(on_upper - high_curve)) < 1e-6, float(np.max(np.abs(on_upper - high_curve)))
+
+
+def test_slot_point_list_holds_the_exact_slot(slot_files):
+    """The point list's SLOT wall: every vertex at HALF from the closed-form pitch graph over the
+    travel within 1e-6 mm (the boundary: the walls and the end half circles), the loop
+    counter-clockwise with the closed-form area within its chords' bound (chord_tol_mm x length)."""
+    from scipy.spatial import cKDTree
+
+    lines = slot_files["c_points.csv"].splitlines()
+    header = lines[0].split(",")
+    assert "wall" in header, header
+    col = header.index("wall")
+    rows = [line.split(",") for line in lines[1:] if line.split(",")[col] == "SLOT"]
+    pts = np.array([[float(r[0]), float(r[1])] for r in rows])
+    xs = np.linspace(0.0, TRAVEL, 300001)
+    distance = cKDTree(np.stack([xs, cycloidal_lift(xs)], axis=1)).query(pts)[0]
+    # the slot's boundary is where the distance from the graph over 0..TRAVEL is HALF; the graph's
+    # spacing (0.001 mm) makes the nearest vertex at most 0.001^2 / (8 HALF) = 1.3e-8 mm farther
+    assert np.max(np.abs(distance - HALF)) < 1e-6, float(np.max(np.abs(distance - HALF)))
+    area = 0.5 * float(np.sum(pts[:, 0] * np.roll(pts[:, 1], -1) - np.roll(pts[:, 0], -1) * pts[:, 1]))
+    assert area == pytest.approx(slot_area(), abs=2e-3 * 700)
+
+
+def _plate_area() -> float:
+    """The plate: 360 x 90 mm, its four corners rounded by 2 mm (the default corner_radius_mm)."""
+    return (TRAVEL + 60.0) * (45.0 + SLOT_ABOVE) - 4 * (1 - math.pi / 4) * 2.0**2
+
+
+def test_slotted_plate_stl_passes_admesh_with_the_closed_form_volume(slot_files, tmp_path):
+    """admesh reads the STL: nothing to repair, one part; its volume is plate area x thickness -
+    slot area x depth (closed forms above) within the chords' bound (every chord within
+    chord_tol_mm = 1e-3 of its curve: each side face sweeps at most its loop's length x tol x its
+    height) and float32's rounding."""
+    import re
+
+    from test_solid import admesh_clean
+
+    path = tmp_path / "c.stl"
+    path.write_bytes(slot_files["c.stl"])
+    out = admesh_clean(require_tool("admesh"), path)
+    volume = float(re.search(r"Volume\s*:\s*([\d.]+)", out).group(1))
+    exact = _plate_area() * THICKNESS - slot_area() * SLOT_DEPTH
+    bound = 1e-3 * (2 * (360.0 + 90.0) * THICKNESS + 2 * 330.0 * SLOT_DEPTH) + 1e-6 * exact
+    assert abs(volume - exact) <= bound, (volume, exact, bound)
+    assert bound < 0.01 * slot_area() * SLOT_DEPTH
+
+
+def test_slotted_plate_step_is_valid_in_occt_with_the_closed_form_volume(slot_files):
+    """OpenCASCADE reads the STEP: BRepCheck valid, one solid, its volume (OCCT's own
+    integration, BRepGProp) the closed form within 1e-6 relative."""
+    pytest.importorskip("OCP")
+    from OCP.BRepCheck import BRepCheck_Analyzer
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GProp import GProp_GProps
+    from OCP.TopAbs import TopAbs_SOLID
+    from OCP.TopExp import TopExp_Explorer
+    from test_pocket_files import _occt_shape
+
+    shape = _occt_shape(slot_files["c.step"])
+    assert BRepCheck_Analyzer(shape).IsValid()
+    solids, count = TopExp_Explorer(shape, TopAbs_SOLID), 0
+    while solids.More():
+        count += 1
+        solids.Next()
+    assert count == 1
+    props = GProp_GProps()
+    BRepGProp.VolumeProperties_s(shape, props)
+    exact = _plate_area() * THICKNESS - slot_area() * SLOT_DEPTH
+    assert abs(props.Mass() - exact) <= 1e-6 * exact, (props.Mass(), exact)
+
+
+def test_a_plate_too_short_for_the_slot_fails_naming_the_margins_and_their_least_values_hold():
+    """margin_end_mm = 12 leaves 12 - HALF = 1.9 mm beyond the slot's end half circle (a dwell
+    there: its rightmost point is TRAVEL + HALF), below min_wall_mm = 3: plate_length fails
+    (exit 1, no manufacturing file) naming margin_end_mm and the least margin, HALF + 3 = 13.1 mm
+    (the closed form); that hint (rounded up to 1e-6 mm, as printed) is then accepted and the
+    slot made."""
+    import re
+
+    scene = {"output": {"formats": ["dxf", "stl"]}, "cams": {"c": _slot_cam(margin_end_mm=12.0, min_wall_mm=3.0)}}
+    files = _run(scene)
+    checks, report = _checks(files)
+    assert checks["plate_length"]["status"] == "fail" and report["status"] == "fail"
+    assert checks["plate_length"]["value"] == pytest.approx(12.0 - HALF, abs=1e-9)
+    assert "c.dxf" not in files and "c.stl" not in files
+    hint = re.search(r"margin_end_mm >= ([\d.]+)", checks["plate_length"]["note"])
+    assert hint and float(hint.group(1)) == pytest.approx(HALF + 3.0, abs=2e-6), checks["plate_length"]["note"]
+    assert "margin_start_mm" not in checks["plate_length"]["note"]
+    files = _run({**scene, "cams": {"c": _slot_cam(margin_end_mm=float(hint.group(1)), min_wall_mm=3.0)}})
+    checks, report = _checks(files)
+    assert checks["plate_length"]["status"] == "pass" and report["status"] == "pass" and "c.stl" in files
 
 
 # --------------------------------------------------------------------------------------------
@@ -460,6 +634,61 @@ def test_gcode_of_the_edge_cuts_the_exact_outline(edge_files, tmp_path):
     assert report.status == 0, report.message
     assert report.gouge <= 1e-3 and report.proud <= 1e-3, (report.gouge, report.proud)
     assert all(p.outside for p in report.passes)
+
+
+def _dense_outline(contour, step: float = 0.02):
+    """The plate's outline as the cutting simulation's profile: flattened within 1e-7 mm (tests/
+    cutting.py's PROFILE_TOL), its long straight chords split to <= ``step`` mm (points on a
+    straight side are on the exact curve: the simulation's distance bound grows with the spacing)."""
+    from test_gcode_pockets import Sampled
+
+    v = contour.flatten(1e-7)
+    w = np.roll(v, -1, axis=0)
+    parts = np.maximum(1, np.ceil(np.hypot(*(w - v).T) / step).astype(int))
+    frac = np.concatenate([np.arange(n) / n for n in parts])
+    start = np.repeat(np.arange(v.shape[0]), parts)
+    return Sampled(v[start] + frac[:, None] * (w[start] - v[start]), 1e-7)
+
+
+def _slot_floor(n: int = 3001) -> np.ndarray:
+    """Points of the slot's floor (closed form): across the band about the graph, and the end half discs."""
+    x = np.linspace(0.0, TRAVEL, n)
+    d = cycloidal_slope(x)
+    nrm = np.stack([-d, np.ones_like(d)], axis=1) / np.hypot(d, 1.0)[:, None]
+    t = np.linspace(-HALF, HALF, 41)
+    band = (np.stack([x, cycloidal_lift(x)], axis=1)[None] + t[:, None, None] * nrm[None]).reshape(-1, 2)
+    rho, phi = np.meshgrid(np.linspace(0.0, HALF, 21), np.linspace(0.0, 2 * math.pi, 181))
+    disc = np.stack([(rho * np.cos(phi)).ravel(), (rho * np.sin(phi)).ravel()], axis=1)
+    return np.vstack([band, disc, disc + np.array([TRAVEL, 0.0])])
+
+
+@pytest.mark.parametrize("diameter, strategy", [(2 * HALF, "one pass along the pitch curve"), (6.0, "pocket cleared, one wall pass")])
+def test_gcode_of_the_slot_cuts_the_exact_slot(diameter, strategy, tmp_path):
+    """rs274 accepts the slotted plate's program; the cutting simulation (tests/cutting.py: the
+    tool disc swept along rs274's moves) leaves the slot's wall (the closed-form boundary,
+    exact_slot) within 1 um (no gouge, nothing proud at the floor), every cut inside it, the floor
+    at slot_depth_mm with no island; the outline is cut through, nothing gouged or proud.  A tool
+    of the slot's width runs along the open pitch curve there and back; a 6 mm tool clears it by
+    the wall's inward offsets (stepover <= 3 mm) and finishes along the wall."""
+    require_tool("rs274")
+    from cutting import CUT_TOL, simulate_pockets
+    from test_gcode_pockets import Sampled
+
+    scene = {"output": {"formats": ["ngc"]}, "machining": {"tool_diameter_mm": diameter, "step_down_mm": 2.5}, "cams": {"c": _slot_cam()}}
+    program = _run(scene)["c.ngc"]
+    assert strategy in program
+    cam = _slot_built()
+    exact = exact_slot(0.002)
+    report = simulate_pockets(program, _dense_outline(cam.contour), {"SLOT": Sampled(exact, 0.002**2 / (8 * HALF))}, diameter / 2, tmp_path)
+    outline, pocket = report.outline, report.pocket
+    assert outline.status == 0, outline.message
+    assert pocket is not None and pocket.between
+    assert pocket.gouge["SLOT"] <= CUT_TOL and pocket.proud["SLOT"] <= CUT_TOL, (pocket.gouge, pocket.proud)
+    assert pocket.deepest == -SLOT_DEPTH and len(pocket.levels) == math.ceil(SLOT_DEPTH / 2.5)
+    starts, floors = np.array(pocket.levels).T
+    assert starts[0] == 0.0 and np.all(starts[1:] == floors[:-1]) and floors[-1] == -SLOT_DEPTH
+    assert pocket.island(_slot_floor(), diameter / 2) <= CUT_TOL
+    assert outline.gouge <= CUT_TOL and outline.proud <= CUT_TOL and all(p.outside for p in outline.passes)
 
 
 # --------------------------------------------------------------------------------------------
@@ -557,9 +786,9 @@ def test_the_edge_plate_solid_is_closed_with_the_exact_volume(tmp_path):
 
     from test_solid import admesh_clean
 
-    program = [{"law": "dwell", "span_deg": 60.0}, {"law": "cycloidal", "span_deg": 120.0, "lift_mm": 20.0},
-               {"law": "dwell", "span_deg": 60.0}, {"law": "cycloidal", "span_deg": 96.0, "lift_mm": -20.0},
-               {"law": "dwell", "span_deg": 24.0}]
+    program = [{"law": "dwell", "span_mm": 50.0}, {"law": "cycloidal", "span_mm": 100.0, "lift_mm": 20.0},
+               {"law": "dwell", "span_mm": 50.0}, {"law": "cycloidal", "span_mm": 80.0, "lift_mm": -20.0},
+               {"law": "dwell", "span_mm": 20.0}]
     cam = _cam(follower="knife", segments=program, margin_start_mm=15.0, corner_radius_mm=2.0)
     del cam["roller_radius_mm"]
     files = _run({"output": {"formats": ["stl"], "chord_tol_mm": 1e-3}, "cams": {"c": cam}})
@@ -606,6 +835,115 @@ def test_the_report_draws_against_travel_and_animates_the_plate():
     assert "no curves: the profile cannot be made" not in page
     report = json.loads(files["report.json"])
     assert report["status"] == "pass" and report["cams"]["lifter"]["figures"]["travel_mm"] == TRAVEL
+
+
+# --------------------------------------------------------------------------------------------
+# The program's abscissa: plate travel in mm
+# --------------------------------------------------------------------------------------------
+def test_a_program_in_span_mm_is_the_span_deg_program_mapped_onto_the_travel():
+    """A linear cam's program in span_mm with a polynomial's conditions per mm (v in mm/mm, a in
+    mm/mm^2) gives, to rounding, the law the equivalent cam-angle program gives (spans
+    span_mm x 360 / T deg, conditions per degree: v x T / 360, a x (T / 360)^2, the mapping
+    x = T theta / 360 deg), read as a plate cam's program reads it; the travel is the spans' sum
+    (travel_mm left out) and equal when given."""
+    from camgen.motions.motion_law import read_program
+    from camgen.pipeline import compute, plan_run
+    from camgen.scene import parse_scene
+
+    mm = [{"law": "dwell", "span_mm": 40.0}, {"law": "polynomial", "span_mm": 60.0, "start": [0.0, 0.0, 0.01], "end": [10.0, 0.0, -0.005]},
+          {"law": "cycloidal", "span_mm": 50.0, "lift_mm": 8.0}, {"law": "dwell", "span_mm": 30.0},
+          {"law": "poly345", "span_mm": 120.0, "lift_mm": -18.0}]
+    travel = 300.0
+    k = travel / 360.0  # mm of travel per degree
+    deg = [{"law": "dwell", "span": math.radians(40.0 / k)},
+           {"law": "polynomial", "span": math.radians(60.0 / k), "start": (0.0, 0.0, 0.01 * k * k), "end": (10.0, 0.0, -0.005 * k * k)},
+           {"law": "cycloidal", "span": math.radians(50.0 / k), "lift": 8.0}, {"law": "dwell", "span": math.radians(30.0 / k)},
+           {"law": "poly345", "span": math.radians(120.0 / k), "lift": -18.0}]
+    reference = read_program("cams.c", tuple(deg), "translating")
+    for given in ({}, {"travel_mm": travel}):
+        cam = _cam(segments=mm, **given)
+        if not given:
+            del cam["travel_mm"]
+        scene = parse_scene({"output": {"formats": ["dxf"]}, "cams": {"c": cam}}, "lin")
+        (built,) = compute(scene, plan_run(scene)).cams
+        p = built.spec.params
+        assert p.travel == travel
+        theta = (np.arange(72000) + 0.5) * (2 * math.pi / 72000)  # off the breaks (at whole multiples of 2 pi / 72000)
+        for got, want in zip(p.law(theta), reference(theta)):
+            assert np.max(np.abs(got - want)) <= 1e-12 * max(1.0, float(np.max(np.abs(want)))), float(np.max(np.abs(got - want)))
+        # the polynomial's start: a = 0.01 mm/mm^2 at x = 40 mm (the law in x, d2s/dx2 = s''(theta) (2 pi / T)^2)
+        a = p.law(np.array([2 * math.pi * 40.0 / travel + 1e-12]))[2][0] * (2 * math.pi / travel) ** 2
+        assert a == pytest.approx(0.01, rel=1e-6)
+
+
+def _check_cli(tmp_path, text: str):
+    import subprocess
+    import sys
+
+    path = tmp_path / "s.toml"
+    path.write_text(text)
+    return subprocess.run([sys.executable, "-m", "camgen", "check", str(path)], capture_output=True, text=True, timeout=120)
+
+
+_LINEAR_TOML = """[cams.c]
+kind = "motion_law"
+form = "linear"
+follower = "roller"
+roller_radius_mm = 10.0
+{travel}
+[[cams.c.segments]]
+law = "dwell"
+{span} = 60.0
+[[cams.c.segments]]
+law = "cycloidal"
+span_mm = 100.0
+lift_mm = 20.0
+[[cams.c.segments]]
+law = "dwell"
+span_mm = 40.0
+[[cams.c.segments]]
+law = "cycloidal"
+span_mm = 100.0
+lift_mm = -20.0
+"""
+
+
+@pytest.mark.parametrize("travel, span, key, words", [
+    ("", "span_deg", "cams.c.segments[0].span_deg", "use span_mm"),
+    ("travel_mm = 250.0", "span_mm", "cams.c.travel_mm", "300 mm, the sum of the segments' span_mm"),
+    ("", "# no span:", "cams.c.segments[0].span_mm", "every segment gives its span"),
+])
+def test_a_linear_program_in_the_wrong_abscissa_is_refused_naming_the_key(tmp_path, travel, span, key, words):
+    """Exit 2 and one stderr line ``camgen: error:`` naming the key: span_deg on a linear cam (use
+    span_mm), travel_mm other than the spans' sum, a segment without its span."""
+    run = _check_cli(tmp_path, _LINEAR_TOML.format(travel=travel, span=span))
+    lines = run.stderr.strip().splitlines()
+    assert run.returncode == 2 and len(lines) == 1 and lines[0].startswith("camgen: error: "), (run.returncode, run.stderr)
+    assert key in lines[0] and words in lines[0], lines[0]
+
+
+def test_span_mm_on_a_cam_turning_about_an_axis_is_refused_naming_it(tmp_path):
+    """A plate cam's program runs over the cam angle: a segment's span_mm is refused (exit 2, one
+    line naming it and span_deg); a span_deg program there reads as before (exit 0)."""
+    text = """[cams.c]
+kind = "motion_law"
+follower = "roller"
+roller_radius_mm = 8.0
+base_radius_mm = 40.0
+[[cams.c.segments]]
+law = "cycloidal"
+{span} = 180.0
+lift_mm = 10.0
+[[cams.c.segments]]
+law = "cycloidal"
+span_deg = 180.0
+lift_mm = -10.0
+"""
+    run = _check_cli(tmp_path, text.format(span="span_mm"))
+    lines = run.stderr.strip().splitlines()
+    assert run.returncode == 2 and len(lines) == 1 and lines[0].startswith("camgen: error: "), (run.returncode, run.stderr)
+    assert "cams.c.segments[0].span_mm" in lines[0] and "span_deg" in lines[0], lines[0]
+    assert _check_cli(tmp_path, text.format(span="span_deg")).returncode == 0
 
 
 @pytest.mark.parametrize("fmt", ["lift", "follower"])

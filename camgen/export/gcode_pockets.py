@@ -1,22 +1,32 @@
-"""G-code passes of the pockets cut into a cam's top face (a groove cam's groove).
+"""G-code passes of the pockets cut into a cam's top face (a groove cam's groove, a linear cam's slot).
 
-A pocket (:class:`camgen.kinds.base.Pocket`) here is a slot between two closed walls, its outer
-wall ``walls[0]`` and its inner wall ``walls[1]``, ``width`` apart, with the curve midway
-between them (``centre``: a groove's pitch curve).  The program mills every pocket before the
-outline (the part is still held by the stock), in depth levels of at most ``step_down`` down
-to the pocket's depth (not through the plate).  The strategy follows from the tool diameter
-``D`` against the width ``w``:
+A pocket (:class:`camgen.kinds.base.Pocket`) here is either a slot between two closed walls,
+its outer wall ``walls[0]`` and its inner wall ``walls[1]``, ``width`` apart, with the closed
+curve midway between them (``centre``: a groove's pitch curve); or the region inside **one
+closed wall** ``walls[0]``, ``width`` its widest (twice the largest distance of a point inside
+from the wall), with an open centre chain (``centre_path``: a slot closed by half circles, whose
+pitch curve between the ends is the path of a tool of the slot's width).  No form is named
+here.  The program mills every pocket before the outline (the part is still held by the stock),
+in depth levels of at most ``step_down`` down to the pocket's depth (not through the plate).
+The strategy follows from the tool diameter ``D`` against the width ``w``:
 
 * ``|D - w| <= ONE_PASS_SHARE * 2 * chord_tol`` (:func:`one_pass_tol`): **one pass along the
   pitch curve** per level.  The tool disc swept along the centre is bounded by the centre's
   offsets by +-D/2, which are the walls (offsets by +-w/2) within ``|D - w| / 2``: the walls are
   exact to the path tolerance.  The path is the centre itself (no offset), so the offset-refit
-  share of the path tolerance holds the mismatch instead.
-* ``D < w``: **two wall passes, slot cleared**.  Per level, clearing passes along the centre's
-  offsets by ``s`` strictly between the wall passes, evenly spaced with a stepover of at most
-  ``SLOT_STEPOVER * D`` (< D, so neighbouring discs overlap and no island is left between
-  them), then a finishing pass along each wall: the wall offset into the pocket by the tool
-  radius (outer wall inward, inner wall outward), the outer wall first.
+  share of the path tolerance holds the mismatch instead.  An open centre (one wall) is run
+  there and back: the ramp down along it to its end, then back to its start at the level's
+  depth (the tool's half discs at the two ends are the wall's half circles).
+* ``D < w``: two walls: **two wall passes, slot cleared**.  Per level, clearing passes along the
+  centre's offsets by ``s`` strictly between the wall passes, evenly spaced with a stepover of
+  at most ``SLOT_STEPOVER * D`` (< D, so neighbouring discs overlap and no island is left
+  between them), then a finishing pass along each wall: the wall offset into the pocket by the
+  tool radius (outer wall inward, inner wall outward), the outer wall first.
+  One wall: **pocket cleared, one wall pass**.  The wall's inward offsets by
+  ``r + k (w/2 - r) / g`` (``k = g-1 .. 1``, innermost first; ``g`` the least count with a
+  stepover ``(w/2 - r) / g <= SLOT_STEPOVER * D``: the innermost loop lies within ``r`` of the
+  deepest point inside, so its disc reaches it), then the finishing pass along the wall offset
+  inward by the tool radius.
 * ``D > w``: refused, naming ``tool_diameter`` and the width.
 
 The tool must fit every concave radius of each wall, seen from the pocket (the outer wall's
@@ -50,10 +60,10 @@ from camgen.export.gcode_moves import START_SAMPLING, MoveWriter, comment, loop_
 from camgen.export.gcode_spec import REFIT_SHARE, MachiningSpec, depth_passes
 
 if TYPE_CHECKING:
-    from camgen.contour import Contour
+    from camgen.contour import Contour, Spline
     from camgen.kinds.base import Pocket
 
-__all__ = ["ONE_PASS", "ONE_PASS_SHARE", "SLOT_STEPOVER", "TWO_WALLS", "PocketPass", "PocketPlan", "PocketProgram", "least_concave_radius",
+__all__ = ["CLEARED", "ONE_PASS", "ONE_PASS_SHARE", "SLOT_STEPOVER", "TWO_WALLS", "PocketPass", "PocketPlan", "PocketProgram", "least_concave_radius",
            "one_pass_tol", "plan_pocket", "pocket_program", "ramp_moves"]
 
 #: Share of ``chord_tol`` the one-pass strategy spends on the tool's mismatch with the width:
@@ -66,6 +76,7 @@ SLOT_STEPOVER = 0.5
 #: Strategy names, as the program's header says them.
 ONE_PASS = "one pass along the pitch curve"
 TWO_WALLS = "two wall passes, slot cleared"
+CLEARED = "pocket cleared, one wall pass"
 
 
 def one_pass_tol(spec: MachiningSpec) -> float:
@@ -77,12 +88,18 @@ def one_pass_tol(spec: MachiningSpec) -> float:
 
 @dataclass(frozen=True)
 class PocketPass:
-    """One closed tool-centre path of a pocket: ``path`` (counter-clockwise, starting near the
-    pocket's start), ``clockwise`` (run the other way round), ``what`` it cuts (for the header)."""
+    """One tool-centre path of a pocket: ``path``, a closed contour (counter-clockwise, starting
+    near the pocket's start) or an open chain of segments (a pocket's ``centre_path``: run to its
+    end and back); ``clockwise`` (a closed path run the other way round), ``what`` it cuts (for
+    the header)."""
 
-    path: "Contour"
+    path: "Contour | tuple[Arc | Spline, ...]"
     clockwise: bool
     what: str
+
+    @property
+    def is_open(self) -> bool:
+        return isinstance(self.path, tuple)
 
 
 @dataclass(frozen=True)
@@ -101,7 +118,7 @@ class PocketPlan:
 
 def least_concave_radius(pocket: "Pocket") -> tuple[float, str, float]:
     """The least radius of curvature of the pocket's walls that is concave seen from inside the
-    pocket (mm): the outer wall's convex parts, every other wall's concave parts; with the wall's
+    pocket (mm): the outer (or only) wall's convex parts, every other wall's concave parts; with the wall's
     layer and the polar angle there (deg).  ``(inf, "", 0)`` when no wall has one."""
     from camgen.checks import radius_of_curvature
 
@@ -144,29 +161,46 @@ def plan_pocket(pocket: "Pocket", spec: MachiningSpec) -> PocketPlan:
         ``tool_diameter`` wider than the pocket, or wider than twice the least concave radius of
         a wall; ``cutter_compensation`` asked for.
     GeometryError
-        A pocket that is not a slot between two walls with a width and a centre.
+        A pocket that is neither a slot between two walls with a width and a centre nor one wall
+        with a width (and, for one pass, a centre).
     """
     if spec.cutter_compensation:
         raise ParameterError("cutter_compensation", True, f"false for a cam with pockets (pocket '{pocket.name}')",
                              "the pocket passes are tool-centre paths: one pass along the pitch curve has no wall to compensate against")
-    if len(pocket.walls) != 2 or pocket.width is None or pocket.centre is None:
-        raise GeometryError(f"G-code for pocket '{pocket.name}' needs a slot between two walls with its width and centre "
-                            f"(it has {len(pocket.walls)} walls, width {pocket.width}, centre {'given' if pocket.centre is not None else 'none'})")
-    width, centre = pocket.width, pocket.centre
+    one_wall = len(pocket.walls) == 1
+    if pocket.width is None or not (one_wall or (len(pocket.walls) == 2 and pocket.centre is not None)):
+        raise GeometryError(f"G-code for pocket '{pocket.name}' needs a slot between two walls with its width and centre, or one wall "
+                            f"with its width (it has {len(pocket.walls)} walls, width {pocket.width}, "
+                            f"centre {'given' if pocket.centre is not None else 'none'})")
+    width = pocket.width
     d, r, tol = spec.tool_diameter, spec.tool_radius, one_pass_tol(spec)
     if d > width + tol:
-        _refuse_tool(spec, width, f"wider than pocket '{pocket.name}' ({width:g} mm): it would cut beyond both walls; "
-                                  f"a tool of the width (within {tol:.3g} mm) cuts it in one pass along the pitch curve, a smaller one in two wall passes")
+        _refuse_tool(spec, width, f"wider than pocket '{pocket.name}' ({width:g} mm): it would cut beyond {'its wall' if one_wall else 'both walls'}; "
+                                  f"a tool of the width (within {tol:.3g} mm) cuts it in one pass along the pitch curve, a smaller one in "
+                                  f"{'a wall pass with the pocket cleared' if one_wall else 'two wall passes'}")
     least, layer, polar = least_concave_radius(pocket)
+    climb = spec.direction == "climb"  # the finished wall on the right of the travel (spindle M3)
+    if abs(d - width) <= tol:
+        # the walls are the tool's envelope along the centre within half the mismatch: so is a wall's radius
+        if r > least + 0.5 * tol:
+            _refuse_tool(spec, 2.0 * least * (1.0 - 1e-9), f"the tool must fit the least concave radius {least:.6g} mm of wall {layer} "
+                                                          f"of pocket '{pocket.name}' (near polar angle {polar:.3f} deg)")
+        if pocket.centre is not None:
+            return PocketPlan(pocket, ONE_PASS, (PocketPass(pocket.centre, not climb, "pitch curve"),), None, least, layer)
+        if pocket.centre_path is None:
+            raise GeometryError(f"G-code for pocket '{pocket.name}' in one pass needs its centre (a tool of its width runs along it)")
+        return PocketPlan(pocket, ONE_PASS, (PocketPass(tuple(pocket.centre_path), False, "pitch curve, there and back"),), None,
+                          least, layer)
     if r > least:
         _refuse_tool(spec, 2.0 * least * (1.0 - 1e-9), f"the tool must fit the least concave radius {least:.6g} mm of wall {layer} "
                                                       f"of pocket '{pocket.name}' (near polar angle {polar:.3f} deg)")
+    if one_wall:
+        return _cleared(pocket, spec, least, layer)
+    assert pocket.centre is not None
+    centre = pocket.centre
     outward = centre.normal(np.array([0.0]))[0]
     start = centre.evaluate(np.array([0.0]))[0]
-    climb = spec.direction == "climb"  # the finished wall on the right of the travel (spindle M3)
     outer, inner = pocket.walls
-    if abs(d - width) <= tol:
-        return PocketPlan(pocket, ONE_PASS, (PocketPass(centre, not climb, "pitch curve"),), None, least, layer)
     half = width / 2.0 - r  # the wall passes' distance from the centre
     gaps = max(1, math.ceil((width - d) / (SLOT_STEPOVER * d) - 1e-9))
     offsets = np.linspace(-half, half, gaps + 1)[1:-1]
@@ -179,9 +213,49 @@ def plan_pocket(pocket: "Pocket", spec: MachiningSpec) -> PocketPlan:
     return PocketPlan(pocket, TWO_WALLS, tuple(passes), (width - d) / gaps, least, layer)
 
 
+def _cleared(pocket: "Pocket", spec: MachiningSpec, least: float, layer: str) -> PocketPlan:
+    """A pocket of one wall cleared by the wall's inward offsets, innermost first, then the
+    finishing pass along the wall offset inward by the tool radius (module docstring)."""
+    assert pocket.width is not None
+    wall = pocket.walls[0]
+    d, r = spec.tool_diameter, spec.tool_radius
+    climb = spec.direction == "climb"
+    inset = pocket.width / 2.0 - r  # from the finishing pass to the deepest point inside
+    gaps = max(1, math.ceil(inset / (SLOT_STEPOVER * d) - 1e-9))
+    start = wall.contour.evaluate(np.array([0.0]))[0]
+    inward = -wall.contour.normal(np.array([0.0]))[0]
+    distances = r + inset * np.arange(gaps - 1, -1, -1) / gaps  # innermost first, the finishing pass (r) last
+    passes = [PocketPass(_starting_near(_offset(wall.contour, -float(s), spec, "clearing pass" if s > r else f"pass along wall {wall.layer}"),
+                                        start + s * inward), not climb,
+                         f"clearing at {float(s):.4g} inside wall {wall.layer}" if s > r else f"wall {wall.layer}") for s in distances]
+    return PocketPlan(pocket, CLEARED, tuple(passes), inset / gaps, least, layer)
+
+
+def _open_primitives(segments: "tuple[Arc | Spline, ...]", spec: MachiningSpec) -> list[tuple]:
+    """Primitives of an open chain in its order, as :func:`camgen.export.gcode_moves.primitives`
+    makes them for a closed one: arcs kept, splines as biarcs (``spline_mode = "biarcs"``) or
+    chords, within the fit share of ``chord_tol``."""
+    from camgen.contour.arcspline import spline_to_biarcs
+    from camgen.export.gcode_spec import FIT_SHARE
+
+    tol = FIT_SHARE * spec.chord_tol
+    out: list[tuple] = []
+    for seg in segments:
+        pieces = [seg] if isinstance(seg, Arc) or spec.spline_mode != "biarcs" else spline_to_biarcs(seg, tol)
+        for piece in pieces:
+            if isinstance(piece, Arc):
+                out.append(("arc", piece))
+            else:
+                u = np.append(piece.flatten_params(tol)[1:], 1.0)
+                out.append(("lines", piece.point(u)))
+    return out
+
+
 def _loop(pocket_pass: PocketPass, spec: MachiningSpec) -> tuple[np.ndarray, list[tuple]]:
-    """Start point and primitives of a pass in its direction of travel."""
+    """Start point and primitives of a pass in its direction of travel (an open one: forward)."""
     path = pocket_pass.path
+    if isinstance(path, tuple):
+        return np.asarray(path[0].start_point, dtype=float), _open_primitives(path, spec)
     start = path.segments[0].start_point
     prims = []
     for kind, item in primitives(path, spec):  # an arc of more than half a turn (a whole circle) in halves:
@@ -207,9 +281,10 @@ def _lengths(prims: list[tuple], start: np.ndarray) -> list[np.ndarray]:
     return out
 
 
-def ramp_moves(prims: list[tuple], start: np.ndarray, z_from: float, z_to: float, decimals: int) -> str:
+def ramp_moves(prims: list[tuple], start: np.ndarray, z_from: float, z_to: float, decimals: int, end: np.ndarray | None = None) -> str:
     """The closed path ``prims`` from ``start`` with Z falling linearly along it from ``z_from``
-    to ``z_to`` (mm): lines with a Z word, arcs as helical G2/G3; it ends at ``z_to``."""
+    to ``z_to`` (mm): lines with a Z word, arcs as helical G2/G3; it ends at ``z_to``.  ``end``:
+    the path is open and ends there (not back at ``start``)."""
     lengths = _lengths(prims, start)
     total = float(sum(float(x.sum()) for x in lengths))
     writer = MoveWriter(decimals, start, z_from)
@@ -222,7 +297,25 @@ def ramp_moves(prims: list[tuple], start: np.ndarray, z_from: float, z_to: float
         else:
             writer.lines(item, z=z)
         done = float(run[-1])
-    writer.line(start, z=z_to)  # the loop's closing gap, or its last Z, if printing dropped them
+    writer.line(start if end is None else end, z=z_to)  # the loop's closing gap, or its last Z, if printing dropped them
+    return writer.text()
+
+
+def _end_point(prims: list[tuple]) -> np.ndarray:
+    kind, item = prims[-1]
+    return np.asarray(item.end_point if kind == "arc" else item[-1], dtype=float)
+
+
+def back_moves(prims: list[tuple], start: np.ndarray, decimals: int) -> str:
+    """The open path ``prims`` (from ``start``) run back from its end to ``start`` (XY only)."""
+    end = _end_point(prims)
+    writer = MoveWriter(decimals, end)
+    for kind, item in reverse_primitives(prims, start):
+        if kind == "arc":
+            writer.arc(item)
+        else:
+            writer.lines(item)
+    writer.line(start)
     return writer.text()
 
 
@@ -243,21 +336,25 @@ def pocket_program(pockets: Sequence["Pocket"], spec: MachiningSpec) -> PocketPr
     for pocket in pockets:
         plan = plan_pocket(pocket, spec)
         loops = [_loop(p, spec) for p in plan.passes]
-        texts = [loop_moves(prims, start, d) for start, prims in loops]
+        texts = [back_moves(prims, start, d) if p.is_open else loop_moves(prims, start, d) for p, (start, prims) in zip(plan.passes, loops)]
+        ramp_end = _end_point(loops[0][1]) if plan.passes[0].is_open else None
         n_levels = int(depth_passes(pocket.depth, spec.step_down))
         levels = -np.minimum(spec.step_down * np.arange(1, n_levels + 1), pocket.depth)
         first_start, first_prims = loops[0]
         loop_length = float(sum(float(x.sum()) for x in _lengths(first_prims, first_start)))
         steepest = max(float(-levels[0]), float(np.max(-np.diff(levels), initial=0.0)))
         walls = ", ".join(w.layer for w in pocket.walls)
+        n_walls = len(pocket.walls)
         how = (f"{plan.strategy}: tool diameter = width within {one_pass_tol(spec):.3g}, each wall within half the difference"
+               + ("; the open pitch curve run down to its end and back" if plan.passes[0].is_open else "")
                if plan.strategy == ONE_PASS else
-               f"{plan.strategy}: {len(plan.passes) - 2} clearing passes at stepover {plan.stepover:.4g} "
-               f"<= {SLOT_STEPOVER:g} x tool diameter, then a finishing pass along each wall, tool centre {spec.tool_radius:g} into the pocket")
+               f"{plan.strategy}: {len(plan.passes) - n_walls} clearing passes at stepover {plan.stepover:.4g} "
+               f"<= {SLOT_STEPOVER:g} x tool diameter, then a finishing pass along {'each wall' if n_walls > 1 else 'the wall'}, "
+               f"tool centre {spec.tool_radius:g} into the pocket")
         header += [
             comment(f"pocket '{pocket.name}', walls {walls}, width {pocket.width:g}, depth {pocket.depth:g}: {how}"),
             comment(f"pocket '{pocket.name}': tool-centre paths, {spec.direction} milling; {n_levels} levels of <= {spec.step_down:g} "
-                    f"down to Z{-pocket.depth:g}; entry: a ramp along the first pass, one loop from the previous level "
+                    f"down to Z{-pocket.depth:g}; entry: a ramp along the first pass, {'to its end' if plan.passes[0].is_open else 'one loop'} from the previous level "
                     f"at {math.degrees(math.atan2(steepest, loop_length)):.3g} deg at most, no plunge into the stock; pockets first, then the outline"),
         ]
         joins = [f"G1 X{s[0]:.{d}f} Y{s[1]:.{d}f}\n" for s, _ in loops]
@@ -267,7 +364,7 @@ def pocket_program(pockets: Sequence["Pocket"], spec: MachiningSpec) -> PocketPr
                      f"G0 X{first_start[0]:.{d}f} Y{first_start[1]:.{d}f}\n",
                      f"G1 Z{z_prev:.{d}f} F{spec.plunge_feed:.0f}\n",
                      f"F{spec.feed:.0f}\n",
-                     ramp_moves(first_prims, first_start, z_prev, float(z), d),
+                     ramp_moves(first_prims, first_start, z_prev, float(z), d, end=ramp_end),
                      texts[0]]
             for join, text in zip(joins[1:], texts[1:]):
                 parts += [join, text]

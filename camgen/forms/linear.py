@@ -1,13 +1,14 @@
 """Cam form ``linear``: a plate moving in a straight line (along x) drives a translating (+y) or
 oscillating roller or knife.
 
-Realises every displacement law (:attr:`camgen.motions.base.Motion.read_law`): the law's turn
-maps onto the plate's travel (``travel_mm``), so a motion program's spans and a lift table's
-first column are fractions of the travel (the lift table's column is read as x in mm).  The
+Realises every displacement law (:attr:`camgen.motions.base.Motion.read_law`) written in plate
+travel: a motion program's segments give ``span_mm`` (their sum is the travel), a lift table's
+first column is x in mm within ``travel_mm``.  The
 pitch curve is the graph ``(x, s(x))`` (translating) or the arm's path over the moving plate
 (oscillating); the profile is its exact offset by the roller radius within ``fit_tol_mm``
 (``linear_form = "edge"``: the plate's top edge) or a slot between its offsets both ways
-(``"slot"``: a :class:`~camgen.kinds.base.Pocket` through the plate's ends).  Conventions and
+(``"slot"``: a :class:`~camgen.kinds.base.Pocket` closed by half circles about the pitch curve's
+ends, inside the plate).  Conventions and
 closed forms: :mod:`camgen.synthesis.linear`; keys, build and checks: :mod:`camgen.kinds.linear`.
 """
 from __future__ import annotations
@@ -20,7 +21,7 @@ __all__ = ["FORM"]
 FORM = CamForm(
     name="linear",
     summary="linear (translating-plate) cam: a plate moving along x drives a translating or oscillating roller or knife, on its "
-            "edge or in a slot; the motion's turn maps onto travel_mm",
+            "edge or in a slot; the program's abscissa is the plate travel in mm (span_mm)",
     keys=linear_keys,
     read=read_linear,
     build=build_linear,

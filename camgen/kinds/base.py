@@ -19,7 +19,7 @@ from camgen.schema import Angle, Key, Length, Number, Text
 if TYPE_CHECKING:  # the heavy modules stay unimported until a cam is built
     from camgen.body import BodySpec
     from camgen.checks import CamEvaluation, Follower
-    from camgen.contour import Contour
+    from camgen.contour import Arc, Contour, Spline
     from camgen.errors import UndercutError
     from camgen.report.model import SectionData
 
@@ -104,10 +104,15 @@ class Pocket:
     ``walls[0]`` and outside every other wall (a groove: its outer wall, then its inner wall).
 
     The body is the cam's outline (:attr:`BuiltCam.contour`) extruded by the body's thickness,
-    minus bore and keyway, minus its pockets.  ``clearance``: what the pocket's width exceeds
-    the follower's by (mm, information for the files' notes); ``centre``: the curve midway
-    between the walls at ``width / 2`` from each (a groove's pitch curve: the path of a tool as
-    wide as the groove), None when the pocket has none; ``note``: one line for the files.
+    minus bore and keyway, minus its pockets.  ``width``: the distance between the walls (a
+    groove), or for a pocket of one wall twice the largest distance of a point inside from it (a
+    slot: its width); ``clearance``: what the pocket's width exceeds the follower's by (mm,
+    information for the files' notes); ``centre``: the closed curve midway between the walls at
+    ``width / 2`` from each (a groove's pitch curve: the path of a tool as wide as the groove),
+    None when the pocket has none; ``centre_path``: an open centre instead, the segments (arcs,
+    splines) of a chain at ``width / 2`` from the one wall whose tool disc of that width sweeps
+    exactly the pocket (a slot closed by half circles about its ends: the pitch curve between
+    them), None when the pocket has none; ``note``: one line for the files.
     """
 
     name: str
@@ -117,6 +122,7 @@ class Pocket:
     centre: "Contour | None" = None
     clearance: float = 0.0
     note: str = ""
+    centre_path: "tuple[Arc | Spline, ...] | None" = None
 
 
 @dataclass(frozen=True)

@@ -3,13 +3,18 @@
 A plate moving in a straight line (along x) drives a translating (along +y) or oscillating
 roller or knife.  The conventions (where x = 0 is, the pitch line, the offsets, the pressure
 angle) are those of :mod:`camgen.synthesis.linear`; the README repeats them in user terms.
-The motion's law is a function of the cam angle over one turn: a linear cam maps that turn onto
-its ``travel_mm`` (``theta = 2 pi x / travel``).
+The motion's program is written in plate travel (segments' ``span_mm``, polynomial conditions per
+mm; a lift table's x in mm): the follower tells the motion so (``LinearFollower.abscissa``), and
+the motion reads it onto one turn, ``theta = 2 pi x / travel``.
 
 ``linear_form = "edge"``: the body is the closed outline (bottom, ends, the profile edge; corners
 rounded), which every plate-cam output takes.  ``"slot"``: the body is a rectangle (corners
 rounded) with a :class:`~camgen.kinds.base.Pocket`: the slot of width ``2 r + clearance`` between
-the pitch curve's two offsets, running out through both ends, cut ``slot_depth_mm`` deep.
+the pitch curve's two offsets over the travel, closed by half circles about the pitch curve's
+points at travel 0 and ``travel_mm`` (the ends a cutter of the slot's width leaves; the
+pocket's ``centre_path`` is that cutter's path, the pitch curve between them), cut
+``slot_depth_mm`` deep; the plate's margins must hold it with ``min_wall_mm`` to spare (check
+``plate_length``).
 
 x = 0 on the plate is the plate frame's origin (the DXF's CENTER cross with
 ``dxf_construction``; the report's section draws the line x = 0): a linear cam has no cam angle
@@ -30,7 +35,7 @@ import numpy as np
 
 from camgen.errors import GeometryError, ParameterError
 from camgen.kinds.base import BuiltCam, CamSpec, CheckSettings, field_default, with_cam
-from camgen.schema import REQUIRED, Angle, Choice, Key, Length, Number, Text
+from camgen.schema import Angle, Choice, Key, Length, Number, Text
 
 if TYPE_CHECKING:
     from camgen.checks import CamEvaluation, CheckResult
@@ -68,13 +73,14 @@ def linear_keys() -> tuple[Key, ...]:
 
     points = follower_names(("point",))
     return (
-        Key("travel_mm", Length(high=1e5), "Plate travel over which the motion runs: the motion's whole turn (360 deg of segment "
-            "spans, or of a lift table's first column) maps onto 0..travel_mm, x = travel_mm * angle / 360 deg; x = 0 on the plate "
-            "is where the follower's point (roller centre, knife tip) is at the start, on the pitch line y = 0.", ("profile",),
-            default=REQUIRED, example=250.0),
+        Key("travel_mm", Length(high=1e5), "Plate travel over which the motion runs (0..travel_mm): the motion program is written "
+            "in it (each segment's span_mm; their sum is the travel: travel_mm may be left out, and given must equal it), a lift "
+            "table's first column is x in mm within it (travel_mm required); x = 0 on the plate is where the follower's point "
+            "(roller centre, knife tip) is at the start, on the pitch line y = 0.", ("profile",), example=250.0),
         Key("linear_form", Choice(LINEAR_FORMS), "edge: the follower rides the plate's top edge (the body is the outline: bottom, "
-            "ends, profile); slot: a roller runs in a slot along the pitch curve, open at both ends, cut slot_depth_mm into a "
-            "rectangular plate.", ("profile",), default="edge"),
+            "ends, profile); slot: a roller runs in a slot along the pitch curve over the travel, closed by half circles about "
+            "its ends (the roller's centre at travel 0 and travel_mm), cut slot_depth_mm into a rectangular plate whose margins "
+            "hold it with min_wall_mm to spare.", ("profile",), default="edge"),
         Key("follower", Choice(points), "Follower (camgen.followers; a flat face cannot ride a linear cam: a face normal to its "
             "motion has no envelope on a plate moving across it): " + "; ".join(f"{n}, {get_follower(n).summary}" for n in points)
             + ".", ("profile",), default="roller", feeds=("kind",)),
@@ -185,21 +191,40 @@ def read_linear(where: str, name: str, parsed: Mapping[str, Any], motion: Any, b
         if parsed["slot_depth"] >= parsed["thickness"]:
             raise ParameterError(f"{where}.slot_depth_mm", parsed["slot_depth"], f"< thickness_mm = {parsed['thickness']:g} mm",
                                  "a slot through the plate would cut it in two")
-    for key in ("margin_start", "margin_end"):
-        most = max(parsed["travel"], MARGIN_FLOOR_MM)
-        if parsed[key] > most:
-            raise ParameterError(f"{where}.{key}_mm", parsed[key], f"<= {most:g} mm (travel_mm, or {MARGIN_FLOOR_MM:g} mm for a "
-                                 "shorter travel)", "the edge beyond the travel repeats the motion; a longer plate end is not a cam")
     if 2.0 * parsed["corner_radius"] >= parsed["below_pitch"] + parsed.get("above_pitch", 0.0):
         raise ParameterError(f"{where}.corner_radius_mm", parsed["corner_radius"], "less than half the plate's height")
     follower = LinearFollower(kind, moves, radius, pivot, parsed.get("swing_turn", "ccw"))
     reading = motion.read_law(where, parsed, follower, base_dir)
-    params = LinearParams(reading.law, follower, parsed["travel"], form, parsed["margin_start"], parsed["margin_end"],
+    travel = _travel(where, parsed.get("travel"), reading.figures.get("travel_mm"))
+    for key in ("margin_start", "margin_end"):
+        most = max(travel, MARGIN_FLOOR_MM)
+        if parsed[key] > most:
+            raise ParameterError(f"{where}.{key}_mm", parsed[key], f"<= {most:g} mm (travel_mm, or {MARGIN_FLOOR_MM:g} mm for a "
+                                 "shorter travel)", "the edge beyond the travel repeats the motion; a longer plate end is not a cam")
+    params = LinearParams(reading.law, follower, travel, form, parsed["margin_start"], parsed["margin_end"],
                           parsed["below_pitch"], parsed.get("above_pitch"), parsed["corner_radius"], parsed.get("slot_clearance", 0.0),
                           parsed.get("slot_depth"), parsed["fit_tol"], dict(reading.figures), parsed.get("source"))
     body = BodySpec(thickness=parsed["thickness"], min_wall=parsed["min_wall"])
     checks = CheckSettings(parsed.get("pressure_angle_limit"), None, getattr(parsed, "tool_limit", None))
     return CamSpec(name, motion.name, params, body, checks, None, None, form="linear")
+
+
+#: Largest relative difference between travel_mm and the sum of a program's span_mm.
+TRAVEL_MATCH_REL = 1e-12
+
+
+def _travel(where: str, given: float | None, program: float | None) -> float:
+    """The plate travel (mm): ``travel_mm`` (``given``) or the program's (the sum of its span_mm),
+    equal when both are there; a motion without one (a lift table) needs ``travel_mm``."""
+    if program is None:
+        if given is None:
+            raise ParameterError(f"{where}.travel_mm", None, "a length in mm > 0",
+                                 "required: the motion gives no travel of its own (a lift table's x column runs within it)")
+        return given
+    if given is not None and abs(given - program) > TRAVEL_MATCH_REL * program:
+        raise ParameterError(f"{where}.travel_mm", given, f"{program:.12g} mm, the sum of the segments' span_mm (or leave it out)",
+                             "the program runs over the whole travel")
+    return program
 
 
 # --------------------------------------------------------------------------------------------
@@ -266,11 +291,12 @@ def _build(spec: CamSpec, stages: frozenset[str]) -> BuiltCam:
             else:
                 assert p.above is not None and p.slot_depth is not None
                 contour = lin.rounded_rectangle(p.x_left, p.x_right, -p.below, p.above, p.corner)
-                walls = lin.slot_walls(f, p.law, p.travel, p.x_left, p.x_right, p.half_width, p.fit_tol)
+                walls = lin.slot_walls(f, p.law, p.travel, p.half_width, p.fit_tol)
                 x_start, x_end, error = walls.x_start, walls.x_end, walls.fit_error
                 pockets = (Pocket("slot", (Wall("SLOT", walls.contour),), p.slot_depth, 2.0 * p.half_width, None, p.clearance,
                                   f"slot {2.0 * p.half_width:g} mm wide (roller {2.0 * f.roller_radius:g} mm + clearance "
-                                  f"{p.clearance:g} mm), {p.slot_depth:g} mm deep, open at both ends"),)
+                                  f"{p.clearance:g} mm), {p.slot_depth:g} mm deep, closed by half circles about the pitch curve "
+                                  f"at travel 0 and {p.travel:g} mm", centre_path=walls.centre),)
         except GeometryError as exc:
             raise GeometryError(f"the plate cannot be made: {exc}") from None
     figures["fit_error_mm"] = error
@@ -510,22 +536,20 @@ def _least_radius(cam: "LinearCam", lo: float, hi: float, found: float) -> float
     return min(found, fc, fd)
 
 
-def _plate_length(cam: "LinearCam") -> "CheckResult":
-    """Over the travel, every contact point (on both walls of a slot) lies on the profile, within
-    the plate's ends: between the edge's fillets, or inside the slot's run."""
+def _plate_length(cam: "LinearCam", min_wall: float) -> "CheckResult":
+    """Edge: over the travel, every contact point lies on the profile, between the edge's fillets.
+    Slot: the slot (walls and end half circles) keeps ``min_wall`` from the plate's ends and their
+    rounded corners (the least margins that would, when it does not)."""
     from camgen.checks import limited
     from camgen.synthesis.linear import offset_curve
 
     p, k = cam.params, cam.grid
-    if p.form == "edge":
-        lo_x, hi_x = cam.x_start, cam.x_end
-        xs = [offset_curve(k, -p.follower.roller_radius)[0].real]
-    else:
-        lo_x, hi_x = p.x_left, p.x_right
-        xs = [offset_curve(k, -p.follower.roller_radius)[0].real, offset_curve(k, p.follower.roller_radius)[0].real]
-    contact = np.concatenate(xs)
-    room = min(float(np.min(contact)) - lo_x, hi_x - float(np.max(contact)))
-    at = k.x[int(np.argmin(np.minimum(xs[0] - lo_x, hi_x - xs[0])))]
+    if p.form == "slot":
+        return _slot_to_ends(cam, min_wall)
+    lo_x, hi_x = cam.x_start, cam.x_end
+    xs = offset_curve(k, -p.follower.roller_radius)[0].real
+    room = min(float(np.min(xs)) - lo_x, hi_x - float(np.max(xs)))
+    at = k.x[int(np.argmin(np.minimum(xs - lo_x, hi_x - xs)))]
     return limited("plate_length", room, ">=", 0.0, "mm", _where(at),
                    f"least room (mm) between the follower's contact over the travel 0..{p.travel:g} mm and where the plate's "
                    f"profile ends (x = {lo_x:.6g} .. {hi_x:.6g} mm: the plate from {p.x_left:g} to {p.x_right:g} mm less its "
@@ -533,22 +557,100 @@ def _plate_length(cam: "LinearCam") -> "CheckResult":
                    blocks_manufacture=True)
 
 
+#: Samples of each end half circle of a slot in its checks (its extreme points are added exactly).
+END_ARC_SAMPLES = 2001
+#: Bisection steps of a least margin (the bracket shrinks below 1e-15 of its width).
+_MARGIN_BISECTIONS = 60
+
+
+def slot_boundary(cam: "LinearCam") -> np.ndarray:
+    """Points (complex, mm) of a slot's boundary: both walls on the check grid (closed forms) and
+    the end half circles, sampled with their extreme points in x and y."""
+    from camgen.synthesis.linear import end_arcs, offset_curve
+
+    p, k = cam.params, cam.grid
+    h = p.half_width
+    centres, starts = end_arcs(p.follower, p.law, p.travel, h)
+    t = np.linspace(0.0, math.pi, END_ARC_SAMPLES)
+    extreme = (np.arange(4.0) * 0.5 * math.pi - starts[:, None]) % (2.0 * math.pi)  # angles 0, 90, 180, 270 deg on each arc
+    angles = starts[:, None] + np.concatenate([np.broadcast_to(t, (2, t.size)), np.where(extreme <= math.pi, extreme, 0.0)], axis=1)
+    arcs = centres[:, None] + h * np.exp(1j * angles)
+    return np.concatenate([offset_curve(k, -h)[0], offset_curve(k, h)[0], arcs.ravel()])
+
+
+def plate_room(z: np.ndarray, x_left: float, x_right: float, y_bottom: float, y_top: float, corner: float) -> tuple[np.ndarray, np.ndarray]:
+    """Distance (mm) of points ``z`` (complex, inside) from a rounded rectangle's outline, and
+    whether the nearest outline point is on an end or a corner arc (True) or on the top or bottom
+    (False): the rounded box's distance in closed form (``q = |p - c| - (half size - corner)``:
+    in a corner's square ``corner - |q|``, else ``corner - max(q)``)."""
+    cx, cy = 0.5 * (x_left + x_right), 0.5 * (y_bottom + y_top)
+    qx = np.abs(z.real - cx) - (0.5 * (x_right - x_left) - corner)
+    qy = np.abs(z.imag - cy) - (0.5 * (y_top - y_bottom) - corner)
+    in_corner = (qx > 0.0) & (qy > 0.0)
+    room = np.where(in_corner, corner - np.hypot(np.maximum(qx, 0.0), np.maximum(qy, 0.0)), corner - np.maximum(qx, qy))
+    return room, in_corner | (qx >= qy)
+
+
+def _slot_to_ends(cam: "LinearCam", min_wall: float) -> "CheckResult":
+    """The slot's least distance from the plate's ends and corners against ``min_wall``; failing,
+    the least ``margin_start_mm`` / ``margin_end_mm`` that hold it (bisection on the margin)."""
+    from camgen.checks import limited
+
+    p = cam.params
+    assert p.above is not None
+    above = p.above
+    z = slot_boundary(cam)
+    mid = 0.5 * (p.x_left + p.x_right)
+
+    def room_at(start: float, end: float, left: bool) -> float:
+        """Least distance of the slot's points on one side from that end (with margins start, end)."""
+        room, at_end = plate_room(z, -start, p.travel + end, -p.below, above, p.corner)
+        side = (z.real < mid) if left else (z.real >= mid)
+        sel = at_end & side
+        return float(np.min(room[sel])) if sel.any() else math.inf
+
+    rooms = {"margin_start_mm": room_at(p.margin_start, p.margin_end, True), "margin_end_mm": room_at(p.margin_start, p.margin_end, False)}
+    least = min(rooms.values())
+    room, at_end = plate_room(z, p.x_left, p.x_right, -p.below, p.above, p.corner)
+    i = int(np.argmin(np.where(at_end, room, np.inf)))
+    note = (f"least material between the slot (walls and end half circles; its ends at travel 0 and {p.travel:g} mm) and the plate's "
+            f"ends (x = {p.x_left:g}, {p.x_right:g} mm) with their corners, against min_wall_mm")
+    hints = []
+    for key, value in rooms.items():
+        if value < min_wall:
+            left = key == "margin_start_mm"
+            own = p.margin_start if left else p.margin_end
+            lo, hi = own, own + (min_wall - value) + 2.0 * p.corner + 1.0
+            for _ in range(_MARGIN_BISECTIONS):  # the room grows with the margin: the least margin that holds min_wall
+                m = 0.5 * (lo + hi)
+                got = room_at(m, p.margin_end, True) if left else room_at(p.margin_start, m, False)
+                lo, hi = (m, hi) if got < min_wall else (lo, m)
+            hints.append(f"{key} >= {math.ceil(hi * 1e6) / 1e6:.6f}")
+    if hints:
+        note += "; the plate is too short for the slot: " + ", ".join(hints) + " mm holds it"
+    return limited("plate_length", least, ">=", min_wall, "mm", [round(float(z[i].real), 6), round(float(z[i].imag), 6)],
+                   note + "; where: the point (x, y) of the slot, mm", blocks_manufacture=True)
+
+
 def _plate_height(cam: "LinearCam", min_wall: float) -> "CheckResult":
     from camgen.checks import limited
     from camgen.synthesis.linear import offset_curve
 
     p, k = cam.params, cam.grid
-    lower = offset_curve(k, -(p.follower.roller_radius if p.form == "edge" else p.half_width))[0].imag
+    if p.form == "slot":  # the slot's boundary (walls and end half circles) from the plate's top and bottom
+        assert p.above is not None
+        z = slot_boundary(cam)
+        room, at_end = plate_room(z, p.x_left, p.x_right, -p.below, p.above, p.corner)
+        room = np.where(at_end, np.inf, room)
+        i = int(np.argmin(room))
+        return limited("plate_height", float(room[i]), ">=", min_wall, "mm", [round(float(z[i].real), 6), round(float(z[i].imag), 6)],
+                       f"least material between the slot (walls and end half circles) and the plate's bottom (y = {-p.below:g} mm) "
+                       f"and top (y = {p.above:g} mm): below_pitch_mm, above_pitch_mm; where: the point (x, y) of the slot, mm",
+                       blocks_manufacture=True)
+    lower = offset_curve(k, -p.follower.roller_radius)[0].imag
     below = lower + p.below
     wall, i = float(np.min(below)), int(np.argmin(below))
-    what = "profile" if p.form == "edge" else "slot's lower wall"
-    note = f"least material between the {what} and the plate's bottom (y = {-p.below:g} mm)"
-    if p.form == "slot":
-        assert p.above is not None
-        upper = p.above - offset_curve(k, p.half_width)[0].imag
-        if float(np.min(upper)) < wall:
-            wall, i = float(np.min(upper)), int(np.argmin(upper))
-        note += f" and between its upper wall and the plate's top (y = {p.above:g} mm)"
+    note = f"least material between the profile and the plate's bottom (y = {-p.below:g} mm)"
     return limited("plate_height", wall, ">=", min_wall, "mm", _where(k.x[i]), note + "; where: travel mm",
                    blocks_manufacture=True)
 
@@ -618,7 +720,7 @@ def evaluate_linear(cam: BuiltCam, spec: CamSpec, tool_radius: float, tool_is_li
                               + (", tan(alpha) = ds/dx" if p.follower.motion == "translating" else "")
                               + "); where: travel mm" + (" (above the limit between the listed pairs)" if bad.any() else "")))
     if cam.contour is not None:
-        checks.append(_plate_length(cam))
+        checks.append(_plate_length(cam, spec.body.min_wall))
         checks.append(_plate_height(cam, spec.body.min_wall))
         checks.extend(_machinability(cam, tool_radius, tool_is_limit))
         if p.form == "slot":

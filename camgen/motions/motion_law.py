@@ -6,6 +6,14 @@ velocity, acceleration and jerk on normalised segments); every cam form that rea
 ``law``, ``span_deg``, ``lift_mm`` (translating followers) or ``swing_deg`` (oscillating ones),
 ``blend`` (constant_velocity) and ``start`` / ``end`` (polynomial: the displacement, velocity,
 acceleration and jerk at the segment's ends, per degree of cam angle; converted to per rad).
+
+**The abscissa.**  The form tells the motion what its program runs over through the follower it
+drives (``follower.abscissa``, :data:`ANGLE` when it has none): a cam angle (``span_deg``, the
+conditions per degree) or a plate travel (:data:`TRAVEL`: ``span_mm``, the conditions per mm,
+``v`` in mm/mm and ``a`` in mm/mm^2).  A travel program is read onto one turn: the spans'
+sum is the travel ``T`` (``figures["travel_mm"]``), a span of ``x`` mm is ``2 pi x / T`` rad
+and a condition per mm^k is multiplied by ``(T / 2 pi)^k``; the key of the other abscissa is
+refused naming the one to use.
 """
 from __future__ import annotations
 
@@ -27,11 +35,17 @@ LAW_NAMES = ("constant_velocity", "cycloidal", "double_harmonic", "dwell", "harm
              "modified_trapezoid", "poly345", "poly4567", "polynomial", "simple_harmonic")
 
 _CONDITIONS = NumberList(Number(""), 1, 4)
+#: The abscissae of a motion program (``follower.abscissa``): a cam angle, or a plate travel in mm.
+ANGLE, TRAVEL = "angle", "travel"
 
 SEGMENT_KEYS = (
     Key("law", Choice(LAW_NAMES), "Motion law of the segment (dwell: no motion; harmonic is simple_harmonic; see "
         "camgen/synthesis/laws.py for each law's formula and source).", ("profile",), default=REQUIRED),
-    Key("span_deg", Angle(0.0, 360.0, low_open=True), "Cam angle the segment spans.", ("profile",), default=REQUIRED),
+    Key("span_deg", Angle(0.0, 360.0, low_open=True), "Cam angle the segment spans (required, except on a linear cam, whose "
+        "segments give span_mm instead and refuse span_deg).", ("profile",)),
+    Key("span_mm", Number("mm", 0.0, 1e5, low_open=True), "Linear cam (form = \"linear\") only: plate travel the segment spans; "
+        "the spans add up to the travel (travel_mm, derived from them when left out, else equal to their sum).", ("profile",),
+        attr="span_travel"),
     Key("lift_mm", Number("mm", -1e4, 1e4), "Translating follower: travel over the segment (> 0 rise, < 0 return; 0 or left out "
         "for a dwell; a polynomial's follows from its start and end).", ("profile",)),
     Key("swing_deg", Angle(-180.0, 180.0), "Oscillating follower: swing of the arm over the segment (> 0 away from the cam, "
@@ -39,28 +53,57 @@ SEGMENT_KEYS = (
     Key("blend", Number("", 0.0, 0.5), "constant_velocity only: fraction of the span in each end blend that ramps the velocity "
         "(0: plain constant velocity, whose velocity jumps at the ends: a knife follower only).", ("profile",)),
     Key("start", _CONDITIONS, "polynomial only: [s, v, a] (optionally j) at the segment's start: lift mm (oscillating: swing deg), "
-        "velocity per degree of cam angle, acceleration per degree^2, jerk per degree^3 (converted to per rad).", ("profile",)),
+        "velocity per degree of cam angle, acceleration per degree^2, jerk per degree^3 (converted to per rad); on a linear cam per "
+        "mm of plate travel (v in mm/mm, a in mm/mm^2, j in mm/mm^3; oscillating: deg/mm, ...).", ("profile",)),
     Key("end", _CONDITIONS, "polynomial only: [s, v, a] (optionally j) at the segment's end, in the units of start.", ("profile",)),
 )
 
 KEYS = (
     Key("segments", TableList(SEGMENT_KEYS, what="[[segments]] tables"),
-        "The motion program: [[cams.<name>.segments]] tables in order from cam angle 0; spans add up to 360 deg and the "
-        "follower returns to where it started.", ("profile",), default=REQUIRED),
+        "The motion program: [[cams.<name>.segments]] tables in order from cam angle 0 (a linear cam: from travel 0); spans "
+        "add up to 360 deg (a linear cam's span_mm to the travel) and the follower returns to where it started.", ("profile",),
+        default=REQUIRED),
 )
 
 
-def _per_rad(values: tuple[float, ...], oscillating: bool) -> tuple[float, ...]:
-    """[s, v, a, j] per degree^k of cam angle (s in mm, or deg of swing) -> per rad^k (mm or rad)."""
+def _per_rad(values: tuple[float, ...], oscillating: bool, per_unit: float = 180.0 / math.pi) -> tuple[float, ...]:
+    """[s, v, a, j] per unit^k of the abscissa (s in mm, or deg of swing) -> per rad^k of the turn
+    (mm or rad); ``per_unit``: the abscissa's units in one rad (a degree: 180 / pi; a travel of
+    T mm: T / (2 pi))."""
     factor = math.pi / 180.0 if oscillating else 1.0  # deg of swing -> rad
-    return tuple(v * factor * (180.0 / math.pi) ** k for k, v in enumerate(values))
+    return tuple(v * factor * per_unit**k for k, v in enumerate(values))
 
 
-def read_program(where: str, segments: tuple[dict[str, Any], ...], motion: str, complete: Any = None):
-    """The :class:`~camgen.synthesis.laws.MotionProgram` of the ``[[segments]]`` tables;
-    ``complete``: segments -> the segments that follow them (a half-turn program's second half)."""
+def _spans(where: str, segments: tuple[dict[str, Any], ...], abscissa: str) -> tuple[list[float], float | None]:
+    """Each segment's span on the turn (rad) and, for a travel program, the travel (mm: the sum of
+    the spans); the other abscissa's key is refused naming the one to use."""
+    travel = abscissa == TRAVEL
+    given, other = ("span_travel", "span") if travel else ("span", "span_travel")
+    key, other_key = ("span_mm", "span_deg") if travel else ("span_deg", "span_mm")
+    for i, seg in enumerate(segments):
+        path = f"{where}.segments[{i}]"
+        if other in seg:
+            shown = round(math.degrees(seg[other]), 9) if travel else seg[other]
+            raise ParameterError(f"{path}.{other_key}", shown, f"{key} (leave {other_key} out)",
+                                 "a linear cam's program runs over the plate travel: use span_mm (mm)" if travel else
+                                 "span_mm is a linear cam's (form = \"linear\"): this cam's program runs over the cam angle, use span_deg")
+        if given not in seg:
+            raise ParameterError(f"{path}.{key}", None, "a length in mm > 0" if travel else "an angle in (0, 360] deg",
+                                 "every segment gives its span")
+    if not travel:
+        return [seg["span"] for seg in segments], None
+    total = math.fsum(seg["span_travel"] for seg in segments)
+    return [2.0 * math.pi * seg["span_travel"] / total for seg in segments], total
+
+
+def read_program(where: str, segments: tuple[dict[str, Any], ...], motion: str, complete: Any = None, abscissa: str = ANGLE):
+    """The :class:`~camgen.synthesis.laws.MotionProgram` of the ``[[segments]]`` tables over one
+    turn (``abscissa``: :data:`ANGLE` or :data:`TRAVEL`, module notes); ``complete``: segments ->
+    the segments that follow them (a half-turn program's second half)."""
     from camgen.synthesis import laws
 
+    spans, travel = _spans(where, segments, abscissa)
+    per_unit = 180.0 / math.pi if travel is None else travel / (2.0 * math.pi)
     oscillating = motion == "oscillating"
     key, other = ("swing_deg", "lift_mm") if oscillating else ("lift_mm", "swing_deg")
     field, other_field = key.rsplit("_", 1)[0], other.rsplit("_", 1)[0]
@@ -85,9 +128,9 @@ def read_program(where: str, segments: tuple[dict[str, Any], ...], motion: str, 
         if law == "polynomial" and ("start" not in seg or "end" not in seg):
             raise ParameterError(f"{path}.{'start' if 'start' not in seg else 'end'}", None,
                                  "[s, v, a] (optionally j) at both ends of a polynomial segment")
-        start = _per_rad(seg["start"], oscillating) if "start" in seg else None
-        end = _per_rad(seg["end"], oscillating) if "end" in seg else None
-        built.append(renamed(path, segment_keys, lambda: laws.Segment(law, seg["span"], lift, seg.get("blend"), start, end, where=path)))
+        start = _per_rad(seg["start"], oscillating, per_unit) if "start" in seg else None
+        end = _per_rad(seg["end"], oscillating, per_unit) if "end" in seg else None
+        built.append(renamed(path, segment_keys, lambda: laws.Segment(law, spans[i], lift, seg.get("blend"), start, end, where=path)))
     if complete is not None:
         built += complete(built)
     try:
@@ -100,7 +143,8 @@ def read_program(where: str, segments: tuple[dict[str, Any], ...], motion: str, 
 def _segment_figures(segments: tuple[dict[str, Any], ...], oscillating: bool) -> list[dict[str, Any]]:
     out = []
     for seg in segments:
-        item: dict[str, Any] = {"law": seg["law"], "span_deg": round(math.degrees(seg["span"]), 9)}
+        item: dict[str, Any] = ({"law": seg["law"], "span_deg": round(math.degrees(seg["span"]), 9)} if "span" in seg else
+                                {"law": seg["law"], "span_mm": seg["span_travel"]})
         if "lift" in seg:
             item["lift_mm"] = seg["lift"]
         if "swing" in seg:
@@ -114,25 +158,35 @@ def _segment_figures(segments: tuple[dict[str, Any], ...], oscillating: bool) ->
 
 def read_law(where: str, parsed: Mapping[str, Any], follower: "FollowerSpec", base_dir: Path | None = None) -> LawReading:
     """The motion program of a cam table for ``follower`` (a lift in mm for a translating one, a
-    swing in rad for an oscillating one); a velocity jump is refused unless the follower is a knife."""
-    program = read_program(where, parsed["segments"], follower.motion)
-    _refuse_corners(where, program, parsed["segments"], follower)
-    figures = {"segments": _segment_figures(parsed["segments"], follower.motion == "oscillating")}
+    swing in rad for an oscillating one) over one turn of the follower's abscissa (``abscissa``:
+    a cam angle, or a plate travel whose length the figures give as ``travel_mm``); a velocity
+    jump is refused unless the follower is a knife."""
+    abscissa = getattr(follower, "abscissa", ANGLE)  # the form's follower says what the program runs over
+    program = read_program(where, parsed["segments"], follower.motion, abscissa=abscissa)
+    figures: dict[str, Any] = {"segments": _segment_figures(parsed["segments"], follower.motion == "oscillating")}
+    if abscissa == TRAVEL:
+        figures["travel_mm"] = math.fsum(seg["span_travel"] for seg in parsed["segments"])
+    _refuse_corners(where, program, parsed["segments"], follower, figures.get("travel_mm"))
     return LawReading(program, figures)
 
 
-def _refuse_corners(where: str, program: Any, segments: tuple[dict[str, Any], ...], follower: "FollowerSpec") -> None:
+def _refuse_corners(where: str, program: Any, segments: tuple[dict[str, Any], ...], follower: "FollowerSpec",
+                    travel: float | None = None) -> None:
     """A velocity jump is refused unless the follower is a knife (segment i of a completed
-    half-turn program is the user's segment i modulo their number)."""
+    half-turn program is the user's segment i modulo their number); ``travel``: a travel
+    program's (mm), where the jump is said in mm of travel."""
     if follower.edge:  # a knife edge rides the corner; a roller or a face cannot
         return
     n = len(segments)
     for join in program.joins():
         if join.continuity < 1:
+            at = (f"{math.degrees(join.angle):.6g} deg" if travel is None else f"travel {travel * join.angle / (2.0 * math.pi):.6g} mm")
+            jump = (f"{join.jumps[0]:.6g} {program.unit}/rad" if travel is None else
+                    f"{join.jumps[0] * 2.0 * math.pi / travel:.6g} {program.unit}/mm")
             raise ParameterError(
                 f"{where}.segments[{join.after % n}].law", segments[join.after % n]["law"],
-                f"a law whose velocity at {math.degrees(join.angle):.6g} deg matches the end of segments[{join.before % n}]",
-                f"the velocity jumps by {join.jumps[0]:.6g} {program.unit}/rad there: a {follower.kind} follower cannot follow the "
+                f"a law whose velocity at {at} matches the end of segments[{join.before % n}]",
+                f"the velocity jumps by {jump} there: a {follower.kind} follower cannot follow the "
                 "corner this makes in its path; blend it (constant_velocity with blend > 0) or use a knife follower")
 
 
@@ -143,6 +197,7 @@ def read_half_law(where: str, parsed: Mapping[str, Any], follower: "FollowerSpec
     from camgen.synthesis.breadth import mirror_segments
 
     segments = parsed["segments"]
+    _spans(where, segments, ANGLE)  # every segment gives span_deg (a span_mm is refused naming it)
     total = math.fsum(seg["span"] for seg in segments)
     if abs(total - math.pi) > 1e-9:
         raise ParameterError(f"{where}.segments", f"spans adding up to {math.degrees(total):.9g} deg", "spans adding up to 180 deg",

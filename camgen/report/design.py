@@ -197,31 +197,34 @@ def _body_rows(body: "CamBody | None") -> list[str]:
     return rows
 
 
-def _conditions(values: Sequence[float], unit: str) -> str:
-    """A polynomial segment's end conditions [s, v, a, j] (per degree of cam angle)."""
-    names = (("s", unit), ("v", f"{unit}/deg"), ("a", f"{unit}/deg²"), ("j", f"{unit}/deg³"))
+def _conditions(values: Sequence[float], unit: str, per: str = "deg") -> str:
+    """A polynomial segment's end conditions [s, v, a, j] (per degree of cam angle, or per
+    ``per``: mm of plate travel)."""
+    names = (("s", unit), ("v", f"{unit}/{per}"), ("a", f"{unit}/{per}²"), ("j", f"{unit}/{per}³"))
     return ", ".join(f"{n} = {number(v)} {u}" for (n, u), v in zip(names, values))
 
 
 def program_table(cam: "CamReport") -> str:
     """The motion program of a ``motion_law`` cam: each segment's law, where it starts and ends
-    (cam angle, in the direction of rotation from cam angle 0), its span, lift or swing, and
-    its parameters."""
+    (cam angle, in the direction of rotation from cam angle 0; a program in plate travel: mm
+    from travel 0), its span, lift or swing, and its parameters."""
     segments = json_objects(cam.figures.get("segments"))
     if not segments:
         return ""
     swing = any("swing_deg" in s for s in segments)
     unit = "deg" if swing else "mm"
     rotation = json_object(cam.figures.get("follower")).get("rotation")
+    travel = any("span_mm" in s for s in segments)  # a program in plate travel (a linear cam)
+    per = "mm" if travel else "deg"
     rows = []
     start = 0.0
     for i, seg in enumerate(segments):
-        span = json_number(seg["span_deg"])
+        span = json_number(seg["span_mm" if travel else "span_deg"])
         end = start + span
         if "start" in seg and "end" in seg:  # a polynomial: the motion follows from its end conditions
             first, last = json_numbers(seg["start"]), json_numbers(seg["end"])
             motion = last[0] - first[0]
-            params = f"start: {_conditions(first, unit)}; end: {_conditions(last, unit)}"
+            params = f"start: {_conditions(first, unit, per)}; end: {_conditions(last, unit, per)}"
         else:
             motion = json_number(seg.get("swing_deg" if swing else "lift_mm", 0.0))
             params = ""
@@ -233,8 +236,9 @@ def program_table(cam: "CamReport") -> str:
         start = end
     direction = f", in the direction of rotation ({_ROTATION.get(str(rotation), rotation)})" if rotation else ""
     what = "swing (deg)" if swing else "lift (mm)"
-    return (f"<table class='program'><caption>Motion program: cam angles from cam angle 0{html.escape(direction)}</caption>"
-            f"<thead><tr><th>segment</th><th>law</th><th>from (deg)</th><th>to (deg)</th><th>span (deg)</th><th>{what}</th>"
+    caption = "plate travel from travel 0 (mm)" if travel else f"cam angles from cam angle 0{direction}"
+    return (f"<table class='program'><caption>Motion program: {html.escape(caption)}</caption>"
+            f"<thead><tr><th>segment</th><th>law</th><th>from ({per})</th><th>to ({per})</th><th>span ({per})</th><th>{what}</th>"
             f"<th>parameters</th></tr></thead><tbody>{''.join(rows)}</tbody></table>")
 
 

@@ -10,9 +10,10 @@ the follower reads the plate from left to right.  **x = 0 on the plate** is wher
 reference point (roller centre, knife tip) is at travel 0 and zero lift: the plate frame's
 origin; ``y = 0`` is the *pitch line* (that point's height at zero lift).
 
-**The abscissa.** The displacement law is a function of the cam angle ``theta`` over one turn
-(:class:`~camgen.synthesis.followers.Displacement`); a linear cam maps the turn onto its travel,
-``theta = 2 pi x / travel``, so ``ds/dx = s'(theta) 2 pi / travel`` and so on.
+**The abscissa.** The program is written in plate travel (a motion program's ``span_mm``, a lift
+table's x in mm); the motion reads it onto one turn of ``theta``
+(:class:`~camgen.synthesis.followers.Displacement`), ``theta = 2 pi x / travel``, so
+``ds/dx = s'(theta) 2 pi / travel`` and so on.
 
 **Translating follower**: moves along the fixed ``+y`` axis (the line ``x = 0`` of the fixed
 frame); its reference point is ``(x, s(x))`` in the plate frame: the pitch curve is the graph of
@@ -51,7 +52,7 @@ import numpy as np
 from camgen.errors import FitToleranceError, GeometryError
 
 __all__ = [
-    "EdgeOutline", "LinearCurves", "LinearFollower", "SLOT_OVERRUN", "SlotWalls", "curves", "edge_fillets", "edge_outline", "fit_offset",
+    "EdgeOutline", "LinearCurves", "LinearFollower", "SlotWalls", "curves", "edge_fillets", "edge_outline", "end_arcs", "fit_offset",
     "law_in_x",
     "offset_curve", "offset_failures", "pressure_angle", "rounded_rectangle", "slot_walls",
 ]
@@ -70,8 +71,8 @@ class LinearFollower:
     the pivot relative to the follower point at zero swing and travel 0) and ``lift_turn``
     (``"ccw"`` | ``"cw"``: the way a positive swing turns the arm).
 
-    ``edge`` and ``kind`` are what a motion asks of its follower (a knife edge may follow a
-    velocity jump; nothing else can)."""
+    ``edge``, ``kind`` and ``abscissa`` are what a motion asks of its follower (a knife edge may
+    follow a velocity jump; nothing else can; a linear cam's program runs over the plate travel)."""
 
     kind: str
     motion: str = "translating"
@@ -86,6 +87,12 @@ class LinearFollower:
             if -self.tau * self.pivot[0] <= 0.0:
                 raise GeometryError(f"a positive swing must lift the follower: with the pivot at x = {self.pivot[0]:g} mm the arm "
                                     f"turns {'cw' if self.pivot[0] > 0 else 'ccw'} to lift it (pivot_x_mm != 0)")
+
+    @property
+    def abscissa(self) -> str:
+        """What the motion's program runs over: the plate travel (mm), not a cam angle
+        (:mod:`camgen.motions.motion_law`: segments give ``span_mm``)."""
+        return "travel"
 
     @property
     def edge(self) -> bool:
@@ -264,8 +271,6 @@ def fit_offset(f: LinearFollower, law: Any, travel: float, d: float, x0: float, 
 # --------------------------------------------------------------------------------------------
 #: Bisection steps of a fillet's tangent point (the bracket shrinks below 1e-15 of its width).
 _BISECTIONS = 60
-#: Length (mm) by which a slot runs on beyond the plate's ends (both walls), so its ends are open.
-SLOT_OVERRUN = 1.0
 
 
 def _line(p: tuple[float, float], q: tuple[float, float]):
@@ -378,48 +383,40 @@ def rounded_rectangle(x_left: float, x_right: float, y_bottom: float, y_top: flo
 @dataclass(frozen=True)
 class SlotWalls:
     """A slot's closed wall (the pocket's boundary, counter-clockwise): the lower wall from travel
-    ``x_start`` to ``x_end``, a half circle about the pitch curve's end, the upper wall back, a
-    half circle about its start; the two walls' contours fitted (``lower``, ``upper``: their
-    segments) and the largest fit deviation (mm)."""
+    ``x_start`` (0) to ``x_end`` (the travel), a half circle about the pitch curve's point at the
+    end, the upper wall back, a half circle about its point at the start; ``centre``: the pitch
+    curve between the two ends (an open chain of spline segments, the path of a cutter as wide as
+    the slot); the largest fit deviation (mm)."""
 
     contour: Any
+    centre: tuple
     x_start: float
     x_end: float
     fit_error: float
 
 
-def _slot_end(f: LinearFollower, law: Any, travel: float, half: float, edge: float, sense: float) -> float:
-    """The travel where both walls (offsets +-half) lie beyond the plate end ``edge`` by
-    :data:`SLOT_OVERRUN` (``sense`` +1: the right end, -1: the left end)."""
-    reach = 4.0 * (2.0 * half + SLOT_OVERRUN + (f.arm_length if f.motion == "oscillating" else 0.0)) + 1.0
-    grid = edge + sense * np.linspace(0.0, reach, 8001)
-    k = curves(f, law, travel, grid)
-    lo = offset_curve(k, -half)[0].real
-    hi = offset_curve(k, half)[0].real
-    if sense > 0:
-        beyond = np.minimum(lo, hi) >= edge + SLOT_OVERRUN
-    else:
-        beyond = np.maximum(lo, hi) <= edge - SLOT_OVERRUN
-    ok = np.flatnonzero(beyond)
-    if ok.size == 0:
-        raise GeometryError("the slot does not run out of the plate's end")
-    return float(grid[ok[0]])
+def end_arcs(f: LinearFollower, law: Any, travel: float, half: float) -> tuple[np.ndarray, np.ndarray]:
+    """The centres (2,) complex and start angles (2,) rad of a slot's end half circles (radius
+    ``half``, sweep pi counter-clockwise): about the pitch curve's point at the travel's end, from
+    the lower wall (angle of the normal - pi) to the upper one; about its point at the start, from
+    the upper wall (the normal's angle) to the lower one."""
+    k = curves(f, law, travel, np.array([0.0, travel]))
+    up = np.angle(k.normal)
+    return k.c[::-1], np.array([float(up[1]) - math.pi, float(up[0])])
 
 
-def slot_walls(f: LinearFollower, law: Any, travel: float, x_left: float, x_right: float, half: float,
-               fit_tol: float) -> SlotWalls:
-    """The boundary of a slot of width ``2 half`` along the pitch curve, its ends beyond the plate
-    (``x_left``, ``x_right``) by :data:`SLOT_OVERRUN`: the walls are the pitch curve's offsets by
-    ``-half`` (lower) and ``+half`` (upper), each within ``fit_tol``; the ends are the half circles
-    a cutter of the slot's width leaves (tangent to both walls)."""
+def slot_walls(f: LinearFollower, law: Any, travel: float, half: float, fit_tol: float) -> SlotWalls:
+    """The boundary of a slot of width ``2 half`` along the pitch curve over the travel, closed
+    inside the plate: the walls are the pitch curve's offsets by ``-half`` (lower) and ``+half``
+    (upper) from travel 0 to ``travel``, each within ``fit_tol``; the ends are half circles of
+    radius ``half`` about the pitch curve's points at 0 and ``travel`` (tangent to both walls:
+    what a cutter of the slot's width leaves at the ends of its pass along the pitch curve)."""
     from camgen.contour import Arc, Contour
 
-    a = _slot_end(f, law, travel, half, x_left, -1.0)
-    b = _slot_end(f, law, travel, half, x_right, 1.0)
-    lower, e1 = fit_offset(f, law, travel, -half, a, b, fit_tol)
-    upper, e2 = fit_offset(f, law, travel, half, a, b, fit_tol, reverse=True)
-    k = curves(f, law, travel, np.array([a, b]))
-    up = np.angle(k.normal)
-    segments = [*lower, Arc((k.c[1].real, k.c[1].imag), half, float(up[1]) - math.pi, math.pi), *upper,
-                Arc((k.c[0].real, k.c[0].imag), half, float(up[0]), math.pi)]
-    return SlotWalls(Contour(segments), a, b, max(e1, e2))
+    lower, e1 = fit_offset(f, law, travel, -half, 0.0, travel, fit_tol)
+    upper, e2 = fit_offset(f, law, travel, half, 0.0, travel, fit_tol, reverse=True)
+    centre, e3 = fit_offset(f, law, travel, 0.0, 0.0, travel, fit_tol)
+    centres, starts = end_arcs(f, law, travel, half)
+    segments = [*lower, Arc((centres[0].real, centres[0].imag), half, float(starts[0]), math.pi), *upper,
+                Arc((centres[1].real, centres[1].imag), half, float(starts[1]), math.pi)]
+    return SlotWalls(Contour(segments), tuple(centre), 0.0, travel, max(e1, e2, e3))
