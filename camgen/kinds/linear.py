@@ -25,6 +25,8 @@ sampling a contour; the checks' ``where`` lists are plate travels in mm (their n
 """
 from __future__ import annotations
 
+import dataclasses
+
 import functools
 import math
 from dataclasses import dataclass, field
@@ -728,4 +730,6 @@ def evaluate_linear(cam: BuiltCam, spec: CamSpec, tool_radius: float, tool_is_li
                                   "the slot's width against the cutter's diameter", blocks_manufacture=tool_is_limit))
         checks.append(information("fit_error", cam.fit_error, "mm", [], f"largest distance of the spline from the exact offset "
                                   f"(fit_tol_mm = {p.fit_tol:g})"))
+    # every check points at the plate in mm (a travel, or a point (x, y)): report.json's where_mm
+    checks = [dataclasses.replace(c, where_unit="mm") for c in checks]
     return CamEvaluation(tuple(checks), None, None, None, None, None, pressure_angle_label=f"{what}, closed form")

@@ -71,7 +71,7 @@ def _profile_figure(Figure: FigureMaker, cam: "CamReport") -> str:
     if plots.profile is not None:
         pts = plots.profile
         closed = np.vstack([pts, pts[:1]])
-        ax.plot(closed[:, 0], closed[:, 1], color="k", width=1.2, label="rim" if plots.walls else "profile")
+        ax.plot(closed[:, 0], closed[:, 1], color="k", width=1.2, label="outline" if plots.walls else "profile")
     for layer, wall in plots.walls:  # a pocket's walls (a groove's): what the roller runs between
         closed = np.vstack([wall, wall[:1]])
         ax.plot(closed[:, 0], closed[:, 1], color="#1f3a5f", width=1.0, label=layer.lower().replace("_", " "))
