@@ -273,3 +273,18 @@ def test_median_is_numpys_bit_for_bit():
     with_nan[37] = np.nan
     assert np.isnan(median(with_nan)) and np.isnan(np.median(with_nan))
     assert np.isnan(median(np.array([])))
+
+
+def test_golden_section_brackets_the_least_value():
+    """f(x) = |x - 1/3| + 2 on [0, 1] has its least value 2 at 1/3 (a kink: resolved to the
+    stopping length, where a smooth minimum is flat below sqrt(eps)); a step budget stops the
+    search too (each step keeps 0.618 of the bracket)."""
+    from camgen.numerics.minimise import GOLDEN, golden_section
+
+    def f(x: float) -> float:
+        return abs(x - 1.0 / 3.0) + 2.0
+
+    (c, fc), (d, fd) = golden_section(f, 0.0, 1.0, tol=1e-12)
+    assert abs(c - 1.0 / 3.0) <= 1e-12 and abs(d - 1.0 / 3.0) <= 1e-12 and min(fc, fd) == pytest.approx(2.0, abs=1e-12)
+    (c, _), (d, _) = golden_section(f, 0.0, 1.0, max_steps=10)
+    assert abs(0.5 * (c + d) - 1.0 / 3.0) <= GOLDEN**10 and abs(c - d) > 1e-3

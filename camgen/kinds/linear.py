@@ -522,19 +522,9 @@ def _least_radius(cam: "LinearCam", lo: float, hi: float, found: float) -> float
         value = -1.0 / kappa if edge else 1.0 / abs(kappa)
         return value if kappa != 0.0 and value > 0 else math.inf
 
-    g = (math.sqrt(5.0) - 1.0) / 2.0
-    a, b = lo, hi
-    c, d = b - g * (b - a), a + g * (b - a)
-    fc, fd = radius(c), radius(d)
-    for _ in range(80):
-        if fc < fd:
-            b, d, fd = d, c, fc
-            c = b - g * (b - a)
-            fc = radius(c)
-        else:
-            a, c, fc = c, d, fd
-            d = a + g * (b - a)
-            fd = radius(d)
+    from camgen.numerics.minimise import golden_section
+
+    (_, fc), (_, fd) = golden_section(radius, lo, hi, max_steps=80)
     return min(found, fc, fd)
 
 

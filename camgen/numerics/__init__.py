@@ -16,6 +16,7 @@ on it.
 ``biarc``          biarcs within a tolerance of a parametric curve
 ``least_squares``  Levenberg-Marquardt for small nonlinear least-squares problems
 ``order``          the median from one partition (numpy's imports numpy.ma on first use)
+``minimise``       golden-section search for a scalar function's least value on an interval
 =================  ===========================================================================
 
 The package namespace imports none of them: import the module you need.

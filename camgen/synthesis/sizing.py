@@ -23,6 +23,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from camgen.errors import GeometryError, ParameterError, require_finite, require_positive
+from camgen.numerics.minimise import golden_section
 from camgen.synthesis.followers import (
     DEFAULT_CHECK_STEP,
     Displacement,
@@ -382,18 +383,7 @@ def min_base_radius_and_offset(follower: FollowerSpec, law: Displacement, limits
     values = np.array([best_base(e) for e in grid])
     k = int(np.argmin(values))
     a, b = grid[max(0, k - 1)], grid[min(offsets - 1, k + 1)]
-    golden = (math.sqrt(5.0) - 1.0) / 2.0
-    c, d = b - golden * (b - a), a + golden * (b - a)
-    fc, fd = best_base(c), best_base(d)
-    while b - a > tol:
-        if fc <= fd:
-            b, d, fd = d, c, fc
-            c = b - golden * (b - a)
-            fc = best_base(c)
-        else:
-            a, c, fc = c, d, fd
-            d = a + golden * (b - a)
-            fd = best_base(d)
+    (c, fc), (d, fd) = golden_section(best_base, a, b, tol=tol, max_steps=10_000)
     candidates = [(values[k], grid[k]), (fc, c), (fd, d)]
     base, e = min(candidates)
     if not math.isfinite(base):
