@@ -132,11 +132,11 @@ def defined_layers(doc) -> set[str]:
     return {layer.dxf.name for layer in doc.layers} - {"Defpoints"}
 
 
-def dxf_layer(doc, layer: str, per_span: int = 64):
+def dxf_layer(doc, layer: str, per_span: int = 64, arc_points: int = 200):
     """A layer read back by ezdxf: (Chain of its ARCs and LINEs, points on them (n, 2), entity types).
 
-    ARC angles come from the file (counter-clockwise from start to end); SPLINEs are evaluated
-    by ezdxf at ``per_span`` points per knot span and kept as polylines."""
+    ARC angles come from the file (counter-clockwise from start to end), ``arc_points`` points on
+    each; SPLINEs are evaluated by ezdxf at ``per_span`` points per knot span and kept as polylines."""
     arcs, segments, points, kinds = [], [], [], []
     for e in doc.modelspace():
         if e.dxf.layer != layer:
@@ -146,7 +146,7 @@ def dxf_layer(doc, layer: str, per_span: int = 64):
             a0 = math.radians(e.dxf.start_angle) if e.dxftype() == "ARC" else 0.0
             sweep = math.radians((e.dxf.end_angle - e.dxf.start_angle) % 360.0) if e.dxftype() == "ARC" else 2 * math.pi
             arcs.append([e.dxf.center.x, e.dxf.center.y, e.dxf.radius, a0, sweep])
-            t = a0 + sweep * np.linspace(0, 1, 200)
+            t = a0 + sweep * np.linspace(0, 1, arc_points)
             points.append(np.stack([e.dxf.center.x + e.dxf.radius * np.cos(t), e.dxf.center.y + e.dxf.radius * np.sin(t)], 1))
         elif e.dxftype() == "LINE":
             a, b = np.array(e.dxf.start)[:2], np.array(e.dxf.end)[:2]

@@ -111,32 +111,12 @@ def volume_bound(pockets, tol: float) -> float:
 # DXF: each wall on its own layer, drawn as PROFILE is
 # --------------------------------------------------------------------------------------------
 def layer_read_back(doc, layer: str, per_span: int = 2048):
-    """A layer read back by ezdxf: (Chain of its CIRCLEs, ARCs, LINEs and SPLINEs (as polylines of
-    ``per_span`` chords a knot span), points on them, entity types)."""
-    arcs, segments, points, kinds = [], [], [], []
-    for e in doc.modelspace():
-        if e.dxf.layer != layer:
-            continue
-        kinds.append(e.dxftype())
-        if e.dxftype() in ("ARC", "CIRCLE"):
-            a0 = math.radians(e.dxf.start_angle) if e.dxftype() == "ARC" else 0.0
-            sweep = math.radians((e.dxf.end_angle - e.dxf.start_angle) % 360.0) if e.dxftype() == "ARC" else 2 * math.pi
-            arcs.append([e.dxf.center.x, e.dxf.center.y, e.dxf.radius, a0, sweep])
-            t = a0 + sweep * np.linspace(0, 1, 2000)
-            points.append(np.stack([e.dxf.center.x + e.dxf.radius * np.cos(t), e.dxf.center.y + e.dxf.radius * np.sin(t)], 1))
-        elif e.dxftype() == "LINE":
-            a, b = np.array(e.dxf.start)[:2], np.array(e.dxf.end)[:2]
-            segments.append(np.concatenate([a, b])[None])
-            points.append(a + np.linspace(0, 1, 50)[:, None] * (b - a))
-        elif e.dxftype() == "SPLINE":
-            knots = np.unique(np.array(e.knots))
-            t = np.append((knots[:-1, None] + np.arange(per_span) / per_span * np.diff(knots)[:, None]).ravel(), knots[-1])
-            p = np.array(list(e.construction_tool().points(t)))[:, :2]
-            segments.append(np.concatenate([p[:-1], p[1:]], axis=1))
-            points.append(p)
-        else:
-            raise AssertionError(f"unexpected {e.dxftype()} on layer {layer}")
-    return Chain(arcs, np.concatenate(segments) if segments else None), np.concatenate(points), kinds
+    """A layer read back by ezdxf (tests/test_dxf.py's reader, 2000 points an arc): (Chain of its
+    CIRCLEs, ARCs, LINEs and SPLINEs (as polylines of ``per_span`` chords a knot span), points on
+    them, entity types)."""
+    from test_dxf import dxf_layer
+
+    return dxf_layer(doc, layer, per_span, arc_points=2000)
 
 
 def assert_layer_is_the_curve(contour, doc, layer: str, tol: float) -> list[str]:
