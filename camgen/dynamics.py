@@ -279,6 +279,9 @@ class Kinematics:
         the arm: the distance from the pivot to that point at each cam angle, an array (N,)
         (an oscillating flat face: pivot to contact point, so that ``lever cos(phi)`` is the
         moment arm of the contact normal about the pivot).  None: the train's ``arm_length``.
+    lever_2 : mm, oscillating form-closed trains whose second contact is on an arm of its own
+        (a conjugate pair's arm B): pivot to the second roller's centre at each cam angle, an
+        array (N,).  None: the first contact's lever.
     """
 
     theta: np.ndarray
@@ -293,6 +296,7 @@ class Kinematics:
     rho_cam_2: np.ndarray | None = None
     follower_radius_2: float | None = None
     lever: np.ndarray | None = None
+    lever_2: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         theta = _array("theta", self.theta, None)
@@ -333,11 +337,13 @@ class Kinematics:
             require_finite("direction", float(self.direction))
         else:
             object.__setattr__(self, "direction", _array("direction", self.direction, n))
-        if self.lever is not None:
-            lever = _array("lever", self.lever, n)
+        for name in ("lever", "lever_2"):
+            if getattr(self, name) is None:
+                continue
+            lever = _array(name, getattr(self, name), n)
             if not np.all(lever > 0):
-                raise ParameterError("lever", f"{float(np.min(lever)):g} mm", "lever > 0 mm at every cam angle")
-            object.__setattr__(self, "lever", lever)
+                raise ParameterError(name, f"{float(np.min(lever)):g} mm", f"{name} > 0 mm at every cam angle")
+            object.__setattr__(self, name, lever)
 
 
 # --------------------------------------------------------------------------------------------
@@ -378,9 +384,12 @@ def force_coefficients(kin: Kinematics, train: FollowerTrain) -> tuple[np.ndarra
 
 
 def _contact_projection(kin: Kinematics, train: FollowerTrain, second: bool = False) -> np.ndarray:
-    """``lever * cos(phi)``: the generalised force per newton along the contact normal."""
+    """``lever * cos(phi)``: the generalised force per newton along the contact normal (the
+    second contact's own lever where the kinematics give one, ``kin.lever_2``)."""
     phi = kin.pressure_angle_2 if second else kin.pressure_angle
     assert phi is not None  # a second contact: a form-closed train's kinematics (analyse checks they are given)
+    if second and kin.lever_2 is not None and train.motion == "oscillating":
+        return kin.lever_2 * np.cos(phi)
     return _lever(train, kin) * np.cos(phi)
 
 

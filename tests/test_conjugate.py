@@ -473,3 +473,226 @@ def test_roller_b_keys_change_cam_b_only(base, key, value):
 
     before, after = files(PAIRS[base]), files({**PAIRS[base], key: value})
     assert before["p_a.dxf"] == after["p_a.dxf"] and before["p_b.dxf"] != after["p_b.dxf"]
+
+
+# --------------------------------------------------------------------------------------------
+# The dynamics of a pair (a form-closed train: roller A pushes the follower along +s, roller B back)
+# --------------------------------------------------------------------------------------------
+DYN_SPAN = 120.0  # deg: the cycloidal rise and return
+DYN_RPM = 300.0
+#: A translating pair (offset stem, roller B of its own radius) and an oscillating one (arm B of
+#: its own length, a backlash, turning clockwise), both cycloidal both ways, with a load.
+DYN_PAIRS = {
+    "t": {"kind": "motion_law", "form": "conjugate", "base_radius_mm": 40.0, "roller_radius_mm": 10.0, "follower_offset_mm": 6.0,
+          "roller_b_radius_mm": 12.0, "roller_b_distance_mm": 140.0, "rpm": DYN_RPM, "mass_kg": 2.0, "external_load_n": 30.0,
+          "gravity": True, "contact_width_mm": 8.0,
+          "segments": [{"law": "cycloidal", "span_deg": DYN_SPAN, "lift_mm": LIFT}, {"law": "dwell", "span_deg": 60.0},
+                       {"law": "cycloidal", "span_deg": DYN_SPAN, "lift_mm": -LIFT}, {"law": "dwell", "span_deg": 60.0}]},
+    "o": {"kind": "motion_law", "form": "conjugate", "follower_motion": "oscillating", "base_radius_mm": 40.0, "roller_radius_mm": 8.0,
+          "pivot_x_mm": -100.0, "pivot_y_mm": 50.0, "arm_length_mm": 90.0, "swing_turn": "cw", "rotation": "cw", "arm_b_length_mm": 85.0,
+          "roller_b_radius_mm": 9.0, "arm_b_angle_deg": 80.0, "conjugate_preload_mm": -0.03, "rpm": DYN_RPM, "inertia_kg_m2": 0.02,
+          "external_load_n_mm": 2000.0, "gravity": False,
+          "segments": [{"law": "cycloidal", "span_deg": DYN_SPAN, "swing_deg": SWING}, {"law": "dwell", "span_deg": 60.0},
+                       {"law": "cycloidal", "span_deg": DYN_SPAN, "swing_deg": -SWING}, {"law": "dwell", "span_deg": 60.0}]},
+}
+
+
+@functools.lru_cache(maxsize=None)
+def dynamics_run():
+    """Both dynamic pairs through the pipeline (with the report): cam name -> CamResult."""
+    from camgen.pipeline import compute, plan_run
+    from camgen.scene import parse_scene
+
+    scene = parse_scene({"output": {"formats": ["dxf", "html"]}, "cams": DYN_PAIRS}, "dyn")
+    return {c.name: c for c in compute(scene, plan_run(scene)).cams}
+
+
+def dyn_law(name: str):
+    osc = name == "o"
+    size = D(SWING) if osc else LIFT
+    return MotionProgram([Segment("cycloidal", D(DYN_SPAN), size), Segment("dwell", D(60), 0.0), Segment("cycloidal", D(DYN_SPAN), -size),
+                          Segment("dwell", D(60), 0.0)], unit="rad" if osc else "mm")
+
+
+def dyn_geometry(name: str, theta: np.ndarray):
+    """Plane geometry of the rigid follower (this test's own): per contact (roller A, roller B) its
+    centre (fixed frame, mm), the unit normal along which its cam pushes it (through the instant
+    centre of cam and follower: Kennedy's theorem) and the unit direction in which the centre moves
+    as s grows; and the lever (mm per unit of s: 1, or the arm's length)."""
+    k = DYN_PAIRS[name]
+    s, ds = dyn_law(name)(theta)[:2]
+    sigma = -1.0 if k.get("rotation") == "cw" else 1.0
+    if name == "t":
+        e = k["follower_offset_mm"]
+        y = math.sqrt((k["base_radius_mm"] + k["roller_radius_mm"]) ** 2 - e * e) + s
+        a = np.stack([np.full_like(y, e), y], axis=1)
+        b = a - np.array([0.0, k["roller_b_distance_mm"]])
+        instant = np.stack([sigma * ds, np.zeros_like(ds)], axis=1)
+        up = np.stack([np.zeros_like(ds), np.ones_like(ds)], axis=1)
+        moves, levers = (up, up), (1.0, 1.0)
+    else:
+        tau = -1.0 if k["swing_turn"] == "cw" else 1.0
+        f = FollowerSpec("roller", k["base_radius_mm"], "oscillating", k["roller_radius_mm"], 0.0, (k["pivot_x_mm"], k["pivot_y_mm"]),
+                         k["arm_length_mm"], 0.0, k["swing_turn"], k["rotation"])
+        p = np.array([k["pivot_x_mm"], k["pivot_y_mm"]])
+        g = rest_arm_angle(f) + tau * s
+        gb = g + D(k["arm_b_angle_deg"])
+        a = p + k["arm_length_mm"] * np.stack([np.cos(g), np.sin(g)], axis=1)
+        b = p + k["arm_b_length_mm"] * np.stack([np.cos(gb), np.sin(gb)], axis=1)
+        q = sigma * tau * ds
+        instant = -q[:, None] * p / (1.0 - q)[:, None]
+        moves = tuple(tau * np.stack([-(c - p)[:, 1], (c - p)[:, 0]], axis=1) / np.hypot(*(c - p).T)[:, None] for c in (a, b))
+        levers = (k["arm_length_mm"], k["arm_b_length_mm"])
+    out = []
+    for c, m, push in ((a, moves[0], 1.0), (b, moves[1], -1.0)):
+        n = (c - instant) / np.hypot(*(c - instant).T)[:, None]
+        n *= np.sign(push * np.sum(n * m, axis=1))[:, None]  # roller A pushed along +s, roller B along -s
+        out.append((c, n, m))
+    return out, levers, sigma
+
+
+def dyn_q(name: str, theta: np.ndarray) -> np.ndarray:
+    """The force the cams must supply along +s (N, or N*mm about the pivot): the load and the
+    weight plus the inertia m w^2 s'' (I w^2 s'')."""
+    k = DYN_PAIRS[name]
+    omega = TWO_PI * DYN_RPM / 60.0
+    d2s = dyn_law(name)(theta)[2]
+    if name == "t":  # kg * mm/s^2 = 1e-3 N; the weight (gravity down, -y) resists the rise (+y)
+        return k["mass_kg"] * (omega**2 * d2s * 1e-3 + 9.80665) + k["external_load_n"]
+    return k["inertia_kg_m2"] * omega**2 * d2s * 1e3 + k["external_load_n_mm"]  # kg*m^2/s^2 = 1e3 N*mm
+
+
+@pytest.mark.parametrize("name", sorted(DYN_PAIRS))
+def test_pair_crossovers_against_the_closed_form(name):
+    """Where the load passes from roller A to roller B and back: q = L + m w^2 s'' changes sign; on
+    the cycloidal rise s'' = (2 pi H / beta^2) sin(2 pi x / beta), so at x = beta / (2 pi) (pi +
+    asin(L / P)) and beta / (2 pi) (2 pi - asin(L / P)) (P = m w^2 2 pi H / beta^2), on the return
+    where sin(2 pi x / beta) = L / P.  The check lists the first angle of the dynamics' grid past each."""
+    cam = dynamics_run()[f"{name}_a"]
+    k = DYN_PAIRS[name]
+    omega, beta = TWO_PI * DYN_RPM / 60.0, D(DYN_SPAN)
+    if name == "t":
+        peak = k["mass_kg"] * omega**2 * TWO_PI * LIFT / beta**2 * 1e-3
+        load = k["external_load_n"] + k["mass_kg"] * 9.80665
+    else:
+        peak = k["inertia_kg_m2"] * omega**2 * TWO_PI * D(SWING) / beta**2 * 1e3
+        load = k["external_load_n_mm"]
+    u = math.asin(load / peak)
+    expected = np.degrees(sorted([beta / TWO_PI * (math.pi + u), beta / TWO_PI * (TWO_PI - u), math.pi + beta / TWO_PI * u,
+                                  math.pi + beta / TWO_PI * (math.pi - u)]))
+    check = next(c for c in cam.checks if c.name == "contact_force")
+    got = np.sort(np.asarray(check.where_deg, dtype=float))
+    grid = np.degrees(cam.dynamics_stage.outcome.kinematics.theta)
+    assert got.size == 4, check.note
+    at = np.searchsorted(grid, got - 1e-6)  # each listed angle is a grid angle (listed to 1e-6 deg) ...
+    assert np.max(np.abs(grid[at] - got)) <= 1e-6
+    assert np.all(grid[at - 1] < expected) and np.all(expected <= got + 1e-6), (got, expected)  # ... the first past the crossover
+    assert "crosses from one contact to the other" in check.note
+
+
+@pytest.mark.parametrize("name", sorted(DYN_PAIRS))
+def test_pair_contact_forces_and_torque_against_an_independent_computation(name):
+    """Each roller's contact force: the force balance along the follower, q, carried by roller A
+    where q > 0 and by roller B where q < 0, divided by its lever times the cosine of its pressure
+    angle (between its cam's normal through the instant centre and its centre's motion, Kennedy's
+    theorem, computed here); the camshaft torque as the moment about the shaft of both contact
+    forces (T = sigma (c x F)), not from the power balance camgen uses."""
+    cam = dynamics_run()[f"{name}_a"]
+    res = cam.dynamics_stage.outcome.result
+    theta = res.theta
+    (a, b), levers, sigma = dyn_geometry(name, theta)
+    q = dyn_q(name, theta)
+    cos_a, cos_b = (np.sum(n * m, axis=1) * np.sign(push) for (_, n, m), push in ((a, 1.0), (b, -1.0)))
+    f1 = np.maximum(q, 0.0) / (levers[0] * cos_a)
+    f2 = np.maximum(-q, 0.0) / (levers[1] * cos_b)
+    scale = float(np.max(np.abs(q)) / min(levers))
+    assert np.max(np.abs(res.contact_force - f1)) <= 1e-9 * scale
+    assert np.max(np.abs(res.contact_force_2 - f2)) <= 1e-9 * scale
+    assert np.max(f1) > 0 and np.max(f2) > 0  # both rollers carry the load somewhere
+    # the shaft's torque balances the moment of the rollers' reactions on the cams: T = sigma (c x F) about +z
+    torque = sigma * sum(c[:, 0] * (f * n[:, 1]) - c[:, 1] * (f * n[:, 0]) for f, (c, n, _) in ((f1, a), (f2, b))) * 1e-3
+    assert np.max(np.abs(res.torque - torque)) <= 1e-7 * float(np.max(np.abs(torque)))
+    figures = cam.figures["dynamics"]
+    assert figures["closure"] == "form" and abs(figures["max_contact_force_2_N"] - float(np.max(f2))) <= 1e-9 * scale
+
+
+def test_roller_b_contact_stress_is_roller_b_on_cam_b():
+    """Hertz stress of contact 2 of a centred translating pair: roller B (its own radius) on cam B,
+    whose pitch curve is the polar curve r = D - (base + r_A) - s (radius of curvature (r^2 +
+    r'^2)^(3/2) / (r^2 + 2 r'^2 - r r''), profile radius that less roller B's): Rothbart eq. 9.11
+    with the force of the independent balance."""
+    from camgen.pipeline import compute, plan_run
+    from camgen.scene import parse_scene
+
+    keys = {**DYN_PAIRS["t"], "follower_offset_mm": 0.0}
+    scene = parse_scene({"output": {"formats": ["dxf"]}, "cams": {"c": keys}}, "c")
+    cam = {c.name: c for c in compute(scene, plan_run(scene)).cams}["c_a"]
+    res = cam.dynamics_stage.outcome.result
+    theta = res.theta
+    s, ds, d2s = dyn_law("t")(theta)[:3]
+    r = keys["roller_b_distance_mm"] - keys["base_radius_mm"] - keys["roller_radius_mm"] - s
+    r1, r2 = -ds, -d2s
+    rho_pitch = (r * r + r1 * r1) ** 1.5 / (r * r + 2 * r1 * r1 - r * r2)
+    rb = keys["roller_b_radius_mm"]
+    rho = rho_pitch - rb
+    force = np.maximum(-dyn_q("t", theta), 0.0) * np.hypot(r, ds) / r  # centred: cos(phi) = r / hypot(r, r')
+    compliance = 2 * (1 - 0.3**2) / 210e3
+    want = np.sqrt(force * (1 / rho + 1 / rb) / (math.pi * keys["contact_width_mm"] * compliance))
+    assert np.max(want) > 0
+    assert np.max(np.abs(res.hertz_stress_2 - want)) <= 1e-7 * np.max(want)
+
+
+@pytest.mark.parametrize("key, value", [("spring_rate_n_per_mm", 2.0), ("spring_preload_n", 50.0), ("jump_margin_n", 5.0)])
+def test_springs_and_jump_margin_are_refused_on_a_pair(key, value, tmp_path):
+    """A conjugate pair is form-closed: a spring or a jump margin is refused naming the key, exit 2, one line."""
+    import subprocess
+    import sys
+
+    from helpers import scene_toml
+
+    path = tmp_path / "spring.toml"
+    path.write_text(scene_toml({"output": {"formats": ["dxf"]}, "cams": {"p": {**DYN_PAIRS["t"], key: value}}}), encoding="utf-8")
+    run = subprocess.run([sys.executable, "-m", "camgen", "run", str(path), "--out", str(tmp_path / "out")], capture_output=True,
+                         text=True)
+    assert run.returncode == 2
+    lines = run.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("camgen: error: ")
+    assert f"cams.p.{key}" in lines[0] and "conjugate pair is form-closed" in lines[0]
+    assert not (tmp_path / "out").exists()
+
+
+def test_the_pair_dynamics_are_reported_once_on_cam_a():
+    """Cam A carries the pair's dynamics (report.json's figures.dynamics, the checks); cam B has
+    none of its own and its "dynamics" check names cam A (the torque is not counted twice)."""
+    cams = dynamics_run()
+    for name in DYN_PAIRS:
+        a, b = cams[f"{name}_a"], cams[f"{name}_b"]
+        assert "dynamics" in a.figures and "dynamics" not in b.figures
+        assert {c.name for c in a.checks} >= {"contact_force", "hertz_stress", "camshaft_torque"}
+        assert not {c.name for c in b.checks} & {"contact_force", "hertz_stress", "camshaft_torque"}
+        pointer = next(c for c in b.checks if c.name == "dynamics")
+        assert pointer.value == f"on {name}_a" and f"{name}_a" in pointer.note
+        assert "contact 2 roller B on cam B" in next(c for c in a.checks if c.name == "conjugate_preload").note
+
+
+def test_no_dynamics_when_cam_b_cannot_be_made():
+    """Cam B undercut (roller B too close to the shaft): the pair's dynamics are stated as not
+    computed on cam A (no forces from a cam that cannot be made), and the run's verdict is the
+    undercut's."""
+    cams = threshold_cams_dyn()
+    assert not undercut(cams["u_b"]).passed
+    note = next(c for c in cams["u_a"].checks if c.name == "dynamics")
+    assert note.value == "not computed" and "u_b" in note.note
+
+
+def threshold_cams_dyn():
+    from camgen.pipeline import compute, plan_run
+    from camgen.scene import parse_scene
+    from scipy.optimize import brentq
+
+    d_star = brentq(lambda d: polar_min_radius(d - THRESHOLD_BASE - 10.0, -1.0) - 8.0, THRESHOLD_BASE + 10.0 + THRESHOLD_LIFT + 8.5, 400.0,
+                    xtol=1e-12)
+    cam = {"kind": "motion_law", "form": "conjugate", "base_radius_mm": THRESHOLD_BASE, "roller_radius_mm": 10.0, "roller_b_radius_mm": 8.0,
+           "roller_b_distance_mm": d_star * (1 - 1e-3), "segments": THRESHOLD_SEGMENTS, "rpm": 100.0, "mass_kg": 1.0}
+    scene = parse_scene({"output": {"formats": ["dxf"]}, "cams": {"u": cam}}, "u")
+    return {c.name: c for c in compute(scene, plan_run(scene)).cams}

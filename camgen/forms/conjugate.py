@@ -4,7 +4,9 @@ Realises every displacement law for a translating follower (roller B on the stem
 distance below roller A, on the other side of the shaft) or an oscillating one (roller B on a
 second arm of the rocker at a fixed angle); the scene cam ``x`` becomes the two cams ``x_a``
 (cam A, roller A) and ``x_b`` (cam B, roller B) of the run (:attr:`CamForm.expand`), each the
-exact envelope of its roller with the plate cam's checks and files.  The derivation, the preload
+exact envelope of its roller with the plate cam's checks and files; with the dynamics keys the
+pair is a form-closed follower train whose dynamics (both rollers' contacts, the pair's camshaft
+torque) are reported on ``x_a``.  The derivation, the preload
 and the conventions are in :mod:`camgen.kinds.conjugate`, which is imported only when a scene
 uses the form.
 """
@@ -27,7 +29,9 @@ __all__ = ["FORM"]
 def _keys() -> tuple[Any, ...]:
     from camgen.kinds.conjugate import conjugate_keys
 
-    return conjugate_keys() + (source_key(),) + body_keys() + check_keys()
+    from camgen.kinds.dynamics import dynamics_keys
+
+    return conjugate_keys() + (source_key(),) + body_keys() + check_keys() + dynamics_keys()
 
 
 def _read(where: str, name: str, parsed: Mapping[str, Any], motion: "Motion", base_dir: Path | None = None) -> "CamSpec":
@@ -48,6 +52,12 @@ def _build(spec: "CamSpec", stages: frozenset[str]) -> "BuiltCam":
     return build_conjugate(spec, stages)
 
 
+def _kinematics(cam: "BuiltCam", spec: "CamSpec") -> tuple[Any, float]:
+    from camgen.kinds.conjugate import conjugate_kinematics
+
+    return conjugate_kinematics(cam, spec)
+
+
 def _evaluate(cam: "BuiltCam", spec: "CamSpec", tool_radius: float, tool_is_limit: bool) -> "CamEvaluation":
     from camgen.kinds.conjugate import evaluate_conjugate
 
@@ -62,6 +72,7 @@ FORM = CamForm(
     read=_read,
     build=_build,
     evaluate=_evaluate,
+    follower_dynamics=_kinematics,
     report_section="camgen.kinds.conjugate:pair_section",
     expand=_expand,
 )

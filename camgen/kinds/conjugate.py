@@ -48,6 +48,20 @@ distance from roller B's centre to cam B's profile less ``r_B``) is ``-p`` at ev
 made for roller A exactly.  The checks of cam B (undercut, curvature, tool) are of the profile as
 made (the envelope of the roller of radius ``r_B - p``).
 
+Dynamics
+--------
+A pair is a form-closed follower train (:mod:`camgen.kinds.dynamics`, ``closure = "form"``): with
+``rpm`` and the mass (translating) or the rocker's inertia (oscillating) the dynamics keys give the
+follower train; no spring and no ``jump_margin_n`` (refused: cam B holds the follower, it cannot
+jump).  Contact 1 is roller A on cam A (pushing the follower along ``+s``), contact 2 roller B on
+cam B (pushing it along ``-s``), each from its own cam's closed-form kinematics on the one check
+grid: cam A's pressure angle and profile radius at the contact with roller A's radius; cam B's
+pressure angle and profile radius (the profile as made) with roller B's radius and, oscillating,
+arm B's length as the lever of contact 2.  The pair is one train on one shaft, so its dynamics
+(both contacts' forces and Hertz stresses, the camshaft torque of the pair, the cam angles where
+the load passes from one roller to the other) are computed and reported once, on cam A
+(``<cam>_a``); cam B's report points there (its ``dynamics`` check).
+
 The pair in the run
 -------------------
 The scene cam ``x`` is realised as two cams, ``x_a`` (cam A) and ``x_b`` (cam B)
@@ -78,11 +92,13 @@ if TYPE_CHECKING:
     from camgen.report.model import CamReport
     from camgen.synthesis.followers import FollowerSpec
 
-__all__ = ["MEMBERS", "ComplementLaw", "ConjugateMember", "ConjugatePair", "ConjugateSection", "build_conjugate", "conjugate_keys",
-           "evaluate_conjugate", "expand_conjugate", "pair_section", "read_conjugate"]
+__all__ = ["DYNAMICS_MEMBER", "MEMBERS", "ComplementLaw", "ConjugateMember", "ConjugatePair", "ConjugateSection", "build_conjugate",
+           "conjugate_keys", "conjugate_kinematics", "evaluate_conjugate", "expand_conjugate", "pair_section", "read_conjugate"]
 
 #: The two cams of a pair: suffix of their names (``<cam>_a``, ``<cam>_b``) and what each drives.
 MEMBERS = ("a", "b")
+#: The member whose report carries the pair's dynamics (computed once: one train, one shaft).
+DYNAMICS_MEMBER = "a"
 #: Plate-cam follower keys a conjugate pair does not take (no sizing of a pair; rollers only).
 _NOT_TAKEN = ("sizing", "face_offset_mm", "face_half_length_mm")
 #: Largest difference (rad) between arm B's rest angle and the plate cam's rest crossing that is
@@ -192,11 +208,13 @@ class ConjugatePair:
 
 @dataclass(frozen=True)
 class ConjugateMember:
-    """One cam of a pair: ``member`` ``"a"`` or ``"b"`` (:data:`MEMBERS`) of the scene cam ``pair``."""
+    """One cam of a pair: ``member`` ``"a"`` or ``"b"`` (:data:`MEMBERS`) of the scene cam ``pair``;
+    ``dynamics``: the pair has a follower train (computed on :data:`DYNAMICS_MEMBER`)."""
 
     pair: str
     member: str
     params: ConjugatePair
+    dynamics: bool = False
 
 
 def _second_translating(where: str, first: "FollowerSpec", law: Any, parsed: Mapping[str, Any], r_env: float) -> "FollowerSpec":
@@ -271,13 +289,35 @@ def read_conjugate(where: str, name: str, parsed: Mapping[str, Any], motion: "Mo
         distance, beta = None, parsed["arm_b_angle"]
     pair = ConjugatePair(law, first, second, ComplementLaw(law, total), first.motion == "translating", r_b, preload, distance, beta,
                          arm_b, parsed["fit_tol"], dict(reading.figures), parsed.get("source"))
-    return CamSpec(name, motion.name, pair, read_body(where, parsed), read_checks(parsed))
+    body, checks = read_body(where, parsed), read_checks(parsed)
+    return CamSpec(name, motion.name, pair, body, checks, None, _read_pair_dynamics(where, parsed, first, checks.rpm, body.thickness,
+                                                                                     base_dir))
+
+
+def _read_pair_dynamics(where: str, parsed: Mapping[str, Any], first: "FollowerSpec", rpm: float | None, thickness: float,
+                        base_dir: Path | None) -> Any:
+    """The pair's follower train (form-closed: a spring or a jump margin is refused naming the key)."""
+    from camgen.kinds.dynamics import SPRING_KEYS, dynamics_keys, read_dynamics
+    from camgen.schema import given_keys
+
+    keys = {k.name: k for k in dynamics_keys()}
+    given = given_keys(parsed, tuple(keys.values()))
+    for name in (*SPRING_KEYS, "jump_margin_n"):
+        if name in given:
+            raise ParameterError(f"{where}.{name}", keys[name].type.to_scene(parsed.get(keys[name].field)), "left out for a conjugate pair",
+                                 "a conjugate pair is form-closed: cam B holds the follower on cam A (roller B pushes it back), so it "
+                                 "has no spring and cannot jump (both rollers' contacts are checked instead)")
+    return read_dynamics(where, parsed, motion=first.motion, follower=first.kind, rpm=rpm, thickness=thickness, base_dir=base_dir,
+                         form_closed=True)
 
 
 def expand_conjugate(spec: CamSpec) -> tuple[CamSpec, ...]:
-    """The pair's two cams, ``<name>_a`` and ``<name>_b``, each a cam of the run."""
+    """The pair's two cams, ``<name>_a`` and ``<name>_b``, each a cam of the run; the pair's
+    follower train goes with cam A only (:data:`DYNAMICS_MEMBER`: its dynamics are the pair's)."""
     pair: ConjugatePair = spec.params
-    return tuple(replace(spec, name=f"{spec.name}_{m}", params=ConjugateMember(spec.name, m, pair)) for m in MEMBERS)
+    has = spec.dynamics is not None
+    return tuple(replace(spec, name=f"{spec.name}_{m}", params=ConjugateMember(spec.name, m, pair, has),
+                         dynamics=spec.dynamics if m == DYNAMICS_MEMBER else None) for m in MEMBERS)
 
 
 # --------------------------------------------------------------------------------------------
@@ -417,8 +457,55 @@ def evaluate_conjugate(cam: BuiltCam, spec: CamSpec, tool_radius: float, tool_is
     note = (f"cam {m.member.upper()} of the pair {m.pair} ({m.pair}_a drives roller A, {m.pair}_b roller B); {where}; "
             f"{kind}: roller B (radius {p.roller_b_radius:g} mm) against cam B, made as the envelope of a roller of radius "
             f"{p.second.roller_radius:g} mm")
-    pair = information("conjugate_preload", p.preload, "mm", [], note)
-    return replace(evaluation, checks=evaluation.checks + (pair,))
+    if m.dynamics and m.member == DYNAMICS_MEMBER:
+        note += (f"; the pair's dynamics (one follower train, one shaft) are reported on this cam: contact 1 is roller A on cam A "
+                 f"({m.pair}_a, pushing the follower along +s), contact 2 roller B on cam B ({m.pair}_b, pushing it back); the "
+                 "camshaft torque is the pair's")
+    added = [information("conjugate_preload", p.preload, "mm", [], note)]
+    if m.dynamics and m.member != DYNAMICS_MEMBER:
+        home = f"{m.pair}_{DYNAMICS_MEMBER}"
+        added.append(information("dynamics", f"on {home}", "", [],
+                                 f"the dynamics of the pair {m.pair} are computed once, on {home}: both rollers' contact forces "
+                                 f"(contact 2 there is roller B on this cam) and Hertz stresses, the camshaft torque of the pair "
+                                 "and the cam angles where the load passes from one roller to the other"))
+    return replace(evaluation, checks=evaluation.checks + tuple(added))
+
+
+# --------------------------------------------------------------------------------------------
+# Dynamics
+# --------------------------------------------------------------------------------------------
+def conjugate_kinematics(cam: BuiltCam, spec: CamSpec) -> tuple[Any, float]:
+    """The dynamics kinematics of a pair (on cam A, :data:`DYNAMICS_MEMBER`): a form-closed train
+    whose contact 1 is roller A on cam A and contact 2 roller B on cam B, each from its own plate
+    cam's closed forms (:func:`camgen.synthesis.followers.kinematics`) on cam A's check grid:
+    the pressure angle, the profile's radius of curvature at the contact (cam B's as made, the
+    envelope of a roller of radius ``roller_b_radius - preload``) and the roller's radius;
+    oscillating, arm B's length is contact 2's lever (its moment arm ``L_B cos(phi_B)``) and the
+    rocker's coordinate is arm A's swing.  Raises
+    :class:`~camgen.kinds.dynamics.DynamicsNotComputed` when cam B cannot be made."""
+    from camgen import dynamics as dy
+    from camgen.kinds.dynamics import DynamicsNotComputed, checked_kinematics
+    from camgen.synthesis.followers import kinematics, profile_failures
+
+    m: ConjugateMember = spec.params
+    assert isinstance(m, ConjugateMember) and m.member == DYNAMICS_MEMBER, "a pair's dynamics are computed on its cam A"
+    p = m.params
+    f, k = p.first, cam.envelope.data  # type: ignore[attr-defined]
+    kb = kinematics(p.second, p.second_law, k.theta)  # cam B in its own frame: angles and radii are those of the machine
+    if any(mask.any() for _, mask in profile_failures(p.second, kb)):
+        raise DynamicsNotComputed(f"cam B ({m.pair}_b) cannot be made (see its undercut check): the pair's contact forces, "
+                                  "Hertz stresses and camshaft torque are computed for a pair that can be made")
+    n = k.theta.size
+    if f.motion == "translating":
+        direction: Any = math.pi / 2  # the follower moves along fixed +y
+        arm, lever_2 = 0.0, None
+    else:
+        direction = k.arm_angle + f.tau * math.pi / 2  # roller A's centre moves along tau J u(arm angle)
+        arm, lever_2 = f.arm_length, np.full(n, float(_given(p.arm_b_length)))
+    kin = checked_kinematics(lambda: dy.Kinematics(k.theta, k.s, k.ds, k.d2s, k.pressure_angle, k.profile_radius, f.roller_radius,
+                                                   direction, pressure_angle_2=kb.pressure_angle, rho_cam_2=kb.profile_radius,
+                                                   follower_radius_2=p.roller_b_radius, lever_2=lever_2))
+    return kin, arm
 
 
 # --------------------------------------------------------------------------------------------

@@ -344,6 +344,12 @@ def three_arc_kinematics(cam: "BuiltCam", spec: "CamSpec", samples: int = THREE_
     return checked_kinematics(lambda: dy.Kinematics(theta, h, -dh, d2h, zero, h + d2h, math.inf, follower.direction, **second)), 0.0
 
 
+class DynamicsNotComputed(GeometryError):
+    """Raised by a kind's ``follower_dynamics`` when a body the dynamics need cannot be made (a
+    conjugate pair's other cam): :func:`run_dynamics` then states the dynamics as not computed,
+    saying why, as it does for a profile that cannot be made."""
+
+
 def checked_kinematics(make: Any) -> "Kinematics":
     """``make()``: a :class:`camgen.dynamics.Kinematics`, its refusal of the geometry (valid
     parameters the contact cannot drive) turned into a :class:`GeometryError` saying so."""
@@ -398,7 +404,10 @@ def run_dynamics(cam: "BuiltCam", spec: "CamSpec", stages: frozenset[str]) -> Dy
 
     rpm, follower_dynamics = spec.checks.rpm, get_kind(spec.kind, spec.form).follower_dynamics
     assert rpm is not None and follower_dynamics is not None  # read_dynamics refuses dynamics without them
-    kin, arm = follower_dynamics(cam, spec)
+    try:
+        kin, arm = follower_dynamics(cam, spec)
+    except DynamicsNotComputed as exc:
+        return DynamicsStage(None, (information("dynamics", "not computed", "", [], str(exc)),))
     train = replace(dyn.train, arm_length=arm) if dyn.train.motion == "oscillating" else dyn.train
     result = dy.analyse(kin, train, rpm, dyn.material, jump_margin=dyn.jump_margin)
     checks = dynamics_checks(result, kin, dyn.material, dyn.torque_limit)
