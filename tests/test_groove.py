@@ -453,3 +453,18 @@ def test_the_program_cuts_both_exact_walls(tool, strategy, tmp_path):
         assert pocket.gouge[layer] <= CUT_TOL and pocket.proud[layer] <= CUT_TOL, (layer, pocket.gouge, pocket.proud)
     assert pocket.deepest == -8.0
     assert report.outline.gouge <= CUT_TOL and report.outline.proud <= CUT_TOL
+
+
+def test_the_report_names_the_walls_in_the_force_plot():
+    """report.html's dynamics plot names a groove's two contacts by its walls (a yoke's are its faces)."""
+    from camgen.pipeline import execute, plan_run
+    from camgen.scene import parse_scene
+
+    data = {"output": {"formats": ["html"]}, "cams": {"g": {
+        "kind": "motion_law", "form": "groove", "follower": "roller", "roller_radius_mm": 10.0, "base_radius_mm": 50.0, "rpm": 300.0,
+        "mass_kg": 2.0, "segments": [{"law": "cycloidal", "span_deg": 180.0, "lift_mm": 20.0},
+                                     {"law": "cycloidal", "span_deg": 180.0, "lift_mm": -20.0}]}}}
+    scene = parse_scene(data, "g")
+    page = execute(scene, plan_run(scene)).files["report.html"]
+    assert "inner wall (pushes the follower out)" in page and "outer wall (pulls it back)" in page
+    assert "the yoke&#x27;s two faces" not in page and "the yoke's two faces" not in page

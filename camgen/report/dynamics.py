@@ -27,12 +27,22 @@ _LIMIT = {"color": "tab:red", "dash": "--", "width": 0.8}
 ROUNDING = 1e-9
 
 
+#: The two contacts of a form-closed train as the plots name them, by cam form (a yoke's faces
+#: otherwise): contact 1 pushes the follower out (+s), contact 2 pulls it back.
+FORM_CLOSED_CONTACTS = {
+    "": ("face 1", "face 2", "the yoke's two faces"),
+    "groove": ("inner wall", "outer wall", "the groove's two walls"),
+    "conjugate": ("roller A on cam A", "roller B on cam B", "the pair's two rollers"),
+}
+
+
 def dynamics_section(Figure: FigureMaker, cam: "CamReport") -> str:
     """The dynamics part of a cam's section of report.html (an empty string without dynamics)."""
     res = cam.dynamics
     if res is None:
         return ""
     form = res.closure == "form"
+    one, two, both = FORM_CLOSED_CONTACTS.get(cam.form, FORM_CLOSED_CONTACTS[""])
     figures = cam.figures.get("dynamics", {})
     assert isinstance(figures, Mapping)
     keep = thin(res.theta.size, 1200)
@@ -42,10 +52,10 @@ def dynamics_section(Figure: FigureMaker, cam: "CamReport") -> str:
     (ax_f, ax_p), (ax_t, ax_w), (ax_h, ax_s) = axes
     # contact force
     if form:
-        assert res.contact_force_2 is not None  # a yoke's second face
-        ax_f.plot(deg, res.contact_force[keep], color="tab:blue", width=1, label="face 1 (pushes the follower out)")
-        ax_f.plot(deg, res.contact_force_2[keep], color="tab:orange", width=1, label="face 2 (pulls it back)")
-        ax_f.title("contact force on the yoke's two faces", font_size=8)
+        assert res.contact_force_2 is not None  # a form-closed train's second contact
+        ax_f.plot(deg, res.contact_force[keep], color="tab:blue", width=1, label=f"{one} (pushes the follower out)")
+        ax_f.plot(deg, res.contact_force_2[keep], color="tab:orange", width=1, label=f"{two} (pulls it back)")
+        ax_f.title(f"contact force on {both}", font_size=8)
         ax_f.legend(font_size=7)
     else:
         ax_f.plot(deg, res.contact_force[keep], color="tab:blue", width=1, label="contact force")
@@ -79,9 +89,9 @@ def dynamics_section(Figure: FigureMaker, cam: "CamReport") -> str:
         ax_h.text(0.5, 0.5, "no Hertz stress: a sharp knife edge (or no material)", anchor="middle", coords="axes")
     else:
         if res.hertz_stress is not None:
-            ax_h.plot(deg, res.hertz_stress[keep], color="tab:blue", width=1, label="face 1" if form else None)
+            ax_h.plot(deg, res.hertz_stress[keep], color="tab:blue", width=1, label=one if form else None)
         if res.hertz_stress_2 is not None:
-            ax_h.plot(deg, res.hertz_stress_2[keep], color="tab:orange", width=1, label="face 2")
+            ax_h.plot(deg, res.hertz_stress_2[keep], color="tab:orange", width=1, label=two)
         allowable = res.allowable_stress
         if allowable is not None:
             ax_h.hline(allowable, label=f"allowable {allowable:g} MPa", **_LIMIT)
