@@ -63,7 +63,7 @@ import math
 import zlib
 from dataclasses import dataclass, field
 from types import TracebackType
-from typing import Literal
+from typing import TYPE_CHECKING, Literal, Sequence
 
 import numpy as np
 
@@ -72,11 +72,14 @@ from camgen.contour import Contour
 from camgen.errors import CamgenError, ExportError, GeometryError, ParameterError
 from camgen.export.tables import format_rows
 
+if TYPE_CHECKING:
+    from camgen.kinds.base import Pocket
+
 __all__ = [
     "DEFAULT_SECTION_ELEMENTS", "ESTIMATE_MARGIN", "FEA_ELEMENTS", "FEA_FORMATS", "GRADING", "MAX_BOUNDARY",
     "MAX_ELEMENT_SIZE", "MAX_FILE_BYTES", "MAX_MESHER_BYTES", "MESHER_BYTES", "MIN_LAYERS", "MeshEstimate",
     "PER_CIRCLE", "Section", "VolumeMesh", "check_caps", "default_element_size", "estimate", "fea_bytes",
-    "file_bytes", "inp_text", "layer_count", "loop_sizes", "mesher_memory", "msh_text", "planned_load",
+    "file_bytes", "inp_text", "layer_count", "layer_levels", "loop_sizes", "mesher_memory", "msh_text", "planned_load",
     "require_gmsh", "section_outline", "section_triangles", "tetra_dihedral_angles", "tetra_mesh", "triangle_angles",
     "volume_mesh", "vtu_bytes", "wedge_mesh", "writer",
 ]
@@ -162,6 +165,8 @@ class Section:
     hole_sizes: np.ndarray | None
     h: float
     area: float
+    walls: tuple = ()  # (layer, polygon (n, 2), sizes (n,)) of each pocket wall, in the pockets' order
+    floors: tuple = ()  # the height (mm) of each pocket's floor, 0 for a pocket through the body
 
     def loops(self) -> list[tuple[np.ndarray, np.ndarray]]:
         """(polygon, sizes at its vertices) of the profile, then of the hole when there is one."""
@@ -177,24 +182,35 @@ def _shoelace(loop: np.ndarray) -> float:
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
 
 
-def section_outline(contour: Contour, body: BodySpec, chord_tol: float, element_size: float | None = None) -> Section:
-    """The polygons and boundary sizes of the section (see the module notes)."""
-    from camgen.export.solid import bore_polygon
-
+def _contour_sizes(contour: Contour, chord_tol: float, h: float) -> tuple[np.ndarray, np.ndarray]:
+    """The polygon of ``contour`` at ``chord_tol`` and the element size at each of its vertices
+    (:func:`loop_sizes`, the curvature the largest of the vertex's and its two chords' middles)."""
     params = contour.flatten_params(chord_tol)
-    outer = contour.flatten(chord_tol)
-    hole = bore_polygon(body, chord_tol)
-    area = _shoelace(outer) - (_shoelace(hole) if hole is not None else 0.0)
-    h = default_element_size(area) if element_size is None else float(element_size)
+    polygon = contour.flatten(chord_tol)
     ends = np.append(params[1:], contour.n_segments)
     middle = np.mod(0.5 * (params + ends), contour.n_segments)
     at_middle = np.abs(contour.curvature(middle))
     kappa = np.maximum(np.abs(contour.curvature(params)), np.maximum(at_middle, np.roll(at_middle, 1)))
-    outer_sizes = loop_sizes(outer, h, kappa)
+    return polygon, loop_sizes(polygon, h, kappa)
+
+
+def section_outline(contour: Contour, body: BodySpec, chord_tol: float, element_size: float | None = None,
+                    pockets: "Sequence[Pocket]" = ()) -> Section:
+    """The polygons and boundary sizes of the section (see the module notes), with the walls of
+    ``pockets`` (each sized as the profile) and their floors' heights."""
+    from camgen.export.solid import bore_polygon
+
+    outer = contour.flatten(chord_tol)
+    hole = bore_polygon(body, chord_tol)
+    area = _shoelace(outer) - (_shoelace(hole) if hole is not None else 0.0)
+    h = default_element_size(area) if element_size is None else float(element_size)
+    outer, outer_sizes = _contour_sizes(contour, chord_tol, h)
     hole_sizes = None
     if hole is not None:
         hole_sizes = loop_sizes(hole, h, np.full(len(hole), 2.0 / body.bore_diameter))
-    return Section(outer, hole, outer_sizes, hole_sizes, h, area)
+    walls = tuple((wall.layer, *_contour_sizes(wall.contour, chord_tol, h)) for pocket in pockets for wall in pocket.walls)
+    floors = tuple(max(0.0, float(body.thickness - pocket.depth)) for pocket in pockets)
+    return Section(outer, hole, outer_sizes, hole_sizes, h, area, walls, floors)
 
 
 # --------------------------------------------------------------------------------------------
@@ -215,11 +231,30 @@ class MeshEstimate:
     layers: int
     mesher_elements: int
     boundary_nodes: int
+    node_sets: int = 4  # PROFILE, BORE, BOTTOM, TOP and one per pocket wall and floor
 
 
 def layer_count(thickness: float, h: float) -> int:
     """Element layers through ``thickness``: ``max(MIN_LAYERS, ceil(thickness / h))``."""
     return max(MIN_LAYERS, math.ceil(thickness / h - 1e-9))
+
+
+def layer_levels(thickness: float, h: float, floors: Sequence[float] = ()) -> np.ndarray:
+    """Heights (mm, ascending, 0 first and ``thickness`` last) of the layer boundaries of the
+    wedges: without floors ``layer_count(thickness, h)`` equal layers; with pockets' floors
+    (heights in (0, thickness); 0 for a pocket through the body adds none) every floor is a
+    boundary and each interval between two neighbouring boundaries has ``ceil(length / h)``
+    equal layers (at least one; the longest more until there are MIN_LAYERS)."""
+    if not floors:
+        layers = layer_count(thickness, h)
+        return thickness * np.arange(layers + 1) / layers
+    breaks = np.unique(np.concatenate([[0.0, thickness], [f for f in floors if 0.0 < f < thickness]]))
+    lengths = np.diff(breaks)
+    counts = np.maximum(1, np.ceil(lengths / h - 1e-9)).astype(int)
+    while counts.sum() < MIN_LAYERS:
+        counts[int(np.argmax(lengths / counts))] += 1
+    parts = [a + (b - a) * np.arange(n) / n for a, b, n in zip(breaks[:-1], breaks[1:], counts)]
+    return np.concatenate(parts + [[thickness]])
 
 
 def estimate(section: Section, thickness: float, elements: str) -> MeshEstimate:
@@ -233,27 +268,31 @@ def estimate(section: Section, thickness: float, elements: str) -> MeshEstimate:
     chord plus ``V / h^3``.
     """
     h, g = section.h, GRADING
-    loops = section.loops()
+    # a pocket wall lies inside the section: its band is on both sides of it (twice a boundary's)
+    loops = [(loop, sizes, 1.0) for loop, sizes in section.loops()] + [(loop, sizes, 2.0) for _, loop, sizes in section.walls]
     boundary = 0.0
     band2 = 0.0  # sum of l / s_b
     band3 = 0.0  # sum of l / s_b^2
-    for loop, sizes in loops:
+    for loop, sizes, sides in loops:
         chord = np.hypot(*(np.roll(loop, -1, axis=0) - loop).T)
         s = np.minimum(sizes, np.roll(sizes, -1))
         boundary += float(np.sum(np.maximum(1.0, np.ceil(chord / s))))
-        band2 += float(np.sum(chord / s))
-        band3 += float(np.sum(chord / s**2))
+        band2 += sides * float(np.sum(chord / s))
+        band3 += sides * float(np.sum(chord / s**2))
+    sets = 4 + len(section.walls) + len(section.floors)
     tri_area = math.sqrt(3.0) / 4.0
     triangles = ESTIMATE_MARGIN * (band2 / (tri_area * g) + section.area / (tri_area * h * h)) + 2.0 * boundary
     section_nodes = 0.5 * triangles + boundary
     if elements == "wedge":
-        layers = layer_count(thickness, h)
+        layers = len(layer_levels(thickness, h, section.floors)) - 1
         return MeshEstimate(math.ceil(section_nodes * (layers + 1)), math.ceil(triangles * layers), layers, math.ceil(triangles),
-                            math.ceil(boundary))
+                            math.ceil(boundary), sets)
     tet_volume = 1.0 / (6.0 * math.sqrt(2.0))
+    # a pocket wall's band counted on both sides over the whole thickness: the wall's face (one
+    # side, the pocket's depth) and the floor graded from the wall's foot fit in it
     tets = ESTIMATE_MARGIN * thickness * (band3 / (2.0 * g) + section.area / h**3) / tet_volume
     nodes = tets / 4.0 + section_nodes
-    return MeshEstimate(math.ceil(nodes), math.ceil(tets), 0, math.ceil(tets), math.ceil(boundary))
+    return MeshEstimate(math.ceil(nodes), math.ceil(tets), 0, math.ceil(tets), math.ceil(boundary), sets)
 
 
 def _digits(count: int) -> int:
@@ -272,8 +311,10 @@ def file_bytes(fmt: str, est: MeshEstimate, elements: str, boundary_nodes_per_se
     if fmt == "inp":  # "%d, %.14g, %.14g, %.14g"; "id, n1, ..., nk"; node sets 8 ids to a line
         node_line = idn + 3 * (2 + _coordinate_chars(14)) + 1
         element_line = ide + k * (2 + idn) + 1
-        sets = 3 * est.nodes * (idn + 2)  # PROFILE + BORE + BOTTOM + TOP <= 3 x the nodes
-        return est.nodes * node_line + est.elements * element_line + sets + 4096
+        # a node is in at most two sets (one face of z: BOTTOM, TOP or a floor; one side: PROFILE,
+        # BORE or a wall): 3 x the nodes; each set's header line and note at most 256 characters
+        sets = 3 * est.nodes * (idn + 2)
+        return est.nodes * node_line + est.elements * element_line + sets + 4096 + 256 * max(0, est.node_sets - 4)
     if fmt == "msh":  # "%d %.17g %.17g %.17g"; "id type 2 1 1 n1 ... nk"
         node_line = idn + 3 * (1 + _coordinate_chars(17)) + 1
         element_line = ide + 8 + k * (1 + idn) + 1
@@ -315,7 +356,10 @@ class VolumeMesh:
         "wedge" or "tetra".
     node_sets : dict of str to array
         0-based node indices: ``PROFILE`` (on the profile), ``BORE`` (on the bore and keyway;
-        only with a bore), ``BOTTOM`` (z = 0) and ``TOP`` (z = thickness).
+        only with a bore), ``BOTTOM`` (z = 0) and ``TOP`` (z = thickness); a body with pockets
+        also one per wall (named by its layer: the nodes on the wall's face, from the floor to
+        the top) and one per pocket floor (``<POCKET>_FLOOR``, the nodes on the floor; none for
+        a pocket through the body).
     thickness : float
         Extrusion height, mm.
     layers : int
@@ -332,6 +376,7 @@ class VolumeMesh:
     layers: int
     element_size: float
     figures: dict = field(default_factory=dict)
+    set_notes: dict = field(default_factory=dict)  # what a pocket's node set holds (the .inp's header)
 
 
 class _Session:
@@ -573,11 +618,16 @@ def tetra_mesh(section: Section, thickness: float) -> VolumeMesh:
 
 
 def volume_mesh(contour: Contour, body: BodySpec, chord_tol: float, element_size: float | None = None,
-                elements: str = "wedge") -> VolumeMesh:
-    """The FEA mesh of the cam body (see the module notes)."""
+                elements: str = "wedge", pockets: "Sequence[Pocket]" = (), cam: str = "cam") -> VolumeMesh:
+    """The FEA mesh of the cam body (see the module notes); with ``pockets``, the body less each
+    pocket (:mod:`camgen.export.fea_pockets`)."""
     if elements not in FEA_ELEMENTS:
         raise ParameterError("fea_elements", elements, f"one of {', '.join(FEA_ELEMENTS)}")
-    section = section_outline(contour, body, chord_tol, element_size)
+    section = section_outline(contour, body, chord_tol, element_size, pockets)
+    if pockets:
+        from camgen.export.fea_pockets import pocket_volume_mesh
+
+        return pocket_volume_mesh(section, body, pockets, elements, chord_tol, cam)
     if elements == "wedge":
         return wedge_mesh(section, body.thickness)
     return tetra_mesh(section, body.thickness)
@@ -624,7 +674,8 @@ def inp_text(mesh: VolumeMesh, name: str = "camgen") -> str:
     nodes = format_rows(np.column_stack([ids, _numbers(mesh.nodes)]), "%d, %.14g, %.14g, %.14g")
     k = mesh.cells.shape[1]
     elements = format_rows(np.column_stack([np.arange(1, len(mesh.cells) + 1), mesh.cells + 1]), ", ".join(["%d"] * (k + 1)))
-    sets = ", ".join(["NALL"] + [_SET_NOTES[s] for s in mesh.node_sets])
+    notes = {**_SET_NOTES, **mesh.set_notes}
+    sets = ", ".join(["NALL"] + [notes[s] for s in mesh.node_sets])
     parts = [
         "*HEADING\n",
         f"camgen cam '{name}': {_describe(mesh)}; element size {mesh.element_size:g} mm; units mm\n",
@@ -723,9 +774,14 @@ MAX_MESHER_BYTES = 1_000_000_000
 MAX_BOUNDARY = MAX_FILE_BYTES // (40 * (MIN_LAYERS + 1))
 
 
-def _boundary_count(contour: Contour, body: BodySpec, chord_tol: float) -> int:
-    """Vertices of the profile polygon and the bore circle at ``chord_tol`` (no points made)."""
+def _boundary_count(contour: Contour, body: BodySpec, chord_tol: float, pockets: "Sequence[Pocket]" = ()) -> int:
+    """Vertices of the profile polygon, the pockets' walls and the bore circle at ``chord_tol``
+    (no points made)."""
     count = sum(int(seg.flatten_params(chord_tol).size) for seg in contour.segments)
+    if pockets:
+        from camgen.export.pocket import wall_flat_count
+
+        count += wall_flat_count(pockets, chord_tol)
     if body.bore_diameter > 0:
         r = body.bore_diameter / 2.0
         count += max(8, math.ceil(2.0 * math.pi / (2.0 * math.acos(max(-1.0, 1.0 - chord_tol / r)))))
@@ -733,18 +789,19 @@ def _boundary_count(contour: Contour, body: BodySpec, chord_tol: float) -> int:
 
 
 def planned_load(contour: Contour, body: BodySpec, formats, chord_tol: float, element_size: float | None,
-                 elements: str) -> tuple[dict[str, int], int] | None:
+                 elements: str, pockets: "Sequence[Pocket]" = ()) -> tuple[dict[str, int], int] | None:
     """Estimated bytes of each planned FEA file and gmsh's memory (bytes); None where the
-    boundary alone has more than :data:`MAX_BOUNDARY` vertices."""
-    if _boundary_count(contour, body, chord_tol) > MAX_BOUNDARY:
+    boundary (the pockets' walls counted) alone has more than :data:`MAX_BOUNDARY` vertices."""
+    if _boundary_count(contour, body, chord_tol, pockets) > MAX_BOUNDARY:
         return None
-    section = section_outline(contour, body, chord_tol, element_size)
+    section = section_outline(contour, body, chord_tol, element_size, pockets)
     est = estimate(section, body.thickness, elements)
     return {f: file_bytes(f, est, elements) for f in formats if f in FEA_FORMATS}, mesher_memory(est, elements)
 
 
-def _fits(contour: Contour, body: BodySpec, formats, chord_tol: float, element_size: float | None, elements: str) -> bool:
-    load = planned_load(contour, body, formats, chord_tol, element_size, elements)
+def _fits(contour: Contour, body: BodySpec, formats, chord_tol: float, element_size: float | None, elements: str,
+          pockets: "Sequence[Pocket]" = ()) -> bool:
+    load = planned_load(contour, body, formats, chord_tol, element_size, elements, pockets)
     return load is not None and max(load[0].values(), default=0) <= MAX_FILE_BYTES and load[1] <= MAX_MESHER_BYTES
 
 
@@ -770,33 +827,35 @@ def _least(fits, low: float, high: float) -> float | None:
 
 
 def check_caps(contour: Contour, body: BodySpec, formats, chord_tol: float, element_size: float | None, elements: str,
-               cam: str, max_chord_tol: float) -> None:
+               cam: str, max_chord_tol: float, pockets: "Sequence[Pocket]" = ()) -> None:
     """Refuse FEA formats whose files could exceed :data:`MAX_FILE_BYTES` or whose meshing could
-    take more than :data:`MAX_MESHER_BYTES`, naming the least ``output.chord_tol_mm`` that fits
-    (or, where none does, the least ``output.fea_element_size_mm``)."""
+    take more than :data:`MAX_MESHER_BYTES` (the walls of ``pockets`` counted with the profile),
+    naming the least ``output.chord_tol_mm`` that fits (or, where none does, the least
+    ``output.fea_element_size_mm``)."""
     if not any(f in FEA_FORMATS for f in formats):
         return
-    if _fits(contour, body, formats, chord_tol, element_size, elements):
+    if _fits(contour, body, formats, chord_tol, element_size, elements, pockets):
         return
-    load = planned_load(contour, body, formats, chord_tol, element_size, elements)
+    load = planned_load(contour, body, formats, chord_tol, element_size, elements, pockets)
     if load is None:
-        why = f"its boundary would have {_boundary_count(contour, body, chord_tol)} vertices, more than the {MAX_BOUNDARY} an FEA file may hold"
+        why = (f"its boundary would have {_boundary_count(contour, body, chord_tol, pockets)} vertices, more than the "
+               f"{MAX_BOUNDARY} an FEA file may hold")
     else:
         sizes, memory = load
         worst = max(sizes, key=lambda name: sizes[name])
         why = (f"its {worst} file could reach {sizes[worst] / 1e6:.4g} MB (at most {MAX_FILE_BYTES / 1e6:g} MB) and meshing "
                f"{memory / 1e6:.4g} MB of memory (at most {MAX_MESHER_BYTES / 1e6:g} MB)")
-    least = _least(lambda tol: _fits(contour, body, formats, tol, element_size, elements), chord_tol, max_chord_tol)
+    least = _least(lambda tol: _fits(contour, body, formats, tol, element_size, elements, pockets), chord_tol, max_chord_tol)
     if least is not None:
         raise ParameterError("output.chord_tol_mm", chord_tol, f">= {least:.2g} mm for cam '{cam}' with {', '.join(f for f in formats if f in FEA_FORMATS)}",
                              f"at {chord_tol:g} mm {why}")
     h = element_size if element_size is not None else default_element_size(contour.area)
-    size = _least(lambda value: _fits(contour, body, formats, chord_tol, value, elements), h, MAX_ELEMENT_SIZE)
+    size = _least(lambda value: _fits(contour, body, formats, chord_tol, value, elements, pockets), h, MAX_ELEMENT_SIZE)
     if size is not None:
         raise ParameterError("output.fea_element_size_mm", element_size, f">= {size:.2g} mm for cam '{cam}' at chord_tol_mm = {chord_tol:g}",
                              f"at element size {h:g} mm {why}, at any chord_tol_mm up to {max_chord_tol:g} mm")
     # neither key alone: the least size at the largest tolerance (then the error names the tolerance)
-    size = _least(lambda value: _fits(contour, body, formats, max_chord_tol, value, elements), h, MAX_ELEMENT_SIZE)
+    size = _least(lambda value: _fits(contour, body, formats, max_chord_tol, value, elements, pockets), h, MAX_ELEMENT_SIZE)
     planned = [f for f in formats if f in FEA_FORMATS]
     if size is not None:
         raise ParameterError("output.fea_element_size_mm", element_size, f">= {size:.2g} mm for cam '{cam}', with a larger chord_tol_mm",
