@@ -278,7 +278,7 @@ def estimate(section: Section, thickness: float, elements: str) -> MeshEstimate:
         s = np.minimum(sizes, np.roll(sizes, -1))
         boundary += float(np.sum(np.maximum(1.0, np.ceil(chord / s))))
         band2 += sides * float(np.sum(chord / s))
-        band3 += sides * float(np.sum(chord / s**2))
+        band3 += float(np.sum(chord / s**2))
     sets = 4 + len(section.walls) + len(section.floors)
     tri_area = math.sqrt(3.0) / 4.0
     triangles = ESTIMATE_MARGIN * (band2 / (tri_area * g) + section.area / (tri_area * h * h)) + 2.0 * boundary
@@ -288,8 +288,8 @@ def estimate(section: Section, thickness: float, elements: str) -> MeshEstimate:
         return MeshEstimate(math.ceil(section_nodes * (layers + 1)), math.ceil(triangles * layers), layers, math.ceil(triangles),
                             math.ceil(boundary), sets)
     tet_volume = 1.0 / (6.0 * math.sqrt(2.0))
-    # a pocket wall's band counted on both sides over the whole thickness: the wall's face (one
-    # side, the pocket's depth) and the floor graded from the wall's foot fit in it
+    # a pocket wall's band counted over the whole thickness, as a side face's: its face (the
+    # pocket's depth) and the material graded from its foot under the floor (the tests compare)
     tets = ESTIMATE_MARGIN * thickness * (band3 / (2.0 * g) + section.area / h**3) / tet_volume
     nodes = tets / 4.0 + section_nodes
     return MeshEstimate(math.ceil(nodes), math.ceil(tets), 0, math.ceil(tets), math.ceil(boundary), sets)
