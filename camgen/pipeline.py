@@ -128,13 +128,13 @@ def mesh_stage(cam: "CamResult", output: "OutputSpec", progress: Progress) -> "C
 def fea_stage(cam: "CamResult", output: "OutputSpec", progress: Progress) -> "CamResult":
     """``cam`` with its FEA volume mesh (gmsh), made once for every FEA format: the body with its
     pockets cut (:mod:`camgen.export.fea_pockets`), or the failure that stopped it."""
-    from camgen.export.fea import volume_mesh
+    from camgen.export.fea_pockets import body_volume_mesh
 
     assert cam.contour is not None
     progress(f"FEA mesh of cam '{cam.name}'")
     try:
-        return cam.with_(fea=volume_mesh(cam.contour, cam.body, output.chord_tol, output.fea_element_size, output.fea_elements,
-                                         cam.pockets, cam.name))
+        return cam.with_(fea=body_volume_mesh(cam.contour, cam.body, output.chord_tol, output.fea_element_size, output.fea_elements,
+                                              cam.pockets, cam.name))
     except GeometryError as exc:
         return cam.with_(mesh_failures=cam.mesh_failures + (_export_failure("fea", exc),))
 

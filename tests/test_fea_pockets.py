@@ -111,7 +111,7 @@ def assert_sets_on_their_faces(mesh, pockets, points: np.ndarray, tol: float, th
 def meshes():
     """The FEA meshes of every body of test_pocket_files.py's CASES, wedges and tetrahedra, at TOL."""
     require_module("gmsh")
-    from camgen.export.fea import volume_mesh
+    from camgen.export.fea_pockets import body_volume_mesh as volume_mesh
 
     return {(case, elements): volume_mesh(RIM_CONTOUR, BODY, TOL, None, elements, pockets, case)
             for case, pockets in CASES.items() for elements in ("wedge", "tetra")}
@@ -183,7 +183,7 @@ def test_a_wall_across_the_outline_is_refused():
     """A slot reaching past the rim: a GeometryError naming the cam (the run makes it a failed check)."""
     require_module("gmsh")
     from camgen.errors import GeometryError
-    from camgen.export.fea import volume_mesh
+    from camgen.export.fea_pockets import body_volume_mesh as volume_mesh
     from camgen.kinds.base import Pocket, Wall
     from test_pocket_files import circle
 

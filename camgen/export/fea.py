@@ -5,7 +5,9 @@ What is meshed: the section between the profile polygon (``contour.flatten(chord
 same vertices as the point list and the surface meshes, so within ``output.chord_tol_mm`` of
 the exact profile) and the hole (bore polygon plus keyway, :func:`camgen.export.solid.bore_polygon`),
 extruded to the body's thickness.  Every polygon vertex is a node; where a chord is longer than
-the local element size gmsh adds nodes on it (the boundary stays the polygon).
+the local element size gmsh adds nodes on it (the boundary stays the polygon).  A body with
+pockets (a groove, a slot) has each pocket cut from the top face down its depth, its walls'
+polygons at the same tolerance: :mod:`camgen.export.fea_pockets`.
 
 Sizes (mm): the element size ``h`` (``output.fea_element_size_mm``; default
 :func:`default_element_size`, about :data:`DEFAULT_SECTION_ELEMENTS` elements over the section)
@@ -77,11 +79,11 @@ if TYPE_CHECKING:
 
 __all__ = [
     "DEFAULT_SECTION_ELEMENTS", "ESTIMATE_MARGIN", "FEA_ELEMENTS", "FEA_FORMATS", "GRADING", "MAX_BOUNDARY",
-    "MAX_ELEMENT_SIZE", "MAX_FILE_BYTES", "MAX_MESHER_BYTES", "MESHER_BYTES", "MIN_LAYERS", "MeshEstimate",
-    "PER_CIRCLE", "Section", "VolumeMesh", "check_caps", "default_element_size", "estimate", "fea_bytes",
-    "file_bytes", "inp_text", "layer_count", "layer_levels", "loop_sizes", "mesher_memory", "msh_text", "planned_load",
-    "require_gmsh", "section_outline", "section_triangles", "tetra_dihedral_angles", "tetra_mesh", "triangle_angles",
-    "volume_mesh", "vtu_bytes", "wedge_mesh", "writer",
+    "MAX_ELEMENT_SIZE", "MAX_FILE_BYTES", "MAX_MESHER_BYTES", "MESHER_BYTES", "MIN_LAYERS", "PER_CIRCLE", "GmshSession",
+    "MeshEstimate", "Section", "VolumeMesh", "check_caps", "default_element_size", "edge_range", "estimate", "fea_bytes",
+    "file_bytes", "inp_text", "layer_count", "layer_levels", "loop_sizes", "mesher_memory", "msh_text", "node_table",
+    "planned_load", "require_gmsh", "section_outline", "section_triangles", "size_field", "tetra_dihedral_angles",
+    "tetra_mesh", "triangle_angles", "volume_mesh", "vtu_bytes", "wedge_mesh", "writer",
 ]
 
 #: Largest ``output.fea_element_size_mm`` (mm).
@@ -379,7 +381,7 @@ class VolumeMesh:
     set_notes: dict = field(default_factory=dict)  # what a pocket's node set holds (the .inp's header)
 
 
-class _Session:
+class GmshSession:
     """One gmsh session: initialized quiet, single-threaded, without configuration files, SIGINT
     left alone; finalized on exit.  gmsh's errors become :class:`GeometryError`."""
 
@@ -429,7 +431,7 @@ def _outline_geometry(gmsh, section: Section) -> tuple[int, list[int], list[int]
     return surface, lines[0], lines[1]
 
 
-def _size_field(gmsh, section: Section, curves: list[int], surfaces: list[int]) -> None:
+def size_field(gmsh, section: Section, curves: list[int], surfaces: list[int]) -> None:
     """Background size: gmsh's Extend field (the boundary mesh's sizes grown by GRADING per mm
     up to h)."""
     field = gmsh.model.mesh.field
@@ -445,7 +447,7 @@ def _size_field(gmsh, section: Section, curves: list[int], surfaces: list[int]) 
     gmsh.option.setNumber("Mesh.MeshSizeMax", section.h)
 
 
-def _node_table(gmsh) -> tuple[np.ndarray, np.ndarray]:
+def node_table(gmsh) -> tuple[np.ndarray, np.ndarray]:
     """All nodes: tags (n,) and coordinates (n, 3); and a tag -> row lookup array."""
     tags, coords, _ = gmsh.model.mesh.getNodes()
     tags = np.asarray(tags, dtype=np.int64)
@@ -458,13 +460,13 @@ def section_triangles(section: Section) -> tuple[np.ndarray, np.ndarray]:
     """gmsh's Frontal-Delaunay triangulation of ``section``: points (k, 2) (the profile polygon's
     vertices first, then the hole's, both as given, then the others) and counter-clockwise
     triangles (t, 3)."""
-    with _Session("the section") as gmsh:
+    with GmshSession("the section") as gmsh:
         surface, outer_lines, hole_lines = _outline_geometry(gmsh, section)
         gmsh.model.geo.synchronize()
-        _size_field(gmsh, section, outer_lines + hole_lines, [])
+        size_field(gmsh, section, outer_lines + hole_lines, [])
         gmsh.option.setNumber("Mesh.Algorithm", 6)  # Frontal-Delaunay
         gmsh.model.mesh.generate(2)
-        coords, lookup = _node_table(gmsh)
+        coords, lookup = node_table(gmsh)
         _, node_tags = gmsh.model.mesh.getElementsByType(2)  # 3-node triangles
         triangles = lookup[np.asarray(node_tags, dtype=np.int64).reshape(-1, 3)]
     polygon = section.outer if section.hole is None else np.concatenate([section.outer, section.hole])
@@ -529,7 +531,8 @@ def _boundary_loops(points: np.ndarray, triangles: np.ndarray) -> tuple[np.ndarr
     return on_boundary[outer], on_boundary[~outer]
 
 
-def _edge_range(points: np.ndarray, cells: np.ndarray) -> tuple[float, float]:
+def edge_range(points: np.ndarray, cells: np.ndarray) -> tuple[float, float]:
+    """The shortest and the longest edge (mm) of ``cells`` (m, k) over ``points`` (n, 3)."""
     p = points[cells]
     k = cells.shape[1]
     pairs = [(i, j) for i in range(k) for j in range(i + 1, k)]
@@ -556,7 +559,7 @@ def wedge_mesh(section: Section, thickness: float) -> VolumeMesh:
         sets["BORE"] = (column + holes[None]).ravel()
     sets["BOTTOM"] = np.arange(k)
     sets["TOP"] = layers * k + np.arange(k)
-    shortest, longest = _edge_range(points, triangles)
+    shortest, longest = edge_range(points, triangles)
     figures = {"elements": "wedge", "element_count": int(len(cells)), "node_count": int(len(nodes)), "layers": layers,
                "element_size_mm": section.h, "least_triangle_angle_deg": least,
                "shortest_edge_mm": min(shortest, thickness / layers), "longest_edge_mm": max(longest, thickness / layers),
@@ -567,7 +570,7 @@ def wedge_mesh(section: Section, thickness: float) -> VolumeMesh:
 def tetra_mesh(section: Section, thickness: float) -> VolumeMesh:
     """gmsh's tetrahedral mesh (HXT) of the section extruded to ``thickness``, sizes graded
     from every face."""
-    with _Session("the body") as gmsh:
+    with GmshSession("the body") as gmsh:
         surface, outer_lines, hole_lines = _outline_geometry(gmsh, section)
         out = gmsh.model.geo.extrude([(2, surface)], 0.0, 0.0, thickness)
         gmsh.model.geo.synchronize()
@@ -581,12 +584,12 @@ def tetra_mesh(section: Section, thickness: float) -> VolumeMesh:
         if bore_faces:
             groups["BORE"] = gmsh.model.addPhysicalGroup(2, bore_faces)
         gmsh.model.addPhysicalGroup(3, [out[1][1]])
-        _size_field(gmsh, section, outer_lines + hole_lines, [surface, out[0][1]] + sides)
+        size_field(gmsh, section, outer_lines + hole_lines, [surface, out[0][1]] + sides)
         gmsh.option.setNumber("Mesh.Algorithm", 6)
         gmsh.option.setNumber("Mesh.Algorithm3D", 10)  # HXT
         gmsh.option.setNumber("Mesh.Optimize", 1)
         gmsh.model.mesh.generate(3)
-        coords, lookup = _node_table(gmsh)
+        coords, lookup = node_table(gmsh)
         _, node_tags = gmsh.model.mesh.getElementsByType(4)  # 4-node tetrahedra
         tets = lookup[np.asarray(node_tags, dtype=np.int64).reshape(-1, 4)]
         sets = {}
@@ -609,7 +612,7 @@ def tetra_mesh(section: Section, thickness: float) -> VolumeMesh:
     sets["TOP"] = np.flatnonzero(z == thickness)
     sets = {name: sets[name] for name in ("PROFILE", "BORE", "BOTTOM", "TOP") if name in sets}
     faces = np.concatenate([tets[:, [0, 1, 2]], tets[:, [0, 1, 3]], tets[:, [0, 2, 3]], tets[:, [1, 2, 3]]])
-    shortest, longest = _edge_range(coords, tets)
+    shortest, longest = edge_range(coords, tets)
     figures = {"elements": "tetra", "element_count": int(len(tets)), "node_count": int(len(coords)), "layers": 0,
                "element_size_mm": section.h, "least_triangle_angle_deg": float(triangle_angles(coords, faces).min()),
                "least_dihedral_angle_deg": float(tetra_dihedral_angles(coords, tets).min()),
@@ -618,16 +621,12 @@ def tetra_mesh(section: Section, thickness: float) -> VolumeMesh:
 
 
 def volume_mesh(contour: Contour, body: BodySpec, chord_tol: float, element_size: float | None = None,
-                elements: str = "wedge", pockets: "Sequence[Pocket]" = (), cam: str = "cam") -> VolumeMesh:
-    """The FEA mesh of the cam body (see the module notes); with ``pockets``, the body less each
-    pocket (:mod:`camgen.export.fea_pockets`)."""
+                elements: str = "wedge") -> VolumeMesh:
+    """The FEA mesh of the cam body (see the module notes); a body with pockets:
+    :func:`camgen.export.fea_pockets.body_volume_mesh`."""
     if elements not in FEA_ELEMENTS:
         raise ParameterError("fea_elements", elements, f"one of {', '.join(FEA_ELEMENTS)}")
-    section = section_outline(contour, body, chord_tol, element_size, pockets)
-    if pockets:
-        from camgen.export.fea_pockets import pocket_volume_mesh
-
-        return pocket_volume_mesh(section, body, pockets, elements, chord_tol, cam)
+    section = section_outline(contour, body, chord_tol, element_size)
     if elements == "wedge":
         return wedge_mesh(section, body.thickness)
     return tetra_mesh(section, body.thickness)

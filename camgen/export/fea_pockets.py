@@ -40,10 +40,11 @@ from camgen.errors import ExportError, GeometryError
 
 if TYPE_CHECKING:
     from camgen.body import BodySpec
+    from camgen.contour import Contour
     from camgen.export.fea import Section, VolumeMesh
     from camgen.kinds.base import Pocket
 
-__all__ = ["Arrangement", "arrangement", "floor_set_name", "pocket_volume_mesh"]
+__all__ = ["PART_SETS", "Arrangement", "arrangement", "body_volume_mesh", "floor_set_name", "pocket_volume_mesh"]
 
 #: Node-set names of the part (a wall's layer or a floor's set may not take them).
 PART_SETS = ("NALL", "CAM", "PROFILE", "BORE", "BOTTOM", "TOP")
@@ -219,9 +220,9 @@ def _face_triangles(arr: Arrangement, h: float) -> tuple[np.ndarray, np.ndarray,
     """gmsh's Frontal-Delaunay triangulation of the faces with material: points (k, 2) (the loops'
     vertices first, in order), counter-clockwise triangles (t, 3), each triangle's face (t,) and
     each loop's nodes (indices into points)."""
-    from camgen.export.fea import Section, _node_table, _Session, _size_field
+    from camgen.export.fea import Section, node_table, GmshSession, size_field
 
-    with _Session("the section with its pockets") as gmsh:
+    with GmshSession("the section with its pockets") as gmsh:
         geo = gmsh.model.geo
         curve_loops, lines_of = [], []
         first = 1
@@ -242,10 +243,10 @@ def _face_triangles(arr: Arrangement, h: float) -> tuple[np.ndarray, np.ndarray,
         geo.synchronize()
         groups = [gmsh.model.addPhysicalGroup(1, lines) for lines in lines_of]
         # the size field only reads the section's h
-        _size_field(gmsh, Section(arr.polygons[0], None, arr.sizes[0], None, h, 0.0), [t for lines in lines_of for t in lines], [])
+        size_field(gmsh, Section(arr.polygons[0], None, arr.sizes[0], None, h, 0.0), [t for lines in lines_of for t in lines], [])
         gmsh.option.setNumber("Mesh.Algorithm", 6)  # Frontal-Delaunay
         gmsh.model.mesh.generate(2)
-        coords, lookup = _node_table(gmsh)
+        coords, lookup = node_table(gmsh)
         triangles, face = [], []
         for i, surface in surfaces.items():
             _, node_tags = gmsh.model.mesh.getElementsByType(2, surface)
@@ -268,7 +269,7 @@ def _face_triangles(arr: Arrangement, h: float) -> tuple[np.ndarray, np.ndarray,
 
 
 def _wedges(section: "Section", arr: Arrangement, pockets: "Sequence[Pocket]", thickness: float) -> "VolumeMesh":
-    from camgen.export.fea import VolumeMesh, _edge_range, layer_levels, triangle_angles
+    from camgen.export.fea import VolumeMesh, edge_range, layer_levels, triangle_angles
 
     points, triangles, face, loop_nodes = _face_triangles(arr, section.h)
     least = float(triangle_angles(points, triangles).min())
@@ -300,7 +301,7 @@ def _wedges(section: "Section", arr: Arrangement, pockets: "Sequence[Pocket]", t
     if any(np.any(members < 0) for members in sets.values()):
         raise GeometryError("a node set of the pocketed body holds a node of no wedge")  # not expected
     heights = np.diff(levels)
-    shortest, longest = _edge_range(points, triangles)
+    shortest, longest = edge_range(points, triangles)
     figures = {"elements": "wedge", "element_count": int(len(cells)), "node_count": int(len(nodes)), "layers": layers,
                "element_size_mm": section.h, "least_triangle_angle_deg": least,
                "shortest_edge_mm": min(shortest, float(heights.min())), "longest_edge_mm": max(longest, float(heights.max())),
@@ -335,9 +336,9 @@ def _regions(arr: Arrangement, z: float) -> list[tuple[int, list[tuple[int, floa
 
 
 def _tetrahedra(section: "Section", arr: Arrangement, pockets: "Sequence[Pocket]", thickness: float) -> "VolumeMesh":
-    from camgen.export.fea import VolumeMesh, _edge_range, _node_table, _Session, _size_field, tetra_dihedral_angles, triangle_angles
+    from camgen.export.fea import VolumeMesh, edge_range, node_table, GmshSession, size_field, tetra_dihedral_angles, triangle_angles
 
-    with _Session("the body with its pockets") as gmsh:
+    with GmshSession("the body with its pockets") as gmsh:
         geo = gmsh.model.geo
         rings: dict[tuple[int, float], int] = {}  # (loop, height) -> curve loop
         strips: dict[int, list[int]] = {}  # loop -> its quadrilaterals
@@ -379,12 +380,12 @@ def _tetrahedra(section: "Section", arr: Arrangement, pockets: "Sequence[Pocket]
         for p, surface in floors.items():
             groups[floor_set_name(pockets[p])] = (gmsh.model.addPhysicalGroup(2, [surface]), float(thickness - pockets[p].depth))
         gmsh.model.addPhysicalGroup(3, [volume])
-        _size_field(gmsh, section, lines_all, surfaces)
+        size_field(gmsh, section, lines_all, surfaces)
         gmsh.option.setNumber("Mesh.Algorithm", 6)
         gmsh.option.setNumber("Mesh.Algorithm3D", 10)  # HXT
         gmsh.option.setNumber("Mesh.Optimize", 1)
         gmsh.model.mesh.generate(3)
-        coords, lookup = _node_table(gmsh)
+        coords, lookup = node_table(gmsh)
         _, node_tags = gmsh.model.mesh.getElementsByType(4)  # 4-node tetrahedra
         tets = lookup[np.asarray(node_tags, dtype=np.int64).reshape(-1, 4)]
         sets, heights = {}, {}
@@ -409,7 +410,7 @@ def _tetrahedra(section: "Section", arr: Arrangement, pockets: "Sequence[Pocket]
         raise GeometryError("gmsh's tetrahedral mesh has a tetrahedron of no volume")
     tets = np.where((signed < 0)[:, None], tets[:, [1, 0, 2, 3]], tets)
     faces = np.concatenate([tets[:, [0, 1, 2]], tets[:, [0, 1, 3]], tets[:, [0, 2, 3]], tets[:, [1, 2, 3]]])
-    shortest, longest = _edge_range(coords, tets)
+    shortest, longest = edge_range(coords, tets)
     figures = {"elements": "tetra", "element_count": int(len(tets)), "node_count": int(len(coords)), "layers": 0,
                "element_size_mm": section.h, "least_triangle_angle_deg": float(triangle_angles(coords, faces).min()),
                "least_dihedral_angle_deg": float(tetra_dihedral_angles(coords, tets).min()),
@@ -429,3 +430,17 @@ def pocket_volume_mesh(section: "Section", body: "BodySpec", pockets: "Sequence[
     mesh = _wedges(section, arr, pockets, thickness) if elements == "wedge" else _tetrahedra(section, arr, pockets, thickness)
     _check_volume(mesh.nodes, mesh.cells, elements, section, arr, pockets, thickness, cam, chord_tol)
     return mesh
+
+
+def body_volume_mesh(contour: "Contour", body: "BodySpec", chord_tol: float, element_size: float | None = None,
+                     elements: str = "wedge", pockets: "Sequence[Pocket]" = (), cam: str = "cam") -> "VolumeMesh":
+    """The FEA mesh of the cam body with ``pockets`` (none: :func:`camgen.export.fea.volume_mesh`,
+    the prismatic body), at ``chord_tol`` mm, element size ``element_size`` mm (None: the default)."""
+    from camgen.export.fea import FEA_ELEMENTS, section_outline, volume_mesh
+    from camgen.errors import ParameterError
+
+    if not pockets:
+        return volume_mesh(contour, body, chord_tol, element_size, elements)
+    if elements not in FEA_ELEMENTS:
+        raise ParameterError("fea_elements", elements, f"one of {', '.join(FEA_ELEMENTS)}")
+    return pocket_volume_mesh(section_outline(contour, body, chord_tol, element_size, pockets), body, pockets, elements, chord_tol, cam)
