@@ -84,12 +84,13 @@ _FORMATS = (
     OutputFormat("3mf", "{cam}.3mf", "3MF mesh of the body (units mm)", "camgen.writers:mesh", MESH),
     OutputFormat("obj", "{cam}.obj", "Wavefront OBJ mesh of the body", "camgen.writers:mesh", MESH),
     OutputFormat("ply", "{cam}.ply", "binary PLY mesh of the body", "camgen.writers:mesh", MESH),
-    OutputFormat("vtu", "{cam}.vtu", "VTK unstructured grid of the body (FEA: wedges or tetrahedra meshed by gmsh); needs the fea "
-                 "extra (gmsh)", "camgen.export.fea:writer", FEA, keys=_FEA_KEYS),
-    OutputFormat("msh", "{cam}.msh", "Gmsh 2.2 mesh of the body (FEA: wedges or tetrahedra); needs the fea extra (gmsh)",
+    OutputFormat("vtu", "{cam}.vtu", "VTK unstructured grid of the body, pockets cut (FEA: wedges or tetrahedra meshed by gmsh); "
+                 "needs the fea extra (gmsh)", "camgen.export.fea:writer", FEA, keys=_FEA_KEYS),
+    OutputFormat("msh", "{cam}.msh", "Gmsh 2.2 mesh of the body, pockets cut (FEA: wedges or tetrahedra); needs the fea extra (gmsh)",
                  "camgen.export.fea:writer", FEA, keys=_FEA_KEYS),
     OutputFormat("inp", "{cam}.inp", "Abaqus/CalculiX input mesh of the body (FEA: C3D6 or C3D4, node sets PROFILE, BORE with a "
-                 "bore, BOTTOM, TOP); needs the fea extra (gmsh)", "camgen.export.fea:writer", FEA, keys=_FEA_KEYS),
+                 "bore, BOTTOM, TOP, and with pockets one per wall named by its layer and one per floor, e.g. GROOVE_FLOOR); needs "
+                 "the fea extra (gmsh)", "camgen.export.fea:writer", FEA, keys=_FEA_KEYS),
     OutputFormat("step", "{cam}.step", "exact solid (circles and B-splines), AP214, mm; needs the step extra (cadquery-ocp-novtk)",
                  "camgen.writers:step"),
     OutputFormat("ngc", "{cam}.ngc", "RS274/NGC G-code milling the outside profile (LinuxCNC or GRBL)", "camgen.writers:gcode",

@@ -126,22 +126,15 @@ def mesh_stage(cam: "CamResult", output: "OutputSpec", progress: Progress) -> "C
 
 
 def fea_stage(cam: "CamResult", output: "OutputSpec", progress: Progress) -> "CamResult":
-    """``cam`` with its FEA volume mesh (gmsh), made once for every FEA format; a body with
-    pockets is refused (a ParameterError naming ``output.formats``: the FEA meshes are of the
-    prismatic body)."""
-    from camgen.export.fea import volume_mesh
+    """``cam`` with its FEA volume mesh (gmsh), made once for every FEA format: the body with its
+    pockets cut (:mod:`camgen.export.fea_pockets`), or the failure that stopped it."""
+    from camgen.export.fea_pockets import body_volume_mesh
 
     assert cam.contour is not None
-    if cam.pockets:
-        from camgen.export.fea import FEA_FORMATS
-        from camgen.export.pocket import refuse_pocket_format
-
-        fmt = ", ".join([f for f in output.formats if f in FEA_FORMATS] or list(FEA_FORMATS))
-        refuse_pocket_format(cam.name, fmt, cam.pockets, "the FEA meshes are of a prismatic body (the section extruded "
-                             "through the thickness): use the surface meshes (stl, 3mf, obj, ply) or the STEP solid")
     progress(f"FEA mesh of cam '{cam.name}'")
     try:
-        return cam.with_(fea=volume_mesh(cam.contour, cam.body, output.chord_tol, output.fea_element_size, output.fea_elements))
+        return cam.with_(fea=body_volume_mesh(cam.contour, cam.body, output.chord_tol, output.fea_element_size, output.fea_elements,
+                                              cam.pockets, cam.name))
     except GeometryError as exc:
         return cam.with_(mesh_failures=cam.mesh_failures + (_export_failure("fea", exc),))
 

@@ -139,7 +139,8 @@ def check_flat_size(name: str, contour: "Contour", body: "BodySpec", formats: Se
     vertices in a planned point list or surface mesh, or a surface mesh file beyond 100 MB
     (:func:`camgen.export.solid.vertex_limit`; a 200 m cam at 1e-7 mm: 3 million vertices),
     naming ``output.chord_tol_mm`` and the smallest tolerance, as printed, that fits (the
-    ``pockets``' walls counted with the outline); and FEA meshes beyond their caps (:func:`camgen.export.fea.check_caps`, which needs gmsh)."""
+    ``pockets``' walls counted with the outline); and FEA meshes beyond their caps (:func:`camgen.export.fea.check_caps`, which needs gmsh;
+    the walls counted there too)."""
     from camgen.errors import ceil_significant
     from camgen.outputs import FEA_FORMATS, MAX_CHORD_TOL, MESH_FORMATS, OUTPUTS
 
@@ -149,7 +150,7 @@ def check_flat_size(name: str, contour: "Contour", body: "BodySpec", formats: Se
         from camgen.export.fea import check_caps, require_gmsh
 
         require_gmsh(formats)
-        check_caps(contour, body, formats, chord_tol, output.fea_element_size, output.fea_elements, name, MAX_CHORD_TOL)
+        check_caps(contour, body, formats, chord_tol, output.fea_element_size, output.fea_elements, name, MAX_CHORD_TOL, pockets)
     flat = [f for f in formats if f in flattened or f in MESH_FORMATS]
     if not flat:
         return

@@ -32,17 +32,21 @@ def require_module(name: str):
 
 
 def _template_cams():
-    """Every bundled template but the groove cam: the FEA meshes of a body with a pocket are
-    refused (tests/test_pocket_files.py shows it)."""
+    """Every bundled template (the groove cam's body with its groove: tests/test_fea_pockets.py
+    has the pocketed bodies' own tests)."""
     from golden.regenerate import TEMPLATES
 
-    return tuple(t for t in TEMPLATES if t != "groove_cam")
+    return tuple(TEMPLATES)
+
+
+#: The pockets of each template cam (filled by the template_runs fixture).
+POCKETS: dict = {}
 
 
 @pytest.fixture(scope="module")
 def template_runs(tmp_path_factory):
     """Every bundled template run with ``--only inp,msh,vtu`` (the files as a run writes them):
-    {(template, cam): (folder, contour, body, chord_tol, figures)}."""
+    {(template, cam): (folder, contour, body, chord_tol, figures)}; the cams' pockets in POCKETS."""
     require_module("gmsh")
     from camgen.cli import main
     from camgen.kinds import get_kind
@@ -61,6 +65,7 @@ def template_runs(tmp_path_factory):
             cam = get_kind(spec.kind, spec.form).build(spec, frozenset())
             runs[(template, spec.name)] = (folder, cam.contour, cam.body, scene.output.chord_tol,
                                            report["cams"][spec.name]["figures"]["fea_mesh"])
+            POCKETS[(template, spec.name)] = cam.pockets
     return runs
 
 
@@ -71,6 +76,15 @@ def _section_area(contour, body, tol) -> float:
     if body.bore_diameter > 0:
         return _shapely_section(contour, body, tol).area
     return Polygon(contour.flatten(tol)).area
+
+
+def _body_volume(contour, body, tol, pockets=()) -> float:
+    """GEOS's section area x thickness less each pocket's (inside its first wall's polygon,
+    outside the others) area x depth."""
+    from shapely.geometry import Polygon
+
+    cut = sum(Polygon(p.walls[0].contour.flatten(tol), [w.contour.flatten(tol) for w in p.walls[1:]]).area * p.depth for p in pockets)
+    return _section_area(contour, body, tol) * body.thickness - cut
 
 
 def _inp_nodes(text: str) -> dict[int, np.ndarray]:
@@ -105,7 +119,7 @@ TEMPLATE_CAMS = [("default", "stride_length"), ("default", "stride_height"), ("d
                  ("horse_leg", "stride_height"), ("motion_law", "rise_return"), ("tricycle", "steering"), ("plate_cam", "plate"),
                  ("flat_follower", "flat"), ("knife_follower", "knife"), ("oscillating_roller", "rocker"), ("oscillating_flat", "rocker"),
                  ("lift_table", "table"), ("conjugate_cam", "pair_a"), ("conjugate_cam", "pair_b"), ("constant_breadth", "yoke_cam"),
-                 ("linear_cam", "lifter")]
+                 ("linear_cam", "lifter"), ("groove_cam", "track")]
 
 
 def test_every_template_cam_has_fea_files(template_runs):
@@ -118,16 +132,21 @@ def test_calculix_solves_every_templates_inp(template, cam, template_runs, tmp_p
     """CalculiX reads the .inp as written by the run and solves a static case: the bore fixed
     (the BOTTOM face where the cam has no bore), 0.5 N in x and -0.25 N in y on every PROFILE
     node: the reaction is minus the load (equilibrium), CalculiX's element volumes add up to
-    GEOS's section area x thickness.  The .inp names BORE exactly when the cam has a bore, and
-    its header lists the sets it defines."""
+    GEOS's section area x thickness (less each pocket's area x depth).  The .inp names BORE
+    exactly when the cam has a bore, a set per pocket wall and floor, and its header lists the
+    sets it defines."""
     ccx = require_tool("ccx")
     folder, contour, body, tol, figures = template_runs[(template, cam)]
+    pockets = POCKETS[(template, cam)]
     data = (folder / f"{cam}.inp").read_bytes()
     text = data.decode("ascii")
     sets = _inp_sets(text)
-    assert set(sets) == ({"PROFILE", "BORE", "BOTTOM", "TOP"} if body.bore_diameter > 0 else {"PROFILE", "BOTTOM", "TOP"})
+    expected = ["PROFILE", "BORE", "BOTTOM", "TOP"] if body.bore_diameter > 0 else ["PROFILE", "BOTTOM", "TOP"]
+    for pocket in pockets:
+        expected += [w.layer for w in pocket.walls] + [f"{pocket.name.upper()}_FLOOR"]
+    assert list(sets) == expected
     header = re.search(r"^\*\* node sets: (.*)$", text, re.M).group(1)
-    assert re.findall(r"\b([A-Z]+)\b(?: \(|,|$)", header) == ["NALL"] + list(sets)
+    assert re.findall(r"\b([A-Z][A-Z_]*)\b(?: \(|,|$)", header) == ["NALL"] + list(sets)
     fixed = "BORE" if body.bore_diameter > 0 else "BOTTOM"
     n_profile = len(set(sets["PROFILE"]) - set(sets[fixed]))  # a load on a held node goes straight to the support
     dat = _run_ccx(ccx, tmp_path, data, f"""*MATERIAL, NAME=STEEL
@@ -149,8 +168,7 @@ EVOL
 """)
     force = _totals(dat, "force", fixed)
     assert force[:2] == pytest.approx([-0.5 * n_profile, 0.25 * n_profile], rel=1e-6)
-    area = _section_area(contour, body, tol)
-    assert _totals(dat, "volume", "CAM")[0] == pytest.approx(area * body.thickness, rel=1e-6)  # .dat prints 7 digits
+    assert _totals(dat, "volume", "CAM")[0] == pytest.approx(_body_volume(contour, body, tol, pockets), rel=1e-6)  # .dat prints 7 digits
     elements = text.split("*ELEMENT, TYPE=C3D6, ELSET=CAM\n")[1].split("*")[0].splitlines()
     assert figures["element_count"] == len(elements) and all(len(line.split(",")) == 7 for line in elements)
 
@@ -253,8 +271,15 @@ def test_wedge_mesh_quality_from_the_msh(template, cam, template_runs):
     profile = np.array([nodes[i][:2] for i in _inp_sets(text)["PROFILE"]])
     assert _distance_to_polygon(profile, polygon).max() <= 1e-9 * np.abs(polygon).max()
     levels = np.unique(points[:, 2])
-    assert levels == pytest.approx(np.linspace(0.0, body.thickness, figures["layers"] + 1), abs=1e-12)
-    assert figures["layers"] == max(2, math.ceil(body.thickness / size - 1e-9))
+    floors = sorted({body.thickness - p.depth for p in POCKETS[(template, cam)]} - {0.0})
+    if not floors:
+        assert levels == pytest.approx(np.linspace(0.0, body.thickness, figures["layers"] + 1), abs=1e-12)
+        assert figures["layers"] == max(2, math.ceil(body.thickness / size - 1e-9))
+    else:  # the README's rule: a layer boundary at each floor, ceil(length / size) equal layers between
+        breaks = [0.0] + floors + [body.thickness]
+        expected = np.concatenate([np.linspace(a, b, max(1, math.ceil((b - a) / size - 1e-9)) + 1)[:-1]
+                                   for a, b in zip(breaks[:-1], breaks[1:])] + [[body.thickness]])
+        assert levels == pytest.approx(expected, abs=1e-12) and figures["layers"] == len(expected) - 1
 
 
 @pytest.fixture(scope="module")
@@ -411,7 +436,7 @@ def test_estimates_bound_what_is_written(template, cam, template_runs):
     from camgen.export.fea import estimate, file_bytes, section_outline
 
     folder, contour, body, tol, figures = template_runs[(template, cam)]
-    est = estimate(section_outline(contour, body, tol), body.thickness, "wedge")
+    est = estimate(section_outline(contour, body, tol, None, POCKETS[(template, cam)]), body.thickness, "wedge")
     text = (folder / f"{cam}.inp").read_text()
     assert est.nodes >= len(_inp_nodes(text)) and est.elements >= figures["element_count"]
     for fmt in ("inp", "msh", "vtu"):

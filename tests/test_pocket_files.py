@@ -513,7 +513,7 @@ def test_step_body_is_valid_with_the_closed_form_volume(case):
 
 
 # --------------------------------------------------------------------------------------------
-# Through the run: a toy form with a groove gets its files; the lift table and FEA meshes are refused
+# Through the run: a toy form with a groove gets its files; the lift table of a slot is refused
 # --------------------------------------------------------------------------------------------
 def _groove_form():
     """A form registered from the test: the rim circle and a groove between the offsets of the
@@ -641,14 +641,6 @@ def _refused(scene_table, tmp_path, capsys) -> str:
     return err[0]
 
 
-@pytest.mark.parametrize("fmt", ["vtu", "msh", "inp"])
-def test_fea_meshes_are_refused_through_the_cli(fmt, groove_form, tmp_path, capsys):
-    """A body with pockets has no prismatic FEA mesh: exit 2, one line naming output.formats, the
-    format, the cam and why; nothing written."""
-    line = _refused({"output": {"formats": ["dxf", fmt]}, "cams": {"g": GROOVE_CAM}}, tmp_path, capsys)
-    assert "output.formats" in line and fmt in line and "'g'" in line and "pockets" in line and "prismatic" in line
-
-
 def test_lift_table_of_a_slot_beside_the_axis_is_refused_through_the_cli(slot_form, tmp_path, capsys):
     cam = dict(GROOVE_CAM, form="toy_slot")
     line = _refused({"output": {"formats": ["dxf", "lift"]}, "cams": {"s": cam}}, tmp_path, capsys)
@@ -710,7 +702,7 @@ def test_groove_cam_template_files_are_the_pocketed_body(tmp_path):
     and keyway, less the groove: the area between the offsets +-w of the pitch curve is 2 w L
     (Steiner's formula, the walls simple curves), L from the closed-form law; the DXF's wall
     layers and the point list's walls are the form's walls within the chord tolerance; admesh
-    reads the STL; the lift table has a column per wall; the FEA meshes are refused."""
+    reads the STL; the lift table has a column per wall (the FEA meshes: tests/test_fea_pockets.py)."""
     import trimesh
 
     from camgen.export.step import step_volume
@@ -748,16 +740,3 @@ def test_groove_cam_template_files_are_the_pocketed_body(tmp_path):
     path.write_bytes(files["track.stl"])
     out = admesh_clean(require_tool("admesh"), path)
     assert float(re.search(r"Volume\s*:\s*([\d.]+)", out).group(1)) == pytest.approx(exact, rel=max(1e-6, len(mesh.faces) * 2.0**-24))
-
-
-def test_groove_cam_template_fea_is_refused_through_the_cli(tmp_path, capsys):
-    """`camgen run groove_cam.toml --only vtu`: exit 2, one line, nothing written."""
-    from camgen.cli import main
-    from camgen.scene import template_path
-
-    out = tmp_path / "out"
-    assert main(["run", str(template_path("groove_cam")), "-o", str(out), "--only", "vtu"]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith("camgen: error:") and "output.formats" in err[0] and "vtu" in err[0], err
-    assert "'track'" in err[0] and "GROOVE_OUTER" in err[0]
-    assert not out.exists() or not any(out.rglob("*"))

@@ -5,7 +5,9 @@ What is meshed: the section between the profile polygon (``contour.flatten(chord
 same vertices as the point list and the surface meshes, so within ``output.chord_tol_mm`` of
 the exact profile) and the hole (bore polygon plus keyway, :func:`camgen.export.solid.bore_polygon`),
 extruded to the body's thickness.  Every polygon vertex is a node; where a chord is longer than
-the local element size gmsh adds nodes on it (the boundary stays the polygon).
+the local element size gmsh adds nodes on it (the boundary stays the polygon).  A body with
+pockets (a groove, a slot) has each pocket cut from the top face down its depth, its walls'
+polygons at the same tolerance: :mod:`camgen.export.fea_pockets`.
 
 Sizes (mm): the element size ``h`` (``output.fea_element_size_mm``; default
 :func:`default_element_size`, about :data:`DEFAULT_SECTION_ELEMENTS` elements over the section)
@@ -63,7 +65,7 @@ import math
 import zlib
 from dataclasses import dataclass, field
 from types import TracebackType
-from typing import Literal
+from typing import TYPE_CHECKING, Literal, Sequence
 
 import numpy as np
 
@@ -72,13 +74,16 @@ from camgen.contour import Contour
 from camgen.errors import CamgenError, ExportError, GeometryError, ParameterError
 from camgen.export.tables import format_rows
 
+if TYPE_CHECKING:
+    from camgen.kinds.base import Pocket
+
 __all__ = [
     "DEFAULT_SECTION_ELEMENTS", "ESTIMATE_MARGIN", "FEA_ELEMENTS", "FEA_FORMATS", "GRADING", "MAX_BOUNDARY",
-    "MAX_ELEMENT_SIZE", "MAX_FILE_BYTES", "MAX_MESHER_BYTES", "MESHER_BYTES", "MIN_LAYERS", "MeshEstimate",
-    "PER_CIRCLE", "Section", "VolumeMesh", "check_caps", "default_element_size", "estimate", "fea_bytes",
-    "file_bytes", "inp_text", "layer_count", "loop_sizes", "mesher_memory", "msh_text", "planned_load",
-    "require_gmsh", "section_outline", "section_triangles", "tetra_dihedral_angles", "tetra_mesh", "triangle_angles",
-    "volume_mesh", "vtu_bytes", "wedge_mesh", "writer",
+    "MAX_ELEMENT_SIZE", "MAX_FILE_BYTES", "MAX_MESHER_BYTES", "MESHER_BYTES", "MIN_LAYERS", "PER_CIRCLE", "GmshSession",
+    "MeshEstimate", "Section", "VolumeMesh", "check_caps", "default_element_size", "edge_range", "estimate", "fea_bytes",
+    "file_bytes", "inp_text", "layer_count", "layer_levels", "loop_sizes", "mesher_memory", "msh_text", "node_table",
+    "planned_load", "require_gmsh", "section_outline", "section_triangles", "size_field", "tetra_dihedral_angles",
+    "tetra_mesh", "triangle_angles", "volume_mesh", "vtu_bytes", "wedge_mesh", "writer",
 ]
 
 #: Largest ``output.fea_element_size_mm`` (mm).
@@ -162,6 +167,8 @@ class Section:
     hole_sizes: np.ndarray | None
     h: float
     area: float
+    walls: tuple = ()  # (layer, polygon (n, 2), sizes (n,)) of each pocket wall, in the pockets' order
+    floors: tuple = ()  # the height (mm) of each pocket's floor, 0 for a pocket through the body
 
     def loops(self) -> list[tuple[np.ndarray, np.ndarray]]:
         """(polygon, sizes at its vertices) of the profile, then of the hole when there is one."""
@@ -177,24 +184,35 @@ def _shoelace(loop: np.ndarray) -> float:
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
 
 
-def section_outline(contour: Contour, body: BodySpec, chord_tol: float, element_size: float | None = None) -> Section:
-    """The polygons and boundary sizes of the section (see the module notes)."""
-    from camgen.export.solid import bore_polygon
-
+def _contour_sizes(contour: Contour, chord_tol: float, h: float) -> tuple[np.ndarray, np.ndarray]:
+    """The polygon of ``contour`` at ``chord_tol`` and the element size at each of its vertices
+    (:func:`loop_sizes`, the curvature the largest of the vertex's and its two chords' middles)."""
     params = contour.flatten_params(chord_tol)
-    outer = contour.flatten(chord_tol)
-    hole = bore_polygon(body, chord_tol)
-    area = _shoelace(outer) - (_shoelace(hole) if hole is not None else 0.0)
-    h = default_element_size(area) if element_size is None else float(element_size)
+    polygon = contour.flatten(chord_tol)
     ends = np.append(params[1:], contour.n_segments)
     middle = np.mod(0.5 * (params + ends), contour.n_segments)
     at_middle = np.abs(contour.curvature(middle))
     kappa = np.maximum(np.abs(contour.curvature(params)), np.maximum(at_middle, np.roll(at_middle, 1)))
-    outer_sizes = loop_sizes(outer, h, kappa)
+    return polygon, loop_sizes(polygon, h, kappa)
+
+
+def section_outline(contour: Contour, body: BodySpec, chord_tol: float, element_size: float | None = None,
+                    pockets: "Sequence[Pocket]" = ()) -> Section:
+    """The polygons and boundary sizes of the section (see the module notes), with the walls of
+    ``pockets`` (each sized as the profile) and their floors' heights."""
+    from camgen.export.solid import bore_polygon
+
+    outer = contour.flatten(chord_tol)
+    hole = bore_polygon(body, chord_tol)
+    area = _shoelace(outer) - (_shoelace(hole) if hole is not None else 0.0)
+    h = default_element_size(area) if element_size is None else float(element_size)
+    outer, outer_sizes = _contour_sizes(contour, chord_tol, h)
     hole_sizes = None
     if hole is not None:
         hole_sizes = loop_sizes(hole, h, np.full(len(hole), 2.0 / body.bore_diameter))
-    return Section(outer, hole, outer_sizes, hole_sizes, h, area)
+    walls = tuple((wall.layer, *_contour_sizes(wall.contour, chord_tol, h)) for pocket in pockets for wall in pocket.walls)
+    floors = tuple(max(0.0, float(body.thickness - pocket.depth)) for pocket in pockets)
+    return Section(outer, hole, outer_sizes, hole_sizes, h, area, walls, floors)
 
 
 # --------------------------------------------------------------------------------------------
@@ -215,11 +233,30 @@ class MeshEstimate:
     layers: int
     mesher_elements: int
     boundary_nodes: int
+    node_sets: int = 4  # PROFILE, BORE, BOTTOM, TOP and one per pocket wall and floor
 
 
 def layer_count(thickness: float, h: float) -> int:
     """Element layers through ``thickness``: ``max(MIN_LAYERS, ceil(thickness / h))``."""
     return max(MIN_LAYERS, math.ceil(thickness / h - 1e-9))
+
+
+def layer_levels(thickness: float, h: float, floors: Sequence[float] = ()) -> np.ndarray:
+    """Heights (mm, ascending, 0 first and ``thickness`` last) of the layer boundaries of the
+    wedges: without floors ``layer_count(thickness, h)`` equal layers; with pockets' floors
+    (heights in (0, thickness); 0 for a pocket through the body adds none) every floor is a
+    boundary and each interval between two neighbouring boundaries has ``ceil(length / h)``
+    equal layers (at least one; the longest more until there are MIN_LAYERS)."""
+    if not floors:
+        layers = layer_count(thickness, h)
+        return thickness * np.arange(layers + 1) / layers
+    breaks = np.unique(np.concatenate([[0.0, thickness], [f for f in floors if 0.0 < f < thickness]]))
+    lengths = np.diff(breaks)
+    counts = np.maximum(1, np.ceil(lengths / h - 1e-9)).astype(int)
+    while counts.sum() < MIN_LAYERS:
+        counts[int(np.argmax(lengths / counts))] += 1
+    parts = [a + (b - a) * np.arange(n) / n for a, b, n in zip(breaks[:-1], breaks[1:], counts)]
+    return np.concatenate(parts + [[thickness]])
 
 
 def estimate(section: Section, thickness: float, elements: str) -> MeshEstimate:
@@ -233,27 +270,31 @@ def estimate(section: Section, thickness: float, elements: str) -> MeshEstimate:
     chord plus ``V / h^3``.
     """
     h, g = section.h, GRADING
-    loops = section.loops()
+    # a pocket wall lies inside the section: its band is on both sides of it (twice a boundary's)
+    loops = [(loop, sizes, 1.0) for loop, sizes in section.loops()] + [(loop, sizes, 2.0) for _, loop, sizes in section.walls]
     boundary = 0.0
     band2 = 0.0  # sum of l / s_b
     band3 = 0.0  # sum of l / s_b^2
-    for loop, sizes in loops:
+    for loop, sizes, sides in loops:
         chord = np.hypot(*(np.roll(loop, -1, axis=0) - loop).T)
         s = np.minimum(sizes, np.roll(sizes, -1))
         boundary += float(np.sum(np.maximum(1.0, np.ceil(chord / s))))
-        band2 += float(np.sum(chord / s))
+        band2 += sides * float(np.sum(chord / s))
         band3 += float(np.sum(chord / s**2))
+    sets = 4 + len(section.walls) + len(section.floors)
     tri_area = math.sqrt(3.0) / 4.0
     triangles = ESTIMATE_MARGIN * (band2 / (tri_area * g) + section.area / (tri_area * h * h)) + 2.0 * boundary
     section_nodes = 0.5 * triangles + boundary
     if elements == "wedge":
-        layers = layer_count(thickness, h)
+        layers = len(layer_levels(thickness, h, section.floors)) - 1
         return MeshEstimate(math.ceil(section_nodes * (layers + 1)), math.ceil(triangles * layers), layers, math.ceil(triangles),
-                            math.ceil(boundary))
+                            math.ceil(boundary), sets)
     tet_volume = 1.0 / (6.0 * math.sqrt(2.0))
+    # a pocket wall's band counted over the whole thickness, as a side face's: its face (the
+    # pocket's depth) and the material graded from its foot under the floor (the tests compare)
     tets = ESTIMATE_MARGIN * thickness * (band3 / (2.0 * g) + section.area / h**3) / tet_volume
     nodes = tets / 4.0 + section_nodes
-    return MeshEstimate(math.ceil(nodes), math.ceil(tets), 0, math.ceil(tets), math.ceil(boundary))
+    return MeshEstimate(math.ceil(nodes), math.ceil(tets), 0, math.ceil(tets), math.ceil(boundary), sets)
 
 
 def _digits(count: int) -> int:
@@ -272,8 +313,10 @@ def file_bytes(fmt: str, est: MeshEstimate, elements: str, boundary_nodes_per_se
     if fmt == "inp":  # "%d, %.14g, %.14g, %.14g"; "id, n1, ..., nk"; node sets 8 ids to a line
         node_line = idn + 3 * (2 + _coordinate_chars(14)) + 1
         element_line = ide + k * (2 + idn) + 1
-        sets = 3 * est.nodes * (idn + 2)  # PROFILE + BORE + BOTTOM + TOP <= 3 x the nodes
-        return est.nodes * node_line + est.elements * element_line + sets + 4096
+        # a node is in at most two sets (one face of z: BOTTOM, TOP or a floor; one side: PROFILE,
+        # BORE or a wall): 3 x the nodes; each set's header line and note at most 256 characters
+        sets = 3 * est.nodes * (idn + 2)
+        return est.nodes * node_line + est.elements * element_line + sets + 4096 + 256 * max(0, est.node_sets - 4)
     if fmt == "msh":  # "%d %.17g %.17g %.17g"; "id type 2 1 1 n1 ... nk"
         node_line = idn + 3 * (1 + _coordinate_chars(17)) + 1
         element_line = ide + 8 + k * (1 + idn) + 1
@@ -315,7 +358,10 @@ class VolumeMesh:
         "wedge" or "tetra".
     node_sets : dict of str to array
         0-based node indices: ``PROFILE`` (on the profile), ``BORE`` (on the bore and keyway;
-        only with a bore), ``BOTTOM`` (z = 0) and ``TOP`` (z = thickness).
+        only with a bore), ``BOTTOM`` (z = 0) and ``TOP`` (z = thickness); a body with pockets
+        also one per wall (named by its layer: the nodes on the wall's face, from the floor to
+        the top) and one per pocket floor (``<POCKET>_FLOOR``, the nodes on the floor; none for
+        a pocket through the body).
     thickness : float
         Extrusion height, mm.
     layers : int
@@ -332,9 +378,10 @@ class VolumeMesh:
     layers: int
     element_size: float
     figures: dict = field(default_factory=dict)
+    set_notes: dict = field(default_factory=dict)  # what a pocket's node set holds (the .inp's header)
 
 
-class _Session:
+class GmshSession:
     """One gmsh session: initialized quiet, single-threaded, without configuration files, SIGINT
     left alone; finalized on exit.  gmsh's errors become :class:`GeometryError`."""
 
@@ -384,7 +431,7 @@ def _outline_geometry(gmsh, section: Section) -> tuple[int, list[int], list[int]
     return surface, lines[0], lines[1]
 
 
-def _size_field(gmsh, section: Section, curves: list[int], surfaces: list[int]) -> None:
+def size_field(gmsh, section: Section, curves: list[int], surfaces: list[int]) -> None:
     """Background size: gmsh's Extend field (the boundary mesh's sizes grown by GRADING per mm
     up to h)."""
     field = gmsh.model.mesh.field
@@ -400,7 +447,7 @@ def _size_field(gmsh, section: Section, curves: list[int], surfaces: list[int]) 
     gmsh.option.setNumber("Mesh.MeshSizeMax", section.h)
 
 
-def _node_table(gmsh) -> tuple[np.ndarray, np.ndarray]:
+def node_table(gmsh) -> tuple[np.ndarray, np.ndarray]:
     """All nodes: tags (n,) and coordinates (n, 3); and a tag -> row lookup array."""
     tags, coords, _ = gmsh.model.mesh.getNodes()
     tags = np.asarray(tags, dtype=np.int64)
@@ -413,13 +460,13 @@ def section_triangles(section: Section) -> tuple[np.ndarray, np.ndarray]:
     """gmsh's Frontal-Delaunay triangulation of ``section``: points (k, 2) (the profile polygon's
     vertices first, then the hole's, both as given, then the others) and counter-clockwise
     triangles (t, 3)."""
-    with _Session("the section") as gmsh:
+    with GmshSession("the section") as gmsh:
         surface, outer_lines, hole_lines = _outline_geometry(gmsh, section)
         gmsh.model.geo.synchronize()
-        _size_field(gmsh, section, outer_lines + hole_lines, [])
+        size_field(gmsh, section, outer_lines + hole_lines, [])
         gmsh.option.setNumber("Mesh.Algorithm", 6)  # Frontal-Delaunay
         gmsh.model.mesh.generate(2)
-        coords, lookup = _node_table(gmsh)
+        coords, lookup = node_table(gmsh)
         _, node_tags = gmsh.model.mesh.getElementsByType(2)  # 3-node triangles
         triangles = lookup[np.asarray(node_tags, dtype=np.int64).reshape(-1, 3)]
     polygon = section.outer if section.hole is None else np.concatenate([section.outer, section.hole])
@@ -484,7 +531,8 @@ def _boundary_loops(points: np.ndarray, triangles: np.ndarray) -> tuple[np.ndarr
     return on_boundary[outer], on_boundary[~outer]
 
 
-def _edge_range(points: np.ndarray, cells: np.ndarray) -> tuple[float, float]:
+def edge_range(points: np.ndarray, cells: np.ndarray) -> tuple[float, float]:
+    """The shortest and the longest edge (mm) of ``cells`` (m, k) over ``points`` (n, 3)."""
     p = points[cells]
     k = cells.shape[1]
     pairs = [(i, j) for i in range(k) for j in range(i + 1, k)]
@@ -511,7 +559,7 @@ def wedge_mesh(section: Section, thickness: float) -> VolumeMesh:
         sets["BORE"] = (column + holes[None]).ravel()
     sets["BOTTOM"] = np.arange(k)
     sets["TOP"] = layers * k + np.arange(k)
-    shortest, longest = _edge_range(points, triangles)
+    shortest, longest = edge_range(points, triangles)
     figures = {"elements": "wedge", "element_count": int(len(cells)), "node_count": int(len(nodes)), "layers": layers,
                "element_size_mm": section.h, "least_triangle_angle_deg": least,
                "shortest_edge_mm": min(shortest, thickness / layers), "longest_edge_mm": max(longest, thickness / layers),
@@ -522,7 +570,7 @@ def wedge_mesh(section: Section, thickness: float) -> VolumeMesh:
 def tetra_mesh(section: Section, thickness: float) -> VolumeMesh:
     """gmsh's tetrahedral mesh (HXT) of the section extruded to ``thickness``, sizes graded
     from every face."""
-    with _Session("the body") as gmsh:
+    with GmshSession("the body") as gmsh:
         surface, outer_lines, hole_lines = _outline_geometry(gmsh, section)
         out = gmsh.model.geo.extrude([(2, surface)], 0.0, 0.0, thickness)
         gmsh.model.geo.synchronize()
@@ -536,12 +584,12 @@ def tetra_mesh(section: Section, thickness: float) -> VolumeMesh:
         if bore_faces:
             groups["BORE"] = gmsh.model.addPhysicalGroup(2, bore_faces)
         gmsh.model.addPhysicalGroup(3, [out[1][1]])
-        _size_field(gmsh, section, outer_lines + hole_lines, [surface, out[0][1]] + sides)
+        size_field(gmsh, section, outer_lines + hole_lines, [surface, out[0][1]] + sides)
         gmsh.option.setNumber("Mesh.Algorithm", 6)
         gmsh.option.setNumber("Mesh.Algorithm3D", 10)  # HXT
         gmsh.option.setNumber("Mesh.Optimize", 1)
         gmsh.model.mesh.generate(3)
-        coords, lookup = _node_table(gmsh)
+        coords, lookup = node_table(gmsh)
         _, node_tags = gmsh.model.mesh.getElementsByType(4)  # 4-node tetrahedra
         tets = lookup[np.asarray(node_tags, dtype=np.int64).reshape(-1, 4)]
         sets = {}
@@ -564,7 +612,7 @@ def tetra_mesh(section: Section, thickness: float) -> VolumeMesh:
     sets["TOP"] = np.flatnonzero(z == thickness)
     sets = {name: sets[name] for name in ("PROFILE", "BORE", "BOTTOM", "TOP") if name in sets}
     faces = np.concatenate([tets[:, [0, 1, 2]], tets[:, [0, 1, 3]], tets[:, [0, 2, 3]], tets[:, [1, 2, 3]]])
-    shortest, longest = _edge_range(coords, tets)
+    shortest, longest = edge_range(coords, tets)
     figures = {"elements": "tetra", "element_count": int(len(tets)), "node_count": int(len(coords)), "layers": 0,
                "element_size_mm": section.h, "least_triangle_angle_deg": float(triangle_angles(coords, faces).min()),
                "least_dihedral_angle_deg": float(tetra_dihedral_angles(coords, tets).min()),
@@ -574,7 +622,8 @@ def tetra_mesh(section: Section, thickness: float) -> VolumeMesh:
 
 def volume_mesh(contour: Contour, body: BodySpec, chord_tol: float, element_size: float | None = None,
                 elements: str = "wedge") -> VolumeMesh:
-    """The FEA mesh of the cam body (see the module notes)."""
+    """The FEA mesh of the cam body (see the module notes); a body with pockets:
+    :func:`camgen.export.fea_pockets.body_volume_mesh`."""
     if elements not in FEA_ELEMENTS:
         raise ParameterError("fea_elements", elements, f"one of {', '.join(FEA_ELEMENTS)}")
     section = section_outline(contour, body, chord_tol, element_size)
@@ -624,7 +673,8 @@ def inp_text(mesh: VolumeMesh, name: str = "camgen") -> str:
     nodes = format_rows(np.column_stack([ids, _numbers(mesh.nodes)]), "%d, %.14g, %.14g, %.14g")
     k = mesh.cells.shape[1]
     elements = format_rows(np.column_stack([np.arange(1, len(mesh.cells) + 1), mesh.cells + 1]), ", ".join(["%d"] * (k + 1)))
-    sets = ", ".join(["NALL"] + [_SET_NOTES[s] for s in mesh.node_sets])
+    notes = {**_SET_NOTES, **mesh.set_notes}
+    sets = ", ".join(["NALL"] + [notes[s] for s in mesh.node_sets])
     parts = [
         "*HEADING\n",
         f"camgen cam '{name}': {_describe(mesh)}; element size {mesh.element_size:g} mm; units mm\n",
@@ -723,9 +773,14 @@ MAX_MESHER_BYTES = 1_000_000_000
 MAX_BOUNDARY = MAX_FILE_BYTES // (40 * (MIN_LAYERS + 1))
 
 
-def _boundary_count(contour: Contour, body: BodySpec, chord_tol: float) -> int:
-    """Vertices of the profile polygon and the bore circle at ``chord_tol`` (no points made)."""
+def _boundary_count(contour: Contour, body: BodySpec, chord_tol: float, pockets: "Sequence[Pocket]" = ()) -> int:
+    """Vertices of the profile polygon, the pockets' walls and the bore circle at ``chord_tol``
+    (no points made)."""
     count = sum(int(seg.flatten_params(chord_tol).size) for seg in contour.segments)
+    if pockets:
+        from camgen.export.pocket import wall_flat_count
+
+        count += wall_flat_count(pockets, chord_tol)
     if body.bore_diameter > 0:
         r = body.bore_diameter / 2.0
         count += max(8, math.ceil(2.0 * math.pi / (2.0 * math.acos(max(-1.0, 1.0 - chord_tol / r)))))
@@ -733,18 +788,19 @@ def _boundary_count(contour: Contour, body: BodySpec, chord_tol: float) -> int:
 
 
 def planned_load(contour: Contour, body: BodySpec, formats, chord_tol: float, element_size: float | None,
-                 elements: str) -> tuple[dict[str, int], int] | None:
+                 elements: str, pockets: "Sequence[Pocket]" = ()) -> tuple[dict[str, int], int] | None:
     """Estimated bytes of each planned FEA file and gmsh's memory (bytes); None where the
-    boundary alone has more than :data:`MAX_BOUNDARY` vertices."""
-    if _boundary_count(contour, body, chord_tol) > MAX_BOUNDARY:
+    boundary (the pockets' walls counted) alone has more than :data:`MAX_BOUNDARY` vertices."""
+    if _boundary_count(contour, body, chord_tol, pockets) > MAX_BOUNDARY:
         return None
-    section = section_outline(contour, body, chord_tol, element_size)
+    section = section_outline(contour, body, chord_tol, element_size, pockets)
     est = estimate(section, body.thickness, elements)
     return {f: file_bytes(f, est, elements) for f in formats if f in FEA_FORMATS}, mesher_memory(est, elements)
 
 
-def _fits(contour: Contour, body: BodySpec, formats, chord_tol: float, element_size: float | None, elements: str) -> bool:
-    load = planned_load(contour, body, formats, chord_tol, element_size, elements)
+def _fits(contour: Contour, body: BodySpec, formats, chord_tol: float, element_size: float | None, elements: str,
+          pockets: "Sequence[Pocket]" = ()) -> bool:
+    load = planned_load(contour, body, formats, chord_tol, element_size, elements, pockets)
     return load is not None and max(load[0].values(), default=0) <= MAX_FILE_BYTES and load[1] <= MAX_MESHER_BYTES
 
 
@@ -770,33 +826,35 @@ def _least(fits, low: float, high: float) -> float | None:
 
 
 def check_caps(contour: Contour, body: BodySpec, formats, chord_tol: float, element_size: float | None, elements: str,
-               cam: str, max_chord_tol: float) -> None:
+               cam: str, max_chord_tol: float, pockets: "Sequence[Pocket]" = ()) -> None:
     """Refuse FEA formats whose files could exceed :data:`MAX_FILE_BYTES` or whose meshing could
-    take more than :data:`MAX_MESHER_BYTES`, naming the least ``output.chord_tol_mm`` that fits
-    (or, where none does, the least ``output.fea_element_size_mm``)."""
+    take more than :data:`MAX_MESHER_BYTES` (the walls of ``pockets`` counted with the profile),
+    naming the least ``output.chord_tol_mm`` that fits (or, where none does, the least
+    ``output.fea_element_size_mm``)."""
     if not any(f in FEA_FORMATS for f in formats):
         return
-    if _fits(contour, body, formats, chord_tol, element_size, elements):
+    if _fits(contour, body, formats, chord_tol, element_size, elements, pockets):
         return
-    load = planned_load(contour, body, formats, chord_tol, element_size, elements)
+    load = planned_load(contour, body, formats, chord_tol, element_size, elements, pockets)
     if load is None:
-        why = f"its boundary would have {_boundary_count(contour, body, chord_tol)} vertices, more than the {MAX_BOUNDARY} an FEA file may hold"
+        why = (f"its boundary would have {_boundary_count(contour, body, chord_tol, pockets)} vertices, more than the "
+               f"{MAX_BOUNDARY} an FEA file may hold")
     else:
         sizes, memory = load
         worst = max(sizes, key=lambda name: sizes[name])
         why = (f"its {worst} file could reach {sizes[worst] / 1e6:.4g} MB (at most {MAX_FILE_BYTES / 1e6:g} MB) and meshing "
                f"{memory / 1e6:.4g} MB of memory (at most {MAX_MESHER_BYTES / 1e6:g} MB)")
-    least = _least(lambda tol: _fits(contour, body, formats, tol, element_size, elements), chord_tol, max_chord_tol)
+    least = _least(lambda tol: _fits(contour, body, formats, tol, element_size, elements, pockets), chord_tol, max_chord_tol)
     if least is not None:
         raise ParameterError("output.chord_tol_mm", chord_tol, f">= {least:.2g} mm for cam '{cam}' with {', '.join(f for f in formats if f in FEA_FORMATS)}",
                              f"at {chord_tol:g} mm {why}")
     h = element_size if element_size is not None else default_element_size(contour.area)
-    size = _least(lambda value: _fits(contour, body, formats, chord_tol, value, elements), h, MAX_ELEMENT_SIZE)
+    size = _least(lambda value: _fits(contour, body, formats, chord_tol, value, elements, pockets), h, MAX_ELEMENT_SIZE)
     if size is not None:
         raise ParameterError("output.fea_element_size_mm", element_size, f">= {size:.2g} mm for cam '{cam}' at chord_tol_mm = {chord_tol:g}",
                              f"at element size {h:g} mm {why}, at any chord_tol_mm up to {max_chord_tol:g} mm")
     # neither key alone: the least size at the largest tolerance (then the error names the tolerance)
-    size = _least(lambda value: _fits(contour, body, formats, max_chord_tol, value, elements), h, MAX_ELEMENT_SIZE)
+    size = _least(lambda value: _fits(contour, body, formats, max_chord_tol, value, elements, pockets), h, MAX_ELEMENT_SIZE)
     planned = [f for f in formats if f in FEA_FORMATS]
     if size is not None:
         raise ParameterError("output.fea_element_size_mm", element_size, f">= {size:.2g} mm for cam '{cam}', with a larger chord_tol_mm",
