@@ -252,13 +252,13 @@ def _arm_ride(poly: np.ndarray, x: np.ndarray, pivot: tuple[float, float], r: fl
 
 def test_oscillating_roller_rides_the_point_list_and_the_dxf_within_1e_6_rad():
     """An arm pivoted at (90, 40) mm (cw lifts it) swings 12 deg by the cycloidal program; turned
-    down onto the exported point list and onto the DXF's B-splines at 121 travels, it rests at the
+    down onto the exported point list and onto the DXF's B-splines at 61 travels, it rests at the
     closed-form swing within 1e-6 rad.  Its pressure angle (the simulated roller path's normal against the arm's motion,
     finite differences) is the report's."""
     cam = _cam(follower_motion="oscillating", pivot_x_mm=90.0, pivot_y_mm=40.0, swing_turn="cw", segments=_segments(swing=True),
                roller_radius_mm=8.0)
     files = _run({"output": {"formats": ["points", "dxf"], "chord_tol_mm": 2e-7, "dxf_splines": "bspline"}, "cams": {"c": cam}})
-    x = np.linspace(0.0, TRAVEL, 121)
+    x = np.linspace(0.0, TRAVEL, 61)
     swing = _arm_ride(_table(files["c_points.csv"]), x, (90.0, 40.0), 8.0, -1.0)
     expected = np.radians(cycloidal_lift(x, 12.0))
     assert np.max(np.abs(swing - expected)) < 1e-6, float(np.max(np.abs(swing - expected)))

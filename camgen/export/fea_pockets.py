@@ -374,7 +374,8 @@ def _tetrahedra(section: "Section", arr: Arrangement, pockets: "Sequence[Pocket]
         surfaces = [s for faces in strips.values() for s in faces] + [s for faces in horizontal.values() for s in faces]
         volume = geo.addVolume([geo.addSurfaceLoop(surfaces)])
         geo.synchronize()
-        groups = {name: (gmsh.model.addPhysicalGroup(2, strips[i]), None) for i, name in enumerate(arr.names)}
+        groups: dict[str, tuple[int, float | None]] = {name: (gmsh.model.addPhysicalGroup(2, strips[i]), None)
+                                                       for i, name in enumerate(arr.names)}
         groups["BOTTOM"] = (gmsh.model.addPhysicalGroup(2, horizontal[0.0]), 0.0)
         groups["TOP"] = (gmsh.model.addPhysicalGroup(2, horizontal[float(thickness)]), float(thickness))
         for p, surface in floors.items():
@@ -388,16 +389,17 @@ def _tetrahedra(section: "Section", arr: Arrangement, pockets: "Sequence[Pocket]
         coords, lookup = node_table(gmsh)
         _, node_tags = gmsh.model.mesh.getElementsByType(4)  # 4-node tetrahedra
         tets = lookup[np.asarray(node_tags, dtype=np.int64).reshape(-1, 4)]
-        sets, heights = {}, {}
-        for name, (group, z) in groups.items():
+        sets: dict[str, np.ndarray] = {}
+        heights: dict[str, float | None] = {}
+        for name, (group, level) in groups.items():
             tags, _ = gmsh.model.mesh.getNodesForPhysicalGroup(2, group)
             sets[name] = np.unique(lookup[np.asarray(tags, dtype=np.int64)])
-            heights[name] = z
-    for name, z in heights.items():  # the nodes of a horizontal face at its height exactly (gmsh's plane maps round off)
-        if z is not None:
-            if np.max(np.abs(coords[sets[name], 2] - z), initial=0.0) > 1e-9 * max(1.0, thickness):
-                raise GeometryError(f"gmsh put a node of {name} off its plane z = {z:g}")  # not expected
-            coords[sets[name], 2] = z
+            heights[name] = level
+    for name, level in heights.items():  # the nodes of a horizontal face at its height exactly (gmsh's plane maps round off)
+        if level is not None:
+            if np.max(np.abs(coords[sets[name], 2] - level), initial=0.0) > 1e-9 * max(1.0, thickness):
+                raise GeometryError(f"gmsh put a node of {name} off its plane z = {level:g}")  # not expected
+            coords[sets[name], 2] = level
     used = np.unique(tets)
     if used.size != len(coords):  # nodes of no tetrahedron (none expected): drop them
         remap = np.full(len(coords), -1, dtype=np.int64)
