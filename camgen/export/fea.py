@@ -65,7 +65,7 @@ import math
 import zlib
 from dataclasses import dataclass, field
 from types import TracebackType
-from typing import TYPE_CHECKING, Literal, Sequence
+from typing import TYPE_CHECKING, Any, Iterable, Literal, Sequence
 
 import numpy as np
 
@@ -80,6 +80,7 @@ if TYPE_CHECKING:
 __all__ = [
     "DEFAULT_SECTION_ELEMENTS", "ESTIMATE_MARGIN", "FEA_ELEMENTS", "FEA_FORMATS", "GRADING", "MAX_BOUNDARY",
     "MAX_ELEMENT_SIZE", "MAX_FILE_BYTES", "MAX_MESHER_BYTES", "MESHER_BYTES", "MIN_LAYERS", "PER_CIRCLE", "GmshSession",
+    "add_polygon_loops",
     "MeshEstimate", "Section", "VolumeMesh", "check_caps", "default_element_size", "edge_range", "estimate", "fea_bytes",
     "file_bytes", "inp_text", "layer_count", "layer_levels", "loop_sizes", "mesher_memory", "msh_text", "node_table",
     "planned_load", "require_gmsh", "section_outline", "section_triangles", "size_field", "tetra_dihedral_angles",
@@ -412,10 +413,22 @@ def _outline_geometry(gmsh, section: Section) -> tuple[int, list[int], list[int]
     of the section in gmsh's built-in kernel: the surface tag, the profile's and the hole's
     line tags.  gmsh's API adds one point or line per call: a loop over the vertices."""
     geo = gmsh.model.geo
+    loops, lines = add_polygon_loops(geo, section.loops())
+    if section.hole is None:
+        lines.append([])
+    surface = geo.addPlaneSurface(loops)
+    return surface, lines[0], lines[1]
+
+
+def add_polygon_loops(geo: Any, polygons: "Iterable[tuple[np.ndarray, np.ndarray]]") -> tuple[list[int], list[list[int]]]:
+    """Each (polygon (n, 2) mm, sizes (n,) mm) in gmsh's built-in kernel ``geo``: a point per
+    vertex with its size, a line per edge, a curve loop; the point and line tags run from 1
+    in polygon order.  Returns the curve loops' tags and each polygon's line tags.  gmsh's API
+    adds one point or line per call: a loop over the vertices."""
     loops: list[int] = []
     lines: list[list[int]] = []
     first = 1
-    for loop, sizes in section.loops():
+    for loop, sizes in polygons:
         n = len(loop)
         tags = list(range(first, first + n))
         for tag, (x, y), size in zip(tags, loop.tolist(), sizes.tolist()):
@@ -425,10 +438,7 @@ def _outline_geometry(gmsh, section: Section) -> tuple[int, list[int], list[int]
         loops.append(geo.addCurveLoop(tags))
         lines.append(tags)
         first += n
-    if section.hole is None:
-        lines.append([])
-    surface = geo.addPlaneSurface(loops)
-    return surface, lines[0], lines[1]
+    return loops, lines
 
 
 def size_field(gmsh, section: Section, curves: list[int], surfaces: list[int]) -> None:

@@ -220,22 +220,11 @@ def _face_triangles(arr: Arrangement, h: float) -> tuple[np.ndarray, np.ndarray,
     """gmsh's Frontal-Delaunay triangulation of the faces with material: points (k, 2) (the loops'
     vertices first, in order), counter-clockwise triangles (t, 3), each triangle's face (t,) and
     each loop's nodes (indices into points)."""
-    from camgen.export.fea import Section, node_table, GmshSession, size_field
+    from camgen.export.fea import GmshSession, Section, add_polygon_loops, node_table, size_field
 
     with GmshSession("the section with its pockets") as gmsh:
         geo = gmsh.model.geo
-        curve_loops, lines_of = [], []
-        first = 1
-        for polygon, sizes in zip(arr.polygons, arr.sizes):
-            n = len(polygon)
-            tags = list(range(first, first + n))
-            for tag, (x, y), size in zip(tags, polygon.tolist(), sizes.tolist()):
-                geo.addPoint(x, y, 0.0, size, tag)
-            for i, tag in enumerate(tags):
-                geo.addLine(tag, tags[(i + 1) % n], tag)
-            curve_loops.append(geo.addCurveLoop(tags))
-            lines_of.append(tags)
-            first += n
+        curve_loops, lines_of = add_polygon_loops(geo, zip(arr.polygons, arr.sizes))
         surfaces = {}
         for i in range(len(arr.polygons)):
             if arr.top[i] > 0.0:
