@@ -329,3 +329,16 @@ def oscillating_flat(cam, theta, pivot, face_offset: float, rest_angle: float, l
 
     t, psi = _newton_2d(cam, sigma * theta, params[best], value.copy(), system)
     return (psi, t) if return_param else psi
+
+
+def polygon_distance(pts: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """The distance (M,) from each point (M, 2) to the closed polygon ``pts`` (N, 2): to every
+    edge, brute force in chunks."""
+    a, b = pts, np.roll(pts, -1, axis=0)
+    edge = b - a
+    out = np.empty(len(points))
+    for sl in _chunks(len(points), len(pts)):
+        rel = points[sl, None, :] - a[None]
+        u = np.clip(np.sum(rel * edge[None], axis=-1) / np.sum(edge * edge, axis=-1)[None], 0.0, 1.0)
+        out[sl] = np.min(np.hypot(*(rel - u[..., None] * edge[None]).transpose(2, 0, 1)), axis=1)
+    return out

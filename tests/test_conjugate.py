@@ -178,18 +178,6 @@ def gap_exact(contour, c: np.ndarray) -> np.ndarray:
     return np.hypot(*(x - c).T)
 
 
-def gap_polygon(pts: np.ndarray, c: np.ndarray) -> np.ndarray:
-    """Distance (mm) from each point c (M, 2) to the closed polygon pts (its nearest edge)."""
-    a, b = pts, np.roll(pts, -1, axis=0)
-    d = b - a
-    out = np.empty(len(c))
-    for sl in ride._chunks(len(c), len(pts)):
-        rel = c[sl, None, :] - a[None]
-        w = np.clip(np.sum(rel * d[None], axis=-1) / np.sum(d * d, axis=-1)[None], 0.0, 1.0)
-        out[sl] = np.min(np.hypot(*(rel - w[..., None] * d[None]).transpose(2, 0, 1)), axis=1)
-    return out
-
-
 def ride_a(name: str, cam, theta, polygon: bool = False) -> np.ndarray:
     """Roller A's position on cam A: its centre's height (mm) or arm A's angle (rad)."""
     f = follower_a(name)
@@ -267,7 +255,7 @@ def test_follower_rides_both_point_lists(name):
     assert np.max(error(name, ride_a(name, pts_a, theta, polygon=True), want_a)) <= TOL
     assert np.max(error(name, ride_b(name, pts_b, theta, polygon=True), want_b)) <= TOL
     r_b, _ = roller_b(name)
-    gap = gap_polygon(pts_b, to_cam(centres(name, theta)[1], theta, f.sigma)) - r_b
+    gap = ride.polygon_distance(pts_b, to_cam(centres(name, theta)[1], theta, f.sigma)) - r_b
     assert np.max(np.abs(gap + PAIRS[name].get("conjugate_preload_mm", 0.0))) <= TOL
 
 

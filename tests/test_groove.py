@@ -109,18 +109,6 @@ def nearest_distance(contour, points: np.ndarray) -> np.ndarray:
     return np.hypot(*(q - points).T)
 
 
-def polygon_distance(pts: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """The distance from each point to the closed polygon ``pts`` (its edges)."""
-    a, b = pts, np.roll(pts, -1, axis=0)
-    edge = b - a
-    out = np.empty(len(points))
-    for sl in ride._chunks(len(points), len(pts)):
-        rel = points[sl, None, :] - a[None]
-        u = np.clip(np.sum(rel * edge[None], axis=-1) / np.sum(edge * edge, axis=-1)[None], 0.0, 1.0)
-        out[sl] = np.min(np.hypot(*(rel - u[..., None] * edge[None]).transpose(2, 0, 1)), axis=1)
-    return out
-
-
 def angles(law, count: int) -> np.ndarray:
     brk = np.asarray(law.breaks)
     return np.concatenate([np.linspace(0.0, TWO_PI, count, endpoint=False) + math.radians(0.137), brk + 1e-4, brk - 1e-4])
@@ -172,7 +160,7 @@ def test_the_point_list_holds_both_walls_within_the_chord_tolerance(name, rotati
     w = f.roller_radius + CLEARANCE / 2
     for layer in ("GROOVE_INNER", "GROOVE_OUTER"):
         pts = frame.loc[frame["wall"] == layer, ["x_mm", "y_mm"]].to_numpy()
-        error = np.abs(polygon_distance(pts, centre) - w)
+        error = np.abs(ride.polygon_distance(pts, centre) - w)
         assert np.max(error) <= CHORD_TOL * 1.01, layer
         assert np.max(error) > 0.05 * CHORD_TOL  # the tolerance is used: the chords are felt
     if f.motion == "translating":  # the inner polygon ridden by the simulator, as a plate cam's is

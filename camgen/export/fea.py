@@ -80,7 +80,7 @@ if TYPE_CHECKING:
 __all__ = [
     "DEFAULT_SECTION_ELEMENTS", "ESTIMATE_MARGIN", "FEA_ELEMENTS", "FEA_FORMATS", "GRADING", "MAX_BOUNDARY",
     "MAX_ELEMENT_SIZE", "MAX_FILE_BYTES", "MAX_MESHER_BYTES", "MESHER_BYTES", "MIN_LAYERS", "PER_CIRCLE", "GmshSession",
-    "add_polygon_loops",
+    "add_polygon_loops", "tetra_figures", "tidy_tetrahedra",
     "MeshEstimate", "Section", "VolumeMesh", "check_caps", "default_element_size", "edge_range", "estimate", "fea_bytes",
     "file_bytes", "inp_text", "layer_count", "layer_levels", "loop_sizes", "mesher_memory", "msh_text", "node_table",
     "planned_load", "require_gmsh", "section_outline", "section_triangles", "size_field", "tetra_dihedral_angles",
@@ -606,28 +606,42 @@ def tetra_mesh(section: Section, thickness: float) -> VolumeMesh:
         for name, group in groups.items():
             tags, _ = gmsh.model.mesh.getNodesForPhysicalGroup(2, group)
             sets[name] = np.unique(lookup[np.asarray(tags, dtype=np.int64)])
+    coords, tets, sets = tidy_tetrahedra(coords, tets, sets)
+    z = coords[:, 2]
+    sets["BOTTOM"] = np.flatnonzero(z == 0.0)
+    sets["TOP"] = np.flatnonzero(z == thickness)
+    sets = {name: sets[name] for name in ("PROFILE", "BORE", "BOTTOM", "TOP") if name in sets}
+    return VolumeMesh(coords, np.ascontiguousarray(tets, dtype=np.int64), "tetra", sets, thickness, 0, section.h,
+                      tetra_figures(coords, tets, section.h))
+
+
+def tidy_tetrahedra(coords: np.ndarray, tets: np.ndarray, sets: dict[str, np.ndarray]
+                    ) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
+    """gmsh's tetrahedra (t, 4) over nodes ``coords`` (n, 3) and node ``sets``: the nodes of no
+    tetrahedron dropped (none expected) and every tetrahedron turned to a positive volume;
+    :class:`GeometryError` for one of no volume."""
     used = np.unique(tets)
-    if used.size != len(coords):  # nodes of no tetrahedron (none expected): drop them
+    if used.size != len(coords):
         remap = np.full(len(coords), -1, dtype=np.int64)
         remap[used] = np.arange(used.size)
         coords, tets = coords[used], remap[tets]
         sets = {name: remap[members][remap[members] >= 0] for name, members in sets.items()}
     p = coords[tets]
     volume = np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]))
-    tets = np.where((volume < 0)[:, None], tets[:, [1, 0, 2, 3]], tets)
     if np.any(volume == 0):
         raise GeometryError("gmsh's tetrahedral mesh has a tetrahedron of no volume")
-    z = coords[:, 2]
-    sets["BOTTOM"] = np.flatnonzero(z == 0.0)
-    sets["TOP"] = np.flatnonzero(z == thickness)
-    sets = {name: sets[name] for name in ("PROFILE", "BORE", "BOTTOM", "TOP") if name in sets}
+    return coords, np.where((volume < 0)[:, None], tets[:, [1, 0, 2, 3]], tets), sets
+
+
+def tetra_figures(coords: np.ndarray, tets: np.ndarray, h: float) -> dict[str, Any]:
+    """report.json's figures of a tetrahedral mesh: counts, element size ``h`` (mm), least
+    face and dihedral angles (deg), shortest and longest edge (mm)."""
     faces = np.concatenate([tets[:, [0, 1, 2]], tets[:, [0, 1, 3]], tets[:, [0, 2, 3]], tets[:, [1, 2, 3]]])
     shortest, longest = edge_range(coords, tets)
-    figures = {"elements": "tetra", "element_count": int(len(tets)), "node_count": int(len(coords)), "layers": 0,
-               "element_size_mm": section.h, "least_triangle_angle_deg": float(triangle_angles(coords, faces).min()),
-               "least_dihedral_angle_deg": float(tetra_dihedral_angles(coords, tets).min()),
-               "shortest_edge_mm": shortest, "longest_edge_mm": longest}
-    return VolumeMesh(coords, np.ascontiguousarray(tets, dtype=np.int64), "tetra", sets, thickness, 0, section.h, figures)
+    return {"elements": "tetra", "element_count": int(len(tets)), "node_count": int(len(coords)), "layers": 0,
+            "element_size_mm": h, "least_triangle_angle_deg": float(triangle_angles(coords, faces).min()),
+            "least_dihedral_angle_deg": float(tetra_dihedral_angles(coords, tets).min()),
+            "shortest_edge_mm": shortest, "longest_edge_mm": longest}
 
 
 def volume_mesh(contour: Contour, body: BodySpec, chord_tol: float, element_size: float | None = None,

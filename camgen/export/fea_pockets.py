@@ -325,7 +325,7 @@ def _regions(arr: Arrangement, z: float) -> list[tuple[int, list[tuple[int, floa
 
 
 def _tetrahedra(section: "Section", arr: Arrangement, pockets: "Sequence[Pocket]", thickness: float) -> "VolumeMesh":
-    from camgen.export.fea import VolumeMesh, edge_range, node_table, GmshSession, size_field, tetra_dihedral_angles, triangle_angles
+    from camgen.export.fea import GmshSession, VolumeMesh, node_table, size_field, tetra_figures, tidy_tetrahedra
 
     with GmshSession("the body with its pockets") as gmsh:
         geo = gmsh.model.geo
@@ -389,23 +389,8 @@ def _tetrahedra(section: "Section", arr: Arrangement, pockets: "Sequence[Pocket]
             if np.max(np.abs(coords[sets[name], 2] - level), initial=0.0) > 1e-9 * max(1.0, thickness):
                 raise GeometryError(f"gmsh put a node of {name} off its plane z = {level:g}")  # not expected
             coords[sets[name], 2] = level
-    used = np.unique(tets)
-    if used.size != len(coords):  # nodes of no tetrahedron (none expected): drop them
-        remap = np.full(len(coords), -1, dtype=np.int64)
-        remap[used] = np.arange(used.size)
-        coords, tets = coords[used], remap[tets]
-        sets = {name: remap[members][remap[members] >= 0] for name, members in sets.items()}
-    p = coords[tets]
-    signed = np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]))
-    if np.any(signed == 0):
-        raise GeometryError("gmsh's tetrahedral mesh has a tetrahedron of no volume")
-    tets = np.where((signed < 0)[:, None], tets[:, [1, 0, 2, 3]], tets)
-    faces = np.concatenate([tets[:, [0, 1, 2]], tets[:, [0, 1, 3]], tets[:, [0, 2, 3]], tets[:, [1, 2, 3]]])
-    shortest, longest = edge_range(coords, tets)
-    figures = {"elements": "tetra", "element_count": int(len(tets)), "node_count": int(len(coords)), "layers": 0,
-               "element_size_mm": section.h, "least_triangle_angle_deg": float(triangle_angles(coords, faces).min()),
-               "least_dihedral_angle_deg": float(tetra_dihedral_angles(coords, tets).min()),
-               "shortest_edge_mm": shortest, "longest_edge_mm": longest}
+    coords, tets, sets = tidy_tetrahedra(coords, tets, sets)
+    figures = tetra_figures(coords, tets, section.h)
     return VolumeMesh(coords, np.ascontiguousarray(tets, dtype=np.int64), "tetra", _ordered_sets(sets, pockets), thickness, 0,
                       section.h, figures, _notes(pockets, thickness))
 
