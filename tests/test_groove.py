@@ -289,6 +289,7 @@ def test_the_walls_the_rim_and_the_floor_are_checked(tmp_path):
     ({"follower": "knife"}, "cams.g.follower"),
     ({"sizing": "base_radius"}, "cams.g.base_radius_mm"),
     ({"groove_clearance_mm": -0.1}, "cams.g.groove_clearance_mm"),
+    ({"base_radius_mm": 0.02, "groove_clearance_mm": 0.05}, "cams.g.base_radius_mm"),  # the inner wall's base circle: 0.02 - 0.025
 ])
 def test_bad_groove_input_is_refused_naming_the_key(tmp_path, extra, key):
     import subprocess

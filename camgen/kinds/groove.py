@@ -136,6 +136,12 @@ def groove_spec(where: str, spec: CamSpec, parsed: Mapping[str, Any]) -> CamSpec
     if depth is not None and not depth < thickness:
         raise ParameterError(f"{where}.groove_depth_mm", depth, f"0 < groove_depth_mm < thickness_mm = {thickness:g} mm",
                              "the groove is cut into the plate, not through it")
+    half = 0.5 * parsed["groove_clearance"]
+    if not p.follower.base_radius - half > 0.0:  # the inner wall's base circle lies c / 2 inside the base radius
+        if p.sizing == "none":
+            raise ParameterError(f"{where}.base_radius_mm", p.follower.base_radius, f"> groove_clearance_mm / 2 = {half:g} mm",
+                                 "the groove's inner wall lies half the clearance inside the base circle")
+        p = replace(p, follower=replace(p.follower, base_radius=half + 1.0))  # sizing's starting placeholder, clear of it
     params = GrooveParams(**{f: getattr(p, f) for f in p.__dataclass_fields__}, clearance=parsed["groove_clearance"],
                           depth=depth, rim_radius=parsed.get("rim_radius"))
     return replace(spec, params=params)
