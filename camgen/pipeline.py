@@ -18,6 +18,7 @@ from camgen.planning import Plan, check_flat_size, claim_file, plan_run
 
 if TYPE_CHECKING:
     from camgen.checks import CheckResult
+    from camgen.forms.base import CamForm
     from camgen.jobs.base import JobResult
     from camgen.outputs import OutputSpec
     from camgen.results import CamResult, MadeFiles, RunResult
@@ -94,10 +95,17 @@ def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> "RunResu
         by_name = {name: _overlay(cam, job) for name, cam in by_name.items()}
     cams = list(by_name.values())
     for stage in CAM_STAGES:  # the per-cam stages the planned outputs need (camgen.outputs)
-        if stage.name in plan.stages:
-            run_stage = _load(stage.runner)
-            cams = [run_stage(cam, scene.output, progress) if cam.manufacturable else cam for cam in cams]
+        if stage.name in plan.stages:  # a form may run a stage its own way (CamForm.stages)
+            cams = [_load(_form_of(cam).stages.get(stage.name, stage.runner))(cam, scene.output, progress) if cam.manufacturable
+                    else cam for cam in cams]
     return RunResult(scene, plan, tuple(cams), frozen_mapping(jobs))
+
+
+def _form_of(cam: "CamResult") -> "CamForm":
+    """The registered form of ``cam`` (its own writers and stage runners)."""
+    from camgen.forms import get_form
+
+    return get_form(cam.spec.form)
 
 
 def _load(reference: str) -> Callable[..., Any]:
@@ -161,9 +169,10 @@ def _made(cam: "CamResult", plan: Plan, settings: "RunSettings", progress: Progr
         if blocked and output.manufacturing:
             continue
         progress(f"writing {path}")
-        assert output.writer is not None, f"per-cam format {name!r} has no writer"
+        writer = _form_of(cam).writers.get(name, output.writer)  # a form may write a format its own way (CamForm.writers)
+        assert writer is not None, f"per-cam format {name!r} has no writer"
         try:
-            files[path] = _load(output.writer)(cam, settings, name)
+            files[path] = _load(writer)(cam, settings, name)
         except GeometryError as exc:  # the cam cannot be made this way: a failed check
             failures.append(_export_failure(name, exc, blocks_manufacture=output.manufacturing))
             if output.manufacturing:

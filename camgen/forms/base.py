@@ -42,6 +42,12 @@ class CamForm:
         that clashes); None: the scene cam is one body.
     formats_refused : output format -> why this form's cams cannot have it (a polar lift table of
         a body that turns about no axis); a run asking for one is refused naming ``output.formats``.
+    writers : output format -> ``"module:function"`` writing that format for this form's cams
+        instead of the registered writer (:data:`camgen.outputs.OUTPUTS`), with its signature: a
+        body that is not a plate with pockets (a barrel cam) writes its own drawing and program.
+    stages : per-cam stage name (:data:`camgen.outputs.CAM_STAGES`) -> ``"module:function"``
+        running that stage for this form's cams instead of the registered runner (a barrel cam's
+        solid is not an extruded outline).
     """
 
     name: str
@@ -54,3 +60,5 @@ class CamForm:
     report_section: str = ""
     expand: "Callable[[CamSpec], tuple[CamSpec, ...]] | None" = None
     formats_refused: Mapping[str, str] = field(default_factory=dict)
+    writers: Mapping[str, str] = field(default_factory=dict)
+    stages: Mapping[str, str] = field(default_factory=dict)
