@@ -236,11 +236,11 @@ def _dxf_profile(cam):
     return np.array(spline.knots), np.array(spline.control_points)[:, :2]
 
 
-def _dop853_ride_on(knots, controls, periods=10):
+def _dop853_ride_on(knots, controls, periods=10, rod_radius=1.5):
     """Lateral error (mm) over one period and over ``periods`` of the ride on a cam given as a
     clamped cubic B-spline (scipy evaluates it), by DOP853, independent of camgen's ride code.
 
-    The rod (r_d = 1.5 mm) touches the cam at C(t) with its centre at C + r_d n; at cam angle
+    The rod (r_d = ``rod_radius``, 1.5 mm) touches the cam at C(t) with its centre at C + r_d n; at cam angle
     theta its centre is on the ray at polar angle -theta (brentq on the spline parameter).
     Table 2 device, eq. (1) steering, drive wheel A at D to the left of O_AB.  To keep DOP853's
     errors far below 1e-8 mm the state is the design point x_d(theta) (it moves along
@@ -258,20 +258,25 @@ def _dop853_ride_on(knots, controls, periods=10):
     k = a_ * w
     curve = BSpline(knots, controls, 3)
     d1 = curve.derivative()
-    big_l, big_d, lever, rd = 77.0, 50.0, 30.0, 1.5
+    big_l, big_d, lever, rd = 77.0, 50.0, 30.0, rod_radius
 
-    def rod(t):
+    span = knots[-1] - knots[0]
+
+    def rod(t):  # the closed curve: t wraps around its parameter range
+        t = knots[0] + np.mod(t - knots[0], span)
         p, v = curve(t), d1(t)
         return p + rd * np.stack([v[..., 1], -v[..., 0]], -1) / np.hypot(v[..., 0], v[..., 1])[..., None]
 
     grid = np.linspace(knots[0], knots[-1], 20001)
     angle = np.unwrap(np.arctan2(*rod(grid).T[::-1]))
     assert np.all(np.diff(angle) > 0)  # the rod-centre path is star-shaped
+    step = grid[1] - grid[0]
 
     def rod_distance(theta):
         phi = angle[0] + np.mod(-theta - angle[0], 2 * math.pi)
-        i = int(np.clip(np.searchsorted(angle, phi), 1, grid.size - 1))
-        t = brentq(lambda t: math.sin(math.atan2(*rod(t)[::-1]) - phi), grid[max(i - 2, 0)], grid[min(i + 1, grid.size - 1)], xtol=1e-15)
+        i = int(np.clip(np.searchsorted(angle, phi), 0, grid.size - 1))
+        # the root lies within a grid step of grid[i]: bracket it two steps either side (across the closing point too)
+        t = brentq(lambda t: math.sin(math.atan2(*rod(t)[::-1]) - phi), grid[i] - 2 * step, grid[i] + 2 * step, xtol=1e-15)
         return float(np.hypot(*rod(t)))
 
     speed = 4000 / math.pi * math.sqrt(1 + k * k) * ellipe(k * k / (1 + k * k)) / (2 * math.pi)

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, Any, Mapping
+from typing import TYPE_CHECKING, Any, Mapping, Protocol
 
 import numpy as np
 
@@ -34,11 +34,12 @@ from camgen.kinds.disk import DiskCam, DiskParams, build_disk, follower_keys, pr
 from camgen.schema import Key, Length
 
 if TYPE_CHECKING:
+    from camgen.body import BodySpec
     from camgen.checks import CamEvaluation, CheckResult
     from camgen.contour import Contour
 
-__all__ = ["DEFAULT_CLEARANCE", "GrooveCam", "GrooveParams", "build_groove", "evaluate_groove", "groove_keys", "groove_kinematics", "roller_keys",
-           "groove_spec"]
+__all__ = ["DEFAULT_CLEARANCE", "GrooveBody", "GrooveCam", "GrooveParams", "build_groove", "evaluate_groove", "groove_keys", "groove_kinematics",
+           "groove_tool_check", "groove_wall_checks", "max_radius", "read_groove_depth", "rim_circle", "rim_radius_for", "roller_keys", "groove_spec"]
 
 #: Default ``groove_clearance_mm``: the groove's width less the roller's diameter (mm); a running
 #: fit for a track roller (a few hundredths of a millimetre).
@@ -58,11 +59,12 @@ CROSSOVER_BISECTIONS = 40
 RADIUS_CHORD_TOL = 1e-4
 
 
-def groove_keys() -> tuple[Key, ...]:
-    """The groove's own keys (the follower's are the plate cam's, rollers only)."""
+def groove_keys(radius_key: str = "roller_radius_mm", roller: str = "roller") -> tuple[Key, ...]:
+    """The groove's own keys (the follower's are the plate cam's, rollers only; a steering cam's
+    rod is its ``radius_key``, ``rod_radius_mm``)."""
     return (
-        Key("groove_clearance_mm", Length(0.0, 100.0, low_open=False), "Groove width less the roller diameter: the walls are "
-            "the envelopes of a roller of radius roller_radius_mm + clearance / 2 on both sides of the pitch curve.",
+        Key("groove_clearance_mm", Length(0.0, 100.0, low_open=False), f"Groove width less the {roller} diameter: the walls are "
+            f"the envelopes of a {roller} of radius {radius_key} + clearance / 2 on both sides of the pitch curve.",
             ("profile",), default=DEFAULT_CLEARANCE, example=0.1),
         Key("groove_depth_mm", Length(high=1e4), "Depth of the groove below the plate's top face (< thickness_mm; default: "
             "half the thickness; the DXF states it).", ("thickness", "dxf"), example=4.0),
@@ -128,14 +130,20 @@ class GrooveCam(DiskCam):
     roller: Any  # the FollowerSpec of the real roller (radius r): drawings, dynamics
 
 
-def groove_spec(where: str, spec: CamSpec, parsed: Mapping[str, Any]) -> CamSpec:
-    """The plate cam's ``spec`` with the groove's keys (errors naming them)."""
-    p = spec.params
-    thickness = spec.body.thickness
-    depth = parsed.get("groove_depth")
+def read_groove_depth(where: str, parsed: Mapping[str, Any], thickness: float) -> float | None:
+    """``groove_depth_mm`` (mm; None: the default, half the plate), refused unless below the
+    plate's ``thickness`` mm."""
+    depth: float | None = parsed.get("groove_depth")
     if depth is not None and not depth < thickness:
         raise ParameterError(f"{where}.groove_depth_mm", depth, f"0 < groove_depth_mm < thickness_mm = {thickness:g} mm",
                              "the groove is cut into the plate, not through it")
+    return depth
+
+
+def groove_spec(where: str, spec: CamSpec, parsed: Mapping[str, Any]) -> CamSpec:
+    """The plate cam's ``spec`` with the groove's keys (errors naming them)."""
+    p = spec.params
+    depth = read_groove_depth(where, parsed, spec.body.thickness)
     half = 0.5 * parsed["groove_clearance"]
     if not p.follower.base_radius - half > 0.0:  # the inner wall's base circle lies c / 2 inside the base radius
         if p.sizing == "none":
@@ -147,7 +155,7 @@ def groove_spec(where: str, spec: CamSpec, parsed: Mapping[str, Any]) -> CamSpec
     return replace(spec, params=params)
 
 
-def _max_radius(contour: "Contour") -> float:
+def max_radius(contour: "Contour") -> float:
     """The largest distance of ``contour`` from the axis (mm), from above (a polygon within
     :data:`RADIUS_CHORD_TOL` of it, plus that tolerance)."""
     pts = contour.flatten(RADIUS_CHORD_TOL)
@@ -161,10 +169,17 @@ def _pieces(contour: "Contour") -> int:
     return int(sum(seg.n_pieces for seg in contour.segments if isinstance(seg, Spline)))
 
 
-def _rim(radius: float) -> "Contour":
+def rim_circle(radius: float) -> "Contour":
+    """The body's outline: the rim circle of ``radius`` mm about the axis."""
     from camgen.contour import Arc, Contour
 
     return Contour([Arc((0.0, 0.0), radius, 0.0, 2.0 * math.pi)])
+
+
+def rim_radius_for(reach: float, min_wall: float) -> float:
+    """The rim radius the form chooses (mm): the outer wall's largest radius ``reach`` plus
+    ``min_wall``, rounded up to :data:`RIM_STEP`."""
+    return math.ceil((reach + min_wall) / RIM_STEP - 1e-9) * RIM_STEP
 
 
 def build_groove(spec: CamSpec, stages: frozenset[str]) -> GrooveCam:
@@ -198,8 +213,8 @@ def build_groove(spec: CamSpec, stages: frozenset[str]) -> GrooveCam:
         fit_error = max(fit_error, error)
     rim = p.rim_radius
     if rim is None:
-        reach = _max_radius(outer) if outer is not None else _max_radius(disk.envelope.pitch) + w if disk.envelope.pitch is not None else w
-        rim = math.ceil((reach + spec.body.min_wall) / RIM_STEP - 1e-9) * RIM_STEP
+        reach = max_radius(outer) if outer is not None else max_radius(disk.envelope.pitch) + w if disk.envelope.pitch is not None else w
+        rim = rim_radius_for(reach, spec.body.min_wall)
     figures = dict(disk.figures)
     for name in ("profile_pieces", "area_mm2", "perimeter_mm", "bounds_mm"):
         figures.pop(name, None)
@@ -219,7 +234,7 @@ def build_groove(spec: CamSpec, stages: frozenset[str]) -> GrooveCam:
     if inner is not None and outer is not None:
         figures["fit_error_mm"] = fit_error
         figures["groove"].update(inner_wall_pieces=_pieces(inner), outer_wall_pieces=_pieces(outer), groove_area_mm2=outer.area - inner.area)
-        contour = _rim(rim)
+        contour = rim_circle(rim)
         figures["area_mm2"] = contour.area
         pockets = (Pocket("groove", (Wall(OUTER, outer), Wall(INNER, inner)), depth, width=2.0 * w, centre=disk.envelope.pitch,
                           clearance=p.clearance, note=f"groove {2.0 * w:g} mm wide (roller {2.0 * roller.roller_radius:g} mm "
@@ -327,7 +342,26 @@ def _continuity(cam: GrooveCam) -> "CheckResult":
     return CheckResult("continuity", str(lowest), "G1", "at least", "", passed, where_degrees(np.unique(ang[jumps])), note)
 
 
-def _walls(cam: GrooveCam) -> list["CheckResult"]:
+class GrooveBody(Protocol):
+    """What the groove's material checks read: the walls (mm contours about the axis), their
+    offset from the groove's centre line, its depth, the rim and the body (a groove cam's, or a
+    steering cam's groove: :mod:`camgen.motions.trajectory`)."""
+
+    @property
+    def inner_wall(self) -> "Contour | None": ...
+    @property
+    def outer_wall(self) -> "Contour | None": ...
+    @property
+    def half_width(self) -> float: ...
+    @property
+    def depth(self) -> float: ...
+    @property
+    def rim_radius(self) -> float: ...
+    @property
+    def body(self) -> "BodySpec": ...
+
+
+def groove_wall_checks(cam: GrooveBody) -> list["CheckResult"]:
     """The material left: bore/keyway to the inner wall, outer wall to the rim, the floor."""
     from camgen.body import wall_left
     from camgen.checks import limited
@@ -355,7 +389,7 @@ def _walls(cam: GrooveCam) -> list["CheckResult"]:
     return out
 
 
-def _tool(cam: GrooveCam, tool_radius: float, tool_is_limit: bool) -> "CheckResult":
+def groove_tool_check(cam: GrooveBody, tool_radius: float, tool_is_limit: bool) -> "CheckResult":
     """The end mill against the groove: it must enter the groove (diameter <= width) and reach
     the walls' concave parts (as the tool sees them: the outer wall where the pitch curve is
     convex, radius rho + w; the inner wall where it is concave, |rho| + w: both >= w)."""
@@ -428,8 +462,8 @@ def evaluate_groove(cam: Any, spec: CamSpec, tool_radius: float, tool_is_limit: 
     checks.append(law_joins_check(cam, spec.checks.rpm))
     checks.append(_crossovers(cam, spec.checks.rpm))
     if made:
-        checks.extend(_walls(cam))
-        checks.append(_tool(cam, tool_radius, tool_is_limit))
+        checks.extend(groove_wall_checks(cam))
+        checks.append(groove_tool_check(cam, tool_radius, tool_is_limit))
     if cam.sizing is not None:
         from camgen.checks import information
 

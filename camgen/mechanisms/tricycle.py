@@ -108,6 +108,8 @@ DEFAULT_FIT_TOL = 1e-9
 NOISE_FACTOR = 10.0
 #: Points per sample interval at which the undercut condition 1 - r_d kappa > 0 is checked.
 UNDERCUT_GRID = 16
+#: Polar-angle bracket (rad) to which a groove's sharpest turns are polished between grid points.
+CURVATURE_PEAK_TOL = 1e-10
 
 
 @dataclass(frozen=True)
@@ -186,13 +188,19 @@ class PolarCurves:
 
     def both(self, phi: np.ndarray) -> np.ndarray:
         """Pitch and profile points side by side (n, 4), mm (one fit for both, shared knots)."""
+        return self.offsets(phi, (0.0, self.rod_radius))
+
+    def offsets(self, phi: np.ndarray, distances: tuple[float, ...]) -> np.ndarray:
+        """Points (n, 2 k) of the curves ``Q - d n`` for each of the k ``distances`` d (mm; > 0
+        inward, 0 the rod-centre path itself), side by side: a groove's walls are ``d = +-w``."""
         r, dr = self.derivatives(phi, 1)
         phi = np.asarray(phi, dtype=float)
         w = np.hypot(r, dr)
-        a = r - self.rod_radius * r / w  # profile along u
-        b = self.rod_radius * dr / w  # profile along u_perp
+        d = np.asarray(distances, dtype=float)[:, None]
+        a = r - d * r / w  # along u
+        b = d * dr / w  # along u_perp
         c, s = np.cos(phi), np.sin(phi)
-        return np.stack([r * c, r * s, a * c - b * s, a * s + b * c], axis=1)
+        return np.stack([a * c - b * s, a * s + b * c], axis=-1).transpose(1, 0, 2).reshape(phi.size, 2 * d.shape[0])
 
     def pitch_curvature(self, phi: np.ndarray) -> np.ndarray:
         """Signed curvature of ``Q`` (1/mm, > 0 convex): ``(R^2 + 2 R'^2 - R R'') / W^3``."""
@@ -342,6 +350,82 @@ def _polar_cam(synth: CamSynthesis, phi: np.ndarray, radius: np.ndarray, device:
                 f"the steering rod (r_d = {rd:g} mm) cannot follow this cam: the profile crosses itself near polar angle "
                 f"{polar:.3f} deg: a neck of the rod-centre path is narrower than 2 r_d", pitch=pitch, limit=rd)
     return TricycleCam(synth, pitch, profile, device, trajectory, "polar", curves, fit_tol, fit.error)
+
+
+@dataclass(frozen=True)
+class GrooveWalls:
+    """The walls of a groove the steering rod runs in (the groove form of the trajectory motion).
+
+    Attributes
+    ----------
+    inner, outer : Contours ``Q - w n`` and ``Q + w n`` of the rod-centre path ``Q`` (``n`` its
+        outward normal), each one periodic cubic spline in the polar angle on shared knots,
+        within ``fit_tol`` mm of the exact curves; None where the groove cannot be made.
+    cam_angle : the dense cam angles (rad) at which the conditions below were evaluated.
+    pitch_curvature : the signed curvature (1/mm, > 0 convex) of ``Q`` there.
+    inner_fails, outer_fails : where ``1 - w kappa <= 0`` (the inner wall would have a cusp: the
+        rod-centre path's convex radius <= w) and ``1 + w kappa <= 0`` (the outer wall: its
+        concave radius <= w).
+    crossing : the polar angle (rad) where a wall crosses itself (a neck of ``Q`` narrower than
+        2 w), or None.
+    fit_error : the walls' largest distance from the exact curves at the fit's probe points, mm.
+    """
+
+    inner: Contour | None
+    outer: Contour | None
+    cam_angle: np.ndarray
+    pitch_curvature: np.ndarray
+    inner_fails: np.ndarray
+    outer_fails: np.ndarray
+    crossing: float | None = None
+    fit_error: float = 0.0
+
+
+def groove_walls(cam: TricycleCam, half_width: float) -> GrooveWalls:
+    """The groove's walls for a rod whose centre follows ``cam.pitch`` with ``half_width`` w of
+    room each side (rod radius plus half the clearance): the exact offsets ``Q -+ w n`` of the
+    polar form's rod-centre path (:meth:`PolarCurves.offsets`), fitted on shared knots within
+    ``cam.fit_tol`` when both can be made (``1 -+ w kappa > 0`` on the dense grid of the undercut
+    condition, and neither wall crosses itself)."""
+    from camgen.numerics.splinefit import fit_periodic
+
+    if cam.curves is None:
+        raise GeometryError("a groove needs the polar form's exact rod-centre path (form='polar')")
+    from camgen.numerics.minimise import golden_section
+
+    n = cam.synthesis.theta.size
+    curves = cam.curves
+    phi = np.linspace(0.0, 2.0 * math.pi, UNDERCUT_GRID * n, endpoint=False)
+    kappa = curves.pitch_curvature(phi)
+    # the sharpest convex and concave turns, polished between the grid's neighbours (a narrow
+    # peak of the curvature falls between grid points): the conditions hold there too
+    step = float(phi[1] - phi[0])
+    sharpest = []
+    for sign in (1.0, -1.0):
+        i = int(np.argmax(sign * kappa))
+        (at, _), _ = golden_section(lambda t: -sign * float(curves.pitch_curvature(np.array([t]))[0]), float(phi[i]) - step,
+                                    float(phi[i]) + step, tol=CURVATURE_PEAK_TOL)
+        sharpest.append(at)
+    phi = np.concatenate([phi, np.mod(sharpest, 2.0 * math.pi)])
+    kappa = np.concatenate([kappa, curves.pitch_curvature(phi[-2:])])
+    w = half_width
+    inner_fails, outer_fails = 1.0 - w * kappa <= 0.0, 1.0 + w * kappa <= 0.0
+    cam_angle = np.mod(-phi, 2.0 * math.pi)  # the rod at polar angle phi is there at cam angle -phi
+    if inner_fails.any() or outer_fails.any():
+        return GrooveWalls(None, None, cam_angle, kappa, inner_fails, outer_fails)
+    fit = fit_periodic(lambda p: curves.offsets(p, (w, -w)), 0.0, 2.0 * math.pi, cam.fit_tol, initial_pieces=max(16, n // 8),
+                       what="groove walls of the tricycle cam")
+    inner, outer = Contour([Spline(fit.breaks, fit.coeffs[..., :2])]), Contour([Spline(fit.breaks, fit.coeffs[..., 2:])])
+    crossing = None
+    if not cam.pitch.is_convex():
+        for wall in (inner, outer):
+            hit = wall.self_intersection()
+            if hit is not None:
+                crossing = math.atan2(hit[1], hit[0]) % (2.0 * math.pi)
+                break
+    if crossing is not None:
+        return GrooveWalls(None, None, cam_angle, kappa, inner_fails, outer_fails, crossing)
+    return GrooveWalls(inner, outer, cam_angle, kappa, inner_fails, outer_fails, None, fit.error)
 
 
 def contact_vs_rho(cam: TricycleCam) -> float:

@@ -32,11 +32,14 @@ from camgen.kinds.base import (
     source_key,
     with_cam,
 )
+from camgen.kinds.groove import groove_keys
 from camgen.motions.base import Motion
 from camgen.schema import Choice, ChoiceList, Count, Key, Length, Text
 
 if TYPE_CHECKING:
-    from camgen.mechanisms.tricycle import Ride, Tricycle, TricycleCam
+    from camgen.checks import CamEvaluation
+    from camgen.contour import Contour
+    from camgen.mechanisms.tricycle import GrooveWalls, Ride, Tricycle, TricycleCam
     from camgen.report.sections import TricycleSection
     from camgen.synthesis.trajectory import Trajectory
 
@@ -330,11 +333,185 @@ def _plots(cam: "TricycleCam", fits: dict[str, Any], one: "Ride | None") -> "Tri
                            tuple((label, path.x, path.y) for label, path in error_rides.items()), tuple(curves))
 
 
+# --------------------------------------------------------------------------------------------
+# The groove form: the rod runs in a groove cut into a plate
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class TrajectoryGrooveParams(TrajectoryParams):
+    """A steering cam cut as a groove: the clearance (mm), the groove depth and the rim radius
+    (mm; None: chosen, see :func:`camgen.kinds.groove.groove_keys`)."""
+
+    clearance: float = 0.0
+    depth: float | None = None
+    rim_radius: float | None = None
+
+    @property
+    def half_width(self) -> float:
+        """w = r_d + c / 2 (mm): the distance of each wall from the groove's centre line, the
+        rod-centre path."""
+        return self.device.rod_radius + 0.5 * self.clearance
+
+
+@dataclass(frozen=True, kw_only=True)
+class TrajectoryGrooveCam(TrajectoryCam):
+    """A steering cam whose rod runs in a groove: ``contour`` the rim circle, the walls (None
+    where they cannot be made) and the conditions they were checked against (``walls``), the
+    groove's offset w, depth and rim radius (mm); ``tricycle`` is the cam the ride runs on (a
+    rod of radius w on the inner wall: its centre on the groove's centre line)."""
+
+    walls: "GrooveWalls | None" = None
+    inner_wall: "Contour | None" = None
+    outer_wall: "Contour | None" = None
+    half_width: float = 0.0
+    depth: float = 0.0
+    rim_radius: float = 0.0
+
+
+def read_groove(where: str, name: str, parsed: dict[str, Any], base_dir: Path | None = None) -> CamSpec:
+    """The typed spec of a steering cam cut as a groove: the trajectory's keys, then the groove's."""
+    from dataclasses import replace
+
+    from camgen.kinds.groove import read_groove_depth
+
+    spec = read(where, name, parsed, base_dir)
+    p: TrajectoryParams = spec.params
+    clearance = parsed["groove_clearance"]
+    depth = read_groove_depth(where, parsed, spec.body.thickness)
+    if not p.device.rod_radius + 0.5 * clearance < p.device.wheelbase:
+        raise ParameterError(f"{where}.groove_clearance_mm", clearance,
+                             f"< 2 (wheelbase_mm - rod_radius_mm) = {2.0 * (p.device.wheelbase - p.device.rod_radius):g} mm",
+                             "the groove's inner wall would reach the cam axis")
+    params = TrajectoryGrooveParams(**{f: getattr(p, f) for f in p.__dataclass_fields__}, clearance=clearance, depth=depth,
+                                    rim_radius=parsed.get("rim_radius"))
+    return replace(spec, params=params)
+
+
+def build_groove(spec: CamSpec, stages: frozenset[str]) -> TrajectoryGrooveCam:
+    """The groove's walls: the exact offsets of the rod-centre path by -+w
+    (:func:`camgen.mechanisms.tricycle.groove_walls`); the ride and the report run on the
+    groove's centre line (a rod of radius w on the inner wall: its centre on the path)."""
+    from dataclasses import replace
+
+    from camgen.kinds.base import Pocket, Wall
+    from camgen.kinds.groove import INNER, OUTER, max_radius, rim_circle, rim_radius_for
+    from camgen.mechanisms import tricycle as tc
+
+    p: TrajectoryGrooveParams = spec.params
+    w = p.half_width
+    plate = build(spec, frozenset())  # the rod-centre path (and the rod's own undercut) as the plate cam has them
+    depth = p.depth if p.depth is not None else 0.5 * spec.body.thickness
+    figures = {k: v for k, v in plate.figures.items() if k not in ("profile_pieces", "area_mm2", "perimeter_mm", "contact_vs_rho_max_mm")}
+    groove = {"clearance_mm": p.clearance, "width_mm": 2.0 * w, "depth_mm": depth, "wall_offset_mm": w,
+              "walls": "exact offsets of the rod-centre path by -+ (rod_radius_mm + clearance / 2), one periodic spline each"}
+    if plate.tricycle is None:  # the rod itself (radius r_d < w) cannot follow the path: neither wall can be made
+        return TrajectoryGrooveCam(spec.name, spec.kind, None, {**figures, "groove": groove}, spec.body, spec.follower, pitch=plate.pitch,
+                                   undercut=plate.undercut, half_width=w, depth=depth)
+    cam = plate.tricycle
+    walls = with_cam(f"cams.{spec.name}", lambda: tc.groove_walls(cam, w))
+    inner, outer = walls.inner, walls.outer
+    rim = p.rim_radius if p.rim_radius is not None else rim_radius_for(max_radius(outer if outer is not None else cam.pitch) +
+                                                                       (0.0 if outer is not None else w), spec.body.min_wall)
+    groove["rim_radius_mm"] = rim
+    # the rod's centre lies anywhere within c / 2 of the centre line: tan(alpha) = (R - L) / d (paper 004, eq. 1)
+    device = cam.device
+    radius = cam.synthesis.rho + device.rod_radius
+    alpha = np.arctan((radius - device.wheelbase) / device.lever)
+    play = np.maximum(np.abs(np.arctan((radius + 0.5 * p.clearance - device.wheelbase) / device.lever) - alpha),
+                      np.abs(np.arctan((radius - 0.5 * p.clearance - device.wheelbase) / device.lever) - alpha))
+    groove["steering_play_deg"] = math.degrees(float(play.max()))
+    if inner is None or outer is None:
+        return TrajectoryGrooveCam(spec.name, spec.kind, None, {**figures, "groove": groove}, spec.body, spec.follower, pitch=cam.pitch,
+                                   tricycle=cam, walls=walls, half_width=w, depth=depth, rim_radius=rim)
+    assert cam.curves is not None  # groove_walls made the walls from the polar form's curves
+    centre = replace(cam, profile=inner, device=replace(device, rod_radius=w), curves=replace(cam.curves, rod_radius=w),
+                     fit_error=max(cam.fit_error, walls.fit_error))
+    analysed = _analysed(spec, centre, stages)
+    # the device's figures (r_b = L - r_d, the steering range) are the real rod's; the analysis adds the rides and fits
+    figures = {k: v for k, v in {**analysed.figures, **figures}.items()
+               if k not in ("profile_pieces", "area_mm2", "perimeter_mm", "contact_vs_rho_max_mm")}
+    groove.update(wall_pieces=int(inner.segments[0].n_pieces), fit_error_mm=walls.fit_error,
+                  groove_area_mm2=outer.area - inner.area)
+    contour = rim_circle(rim)
+    figures.update(groove=groove, area_mm2=contour.area)
+    pocket = Pocket("groove", (Wall(OUTER, outer), Wall(INNER, inner)), depth, width=2.0 * w, centre=cam.pitch, clearance=p.clearance,
+                    note=f"groove {2.0 * w:g} mm wide (steering rod {2.0 * device.rod_radius:g} mm + clearance {p.clearance:g} mm), "
+                         f"{depth:g} mm deep")
+    return TrajectoryGrooveCam(spec.name, spec.kind, contour, figures, spec.body, spec.follower, pitch=cam.pitch, files=analysed.files,
+                               tricycle=centre, section=analysed.section, pockets=(pocket,), walls=walls, inner_wall=inner,
+                               outer_wall=outer, half_width=w, depth=depth, rim_radius=rim)
+
+
+def evaluate_groove(cam: BuiltCam, spec: CamSpec, tool_radius: float, tool_is_limit: bool) -> "CamEvaluation":
+    """The design checks of a steering cam cut as a groove (:func:`build_groove`): both walls can
+    be made (the rod-centre path's |radius of curvature| > w, neither wall crossing itself), their
+    continuity, the pressure angle on the rod, the walls to the bore, rim and floor, the tool."""
+    from dataclasses import replace
+
+    from camgen.checks import (CamEvaluation, CheckResult, continuity_check, evaluate_cam, motion_check, pressure_angle_check,
+                               radius_of_curvature, roller_kinematics, roller_motion)
+    from camgen.kinds.disk import mask_where
+    from camgen.kinds.groove import groove_tool_check, groove_wall_checks
+
+    assert isinstance(cam, TrajectoryGrooveCam), f"a steering groove's checks on a {type(cam).__name__}"
+    follower = spec.follower
+    assert follower is not None
+    w = cam.half_width
+    walls = cam.walls
+    if walls is None:  # the rod itself cannot follow the path: the checks of the pitch curve against w
+        return evaluate_cam(None, replace(follower, roller_radius=w), pitch=cam.pitch, rpm=spec.checks.rpm)
+    order = np.argsort(walls.cam_angle)
+    theta, kappa = walls.cam_angle[order], walls.pitch_curvature[order]
+    inner_bad, outer_bad = walls.inner_fails[order], walls.outer_fails[order]
+    bad = inner_bad | outer_bad
+    with np.errstate(divide="ignore"):
+        radius = np.abs(1.0 / kappa)
+    worst = int(np.argmin(radius))  # the sharpest turn either way (the failing runs are listed where they are)
+    parts = [f"{what}: the rod-centre path's {side} radius is at most {w:g} mm between the listed pairs of cam angles"
+             for what, mask, side in (("inner wall (GROOVE_INNER)", inner_bad, "convex"), ("outer wall (GROOVE_OUTER)", outer_bad, "concave"))
+             if mask.any()]
+    note = (f"smallest |radius of curvature| of the rod-centre path against the walls' offset w = rod_radius_mm + clearance / 2 = {w:g} mm "
+            "(the outer wall needs the concave radius above w too)")
+    if parts:
+        note += "; " + "; ".join(parts) + ": the groove cannot be made"
+    passed = not bad.any() and walls.crossing is None
+    if walls.crossing is not None:
+        note += (f"; a wall crosses itself near polar angle {math.degrees(walls.crossing):.3f} deg (a neck of the rod-centre path narrower "
+                 "than 2 w): the groove cannot be made")
+    checks: list[CheckResult] = [CheckResult("undercut", float(radius[worst]), w, ">", "mm", passed, mask_where(bad, theta, worst), note,
+                                             blocks_manufacture=True)]
+    if cam.inner_wall is not None and cam.outer_wall is not None:
+        inner_c, outer_c = continuity_check(cam.inner_wall), continuity_check(cam.outer_wall)
+        order_names = ["none", "G0", "G1", "G2"]
+        lowest = min((inner_c, outer_c), key=lambda c: order_names.index(str(c.value)))
+        checks.insert(0, replace(lowest, where_deg=sorted(set(inner_c.where_deg) | set(outer_c.where_deg)), passed=inner_c.passed and outer_c.passed,
+                                 note=f"inner wall: {inner_c.note}; outer wall: {outer_c.note}"))
+    kin = roller_kinematics(cam.pitch, follower) if cam.pitch is not None else None
+    pressure = motion = None
+    if kin is not None:
+        pressure = (kin.cam_angle, kin.pressure_angle)
+        checks.append(pressure_angle_check(kin.pressure_angle, kin.cam_angle, follower.limit, "steering rod (translating, radial) in a groove"))
+        motion = roller_motion(kin, unit="mm")
+        checks.append(motion_check(motion, spec.checks.rpm))
+    if cam.inner_wall is not None and cam.outer_wall is not None:
+        checks.extend(groove_wall_checks(cam))
+        checks.append(groove_tool_check(cam, tool_radius, tool_is_limit))
+    assert cam.pitch is not None
+    rho, angle = radius_of_curvature(cam.pitch)
+    return CamEvaluation(tuple(checks), follower, motion, pressure, (angle, rho), cam.pitch,
+                         curvature_label="radius of curvature of the rod-centre path (mm, < 0 concave); the walls need |radius| > w",
+                         curvature_limit=w)
+
+
 _SUMMARY = "steering cam from a required periodic path y = f(x), by arc length and a periodic spline (paper 004)"
 
 MOTION = Motion(
     name="trajectory",
     summary=_SUMMARY,
-    realisations={"plate": CamKind(name="trajectory", summary=_SUMMARY, keys=KEYS, read=read, build=build,
-                                   report_section="camgen.report.sections:tricycle_section")},
+    realisations={
+        "plate": CamKind(name="trajectory", summary=_SUMMARY, keys=KEYS, read=read, build=build,
+                         report_section="camgen.report.sections:tricycle_section"),
+        "groove": CamKind(name="trajectory", summary=_SUMMARY + ", its rod running in a groove", keys=KEYS + groove_keys("rod_radius_mm", "rod"),
+                          read=read_groove, build=build_groove, report_section="camgen.report.sections:tricycle_section",
+                          evaluate=evaluate_groove),
+    },
 )
