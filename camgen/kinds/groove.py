@@ -38,7 +38,7 @@ if TYPE_CHECKING:
     from camgen.checks import CamEvaluation, CheckResult
     from camgen.contour import Contour
 
-__all__ = ["DEFAULT_CLEARANCE", "GrooveBody", "GrooveCam", "GrooveParams", "build_groove", "evaluate_groove", "groove_keys", "groove_kinematics",
+__all__ = ["DEFAULT_CLEARANCE", "GrooveBody", "INNER", "OUTER", "GrooveCam", "GrooveParams", "build_groove", "evaluate_groove", "groove_keys", "groove_kinematics",
            "groove_tool_check", "groove_wall_checks", "max_radius", "read_groove_depth", "rim_circle", "rim_radius_for", "roller_keys", "groove_spec"]
 
 #: Default ``groove_clearance_mm``: the groove's width less the roller's diameter (mm); a running

@@ -45,9 +45,9 @@ from camgen.geometry import outward_normal, signed_curvature
 from camgen.synthesis.trajectory import CamSynthesis, PathError, Trajectory, steerable_paths, synthesize_rho
 
 __all__ = [
-    "DEFAULT_FIT_TOL", "ErrorModel", "MEASURED_TABLES", "MeasuredTable", "NOISE_FACTOR", "PolarCurves", "RHO_DEGREES",
+    "CURVATURE_PEAK_TOL", "DEFAULT_FIT_TOL", "ErrorModel", "GrooveWalls", "MEASURED_TABLES", "MeasuredTable", "NOISE_FACTOR", "PolarCurves", "RHO_DEGREES",
     "Ride", "RideGeometry", "SPLINE_FORMS", "Tricycle", "TricycleCam", "UNDERCUT_GRID", "contact_vs_rho",
-    "design_start", "fine_tuning_step", "lateral_error", "load_measured_table", "ride", "ride_geometry",
+    "design_start", "fine_tuning_step", "groove_walls", "lateral_error", "load_measured_table", "ride", "ride_geometry",
     "ride_max_lateral_error", "simulate_cam", "steering_curvature", "tricycle_cam", "worm_teeth_for",
 ]
 
