@@ -412,7 +412,12 @@ class BarrelGroove:
 
     def undercut(self, side: int, r: np.ndarray, theta: np.ndarray) -> np.ndarray:
         """Where the wall ``side``'s section at cam radius ``r`` (mm) folds at cam angle ``theta``
-        (rad): ``-sigma dphi/dtheta <= 0`` (module notes); a boolean array (true: cannot be made)."""
+        (rad): ``-sigma dphi/dtheta <= 0`` (module notes); a boolean array (true: cannot be made).
+
+        These are the contacts the neighbouring roller positions cut away (the envelope's
+        stationary point is a local minimum of the cut, not a maximum).  Beside a fold the
+        envelope's wings are cut away too, by positions farther off: a groove with an undercut
+        anywhere gives the wrong motion over more than the flagged angles."""
         slope = self._section_slope(side, r, theta)
         return ~(slope > 0.0)
 
