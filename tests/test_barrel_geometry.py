@@ -279,3 +279,28 @@ def test_undercut_where_the_section_folds():
     big = groove("translating", 1, 4.0)
     every = np.linspace(0, 2 * math.pi, 1441)
     assert not any(big.undercut(side, rr, every).any() for side in (1, -1) for rr in (R_I, R_M, R_O))
+
+
+def test_conical_contact_is_a_curve_during_a_rise():
+    """The cone (apex on the axis) touches along a generator only in a dwell: during the rise the
+    generator through the contact at the mean radius leaves the brute-force wall by over 1e-3 mm at
+    the root and the rim (1000 times the walls' tolerance), while camgen's contact curve stays on it
+    (test_walls_match_the_union_of_roller_solids)."""
+    ref = Follower("translating", 1, 4.0, "conical")
+    k = 4.0 / R_M
+
+    def miss(theta: float, b: float, t: float) -> float:
+        """Brute-force upper wall minus the cone's point at generator angle b, station t (>= 0)."""
+        s = float(norton_program(RISE, np.array([theta]))[0][0])
+        y, z = t * k * math.sin(b), 10.0 + s + t * k * math.cos(b)
+        return ref.brute_wall(1, math.hypot(t, y), math.atan2(y, t) - theta) - z
+
+    for theta in (30.0 * DEG, 60.0 * DEG):
+        # the generator touching the wall at the mean radius (the cone's points elsewhere are cut)
+        b = minimize_scalar(lambda q: miss(theta, q, R_M), bounds=(0.0, 1.2), method="bounded",
+                            options={"xatol": 1e-10}).x
+        assert abs(miss(theta, b, R_M)) < WALL_TOL
+        for t in (R_I, R_O):
+            assert miss(theta, b, t) > 1e-3
+    # in the dwell at the top the top generator (b = 0) is the contact from the root to the rim
+    assert max(abs(miss(150.0 * DEG, 0.0, t)) for t in (R_I, R_M, R_O)) < WALL_TOL

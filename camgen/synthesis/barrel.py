@@ -169,7 +169,10 @@ def _bracketed_newton(fun: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
                       x0: np.ndarray, tol: float) -> np.ndarray:
     """Elementwise root of ``fun`` (returning the value and the derivative) in ``[lo, hi]``, where
     ``fun`` changes sign: Newton from ``x0``, a bisection whenever a step leaves the bracket.
-    Vectorised (a loop over steps, never over points); stops when every step is below ``tol``."""
+    Vectorised (a loop over steps, never over points); stops when every step (or bracket) is below
+    ``tol`` plus a few units in the last place of the root.  Raises :class:`GeometryError` when
+    :data:`MAX_NEWTON_STEPS` do not get there (a bisection halves the bracket each step, so a
+    bracket that holds a sign change always does)."""
     lo, hi = np.array(lo, dtype=float), np.array(hi, dtype=float)
     f_lo = fun(lo)[0]
     rising = f_lo <= 0.0  # orient: f(lo) <= 0 <= f(hi) where rising
@@ -182,13 +185,14 @@ def _bracketed_newton(fun: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
         with np.errstate(divide="ignore", invalid="ignore"):
             step = np.where(df != 0.0, f / df, np.inf)
         nxt = x - step
-        bad = ~((nxt > lo) & (nxt < hi))
+        bad = ~((nxt >= lo) & (nxt <= hi))  # a root on the bracket's end is a root
         nxt = np.where(bad, 0.5 * (lo + hi), nxt)
         moved = np.abs(nxt - x)
         x = nxt
-        if np.all((moved <= tol) | (hi - lo <= tol)):
-            break
-    return x
+        enough = tol + 4.0 * np.finfo(float).eps * np.abs(x)
+        if np.all((moved <= enough) | (hi - lo <= enough)):
+            return x
+    raise GeometryError(f"a barrel contact did not converge to {tol:g} in {MAX_NEWTON_STEPS} Newton steps")
 
 
 @dataclass(frozen=True)
