@@ -301,15 +301,13 @@ def _build(spec: CamSpec, stages: frozenset[str]) -> BarrelCam:
         "roller_axis_z_mm": [float(np.min(z_c)), float(np.max(z_c))],
         ("stroke_mm" if f.motion == "translating" else "swing_deg"): (s_max - s_min) if f.motion == "translating"
         else math.degrees(s_max - s_min),
-        "pressure_angle_deg": pressures,
+        **{f"pressure_angle_{name}_deg": value for name, value in pressures.items()},
         "fit_tol_mm": p.fit_tol,
         "conventions": "z along the cam axis from its bottom face; the follower at polar angle 0 (+x); at cam angle theta it "
                        "meets the cam's polar angle -sigma theta (sigma +1 ccw, -1 cw, seen from +z)",
         **dict(p.law_figures),
     }
-    wrapped = _wrapped_errors(groove)
-    if wrapped is not None:
-        figures["groove"]["wrapped_groove_error_mm"] = wrapped
+    figures["groove"]["wrapped_groove_error"] = _wrapped_errors(groove)
     if p.source is not None:
         figures["source"] = p.source
     section = None
@@ -323,13 +321,25 @@ def _radii(p: BarrelParams) -> tuple[tuple[str, float], ...]:
     return (("root", p.root_radius), ("mean", p.mean_radius), ("rim", p.rim_radius))
 
 
-def _wrapped_errors(groove: "BarrelGroove") -> Any:
-    """How far the shortcut of wrapping the groove developed at the mean radius onto the cylinder
-    misses the exact walls (:mod:`camgen.synthesis.barrel`), when the geometry computes it."""
-    wrapped = getattr(groove, "wrapped_errors", None)
-    if wrapped is None:
-        return None
-    return wrapped()
+#: Samples of the cam's polar angle on which the wrapped groove is compared with the exact one.
+WRAPPED_SAMPLES = 1440
+
+
+def _wrapped_errors(groove: "BarrelGroove") -> dict[str, Any]:
+    """How far the shortcut of wrapping the groove drawn flat at the mean radius onto the cylinder
+    (:meth:`camgen.synthesis.barrel.BarrelGroove.wrapped_wall_height`) misses the exact walls at
+    the root and the rim (mm, wrapped less exact, the extreme of each sign on a grid of
+    :data:`WRAPPED_SAMPLES` polar angles), and how much narrower the wrapped groove is."""
+    phi = 2.0 * math.pi * np.arange(WRAPPED_SAMPLES) / WRAPPED_SAMPLES
+    out: dict[str, Any] = {"note": f"the groove drawn flat at the mean radius and wrapped onto the cylinder, less the exact walls, "
+                                   f"on {WRAPPED_SAMPLES} polar angles: what the wrapped shortcut would get wrong"}
+    for name, r in (("root", groove.root_radius), ("rim", groove.rim_radius)):
+        diff = {side: groove.wrapped_wall_height(side, r, phi) - groove.wall_height(side, r, phi) for side in (1, -1)}
+        narrower = diff[-1] - diff[1]
+        out[name] = {"upper_wall_mm": [float(diff[1].min()), float(diff[1].max())],
+                     "lower_wall_mm": [float(diff[-1].min()), float(diff[-1].max())],
+                     "narrower_by_mm": float(narrower.max())}
+    return out
 
 
 def pressure_limit(spec: CamSpec) -> float:
@@ -454,8 +464,8 @@ def _section(groove: "BarrelGroove", p: BarrelParams, theta: np.ndarray, limit_d
     order = np.argsort(px, kind="stable")
     lines: list[tuple[str, np.ndarray]] = []
     circle = np.stack([np.cos(phi), np.sin(phi), np.zeros_like(phi)], axis=1)
-    for z in (0.0, p.length):
-        lines.append(("end faces", circle * [p.rim_radius, p.rim_radius, 0.0] + [0.0, 0.0, z]))
+    for z, face in ((0.0, "bottom face"), (p.length, "top face")):
+        lines.append((face, circle * [p.rim_radius, p.rim_radius, 0.0] + [0.0, 0.0, z]))
     if p.bore_radius > 0:
         lines.append(("bore", circle * [p.bore_radius, p.bore_radius, 0.0] + [0.0, 0.0, p.length]))
     from camgen.report.barrel import VIEW_AZIMUTH_DEG

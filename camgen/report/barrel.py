@@ -85,12 +85,13 @@ def _view(Figure: Any, d: Any) -> str:
     faint (the rim circles of the end faces in full: the top face is seen)."""
     fig = Figure(figsize=(5.2, 5.2))
     ax = fig.add_subplot()
-    colours = {"end faces": "k", "silhouette": "k", "upper wall at the rim": "tab:blue", "lower wall at the rim": "tab:blue",
+    colours = {"top face": "k", "bottom face": "k", "silhouette": "k", "upper wall at the rim": "tab:blue", "lower wall at the rim": "tab:blue",
                "upper wall at the root": "tab:green", "lower wall at the root": "tab:green", "bore": "tab:orange"}
     seen: set[str] = set()
     for label, pts in d.lines:
         u, v, _ = project(pts)
-        front = _facing(pts) if label not in ("end faces", "silhouette", "bore") else np.ones(len(pts), dtype=bool)
+        # the top face is seen whole (the view is from above); the bottom face's far half and the far walls are hidden
+        front = np.ones(len(pts), dtype=bool) if label in ("top face", "silhouette", "bore") else _facing(pts)
         colour = colours.get(label, "k")
         for part in _runs(front):
             ax.plot(u[part], v[part], color=colour, width=1.0, label=None if label in seen else label)
@@ -123,10 +124,10 @@ def _animation_svg(d: Any, title: str, width_px: int = 720) -> str:
     strip = []
     for copy in (-span, 0.0, span):
         x = d.developed_x + copy - 0.5 * span
-        strip.append(f"<path d='{path(x, d.upper)} L {x[-1]:.3f},{d.length:.3f} L {x[0]:.3f},{d.length:.3f} Z' fill='#d6e4f0' "
-                     "stroke='#1f4e79' stroke-width='0.5'/>")
-        strip.append(f"<path d='{path(x, d.lower)} L {x[-1]:.3f},0 L {x[0]:.3f},0 Z' fill='#d6e4f0' stroke='#1f4e79' "
-                     "stroke-width='0.5'/>")
+        strip.append(f"<path d='{path(x, d.upper)} L {x[-1]:.3f},{d.length:.3f} L {x[0]:.3f},{d.length:.3f} Z' fill='#d6e4f0'/>")
+        strip.append(f"<path d='{path(x, d.lower)} L {x[-1]:.3f},0 L {x[0]:.3f},0 Z' fill='#d6e4f0'/>")
+        for wall in (d.upper, d.lower):
+            strip.append(f"<path d='{path(x, wall)}' fill='none' stroke='#1f4e79' stroke-width='0.5'/>")
     body = [f"<g><animateTransform attributeName='transform' type='translate' from='{0.5 * span:.3f} 0' to='{0.5 * span + shift:.3f} 0' "
             f"dur='{dur}' repeatCount='indefinite'/>" + "".join(strip) + "</g>"]
     values = ";".join(f"{e:.4f} {z:.4f}" for e, z in zip(d.frames_e, d.frames_z))
