@@ -86,7 +86,7 @@ def developed_curves(groove: "BarrelGroove", chord_tol: float) -> dict[str, np.n
     def wall(side: int) -> Callable[[np.ndarray], np.ndarray]:
         def at(u: np.ndarray) -> np.ndarray:
             phi = turn * u
-            return np.stack([rm * phi, groove.wall_height(side, rm, phi)], axis=1)
+            return np.stack([rm * phi, groove.wall_height(side, np.asarray(rm), phi)], axis=1)
         return at
 
     out = {"PITCH_DEVELOPED": polyline(pitch, chord_tol, "developed pitch curve")}
@@ -131,7 +131,7 @@ def wall_sections(groove: "BarrelGroove", chord_tol: float) -> list[tuple[str, f
         for side in (1, -1):
             def at(u: np.ndarray, r: float = r, side: int = side) -> np.ndarray:
                 phi = 2.0 * math.pi * u
-                return np.stack([r * np.cos(phi), r * np.sin(phi), groove.wall_height(side, r, phi)], axis=1)
+                return np.stack([r * np.cos(phi), r * np.sin(phi), groove.wall_height(side, np.asarray(r), phi)], axis=1)
 
             pts = polyline(at, chord_tol, f"{WALL_NAMES[side].lower()} wall at radius {r:g} mm")[:-1]
             phi = 2.0 * math.pi * np.arange(len(pts)) / len(pts)

@@ -290,7 +290,7 @@ def _build(spec: CamSpec, stages: frozenset[str]) -> BarrelCam:
     if p.roller_shape == "conical":
         follower["cone_half_angle_deg"] = math.degrees(math.atan(p.roller_radius / p.mean_radius))
     s_min, s_max = p.law.s_bounds
-    pressures = {name: float(np.degrees(np.max(np.abs(groove.pressure_angle(r, theta))))) for name, r in _radii(p)}
+    pressures = {name: float(np.degrees(np.max(np.abs(groove.pressure_angle(np.asarray(r), theta))))) for name, r in _radii(p)}
     figures: dict[str, Any] = {
         "follower": follower,
         "cylinder": {"rim_radius_mm": p.rim_radius, "root_radius_mm": p.root_radius, "mean_radius_mm": p.mean_radius,
@@ -334,7 +334,8 @@ def _wrapped_errors(groove: "BarrelGroove") -> dict[str, Any]:
     out: dict[str, Any] = {"note": f"the groove drawn flat at the mean radius and wrapped onto the cylinder, less the exact walls, "
                                    f"on {WRAPPED_SAMPLES} polar angles: what the wrapped shortcut would get wrong"}
     for name, r in (("root", groove.root_radius), ("rim", groove.rim_radius)):
-        diff = {side: groove.wrapped_wall_height(side, r, phi) - groove.wall_height(side, r, phi) for side in (1, -1)}
+        radius = np.asarray(r)
+        diff = {side: groove.wrapped_wall_height(side, radius, phi) - groove.wall_height(side, radius, phi) for side in (1, -1)}
         narrower = diff[-1] - diff[1]
         out[name] = {"upper_wall_mm": [float(diff[1].min()), float(diff[1].max())],
                      "lower_wall_mm": [float(diff[-1].min()), float(diff[-1].max())],
@@ -362,7 +363,7 @@ def _pressure(cam: BarrelCam, spec: CamSpec) -> "CheckResult":
     p, g = cam.params, cam.groove
     theta = check_grid()
     limit = pressure_limit(spec)
-    alpha = {name: np.abs(g.pressure_angle(r, theta)) for name, r in _radii(p)}
+    alpha = {name: np.abs(g.pressure_angle(np.asarray(r), theta)) for name, r in _radii(p)}
     root = alpha["root"]
     i = int(np.argmax(root))
     bad = root > limit
@@ -382,7 +383,7 @@ def _undercut(cam: BarrelCam) -> "CheckResult":
     theta = check_grid()
     radii = np.linspace(p.root_radius, p.rim_radius, UNDERCUT_RADII)
     folds = {side: np.stack([np.asarray(g.undercut(side, r, theta), dtype=bool) for r in radii]) for side in (1, -1)}
-    any_fold = folds[1].any(axis=0) | folds[-1].any(axis=0)
+    any_fold: np.ndarray = np.asarray(folds[1].any(axis=0) | folds[-1].any(axis=0))
     count = int(any_fold.sum())
     parts = []
     for side, name in ((1, "upper"), (-1, "lower")):
@@ -455,9 +456,9 @@ def _section(groove: "BarrelGroove", p: BarrelParams, theta: np.ndarray, limit_d
     from camgen.report.barrel import section_class
 
     t = np.linspace(0.0, 2.0 * math.pi, SECTION_SAMPLES)
-    pressure = tuple((name, r, np.degrees(groove.pressure_angle(r, t))) for name, r in _radii(p))
+    pressure = tuple((name, r, np.degrees(groove.pressure_angle(np.asarray(r), t))) for name, r in _radii(p))
     phi = np.linspace(0.0, 2.0 * math.pi, SECTION_SAMPLES)
-    upper, lower = groove.wall_height(1, p.mean_radius, phi), groove.wall_height(-1, p.mean_radius, phi)
+    upper, lower = groove.wall_height(1, np.asarray(p.mean_radius), phi), groove.wall_height(-1, np.asarray(p.mean_radius), phi)
     px, pz = groove.pitch_developed(t)
     span = 2.0 * math.pi * p.mean_radius
     px = np.mod(px, span)
@@ -476,8 +477,8 @@ def _section(groove: "BarrelGroove", p: BarrelParams, theta: np.ndarray, limit_d
                                               [p.rim_radius * math.cos(a), p.rim_radius * math.sin(a), p.length]])))
     for r, where in ((p.rim_radius, "rim"), (p.root_radius, "root")):
         for side, name in ((1, "upper"), (-1, "lower")):
-            z = groove.wall_height(side, r, phi)
-            lines.append((f"{name} wall at the {where}", np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)))
+            height = groove.wall_height(side, np.asarray(r), phi)
+            lines.append((f"{name} wall at the {where}", np.stack([r * np.cos(phi), r * np.sin(phi), height], axis=1)))
     frames = np.linspace(0.0, 2.0 * math.pi, ANIMATION_FRAMES + 1)
     z_c, e = groove.axis(frames)
     return section_class()(np.degrees(t), pressure, phi * p.mean_radius, px[order], pz[order], upper, lower, tuple(lines),
