@@ -12,8 +12,8 @@ conventions are those of :mod:`camgen.synthesis.barrel` (the exact geometry); in
 - radii: rim R_o (``cylinder_radius_mm``), groove depth d, root R_i = R_o - d, mean (pitch) radius
   R_m = (R_o + R_i) / 2: the pressure angle and the developed drawing "at the mean radius" use it;
 - the roller's axis is radial; a cylindrical roller of radius Rr, or a conical one (apex on the
-  cam axis at the roller centre's height, radius Rr at R_m, translating only: its contact line is
-  straight and it rolls without slip); the walls are the exact envelopes of the roller widened by
+  cam axis at the roller centre's height, radius Rr at R_m, translating only: it rolls without slip
+  at every radius in a dwell, :mod:`camgen.synthesis.barrel`); the walls are the exact envelopes of the roller widened by
   half the clearance, w = Rr + c / 2;
 - translating: the roller axis at height z_c = z0 + s(theta) (``pitch_z_mm`` = z0, default
   centred: (length - (s_max + s_min)) / 2); oscillating: the arm of length L
@@ -79,7 +79,8 @@ def barrel_keys() -> tuple[Key, ...]:
             "axis (the law's swing, deg).", ("profile",), default="translating", feeds=("motion",)),
         Key("roller_shape", Choice(ROLLER_SHAPES), "cylindrical: a roller of radius roller_radius_mm, its axis radial; conical "
             "(translating only): a cone whose apex lies on the cam axis at the roller centre's height, of radius roller_radius_mm "
-            "at the mean radius (its contact line is straight: it rolls without slip).", ("profile",), default="cylindrical"),
+            "at the mean radius (it rolls without slip at every radius where the follower dwells; during a rise its contact is a "
+            "curve, as the cylinder's).", ("profile",), default="cylindrical"),
         Key("roller_radius_mm", Length(high=1e4), "Radius of the roller (conical: at the mean radius); < the root radius "
             "(cylinder_radius_mm - groove_depth_mm).", ("profile",), default=REQUIRED),
         Key("cylinder_radius_mm", Length(high=1e5), "Outer (rim) radius R_o of the cylinder.", ("profile",), default=REQUIRED),
