@@ -269,3 +269,65 @@ def test_a_tool_that_is_not_the_groove_width_is_refused_naming_the_key():
     with pytest.raises(ParameterError) as err:
         barrel_program(groove(Case("translating", 1), "conical"), spec(), "barrel")
     assert err.value.name == "cams.barrel.roller_shape" and err.value.value == "conical"
+
+
+def _barrel_result(g):
+    """A CamResult as the pipeline hands it to the barrel form's ngc writer (cam.built.groove)."""
+    from typing import Any
+
+    from camgen.body import BodySpec
+    from camgen.kinds.base import BuiltCam, CamSpec, CheckSettings
+    from camgen.results import CamResult
+
+    @dataclasses.dataclass(frozen=True)
+    class Built(BuiltCam):
+        groove: Any = None
+
+    body = BodySpec(thickness=LENGTH)
+    return CamResult(CamSpec("barrel", "motion_law", None, body, CheckSettings(), form="barrel"),
+                     Built("barrel", "motion_law", None, {}, body, groove=g))
+
+
+def test_the_writer_names_the_scene_keys():
+    """camgen.export.gcode_barrel:writer (the barrel form's ngc): machining.tool_diameter_mm with the
+    width for the cam; the grbl dialect (no rotary axis) and cutter compensation likewise."""
+    from camgen.export.gcode_barrel import writer
+    from camgen.outputs import OutputSpec
+    from camgen.writers import RunSettings
+
+    cam = _barrel_result(groove(Case("translating", 1)))
+    run = RunSettings("s", OutputSpec(formats=("ngc",), chord_tol=CHORD_TOL), spec(tool_diameter=8.0))
+    with pytest.raises(ParameterError) as err:
+        writer(cam, run, "ngc")
+    assert err.value.name == "machining.tool_diameter_mm" and err.value.value == 8.0
+    assert re.fullmatch(r"8\.5 mm \(the groove's width .*\) for cam 'barrel'", err.value.valid), err.value.valid
+    for key, change in (("machining.dialect", {"dialect": "grbl"}), ("machining.cutter_compensation", {"cutter_compensation": True})):
+        with pytest.raises(ParameterError) as err:
+            writer(cam, dataclasses.replace(run, machining=spec(**change)), "ngc")
+        assert err.value.name == key
+    assert writer(cam, dataclasses.replace(run, machining=spec()), "ngc").startswith("(camgen ")
+
+
+def test_a_run_with_the_wrong_tool_exits_2_and_writes_nothing(tmp_path, capsys):
+    """The whole run: exit 2, one stderr line naming machining.tool_diameter_mm, its value and the
+    groove's width; the output folder is not made."""
+    from camgen.cli import main
+    from camgen.forms import form_names
+
+    if "barrel" not in form_names():
+        pytest.skip("the barrel form (camgen.forms.barrel) is not on this branch yet")
+    segments = "".join(f'\n[[cams.b.segments]]\nlaw = "{law}"\nspan_deg = {span}\n' + (f"lift_mm = {lift}\n" if lift else "")
+                       for law, span, lift in (("cycloidal", 120.0, RISE), ("dwell", 60.0, 0), ("cycloidal", 120.0, -RISE), ("dwell", 60.0, 0)))
+    scene = ('[output]\nformats = ["ngc"]\n\n[machining]\ntool_diameter_mm = 8.0\n\n[cams.b]\nkind = "motion_law"\nform = "barrel"\n'
+             f'roller_radius_mm = {ROLLER}\ncylinder_radius_mm = {RIM}\ncylinder_length_mm = {LENGTH}\ngroove_depth_mm = {RIM - ROOT}\n'
+             f'groove_clearance_mm = {CLEARANCE}\npressure_angle_limit_deg = 45.0\n' + segments)
+    path = tmp_path / "scene.toml"
+    path.write_text(scene, encoding="utf-8")
+    parent = tmp_path / "parent"
+    parent.mkdir()
+    status = main(["run", str(path), "-o", str(parent / "out")])
+    err = capsys.readouterr().err
+    assert status == 2, err
+    assert err.startswith("camgen: error: ") and err.count("\n") == 1 and "Traceback" not in err, err
+    assert "machining.tool_diameter_mm" in err and "8" in err and "8.5 mm" in err, err
+    assert list(parent.iterdir()) == []
