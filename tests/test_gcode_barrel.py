@@ -271,6 +271,22 @@ def test_a_tool_that_is_not_the_groove_width_is_refused_naming_the_key():
     assert err.value.name == "cams.barrel.roller_shape" and err.value.value == "conical"
 
 
+def test_a_program_too_long_is_refused_naming_the_least_step_down():
+    """2 um steps down 10.2 mm would take over 5000 turns of ~980 moves, more than the 2,000,000 moves
+    a program may hold: refused naming step_down with a least step whose turns x moves fit."""
+    from camgen.export.gcode import MAX_PROGRAM_MOVES
+    from camgen.export.gcode_barrel import barrel_program, tool_path
+
+    g = groove(Case("translating", 1))
+    with pytest.raises(ParameterError) as err:
+        barrel_program(g, spec(step_down=0.002))
+    assert err.value.name == "step_down"
+    least = float(re.fullmatch(r">= ([\d.]+) mm", err.value.valid).group(1))
+    per_turn = tool_path(g, spec()).a.size - 1
+    depth = RIM - math.sqrt(ROOT**2 - (WIDTH / 2) ** 2)
+    assert (math.ceil(depth / least - 1e-9) + 1) * per_turn <= MAX_PROGRAM_MOVES < (math.ceil(depth / (0.98 * least)) + 1) * per_turn
+
+
 def _barrel_result(g):
     """A CamResult as the pipeline hands it to the barrel form's ngc writer (cam.built.groove)."""
     from typing import Any

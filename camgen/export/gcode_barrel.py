@@ -99,20 +99,23 @@ def a_decimals(decimals: int, rim_radius: float) -> int:
     return decimals + max(0, math.ceil(math.log10(rim_radius * math.pi / 180.0) - 1e-12))
 
 
-def floor_radius(groove: Any, theta: np.ndarray, tool_radius: float) -> np.ndarray:
-    """Tip radius of the finishing pass at cam angles ``theta`` (mm): ``sqrt(R_i^2 - (|e| +
-    D/2)^2)``, where the flat tip reaches the root radius at the tool's rim (module docstring)."""
-    _, e = groove.axis(theta)
+def floor_radius(root_radius: float, e: np.ndarray, tool_radius: float) -> np.ndarray:
+    """Tip radius of the finishing pass (mm) for the roller axis' tangential offsets ``e`` (mm):
+    ``sqrt(R_i^2 - (|e| + D/2)^2)``, where the flat tip reaches the root radius at the tool's rim
+    (module docstring).  Raises :class:`GeometryError` where the tool reaches the axis' side of
+    the root (``|e| + D/2 >= R_i``)."""
     reach = np.abs(e) + tool_radius
-    return np.sqrt(np.maximum(groove.root_radius**2 - reach * reach, 0.0))
+    if np.any(reach >= root_radius):
+        raise GeometryError(f"a tool of radius {tool_radius:g} mm at the follower's tangential offset reaches {float(np.max(reach)):.4g} mm "
+                            f"from the axis, not inside the root radius {root_radius:g} mm: its tip cannot cut the walls to the root")
+    return np.sqrt(root_radius**2 - reach * reach)
 
 
 def _axis_path(groove: Any, theta: np.ndarray, tool_radius: float) -> np.ndarray:
     """Columns X = z_c, Y = -e, Z = the floor radius at cam angles ``theta`` (n, 3), mm."""
     z_c, e = groove.axis(theta)
-    reach = np.abs(e) + tool_radius
-    floor = np.sqrt(np.maximum(groove.root_radius**2 - reach * reach, 0.0))
-    return np.column_stack([np.broadcast_to(z_c, theta.shape), -np.broadcast_to(e, theta.shape), floor])
+    z_c, e = np.broadcast_to(z_c, theta.shape), np.broadcast_to(e, theta.shape)
+    return np.column_stack([z_c, -e, floor_radius(groove.root_radius, e, tool_radius)])
 
 
 def station_angles(groove: Any, travel: int, tool_radius: float, fit: float) -> np.ndarray:
@@ -235,17 +238,11 @@ def barrel_program(groove: Any, spec: MachiningSpec, cam: str = "cam", scene: st
     from camgen.export.tables import format_rows
 
     _check(groove, spec, cam)
-    r = spec.tool_radius
-    theta_probe = np.linspace(0.0, 2.0 * math.pi, 721)
-    reach = float(np.max(np.abs(groove.axis(theta_probe)[1]))) + r
-    if reach >= groove.root_radius:
-        raise GeometryError(f"a tool of radius {r:g} mm at the follower's tangential offset reaches {reach:.4g} mm from the axis, "
-                            f"not inside the root radius {groove.root_radius:g} mm: its tip cannot cut the walls to the root")
     path = tool_path(groove, spec)
     d = spec.decimals
     da = a_decimals(d, groove.rim_radius)
     n_turns = path.turns + 1
-    moves = n_turns * (path.a.size - 1)
+    moves = n_turns * (path.a.size - 1)  # at most: steps finer than the decimals are dropped
     if moves > MAX_PROGRAM_MOVES:
         per_turn = path.a.size - 1
         turns = MAX_PROGRAM_MOVES // per_turn - 1
@@ -268,10 +265,13 @@ def barrel_program(groove: Any, spec: MachiningSpec, cam: str = "cam", scene: st
         z = np.round(path.tip(turn), d) + 0.0
         z[0] = prev_z
         prev_z = float(z[-1])
+        # a step finer than the printed decimals (a refined step at a sharp turn of the law) is dropped
+        keep = np.concatenate([[True], (np.diff(a) != 0.0) | (np.diff(xs) != 0.0) | (np.diff(ys) != 0.0) | (np.diff(z) != 0.0)])
+        a, xt, yt, z = a[keep], xs[keep], ys[keep], z[keep]
         # inverse time: feed over the move's length at the rim (printed values)
-        length = np.sqrt((rim * np.radians(np.diff(a))) ** 2 + np.diff(xs) ** 2 + np.diff(ys) ** 2 + np.diff(z) ** 2)
+        length = np.sqrt((rim * np.radians(np.diff(a))) ** 2 + np.diff(xt) ** 2 + np.diff(yt) ** 2 + np.diff(z) ** 2)
         inverse = np.floor(feed / length * 1e4) / 1e4  # rounded down: never faster than the feed
-        cols = [xs[1:]] + ([ys[1:]] if oscillating else []) + [z[1:], a[1:], inverse]
+        cols = [xt[1:]] + ([yt[1:]] if oscillating else []) + [z[1:], a[1:], inverse]
         row = f"G1 X%.{d}f" + (f" Y%.{d}f" if oscillating else "") + f" Z%.{d}f A%.{da}f F%.4f"
         what = "finishing turn on the floor" if turn == n_turns else f"roughing turn {turn} of {path.turns}: ramp to Z{float(z[-1]):.{d}f}"
         blocks.append(f"({what})\n" + format_rows(np.column_stack(cols), row))
@@ -305,12 +305,11 @@ def barrel_program(groove: Any, spec: MachiningSpec, cam: str = "cam", scene: st
     ]
     assert rounding <= rounding_error(d) <= ROUNDING_SHARE * chord_tol * (1 + 1e-12)  # the spec's decimals check covers the barrel's
     safe = rim + spec.safe_z
-    start_a = 0.0
     head = "\n".join(lines) + "\n" + (
         "G21 G90 G17 G40 G49 G80 G94\n"
         f"G64 P{blend}\n"
         f"G0 Z{safe:.{d}f}\n"
-        f"G0 X{xs[0]:.{d}f} Y{ys[0]:.{d}f} A{start_a:.{da}f}\n"
+        f"G0 X{xs[0]:.{d}f} Y{ys[0]:.{d}f} A{0.0:.{da}f}\n"
         f"M3 S{spec.spindle_rpm:.0f}\n"
         f"G1 Z{rim:.{d}f} F{spec.plunge_feed:.0f}\n"
         "G93\n"
