@@ -1,0 +1,222 @@
+"""The surface mesh of a barrel (cylindrical) cam: the cylinder less the bore, less the groove.
+
+The body is ``{R_bore <= r <= R_o, 0 <= z <= length}`` less the groove ``{R_i < r <= R_o,
+z_lower(r, phi) < z < z_upper(r, phi)}`` (cam frame of :mod:`camgen.synthesis.barrel`: z along
+the axis, r, phi polar about it; the walls :meth:`BarrelGroove.wall_height`).  The mesh is built
+as a structured grid, every vertex on the exact surface it samples:
+
+* the two walls on one (r, phi) grid: rows ``R_i = r_0 < ... < r_M = R_o``, columns
+  ``0 = phi_0 < ... < phi_{N-1} < 2 pi`` (periodic), vertex ``(r cos phi, r sin phi, z_wall(r, phi))``;
+* the floor (the root cylinder ``r = R_i``) between the walls' root rows, the rim (``r = R_o``)
+  from ``z = 0`` to the lower wall's rim row and from the upper wall's to ``z = length``, the bore
+  (``r = R_bore``) from end to end and the two end faces (annuli, or discs without a bore): two
+  triangles per column, on the same columns.
+
+How the steps follow from the chord tolerance ``tol`` (``output.chord_tol_mm``):
+
+* Columns: a chord of angle ``dphi`` on a circle of radius R lies within ``R (1 - cos(dphi / 2))``
+  of it; the first grid is uniform with that equal to ``tol`` on the rim (the largest circle), so
+  every cylinder and end face is within ``tol``.
+* The walls are then measured, not estimated: at the midpoint of every edge of every wall
+  triangle (its sides and diagonal) the point of the mesh is taken back to cylindrical
+  coordinates (r, phi, z) and compared with the exact wall there, ``|z - z_wall(r, phi)|`` (the
+  axial distance: the distance to the surface is at most that).  For a surface that is
+  quadratic over a triangle the deviation is the sum of the edge-midpoint deviations times
+  hat functions ``4 l_i l_j``, whose sum is at most 4/3 (Ciarlet, The Finite Element Method for
+  Elliptic Problems, sec. 3.1, the quadratic Lagrange triangle): a column or row is halved until
+  every midpoint is within :data:`MIDPOINT_FRACTION` ``* tol``, which leaves the whole wall
+  within ``tol`` with a margin for the higher-order terms.  A wall edge at a wall meeting a
+  cylinder (the rows ``R_i`` and ``R_o``) is shared by the cylinder's triangles, so they meet
+  exactly.
+
+The result is handed to manifold3d, whose status says it is a closed, consistently oriented
+2-manifold of one piece, genus 1 with a bore (0 without); :attr:`CamSolid.volume` is manifold3d's.
+The size is bounded before the work: a grid that would exceed :data:`MAX_TRIANGLES` (the mesh
+files' byte cap, :data:`camgen.export.solid.MAX_FILE_BYTES`) is refused, naming
+``output.chord_tol_mm``.  Where the body cannot be made (the groove reaches an end face or the
+bore) a :class:`GeometryError` names the cam (the pipeline reports it as a failed check).
+"""
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from camgen.errors import GeometryError
+
+if TYPE_CHECKING:
+    from camgen.export.solid import CamSolid
+    from camgen.outputs import OutputSpec
+    from camgen.results import CamResult
+
+__all__ = ["BYTES_PER_TRIANGLE", "MAX_REFINEMENTS", "MAX_TRIANGLES", "MIDPOINT_FRACTION", "barrel_solid", "mesh_stage", "wall_grid"]
+
+#: Largest deviation of a wall triangle's edge midpoint from the exact wall, as a fraction of the
+#: chord tolerance: a quadratic surface's deviation over the triangle is at most 4/3 of its largest
+#: midpoint deviation (module notes), so 1/2 leaves the whole triangle within 2/3 of ``tol`` plus
+#: higher-order terms.
+MIDPOINT_FRACTION = 0.5
+#: Most times a row or column of the wall grid is halved before the tolerance is declared out of
+#: reach (each halving at least doubles the resolution where it is needed: 2^24 is far below
+#: any float's reach of a smooth wall).
+MAX_REFINEMENTS = 24
+#: Bytes per triangle of each mesh format, at most (binary STL exactly 50; the others measured on
+#: barrel cams at 1e-3 and 1e-5 mm, with a margin: ASCII STL about 260, 3MF about 70, OBJ about
+#: 100, PLY about 40).
+BYTES_PER_TRIANGLE = {"stl": 50, "stl_ascii": 300, "3mf": 90, "obj": 130, "ply": 50}
+#: Most triangles of the mesh: a file of every mesh format stays within MAX_FILE_BYTES
+#: (:data:`camgen.export.solid.MAX_FILE_BYTES`) for the largest per-triangle format requested.
+MAX_TRIANGLES = 100_000_000 // max(BYTES_PER_TRIANGLE.values())
+
+
+def _triangle_cap(formats: tuple[str, ...] | None) -> int:
+    """Most triangles a mesh may have for ``formats`` (None: every mesh format)."""
+    from camgen.export.solid import MAX_FILE_BYTES
+
+    sizes = [BYTES_PER_TRIANGLE[f] for f in (formats or ()) if f in BYTES_PER_TRIANGLE] or list(BYTES_PER_TRIANGLE.values())
+    return MAX_FILE_BYTES // max(sizes)
+
+
+def _cylindrical(points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """r, phi, z of Cartesian ``points`` (..., 3)."""
+    return np.hypot(points[..., 0], points[..., 1]), np.arctan2(points[..., 1], points[..., 0]), points[..., 2]
+
+
+def _wall_points(groove: Any, side: int, r: np.ndarray, phi: np.ndarray) -> np.ndarray:
+    """Vertices (M + 1, N, 3) of wall ``side`` on the grid ``r`` (M + 1) x ``phi`` (N), mm."""
+    rr, pp = np.meshgrid(r, phi, indexing="ij")
+    z = np.asarray(groove.wall_height(side, rr, pp), dtype=np.float64)
+    return np.stack([rr * np.cos(pp), rr * np.sin(pp), z], axis=-1)
+
+
+def _midpoint_errors(groove: Any, side: int, grid: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Axial deviation (mm) of the wall mesh ``grid`` (M + 1, N, 3; columns periodic) from the exact
+    wall at its edge midpoints: along phi (M + 1, N), along r (M, N) and on the diagonals (M, N)."""
+    nxt = np.roll(grid, -1, axis=1)
+
+    def error(points: np.ndarray) -> np.ndarray:
+        r, phi, z = _cylindrical(points)
+        return np.abs(z - np.asarray(groove.wall_height(side, r, phi), dtype=np.float64))
+
+    return error(0.5 * (grid + nxt)), error(0.5 * (grid[:-1] + grid[1:])), error(0.5 * (grid[:-1] + nxt[1:]))
+
+
+def _halve(values: np.ndarray, marked: np.ndarray, periodic: float | None) -> np.ndarray:
+    """``values`` (sorted) with the midpoint of every marked interval inserted (interval k from
+    ``values[k]`` to the next; ``periodic``: the period closing the last interval, else None)."""
+    nxt = np.append(values[1:], values[0] + periodic) if periodic is not None else values[1:]
+    return np.sort(np.concatenate([values, 0.5 * (values[: len(nxt)] + nxt)[marked[: len(nxt)]]]))
+
+
+def wall_grid(groove: Any, tol: float, max_triangles: int, cam: str = "cam") -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The rows ``r`` (M + 1), columns ``phi`` (N) and both walls' vertices (M + 1, N, 3), upper
+    then lower, each wall's edge midpoints within :data:`MIDPOINT_FRACTION` ``* tol`` of the exact
+    wall (module notes).  GeometryError where that needs more than ``max_triangles`` triangles."""
+    rim, root = float(groove.rim_radius), float(groove.root_radius)
+    step = 2.0 * math.acos(max(-1.0, 1.0 - tol / rim))  # the rim's chord sag is tol
+    phi = 2.0 * math.pi * np.arange(max(16, math.ceil(2.0 * math.pi / step))) / max(16, math.ceil(2.0 * math.pi / step))
+    r = np.linspace(root, rim, 3)
+    limit = MIDPOINT_FRACTION * tol
+    for _ in range(MAX_REFINEMENTS):
+        if _triangle_count(len(r), len(phi)) > max_triangles:
+            break
+        walls = [_wall_points(groove, side, r, phi) for side in (1, -1)]
+        cols = np.zeros(len(phi), dtype=bool)
+        rows = np.zeros(len(r) - 1, dtype=bool)
+        for grid in walls:
+            along_phi, along_r, diagonal = _midpoint_errors(groove, 1 if grid is walls[0] else -1, grid)
+            if not (np.all(np.isfinite(along_phi)) and np.all(np.isfinite(along_r)) and np.all(np.isfinite(diagonal))):
+                raise GeometryError(f"cam '{cam}': the groove walls are not defined everywhere between the root and the rim")
+            cols |= np.any(along_phi > limit, axis=0) | np.any(diagonal > limit, axis=0)
+            rows |= np.any(along_r > limit, axis=1) | np.any(diagonal > limit, axis=1)
+        if not cols.any() and not rows.any():
+            return r, phi, walls[0], walls[1]
+        phi = _halve(phi, cols, 2.0 * math.pi)
+        r = _halve(r, rows, None)
+    raise GeometryError(f"cam '{cam}': the barrel's mesh at output.chord_tol_mm = {tol:g} needs more than {max_triangles} triangles "
+                        "(the mesh files' size cap): use a larger output.chord_tol_mm")
+
+
+def _triangle_count(rows: int, columns: int) -> int:
+    """Triangles of the mesh on ``rows`` wall rows and ``columns`` columns: two walls, floor, two rim
+    bands, bore and two end faces, two triangles per cell."""
+    return 2 * columns * (2 * (rows - 1) + 6)
+
+
+def _band(first: np.ndarray, second: np.ndarray) -> np.ndarray:
+    """Two triangles per column between vertex rows ``first`` and ``second`` (ids (N,), columns
+    periodic, phi increasing): they face ``e_phi x (second - first)``."""
+    a, b = first, np.roll(first, -1)
+    c, d = np.roll(second, -1), second
+    return np.concatenate([np.stack([a, b, c], axis=1), np.stack([a, c, d], axis=1)])
+
+
+def barrel_solid(groove: Any, chord_tol: float, cam: str = "cam", formats: tuple[str, ...] | None = None) -> "CamSolid":
+    """The :class:`~camgen.export.solid.CamSolid` of the barrel cam of ``groove``
+    (:class:`camgen.synthesis.barrel.BarrelGroove`): every surface within ``chord_tol`` mm of the
+    exact one (module notes), validated by manifold3d.  ``formats``: the mesh formats to be written
+    (the size cap, :data:`BYTES_PER_TRIANGLE`; None: every one)."""
+    import manifold3d
+
+    from camgen.export.solid import CamSolid
+
+    rim, root, length, bore = (float(groove.rim_radius), float(groove.root_radius), float(groove.length), float(groove.bore_radius))
+    if not 0.0 <= bore < root < rim:
+        raise GeometryError(f"cam '{cam}': the barrel needs 0 <= bore radius < root radius < rim radius (bore {bore:g} mm, root "
+                            f"{root:g} mm, rim {rim:g} mm)")
+    r, phi, upper, lower = wall_grid(groove, chord_tol, _triangle_cap(formats), cam)
+    low, high = float(np.min(lower[..., 2])), float(np.max(upper[..., 2]))
+    if not (low > 0.0 and high < length):
+        raise GeometryError(f"cam '{cam}': the groove runs from z = {low:.4g} mm to z = {high:.4g} mm, through an end face of the "
+                            f"cylinder (length {length:g} mm)")
+    n, rows = len(phi), len(r)
+    c, s = np.cos(phi), np.sin(phi)
+
+    def ring(radius: float, z: float) -> np.ndarray:
+        return np.column_stack([radius * c, radius * s, np.full(n, z)])
+
+    blocks = [upper.reshape(-1, 3), lower.reshape(-1, 3), ring(rim, 0.0), ring(rim, length)]
+    up = np.arange(rows * n).reshape(rows, n)
+    lo = up + rows * n
+    rim0 = 2 * rows * n + np.arange(n)
+    rim1 = rim0 + n
+    faces = [_band(up[i], up[i + 1]) for i in range(rows - 1)]  # facing -z: material above the upper wall
+    faces += [_band(lo[i + 1], lo[i]) for i in range(rows - 1)]  # facing +z
+    faces += [_band(lo[0], up[0]), _band(rim0, lo[-1]), _band(up[-1], rim1)]  # floor and rim bands, facing +r
+    if bore > 0.0:
+        blocks += [ring(bore, 0.0), ring(bore, length)]
+        bore0 = rim0 + 2 * n
+        bore1 = bore0 + n
+        faces += [_band(bore1, bore0), _band(bore0, rim0), _band(rim1, bore1)]  # bore (facing -r), bottom (-z), top (+z)
+    else:
+        blocks += [np.array([[0.0, 0.0, 0.0], [0.0, 0.0, length]])]
+        centre = rim1[-1] + 1
+        faces += [np.column_stack([np.full(n, centre), np.roll(rim0, -1), rim0]),
+                  np.column_stack([np.full(n, centre + 1), rim1, np.roll(rim1, -1)])]
+    vertices = np.concatenate(blocks)
+    triangles = np.concatenate(faces).astype(np.int64)
+    if not np.all(np.isfinite(vertices)):
+        raise GeometryError(f"cam '{cam}': the barrel's walls are not finite everywhere")
+    solid = manifold3d.Manifold(manifold3d.Mesh64(vert_properties=vertices, tri_verts=triangles.astype(np.uint64)))
+    status = solid.status()
+    genus = int(solid.genus()) if status == manifold3d.Error.NoError else -1
+    pieces = len(solid.decompose()) if status == manifold3d.Error.NoError else 0
+    if status != manifold3d.Error.NoError or pieces != 1 or genus != (1 if bore > 0.0 else 0):
+        why = f"manifold3d: {status}" if status != manifold3d.Error.NoError else f"{pieces} bodies of genus {genus}"
+        raise GeometryError(f"cam '{cam}': the barrel cannot be meshed at chord_tol_mm = {chord_tol:g} ({why}): the walls cross")
+    return CamSolid(vertices, triangles, float(solid.volume()), math.pi * (rim * rim - bore * bore), genus, "barrel")
+
+
+def mesh_stage(cam: "CamResult", output: "OutputSpec", progress: Any) -> "CamResult":
+    """``cam`` (a barrel cam: ``cam.built.groove``) with its solid at ``output.chord_tol``, or the
+    failure that stopped it (a failed check): :func:`camgen.pipeline.mesh_stage`'s signature."""
+    from camgen.checks import CheckResult
+
+    progress(f"meshing cam '{cam.name}'")
+    try:
+        return cam.with_(solid=barrel_solid(cam.built.groove, output.chord_tol, cam.name, tuple(output.formats)))
+    except GeometryError as exc:  # the failed check camgen.pipeline.mesh_stage reports: no manufacturing file
+        failure = CheckResult("solid_export", "failed", "made as designed", "", "", False, [], " ".join(str(exc).split()),
+                              blocks_manufacture=True)
+        return cam.with_(mesh_failures=cam.mesh_failures + (failure,))
