@@ -50,7 +50,7 @@ if TYPE_CHECKING:
     from camgen.outputs import OutputSpec
     from camgen.results import CamResult
 
-__all__ = ["BYTES_PER_TRIANGLE", "MAX_REFINEMENTS", "MAX_TRIANGLES", "MIDPOINT_FRACTION", "barrel_solid", "mesh_stage", "wall_grid"]
+__all__ = ["BYTES_PER_TRIANGLE", "MAX_REFINEMENTS", "MAX_TRIANGLES", "MIDPOINT_FRACTION", "NEWTON_ITERATIONS", "NEWTON_STEP", "NEWTON_TOL", "barrel_solid", "mesh_stage", "wall_grid"]
 
 #: Largest deviation of a wall triangle's edge midpoint from the exact wall, as a fraction of the
 #: chord tolerance: a quadratic surface's deviation over the triangle is at most 4/3 of its largest
@@ -68,6 +68,12 @@ BYTES_PER_TRIANGLE = {"stl": 50, "stl_ascii": 300, "3mf": 90, "obj": 130, "ply":
 #: Most triangles of the mesh: a file of every mesh format stays within MAX_FILE_BYTES
 #: (:data:`camgen.export.solid.MAX_FILE_BYTES`) for the largest per-triangle format requested.
 MAX_TRIANGLES = 100_000_000 // max(BYTES_PER_TRIANGLE.values())
+#: Newton's method for the cam angle of a wall point (:func:`_axial`): iterations, the forward
+#: difference (rad) and the largest polar-angle residual accepted (rad: 1e-12 rad moves a point
+#: on a 1 m radius by 1e-9 mm).
+NEWTON_ITERATIONS = 6
+NEWTON_STEP = 1e-7
+NEWTON_TOL = 1e-12
 
 
 def _triangle_cap(formats: tuple[str, ...] | None) -> int:
@@ -78,28 +84,48 @@ def _triangle_cap(formats: tuple[str, ...] | None) -> int:
     return MAX_FILE_BYTES // max(sizes)
 
 
-def _cylindrical(points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """r, phi, z of Cartesian ``points`` (..., 3)."""
-    return np.hypot(points[..., 0], points[..., 1]), np.arctan2(points[..., 1], points[..., 0]), points[..., 2]
+def _wall_points(groove: Any, side: int, r: np.ndarray, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Vertices (M + 1, N, 3) of wall ``side`` on rows ``r`` (M + 1, mm) and columns ``psi`` (N,
+    rad; the cam angle ``theta = -sigma psi``, so that the polar angle grows with ``psi``), and
+    their polar angles (M + 1, N)."""
+    rr, pp = np.meshgrid(r, psi, indexing="ij")
+    phi, z = groove.wall(side, rr, -groove.layout.sigma * pp)
+    phi, z = np.asarray(phi, dtype=np.float64), np.asarray(z, dtype=np.float64)
+    return np.stack([rr * np.cos(phi), rr * np.sin(phi), z], axis=-1), phi
 
 
-def _wall_points(groove: Any, side: int, r: np.ndarray, phi: np.ndarray) -> np.ndarray:
-    """Vertices (M + 1, N, 3) of wall ``side`` on the grid ``r`` (M + 1) x ``phi`` (N), mm."""
-    rr, pp = np.meshgrid(r, phi, indexing="ij")
-    z = np.asarray(groove.wall_height(side, rr, pp), dtype=np.float64)
-    return np.stack([rr * np.cos(pp), rr * np.sin(pp), z], axis=-1)
+def _axial(groove: Any, side: int, points: np.ndarray, psi: np.ndarray) -> np.ndarray:
+    """``|z - z_wall(r, phi)|`` (mm) of ``points`` (..., 3) against wall ``side`` at their own
+    radius and polar angle: the cam angle whose contact at radius ``r`` lies at ``phi`` is solved
+    by Newton's method from ``theta = -sigma psi`` (``psi`` (...): the parameters' midpoint, close
+    to it), the derivative by a forward difference of :data:`NEWTON_STEP` rad."""
+    sigma = groove.layout.sigma
+    r = np.hypot(points[..., 0], points[..., 1])
+    target = np.arctan2(points[..., 1], points[..., 0])
+    theta = -sigma * np.asarray(psi, dtype=np.float64)
+    residual = np.full(r.shape, np.inf)
+    for _ in range(NEWTON_ITERATIONS):
+        phi, _ = groove.wall(side, r, theta)
+        ahead, _ = groove.wall(side, r, theta + NEWTON_STEP)
+        residual = (phi - target + math.pi) % (2.0 * math.pi) - math.pi
+        theta = theta - residual * NEWTON_STEP / (ahead - phi)
+    phi, z = groove.wall(side, r, theta)
+    residual = (np.asarray(phi) - target + math.pi) % (2.0 * math.pi) - math.pi
+    if not np.all(np.abs(residual) <= NEWTON_TOL):
+        return np.full(r.shape, np.inf)  # not converged: the caller refines until it does (or gives up)
+    return np.abs(points[..., 2] - z)
 
 
-def _midpoint_errors(groove: Any, side: int, grid: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _deviations(groove: Any, side: int, r: np.ndarray, psi: np.ndarray, grid: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Axial deviation (mm) of the wall mesh ``grid`` (M + 1, N, 3; columns periodic) from the exact
-    wall at its edge midpoints: along phi (M + 1, N), along r (M, N) and on the diagonals (M, N)."""
+    wall at its edge midpoints (:func:`_axial`): along psi (M + 1, N), along r (M, N) and on the
+    cells' diagonals (M, N)."""
+    psi_next = np.append(psi[1:], psi[0] + 2.0 * math.pi)
+    psi_mid = np.broadcast_to(0.5 * (psi + psi_next), grid.shape[:2])
     nxt = np.roll(grid, -1, axis=1)
-
-    def error(points: np.ndarray) -> np.ndarray:
-        r, phi, z = _cylindrical(points)
-        return np.abs(z - np.asarray(groove.wall_height(side, r, phi), dtype=np.float64))
-
-    return error(0.5 * (grid + nxt)), error(0.5 * (grid[:-1] + grid[1:])), error(0.5 * (grid[:-1] + nxt[1:]))
+    return (_axial(groove, side, 0.5 * (grid + nxt), psi_mid),
+            _axial(groove, side, 0.5 * (grid[:-1] + grid[1:]), np.broadcast_to(psi, (len(r) - 1, len(psi)))),
+            _axial(groove, side, 0.5 * (grid[:-1] + nxt[1:]), psi_mid[:-1]))
 
 
 def _halve(values: np.ndarray, marked: np.ndarray, periodic: float | None) -> np.ndarray:
@@ -109,47 +135,82 @@ def _halve(values: np.ndarray, marked: np.ndarray, periodic: float | None) -> np
     return np.sort(np.concatenate([values, 0.5 * (values[: len(nxt)] + nxt)[marked[: len(nxt)]]]))
 
 
-def wall_grid(groove: Any, tol: float, max_triangles: int, cam: str = "cam") -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The rows ``r`` (M + 1), columns ``phi`` (N) and both walls' vertices (M + 1, N, 3), upper
-    then lower, each wall's edge midpoints within :data:`MIDPOINT_FRACTION` ``* tol`` of the exact
-    wall (module notes).  GeometryError where that needs more than ``max_triangles`` triangles."""
+def wall_grid(groove: Any, tol: float, max_triangles: int, cam: str = "cam") -> tuple[np.ndarray, np.ndarray, list[np.ndarray], list[np.ndarray]]:
+    """The rows ``r`` (M + 1), columns ``psi`` (N) and both walls' vertices (M + 1, N, 3) and polar
+    angles (M + 1, N), upper then lower, each wall's edge midpoints within :data:`MIDPOINT_FRACTION`
+    ``* tol`` of the exact wall (module notes).  GeometryError where that needs more than
+    ``max_triangles`` triangles, or where a wall's section folds (its polar angle does not grow
+    along a row: undercut)."""
     rim, root = float(groove.rim_radius), float(groove.root_radius)
     step = 2.0 * math.acos(max(-1.0, 1.0 - tol / rim))  # the rim's chord sag is tol
-    phi = 2.0 * math.pi * np.arange(max(16, math.ceil(2.0 * math.pi / step))) / max(16, math.ceil(2.0 * math.pi / step))
+    count = max(16, math.ceil(2.0 * math.pi / step))
+    psi = 2.0 * math.pi * np.arange(count) / count
     r = np.linspace(root, rim, 3)
     limit = MIDPOINT_FRACTION * tol
     for _ in range(MAX_REFINEMENTS):
-        if _triangle_count(len(r), len(phi)) > max_triangles:
+        if _triangle_count(len(r), len(psi), len(psi)) > max_triangles:
             break
-        walls = [_wall_points(groove, side, r, phi) for side in (1, -1)]
-        cols = np.zeros(len(phi), dtype=bool)
+        walls = [_wall_points(groove, side, r, psi) for side in (1, -1)]
+        cols = np.zeros(len(psi), dtype=bool)
         rows = np.zeros(len(r) - 1, dtype=bool)
-        for grid in walls:
-            along_phi, along_r, diagonal = _midpoint_errors(groove, 1 if grid is walls[0] else -1, grid)
-            if not (np.all(np.isfinite(along_phi)) and np.all(np.isfinite(along_r)) and np.all(np.isfinite(diagonal))):
+        for side, (grid, _) in zip((1, -1), walls):
+            along_psi, along_r, diagonal = _deviations(groove, side, r, psi, grid)
+            if not (np.all(np.isfinite(grid)) and np.all(np.isfinite(along_psi)) and np.all(np.isfinite(along_r))
+                    and np.all(np.isfinite(diagonal))):
                 raise GeometryError(f"cam '{cam}': the groove walls are not defined everywhere between the root and the rim")
-            cols |= np.any(along_phi > limit, axis=0) | np.any(diagonal > limit, axis=0)
+            cols |= np.any(along_psi > limit, axis=0) | np.any(diagonal > limit, axis=0)
             rows |= np.any(along_r > limit, axis=1) | np.any(diagonal > limit, axis=1)
         if not cols.any() and not rows.any():
-            return r, phi, walls[0], walls[1]
-        phi = _halve(phi, cols, 2.0 * math.pi)
+            for side, (_, phi) in zip(("upper", "lower"), walls):
+                turn = np.diff(np.concatenate([phi, phi[:, :1] + 2.0 * math.pi], axis=1), axis=1)
+                if not np.all(turn > 0.0):
+                    i, j = np.unravel_index(int(np.argmin(turn)), turn.shape)
+                    raise GeometryError(f"cam '{cam}': the {side} wall folds at radius {r[i]:.4g} mm, cam angle "
+                                        f"{math.degrees(-groove.layout.sigma * psi[j]) % 360.0:.2f} deg (undercut): it cannot be meshed")
+            return r, psi, [w[0] for w in walls], [w[1] for w in walls]
+        psi = _halve(psi, cols, 2.0 * math.pi)
         r = _halve(r, rows, None)
     raise GeometryError(f"cam '{cam}': the barrel's mesh at output.chord_tol_mm = {tol:g} needs more than {max_triangles} triangles "
                         "(the mesh files' size cap): use a larger output.chord_tol_mm")
 
 
-def _triangle_count(rows: int, columns: int) -> int:
-    """Triangles of the mesh on ``rows`` wall rows and ``columns`` columns: two walls, floor, two rim
-    bands, bore and two end faces, two triangles per cell."""
-    return 2 * columns * (2 * (rows - 1) + 6)
+def _triangle_count(rows: int, columns: int, ring: int) -> int:
+    """Triangles of the mesh on ``rows`` wall rows, ``columns`` wall columns and ``ring`` vertices
+    on each rim and bore circle: two walls, the floor, two rim bands, the bore and two end faces."""
+    return 4 * columns * (rows - 1) + 2 * columns + 2 * (columns + ring) + 2 * ring + 4 * ring
 
 
 def _band(first: np.ndarray, second: np.ndarray) -> np.ndarray:
     """Two triangles per column between vertex rows ``first`` and ``second`` (ids (N,), columns
-    periodic, phi increasing): they face ``e_phi x (second - first)``."""
+    periodic, polar angle increasing): they face ``e_phi x (second - first)``."""
     a, b = first, np.roll(first, -1)
     c, d = np.roll(second, -1), second
     return np.concatenate([np.stack([a, b, c], axis=1), np.stack([a, c, d], axis=1)])
+
+
+def zipper(first: np.ndarray, first_angle: np.ndarray, second: np.ndarray, second_angle: np.ndarray) -> np.ndarray:
+    """Triangles between two closed rows of vertices (ids ``first`` (n,) and ``second`` (m,), polar
+    angles increasing over one turn, rad): merged by angle, each triangle advances one row by one
+    vertex (n + m triangles).  They face ``e_phi x (second - first)``, as :func:`_band`'s.
+
+    Where two chains in the (angle, height) plane never meet (one always above the other) the
+    merge gives a triangulation of the band between them: each diagonal joins two vertices with
+    no other vertex between their angles."""
+    n, m = len(first), len(second)
+    start = int(np.argmin(np.abs((second_angle - first_angle[0] + math.pi) % (2.0 * math.pi) - math.pi)))
+    second, second_angle = np.roll(second, -start), np.roll(second_angle, -start)
+    a = np.unwrap(np.append(first_angle, first_angle[0] + 2.0 * math.pi))
+    b = np.unwrap(np.append(second_angle, second_angle[0] + 2.0 * math.pi))
+    b += 2.0 * math.pi * np.round((a[0] - b[0]) / (2.0 * math.pi))
+    events = np.concatenate([a[1:], b[1:]])
+    which = np.concatenate([np.zeros(n, dtype=bool), np.ones(m, dtype=bool)])  # True: the second row advances
+    order = np.lexsort((which, events))
+    which = which[order]
+    i = np.concatenate([[0], np.cumsum(~which)[:-1]])  # vertex of the first row before each event
+    j = np.concatenate([[0], np.cumsum(which)[:-1]])
+    fi, fi1 = first[i % n], first[(i + 1) % n]
+    sj, sj1 = second[j % m], second[(j + 1) % m]
+    return np.where(which[:, None], np.stack([fi, sj1, sj], axis=1), np.stack([fi, fi1, sj], axis=1))
 
 
 def barrel_solid(groove: Any, chord_tol: float, cam: str = "cam", formats: tuple[str, ...] | None = None) -> "CamSolid":
@@ -165,35 +226,39 @@ def barrel_solid(groove: Any, chord_tol: float, cam: str = "cam", formats: tuple
     if not 0.0 <= bore < root < rim:
         raise GeometryError(f"cam '{cam}': the barrel needs 0 <= bore radius < root radius < rim radius (bore {bore:g} mm, root "
                             f"{root:g} mm, rim {rim:g} mm)")
-    r, phi, upper, lower = wall_grid(groove, chord_tol, _triangle_cap(formats), cam)
+    r, psi, (upper, lower), (phi_up, phi_lo) = wall_grid(groove, chord_tol, _triangle_cap(formats), cam)
     low, high = float(np.min(lower[..., 2])), float(np.max(upper[..., 2]))
     if not (low > 0.0 and high < length):
         raise GeometryError(f"cam '{cam}': the groove runs from z = {low:.4g} mm to z = {high:.4g} mm, through an end face of the "
                             f"cylinder (length {length:g} mm)")
-    n, rows = len(phi), len(r)
-    c, s = np.cos(phi), np.sin(phi)
+    rows, n = upper.shape[:2]
+    # the circles: the rim's and the bore's chord sag within tol
+    ring_count = max(16, math.ceil(2.0 * math.pi / (2.0 * math.acos(max(-1.0, 1.0 - chord_tol / rim)))))
+    ring_angle = 2.0 * math.pi * np.arange(ring_count) / ring_count
+    c, s = np.cos(ring_angle), np.sin(ring_angle)
 
     def ring(radius: float, z: float) -> np.ndarray:
-        return np.column_stack([radius * c, radius * s, np.full(n, z)])
+        return np.column_stack([radius * c, radius * s, np.full(ring_count, z)])
 
     blocks = [upper.reshape(-1, 3), lower.reshape(-1, 3), ring(rim, 0.0), ring(rim, length)]
     up = np.arange(rows * n).reshape(rows, n)
     lo = up + rows * n
-    rim0 = 2 * rows * n + np.arange(n)
-    rim1 = rim0 + n
+    rim0 = 2 * rows * n + np.arange(ring_count)
+    rim1 = rim0 + ring_count
     faces = [_band(up[i], up[i + 1]) for i in range(rows - 1)]  # facing -z: material above the upper wall
     faces += [_band(lo[i + 1], lo[i]) for i in range(rows - 1)]  # facing +z
-    faces += [_band(lo[0], up[0]), _band(rim0, lo[-1]), _band(up[-1], rim1)]  # floor and rim bands, facing +r
+    faces += [zipper(lo[0], phi_lo[0], up[0], phi_up[0]),  # the floor, facing +r
+              zipper(rim0, ring_angle, lo[-1], phi_lo[-1]), zipper(up[-1], phi_up[-1], rim1, ring_angle)]  # the rim bands
     if bore > 0.0:
         blocks += [ring(bore, 0.0), ring(bore, length)]
-        bore0 = rim0 + 2 * n
-        bore1 = bore0 + n
+        bore0 = rim0 + 2 * ring_count
+        bore1 = bore0 + ring_count
         faces += [_band(bore1, bore0), _band(bore0, rim0), _band(rim1, bore1)]  # bore (facing -r), bottom (-z), top (+z)
     else:
         blocks += [np.array([[0.0, 0.0, 0.0], [0.0, 0.0, length]])]
         centre = rim1[-1] + 1
-        faces += [np.column_stack([np.full(n, centre), np.roll(rim0, -1), rim0]),
-                  np.column_stack([np.full(n, centre + 1), rim1, np.roll(rim1, -1)])]
+        faces += [np.column_stack([np.full(ring_count, centre), np.roll(rim0, -1), rim0]),
+                  np.column_stack([np.full(ring_count, centre + 1), rim1, np.roll(rim1, -1)])]
     vertices = np.concatenate(blocks)
     triangles = np.concatenate(faces).astype(np.int64)
     if not np.all(np.isfinite(vertices)):
