@@ -50,7 +50,7 @@ if TYPE_CHECKING:
     from camgen.outputs import OutputSpec
     from camgen.results import CamResult
 
-__all__ = ["BYTES_PER_TRIANGLE", "MAX_REFINEMENTS", "MAX_TRIANGLES", "MIDPOINT_FRACTION", "NEWTON_ITERATIONS", "NEWTON_STEP", "NEWTON_TOL", "barrel_solid", "mesh_stage", "wall_grid"]
+__all__ = ["BYTES_PER_TRIANGLE", "MAX_REFINEMENTS", "MAX_TRIANGLES", "MIDPOINT_FRACTION", "NEWTON_ITERATIONS", "NEWTON_STEP", "NEWTON_TOL", "axial_deviation", "barrel_solid", "mesh_stage", "wall_grid"]
 
 #: Largest deviation of a wall triangle's edge midpoint from the exact wall, as a fraction of the
 #: chord tolerance: a quadratic surface's deviation over the triangle is at most 4/3 of its largest
@@ -68,7 +68,7 @@ BYTES_PER_TRIANGLE = {"stl": 50, "stl_ascii": 300, "3mf": 90, "obj": 130, "ply":
 #: Most triangles of the mesh: a file of every mesh format stays within MAX_FILE_BYTES
 #: (:data:`camgen.export.solid.MAX_FILE_BYTES`) for the largest per-triangle format requested.
 MAX_TRIANGLES = 100_000_000 // max(BYTES_PER_TRIANGLE.values())
-#: Newton's method for the cam angle of a wall point (:func:`_axial`): iterations, the forward
+#: Newton's method for the cam angle of a wall point (:func:`axial_deviation`): iterations, the forward
 #: difference (rad) and the largest polar-angle residual accepted (rad: 1e-12 rad moves a point
 #: on a 1 m radius by 1e-9 mm).
 NEWTON_ITERATIONS = 6
@@ -94,7 +94,7 @@ def _wall_points(groove: Any, side: int, r: np.ndarray, psi: np.ndarray) -> tupl
     return np.stack([rr * np.cos(phi), rr * np.sin(phi), z], axis=-1), phi
 
 
-def _axial(groove: Any, side: int, points: np.ndarray, psi: np.ndarray) -> np.ndarray:
+def axial_deviation(groove: Any, side: int, points: np.ndarray, psi: np.ndarray) -> np.ndarray:
     """``|z - z_wall(r, phi)|`` (mm) of ``points`` (..., 3) against wall ``side`` at their own
     radius and polar angle: the cam angle whose contact at radius ``r`` lies at ``phi`` is solved
     by Newton's method from ``theta = -sigma psi`` (``psi`` (...): the parameters' midpoint, close
@@ -118,14 +118,14 @@ def _axial(groove: Any, side: int, points: np.ndarray, psi: np.ndarray) -> np.nd
 
 def _deviations(groove: Any, side: int, r: np.ndarray, psi: np.ndarray, grid: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Axial deviation (mm) of the wall mesh ``grid`` (M + 1, N, 3; columns periodic) from the exact
-    wall at its edge midpoints (:func:`_axial`): along psi (M + 1, N), along r (M, N) and on the
+    wall at its edge midpoints (:func:`axial_deviation`): along psi (M + 1, N), along r (M, N) and on the
     cells' diagonals (M, N)."""
     psi_next = np.append(psi[1:], psi[0] + 2.0 * math.pi)
     psi_mid = np.broadcast_to(0.5 * (psi + psi_next), grid.shape[:2])
     nxt = np.roll(grid, -1, axis=1)
-    return (_axial(groove, side, 0.5 * (grid + nxt), psi_mid),
-            _axial(groove, side, 0.5 * (grid[:-1] + grid[1:]), np.broadcast_to(psi, (len(r) - 1, len(psi)))),
-            _axial(groove, side, 0.5 * (grid[:-1] + nxt[1:]), psi_mid[:-1]))
+    return (axial_deviation(groove, side, 0.5 * (grid + nxt), psi_mid),
+            axial_deviation(groove, side, 0.5 * (grid[:-1] + grid[1:]), np.broadcast_to(psi, (len(r) - 1, len(psi)))),
+            axial_deviation(groove, side, 0.5 * (grid[:-1] + nxt[1:]), psi_mid[:-1]))
 
 
 def _halve(values: np.ndarray, marked: np.ndarray, periodic: float | None) -> np.ndarray:
