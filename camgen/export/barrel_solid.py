@@ -14,9 +14,12 @@ as a structured grid, every vertex on the exact surface it samples:
 
 How the steps follow from the chord tolerance ``tol`` (``output.chord_tol_mm``):
 
-* Columns: a chord of angle ``dphi`` on a circle of radius R lies within ``R (1 - cos(dphi / 2))``
-  of it; the first grid is uniform with that equal to ``tol`` on the rim (the largest circle), so
-  every cylinder and end face is within ``tol``.
+* Columns: every point of a triangle whose vertices lie on a circle of radius R within an arc
+  of angle ``a`` is within ``R (1 - cos(a / 2))`` of the circle's cylinder.  The floor and rim bands
+  join two rows of vertices merged by angle (:func:`zipper`), whose triangles span at most two
+  steps, one of each row: so every circle (the rim and bore rings, the walls' root and rim rows)
+  is sampled at steps of at most ``acos(1 - tol / R)`` (half the chord step), and the bands, bore
+  and end faces are within ``tol`` of their cylinders and planes.
 * The walls are then measured, not estimated: at the midpoint of every edge of every wall
   triangle (its sides and diagonal) the point of the mesh is taken back to cylindrical
   coordinates (r, phi, z) and compared with the exact wall there, ``|z - z_wall(r, phi)|`` (the
@@ -50,7 +53,7 @@ if TYPE_CHECKING:
     from camgen.outputs import OutputSpec
     from camgen.results import CamResult
 
-__all__ = ["BYTES_PER_TRIANGLE", "MAX_REFINEMENTS", "MAX_TRIANGLES", "MIDPOINT_FRACTION", "NEWTON_ITERATIONS", "NEWTON_STEP", "NEWTON_TOL", "axial_deviation", "barrel_solid", "mesh_stage", "wall_grid"]
+__all__ = ["BYTES_PER_TRIANGLE", "MAX_REFINEMENTS", "MAX_TRIANGLES", "MIDPOINT_FRACTION", "NEWTON_ITERATIONS", "NEWTON_STEP", "NEWTON_TOL", "axial_deviation", "barrel_solid", "half_chord_step", "mesh_stage", "wall_grid"]
 
 #: Largest deviation of a wall triangle's edge midpoint from the exact wall, as a fraction of the
 #: chord tolerance: a quadratic surface's deviation over the triangle is at most 4/3 of its largest
@@ -142,8 +145,7 @@ def wall_grid(groove: Any, tol: float, max_triangles: int, cam: str = "cam") -> 
     ``max_triangles`` triangles, or where a wall's section folds (its polar angle does not grow
     along a row: undercut)."""
     rim, root = float(groove.rim_radius), float(groove.root_radius)
-    step = 2.0 * math.acos(max(-1.0, 1.0 - tol / rim))  # the rim's chord sag is tol
-    count = max(16, math.ceil(2.0 * math.pi / step))
+    count = max(16, math.ceil(2.0 * math.pi / half_chord_step(rim, tol)))
     psi = 2.0 * math.pi * np.arange(count) / count
     r = np.linspace(root, rim, 3)
     limit = MIDPOINT_FRACTION * tol
@@ -153,13 +155,15 @@ def wall_grid(groove: Any, tol: float, max_triangles: int, cam: str = "cam") -> 
         walls = [_wall_points(groove, side, r, psi) for side in (1, -1)]
         cols = np.zeros(len(psi), dtype=bool)
         rows = np.zeros(len(r) - 1, dtype=bool)
-        for side, (grid, _) in zip((1, -1), walls):
+        for side, (grid, phi) in zip((1, -1), walls):
             along_psi, along_r, diagonal = _deviations(groove, side, r, psi, grid)
             if not (np.all(np.isfinite(grid)) and np.all(np.isfinite(along_psi)) and np.all(np.isfinite(along_r))
                     and np.all(np.isfinite(diagonal))):
                 raise GeometryError(f"cam '{cam}': the groove walls are not defined everywhere between the root and the rim")
             cols |= np.any(along_psi > limit, axis=0) | np.any(diagonal > limit, axis=0)
             rows |= np.any(along_r > limit, axis=1) | np.any(diagonal > limit, axis=1)
+            for row, radius in ((0, root), (-1, rim)):  # the rows the floor and rim bands join (module notes)
+                cols |= _turn(phi[row]) > half_chord_step(radius, tol)
         if not cols.any() and not rows.any():
             for side, (_, phi) in zip(("upper", "lower"), walls):
                 turn = np.diff(np.concatenate([phi, phi[:, :1] + 2.0 * math.pi], axis=1), axis=1)
@@ -172,6 +176,17 @@ def wall_grid(groove: Any, tol: float, max_triangles: int, cam: str = "cam") -> 
         r = _halve(r, rows, None)
     raise GeometryError(f"cam '{cam}': the barrel's mesh at output.chord_tol_mm = {tol:g} needs more than {max_triangles} triangles "
                         "(the mesh files' size cap): use a larger output.chord_tol_mm")
+
+
+def half_chord_step(radius: float, tol: float) -> float:
+    """The largest angle step (rad) of a circle of ``radius`` mm joined to another by angle:
+    ``acos(1 - tol / radius)``, half the chord step of sag ``tol`` (module notes)."""
+    return math.acos(max(-1.0, 1.0 - tol / radius))
+
+
+def _turn(phi: np.ndarray) -> np.ndarray:
+    """Steps (rad) between consecutive polar angles of a closed row (the last to the first + 2 pi)."""
+    return np.diff(np.append(phi, phi[0] + 2.0 * math.pi))
 
 
 def _triangle_count(rows: int, columns: int, ring: int) -> int:
@@ -232,8 +247,8 @@ def barrel_solid(groove: Any, chord_tol: float, cam: str = "cam", formats: tuple
         raise GeometryError(f"cam '{cam}': the groove runs from z = {low:.4g} mm to z = {high:.4g} mm, through an end face of the "
                             f"cylinder (length {length:g} mm)")
     rows, n = upper.shape[:2]
-    # the circles: the rim's and the bore's chord sag within tol
-    ring_count = max(16, math.ceil(2.0 * math.pi / (2.0 * math.acos(max(-1.0, 1.0 - chord_tol / rim)))))
+    # the rings of the rim and the bore: steps of half the rim's chord step (module notes)
+    ring_count = max(16, math.ceil(2.0 * math.pi / half_chord_step(rim, chord_tol)))
     ring_angle = 2.0 * math.pi * np.arange(ring_count) / ring_count
     c, s = np.cos(ring_angle), np.sin(ring_angle)
 
