@@ -120,7 +120,7 @@ def _cam(cam: "CamResult", drawn: bool) -> "CamReport":
         checks=tuple(_check(c) for c in cam.checks),
         rpm=cam.rpm,
         body=_body(cam) if drawn else None,
-        plots=_plots(cam, ev) if drawn and ev is not None else None,
+        plots=_plots(cam, ev) if drawn and ev is not None and cam.built.planar else None,  # a body that is no plate draws its own
         dynamics=_dynamics(cam) if drawn else None,
         report_section=get_kind(cam.kind, cam.spec.form).report_section,
         section=_section(cam.built.section) if drawn else None,

@@ -172,8 +172,10 @@ class CamResult:
 
     @property
     def manufacturable(self) -> bool:
-        """False when the profile could not be made or a check that blocks manufacture failed."""
-        return self.contour is not None and not any(c.failed and c.blocks_manufacture for c in self.checks)
+        """False when the profile could not be made (a plate without its contour) or a check that
+        blocks manufacture failed."""
+        made = self.contour is not None or not self.built.planar  # a body that is no plate has no contour to lack
+        return made and not any(c.failed and c.blocks_manufacture for c in self.checks)
 
     def with_(self, **changes: Any) -> "CamResult":
         """This result with the next stage's values (``dataclasses.replace``)."""

@@ -13,7 +13,7 @@ and ownership):
   extents), LTYPE ByBlock/ByLayer/Continuous, LAYER ``0`` and the drawing's layers, STYLE
   Standard, VIEW and UCS (empty), APPID ACAD, DIMSTYLE Standard (handle in group 105),
   BLOCK_RECORD ``*Model_Space`` and ``*Paper_Space`` (each pointing at its LAYOUT, group 340);
-* BLOCKS: the two empty layout blocks; ENTITIES: LINE, ARC, CIRCLE, LWPOLYLINE, SPLINE, all in
+* BLOCKS: the two empty layout blocks; ENTITIES: LINE, ARC, CIRCLE, LWPOLYLINE, SPLINE, TEXT, all in
   model space;
 * OBJECTS: the root dictionary (owner 0) with ``ACAD_GROUP`` (empty) and ``ACAD_LAYOUT``, which
   holds the ``Model`` and ``Layout1`` LAYOUT objects (each pointing back at its block record).
@@ -186,6 +186,16 @@ class DxfDocument:
         groups += [(40, repr(t)) for t in k.tolist()]
         groups += [g for x, y in p.tolist() for g in ((10, repr(x)), (20, repr(y)), (30, "0.0"))]
         self._add("SPLINE", layer, *groups)
+
+    def add_text(self, insert: Sequence[float], height: float, text: str, layer: str = "0") -> None:
+        """A one-line TEXT (style Standard) whose baseline starts at ``insert`` (x, y), its
+        characters ``height`` > 0 high (DXF Reference, ENTITIES: TEXT, groups 10, 40, 1)."""
+        p = _points(insert, "TEXT insertion point")[0]
+        h = _num(height, "TEXT height")
+        if not float(h) > 0:
+            raise ExportError(f"cannot write DXF: TEXT height {height!r} must be > 0")
+        self._add("TEXT", layer, (100, "AcDbText"), *_xyz(10, p), (40, h),
+                  (1, _text(text, "TEXT string")), (100, "AcDbText"))
 
     def set_extents(self, xmin: float, ymin: float, xmax: float, ymax: float) -> None:
         """The drawing's bounding box: ``$EXTMIN``/``$EXTMAX`` (z = 0), the limits

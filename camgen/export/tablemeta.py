@@ -37,7 +37,13 @@ def _cam_tables(cam: "CamResult", scene: "Scene", written: set[str]) -> dict[str
         if name in written:
             out[name] = {"cam": cam.name, **build()}
 
-    if cam.contour is not None:
+    own = _own_points_writer(cam)
+    if own is not None:  # a form that writes its own point list describes it beside its writer: points_metadata(cam, chord_tol)
+        import importlib
+
+        describe = getattr(importlib.import_module(own.split(":")[0]), "points_metadata")
+        add(OUTPUTS["points"].files.format(cam=cam.name), lambda: describe(cam, scene.output.chord_tol))
+    elif cam.contour is not None:
         from camgen.export.points import lift_metadata, points_metadata
 
         add(OUTPUTS["points"].files.format(cam=cam.name), lambda: points_metadata(scene.output.chord_tol, cam.pockets))
@@ -52,6 +58,13 @@ def _cam_tables(cam: "CamResult", scene: "Scene", written: set[str]) -> dict[str
 
         add(OUTPUTS["ride"].files.format(cam=cam.name), lambda: ride_metadata(str(cam.figures["trajectory"])))
     return out
+
+
+def _own_points_writer(cam: "CamResult") -> str | None:
+    """The ``"module:function"`` writing ``cam``'s point list for its form (CamForm.writers), or None."""
+    from camgen.forms import form_names, get_form
+
+    return get_form(cam.spec.form).writers.get("points") if cam.spec.form in form_names() else None
 
 
 def _leg_tables(report: Mapping[str, Any], written: set[str]) -> dict[str, dict[str, Any]]:

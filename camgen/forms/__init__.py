@@ -18,6 +18,7 @@ FORM_MODULES: dict[str, str] = {
     "groove": "camgen.forms.groove",
     "conjugate": "camgen.forms.conjugate",
     "linear": "camgen.forms.linear",
+    "barrel": "camgen.forms.barrel",
 }
 
 _REGISTRY: Registry[CamForm] = Registry(FORM_MODULES, "FORM")

@@ -11,7 +11,7 @@ import dataclasses
 import math
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any, Callable, Mapping
+from typing import TYPE_CHECKING, Any, Callable, ClassVar, Mapping
 
 from camgen.errors import CamgenError, ParameterError
 from camgen.schema import Angle, Key, Length, Number, Text
@@ -149,6 +149,10 @@ class BuiltCam:
     zero_mark: ZeroMark | None = None  # cam angle 0 and the rotation sense (kinds that know them)
     section: "SectionData | None" = None  # the data of the kind's own report section (the plots stage made it)
     pockets: tuple[Pocket, ...] = ()  # regions cut into the top face (a groove cam's groove); contour is then the outline (rim)
+    #: The body is a plate (``contour`` extruded, less its pockets): the generic plan view, meshes and
+    #: checks of a contour apply.  A form whose body is not (a barrel cam) says False, writes its own
+    #: files (:attr:`camgen.forms.base.CamForm.writers`) and has no ``contour``, yet can be made.
+    planar: ClassVar[bool] = True
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "figures", MappingProxyType(dict(self.figures)))  # read-only: no later stage writes into them

@@ -1,0 +1,36 @@
+"""Cam form ``barrel``: a cylinder turning about its axis whose groove drives a roller along the
+axis (translating) or swinging on an arm about an axis perpendicular to it (oscillating), with a
+cylindrical or conical roller, the cam turning either way.
+
+Realises every displacement law (:attr:`camgen.motions.base.Motion.read_law`): the groove's walls
+are the exact envelopes of the roller at every radius from root to rim
+(:mod:`camgen.synthesis.barrel`); keys, build and checks: :mod:`camgen.kinds.barrel`.  The body
+is no plate, so the form writes its own files: the developed drawing and the walls' point list
+(:mod:`camgen.export.barrel_drawing`), the solid (:mod:`camgen.export.barrel_solid`, the mesh
+stage; STEP :mod:`camgen.export.barrel_step`) and the 4th-axis program
+(:mod:`camgen.export.gcode_barrel`).
+"""
+from __future__ import annotations
+
+from camgen.forms.base import CamForm
+from camgen.kinds.barrel import barrel_keys, build_barrel, evaluate_barrel, read_barrel
+
+__all__ = ["FORM"]
+
+_FEA = "an FEA mesh of a barrel cam is not built yet (this release meshes plate bodies only)"
+
+FORM = CamForm(
+    name="barrel",
+    summary="barrel (cylindrical) cam: a groove in a turning cylinder drives a translating or oscillating roller (cylindrical or "
+            "conical), both walls the exact envelopes of the roller at every radius",
+    keys=barrel_keys,
+    read=read_barrel,
+    build=build_barrel,
+    evaluate=evaluate_barrel,
+    report_section="camgen.report.barrel:barrel_section",
+    formats_refused={"lift": "a cylinder has no polar lift table (the point list holds the walls at root, mean and rim radius)",
+                     "vtu": _FEA, "msh": _FEA, "inp": _FEA},
+    writers={"dxf": "camgen.export.barrel_drawing:dxf", "points": "camgen.export.barrel_drawing:points",
+             "step": "camgen.export.barrel_step:writer", "ngc": "camgen.export.gcode_barrel:writer"},
+    stages={"mesh": "camgen.export.barrel_solid:mesh_stage"},
+)

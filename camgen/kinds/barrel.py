@@ -1,0 +1,487 @@
+"""Barrel (cylindrical) cams: keys, reading, building and the checks.
+
+A cylinder turning about its axis (z) carries a groove that drives a roller along the axis
+(translating) or swinging it about an axis perpendicular to the cam's (oscillating).  The
+conventions are those of :mod:`camgen.synthesis.barrel` (the exact geometry); in short:
+
+- cam frame: z along the cam axis, z = 0 the cylinder's bottom face, z = ``cylinder_length_mm``
+  its top face; the cam turns about +z, ``rotation = "ccw"`` (sigma = +1, counter-clockwise
+  seen from +z) or ``"cw"`` (sigma = -1);
+- the follower stands at world polar angle 0 (the +x side): at cam angle theta its station is at
+  cam polar angle phi_r = -sigma theta;
+- radii: rim R_o (``cylinder_radius_mm``), groove depth d, root R_i = R_o - d, mean (pitch) radius
+  R_m = (R_o + R_i) / 2: the pressure angle and the developed drawing "at the mean radius" use it;
+- the roller's axis is radial; a cylindrical roller of radius Rr, or a conical one (apex on the
+  cam axis at the roller centre's height, radius Rr at R_m, translating only: it rolls without slip
+  at every radius in a dwell, :mod:`camgen.synthesis.barrel`); the walls are the exact envelopes of the roller widened by
+  half the clearance, w = Rr + c / 2;
+- translating: the roller axis at height z_c = z0 + s(theta) (``pitch_z_mm`` = z0, default
+  centred: (length - (s_max + s_min)) / 2); oscillating: the arm of length L
+  (``arm_length_mm``) swings about a pivot axis parallel to x at (y, z) = (-L, z_p)
+  (``pivot_z_mm``, default length / 2), arm angle psi = psi0 + phi(theta) (``rest_angle_deg``,
+  default -(phi_max + phi_min) / 2), so the roller axis is at height z_p + L sin psi and
+  tangential offset L (cos psi - 1).
+
+The body is the cylinder less the bore, less the groove; ``BuiltCam.contour`` is None (there is
+no planar outline: :attr:`BarrelCam.planar` is False) and the form writes its own drawing, point
+list, solid and program (:mod:`camgen.forms.barrel`).  The checks come from the closed forms on
+a dense cam-angle grid: the pressure angle at root, mean and rim radius, the undercut of both
+walls at radii from root to rim, the walls' reach against the cylinder's end faces, the wall to
+the bore, and the law's joins.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, ClassVar, Mapping
+
+import numpy as np
+
+from camgen.errors import ParameterError
+from camgen.kinds.base import BuiltCam, CamSpec, CheckSettings, field_default, with_cam
+from camgen.schema import REQUIRED, Angle, Choice, Key, Length, Number, Text
+
+if TYPE_CHECKING:
+    from camgen.checks import CamEvaluation, CheckResult, Motion
+    from camgen.synthesis.barrel import BarrelGroove
+
+__all__ = ["BarrelCam", "BarrelFollower", "BarrelParams", "barrel_keys", "build_barrel", "evaluate_barrel", "read_barrel"]
+
+#: Default ``groove_clearance_mm``: the groove's width less the roller's diameter (mm), a running
+#: fit for a track roller (the groove cam's).
+DEFAULT_CLEARANCE = 0.05
+#: Default ``fit_tol_mm`` (mm): the stated tolerance of the walls' representation (STEP surfaces).
+DEFAULT_FIT_TOL = 1e-4
+#: Default pressure-angle limits, rad: translating and oscillating followers.
+DEFAULT_LIMITS = {"translating": math.radians(30.0), "oscillating": math.radians(45.0)}
+#: Samples of the cam-angle grid of the checks and the report (0.1 deg: the law's segment ends at
+#: whole tenths of a degree are on it).
+CHECK_SAMPLES = 3600
+#: Radii (from root to rim, evenly spaced) at which the undercut of both walls is checked.
+UNDERCUT_RADII = 9
+ROLLER_SHAPES = ("cylindrical", "conical")
+_OSC = {"follower_motion": ("oscillating",)}
+_TRANS = {"follower_motion": ("translating",)}
+
+
+def _body_default(name: str) -> Any:
+    from camgen.body import BodySpec
+
+    return field_default(BodySpec, name)
+
+
+def barrel_keys() -> tuple[Key, ...]:
+    """The keys of a barrel cam: follower, cylinder, groove, checks (after the motion's)."""
+    return (
+        Key("follower_motion", Choice(("translating", "oscillating")), "Translating: the roller moves along the cam axis, its "
+            "height z0 + s(theta) (s the law's lift, mm); oscillating: it swings on an arm about an axis perpendicular to the cam "
+            "axis (the law's swing, deg).", ("profile",), default="translating", feeds=("motion",)),
+        Key("roller_shape", Choice(ROLLER_SHAPES), "cylindrical: a roller of radius roller_radius_mm, its axis radial; conical "
+            "(translating only): a cone whose apex lies on the cam axis at the roller centre's height, of radius roller_radius_mm "
+            "at the mean radius (it rolls without slip at every radius where the follower dwells; during a rise its contact is a "
+            "curve, as the cylinder's).", ("profile",), default="cylindrical"),
+        Key("roller_radius_mm", Length(high=1e4), "Radius of the roller (conical: at the mean radius); < the root radius "
+            "(cylinder_radius_mm - groove_depth_mm).", ("profile",), default=REQUIRED),
+        Key("cylinder_radius_mm", Length(high=1e5), "Outer (rim) radius R_o of the cylinder.", ("profile",), default=REQUIRED),
+        Key("cylinder_length_mm", Length(high=1e5), "Length of the cylinder along its axis: z = 0 its bottom face, "
+            "z = cylinder_length_mm its top face.", ("profile",), default=REQUIRED),
+        Key("groove_depth_mm", Length(high=1e5), "Depth d of the groove below the rim (< cylinder_radius_mm): the root radius is "
+            "R_i = R_o - d, the mean (pitch) radius R_m = R_o - d / 2.", ("profile",), default=REQUIRED),
+        Key("groove_clearance_mm", Length(0.0, 100.0, low_open=False), "Groove width less the roller diameter: the walls are the "
+            "envelopes of the roller widened by half of it (w = roller_radius_mm + clearance / 2).", ("profile",),
+            default=DEFAULT_CLEARANCE),
+        Key("pitch_z_mm", Length(-1e5, 1e5, low_open=False), "Translating follower: the roller axis' height at zero lift, z0 "
+            "(default: the travel centred on the cylinder, (cylinder_length_mm - (s_max + s_min)) / 2).", ("profile",),
+            requires=_TRANS),
+        Key("arm_length_mm", Length(high=1e5), "Oscillating follower (required): the arm's length L from its pivot axis to the "
+            "roller axis; the pivot lies at y = -L, in the plane tangent to the cylinder at the follower's station.", ("profile",),
+            requires=_OSC),
+        Key("rest_angle_deg", Angle(-90.0, 90.0, low_open=True, high_open=True), "Oscillating follower: the arm's angle psi0 at "
+            "zero swing, from the y axis towards +z (default: the swing symmetric about the y axis, -(phi_max + phi_min) / 2).",
+            ("profile",), requires=_OSC),
+        Key("pivot_z_mm", Length(-1e5, 1e5, low_open=False), "Oscillating follower: height z_p of the arm's pivot axis (default: "
+            "half the cylinder's length).", ("profile",), requires=_OSC),
+        Key("rotation", Choice(("ccw", "cw")), "Direction the cam turns, seen from +z (from the top face); the cam angle is measured "
+            "in this direction.", ("profile",), default="ccw"),
+        Key("bore_diameter_mm", Length(0.0, 1e5, low_open=False), "Diameter of the shaft bore along the axis; 0: no bore.",
+            ("profile",), default=_body_default("bore_diameter")),
+        Key("min_wall_mm", Length(0.0, 1e4, low_open=False), "Least material allowed between the groove and the bore (root radius "
+            "less bore radius) and between the groove's walls and each end face (the checks' limit).", ("report",),
+            default=_body_default("min_wall")),
+        Key("pressure_angle_limit_deg", Angle(0.01, 90.0, high_open=True), "Largest pressure angle allowed at the root radius, "
+            "where it is largest (default: 30 deg translating followers, 45 deg oscillating ones).", ("report",)),
+        Key("fit_tol_mm", Number("mm", 1e-8, 1e-2), "Stated tolerance of the walls' representation: the STEP's B-spline wall "
+            "surfaces lie within it of the exact envelope; the drawing and point list state it.", ("profile",),
+            default=DEFAULT_FIT_TOL),
+        Key("rpm", Number("rev/min", 1e-3, 1e6), "Cam speed: the follower's velocity, acceleration and jerk at speed in the report, "
+            "and the follower table (<cam>_follower.csv, which needs it).", ("report", "motion")),
+        Key("source", Text(), "Where the numbers come from (a note copied into the report).", ("report",)),
+    )
+
+
+@dataclass(frozen=True)
+class BarrelFollower:
+    """What the motion asks of the follower it drives (:attr:`camgen.motions.base.Motion.read_law`):
+    ``motion`` (a lift in mm or a swing in rad), ``kind`` and ``edge`` (a roller never follows a
+    velocity jump); ``lift_unit`` the law's unit."""
+
+    motion: str
+    kind: str = "roller"
+    edge: bool = False
+
+    @property
+    def lift_unit(self) -> str:
+        return "mm" if self.motion == "translating" else "rad"
+
+
+@dataclass(frozen=True)
+class BarrelParams:
+    """A barrel cam: its law, follower, roller, cylinder and groove (mm, rad), the follower's
+    placement (z0 or the pivot's height, arm length, rest angle; None: defaults, see
+    :func:`barrel_keys`), the fit tolerance, the law's figures and a source note."""
+
+    law: Any
+    follower: BarrelFollower
+    roller_shape: str
+    roller_radius: float
+    rim_radius: float
+    length: float
+    depth: float
+    clearance: float
+    sigma: int
+    bore_radius: float
+    fit_tol: float
+    z0: float
+    arm_length: float = 0.0
+    rest_angle: float = 0.0
+    law_figures: Mapping[str, Any] = field(default_factory=dict)
+    source: str | None = None
+
+    @property
+    def root_radius(self) -> float:
+        return self.rim_radius - self.depth
+
+    @property
+    def mean_radius(self) -> float:
+        return self.rim_radius - 0.5 * self.depth
+
+
+def read_barrel(where: str, name: str, parsed: Mapping[str, Any], motion: Any, base_dir: Path | None = None) -> CamSpec:
+    """The typed spec of a barrel cam table; errors name the scene keys."""
+    from camgen.body import BodySpec
+
+    moves = parsed["follower_motion"]
+    shape = parsed["roller_shape"]
+    if shape == "conical" and moves != "translating":
+        raise ParameterError(f"{where}.roller_shape", shape, '"cylindrical" with follower_motion = "oscillating"',
+                             "a conical roller rolls without slip only when its apex stays on the cam axis (a translating follower)")
+    rim, depth, length = parsed["cylinder_radius"], parsed["groove_depth"], parsed["cylinder_length"]
+    if not depth < rim:
+        raise ParameterError(f"{where}.groove_depth_mm", depth, f"< cylinder_radius_mm = {rim:g} mm", "the groove's root radius "
+                             "cylinder_radius_mm - groove_depth_mm must be > 0")
+    root = rim - depth
+    radius = parsed["roller_radius"]
+    if not radius < root:
+        raise ParameterError(f"{where}.roller_radius_mm", radius, f"< the root radius cylinder_radius_mm - groove_depth_mm = {root:g} mm",
+                             "a roller as wide as the cylinder's core leaves no groove")
+    bore = parsed["bore_diameter"]
+    if not 0.5 * bore < root:
+        raise ParameterError(f"{where}.bore_diameter_mm", bore, f"< twice the root radius, {2.0 * root:g} mm",
+                             "the bore would cut through the groove's root")
+    if moves == "oscillating" and "arm_length" not in parsed:
+        raise ParameterError(f"{where}.arm_length_mm", None, "a length in mm", 'required with follower_motion = "oscillating"')
+    follower = BarrelFollower(moves)
+    reading = motion.read_law(where, parsed, follower, base_dir)
+    law = reading.law
+    s_min, s_max = law.s_bounds
+    arm = rest = 0.0
+    if moves == "translating":
+        z0 = parsed.get("pitch_z", 0.5 * (length - (s_max + s_min)))
+    else:
+        arm = parsed["arm_length"]
+        rest = parsed.get("rest_angle", -0.5 * (s_max + s_min))
+        z0 = parsed.get("pivot_z", 0.5 * length)
+        lo, hi = rest + s_min, rest + s_max
+        if not (-0.5 * math.pi < lo and hi < 0.5 * math.pi):
+            raise ParameterError(f"{where}.rest_angle_deg", round(math.degrees(rest), 9),
+                                 f"an angle keeping the arm within +-90 deg of the y axis over the swing ({math.degrees(s_min):.6g} to "
+                                 f"{math.degrees(s_max):.6g} deg): between {-90.0 - math.degrees(s_min):.6g} and "
+                                 f"{90.0 - math.degrees(s_max):.6g} deg", "the arm would turn past the cylinder's axis")
+    params = BarrelParams(law, follower, shape, radius, rim, length, depth, parsed["groove_clearance"],
+                          1 if parsed["rotation"] == "ccw" else -1, 0.5 * bore, parsed["fit_tol"], float(z0), arm, rest,
+                          dict(reading.figures), parsed.get("source"))
+    body = BodySpec(thickness=length, bore_diameter=bore, min_wall=parsed["min_wall"])
+    checks = CheckSettings(parsed.get("pressure_angle_limit"), parsed.get("rpm"), getattr(parsed, "tool_limit", None))
+    return CamSpec(name, motion.name, params, body, checks, None, None, form="barrel")
+
+
+# --------------------------------------------------------------------------------------------
+# Building
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True, kw_only=True)
+class BarrelCam(BuiltCam):
+    """A built barrel cam: the exact groove (:class:`camgen.synthesis.barrel.BarrelGroove`, which
+    every writer reads as ``cam.built.groove``), its spec, the law and the follower's motion on the
+    check grid; ``contour`` is None (no planar outline)."""
+
+    planar: ClassVar[bool] = False
+    groove: "BarrelGroove"
+    params: BarrelParams
+    law: Any
+    spec_follower: BarrelFollower
+    motion: "Motion"
+
+
+def check_grid() -> np.ndarray:
+    """The cam angles (rad) of the checks: 0 .. 2 pi every 0.1 deg (the end excluded)."""
+    return 2.0 * math.pi * np.arange(CHECK_SAMPLES) / CHECK_SAMPLES
+
+
+def make_groove(p: BarrelParams) -> "BarrelGroove":
+    """The exact groove of ``p`` (:mod:`camgen.synthesis.barrel`)."""
+    from camgen.synthesis.barrel import BarrelGroove, BarrelLayout
+
+    layout = BarrelLayout(p.follower.motion, p.sigma, p.roller_radius, p.roller_shape, p.mean_radius, p.z0, p.arm_length, p.rest_angle)
+    return BarrelGroove(layout, p.law, p.rim_radius, p.root_radius, p.length, p.bore_radius, p.clearance, p.fit_tol)
+
+
+def _motion(follower: BarrelFollower, law: Any) -> "Motion":
+    """The follower's SVAJ per unit cam speed on the check grid, exactly from the law."""
+    from camgen.checks import Motion, where_degrees
+
+    theta = check_grid()
+    s, ds, d2s, d3s = law(theta)
+    peaks = law.peak_values()
+    jumps = np.asarray(law.breaks)[np.asarray(law.break_continuity) < 2]
+    return Motion(theta, s, ds, d2s, d3s, follower.lift_unit, where_degrees(jumps), lift_zero=0.0,
+                  peaks=(peaks.velocity, peaks.acceleration, peaks.jerk))
+
+
+def axis_reach(groove: "BarrelGroove", theta: np.ndarray) -> tuple[float, float]:
+    """The lowest and highest z (mm) the groove's walls reach: the roller axis' extreme heights
+    less and plus the roller's largest half width over the groove's depth (w; a conical roller's
+    grows with the radius, w R_o / R_m at the rim).  The walls touch these heights where the
+    roller axis is at its extremes (the wall section through the roller's axis)."""
+    z_c, _ = groove.axis(theta)
+    p = groove.layout
+    reach = groove.half_width * (groove.rim_radius / p.mean_radius if p.roller_shape == "conical" else 1.0)
+    return float(np.min(z_c)) - reach, float(np.max(z_c)) + reach
+
+
+def build_barrel(spec: CamSpec, stages: frozenset[str]) -> BuiltCam:
+    """Build a barrel cam: the exact groove and its figures (the plots stage adds the report's
+    section data)."""
+    return with_cam(f"cams.{spec.name}", lambda: _build(spec, stages))
+
+
+def _build(spec: CamSpec, stages: frozenset[str]) -> BarrelCam:
+    p: BarrelParams = spec.params
+    groove = make_groove(p)
+    theta = check_grid()
+    z_c, _ = groove.axis(theta)
+    low, high = axis_reach(groove, theta)
+    f = p.follower
+    follower: dict[str, Any] = {"kind": "roller", "motion": f.motion, "roller_shape": p.roller_shape, "roller_radius_mm": p.roller_radius,
+                                "rotation": "ccw" if p.sigma > 0 else "cw"}
+    if f.motion == "translating":
+        follower["pitch_z_mm"] = p.z0
+    else:
+        follower.update(arm_length_mm=p.arm_length, rest_angle_deg=math.degrees(p.rest_angle), pivot_z_mm=p.z0)
+    if p.roller_shape == "conical":
+        follower["cone_half_angle_deg"] = math.degrees(math.atan(p.roller_radius / p.mean_radius))
+    s_min, s_max = p.law.s_bounds
+    pressures = {name: float(np.degrees(np.max(np.abs(groove.pressure_angle(np.asarray(r), theta))))) for name, r in _radii(p)}
+    figures: dict[str, Any] = {
+        "follower": follower,
+        "cylinder": {"rim_radius_mm": p.rim_radius, "root_radius_mm": p.root_radius, "mean_radius_mm": p.mean_radius,
+                     "length_mm": p.length, "bore_diameter_mm": 2.0 * p.bore_radius},
+        "groove": {"depth_mm": p.depth, "clearance_mm": p.clearance, "width_mm": 2.0 * groove.half_width,
+                   "walls": "exact envelopes of the roller widened by half the clearance, at every radius from root to rim",
+                   "z_reach_mm": [low, high]},
+        "roller_axis_z_mm": [float(np.min(z_c)), float(np.max(z_c))],
+        ("stroke_mm" if f.motion == "translating" else "swing_deg"): (s_max - s_min) if f.motion == "translating"
+        else math.degrees(s_max - s_min),
+        **{f"pressure_angle_{name}_deg": value for name, value in pressures.items()},
+        "fit_tol_mm": p.fit_tol,
+        "conventions": "z along the cam axis from its bottom face; the follower at polar angle 0 (+x); at cam angle theta it "
+                       "meets the cam's polar angle -sigma theta (sigma +1 ccw, -1 cw, seen from +z)",
+        **dict(p.law_figures),
+    }
+    figures["groove"]["wrapped_groove_error"] = _wrapped_errors(groove)
+    if p.source is not None:
+        figures["source"] = p.source
+    section = None
+    if "plots" in stages:
+        section = _section(groove, p, theta, pressure_limit_deg(spec))
+    return BarrelCam(spec.name, spec.kind, None, figures, spec.body, None, section=section, groove=groove, params=p, law=p.law,
+                     spec_follower=f, motion=_motion(f, p.law))
+
+
+def _radii(p: BarrelParams) -> tuple[tuple[str, float], ...]:
+    return (("root", p.root_radius), ("mean", p.mean_radius), ("rim", p.rim_radius))
+
+
+#: Samples of the cam's polar angle on which the wrapped groove is compared with the exact one.
+WRAPPED_SAMPLES = 1440
+
+
+def _wrapped_errors(groove: "BarrelGroove") -> dict[str, Any]:
+    """How far the shortcut of wrapping the groove drawn flat at the mean radius onto the cylinder
+    (:meth:`camgen.synthesis.barrel.BarrelGroove.wrapped_wall_height`) misses the exact walls at
+    the root and the rim (mm, wrapped less exact, the extreme of each sign on a grid of
+    :data:`WRAPPED_SAMPLES` polar angles), and how much narrower the wrapped groove is."""
+    phi = 2.0 * math.pi * np.arange(WRAPPED_SAMPLES) / WRAPPED_SAMPLES
+    out: dict[str, Any] = {"note": f"the groove drawn flat at the mean radius and wrapped onto the cylinder, less the exact walls, "
+                                   f"on {WRAPPED_SAMPLES} polar angles: what the wrapped shortcut would get wrong"}
+    for name, r in (("root", groove.root_radius), ("rim", groove.rim_radius)):
+        radius = np.asarray(r)
+        diff = {side: groove.wrapped_wall_height(side, radius, phi) - groove.wall_height(side, radius, phi) for side in (1, -1)}
+        narrower = diff[-1] - diff[1]
+        out[name] = {"upper_wall_mm": [float(diff[1].min()), float(diff[1].max())],
+                     "lower_wall_mm": [float(diff[-1].min()), float(diff[-1].max())],
+                     "narrower_by_mm": float(narrower.max())}
+    return out
+
+
+def pressure_limit(spec: CamSpec) -> float:
+    limit = spec.checks.pressure_angle_limit
+    return limit if limit is not None else DEFAULT_LIMITS[spec.params.follower.motion]
+
+
+def pressure_limit_deg(spec: CamSpec) -> float:
+    return round(math.degrees(pressure_limit(spec)), 9)
+
+
+# --------------------------------------------------------------------------------------------
+# Checks
+# --------------------------------------------------------------------------------------------
+def _pressure(cam: BarrelCam, spec: CamSpec) -> "CheckResult":
+    """The largest pressure angle at the root radius (where it is largest) against the limit; the
+    note gives the mean's and the rim's."""
+    from camgen.checks import CheckResult, run_ends, where_degrees
+
+    p, g = cam.params, cam.groove
+    theta = check_grid()
+    limit = pressure_limit(spec)
+    alpha = {name: np.abs(g.pressure_angle(np.asarray(r), theta)) for name, r in _radii(p)}
+    root = alpha["root"]
+    i = int(np.argmax(root))
+    bad = root > limit
+    at = ", ".join(f"{name} (radius {r:g} mm) {math.degrees(float(np.max(alpha[name]))):.6g} deg" for name, r in _radii(p))
+    note = (f"largest pressure angle of the {p.follower.motion} roller in the barrel groove at the root radius, where it is largest "
+            f"(closed form); at {at}" + ("; above the limit between the listed pairs of cam angles" if bad.any() else ""))
+    return CheckResult("pressure_angle", float(np.degrees(root[i])), pressure_limit_deg(spec), "<=", "deg", not bool(bad.any()),
+                       run_ends(bad, theta) if bad.any() else where_degrees(theta[i]), note)
+
+
+def _undercut(cam: BarrelCam) -> "CheckResult":
+    """Both walls at :data:`UNDERCUT_RADII` radii from root to rim: where a wall's section folds
+    (the roller cuts away what it rides on) the groove cannot be made."""
+    from camgen.checks import limited, run_ends
+
+    p, g = cam.params, cam.groove
+    theta = check_grid()
+    radii = np.linspace(p.root_radius, p.rim_radius, UNDERCUT_RADII)
+    folds = {side: np.stack([np.asarray(g.undercut(side, r, theta), dtype=bool) for r in radii]) for side in (1, -1)}
+    any_fold: np.ndarray = np.asarray(folds[1].any(axis=0) | folds[-1].any(axis=0))
+    count = int(any_fold.sum())
+    parts = []
+    for side, name in ((1, "upper"), (-1, "lower")):
+        at = radii[folds[side].any(axis=1)]
+        if at.size:
+            parts.append(f"the {name} wall folds at radii {', '.join(f'{r:g}' for r in at)} mm")
+    note = (f"cam angles (of {theta.size}, every {360.0 / theta.size:g} deg) where either wall's section folds, at {UNDERCUT_RADII} "
+            f"radii from the root {p.root_radius:g} mm to the rim {p.rim_radius:g} mm")
+    note += ("; " + "; ".join(parts) + ": the groove cannot be made (a larger radius or a smaller roller)") if parts else \
+        "; neither wall folds"
+    return limited("undercut", count, "<=", 0, "", run_ends(any_fold, theta), note, blocks_manufacture=True)
+
+
+def _length(cam: BarrelCam, min_wall: float) -> "CheckResult":
+    """The groove's walls inside both end faces with ``min_wall`` to spare."""
+    from camgen.checks import limited
+
+    p = cam.params
+    low, high = axis_reach(cam.groove, check_grid())
+    bottom, top = low, p.length - high
+    room = min(bottom, top)
+    note = (f"least material between the groove's walls (z from {low:.6g} to {high:.6g} mm: the roller axis' travel plus the "
+            f"roller's half width {cam.groove.half_width:g} mm"
+            + (" at the rim" if p.roller_shape == "conical" else "") + f") and the end faces z = 0 and z = {p.length:g} mm "
+            f"(below {bottom:.6g} mm, above {top:.6g} mm)")
+    if room < min_wall:
+        need = high - low + 2.0 * min_wall
+        note += f"; a cylinder_length_mm of {need:.6g} mm with the travel centred holds it"
+    return limited("cylinder_length", room, ">=", min_wall, "mm", [], note, blocks_manufacture=True)
+
+
+def _bore(cam: BarrelCam, min_wall: float) -> "CheckResult":
+    from camgen.checks import limited
+
+    p = cam.params
+    wall = p.root_radius - p.bore_radius
+    return limited("wall_thickness", wall, ">=", min_wall, "mm", [],
+                   f"material between the bore (radius {p.bore_radius:g} mm) and the groove's root (radius {p.root_radius:g} mm)",
+                   blocks_manufacture=True)
+
+
+def evaluate_barrel(cam: BuiltCam, spec: CamSpec, tool_radius: float, tool_is_limit: bool) -> "CamEvaluation":
+    """The design checks of a barrel cam from the closed forms on the check grid."""
+    from camgen.checks import CamEvaluation, motion_check
+    from camgen.kinds.disk import law_joins_check
+
+    assert isinstance(cam, BarrelCam), f"a barrel cam's checks on a {type(cam).__name__}"
+    min_wall = spec.body.min_wall
+    checks = [_pressure(cam, spec), _undercut(cam), _length(cam, min_wall)]
+    if cam.params.bore_radius > 0:
+        checks.append(_bore(cam, min_wall))
+    checks.append(motion_check(cam.motion, spec.checks.rpm))
+    joins: Any = cam  # the law and its follower's motion are what law_joins_check reads
+    checks.append(law_joins_check(joins, spec.checks.rpm))
+    return CamEvaluation(tuple(checks), None, cam.motion, None, None, None,
+                         pressure_angle_label="roller in a barrel groove at the root radius, closed form")
+
+
+# --------------------------------------------------------------------------------------------
+# The report's section
+# --------------------------------------------------------------------------------------------
+#: Samples of the report's curves over a turn (every 0.5 deg) and of the 3-D view's lines.
+SECTION_SAMPLES = 721
+#: Frames of the report's animation over one turn.
+ANIMATION_FRAMES = 120
+
+
+def _section(groove: "BarrelGroove", p: BarrelParams, theta: np.ndarray, limit_deg: float) -> Any:
+    """What the report's section draws (:mod:`camgen.report.barrel`)."""
+    from camgen.report.barrel import section_class
+
+    t = np.linspace(0.0, 2.0 * math.pi, SECTION_SAMPLES)
+    pressure = tuple((name, r, np.degrees(groove.pressure_angle(np.asarray(r), t))) for name, r in _radii(p))
+    phi = np.linspace(0.0, 2.0 * math.pi, SECTION_SAMPLES)
+    upper, lower = groove.wall_height(1, np.asarray(p.mean_radius), phi), groove.wall_height(-1, np.asarray(p.mean_radius), phi)
+    px, pz = groove.pitch_developed(t)
+    span = 2.0 * math.pi * p.mean_radius
+    px = np.mod(px, span)
+    order = np.argsort(px, kind="stable")
+    lines: list[tuple[str, np.ndarray]] = []
+    circle = np.stack([np.cos(phi), np.sin(phi), np.zeros_like(phi)], axis=1)
+    for z, face in ((0.0, "bottom face"), (p.length, "top face")):
+        lines.append((face, circle * [p.rim_radius, p.rim_radius, 0.0] + [0.0, 0.0, z]))
+    if p.bore_radius > 0:
+        lines.append(("bore", circle * [p.bore_radius, p.bore_radius, 0.0] + [0.0, 0.0, p.length]))
+    from camgen.report.barrel import VIEW_AZIMUTH_DEG
+
+    for sign in (1.0, -1.0):  # the silhouette: the generators at +-90 deg from the view's azimuth
+        a = math.radians(VIEW_AZIMUTH_DEG) + sign * 0.5 * math.pi
+        lines.append(("silhouette", np.array([[p.rim_radius * math.cos(a), p.rim_radius * math.sin(a), 0.0],
+                                              [p.rim_radius * math.cos(a), p.rim_radius * math.sin(a), p.length]])))
+    for r, where in ((p.rim_radius, "rim"), (p.root_radius, "root")):
+        for side, name in ((1, "upper"), (-1, "lower")):
+            height = groove.wall_height(side, np.asarray(r), phi)
+            lines.append((f"{name} wall at the {where}", np.stack([r * np.cos(phi), r * np.sin(phi), height], axis=1)))
+    frames = np.linspace(0.0, 2.0 * math.pi, ANIMATION_FRAMES + 1)
+    z_c, e = groove.axis(frames)
+    return section_class()(np.degrees(t), pressure, phi * p.mean_radius, px[order], pz[order], upper, lower, tuple(lines),
+                           np.broadcast_to(e, frames.shape).astype(float), z_c, p.mean_radius, p.length, p.roller_radius, p.sigma,
+                           limit_deg)
