@@ -13,6 +13,7 @@ its walls found by a dense search over the cam angle, never by camgen's contact 
 """
 from __future__ import annotations
 
+import importlib.util
 import io
 import math
 import os
@@ -274,12 +275,17 @@ def test_follower_rides_the_mesh(meshed):
 
 
 def test_groove_through_an_end_face_is_refused():
-    """A cylinder too short for the groove (the lower wall reaches z = 0 at 80 -> 40 mm) is a
-    GeometryError naming the cam, not a mesh."""
+    """A groove whose lower wall reaches below z = 0 (the axis at lift 0 at 2 mm, the roller 4.1 mm
+    wide) is a GeometryError naming the cam, not a mesh nor a STEP."""
     groove = make_groove(length=LENGTH)
     short = replace(groove, layout=replace(groove.layout, z0=2.0))
     with pytest.raises(GeometryError, match="barrel-short.*end face"):
         barrel_solid(short, MESH_TOL, "barrel-short")
+    if importlib.util.find_spec("OCP") is not None:
+        from camgen.export.barrel_step import barrel_step_bytes
+
+        with pytest.raises(GeometryError, match="barrel-short.*end face"):
+            barrel_step_bytes(short, "barrel-short")
 
 
 # ----------------------------------------------------------------------------------- STEP
@@ -313,7 +319,8 @@ def _read_step(data: bytes):
 
 def test_step_one_valid_solid_and_its_volume(stepped):
     """Read back by OCCT: one solid, BRepCheck_Analyzer valid; its volume (OCCT's mass properties,
-    adaptive to 1e-9) within 1e-6 relative of the brute-force integral.  The bound the walls' fit
+    adaptive to 1e-9) within 1e-6 relative of the brute-force integral, and its default integration
+    (what FreeCAD shows) the same to 1e-8.  The bound the walls' fit
     allows: fit_tol times the two walls' area (< 8000 mm^2) is 8e-2 mm^3, 1.1e-7 of the volume."""
     from OCP.BRepCheck import BRepCheck_Analyzer
     from OCP.BRepGProp import BRepGProp
@@ -333,6 +340,10 @@ def test_step_one_valid_solid_and_its_volume(stepped):
     BRepGProp.VolumeProperties_s(shape, props, 1e-9)
     exact = reference_volume("translating", 1, "cylindrical", BORE)
     assert abs(props.Mass() - exact) <= 1e-6 * exact
+    # OCCT's default integration (FreeCAD's volume: one Gauss rule per face) agrees to 1e-8
+    default = GProp_GProps()
+    BRepGProp.VolumeProperties_s(shape, default)
+    assert abs(default.Mass() - props.Mass()) <= 1e-8 * exact
 
 
 def test_step_walls_within_fit_tol(stepped):

@@ -12,9 +12,10 @@ bore, less the groove, one solid.
   exact wall, measured axially (:func:`camgen.export.barrel_solid.axial_deviation`: the point's own
   radius and polar angle, the cam angle there solved by Newton's method).  The tolerance is the
   groove's ``fit_tol`` (``fit_tol_mm``), stated in the file's FILE_DESCRIPTION.
-* **The groove** is the tube between the two wall surfaces, closed at its inner and outer radius by
-  ruled B-spline surfaces (the straight lines between the walls' edge curves, outside the body),
-  sewn into one solid; the part of it inside the root radius is cut away by the exact root
+* **The groove** is the tube between the two wall surfaces, each cut into patches of at most
+  :data:`FACE_SPANS` knot spans along the turn (one face each: OCCT's default volume integration,
+  FreeCAD's, is then exact), closed at its inner and outer radius by ruled B-spline surfaces (the
+  straight lines between the walls' edge curves, outside the body), sewn into one solid; the part of it inside the root radius is cut away by the exact root
   cylinder (so the floor is the cylinder ``r = R_i``), then the rest is cut from the cylinder of
   the rim radius less the bore (exact cylinders and planes).
 * OCCT's checker (BRepCheck_Analyzer) must find the result valid and one solid; anything OCCT
@@ -40,13 +41,18 @@ if TYPE_CHECKING:
     from camgen.results import CamResult
     from camgen.writers import RunSettings
 
-__all__ = ["MAX_GRID", "OVERLAP", "SEW_TOL", "barrel_step_bytes", "wall_surface", "writer"]
+__all__ = ["FACE_SPANS", "MAX_GRID", "OVERLAP", "SEW_TOL", "barrel_step_bytes", "wall_surface", "writer"]
 
 #: How far (as a fraction of the groove depth, at most 1 mm) the wall surfaces reach inside the
 #: root and outside the rim: the booleans then cut across them, never along an edge.
 OVERLAP = 0.1
 #: Most grid points along the turn of a wall surface (each doubling of the grid is checked first).
 MAX_GRID = 65536
+#: Most knot spans along the turn of one wall face (each face its own B-spline patch): OCCT's
+#: default mass properties (FreeCAD's volume) integrate a face with one Gauss rule over its
+#: parameter range, so the template's walls of 500 spans in one face came out 1e-2 off in volume;
+#: faces of 64, 16 and 4 spans gave 5e-6, 2.5e-7 and 1e-9 (the test holds it to 1e-8).
+FACE_SPANS = 4
 #: Tolerance (mm) for sewing the groove's four faces: their shared edges are the same curves (the
 #: same poles), so anything above rounding does.
 SEW_TOL = 1e-6
@@ -165,6 +171,7 @@ def _groove_solid(groove: Any, tol: float, cam: str) -> Any:
     ruled surfaces at both ends, sewn and made a solid."""
     from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakeSolid, BRepBuilderAPI_Sewing
     from OCP.BRepLib import BRepLib
+    from OCP.GeomConvert import GeomConvert
     from OCP.TopAbs import TopAbs_SHELL
     from OCP.TopExp import TopExp_Explorer
     from OCP.TopoDS import TopoDS
@@ -180,7 +187,11 @@ def _groove_solid(groove: Any, tol: float, cam: str) -> Any:
     for edge in (0, -1):
         poles = np.stack([lower[2][:, edge], upper[2][:, edge]], axis=1)
         surfaces.append(_surface(upper[0], lin, poles, v_degree=1))
-    for surface in surfaces:
+    knots = np.unique(upper[0])  # the turn's knots: wall faces of at most FACE_SPANS spans each (module notes)
+    cuts = knots[np.unique(np.append(np.arange(0, len(knots) - 1, FACE_SPANS), len(knots) - 1))]
+    patches = [GeomConvert.SplitBSplineSurface_s(wall, float(u0), float(u1), True, 1e-12)
+               for wall in surfaces[:2] for u0, u1 in zip(cuts[:-1], cuts[1:])]
+    for surface in patches + surfaces[2:]:
         face = BRepBuilderAPI_MakeFace(surface, SEW_TOL)
         if not face.IsDone():
             raise GeometryError(f"cam '{cam}': OpenCASCADE cannot make a face of the barrel's groove ({face.Error()})")
@@ -204,6 +215,19 @@ def _cut(shape: Any, tool: Any, what: str, cam: str) -> Any:
     return cut.Shape()
 
 
+def _inside_ends(groove: Any, cam: str) -> None:
+    """GeometryError where the groove reaches an end face: its walls sampled at root, mean and rim
+    radius every 0.1 deg of the cam angle (the mesh, :mod:`camgen.export.barrel_solid`, checks
+    every vertex)."""
+    theta = np.radians(np.arange(3600) / 10.0)
+    r = np.array([groove.root_radius, 0.5 * (groove.root_radius + groove.rim_radius), groove.rim_radius])[:, None]
+    low = float(np.min(groove.wall(-1, r, theta)[1]))
+    high = float(np.max(groove.wall(1, r, theta)[1]))
+    if not (low > 0.0 and high < groove.length):
+        raise GeometryError(f"cam '{cam}': the groove runs from z = {low:.4g} mm to z = {high:.4g} mm, through an end face of the "
+                            f"cylinder (length {groove.length:g} mm)")
+
+
 def _body(groove: Any, tol: float, cam: str) -> Any:
     """The barrel's OCCT solid: the cylinder of the rim radius less the bore, less the groove."""
     from OCP.BRepCheck import BRepCheck_Analyzer
@@ -213,6 +237,7 @@ def _body(groove: Any, tol: float, cam: str) -> Any:
     from OCP.TopExp import TopExp_Explorer
 
     rim, root, length, bore = (float(groove.rim_radius), float(groove.root_radius), float(groove.length), float(groove.bore_radius))
+    _inside_ends(groove, cam)
     axis = gp_Ax2(gp_Pnt(0.0, 0.0, 0.0), gp_Dir(0.0, 0.0, 1.0))
     below = gp_Ax2(gp_Pnt(0.0, 0.0, -1.0), gp_Dir(0.0, 0.0, 1.0))
     body = BRepPrimAPI_MakeCylinder(axis, rim, length).Shape()
