@@ -165,11 +165,11 @@ def wall_grid(groove: Any, tol: float, max_triangles: int, cam: str = "cam") -> 
             for row, radius in ((0, root), (-1, rim)):  # the rows the floor and rim bands join (module notes)
                 cols |= _turn(phi[row]) > half_chord_step(radius, tol)
         if not cols.any() and not rows.any():
-            for side, (_, phi) in zip(("upper", "lower"), walls):
+            for which, (_, phi) in zip(("upper", "lower"), walls):
                 turn = np.diff(np.concatenate([phi, phi[:, :1] + 2.0 * math.pi], axis=1), axis=1)
                 if not np.all(turn > 0.0):
                     i, j = np.unravel_index(int(np.argmin(turn)), turn.shape)
-                    raise GeometryError(f"cam '{cam}': the {side} wall folds at radius {r[i]:.4g} mm, cam angle "
+                    raise GeometryError(f"cam '{cam}': the {which} wall folds at radius {r[i]:.4g} mm, cam angle "
                                         f"{math.degrees(-groove.layout.sigma * psi[j]) % 360.0:.2f} deg (undercut): it cannot be meshed")
             return r, psi, [w[0] for w in walls], [w[1] for w in walls]
         psi = _halve(psi, cols, 2.0 * math.pi)
@@ -292,8 +292,10 @@ def mesh_stage(cam: "CamResult", output: "OutputSpec", progress: Any) -> "CamRes
     """``cam`` (a barrel cam: ``cam.built.groove``) with its solid at ``output.chord_tol``, or the
     failure that stopped it (a failed check): :func:`camgen.pipeline.mesh_stage`'s signature."""
     from camgen.checks import CheckResult
+    from camgen.kinds.barrel import BarrelCam
 
     progress(f"meshing cam '{cam.name}'")
+    assert isinstance(cam.built, BarrelCam), f"cam {cam.name!r} is not a barrel cam"
     try:
         return cam.with_(solid=barrel_solid(cam.built.groove, output.chord_tol, cam.name, tuple(output.formats)))
     except GeometryError as exc:  # the failed check camgen.pipeline.mesh_stage reports: no manufacturing file

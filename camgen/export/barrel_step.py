@@ -298,4 +298,7 @@ def barrel_step_bytes(groove: Any, name: str = "cam") -> bytes:
 
 def writer(cam: "CamResult", run: "RunSettings", fmt: str) -> bytes:
     """The barrel form's STEP writer (``CamForm.writers["step"]``): ``cam.built.groove``'s solid."""
+    from camgen.kinds.barrel import BarrelCam
+
+    assert isinstance(cam.built, BarrelCam), f"cam {cam.name!r} is not a barrel cam"
     return barrel_step_bytes(cam.built.groove, cam.name)
