@@ -276,6 +276,28 @@ def test_follower_rides_the_mesh(meshed):
     assert np.max(np.abs(zc - low - play)[DWELLS]) <= MESH_TOL
 
 
+def test_mesh_beyond_the_file_cap_is_refused_before_the_walls_are_evaluated():
+    """At 1e-7 mm the first grid (the rim at half its chord step: 1.0e5 columns) already makes an
+    ASCII STL of more than 100 MB (300 bytes a triangle at most, measured 288): refused naming
+    output.chord_tol_mm before a single wall point is computed (the cap comes before the work)."""
+    groove = make_groove()
+    calls = []
+
+    class Counting:
+        def __getattr__(self, name):
+            return getattr(groove, name)
+
+        def wall(self, *args):
+            calls.append(args)
+            return groove.wall(*args)
+
+    with pytest.raises(GeometryError, match="output.chord_tol_mm"):
+        barrel_solid(Counting(), 1e-7, "barrel", ("stl_ascii",))
+    assert calls == []
+    barrel_solid(Counting(), 1e-2, "barrel", ("stl_ascii",))
+    assert calls  # the counting wrapper does see the work when there is some
+
+
 def test_groove_through_an_end_face_is_refused():
     """A groove whose lower wall reaches below z = 0 (the axis at lift 0 at 2 mm, the roller 4.1 mm
     wide) is a GeometryError naming the cam, not a mesh nor a STEP."""

@@ -2,15 +2,18 @@
 
 The body is ``{R_bore <= r <= R_o, 0 <= z <= length}`` less the groove ``{R_i < r <= R_o,
 z_lower(r, phi) < z < z_upper(r, phi)}`` (cam frame of :mod:`camgen.synthesis.barrel`: z along
-the axis, r, phi polar about it; the walls :meth:`BarrelGroove.wall_height`).  The mesh is built
+the axis, r, phi polar about it; the walls those of :class:`BarrelGroove`).  The mesh is built
 as a structured grid, every vertex on the exact surface it samples:
 
-* the two walls on one (r, phi) grid: rows ``R_i = r_0 < ... < r_M = R_o``, columns
-  ``0 = phi_0 < ... < phi_{N-1} < 2 pi`` (periodic), vertex ``(r cos phi, r sin phi, z_wall(r, phi))``;
+* the two walls on one (r, psi) grid: rows ``R_i = r_0 < ... < r_M = R_o``, columns
+  ``0 = psi_0 < ... < psi_{N-1} < 2 pi`` (periodic; the cam angle ``theta = -sigma psi``, so that
+  the polar angle grows with ``psi``), vertex the exact contact point at radius r for that cam
+  angle (:meth:`BarrelGroove.wall`, in closed form for a translating roller: no inverse solve);
+  a row whose polar angle does not grow (the section folds: undercut) is refused;
 * the floor (the root cylinder ``r = R_i``) between the walls' root rows, the rim (``r = R_o``)
-  from ``z = 0`` to the lower wall's rim row and from the upper wall's to ``z = length``, the bore
-  (``r = R_bore``) from end to end and the two end faces (annuli, or discs without a bore): two
-  triangles per column, on the same columns.
+  from a ring at ``z = 0`` to the lower wall's rim row and from the upper wall's to a ring at
+  ``z = length``, joined by angle (:func:`zipper`); the bore (``r = R_bore``) from end to end and
+  the two end faces (annuli, or discs without a bore), two triangles per step of the rings.
 
 How the steps follow from the chord tolerance ``tol`` (``output.chord_tol_mm``):
 
@@ -22,8 +25,9 @@ How the steps follow from the chord tolerance ``tol`` (``output.chord_tol_mm``):
   and end faces are within ``tol`` of their cylinders and planes.
 * The walls are then measured, not estimated: at the midpoint of every edge of every wall
   triangle (its sides and diagonal) the point of the mesh is taken back to cylindrical
-  coordinates (r, phi, z) and compared with the exact wall there, ``|z - z_wall(r, phi)|`` (the
-  axial distance: the distance to the surface is at most that).  For a surface that is
+  coordinates (r, phi, z) and compared with the exact wall there, ``|z - z_wall(r, phi)|``
+  (:func:`axial_deviation`: the axial distance, which the distance to the surface never exceeds
+  and which is what moves the follower).  For a surface that is
   quadratic over a triangle the deviation is the sum of the edge-midpoint deviations times
   hat functions ``4 l_i l_j``, whose sum is at most 4/3 (Ciarlet, The Finite Element Method for
   Elliptic Problems, sec. 3.1, the quadratic Lagrange triangle): a column or row is halved until
@@ -34,9 +38,9 @@ How the steps follow from the chord tolerance ``tol`` (``output.chord_tol_mm``):
 
 The result is handed to manifold3d, whose status says it is a closed, consistently oriented
 2-manifold of one piece, genus 1 with a bore (0 without); :attr:`CamSolid.volume` is manifold3d's.
-The size is bounded before the work: a grid that would exceed :data:`MAX_TRIANGLES` (the mesh
-files' byte cap, :data:`camgen.export.solid.MAX_FILE_BYTES`) is refused, naming
-``output.chord_tol_mm``.  Where the body cannot be made (the groove reaches an end face or the
+The size is bounded before the work: a grid whose mesh would make a file of a requested mesh
+format larger than :data:`camgen.export.solid.MAX_FILE_BYTES` (:data:`BYTES_PER_TRIANGLE`) is
+refused before its walls are evaluated, naming ``output.chord_tol_mm``.  Where the body cannot be made (the groove reaches an end face or the
 bore) a :class:`GeometryError` names the cam (the pipeline reports it as a failed check).
 """
 from __future__ import annotations
@@ -53,7 +57,7 @@ if TYPE_CHECKING:
     from camgen.outputs import OutputSpec
     from camgen.results import CamResult
 
-__all__ = ["BYTES_PER_TRIANGLE", "MAX_REFINEMENTS", "MAX_TRIANGLES", "MIDPOINT_FRACTION", "NEWTON_ITERATIONS", "NEWTON_STEP", "NEWTON_TOL", "axial_deviation", "barrel_solid", "half_chord_step", "mesh_stage", "wall_grid"]
+__all__ = ["BYTES_PER_TRIANGLE", "MAX_REFINEMENTS", "MIDPOINT_FRACTION", "NEWTON_ITERATIONS", "NEWTON_STEP", "NEWTON_TOL", "axial_deviation", "barrel_solid", "half_chord_step", "mesh_stage", "wall_grid"]
 
 #: Largest deviation of a wall triangle's edge midpoint from the exact wall, as a fraction of the
 #: chord tolerance: a quadratic surface's deviation over the triangle is at most 4/3 of its largest
@@ -64,13 +68,10 @@ MIDPOINT_FRACTION = 0.5
 #: reach (each halving at least doubles the resolution where it is needed: 2^24 is far below
 #: any float's reach of a smooth wall).
 MAX_REFINEMENTS = 24
-#: Bytes per triangle of each mesh format, at most (binary STL exactly 50; the others measured on
-#: barrel cams at 1e-3 and 1e-5 mm, with a margin: ASCII STL about 260, 3MF about 70, OBJ about
-#: 100, PLY about 40).
-BYTES_PER_TRIANGLE = {"stl": 50, "stl_ascii": 300, "3mf": 90, "obj": 130, "ply": 50}
-#: Most triangles of the mesh: a file of every mesh format stays within MAX_FILE_BYTES
-#: (:data:`camgen.export.solid.MAX_FILE_BYTES`) for the largest per-triangle format requested.
-MAX_TRIANGLES = 100_000_000 // max(BYTES_PER_TRIANGLE.values())
+#: Bytes per triangle of each mesh format, at most: binary STL exactly 50 (and an 84-byte head);
+#: measured on the barrel template at 1e-2 and 1e-3 mm: ASCII STL 288, 3MF 18-20 (deflated),
+#: OBJ 37-40, PLY 19; with a margin.
+BYTES_PER_TRIANGLE = {"stl": 50, "stl_ascii": 300, "3mf": 40, "obj": 60, "ply": 30}
 #: Newton's method for the cam angle of a wall point (:func:`axial_deviation`): iterations, the forward
 #: difference (rad) and the largest polar-angle residual accepted (rad: 1e-12 rad moves a point
 #: on a 1 m radius by 1e-9 mm).
