@@ -41,13 +41,15 @@ if TYPE_CHECKING:
     from camgen.results import CamResult
     from camgen.writers import RunSettings
 
-__all__ = ["FACE_SPANS", "MAX_GRID", "OVERLAP", "SEW_TOL", "barrel_step_bytes", "wall_surface", "writer"]
+__all__ = ["FACE_SPANS", "MAX_GRID", "MAX_ROWS", "OVERLAP", "SEW_TOL", "barrel_step_bytes", "wall_surface", "writer"]
 
 #: How far (as a fraction of the groove depth, at most 1 mm) the wall surfaces reach inside the
 #: root and outside the rim: the booleans then cut across them, never along an edge.
 OVERLAP = 0.1
-#: Most grid points along the turn of a wall surface (each doubling of the grid is checked first).
-MAX_GRID = 65536
+#: Most grid points along the turn and across the radius of a wall surface (each doubling of the
+#: grid is checked against them first: a bound on the work and the file).
+MAX_GRID = 8192
+MAX_ROWS = 257
 #: Most knot spans along the turn of one wall face (each face its own B-spline patch): OCCT's
 #: default mass properties (FreeCAD's volume) integrate a face with one Gauss rule over its
 #: parameter range, so the template's walls of 500 spans in one face came out 1e-2 off in volume;
@@ -120,7 +122,7 @@ def _fit(groove: Any, tol: float, r_lo: float, r_hi: float, cam: str) -> list[tu
     rim = float(groove.rim_radius)
     count = max(64, 2 ** math.ceil(math.log2(2.0 * math.pi * rim / 2.0)))  # a point per 2 mm on the rim to start
     rows = 5
-    while count <= MAX_GRID:
+    while count <= MAX_GRID and rows <= MAX_ROWS:
         walls = [wall_surface(groove, side, count, r_lo, r_hi, rows) for side in (1, -1)]
         psi = 2.0 * math.pi * np.arange(count) / count
         r = np.linspace(r_lo, r_hi, rows)
@@ -136,8 +138,8 @@ def _fit(groove: Any, tol: float, r_lo: float, r_hi: float, cam: str) -> list[tu
             count *= 2
         if across > 0.5 * tol or (cells > 0.5 * tol and across > along):
             rows = 2 * rows - 1
-    raise GeometryError(f"cam '{cam}': the barrel's walls need more than {MAX_GRID} points per turn to come within fit_tol_mm = "
-                        f"{tol:g}: use a larger fit_tol_mm")
+    raise GeometryError(f"cam '{cam}': the barrel's walls need more than {MAX_GRID} points per turn or {MAX_ROWS} across the "
+                        f"groove to come within fit_tol_mm = {tol:g}: use a larger fit_tol_mm")
 
 
 def _surface(u_knots: np.ndarray, v_knots: np.ndarray, poles: np.ndarray, v_degree: int = 3) -> Any:
