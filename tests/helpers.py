@@ -21,6 +21,7 @@ VALIDATOR_PACKAGES = {
     "openscad": "openscad",
     "librecad": "librecad",
     "prusa-slicer": "prusa-slicer",
+    "freecadcmd": "freecad-python3",
 }
 
 
