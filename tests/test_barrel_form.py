@@ -110,11 +110,15 @@ def test_cylinder_length_check_fails_exactly_at_its_threshold(pitch_z):
 
 
 def test_bore_wall_check_fails_exactly_at_its_threshold():
-    """Root radius 45 mm less the bore's radius 43 mm: 2 mm of wall."""
-    base = cam(bore_diameter_mm=86.0)
-    assert check(run(base)[1], "wall_thickness")["value"] == pytest.approx(2.0, abs=1e-12)
-    assert check(run({**base, "min_wall_mm": 2.0})[1], "wall_thickness")["status"] == "pass"
-    assert check(run({**base, "min_wall_mm": 2.0 + 1e-9})[1], "wall_thickness")["status"] == "fail"
+    """An end mill of the groove's width (2 w) with its axis radial on the roller's cuts the walls
+    down to the root radius R_i = 45 mm at its rim: its flat tip lies at sqrt(R_i^2 - w^2) from the
+    axis (Pythagoras: the tip's rim at w from its centre reaches R_i), below the root between the
+    walls; less the bore's radius 40 mm, the wall left."""
+    base = cam(bore_diameter_mm=80.0)
+    wall = math.sqrt((R_O - DEPTH) ** 2 - W**2) - 40.0
+    assert check(run(base)[1], "wall_thickness")["value"] == pytest.approx(wall, abs=1e-12)
+    assert check(run({**base, "min_wall_mm": wall - 1e-9})[1], "wall_thickness")["status"] == "pass"
+    assert check(run({**base, "min_wall_mm": wall + 1e-9})[1], "wall_thickness")["status"] == "fail"
 
 
 def test_a_failed_check_withholds_the_drawing_and_exits_1(tmp_path, capsys):

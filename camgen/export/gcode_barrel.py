@@ -70,6 +70,7 @@ import numpy as np
 
 from camgen.errors import GeometryError, ParameterError, ceil_significant
 from camgen.export.gcode_moves import comment
+from camgen.synthesis.barrel import floor_radius
 from camgen.export.gcode_spec import BLEND_SHARE, FIT_SHARE, ROUNDING_SHARE, MachiningSpec, depth_passes, rounding_error
 
 if TYPE_CHECKING:
@@ -97,18 +98,6 @@ def a_decimals(decimals: int, rim_radius: float) -> int:
     """Decimals of A (deg) so that a printed A moves the rim (radius mm) by at most a unit of the
     ``decimals``-th decimal of mm: ``R_o pi / 180 x 10^-dA <= 10^-decimals``."""
     return decimals + max(0, math.ceil(math.log10(rim_radius * math.pi / 180.0) - 1e-12))
-
-
-def floor_radius(root_radius: float, e: np.ndarray, tool_radius: float) -> np.ndarray:
-    """Tip radius of the finishing pass (mm) for the roller axis' tangential offsets ``e`` (mm):
-    ``sqrt(R_i^2 - (|e| + D/2)^2)``, where the flat tip reaches the root radius at the tool's rim
-    (module docstring).  Raises :class:`GeometryError` where the tool reaches the axis' side of
-    the root (``|e| + D/2 >= R_i``)."""
-    reach = np.abs(e) + tool_radius
-    if np.any(reach >= root_radius):
-        raise GeometryError(f"a tool of radius {tool_radius:g} mm at the follower's tangential offset reaches {float(np.max(reach)):.4g} mm "
-                            f"from the axis, not inside the root radius {root_radius:g} mm: its tip cannot cut the walls to the root")
-    return np.sqrt(root_radius**2 - reach * reach)
 
 
 def _axis_path(groove: Any, theta: np.ndarray, tool_radius: float) -> np.ndarray:

@@ -419,11 +419,23 @@ def _length(cam: BarrelCam, min_wall: float) -> "CheckResult":
 def _bore(cam: BarrelCam, min_wall: float) -> "CheckResult":
     from camgen.checks import limited
 
+    from camgen.synthesis.barrel import floor_radius
+
     p = cam.params
-    wall = p.root_radius - p.bore_radius
+    # an end mill of the groove's width cuts the walls to the root: its flat tip dips below the root
+    # radius between them, deepest where the roller axis' tangential offset |e| is largest
+    from camgen.errors import GeometryError
+
+    e = cam.groove.axis(cam.motion.cam_angle)[1]
+    try:
+        deepest = float(np.min(floor_radius(p.root_radius, np.atleast_1d(np.max(np.abs(e))), cam.groove.half_width)))
+    except GeometryError as exc:  # the cutter reaches the axis' side of the root: nothing is left to the bore
+        return limited("wall_thickness", -p.bore_radius, ">=", min_wall, "mm", [], str(exc), blocks_manufacture=True)
+    wall = deepest - p.bore_radius
     return limited("wall_thickness", wall, ">=", min_wall, "mm", [],
-                   f"material between the bore (radius {p.bore_radius:g} mm) and the groove's root (radius {p.root_radius:g} mm)",
-                   blocks_manufacture=True)
+                   f"material between the bore (radius {p.bore_radius:g} mm) and the groove's floor as an end mill of the groove's "
+                   f"width cuts it: its flat tip reaches radius {deepest:.6g} mm at the groove's centre line (the walls meet the root "
+                   f"radius {p.root_radius:g} mm at its rim)", blocks_manufacture=True)
 
 
 def evaluate_barrel(cam: BuiltCam, spec: CamSpec, tool_radius: float, tool_is_limit: bool) -> "CamEvaluation":

@@ -102,7 +102,7 @@ from camgen.errors import GeometryError
 from camgen.synthesis.laws import Displacement
 
 __all__ = [
-    "BarrelGroove", "BarrelLayout", "CONTACT_TOL", "MAX_NEWTON_STEPS", "MOTIONS", "ROLLER_SHAPES", "WALL_ANGLE_TOL",
+    "BarrelGroove", "BarrelLayout", "CONTACT_TOL", "MAX_NEWTON_STEPS", "MOTIONS", "ROLLER_SHAPES", "WALL_ANGLE_TOL", "floor_radius",
 ]
 
 #: Follower motions a barrel cam drives.
@@ -481,3 +481,15 @@ def _dnx(x1: np.ndarray, z1: np.ndarray, x2: np.ndarray, z2: np.ndarray, flip: n
     """d/dtheta of ``nx = -z' sign(x') / |c'|`` (the developed normal's x)."""
     speed2 = x1 * x1 + z1 * z1
     return -flip * (z2 * speed2 - z1 * (x1 * x2 + z1 * z2)) / speed2**1.5
+
+
+def floor_radius(root_radius: float, e: np.ndarray, tool_radius: float) -> np.ndarray:
+    """Tip radius of the finishing pass (mm) for the roller axis' tangential offsets ``e`` (mm):
+    ``sqrt(R_i^2 - (|e| + D/2)^2)``, where the flat tip reaches the root radius at the tool's rim
+    (a flat end mill with its axis on the roller's, :mod:`camgen.export.gcode_barrel`).  Raises :class:`GeometryError` where the tool reaches the axis' side of
+    the root (``|e| + D/2 >= R_i``)."""
+    reach = np.abs(e) + tool_radius
+    if np.any(reach >= root_radius):
+        raise GeometryError(f"a tool of radius {tool_radius:g} mm at the follower's tangential offset reaches {float(np.max(reach)):.4g} mm "
+                            f"from the axis, not inside the root radius {root_radius:g} mm: its tip cannot cut the walls to the root")
+    return np.sqrt(root_radius**2 - reach * reach)
