@@ -93,7 +93,7 @@ _FORMATS = (
                  "the fea extra (gmsh)", "camgen.export.fea:writer", FEA, keys=_FEA_KEYS),
     OutputFormat("step", "{cam}.step", "exact solid (circles and B-splines), AP214, mm; needs the step extra (cadquery-ocp-novtk)",
                  "camgen.writers:step"),
-    OutputFormat("ngc", "{cam}.ngc", "RS274/NGC G-code milling the outside profile (LinuxCNC or GRBL)", "camgen.writers:gcode",
+    OutputFormat("ngc", "{cam}.ngc", "RS274/NGC G-code milling the outside profile and pockets (LinuxCNC or GRBL); a barrel cam's groove on a rotary A axis (LinuxCNC)", "camgen.writers:gcode",
                  machining=True),
     OutputFormat("html", "report.html", "the design-check report with plots, one self-contained page",
                  "camgen.writers:html", frozenset({"analysis", "plots"}), manufacturing=False, scope="run"),
@@ -203,7 +203,8 @@ def machining_keys() -> tuple[Key, ...]:
     return (
         Key("tool_diameter_mm", Number("mm", 0.0, 1000.0, low_open=True), "Diameter of the end mill; its radius is also the "
             "machinability check's limit on concave radii. A pocket (a groove cam's groove) is cut in one pass along its pitch curve "
-            "by a tool of its width, in two wall passes with the slot cleared by a smaller one; a wider tool is refused.", ("gcode", "report"), default=d("tool_diameter")),
+            "by a tool of its width, in two wall passes with the slot cleared by a smaller one; a wider tool is refused. A barrel cam's "
+            "groove needs a tool of its width (roller diameter + clearance).", ("gcode", "report"), default=d("tool_diameter")),
         Key("step_down_mm", Number("mm", 0.0, 1000.0, low_open=True), "Largest depth of cut per pass (a pocket: per level, each entered by a ramp along the path).", ("gcode",), default=d("step_down")),
         Key("safe_z_mm", Number("mm", 0.0, 1000.0, low_open=True), "Clearance height above the stock top (Z0) for rapid moves.",
             ("gcode",), default=d("safe_z")),

@@ -119,7 +119,7 @@ def _cam(cam: "CamResult", drawn: bool) -> "CamReport":
         figures=_json_object(cam.figures),
         checks=tuple(_check(c) for c in cam.checks),
         rpm=cam.rpm,
-        body=_body(cam) if drawn else None,
+        body=_body(cam) if drawn and cam.built.planar else None,  # a plate's thickness, bore and keyway (a barrel states its cylinder)
         plots=_plots(cam, ev) if drawn and ev is not None and cam.built.planar else None,  # a body that is no plate draws its own
         dynamics=_dynamics(cam) if drawn else None,
         report_section=get_kind(cam.kind, cam.spec.form).report_section,

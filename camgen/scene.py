@@ -121,13 +121,17 @@ def _machining(table: object, output: "OutputSpec", machined: bool) -> "Machinin
 
 
 def _check_passes(machining: "MachiningSpec", cams: "tuple[CamSpec, ...]") -> None:
-    """Refuse a ``step_down_mm`` that would take a cam's depth (thickness + breakthrough) in more
-    than :data:`camgen.export.gcode.MAX_PASSES` passes, quoting the least step that fits."""
+    """Refuse a ``step_down_mm`` that would take a plate cam's depth (thickness + breakthrough) in
+    more than :data:`camgen.export.gcode.MAX_PASSES` passes, quoting the least step that fits."""
     from camgen.errors import ceil_significant
     from camgen.export.gcode import MAX_PASSES, depth_passes
 
+    from camgen.forms import get_form
+
     step = machining.step_down
     for spec in cams:
+        if "ngc" in get_form(spec.form).writers:  # a form that writes its own program bounds its own passes (a barrel's groove)
+            continue
         depth = spec.body.thickness + machining.breakthrough
         if depth_passes(depth, step) > MAX_PASSES:
             least = ceil_significant(depth / MAX_PASSES, 3)

@@ -106,8 +106,8 @@ def barrel_keys() -> tuple[Key, ...]:
             "in this direction.", ("profile",), default="ccw"),
         Key("bore_diameter_mm", Length(0.0, 1e5, low_open=False), "Diameter of the shaft bore along the axis; 0: no bore.",
             ("profile",), default=_body_default("bore_diameter")),
-        Key("min_wall_mm", Length(0.0, 1e4, low_open=False), "Least material allowed between the groove and the bore (root radius "
-            "less bore radius) and between the groove's walls and each end face (the checks' limit).", ("report",),
+        Key("min_wall_mm", Length(0.0, 1e4, low_open=False), "Least material allowed between the groove and the bore (the floor "
+            "an end mill of the groove's width cuts, its flat tip just below the root radius, less the bore radius) and between the groove's walls and each end face (the checks' limit).", ("report",),
             default=_body_default("min_wall")),
         Key("pressure_angle_limit_deg", Angle(0.01, 90.0, high_open=True), "Largest pressure angle allowed at the root radius, "
             "where it is largest (default: 30 deg translating followers, 45 deg oscillating ones).", ("report",)),
@@ -295,7 +295,7 @@ def _build(spec: CamSpec, stages: frozenset[str]) -> BarrelCam:
     figures: dict[str, Any] = {
         "follower": follower,
         "cylinder": {"rim_radius_mm": p.rim_radius, "root_radius_mm": p.root_radius, "mean_radius_mm": p.mean_radius,
-                     "length_mm": p.length, "bore_diameter_mm": 2.0 * p.bore_radius},
+                     "length_mm": p.length, "bore_diameter_mm": 2.0 * p.bore_radius, "min_wall_mm": spec.body.min_wall},
         "groove": {"depth_mm": p.depth, "clearance_mm": p.clearance, "width_mm": 2.0 * groove.half_width,
                    "walls": "exact envelopes of the roller widened by half the clearance, at every radius from root to rim",
                    "z_reach_mm": [low, high]},

@@ -153,7 +153,8 @@ def design_table(cam: "CamReport") -> str:
                          numeric=False))
         if "rotation" in follower:
             rotation = str(follower["rotation"])
-            rows.append(_row("cam rotation (as the DXF is drawn)", html.escape(_ROTATION.get(rotation, rotation)), "", numeric=False))
+            seen = "as the DXF is drawn" if cam.body is not None else "seen from the +z end of the cam axis"  # a plate, or a barrel
+            rows.append(_row(f"cam rotation ({seen})", html.escape(_ROTATION.get(rotation, rotation)), "", numeric=False))
     if sizing:
         limits = f"pressure angle <= {number(json_number(sizing['pressure_angle_limit_deg']))} deg"
         if sizing.get("min_concave_radius_mm"):
