@@ -32,11 +32,18 @@ def require_module(name: str):
 
 
 def _template_cams():
-    """Every bundled template (the groove cam's body with its groove: tests/test_fea_pockets.py
-    has the pocketed bodies' own tests)."""
+    """Every bundled template whose cams' forms mesh for FEA (the groove cam's body with its
+    groove: tests/test_fea_pockets.py has the pocketed bodies' own tests; a barrel cam's form
+    refuses the FEA formats, tests/test_barrel_form.py checks the refusal)."""
     from golden.regenerate import TEMPLATES
 
-    return tuple(TEMPLATES)
+    from camgen.forms import get_form
+    from camgen.scene import load_template
+
+    def meshed(template: str) -> bool:
+        return not any({"inp", "msh", "vtu"} & set(get_form(spec.form).formats_refused) for spec in load_template(template).cams)
+
+    return tuple(t for t in TEMPLATES if meshed(t))
 
 
 #: The pockets of each template cam (filled by the template_runs fixture).
