@@ -286,7 +286,8 @@ def test_surface_mesh_bytes_per_outline_vertex_are_bounded(tol):
         scene = load_template(template)
         for spec in scene.cams:
             cam = get_kind(spec.kind, spec.form).build(spec, frozenset())
-            cases.append((cam.contour, cam.body))
+            if cam.planar:  # a barrel's mesh has its own cap (tests/test_barrel_solid.py)
+                cases.append((cam.contour, cam.body))
     rng = np.random.default_rng(21)
     cases += [_random_star_cam(rng) for _ in range(4)]
     for contour, body in cases:
