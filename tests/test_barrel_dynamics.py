@@ -296,3 +296,28 @@ def test_oscillating_wall_radii_from_the_developed_pitch_curve():
         implied = (1.0 / (-kin.rho_cam - W), 1.0 / (kin.rho_cam_2 + W))
     for got in implied:
         assert np.max(np.abs(got - kappa)[inside]) <= 1e-6 * np.max(np.abs(kappa[inside]))
+
+
+def test_the_arms_weight_is_the_slope_of_its_potential_energy():
+    """An arm of mass m whose centre of mass lies cg from the pivot at angle psi (from +y towards +z)
+    stands at height z_p + cg sin psi: its weight resists the swing by dV/dpsi = m g cg cos psi (N*mm)
+    with gravity along -z (the default gravity_deg = -90), and by m g cg sin psi with gravity along
+    +y (gravity_deg = 0: V = -m g y = -m g cg cos psi)."""
+    mass, cg = 0.3, 25.0
+    for angle, slope in ((None, np.cos), (0.0, np.sin)):
+        cam = run(table(**OSCILLATING, rpm=RPM, inertia_kg_m2=INERTIA, mass_kg=mass, cg_distance_mm=cg, gravity_deg=angle))
+        res = cam.dynamics_stage.outcome.result
+        phi, _, d2phi = cycloid(res.theta, SWING)
+        omega = RPM * TWO_PI / 60.0
+        expected = INERTIA * d2phi * omega**2 * 1e3 + mass * G * cg * slope(-0.5 * SWING + phi)
+        assert np.max(np.abs(res.generalised_force - expected)) <= 1e-9 * np.max(np.abs(expected))
+
+
+def test_the_contact_length_defaults_to_the_groove_depth():
+    """The Hertz pressure goes as 1 / sqrt(length) (Johnson eq. 4.45, P the load per unit length): the
+    default contact length is the groove's depth (the roller's engaged length)."""
+    default = run(table(rpm=RPM, mass_kg=MASS, gravity=False))
+    short = run(table(rpm=RPM, mass_kg=MASS, gravity=False, contact_width_mm=2.5))
+    assert default.figures["dynamics"]["contact_width_mm"] == DEPTH
+    a, b = default.dynamics_stage.outcome.result, short.dynamics_stage.outcome.result
+    assert np.allclose(a.hertz_stress, b.hertz_stress * math.sqrt(2.5 / DEPTH), rtol=1e-12, atol=0.0)
