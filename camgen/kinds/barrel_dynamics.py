@@ -55,7 +55,7 @@ from camgen.errors import ParameterError
 if TYPE_CHECKING:
     from camgen.checks import CheckResult
     from camgen.dynamics import Kinematics
-    from camgen.kinds.base import BuiltCam, CamSpec
+    from camgen.kinds.base import CamSpec
     from camgen.kinds.dynamics import DynamicsSpec
     from camgen.schema import Key
 
@@ -134,15 +134,14 @@ def developed_curvature(groove: Any, theta: np.ndarray) -> np.ndarray:
     return (x1 * z2 - z1 * x2) * np.sign(x1) / (x1 * x1 + z1 * z1) ** 1.5
 
 
-def barrel_kinematics(cam: "BuiltCam", spec: "CamSpec") -> tuple["Kinematics", float]:
-    """The dynamics kinematics of a barrel cam (module notes) on its check grid and the arm length
+def barrel_kinematics(cam: Any, spec: "CamSpec") -> tuple["Kinematics", float]:
+    """The dynamics kinematics of a barrel cam (a :class:`camgen.kinds.barrel.BarrelCam`: its
+    ``groove``, ``params`` and ``motion``; module notes) on its check grid and the arm length
     (mm, oscillating; 0 translating): contact 1 the lower wall, contact 2 the upper, both along the
     normal at the mean radius, each against the real roller (radius Rr)."""
     from camgen import dynamics as dy
-    from camgen.kinds.barrel import BarrelCam
     from camgen.kinds.dynamics import checked_kinematics
 
-    assert isinstance(cam, BarrelCam), f"a barrel cam's dynamics on a {type(cam).__name__}"
     g, p = cam.groove, cam.params
     theta = cam.motion.cam_angle
     s, s1, s2, _ = g.law(theta)
@@ -163,15 +162,13 @@ def barrel_kinematics(cam: "BuiltCam", spec: "CamSpec") -> tuple["Kinematics", f
     return kin, arm
 
 
-def barrel_crossovers(cam: "BuiltCam", rpm: float | None) -> "CheckResult":
-    """Where the roller changes walls with inertia the only load: the zeros of the law's s'' where
-    it changes sign (the axial inertia force, or the arm's inertia torque, changes sign there),
-    each found by bisection on the law between two check-grid samples (as the groove cam's
-    ``wall_crossover``)."""
+def barrel_crossovers(cam: Any, rpm: float | None) -> "CheckResult":
+    """Where the roller of a :class:`camgen.kinds.barrel.BarrelCam` changes walls with inertia the
+    only load: the zeros of the law's s'' where it changes sign (the axial inertia force, or the
+    arm's inertia torque, changes sign there), each found by bisection on the law between two
+    check-grid samples (as the groove cam's ``wall_crossover``)."""
     from camgen.checks import information, where_degrees
-    from camgen.kinds.barrel import BarrelCam
 
-    assert isinstance(cam, BarrelCam), f"a barrel cam's crossovers on a {type(cam).__name__}"
     m = cam.motion
     sign = np.sign(m.acceleration)
     nz = np.flatnonzero(sign != 0)
