@@ -321,3 +321,60 @@ def test_the_contact_length_defaults_to_the_groove_depth():
     assert default.figures["dynamics"]["contact_width_mm"] == DEPTH
     a, b = default.dynamics_stage.outcome.result, short.dynamics_stage.outcome.result
     assert np.allclose(a.hertz_stress, b.hertz_stress * math.sqrt(2.5 / DEPTH), rtol=1e-12, atol=0.0)
+
+
+# every accepted dynamics key of a barrel against a base scene: (base table, the key's new value)
+_T_BASE = {"rpm": RPM, "mass_kg": MASS}
+_O_BASE = {**OSCILLATING, "rpm": RPM, "inertia_kg_m2": INERTIA}
+KEY_CHANGES = {
+    "mass_kg": (_T_BASE, 1.0), "damping_n_s_per_m": (_T_BASE, 30.0), "external_load_n": (_T_BASE, 10.0),
+    "external_load_csv": (_T_BASE, "load.csv"), "gravity": (_T_BASE, False), "gravity_deg": (_T_BASE, 0.0),
+    "contact_width_mm": (_T_BASE, 5.0), "cam_modulus_gpa": (_T_BASE, 100.0), "cam_poisson": (_T_BASE, 0.25),
+    "follower_modulus_gpa": (_T_BASE, 100.0), "follower_poisson": (_T_BASE, 0.25),
+    "allowable_contact_stress_mpa": (_T_BASE, 10.0), "torque_limit_n_m": (_T_BASE, 0.01),
+    "inertia_kg_m2": (_O_BASE, 3e-3), "cg_distance_mm": ({**_O_BASE, "mass_kg": 0.3, "cg_distance_mm": 20.0}, 30.0),
+    "damping_n_m_s_per_rad": (_O_BASE, 0.05), "external_load_n_mm": (_O_BASE, 500.0),
+}
+REFUSED = {"spring_rate_n_per_mm", "spring_preload_n", "spring_free_length_mm", "spring_installed_length_mm",
+           "spring_rate_n_mm_per_rad", "spring_preload_n_mm", "jump_margin_n"}
+
+
+def test_the_walk_covers_every_dynamics_key():
+    from camgen.kinds.barrel_dynamics import barrel_dynamics_keys
+
+    assert {k.name for k in barrel_dynamics_keys()} == set(KEY_CHANGES) | REFUSED
+
+
+@pytest.mark.parametrize("key", sorted(KEY_CHANGES))
+def test_every_dynamics_key_changes_the_report(key, tmp_path):
+    """Each accepted key changes the dynamics' figures or checks in the report (its documented effect)."""
+    from camgen.pipeline import execute, plan_run
+    from camgen.scene import parse_scene
+
+    (tmp_path / "load.csv").write_text("cam_angle_deg,load_n\n0,0\n180,12\n", encoding="utf-8")
+    base, value = KEY_CHANGES[key]
+
+    def dynamics(extra: dict):
+        scene = parse_scene({"output": {"formats": ["dxf"]}, "cams": {"c": table(**{**base, **extra})}}, "t", base_dir=tmp_path)
+        (cam,) = execute(scene, plan_run(scene)).cams
+        return cam.figures["dynamics"], [(c.name, c.value, c.limit, c.passed) for c in cam.checks]
+
+    assert dynamics({}) != dynamics({key: value})
+
+
+def test_the_report_draws_both_walls():
+    """report.html's dynamics panels name the barrel's walls; report.json holds each wall's largest force."""
+    import json
+
+    from camgen.pipeline import execute, plan_run
+    from camgen.scene import parse_scene
+
+    scene = parse_scene({"output": {"formats": ["html"]}, "cams": {"c": table(rpm=RPM, mass_kg=MASS, gravity=False)}}, "t")
+    done = execute(scene, plan_run(scene))
+    html, figures = done.files["report.html"], json.loads(done.files["report.json"])["cams"]["c"]["figures"]["dynamics"]
+    assert "contact force on the groove's two walls (at the mean radius)" in html
+    assert "lower wall (pushes the follower out)" in html and "upper wall (pulls it back)" in html
+    res = done.cams[0].dynamics_stage.outcome.result
+    assert figures["closure"] == "form" and figures["max_contact_force_1_N"] == pytest.approx(float(np.max(res.contact_force)))
+    # inertia only, a rise and a return of one law: both walls carry the same largest force
+    assert figures["max_contact_force_2_N"] == pytest.approx(figures["max_contact_force_1_N"], rel=1e-9)
