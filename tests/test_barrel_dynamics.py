@@ -378,3 +378,33 @@ def test_the_report_draws_both_walls():
     assert figures["closure"] == "form" and figures["max_contact_force_1_N"] == pytest.approx(float(np.max(res.contact_force)))
     # inertia only, a rise and a return of one law: both walls carry the same largest force
     assert figures["max_contact_force_2_N"] == pytest.approx(figures["max_contact_force_1_N"], rel=1e-9)
+
+
+def test_a_folding_wall_leaves_the_dynamics_not_computed():
+    """A cycloidal rise of 10 mm over 20 deg at R_m = 50 mm: the developed pitch curve's least radius,
+    min (R_m^2 + s'^2)^(3/2) / (R_m |s''|) over the rise (the graph's curvature, closed form here),
+    is below w = 8.025 mm, so a wall folds; the dynamics say so, quoting that radius."""
+    from types import SimpleNamespace
+
+    from camgen.kinds.barrel import check_grid, make_groove
+    from camgen.kinds.barrel_dynamics import barrel_kinematics
+    from camgen.kinds.dynamics import DynamicsNotComputed
+    from camgen.scene import parse_scene
+
+    h, span = 10.0, 20.0
+    steep = [{"law": "cycloidal", "span_deg": span, "lift_mm": h}, {"law": "dwell", "span_deg": 180.0 - span},
+             {"law": "cycloidal", "span_deg": span, "lift_mm": -h}, {"law": "dwell", "span_deg": 180.0 - span}]
+    scene = parse_scene({"output": {"formats": ["dxf"]}, "cams": {"c": table(rpm=RPM, mass_kg=MASS, segments=steep,
+                                                                           pressure_angle_limit_deg=80.0)}}, "t")
+    params = scene.cams[0].params
+    cam = SimpleNamespace(groove=make_groove(params), params=params, motion=SimpleNamespace(cam_angle=check_grid()))
+    beta = math.radians(span)
+    u = np.linspace(0.0, 1.0, 200001)[1:-1]
+    ds, d2s = h / beta * (1 - np.cos(TWO_PI * u)), TWO_PI * h / beta**2 * np.sin(TWO_PI * u)
+    with np.errstate(divide="ignore"):
+        least = float(np.min((R_M**2 + ds**2) ** 1.5 / (R_M * np.abs(d2s))))
+    assert least < W
+    with pytest.raises(DynamicsNotComputed, match=r"bends to a radius of ([0-9.]+) mm") as caught:
+        barrel_kinematics(cam, scene.cams[0])
+    quoted = float(caught.value.args[0].split("radius of ")[1].split(" mm")[0])
+    assert quoted == pytest.approx(least, rel=1e-4)  # the 0.1 deg grid against the 2e5-point one

@@ -36,7 +36,9 @@ The model (rigid train, frictionless contact, :mod:`camgen.dynamics`):
   roller, < 0 concave; translating ``kappa = R_m s'' / (R_m^2 + s'^2)^(3/2)``).  The contact
   length (``contact_width_mm``) defaults to the groove's depth, the engaged length of the roller.
   A conical roller's contact leans along the cone; its Hertz stress is not modelled (the contact
-  keys are refused for it), its forces and torque are.
+  keys are refused for it), its forces and torque are.  Where the developed pitch curve bends
+  tighter than w a wall folds: the dynamics are then stated as not computed (as for a plate cam
+  that cannot be made).
 * **Gravity** acts in the plane the follower moves in, the plane tangent to the cylinder at the
   follower's station, (y, z): ``gravity_deg`` is measured there counter-clockwise from +y towards
   +z (default -90: along -z, down the axis of a cam standing on its bottom face).
@@ -150,6 +152,15 @@ def barrel_kinematics(cam: Any, spec: "CamSpec") -> tuple["Kinematics", float]:
     w = g.half_width
     with np.errstate(divide="ignore"):
         rho_pitch = np.where(kappa != 0.0, 1.0 / np.where(kappa != 0.0, kappa, 1.0), np.inf)  # inf where straight
+    folds = np.abs(rho_pitch) < w
+    if folds.any():  # a wall offset by w from a pitch curve bending tighter than w has a cusp: no contact stress there
+        from camgen.kinds.dynamics import DynamicsNotComputed
+
+        i = int(np.argmin(np.abs(rho_pitch)))
+        raise DynamicsNotComputed(
+            f"the pitch curve developed at the mean radius bends to a radius of {abs(rho_pitch[i]):.6g} mm at cam angle "
+            f"{math.degrees(theta[i]):.6g} deg, tighter than the groove's half width {w:g} mm: a wall folds there (see the undercut "
+            "check), so the contact forces and stresses are computed for a groove that can be made")
     lower, upper = -(rho_pitch + w), rho_pitch - w  # inf - w = inf: a straight wall
     if p.follower.motion == "translating":
         direction: Any = math.pi / 2  # along +z in the (y, z) plane, measured from +y
