@@ -8,12 +8,14 @@ are the exact envelopes of the roller at every radius from root to rim
 is no plate, so the form writes its own files: the developed drawing and the walls' point list
 (:mod:`camgen.export.barrel_drawing`), the solid (:mod:`camgen.export.barrel_solid`, the mesh
 stage; STEP :mod:`camgen.export.barrel_step`) and the 4th-axis program
-(:mod:`camgen.export.gcode_barrel`).
+(:mod:`camgen.export.gcode_barrel`).  The groove is form-closed: its dynamics (both walls' forces,
+torque, Hertz stress) are :mod:`camgen.kinds.barrel_dynamics`.
 """
 from __future__ import annotations
 
 from camgen.forms.base import CamForm
 from camgen.kinds.barrel import barrel_keys, build_barrel, evaluate_barrel, read_barrel
+from camgen.kinds.barrel_dynamics import barrel_dynamics_keys, barrel_kinematics
 
 __all__ = ["FORM"]
 
@@ -23,10 +25,11 @@ FORM = CamForm(
     name="barrel",
     summary="barrel (cylindrical) cam: a groove in a turning cylinder drives a translating or oscillating roller (cylindrical or "
             "conical), both walls the exact envelopes of the roller at every radius",
-    keys=barrel_keys,
+    keys=lambda: barrel_keys() + barrel_dynamics_keys(),
     read=read_barrel,
     build=build_barrel,
     evaluate=evaluate_barrel,
+    follower_dynamics=barrel_kinematics,
     report_section="camgen.report.barrel:barrel_section",
     formats_refused={"lift": "a cylinder has no polar lift table (the point list holds the walls at root, mean and rim radius)",
                      "vtu": _FEA, "msh": _FEA, "inp": _FEA},

@@ -213,7 +213,10 @@ def read_barrel(where: str, name: str, parsed: Mapping[str, Any], motion: Any, b
                           dict(reading.figures), parsed.get("source"))
     body = BodySpec(thickness=length, bore_diameter=bore, min_wall=parsed["min_wall"])
     checks = CheckSettings(parsed.get("pressure_angle_limit"), parsed.get("rpm"), getattr(parsed, "tool_limit", None))
-    return CamSpec(name, motion.name, params, body, checks, None, None, form="barrel")
+    from camgen.kinds.barrel_dynamics import read_barrel_dynamics
+
+    dynamics = read_barrel_dynamics(where, parsed, motion=moves, roller_shape=shape, depth=depth, rpm=checks.rpm, base_dir=base_dir)
+    return CamSpec(name, motion.name, params, body, checks, None, dynamics, form="barrel")
 
 
 # --------------------------------------------------------------------------------------------
@@ -451,6 +454,10 @@ def evaluate_barrel(cam: BuiltCam, spec: CamSpec, tool_radius: float, tool_is_li
     checks.append(motion_check(cam.motion, spec.checks.rpm))
     joins: Any = cam  # the law and its follower's motion are what law_joins_check reads
     checks.append(law_joins_check(joins, spec.checks.rpm))
+    if spec.dynamics is not None:  # where the roller changes walls (a cam without dynamics keys keeps its report as it was)
+        from camgen.kinds.barrel_dynamics import barrel_crossovers
+
+        checks.append(barrel_crossovers(cam, spec.checks.rpm))
     return CamEvaluation(tuple(checks), None, cam.motion, None, None, None,
                          pressure_angle_label="roller in a barrel groove at the root radius, closed form")
 

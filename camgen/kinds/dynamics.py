@@ -396,7 +396,7 @@ def run_dynamics(cam: "BuiltCam", spec: "CamSpec", stages: frozenset[str]) -> Dy
     dyn: DynamicsSpec | None = getattr(spec, "dynamics", None)
     if dyn is None:
         return None
-    if cam.contour is None:
+    if cam.contour is None and cam.planar:  # a body that is no plate (a barrel) has no outline to lack
         return DynamicsStage(None, (information("dynamics", "not computed", "", [], "the profile cannot be made (see the undercut "
                                                 "check): the contact forces, jump and contact stress are computed for a cam that "
                                                 "can be made"),))

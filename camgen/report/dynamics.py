@@ -33,6 +33,7 @@ FORM_CLOSED_CONTACTS = {
     "": ("face 1", "face 2", "the yoke's two faces"),
     "groove": ("inner wall", "outer wall", "the groove's two walls"),
     "conjugate": ("roller A on cam A", "roller B on cam B", "the pair's two rollers"),
+    "barrel": ("lower wall", "upper wall", "the groove's two walls (at the mean radius)"),  # BDYN: kinds/barrel_dynamics.py
 }
 
 
