@@ -59,10 +59,10 @@ KEYS = (
     Key("timing_curves", ChoiceList(TIMING_CURVES), "What the timing diagram shows for every follower against machine angle "
         "(velocity and acceleration at the machine speed).", ("report",), default=["displacement"]),
     Key("motor_torque_limit_n_m", Number("N*m", 0.0, 1e8, low_open=True), "The motor's rated torque: the machine_motor_torque "
-        "check fails when the motor torque with the flywheel (the mean camshaft torque) exceeds it (left out: information).",
+        "check fails when the motor torque with the flywheel (the mean camshaft torque) exceeds it (left out: no check; the figure is in report.json).",
         ("report",), example=2.0, attr="motor_torque_limit"),
     Key("motor_power_limit_w", Number("W", 0.0, 1e9, low_open=True), "The motor's rated power: the machine_motor_power check "
-        "fails when the motor's peak power with the flywheel exceeds it (left out: information).", ("report",), example=100.0,
+        "fails when the motor's peak power with the flywheel exceeds it (left out: no check; the figure is in report.json).", ("report",), example=100.0,
         attr="motor_power_limit"),
 )
 
