@@ -97,6 +97,10 @@ def sections() -> dict[str, str]:
     for name in job_names():
         job = get_job(name)
         out[name] = f"## [mechanisms.{name}]\n\n{job.summary}.\n\n{_table(job.keys)}"
+        for key in job.keys:  # a list of tables (the machine's [[mechanisms.machine.cams]])
+            sub = getattr(key.type, "keys", None)
+            if sub:
+                out[name] += f"\nEach `[[mechanisms.{name}.{key.name}]]` table:\n\n{_table(sub)}"
     return out
 
 

@@ -115,6 +115,15 @@ def leg_scene() -> dict:
     return scene
 
 
+def mechanism_scene(where: str) -> dict:
+    """A valid scene for the mechanism table ``where`` (``mechanisms.<job>``)."""
+    if where != "mechanisms.machine":
+        return leg_scene()
+    scene = leg_scene()  # the two three-arc cams on one shaft (no dynamics: no torque)
+    scene["mechanisms"] = {"machine": {"rpm": 100.0, "cams": [{"name": "s"}, {"name": "h", "phase_deg": 90.0}]}}
+    return scene
+
+
 # --------------------------------------------------------------------------------------------
 # Wrong values by type
 # --------------------------------------------------------------------------------------------
@@ -187,7 +196,7 @@ def _cases():
     for where, kind, keys in groups:
         for key in keys:
             for label, value in literal_values(key, count):  # every key: huge integers, NUL, long strings
-                scene = leg_scene() if kind == "leg" else base_scene(kind or "three_arc")
+                scene = mechanism_scene(where) if kind == "leg" else base_scene(kind or "three_arc")
                 table = scene
                 for part in where.split("."):
                     table = table[part]
@@ -204,21 +213,21 @@ def _cases():
             values = wrong_values(key, rng)
             rng.shuffle(values)
             for value in values[:PER_KEY]:
-                scene = leg_scene() if kind == "leg" else base_scene(kind or "three_arc")
+                scene = mechanism_scene(where) if kind == "leg" else base_scene(kind or "three_arc")
                 table = scene
                 for part in where.split("."):
                     table = table[part]
                 table[key.name] = value
                 add(scene, key.name, f"{where}.{key.name}")
             if key.required:  # left out
-                scene = leg_scene() if kind == "leg" else base_scene(kind or "three_arc")
+                scene = mechanism_scene(where) if kind == "leg" else base_scene(kind or "three_arc")
                 table = scene
                 for part in where.split("."):
                     table = table[part]
                 del table[key.name]
                 add(scene, key.name, f"{where}.{key.name}-missing")
         for _ in range(3):  # unknown keys
-            scene = leg_scene() if kind == "leg" else base_scene(kind or "three_arc")
+            scene = mechanism_scene(where) if kind == "leg" else base_scene(kind or "three_arc")
             table = scene
             for part in where.split("."):
                 table = table[part]
@@ -724,7 +733,7 @@ def _edge_scene(where: str, kind: str | None, key: Key, value: float) -> tuple[d
     motion, mass and speed), the other lengths scaled to it, the outputs it changes asked for.
     Returns the scene and the formats asked for."""
     if kind == "leg":
-        scene = leg_scene()
+        scene = mechanism_scene(where)
     elif kind == "lift_table":
         scene = base_scene()
         scene["cams"] = {"x": dict(LIFT_CAM)}
@@ -817,7 +826,7 @@ def _edge_scene(where: str, kind: str | None, key: Key, value: float) -> tuple[d
         if name == "base_radius_mm" and value < 1.0:
             cam["roller_radius_mm"] = min(cam.get("roller_radius_mm", 10.0), 10.0)
     formats = ["dxf", "points", "lift", "ngc", "follower"] if where == "cams.x" else ["dxf", "points", "lift", "ngc"]
-    if where != "mechanisms.horse_leg":
+    if where not in ("mechanisms.horse_leg", "mechanisms.machine"):  # a machine's cams turn at its speed
         for other in scene["cams"].values():
             other["rpm"] = other.get("rpm", 100.0)
     size = _size(scene) if "x" in cams else 500.0

@@ -263,9 +263,39 @@ LEG_SCENE = {
 }
 
 
+#: Two cams with dynamics on one shaft (mechanisms.machine), the motor limits given.
+_MACHINE_CAM = {"kind": "motion_law", "follower": "roller", "base_radius_mm": 40.0, "roller_radius_mm": 8.0, "rpm": 100.0,
+                "mass_kg": 0.5, "spring_rate_n_per_mm": 2.0, "spring_preload_n": 40.0,
+                "segments": [{"law": "cycloidal", "span_deg": 120.0, "lift_mm": 10.0}, {"law": "dwell", "span_deg": 60.0},
+                             {"law": "cycloidal", "span_deg": 120.0, "lift_mm": -10.0}, {"law": "dwell", "span_deg": 60.0}]}
+MACHINE_SCENE = {
+    "output": {"formats": ["dxf"]},
+    "cams": {"a": dict(_MACHINE_CAM), "b": dict(_MACHINE_CAM, mass_kg=1.0), "c": dict(_MACHINE_CAM)},
+    "mechanisms": {"machine": {"rpm": 100.0, "cams": [{"name": "a", "phase_deg": 0.0}, {"name": "b", "phase_deg": 90.0}],
+                               "motor_torque_limit_n_m": 2.0, "motor_power_limit_w": 100.0}},
+}
+#: A changed value of the machine's keys the generic walk cannot make.
+MACHINE_CHANGES = {"cams": [{"name": "a", "phase_deg": 0.0}, {"name": "b", "phase_deg": 120.0}], "timing_curves": ["velocity"]}
+
+
 @pytest.mark.parametrize("job_name, key_name", [(j, k.name) for j in job_names() for k in get_job(j).keys])
 def test_every_mechanism_key_changes_what_it_documents(job_name, key_name, tmp_path):
     key = next(k for k in get_job(job_name).keys if k.name == key_name)
+    if job_name == "machine":
+        base = copy.deepcopy(MACHINE_SCENE)
+        alt = copy.deepcopy(MACHINE_SCENE)
+        table = alt["mechanisms"]["machine"]
+        if key_name == "rpm":  # the cams turn at the machine's speed
+            for cam in (*base["cams"].values(), *alt["cams"].values()):
+                cam.pop("rpm")
+            alt["cams"] = {"a": {k: v for k, v in _MACHINE_CAM.items() if k not in ("mass_kg", "spring_rate_n_per_mm", "spring_preload_n", "rpm")}}
+            base["cams"] = copy.deepcopy(alt["cams"])
+            for scene in (base, alt):
+                scene["mechanisms"]["machine"]["cams"] = [{"name": "a", "phase_deg": 0.0}]
+            table = alt["mechanisms"]["machine"]
+        table[key_name] = MACHINE_CHANGES.get(key_name) or _changed(table.get(key_name, key.default), key)
+        _assert_effect(key, run(base, tmp_path), run(alt, tmp_path))
+        return
     base = copy.deepcopy(LEG_SCENE)
     alt = copy.deepcopy(LEG_SCENE)
     table = alt["mechanisms"][job_name]

@@ -196,7 +196,7 @@ def test_console_script_entry_point(tmp_path):
 
 @pytest.mark.parametrize("template", ["tricycle", "horse_leg", "motion_law", "plate_cam", "flat_follower", "knife_follower",
                                       "oscillating_roller", "oscillating_flat", "lift_table", "groove_cam", "conjugate_cam", "constant_breadth",
-                                      "barrel_cam"])
+                                      "barrel_cam", "packaging_machine"])
 def test_bundled_templates_run(template, tmp_path):
     from camgen.scene import template_path
 

@@ -10,6 +10,7 @@ __all__ = ["JOB_MODULES", "get_job", "job_names"]
 #: mechanism name -> module defining ``JOB``
 JOB_MODULES: dict[str, str] = {
     "horse_leg": "camgen.jobs.horse_leg",
+    "machine": "camgen.jobs.machine",
 }
 
 
