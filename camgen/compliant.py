@@ -47,12 +47,12 @@ from camgen.errors import GeometryError, ParameterError, require_finite
 if TYPE_CHECKING:
     from camgen.dynamics import FollowerTrain, Kinematics
 
-__all__ = ["CompliantResult", "TrainCompliance", "UNIFORM_TOL", "DWELL_TOL", "RESONANCE_TOL", "acceleration_spectrum",
-           "compliant_response", "dwell_starts", "response_from", "step_matrices"]
+__all__ = ["CompliantResult", "TrainCompliance", "SAME_ANGLE", "DWELL_TOL", "RESONANCE_TOL", "acceleration_spectrum",
+           "compliant_response", "dwell_starts", "response_from", "spectrum_harmonics", "step_matrices"]
 
 TWO_PI = 2.0 * math.pi
-#: Relative tolerance on the spacing of the cam samples (the exact step needs one step length).
-UNIFORM_TOL = 1e-9
+#: Two samples closer than this fraction of the longest step are one cam angle (a break's two sides).
+SAME_ANGLE = 1e-9
 #: A sample is in a dwell where |s'| and |s''| are at most this fraction of their largest values.
 DWELL_TOL = 1e-12
 #: |det(I - Phi^N)| below this: an undamped train resonant with the turn has no periodic state.
@@ -144,15 +144,11 @@ def contact_projection(kin: "Kinematics", train: "FollowerTrain") -> np.ndarray:
 # --------------------------------------------------------------------------------------------
 # The exact step
 # --------------------------------------------------------------------------------------------
-def step_matrices(osc: Oscillator, dt: float) -> tuple[np.ndarray, np.ndarray]:
-    """``(Phi, Gamma)`` of one step ``dt`` (s): the state ``z = (r mm, r' mm/s)`` moves to
-    ``Phi z + Gamma u`` under the forcing whose derivative chain at the step's start is
-    ``u = (y, y', ..., y^(5), f, f')`` (the law a quintic, the load part ``f`` linear).
-
-    Van Loan's augmented exponential: ``expm([[A, B], [0, N]] dt)`` with ``N`` the chain's
-    shift matrix; its top-right block is ``int_0^dt e^(A (dt - s)) B e^(N s) ds``."""
-    from scipy.linalg import expm
-
+def augmented_matrix(osc: Oscillator) -> np.ndarray:
+    """The 10 x 10 state matrix of ``z = (r mm, r' mm/s)`` augmented by the forcing's derivative
+    chain ``u = (y, y', ..., y^(5), f, f')`` (the law a quintic in time, the load part ``f``
+    linear): ``expm(H dt)`` has the step's ``Phi`` top-left and ``Gamma`` top-right, ``z`` moving
+    to ``Phi z + Gamma u`` (Van Loan: ``Gamma = int_0^dt e^(A (dt - s)) B e^(N s) ds``)."""
     m = osc.m
     h = np.zeros((10, 10))
     h[0, 1] = 1.0
@@ -166,13 +162,23 @@ def step_matrices(osc: Oscillator, dt: float) -> tuple[np.ndarray, np.ndarray]:
     for i in range(2, 7):
         h[i, i + 1] = 1.0
     h[8, 9] = 1.0
-    e = expm(h * dt)
-    return e[:2, :2], e[:2, 2:]
+    return h
 
 
-def quintic_chain(y: np.ndarray, v: np.ndarray, a: np.ndarray, dt: float) -> np.ndarray:
+def step_matrices(osc: Oscillator, dt: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(Phi, Gamma)`` of steps of lengths ``dt`` (s, shape (S,)): shapes (S, 2, 2) and (S, 2, 8);
+    one matrix exponential per distinct length (a check grid has a few), batched."""
+    from scipy.linalg import expm
+
+    lengths, which = np.unique(dt, return_inverse=True)
+    e = expm(augmented_matrix(osc)[None, :, :] * lengths[:, None, None])
+    return e[which, :2, :2], e[which, :2, 2:]
+
+
+def quintic_chain(y: np.ndarray, v: np.ndarray, a: np.ndarray, dt: np.ndarray | float) -> np.ndarray:
     """The derivatives ``(y, y', ..., y^(5))`` at the start of each step of the quintic Hermite
-    interpolant of ``(y, y', y'')`` at both its ends (shape (N, 6); samples periodic)."""
+    interpolant of ``(y, y', y'')`` at both its ends (shape (N, 6); samples periodic, step
+    ``i`` from sample ``i`` to ``i + 1`` of length ``dt[i]``)."""
     y1, v1, a1 = np.roll(y, -1), np.roll(v, -1), np.roll(a, -1)
     d = y1 - y - v * dt - 0.5 * a * dt**2
     e = v1 - v - a * dt
@@ -183,34 +189,27 @@ def quintic_chain(y: np.ndarray, v: np.ndarray, a: np.ndarray, dt: float) -> np.
     return np.stack([y, v, a, 6.0 * c3, 24.0 * c4, 120.0 * c5], axis=1)
 
 
-def _powers(phi: np.ndarray, n: int) -> np.ndarray:
-    """``Phi^i`` for i = 0 .. n (shape (n + 1, 2, 2)) by doubling."""
-    out = np.empty((n + 1, 2, 2))
-    out[0] = np.eye(2)
-    filled, block = 1, phi
-    while filled <= n:
-        take = min(filled, n + 1 - filled)
-        out[filled:filled + take] = block @ out[:take]
-        filled += take
-        block = block @ block
-    return out
-
-
-def _scan(phi: np.ndarray, g: np.ndarray) -> np.ndarray:
-    """``S[i] = sum_{j <= i} Phi^(i - j) g[j]`` (shape (N, 2)): Hillis-Steele prefix scan."""
-    acc = g.copy()
-    power, shift = phi, 1
+def _scan(phi: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The recursion ``z[i+1] = Phi[i] z[i] + g[i]`` summed for every step at once: returns
+    ``(P, G)`` with ``P[i] = Phi[i] ... Phi[0]`` and ``G[i]`` the state after step ``i`` from
+    ``z[0] = 0`` (so ``z[i+1] = P[i] z[0] + G[i]``).  Hillis-Steele prefix scan of the
+    associative composition ``(Phi_b, g_b) o (Phi_a, g_a) = (Phi_b Phi_a, Phi_b g_a + g_b)``:
+    ``ceil(log2 N)`` vectorised rounds."""
+    prod, acc = phi.copy(), g.copy()
+    shift = 1
     while shift < len(acc):
-        acc[shift:] += acc[:-shift] @ power.T
-        power = power @ power
+        acc[shift:] = acc[shift:] + np.einsum("nij,nj->ni", prod[shift:], acc[:-shift])
+        prod[shift:] = prod[shift:] @ prod[:-shift]
         shift *= 2
-    return acc
+    return prod, acc
 
 
 def response_from(kin: "Kinematics", train: "FollowerTrain", compliance: TrainCompliance, rpm: float,
                   z0: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The dynamic error over one turn from the state ``z0`` = (r mm, r' mm/s) at ``theta[0]``
-    (None: the periodic state, the one the turn returns to).
+    (None: the periodic state, the one the turn returns to).  Any sample spacing: a step shorter
+    than :data:`SAME_ANGLE` of the longest joins the one-sided values of a break (the state
+    carries over it).
 
     Returns ``(r, r_dot, z_end)``: the error and its rate at every sample (mm, mm/s; an arm:
     rad, rad/s) and the state after the turn."""
@@ -218,23 +217,24 @@ def response_from(kin: "Kinematics", train: "FollowerTrain", compliance: TrainCo
 
     theta = kin.theta
     n = theta.size
-    h = TWO_PI / n
-    steps = np.diff(np.append(theta, theta[0] + TWO_PI))
-    if np.any(np.abs(steps - h) > UNIFORM_TOL * h):
-        raise ParameterError("theta", "cam angles", "uniformly spaced cam angles over the turn (the exact step)")
     omega = _omega(rpm)
-    dt = h / omega
+    steps = np.diff(np.append(theta, theta[0] + TWO_PI))
+    moving = steps > SAME_ANGLE * float(np.max(steps))
+    dt = np.where(moving, steps, 1.0) / omega
     osc = oscillator(train, compliance)
-    phi, gamma = step_matrices(osc, dt)
     a_coef, _, _ = dy.force_coefficients(kin, train)
     f = train.spring_rate * kin.s - a_coef  # K q_min - P0 - L - G
     chain = np.concatenate([quintic_chain(kin.s, omega * kin.ds, omega**2 * kin.d2s, dt),
                             np.stack([f, (np.roll(f, -1) - f) / dt], axis=1)], axis=1)
-    g = chain @ gamma.T
-    acc = _scan(phi, g)
-    powers = _powers(phi, n)
+    phi = np.broadcast_to(np.eye(2), (n, 2, 2)).copy()
+    g = np.zeros((n, 2))
+    if moving.any():
+        phi_m, gamma_m = step_matrices(osc, dt[moving])
+        phi[moving] = phi_m
+        g[moving] = np.einsum("nij,nj->ni", gamma_m, chain[moving])
+    prod, acc = _scan(phi, g)
     if z0 is None:
-        system = np.eye(2) - powers[n]
+        system = np.eye(2) - prod[-1]
         if abs(np.linalg.det(system)) < RESONANCE_TOL:
             raise GeometryError(f"the undamped train (natural frequency {osc.omega_n / TWO_PI:.6g} Hz) is in resonance with "
                                 f"the turn ({rpm / 60.0:.6g} Hz): it has no periodic state; give a damping_ratio > 0")
@@ -242,9 +242,8 @@ def response_from(kin: "Kinematics", train: "FollowerTrain", compliance: TrainCo
     z0 = np.asarray(z0, dtype=float)
     z = np.empty((n, 2))
     z[0] = z0
-    z[1:] = powers[1:n] @ z0 + acc[:-1]
-    z_end = powers[n] @ z0 + acc[-1]
-    return z[:, 0], z[:, 1], z_end
+    z[1:] = prod[:-1] @ z0 + acc[:-1]
+    return z[:, 0], z[:, 1], prod[-1] @ z0 + acc[-1]
 
 
 def dwell_starts(kin: "Kinematics", tol: float = DWELL_TOL) -> np.ndarray:
@@ -258,16 +257,24 @@ def dwell_starts(kin: "Kinematics", tol: float = DWELL_TOL) -> np.ndarray:
     return np.nonzero(still & ~np.roll(still, 1))[0]
 
 
-def acceleration_spectrum(kin: "Kinematics", rpm: float) -> np.ndarray:
-    """Amplitudes of the law's acceleration at speed, harmonics 0 .. N/2 of the turn (FFT of the
-    uniform samples; translating mm/s^2, an arm rad/s^2): ``a(t) = sum A_n cos(n w t + p_n)``."""
+def acceleration_spectrum(kin: "Kinematics", rpm: float, harmonics: int) -> np.ndarray:
+    """Amplitudes ``A_n`` of the law's acceleration at speed, ``a(t) = sum A_n cos(n w t + p_n)``,
+    harmonics n = 0 .. ``harmonics`` of the turn (translating mm/s^2, an arm rad/s^2): the
+    Fourier integrals of the piecewise-linear interpolant of the samples (any spacing; on a
+    uniform grid the FFT's coefficients up to the linear interpolant's sinc factor)."""
     omega = _omega(rpm)
-    coef = np.fft.rfft(omega**2 * kin.d2s) / kin.theta.size
-    amp = 2.0 * np.abs(coef)
-    amp[0] = abs(coef[0].real)
-    if kin.theta.size % 2 == 0:
-        amp[-1] = abs(coef[-1].real)
-    return amp
+    theta = np.append(kin.theta, kin.theta[0] + TWO_PI)
+    acc = omega**2 * np.append(kin.d2s, kin.d2s[0])
+    n = np.arange(1, harmonics + 1)[:, None]
+    width = np.diff(theta)
+    keep = width > 0
+    t0, t1, a0, a1, w = theta[:-1][keep], theta[1:][keep], acc[:-1][keep], acc[1:][keep], width[keep]
+    slope = (a1 - a0) / w
+    # int_t0^t1 (a0 + slope (t - t0)) e^(-i n t) dt, in closed form per piece
+    e0, e1 = np.exp(-1j * n * t0), np.exp(-1j * n * t1)
+    part = ((a0 * e0 - a1 * e1) / (1j * n) + slope * (e1 - e0) / n**2).sum(axis=1)
+    mean = float(np.sum(0.5 * (a0 + a1) * w)) / TWO_PI
+    return np.concatenate([[abs(mean)], np.abs(part) / math.pi])
 
 
 @dataclass(frozen=True, eq=False)
@@ -280,8 +287,8 @@ class CompliantResult:
     contact_force : N along the contact normal (the dynamic one; < 0: the follower leaves the cam).
     rigid_force : N, the rigid model's contact force, for comparison.
     natural_frequency : Hz.  turn_frequency : Hz (rpm / 60).
-    damping_ratio : of the mode, the follower's own damping included.
-    spectrum : the law's acceleration amplitudes by harmonic (index n: n x the turn frequency).
+    damping_ratio : of the mode, the follower's own damping (``damping_n_s_per_m``) included.
+    spectrum : the law's acceleration amplitudes by harmonic 0 .. H (index n: n x the turn frequency).
     dwell_start : sample indices where a dwell follows a rise or return.
     residual : the free-vibration amplitude at each dwell start (mm; an arm: mm at the roller).
     jump_ranges_deg : start/end cam angles of the runs where the dynamic force < 0.
@@ -315,10 +322,8 @@ class CompliantResult:
         return float(np.max(self.residual)) if self.residual.size else 0.0
 
     def harmonics(self) -> np.ndarray:
-        """The spectrum's harmonics 1 .. H reported: at least 40, past twice ``f_n``, at most 400."""
-        ratio = self.natural_frequency / self.turn_frequency
-        count = int(min(max(SPECTRUM_MIN_HARMONICS, math.ceil(2.0 * ratio)), SPECTRUM_MAX_HARMONICS, self.spectrum.size - 1))
-        return self.spectrum[1:count + 1]
+        """The spectrum's harmonics 1 .. H."""
+        return self.spectrum[1:]
 
     def figures(self) -> dict[str, Any]:
         """report.json's ``figures.dynamics.compliant`` (units in the keys)."""
@@ -333,7 +338,7 @@ class CompliantResult:
             "natural_frequency_Hz": self.natural_frequency,
             "turn_frequency_Hz": self.turn_frequency,
             "natural_frequency_harmonic": ratio,
-            "damping_ratio": self.damping_ratio,
+            "mode_damping_ratio": self.damping_ratio,
             f"max_dynamic_error_{length}": float(np.max(np.abs(self.error))),
             "min_dynamic_contact_force_N": float(self.contact_force[i]),
             "min_dynamic_contact_force_deg": round(math.degrees(float(self.theta[i])), 6),
@@ -350,6 +355,12 @@ class CompliantResult:
             out[f"acceleration_at_nearest_harmonic_{accel}"] = float(self.spectrum[nearest] * scale)
             out["nearest_harmonic"] = nearest
         return out
+
+
+def spectrum_harmonics(natural: float, turn: float, samples: int) -> int:
+    """How many harmonics the spectrum shows: past twice the natural frequency, at least
+    :data:`SPECTRUM_MIN_HARMONICS`, at most :data:`SPECTRUM_MAX_HARMONICS` and half the samples."""
+    return int(min(max(SPECTRUM_MIN_HARMONICS, math.ceil(2.0 * natural / turn)), SPECTRUM_MAX_HARMONICS, samples // 2))
 
 
 def compliant_response(kin: "Kinematics", train: "FollowerTrain", compliance: TrainCompliance, rpm: float) -> CompliantResult:
@@ -377,5 +388,6 @@ def compliant_response(kin: "Kinematics", train: "FollowerTrain", compliance: Tr
     else:  # overdamped by the follower's own damping: no vibration, the offset decays
         amplitude = np.abs(u)
     lever = 1.0 if train.motion == "translating" else float(train.arm_length)
-    return CompliantResult(rpm, kin.theta, r, r_dot, force, rigid, wn / TWO_PI, rpm / 60.0, zt, acceleration_spectrum(kin, rpm),
+    spectrum = acceleration_spectrum(kin, rpm, spectrum_harmonics(wn / TWO_PI, rpm / 60.0, kin.theta.size))
+    return CompliantResult(rpm, kin.theta, r, r_dot, force, rigid, wn / TWO_PI, rpm / 60.0, zt, spectrum,
                            starts, amplitude * lever, run_ends(force < 0, kin.theta), lever, train.motion)
