@@ -293,6 +293,8 @@ class CompliantResult:
     residual : the free-vibration amplitude at each dwell start (mm; an arm: mm at the roller).
     jump_ranges_deg : start/end cam angles of the runs where the dynamic force < 0.
     lever : mm per unit of the coordinate (1 translating; the arm length).
+    motion : ``"translating"`` or ``"oscillating"``.
+    residual_limit : mm, the residual-vibration limit it is checked against (None: not given).
     """
 
     rpm: float
@@ -310,6 +312,7 @@ class CompliantResult:
     jump_ranges_deg: list[float]
     lever: float
     motion: str
+    residual_limit: float | None = None
 
     @property
     def amplification(self) -> float:

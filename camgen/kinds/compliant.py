@@ -97,8 +97,10 @@ def run_compliant(kin: "Kinematics", train: "FollowerTrain", compliance: "TrainC
     from camgen.checks import information
     from camgen.compliant import compliant_response
 
+    from dataclasses import replace
+
     try:
-        result = compliant_response(kin, train, compliance, rpm)
+        result = replace(compliant_response(kin, train, compliance, rpm), residual_limit=compliance.residual_limit)
     except GeometryError as exc:
         return None, [information("dynamic_jump", "not computed", "", [], str(exc))], {}
     figures = {"train_stiffness_" + ("N_per_mm" if train.motion == "translating" else "Nmm_per_rad"): compliance.stiffness,
