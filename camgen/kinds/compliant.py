@@ -71,7 +71,7 @@ def read_compliance(where: str, parsed: Mapping[str, Any], given: tuple[str, ...
                                      f"left out without {stiffness}",
                                      f"it describes the compliant follower train, which {stiffness} turns on")
         return None
-    value = parsed.get(stiffness)
+    value = float(parsed[stiffness])  # given: the key's type read it as a number
     if form_closed:
         raise ParameterError(f"{where}.{stiffness}", value, "left out for a form-closed train",
                              "the compliant model is of a spring-loaded follower (a form-closed train's two contacts are not modelled)")
@@ -82,7 +82,7 @@ def read_compliance(where: str, parsed: Mapping[str, Any], given: tuple[str, ...
     zeta = parsed.get("damping_ratio")
     limit = parsed.get("residual_vibration_limit_mm")
     try:
-        return TrainCompliance(float(value), DEFAULT_DAMPING_RATIO if zeta is None else float(zeta),
+        return TrainCompliance(value, DEFAULT_DAMPING_RATIO if zeta is None else float(zeta),
                                None if limit is None else float(limit))
     except ParameterError as exc:  # the ranges of the keys refuse these first: kept for a direct caller
         name = {"train_stiffness": stiffness, "damping_ratio": "damping_ratio",
