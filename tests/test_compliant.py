@@ -152,6 +152,35 @@ def test_residual_vibration_after_a_cycloidal_rise_is_kosters_closed_form():
     assert res.residual == pytest.approx([expected, expected], rel=1e-6)
 
 
+def test_a_damped_residual_vibration_is_the_free_vibration_the_integrator_finds_in_the_dwell():
+    """From the state at the dwell after the rise, DOP853 integrates the follower through the
+    dwell; the offset from the static deflection r_eq = -(K h + P0) / (k + K) times e^(zeta w_n t)
+    is a cos(w_d t) + b sin(w_d t) (a damped free vibration): its amplitude hypot(a, b), fitted
+    by least squares, is the residual camgen reports."""
+    from scipy.integrate import solve_ivp
+
+    kin = kinematics()
+    rpm, stiffness, zeta = 60.0, 30.0, 0.1
+    res = compliant_response(kin, TRAIN, TrainCompliance(stiffness, zeta), rpm)
+    omega = rpm * TWO_PI / 60.0
+    m, big_k = TRAIN.mass * 1e-3, TRAIN.spring_rate
+    c_total = 2.0 * zeta * math.sqrt((stiffness + big_k) * m) + TRAIN.damping * 1e-3
+    w_n = math.sqrt((stiffness + big_k) / m)
+    zeta_total = c_total / (2.0 * m * w_n)
+    w_d = w_n * math.sqrt(1.0 - zeta_total**2)
+    i = int(res.dwell_start[0])
+    assert math.isclose(math.degrees(kin.theta[i]), 90.0)
+    duration = (DWELL_START - RISE) / omega
+    t = np.linspace(0.0, duration, 400)
+    sol = solve_ivp(lambda _, z: [z[1], (-c_total * z[1] - (stiffness + big_k) * z[0]) / m], (0.0, duration),
+                    [res.error[i] + (big_k * LIFT + TRAIN.spring_preload) / (stiffness + big_k), res.error_rate[i]],
+                    method="DOP853", rtol=1e-12, atol=1e-15, t_eval=t)  # the offset from r_eq: y is still in the dwell
+    basis = np.stack([np.cos(w_d * t), np.sin(w_d * t)], axis=1)
+    (a, b), *_ = np.linalg.lstsq(basis, sol.y[0] * np.exp(zeta_total * w_n * t), rcond=None)
+    assert res.damping_ratio == pytest.approx(zeta_total, rel=1e-12)
+    assert res.residual[0] == pytest.approx(math.hypot(a, b), rel=1e-6)
+
+
 def test_an_undamped_train_in_resonance_with_the_turn_has_no_periodic_state():
     from camgen.errors import GeometryError
 
