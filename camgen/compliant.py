@@ -61,6 +61,8 @@ RESONANCE_TOL = 1e-10
 SPECTRUM_MIN_HARMONICS = 40
 #: ... and at most this many (and never past the samples' Nyquist limit).
 SPECTRUM_MAX_HARMONICS = 400
+#: Complex terms (harmonics x samples) the spectrum holds at once (64 MB): its memory is bounded.
+SPECTRUM_CHUNK = 1 << 22
 
 
 @dataclass(frozen=True)
@@ -270,9 +272,13 @@ def acceleration_spectrum(kin: "Kinematics", rpm: float, harmonics: int) -> np.n
     keep = width > 0
     t0, t1, a0, a1, w = theta[:-1][keep], theta[1:][keep], acc[:-1][keep], acc[1:][keep], width[keep]
     slope = (a1 - a0) / w
-    # int_t0^t1 (a0 + slope (t - t0)) e^(-i n t) dt, in closed form per piece
-    e0, e1 = np.exp(-1j * n * t0), np.exp(-1j * n * t1)
-    part = ((a0 * e0 - a1 * e1) / (1j * n) + slope * (e1 - e0) / n**2).sum(axis=1)
+    part = np.zeros(harmonics, dtype=complex)
+    chunk = max(1, SPECTRUM_CHUNK // harmonics)  # pieces per block: at most SPECTRUM_CHUNK complex terms at once
+    for lo in range(0, t0.size, chunk):
+        piece = slice(lo, lo + chunk)
+        # int_t0^t1 (a0 + slope (t - t0)) e^(-i n t) dt, in closed form per piece
+        e0, e1 = np.exp(-1j * n * t0[piece]), np.exp(-1j * n * t1[piece])
+        part += ((a0[piece] * e0 - a1[piece] * e1) / (1j * n) + slope[piece] * (e1 - e0) / n**2).sum(axis=1)
     mean = float(np.sum(0.5 * (a0 + a1) * w)) / TWO_PI
     return np.concatenate([[abs(mean)], np.abs(part) / math.pi])
 

@@ -190,9 +190,13 @@ def test_an_undamped_train_in_resonance_with_the_turn_has_no_periodic_state():
         compliant_response(kinematics(), train, TrainCompliance(stiffness, 0.0), 60.0)
 
 
-def test_the_acceleration_spectrum_is_the_laws_fourier_series():
+@pytest.mark.parametrize("block", [None, 1000], ids=["one block", "blocks of 1000 terms"])
+def test_the_acceleration_spectrum_is_the_laws_fourier_series(block, monkeypatch):
     """The cycloidal law's acceleration a(theta) = w^2 s''; its harmonic amplitudes from a
-    128-point-per-degree trapezoid of the closed form, independently of the samples camgen used."""
+    128-point-per-degree trapezoid of the closed form, independently of the samples camgen used
+    (also when its memory cap splits the sum into blocks)."""
+    if block is not None:
+        monkeypatch.setattr("camgen.compliant.SPECTRUM_CHUNK", block)
     kin = kinematics(3600)
     rpm = 60.0
     res = compliant_response(kin, TRAIN, TrainCompliance(30.0, 0.05), rpm)
