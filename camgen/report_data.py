@@ -24,6 +24,7 @@ if TYPE_CHECKING:
         CamPlots,
         CamReport,
         CheckRow,
+        CompliantCurves,
         DynamicsCurves,
         FloatArray,
         JsonValue,
@@ -217,4 +218,22 @@ def _dynamics(cam: "CamResult") -> "DynamicsCurves | None":
         follower_force=_array(res.follower_force), side_force=_array(res.side_force), jump_margin=res.jump_margin,
         jump_rpm=res.jump_rpm, torque_peak=res.torque_peak, torque_rms=res.torque_rms, power_peak=res.power_peak,
         power_rms=res.power_rms, mean_power=res.mean_power, hertz_peak=res.hertz_peak, torque_limit=outcome.torque_limit,
-        allowable_stress=outcome.allowable_stress, speed_rpm=optional(outcome.speed_rpm), speed_min_force=optional(outcome.speed_min_force))
+        allowable_stress=outcome.allowable_stress, speed_rpm=optional(outcome.speed_rpm), speed_min_force=optional(outcome.speed_min_force),
+        compliant=_compliant(outcome))
+
+
+def _compliant(outcome: Any) -> "CompliantCurves | None":
+    """The report's curves of a compliant train (issue 25 item 2), None for a rigid one."""
+    from camgen.report.model import CompliantCurves
+
+    res = outcome.compliant
+    if res is None:
+        return None
+    translating = res.motion == "translating"
+    scale = 1e-3 if translating else 1.0  # mm/s^2 -> m/s^2
+    return CompliantCurves(
+        theta=_array(res.theta), contact_force=_array(res.contact_force), rigid_force=_array(res.rigid_force),
+        error=_array(res.error), error_unit="mm" if translating else "rad", spectrum=_array(res.harmonics() * scale),
+        spectrum_unit="m/s^2" if translating else "rad/s^2", natural_frequency=res.natural_frequency,
+        turn_frequency=res.turn_frequency, damping_ratio=res.damping_ratio, dwell_theta=_array(res.theta[res.dwell_start]),
+        residual=_array(res.residual), residual_limit=res.residual_limit)

@@ -774,6 +774,8 @@ def _edge_scene(where: str, kind: str | None, key: Key, value: float) -> tuple[d
                 cam["mass_kg"] = 0.25
             if name in ("spring_free_length_mm", "spring_installed_length_mm"):
                 cam.update(spring_rate_n_per_mm=1.0, spring_free_length_mm=value, spring_installed_length_mm=value)
+            if name in ("damping_ratio", "residual_vibration_limit_mm"):  # the compliant train's: with its stiffness
+                cam["train_stiffness_n_mm_per_rad" if oscillating else "train_stiffness_n_per_mm"] = 1e3
         # lengths scaled to the value
         if kind == "three_arc" and name in ("a_mm", "b_mm", "c_mm"):
             _three_arc_scaled(cam, name, value)

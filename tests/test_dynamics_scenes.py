@@ -747,6 +747,12 @@ DISK_WALK = {
     "allowable_contact_stress_mpa": (plate(), plate(allowable_contact_stress_mpa=100.0)),
     "jump_margin_n": (plate(), plate(jump_margin_n=5.0)),
     "torque_limit_n_m": (plate(), plate(torque_limit_n_m=0.5)),
+    # the compliant train (issue 25 item 2; tests/test_compliant.py)
+    "train_stiffness_n_per_mm": (plate(), plate(train_stiffness_n_per_mm=500.0)),
+    "train_stiffness_n_mm_per_rad": (OSC, oscillating(mass_kg=0.3, cg_distance_mm=35.0, train_stiffness_n_mm_per_rad=2e7)),
+    "damping_ratio": (plate(train_stiffness_n_per_mm=500.0), plate(train_stiffness_n_per_mm=500.0, damping_ratio=0.1)),
+    "residual_vibration_limit_mm": (plate(train_stiffness_n_per_mm=500.0),
+                                    plate(train_stiffness_n_per_mm=500.0, residual_vibration_limit_mm=0.05)),
 }
 
 

@@ -110,6 +110,10 @@ DYNAMICS_WALK = {
     "allowable_contact_stress_mpa": (YOKE_DYNAMICS, {"allowable_contact_stress_mpa": 10.0}),
     "jump_margin_n": (FLAT_DYNAMICS, {"jump_margin_n": 5.0}),
     "torque_limit_n_m": (YOKE_DYNAMICS, {"torque_limit_n_m": 1.0}),
+    # the compliant train (issue 25 item 2): a spring-loaded flat face (a yoke is form-closed)
+    "train_stiffness_n_per_mm": (FLAT_DYNAMICS, {"train_stiffness_n_per_mm": 500.0}),
+    "damping_ratio": ({**FLAT_DYNAMICS, "train_stiffness_n_per_mm": 500.0}, {"damping_ratio": 0.1}),
+    "residual_vibration_limit_mm": ({**FLAT_DYNAMICS, "train_stiffness_n_per_mm": 500.0}, {"residual_vibration_limit_mm": 0.05}),
 }
 
 #: key -> (changes to the base, changes for the altered run), where a generic change does not fit

@@ -64,7 +64,7 @@ def dynamics_keys(oscillating: bool = True) -> tuple[Key, ...]:
 
     Each is stored under its own name (``spring_rate_n_per_mm``: no unit suffix is stripped,
     they are part of the name), ``gravity_deg`` in radians under ``gravity_angle``."""
-    return tuple(k if k.attr is not None else replace(k, attr=k.name) for k in _keys()
+    return tuple(k if k.attr is not None else replace(k, attr=k.name) for k in (*_keys(), *_compliant_keys())
                  if oscillating or k.requires.get("follower_motion") != ("oscillating",))
 
 
@@ -128,6 +128,14 @@ def _keys() -> tuple[Key, ...]:
     )
 
 
+# ---- compliant follower train (issue 25 item 2: camgen/kinds/compliant.py) ----------------
+def _compliant_keys() -> tuple[Key, ...]:
+    from camgen.kinds.compliant import compliant_keys
+
+    return compliant_keys()
+# ---- end compliant -------------------------------------------------------------------------
+
+
 @dataclass(frozen=True)
 class DynamicsSpec:
     """The dynamics a scene asks for: the follower train (an oscillating one's arm length is
@@ -139,6 +147,7 @@ class DynamicsSpec:
     jump_margin: float
     torque_limit: float | None
     given: tuple[str, ...]
+    compliance: Any = None  # camgen.compliant.TrainCompliance: the train's stiffness (None: rigid)
 
 
 def read_dynamics(where: str, parsed: Mapping[str, Any], *, motion: str, follower: str, rpm: float | None, thickness: float,
@@ -247,7 +256,10 @@ def read_dynamics(where: str, parsed: Mapping[str, Any], *, motion: str, followe
             width=get("contact_width_mm", thickness), cam_modulus=get("cam_modulus_gpa", 210.0), cam_poisson=get("cam_poisson", 0.3),
             follower_modulus=get("follower_modulus_gpa", 210.0), follower_poisson=get("follower_poisson", 0.3),
             allowable_stress=get("allowable_contact_stress_mpa")))
-    return DynamicsSpec(train, material, get("jump_margin_n", 0.0), get("torque_limit_n_m"), given)
+    from camgen.kinds.compliant import read_compliance  # compliant follower train (issue 25 item 2)
+
+    compliance = read_compliance(where, parsed, given, translating=translating, form_closed=form_closed)
+    return DynamicsSpec(train, material, get("jump_margin_n", 0.0), get("torque_limit_n_m"), given, compliance)
 
 
 def read_load_table(key: str, name: str, base_dir: Path | None, bound: Number) -> tuple[list[float], list[float]]:
@@ -375,6 +387,7 @@ class DynamicsOutcome:
     allowable_stress: float | None = None
     speed_rpm: np.ndarray | None = None
     speed_min_force: np.ndarray | None = None
+    compliant: Any = None  # camgen.compliant.CompliantResult of a compliant train, else None
 
 
 @dataclass(frozen=True)
@@ -419,8 +432,14 @@ def run_dynamics(cam: "BuiltCam", spec: "CamSpec", stages: frozenset[str]) -> Dy
         speed = np.linspace(0.0, top, SPEED_SAMPLES)
         force = dy.min_contact_force(kin, train, speed)
     allowable = dyn.material.allowable_stress if dyn.material is not None else None
-    return DynamicsStage(DynamicsOutcome(result, kin, dyn.torque_limit, allowable, speed, force), tuple(checks),
-                         dynamics_figures(result, dyn, train))
+    figures = dynamics_figures(result, dyn, train)
+    compliant = None
+    if dyn.compliance is not None:  # compliant follower train (issue 25 item 2)
+        from camgen.kinds.compliant import run_compliant
+
+        compliant, more, figures["compliant"] = run_compliant(kin, train, dyn.compliance, rpm, dyn.jump_margin)
+        checks = [*checks, *more]
+    return DynamicsStage(DynamicsOutcome(result, kin, dyn.torque_limit, allowable, speed, force, compliant), tuple(checks), figures)
 
 
 def dynamics_figures(result: "DynamicsResult", dyn: DynamicsSpec, train: "FollowerTrain") -> dict[str, Any]:

@@ -18,9 +18,9 @@ import numpy as np
 from camgen.report.format import FigureMaker, thin
 
 if TYPE_CHECKING:
-    from camgen.report.model import CamReport
+    from camgen.report.model import CamReport, CompliantCurves
 
-__all__ = ["ROUNDING", "dynamics_section"]
+__all__ = ["ROUNDING", "compliant_section", "dynamics_section"]
 
 _LIMIT = {"color": "tab:red", "dash": "--", "width": 0.8}
 #: A mean power below this fraction of the peak is shown as 0 in the plot's title (rounding of a zero integral).
@@ -127,9 +127,64 @@ def dynamics_section(Figure: FigureMaker, cam: "CamReport") -> str:
     from camgen.report.design import dynamics_rows
 
     rows = dynamics_rows(figures)
-    return (f"<h3>Dynamics at {res.rpm:g} rpm</h3><div class='fig'>{fig.to_svg()}</div>"
+    compliant = compliant_section(Figure, res.compliant, res.rpm) if res.compliant is not None else ""  # issue 25 item 2
+    return (f"<h3>Dynamics at {res.rpm:g} rpm</h3><div class='fig'>{fig.to_svg()}</div>{compliant}"
             "<p class='note'>Rigid follower train, frictionless contact (Rothbart, Cam Design Handbook, ch. 8): contact force "
             "= (inertia + damping + spring + preload + load + weight) over the cosine of the pressure angle; torque from the power "
             "balance; Hertz line-contact stress (Rothbart eq. 9.11) with the profile's radius of curvature at the contact.</p>"
             f"<table class='figures'><caption>Dynamics figures at {res.rpm:g} rpm</caption><thead><tr><th>quantity</th><th>value</th>"
             f"<th>unit</th></tr></thead><tbody>{rows}</tbody></table>")
+
+
+# ---- compliant follower train (issue 25 item 2) --------------------------------------------
+def compliant_section(Figure: FigureMaker, res: "CompliantCurves", rpm: float) -> str:
+    """The compliant train's plots: the dynamic against the rigid contact force, the dynamic
+    error with the residual amplitudes at the dwell starts, and the law's acceleration spectrum
+    by harmonic with the natural frequency marked."""
+    keep = thin(res.theta.size, 1200)
+    deg = np.degrees(res.theta)[keep]
+    fig = Figure(figsize=(10, 5.6))
+    (ax_f, ax_e), (ax_s, ax_r) = fig.subplots(2, 2)
+    ax_f.plot(deg, res.rigid_force[keep], color="#737373", width=1, dash="--", label="rigid train")
+    ax_f.plot(deg, res.contact_force[keep], color="tab:blue", width=1, label="compliant train")
+    ax_f.hline(0.0, color="#737373", width=0.6)
+    ax_f.legend(font_size=7)
+    ax_f.xlabel("cam angle (deg)", font_size=8)
+    ax_f.ylabel("contact force (N)", font_size=8)
+    ax_f.title(f"dynamic contact force at {rpm:g} rpm: peak {np.max(res.contact_force):.4g} N "
+               f"({np.max(res.contact_force) / np.max(res.rigid_force):.4g} x rigid), least {np.min(res.contact_force):.4g} N",
+               font_size=8)
+    ax_e.plot(deg, res.error[keep], color="tab:purple", width=1)
+    ax_e.hline(0.0, color="#737373", width=0.6)
+    ax_e.xlabel("cam angle (deg)", font_size=8)
+    ax_e.ylabel(f"follower - cam ({res.error_unit})", font_size=8)
+    ax_e.title("dynamic displacement error x - y (the train's deflection and vibration)", font_size=8)
+    harmonic = np.arange(1, res.spectrum.size + 1)
+    for n, amplitude in zip(harmonic, res.spectrum):
+        ax_s.plot([n, n], [0.0, amplitude], color="tab:blue", width=1.2)
+    ratio = res.natural_frequency / res.turn_frequency
+    if ratio <= harmonic[-1] + 1:
+        ax_s.vline(ratio, color="tab:red", dash="--", width=0.8)
+    ax_s.xlabel(f"harmonic of the turn ({res.turn_frequency:.4g} Hz each)", font_size=8)
+    ax_s.ylabel(f"acceleration amplitude ({res.spectrum_unit})", font_size=8)
+    ax_s.title(f"the law's acceleration spectrum; natural frequency {res.natural_frequency:.4g} Hz = harmonic {ratio:.4g} "
+               + ("(dashed)" if ratio <= harmonic[-1] + 1 else "(beyond the plot)"), font_size=8)
+    if res.residual.size:
+        ax_r.plot(np.degrees(res.dwell_theta), res.residual, color="tab:blue", marker="o", dash="none")
+        if res.residual_limit is not None:
+            ax_r.hline(res.residual_limit, label=f"limit {res.residual_limit:g} mm", **_LIMIT)
+            ax_r.legend(font_size=7)
+        ax_r.xlim(0.0, 360.0)
+        ax_r.ylim(0.0, None)
+        ax_r.title(f"residual vibration at each dwell's start: largest {np.max(res.residual):.4g} mm", font_size=8)
+    else:
+        ax_r.text(0.5, 0.5, "no dwell: no residual vibration after a rise or return", anchor="middle", coords="axes")
+    ax_r.xlabel("cam angle (deg)", font_size=8)
+    ax_r.ylabel("residual amplitude (mm)", font_size=8)
+    fig.suptitle(f"compliant follower train: natural frequency {res.natural_frequency:.5g} Hz, damping ratio "
+                 f"{res.damping_ratio:.4g}", font_size=9)
+    return (f"<div class='fig'>{fig.to_svg()}</div><p class='note'>Compliant follower train (one degree of freedom: the "
+            "train's stiffness and damping between the cam contact and the follower's mass, Koster 1974): its periodic steady "
+            "state over a turn, solved exactly for the linear model; where the dynamic contact force would fall below 0 the "
+            "follower leaves the cam.</p>")
+# ---- end compliant -------------------------------------------------------------------------

@@ -19,7 +19,7 @@ from typing import Literal, Protocol, TypeAlias
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["CamBody", "CamPlots", "CamReport", "CheckRow", "DynamicsCurves", "FloatArray", "FollowerFaces", "JsonValue",
+__all__ = ["CamBody", "CamPlots", "CamReport", "CheckRow", "CompliantCurves", "DynamicsCurves", "FloatArray", "FollowerFaces", "JsonValue",
            "MechanismReport", "MotionAtSpeed", "MotionCurves", "ReportInput", "RideAnimation", "RollerAtZero", "SectionData", "ZeroMark",
            "json_number", "json_numbers", "json_object", "json_objects"]
 
@@ -257,6 +257,32 @@ class DynamicsCurves:
     allowable_stress: float | None
     speed_rpm: FloatArray | None
     speed_min_force: FloatArray | None
+    compliant: "CompliantCurves | None" = None  # a compliant train's response (issue 25 item 2)
+
+
+# ---- compliant follower train (issue 25 item 2) --------------------------------------------
+@dataclass(frozen=True)
+class CompliantCurves:
+    """A compliant follower train's periodic response (:class:`camgen.compliant.CompliantResult`)
+    against cam angle ``theta`` (rad): the dynamic and rigid contact forces N, the dynamic error
+    (mm; an arm rad, ``error_unit``); the law's acceleration amplitudes by harmonic 1 .. H
+    (``spectrum_unit``), the natural and turn frequencies Hz, the dwell starts (rad) and the
+    residual amplitudes there (mm) with their limit (None: not given)."""
+
+    theta: FloatArray
+    contact_force: FloatArray
+    rigid_force: FloatArray
+    error: FloatArray
+    error_unit: str
+    spectrum: FloatArray
+    spectrum_unit: str
+    natural_frequency: float
+    turn_frequency: float
+    damping_ratio: float
+    dwell_theta: FloatArray
+    residual: FloatArray
+    residual_limit: float | None
+# ---- end compliant -------------------------------------------------------------------------
 
 
 class SectionData:
