@@ -132,6 +132,46 @@ def test_a_failed_check_withholds_the_drawing_and_exits_1(tmp_path, capsys):
     assert not (tmp_path / "out" / "s" / "c.dxf").exists() and not (tmp_path / "out" / "s" / "c_points.csv").exists()
 
 
+def test_a_groove_whose_wall_folds_fails_its_undercut_check_and_withholds_every_drawing(tmp_path):
+    """A 10 mm cycloidal rise over 20 deg: at the root (45 mm) the roller's contact (the closed
+    form typed here: with a = r sin(phi + sigma theta), s'^2 (w^2 - a^2) = a^2 (r^2 - a^2), the
+    root below w^2, a of the sign of sigma s') lies below what another roller position cuts (the
+    issue's brute force: the upper wall is the largest z_c + sqrt(w^2 - r^2 sin^2(phi + sigma
+    theta')) over theta'), so the wall folds: exit 1, the undercut check fails, the report is
+    written and no drawing is (it once stopped with exit 2 and a solver's message)."""
+    from camgen.cli import main
+    from helpers import scene_toml
+
+    h, beta, r = 10.0, math.radians(20.0), R_O - DEPTH
+    theta = np.linspace(0.05, 0.95, 19) * beta  # inside the rise
+    u = theta / beta
+    s, ds = h * (u - np.sin(2 * math.pi * u) / (2 * math.pi)), h / beta * (1 - np.cos(2 * math.pi * u))
+    b = r * r + ds * ds
+    a2 = 2 * ds * ds * W * W / (b + np.sqrt(b * b - 4 * ds * ds * W * W))  # the small root, without cancellation
+    a = np.sign(ds) * np.sqrt(a2)  # sigma = +1 (ccw)
+    phi, z = np.arcsin(a / r) - theta, s + np.sqrt(W * W - a2)
+    dense = np.linspace(0.0, beta, 200_001)
+    ud = dense / beta
+    sd = h * (ud - np.sin(2 * math.pi * ud) / (2 * math.pi))
+    gap = []
+    for p_, z_ in zip(phi, z):
+        inside = W * W - (r * np.sin(p_ + dense)) ** 2
+        ok = (inside >= 0) & (np.cos(p_ + dense) > 0)
+        gap.append(np.max(sd[ok] + np.sqrt(inside[ok])) - z_)
+    assert max(gap) > 1e-3  # the brute force cuts the contact away: the wall folds
+    segs = [{"law": "cycloidal", "span_deg": 20.0, "lift_mm": h}, {"law": "dwell", "span_deg": 160.0},
+            {"law": "cycloidal", "span_deg": 20.0, "lift_mm": -h}, {"law": "dwell", "span_deg": 160.0}]
+    path = tmp_path / "s.toml"
+    path.write_text(scene_toml({"output": {"formats": ["dxf", "points", "stl", "html"]},
+                                "cams": {"c": cam(segments=segs, pressure_angle_limit_deg=89.0)}}))
+    assert main(["run", str(path), "-o", str(tmp_path / "out"), "--quiet"]) == 1
+    out = tmp_path / "out" / "s"
+    report = json.loads((out / "report.json").read_text())["cams"]["c"]
+    undercut = check(report, "undercut")
+    assert undercut["status"] == "fail" and ("lower wall folds" in undercut["note"] or "upper wall folds" in undercut["note"])
+    assert not any((out / f"c{suffix}").exists() for suffix in (".dxf", "_points.csv", ".stl")) and (out / "report.html").exists()
+
+
 # --------------------------------------------------------------------------------------------
 # Refusals (exit 2, one line naming the key)
 # --------------------------------------------------------------------------------------------

@@ -234,6 +234,13 @@ class BarrelCam(BuiltCam):
     law: Any
     spec_follower: BarrelFollower
     motion: "Motion"
+    #: wall side (+1 upper, -1 lower) -> (UNDERCUT_RADII, check grid) bool: where its section folds
+    folds: Mapping[int, np.ndarray]
+
+    @property
+    def folded(self) -> bool:
+        """A wall folds somewhere: the groove cannot be made (the undercut check fails)."""
+        return any(bool(mask.any()) for mask in self.folds.values())
 
 
 def check_grid() -> np.ndarray:
@@ -311,14 +318,25 @@ def _build(spec: CamSpec, stages: frozenset[str]) -> BarrelCam:
                        "meets the cam's polar angle -sigma theta (sigma +1 ccw, -1 cw, seen from +z)",
         **dict(p.law_figures),
     }
-    figures["groove"]["wrapped_groove_error"] = _wrapped_errors(groove)
+    folds = _folds(groove, p, theta)
+    folded = any(bool(mask.any()) for mask in folds.values())
+    # a folded wall is no function of the polar angle (wall_height has no meaning there): the undercut check says where
+    figures["groove"]["wrapped_groove_error"] = ({"note": "not computed: a wall folds (the undercut check lists where)"} if folded
+                                                 else _wrapped_errors(groove))
     if p.source is not None:
         figures["source"] = p.source
     section = None
-    if "plots" in stages:
+    if "plots" in stages and not folded:
         section = _section(groove, p, theta, pressure_limit_deg(spec))
     return BarrelCam(spec.name, spec.kind, None, figures, spec.body, None, section=section, groove=groove, params=p, law=p.law,
-                     spec_follower=f, motion=_motion(f, p.law))
+                     spec_follower=f, motion=_motion(f, p.law), folds=folds)
+
+
+def _folds(groove: "BarrelGroove", p: BarrelParams, theta: np.ndarray) -> dict[int, np.ndarray]:
+    """Where each wall's section folds at :data:`UNDERCUT_RADII` radii from root to rim (rows) on
+    the check grid ``theta`` (columns)."""
+    radii = np.linspace(p.root_radius, p.rim_radius, UNDERCUT_RADII)
+    return {side: np.stack([np.asarray(groove.undercut(side, r, theta), dtype=bool) for r in radii]) for side in (1, -1)}
 
 
 def _radii(p: BarrelParams) -> tuple[tuple[str, float], ...]:
@@ -383,10 +401,10 @@ def _undercut(cam: BarrelCam) -> "CheckResult":
     (the roller cuts away what it rides on) the groove cannot be made."""
     from camgen.checks import limited, run_ends
 
-    p, g = cam.params, cam.groove
+    p = cam.params
     theta = check_grid()
     radii = np.linspace(p.root_radius, p.rim_radius, UNDERCUT_RADII)
-    folds = {side: np.stack([np.asarray(g.undercut(side, r, theta), dtype=bool) for r in radii]) for side in (1, -1)}
+    folds = cam.folds
     any_fold: np.ndarray = np.asarray(folds[1].any(axis=0) | folds[-1].any(axis=0))
     count = int(any_fold.sum())
     parts = []
