@@ -64,7 +64,10 @@ def dynamics_keys(oscillating: bool = True) -> tuple[Key, ...]:
 
     Each is stored under its own name (``spring_rate_n_per_mm``: no unit suffix is stripped,
     they are part of the name), ``gravity_deg`` in radians under ``gravity_angle``."""
-    return tuple(k if k.attr is not None else replace(k, attr=k.name) for k in _keys() + friction_life_keys()
+    # FATIGUE: the friction and life keys on the kinds with the plate's follower envelope (those that take
+    # oscillating followers; a translating-only kind's, three_arc's, has neither a roller nor its geometry)
+    extra = friction_life_keys() if oscillating else ()
+    return tuple(k if k.attr is not None else replace(k, attr=k.name) for k in _keys() + extra
                  if oscillating or k.requires.get("follower_motion") != ("oscillating",))
 
 
