@@ -63,6 +63,8 @@ CASE_DEPTH_FACTOR = 2.0
 ROLLER_EXPONENT = 10.0 / 3.0
 BALL_EXPONENT = 3.0
 LIFE_EXPONENTS = {"roller": ROLLER_EXPONENT, "ball": BALL_EXPONENT}
+#: A life of more than 10^300 million revolutions is stated as unbounded (no float overflow).
+MAX_LIFE_DECADES = 300.0
 #: Million revolutions per L10 unit.
 MILLION = 1e6
 
@@ -117,8 +119,8 @@ def equivalent_load(force: np.ndarray, revolutions: np.ndarray, exponent: float)
 
 def bearing_life(rating: float, load: float, exponent: float) -> float:
     """ISO 281 basic rating life ``(C / P)^p`` in million revolutions (inf for ``P = 0``)."""
-    if not load > 0:
-        return math.inf
+    if not load > 0 or exponent * math.log10(rating / load) > MAX_LIFE_DECADES:
+        return math.inf  # beyond any float (and any machine): unbounded
     return float((rating / load) ** exponent)
 
 

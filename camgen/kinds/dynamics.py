@@ -591,7 +591,7 @@ def friction_life_keys() -> tuple[Key, ...]:
         Key("guide_friction", Number("", 0.0, 1.0), "Translating follower with guide_length_mm: Coulomb friction "
             f"coefficient of the bushings (default {DEFAULT_GUIDE_FRICTION:g}, lubricated steel in bronze); the guide binds "
             "where mu (|R1| + |R2|) >= the axial force.", _R, example=0.1, requires=_T),
-        Key("contact_friction", Number("", 0.0, 1.0, low_open=True), "Friction coefficient at the cam contact: a translating "
+        Key("contact_friction", Number("", 1e-3, 1.0), "Friction coefficient at the cam contact: a translating "
             "flat face's sliding friction (its torque on the camshaft, mu F h, and its drag across the face in the guide "
             "reactions); for a roller the traction limit of the roller_slip check (default there "
             f"{DEFAULT_CONTACT_FRICTION:g}, lubricated steel on steel).", _R, example=0.1),
@@ -603,7 +603,7 @@ def friction_life_keys() -> tuple[Key, ...]:
         Key("roller_inertia_kg_mm2", Number("kg*mm^2", 0.0, 1e9), "Roller follower: the roller's moment of inertia about its "
             "pin (default 0), the torque its angular acceleration needs in the roller_slip check.", _R, example=2.0,
             requires=_ROLLER),
-        Key("roller_dynamic_load_rating_n", Number("N", 0.0, 1e9, low_open=True), "Roller follower: the roller bearing's basic "
+        Key("roller_dynamic_load_rating_n", Number("N", 1.0, 1e9), "Roller follower: the roller bearing's basic "
             "dynamic load rating C; turns on its ISO 281 basic rating life L10 = (C / P)^p from the contact force over the "
             "turn (mean-load rule weighted by the roller's revolutions).", _R, example=8000.0, requires=_ROLLER),
         Key("roller_bearing", Choice(("roller", "ball")), "Roller follower with roller_dynamic_load_rating_n: the bearing "
@@ -617,11 +617,11 @@ def friction_life_keys() -> tuple[Key, ...]:
         Key("sn_stress_mpa", Number("MPa", 0.0, 1e6, low_open=True), "Contact-fatigue S-N point of the cam material: the "
             "Hertz stress it survives for sn_cycles (give sn_stress_mpa, sn_cycles, sn_exponent and contact_design_cycles "
             "together): the contact_fatigue check's allowable S (N_ref / N)^(1/m).", _R, example=1500.0),
-        Key("sn_cycles", Number("cycles", 0.0, 1e15, low_open=True), "Cycles of the S-N point (sn_stress_mpa).", _R,
+        Key("sn_cycles", Number("cycles", 1.0, 1e15), "Cycles of the S-N point (sn_stress_mpa).", _R,
             example=1e7),
-        Key("sn_exponent", Number("", 0.0, 1e3, low_open=True), "Exponent m of the contact-fatigue S-N curve, S^m N = const.",
+        Key("sn_exponent", Number("", 1.0, 1e3), "Exponent m of the contact-fatigue S-N curve, S^m N = const.",
             _R, example=6.6),
-        Key("contact_design_cycles", Number("cycles", 0.0, 1e15, low_open=True), "The cam's design life in cam turns (each "
+        Key("contact_design_cycles", Number("cycles", 1.0, 1e15), "The cam's design life in cam turns (each "
             "point of the profile is loaded once a turn), for the S-N allowable.", _R, example=1e8),
     )
 
