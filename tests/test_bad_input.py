@@ -776,6 +776,17 @@ def _edge_scene(where: str, kind: str | None, key: Key, value: float) -> tuple[d
                 cam.update(spring_rate_n_per_mm=1.0, spring_free_length_mm=value, spring_installed_length_mm=value)
             if name in ("damping_ratio", "residual_vibration_limit_mm"):  # the compliant train's: with its stiffness
                 cam["train_stiffness_n_mm_per_rad" if oscillating else "train_stiffness_n_per_mm"] = 1e3
+            # FATIGUE (issue 25 items 3, 4): the friction and life keys given with the keys they need
+            fatigue = {"guide_length_mm": {"guide_overhang_mm": 20.0}, "guide_overhang_mm": {"guide_length_mm": 40.0},
+                       "guide_friction": {"guide_length_mm": 40.0, "guide_overhang_mm": 20.0},
+                       "roller_pin_friction": {"roller_pin_radius_mm": 3.0}, "contact_friction": {"roller_pin_radius_mm": 3.0},
+                       "roller_bearing": {"roller_dynamic_load_rating_n": 8000.0},
+                       "min_bearing_life_h": {"roller_dynamic_load_rating_n": 8000.0}}
+            sn = {"sn_stress_mpa": 1500.0, "sn_cycles": 1e7, "sn_exponent": 6.6, "contact_design_cycles": 1e8}
+            if name in sn:
+                cam.update({k: v for k, v in sn.items() if k != name})
+            if cam.get("follower", "roller") == "roller" or name not in ("roller_pin_friction", "contact_friction"):
+                cam.update(fatigue.get(name, {}))
         # lengths scaled to the value
         if kind == "three_arc" and name in ("a_mm", "b_mm", "c_mm"):
             _three_arc_scaled(cam, name, value)

@@ -754,6 +754,29 @@ DISK_WALK = {
     "residual_vibration_limit_mm": (plate(train_stiffness_n_per_mm=500.0),
                                     plate(train_stiffness_n_per_mm=500.0, residual_vibration_limit_mm=0.05)),
 }
+# FATIGUE (issue 25 items 3, 4): the friction and life keys (camgen/kinds/dynamics.py friction_life_keys)
+_GUIDE = {"guide_length_mm": 40.0, "guide_overhang_mm": 20.0}
+_PIN = {"roller_pin_radius_mm": 3.0}
+_BEARING = {"roller_dynamic_load_rating_n": 8000.0}
+_SN = {"sn_stress_mpa": 1500.0, "sn_cycles": 1e7, "sn_exponent": 6.6, "contact_design_cycles": 1e8}
+_FLAT = {"follower": "flat", "roller_radius_mm": None, "base_radius_mm": 45.0}
+DISK_WALK.update({
+    "guide_length_mm": (plate(**_GUIDE), plate(**{**_GUIDE, "guide_length_mm": 50.0})),
+    "guide_overhang_mm": (plate(**_GUIDE), plate(**{**_GUIDE, "guide_overhang_mm": 25.0})),
+    "guide_friction": (plate(**_GUIDE), plate(**_GUIDE, guide_friction=0.2)),
+    "contact_friction": (plate(**_FLAT, case_depth_factor=2.0), plate(**_FLAT, contact_friction=0.1)),
+    "roller_pin_friction": (plate(**_PIN), plate(**_PIN, roller_pin_friction=0.2)),
+    "roller_pin_radius_mm": (plate(**_PIN), plate(roller_pin_radius_mm=4.0)),
+    "roller_inertia_kg_mm2": (plate(**_PIN), plate(**_PIN, roller_inertia_kg_mm2=2.0)),
+    "roller_dynamic_load_rating_n": (plate(**_BEARING), plate(roller_dynamic_load_rating_n=9000.0)),
+    "roller_bearing": (plate(**_BEARING), plate(**_BEARING, roller_bearing="ball")),
+    "min_bearing_life_h": (plate(**_BEARING), plate(**_BEARING, min_bearing_life_h=1000.0)),
+    "case_depth_factor": (plate(case_depth_factor=2.0), plate(case_depth_factor=3.0)),
+    "sn_stress_mpa": (plate(**_SN), plate(**{**_SN, "sn_stress_mpa": 1400.0})),
+    "sn_cycles": (plate(**_SN), plate(**{**_SN, "sn_cycles": 2e7})),
+    "sn_exponent": (plate(**_SN), plate(**{**_SN, "sn_exponent": 8.0})),
+    "contact_design_cycles": (plate(**_SN), plate(**{**_SN, "contact_design_cycles": 2e8})),
+})
 
 
 def test_the_walk_covers_every_dynamics_key():

@@ -28,7 +28,7 @@ import numpy as np
 
 from camgen.errors import GeometryError, ParameterError
 from camgen.keynames import renamed, scene_key
-from camgen.schema import Angle, Flag, Key, Length, Number, Text, given_keys
+from camgen.schema import Angle, Choice, Flag, Key, Length, Number, Text, given_keys
 
 if TYPE_CHECKING:
     from camgen.checks import CheckResult
@@ -64,7 +64,10 @@ def dynamics_keys(oscillating: bool = True) -> tuple[Key, ...]:
 
     Each is stored under its own name (``spring_rate_n_per_mm``: no unit suffix is stripped,
     they are part of the name), ``gravity_deg`` in radians under ``gravity_angle``."""
-    return tuple(k if k.attr is not None else replace(k, attr=k.name) for k in (*_keys(), *_compliant_keys())
+    # FATIGUE: the friction and life keys on the kinds with the plate's follower envelope (those that take
+    # oscillating followers; a translating-only kind's, three_arc's, has neither a roller nor its geometry)
+    extra = friction_life_keys() if oscillating else ()
+    return tuple(k if k.attr is not None else replace(k, attr=k.name) for k in (*_keys(), *_compliant_keys(), *extra)
                  if oscillating or k.requires.get("follower_motion") != ("oscillating",))
 
 
@@ -148,6 +151,7 @@ class DynamicsSpec:
     torque_limit: float | None
     given: tuple[str, ...]
     compliance: Any = None  # camgen.compliant.TrainCompliance: the train's stiffness (None: rigid)
+    friction_life: "FrictionLifeSpec | None" = None  # FATIGUE: friction, loads, contact life (None: no such key)
 
 
 def read_dynamics(where: str, parsed: Mapping[str, Any], *, motion: str, follower: str, rpm: float | None, thickness: float,
@@ -259,7 +263,8 @@ def read_dynamics(where: str, parsed: Mapping[str, Any], *, motion: str, followe
     from camgen.kinds.compliant import read_compliance  # compliant follower train (issue 25 item 2)
 
     compliance = read_compliance(where, parsed, given, translating=translating, form_closed=form_closed)
-    return DynamicsSpec(train, material, get("jump_margin_n", 0.0), get("torque_limit_n_m"), given, compliance)
+    life = read_friction_life(where, parsed, given, motion=motion, follower=follower, form_closed=form_closed)  # FATIGUE
+    return DynamicsSpec(train, material, get("jump_margin_n", 0.0), get("torque_limit_n_m"), given, compliance, life)
 
 
 def read_load_table(key: str, name: str, base_dir: Path | None, bound: Number) -> tuple[list[float], list[float]]:
@@ -388,6 +393,7 @@ class DynamicsOutcome:
     speed_rpm: np.ndarray | None = None
     speed_min_force: np.ndarray | None = None
     compliant: Any = None  # camgen.compliant.CompliantResult of a compliant train, else None
+    friction_life: "FrictionLifeOutcome | None" = None  # FATIGUE: friction, loads, contact life
 
 
 @dataclass(frozen=True)
@@ -439,7 +445,13 @@ def run_dynamics(cam: "BuiltCam", spec: "CamSpec", stages: frozenset[str]) -> Dy
 
         compliant, more, figures["compliant"] = run_compliant(kin, train, dyn.compliance, rpm, dyn.jump_margin)
         checks = [*checks, *more]
-    return DynamicsStage(DynamicsOutcome(result, kin, dyn.torque_limit, allowable, speed, force, compliant), tuple(checks), figures)
+    life = None
+    if dyn.friction_life is not None:  # FATIGUE: friction, loads, contact life (issue 25 items 3, 4)
+        life = run_friction_life(cam, result, kin, dyn)
+        checks = [*checks, *life.checks]
+        figures.update(life.figures)
+    return DynamicsStage(DynamicsOutcome(result, kin, dyn.torque_limit, allowable, speed, force, compliant, life), tuple(checks),
+                         figures)
 
 
 def dynamics_figures(result: "DynamicsResult", dyn: DynamicsSpec, train: "FollowerTrain") -> dict[str, Any]:
@@ -564,3 +576,292 @@ def dynamics_checks(result: "DynamicsResult", kin: "Kinematics", material: "Cont
         where = run_ends(bad, theta) if bad.any() else where_degrees(theta[i])
         checks.append(limited("camshaft_torque", result.torque_peak, "<=", float(torque_limit), "N*m", where, note))
     return checks
+
+
+# ============================================================================================
+# FATIGUE (issue 25, items 3 and 4): friction, loads, contact fatigue and life.
+# The physics: camgen/friction.py, camgen/contact_life.py; here their keys, reading, stage,
+# figures and checks.  Nothing runs without one of these keys (existing scenes unchanged).
+# ============================================================================================
+_ROLLER = {"follower": ("roller",)}
+#: The guide's keys (translating followers).
+GUIDE_KEYS = ("guide_length_mm", "guide_overhang_mm", "guide_friction")
+#: The roller's keys (pin, inertia, bearing).
+ROLLER_KEYS = ("roller_pin_friction", "roller_pin_radius_mm", "roller_inertia_kg_mm2", "roller_dynamic_load_rating_n",
+               "roller_bearing", "min_bearing_life_h")
+#: The contact-fatigue keys (a contact with a radius).
+FATIGUE_KEYS = ("case_depth_factor", "sn_stress_mpa", "sn_cycles", "sn_exponent", "contact_design_cycles")
+#: Every key of this block.
+FRICTION_LIFE_KEYS = GUIDE_KEYS + ("contact_friction",) + ROLLER_KEYS + FATIGUE_KEYS
+
+
+def friction_life_keys() -> tuple[Key, ...]:
+    """The keys of friction, loads, contact fatigue and life (appended to :func:`dynamics_keys`):
+    any of them turns on the friction and life figures (with the dynamics' mass and rpm)."""
+    from camgen.contact_life import CASE_DEPTH_FACTOR
+    from camgen.friction import DEFAULT_CONTACT_FRICTION, DEFAULT_GUIDE_FRICTION, DEFAULT_PIN_FRICTION
+
+    return (
+        Key("guide_length_mm", Length(), "Translating follower: distance between the two bushings of its guide; with "
+            "guide_overhang_mm it gives the bushing reactions (statics of the stem), the guide's friction torque and the "
+            "guide_binding check.", _R, example=40.0, requires=_T),
+        Key("guide_overhang_mm", Number("mm", 0.0, 1e5), "Translating follower: distance along the stem from the contact "
+            "(roller centre, knife tip or flat face) to the nearer bushing; given with guide_length_mm.", _R, example=20.0,
+            requires=_T),
+        Key("guide_friction", Number("", 0.0, 1.0), "Translating follower with guide_length_mm: Coulomb friction "
+            f"coefficient of the bushings (default {DEFAULT_GUIDE_FRICTION:g}, lubricated steel in bronze); the guide binds "
+            "where mu (|R1| + |R2|) >= the axial force.", _R, example=0.1, requires=_T),
+        Key("contact_friction", Number("", 1e-3, 1.0), "Friction coefficient at the cam contact: a translating "
+            "flat face's sliding friction (its torque on the camshaft, mu F h, and its drag across the face in the guide "
+            "reactions); for a roller the traction limit of the roller_slip check (default there "
+            f"{DEFAULT_CONTACT_FRICTION:g}, lubricated steel on steel).", _R, example=0.1),
+        Key("roller_pin_friction", Number("", 0.0, 1.0), "Roller follower with roller_pin_radius_mm: friction coefficient of "
+            f"the roller on its pin (default {DEFAULT_PIN_FRICTION:g}, a plain bushed roller); torque mu F r_pin.", _R,
+            example=0.1, requires=_ROLLER),
+        Key("roller_pin_radius_mm", Length(), "Roller follower: radius of the roller's pin; turns on the pin friction torque "
+            "(and its share of the camshaft torque) and the roller_slip check.", _R, example=3.0, requires=_ROLLER),
+        Key("roller_inertia_kg_mm2", Number("kg*mm^2", 0.0, 1e9), "Roller follower: the roller's moment of inertia about its "
+            "pin (default 0), the torque its angular acceleration needs in the roller_slip check.", _R, example=2.0,
+            requires=_ROLLER),
+        Key("roller_dynamic_load_rating_n", Number("N", 1.0, 1e9), "Roller follower: the roller bearing's basic "
+            "dynamic load rating C; turns on its ISO 281 basic rating life L10 = (C / P)^p from the contact force over the "
+            "turn (mean-load rule weighted by the roller's revolutions).", _R, example=8000.0, requires=_ROLLER),
+        Key("roller_bearing", Choice(("roller", "ball")), "Roller follower with roller_dynamic_load_rating_n: the bearing "
+            "type, for the life exponent p (roller 10/3, ball 3; default roller).", _R, example="roller", requires=_ROLLER),
+        Key("min_bearing_life_h", Number("h", 0.0, 1e9, low_open=True), "Roller follower with roller_dynamic_load_rating_n: "
+            "the least L10 life in hours at rpm: the bearing_life check fails below it (left out: the life is information).",
+            _R, example=20000.0, requires=_ROLLER),
+        Key("case_depth_factor", Number("", 1.0, 100.0), "The case depth asked for, in depths of the sub-surface maximum "
+            f"shear (0.78 b; default {CASE_DEPTH_FACTOR:g}, a rule of thumb: give your heat treater's rule).", _R,
+            example=2.0),
+        Key("sn_stress_mpa", Number("MPa", 0.0, 1e6, low_open=True), "Contact-fatigue S-N point of the cam material: the "
+            "Hertz stress it survives for sn_cycles (give sn_stress_mpa, sn_cycles, sn_exponent and contact_design_cycles "
+            "together): the contact_fatigue check's allowable S (N_ref / N)^(1/m).", _R, example=1500.0),
+        Key("sn_cycles", Number("cycles", 1.0, 1e15), "Cycles of the S-N point (sn_stress_mpa).", _R,
+            example=1e7),
+        Key("sn_exponent", Number("", 1.0, 1e3), "Exponent m of the contact-fatigue S-N curve, S^m N = const.",
+            _R, example=6.6),
+        Key("contact_design_cycles", Number("cycles", 1.0, 1e15), "The cam's design life in cam turns (each "
+            "point of the profile is loaded once a turn), for the S-N allowable.", _R, example=1e8),
+    )
+
+
+@dataclass(frozen=True)
+class FrictionLifeSpec:
+    """The friction and life a cam asks for: the friction settings, the case-depth factor, an
+    S-N curve and the cycles to hold (or None), the roller bearing's rating C (N or None), its
+    type and the least life (h or None), the follower kind."""
+
+    friction: Any
+    case_depth_factor: float
+    sn: Any
+    design_cycles: float | None
+    rating: float | None
+    bearing: str
+    min_life_h: float | None
+    follower: str
+
+
+def read_friction_life(where: str, parsed: Mapping[str, Any], given: tuple[str, ...], *, motion: str, follower: str,
+                       form_closed: bool) -> FrictionLifeSpec | None:
+    """The friction and life keys of a cam table (None when none is given); a key that has no
+    effect for this follower is refused naming it and saying why."""
+    from camgen.contact_life import CASE_DEPTH_FACTOR, SnCurve
+    from camgen.followers import get_follower
+    from camgen.friction import DEFAULT_GUIDE_FRICTION, DEFAULT_PIN_FRICTION, FrictionSettings
+
+    mine = [name for name in given if name in FRICTION_LIFE_KEYS]
+    if not mine:
+        return None
+    by_name = {k.name: k for k in friction_life_keys()}
+
+    def refuse(name: str, valid: str, why: str) -> None:
+        raise ParameterError(f"{where}.{name}", by_name[name].type.to_scene(parsed.get(name)), valid, why)
+
+    model = get_follower(follower)
+    if form_closed or model.contact == "faces":
+        refuse(mine[0], "left out for a form-closed train", "friction, loads and contact life are computed for a force-closed "
+               "plate cam (one contact, a spring)")
+    for name in ("guide_overhang_mm", "guide_length_mm"):
+        other = "guide_length_mm" if name == "guide_overhang_mm" else "guide_overhang_mm"
+        if name in mine and other not in mine:
+            raise ParameterError(f"{where}.{other}", None, "a length in mm", f"{name} is given: the guide's bushing reactions "
+                                 "need guide_length_mm and guide_overhang_mm together")
+    needs = {"guide_friction": "guide_length_mm", "roller_pin_friction": "roller_pin_radius_mm",
+             "roller_bearing": "roller_dynamic_load_rating_n", "min_bearing_life_h": "roller_dynamic_load_rating_n"}
+    for name, base in needs.items():
+        if name in mine and base not in mine:
+            refuse(name, f"given with {base}", f"{name} has no effect without {base}")
+    edge = model.contact == "point" and not model.has_radius
+    if edge:
+        for name in (*FATIGUE_KEYS, "contact_friction"):
+            if name in mine:
+                refuse(name, f"left out for a {follower} follower", "a sharp knife edge has no finite contact stress and "
+                       "its friction is not modelled (use a roller or a flat face)")
+    if model.contact == "face" and motion != "translating" and "contact_friction" in mine:
+        refuse("contact_friction", "left out for an oscillating flat face", "the flat face's friction torque is computed for "
+               "a translating face")
+    if follower == "roller" and "contact_friction" in mine and not ({"roller_pin_radius_mm", "roller_inertia_kg_mm2"} & set(mine)):
+        refuse("contact_friction", "given with roller_pin_radius_mm or roller_inertia_kg_mm2", "on a roller it is the traction "
+               "limit of the roller_slip check, which needs the pin's friction or the roller's inertia")
+    sn_keys = ("sn_stress_mpa", "sn_cycles", "sn_exponent", "contact_design_cycles")
+    sn_given = [name for name in sn_keys if name in mine]
+    if sn_given and len(sn_given) < len(sn_keys):
+        missing = next(name for name in sn_keys if name not in mine)
+        raise ParameterError(f"{where}.{missing}", None, by_name[missing].type.describe(),
+                             f"the S-N allowable needs {', '.join(sn_keys)} together ({', '.join(sn_given)} given)")
+    get = parsed.get
+    friction = renamed(where, friction_life_keys(), lambda: FrictionSettings(
+        guide_length=get("guide_length_mm"), guide_overhang=get("guide_overhang_mm"),
+        guide_friction=get("guide_friction", DEFAULT_GUIDE_FRICTION), contact_friction=get("contact_friction"),
+        pin_friction=get("roller_pin_friction", DEFAULT_PIN_FRICTION), pin_radius=get("roller_pin_radius_mm"),
+        roller_inertia=get("roller_inertia_kg_mm2", 0.0)))
+    sn = SnCurve(parsed["sn_stress_mpa"], parsed["sn_cycles"], parsed["sn_exponent"]) if sn_given else None
+    return FrictionLifeSpec(friction, get("case_depth_factor", CASE_DEPTH_FACTOR), sn, get("contact_design_cycles"),
+                            get("roller_dynamic_load_rating_n"), get("roller_bearing", "roller"), get("min_bearing_life_h"),
+                            follower)
+
+
+@dataclass(frozen=True)
+class FrictionLifeOutcome:
+    """The friction (:class:`camgen.friction.FrictionResult`) and contact life
+    (:class:`camgen.contact_life.ContactLife` or None: no contact radius) of a cam, their checks
+    and figures (merged into ``figures.dynamics``)."""
+
+    friction: Any
+    life: Any
+    checks: "tuple[CheckResult, ...]"
+    figures: Mapping[str, Any]
+
+
+def _friction_geometry(cam: "BuiltCam", kin: "Kinematics", motion: str, follower: str) -> Any:
+    """The contact geometry the friction needs: from the plate's closed-form envelope data where
+    the cam has it (the roller's spin from the pitch curve, a flat face's contact position),
+    else (a three_arc flat face, its stem through the cam axis) the face position ``s'``."""
+    from camgen.friction import FrictionGeometry, roller_spin
+
+    data = getattr(getattr(cam, "envelope", None), "data", None)
+    f = getattr(cam, "spec_follower", None)
+    sigma = float(getattr(f, "sigma", 1.0))
+    tau = float(getattr(f, "tau", 1.0)) if motion == "oscillating" else 0.0
+    radius = float(kin.follower_radius) if math.isfinite(kin.follower_radius) else 0.0
+    face = spin = rate = None
+    if follower == "flat" and motion == "translating":
+        face = data.face_position if data is not None and data.face_position is not None else sigma * kin.ds
+    if follower == "roller" and data is not None and data.pitch_d1 is not None and data.pitch_d2 is not None:
+        spin, rate = roller_spin(data.pitch_d1, data.pitch_d2, radius, sigma, tau, kin.ds)
+    return FrictionGeometry(follower, motion, sigma, tau if motion == "oscillating" else 1.0, radius, face, spin, rate)
+
+
+def run_friction_life(cam: "BuiltCam", result: "DynamicsResult", kin: "Kinematics", dyn: DynamicsSpec) -> FrictionLifeOutcome:
+    """Friction, loads, contact fatigue and the roller bearing's life of a cam at the scene's
+    speed, with their checks ("guide_binding", "roller_slip", "contact_fatigue", "bearing_life"
+    where their limits apply; "case_depth", "friction_torque" as information) and figures."""
+    from camgen.checks import information, limited, run_ends, where_degrees
+    from camgen.contact_life import LIFE_EXPONENTS, contact_life
+    from camgen.friction import analyse_friction
+
+    spec = dyn.friction_life
+    assert spec is not None  # the stage runs this block only when a key of it is given
+    theta, motion = result.theta, result.train.motion
+    geometry = _friction_geometry(cam, kin, motion, spec.follower)
+    fr = analyse_friction(result.contact_force, result.pressure_angle, kin.ds, kin.d2s, kin.rho_cam, result.torque,
+                          result.omega, geometry, spec.friction)
+    checks: "list[CheckResult]" = []
+    fig: dict[str, Any] = {}
+
+    def peak(values: Any) -> tuple[float, int]:
+        i = int(np.argmax(np.abs(values)))
+        return float(abs(values[i])), i
+
+    if fr.side_load is not None:
+        fig["side_load_peak_N"] = peak(fr.side_load)[0]
+    if fr.guide_near is not None and fr.guide_far is not None and fr.binding is not None:
+        s = spec.friction
+        fig.update({"guide_length_mm": s.guide_length, "guide_overhang_mm": s.guide_overhang, "guide_friction": s.guide_friction,
+                    "guide_reaction_near_peak_N": peak(fr.guide_near)[0], "guide_reaction_far_peak_N": peak(fr.guide_far)[0]})
+        ratio, i = peak(fr.binding)
+        fig["guide_binding_ratio_peak"] = ratio
+        bad = fr.binding >= 1.0
+        note = (f"the guide's bushings (length {s.guide_length:g} mm, overhang {s.guide_overhang:g} mm, friction "
+                f"{s.guide_friction:g}) hold up to {ratio:.6g} x the axial force at cam angle {math.degrees(theta[i]):.6g} deg "
+                "(reactions from the stem's statics; Coulomb friction at both bushings locks the stem at >= 1)")
+        checks.append(limited("guide_binding", ratio, "<", 1.0, "", run_ends(bad, theta) if bad.any() else where_degrees(theta[i]),
+                              note))
+    if fr.pin_torque is not None and fr.slip is not None:
+        fig["roller_pin_torque_peak_Nmm"] = peak(fr.pin_torque)[0]
+        fig["roller_pin_friction"] = spec.friction.pin_friction
+        if spec.friction.pin_radius is not None:
+            fig["roller_pin_radius_mm"] = spec.friction.pin_radius
+        fig["roller_inertia_kg_mm2"] = spec.friction.roller_inertia
+        ratio, i = peak(fr.slip)
+        fig["roller_slip_ratio_peak"] = ratio
+        bad = fr.slip > 1.0
+        note = (f"the torque to turn the roller (pin friction and its inertia) reaches {ratio:.6g} x the traction the "
+                f"contact holds (mu_c F R) at cam angle {math.degrees(theta[i]):.6g} deg; above 1 the roller skids")
+        checks.append(limited("roller_slip", ratio, "<=", 1.0, "", run_ends(bad, theta) if bad.any() else where_degrees(theta[i]),
+                              note))
+    if fr.face_torque is not None:
+        fig["face_friction_torque_peak_Nm"] = peak(fr.face_torque)[0]
+    if spec.friction.contact_friction is not None:
+        fig["contact_friction"] = spec.friction.contact_friction
+    assert fr.friction_torque is not None and fr.total_torque is not None  # always set
+    weights = result.weights
+    if np.any(fr.friction_torque != 0):
+        total_peak, i = peak(fr.total_torque)
+        rms = float(np.sqrt(np.sum(weights * fr.total_torque**2) / (2.0 * math.pi)))
+        energy = float(np.sum(weights * fr.friction_torque))
+        fig.update({"friction_torque_peak_Nm": peak(fr.friction_torque)[0], "friction_energy_per_turn_J": energy,
+                    "torque_with_friction_peak_Nm": total_peak, "torque_with_friction_rms_Nm": rms})
+        checks.append(information("friction_torque", total_peak, "N*m", where_degrees(theta[i]),
+                                  f"camshaft torque with friction: peak {total_peak:.6g} N*m, RMS {rms:.6g} N*m; the friction "
+                                  f"takes {energy:.6g} J a turn (first order: Coulomb friction of the frictionless contact force)"))
+    life = None
+    material = dyn.material
+    if material is not None and result.hertz_stress is not None:
+        curvature = 1.0 / kin.rho_cam + 1.0 / kin.follower_radius
+        rating = spec.rating
+        exponent = LIFE_EXPONENTS[spec.bearing]
+        life = contact_life(result.contact_force, result.hertz_stress, curvature, material.width, material.compliance,
+                            case_depth_factor=spec.case_depth_factor, sn=spec.sn, design_cycles=spec.design_cycles,
+                            roller_spin=geometry.roller_spin, weights=weights, rating=rating, exponent=exponent, rpm=result.rpm)
+        i = int(np.argmax(life.shear))
+        deep = int(np.argmax(life.shear_depth))
+        fig.update({"hertz_half_width_peak_mm": float(np.max(life.half_width)), "subsurface_shear_peak_MPa": float(life.shear[i]),
+                    "subsurface_shear_peak_deg": round(math.degrees(theta[i]), 6),
+                    "subsurface_shear_depth_max_mm": float(life.shear_depth[deep]), "case_depth_mm": life.case_depth,
+                    "case_depth_factor": life.case_depth_factor})
+        checks.append(information("case_depth", life.case_depth, "mm", where_degrees(theta[deep]),
+                                  f"sub-surface maximum shear {life.shear[i]:.6g} MPa (0.30 p_max, Johnson §4.2) at most "
+                                  f"{life.shear_depth[deep]:.6g} mm deep (0.78 b); case depth asked for {life.case_depth_factor:g} "
+                                  "x that depth"))
+        if life.allowable is not None:
+            peak_stress = float(np.max(result.hertz_stress))
+            fig.update({"contact_fatigue_allowable_MPa": life.allowable, "contact_design_cycles": life.design_cycles})
+            bad = result.hertz_stress > life.allowable
+            j = int(np.argmax(result.hertz_stress))
+            assert spec.sn is not None  # the allowable comes from it
+            checks.append(limited("contact_fatigue", peak_stress, "<=", life.allowable, "MPa",
+                                  run_ends(bad, theta) if bad.any() else where_degrees(theta[j]),
+                                  f"allowable {life.allowable:.6g} MPa at {life.design_cycles:g} cam turns from the S-N point "
+                                  f"{spec.sn.stress:g} MPa at {spec.sn.cycles:g} cycles, exponent {spec.sn.exponent:g} "
+                                  "(S = S_ref (N_ref / N)^(1/m))"))
+        if life.roller_revs_per_turn is not None:
+            fig["roller_revs_per_turn"] = life.roller_revs_per_turn
+        if life.l10_mrev is not None:
+            finite = math.isfinite(life.l10_mrev)
+            fig.update({"roller_dynamic_load_rating_N": rating, "bearing_life_exponent": exponent,
+                        "bearing_equivalent_load_N": life.equivalent_load,
+                        "bearing_L10_Mrev": life.l10_mrev if finite else None,
+                        "bearing_L10_h": life.l10_hours if finite else None})
+            note = (f"ISO 281 L10 = (C / P)^p = {life.l10_mrev:.6g} million revolutions, C {rating:g} N, equivalent load P "
+                    f"{life.equivalent_load:.6g} N (mean-load rule over the turn, weighted by the roller's "
+                    f"{life.roller_revs_per_turn:.6g} revolutions a turn), p {exponent:.6g}")
+            hours = life.l10_hours if life.l10_hours is not None and math.isfinite(life.l10_hours) else None
+            if spec.min_life_h is not None:
+                fig["min_bearing_life_h"] = spec.min_life_h
+            if spec.min_life_h is None or hours is None:  # no limit, or no load on the roller: the life is unbounded
+                checks.append(information("bearing_life", hours if hours is not None else "unbounded", "h", [], note))
+            else:
+                checks.append(limited("bearing_life", hours, ">=", spec.min_life_h, "h", [], note))
+    return FrictionLifeOutcome(fr, life, tuple(checks), fig)
