@@ -337,12 +337,32 @@ KEY_CHANGES = {
 }
 REFUSED = {"spring_rate_n_per_mm", "spring_preload_n", "spring_free_length_mm", "spring_installed_length_mm",
            "spring_rate_n_mm_per_rad", "spring_preload_n_mm", "jump_margin_n"}
+#: the compliant train's and the friction and life keys (issue 25): not modelled for a form-closed train, refused
+NOT_MODELLED = {"train_stiffness_n_per_mm": 1e3, "damping_ratio": 0.1, "residual_vibration_limit_mm": 0.01, "guide_length_mm": 40.0,
+                "roller_pin_friction": 0.1, "roller_dynamic_load_rating_n": 8000.0, "case_depth_factor": 2.0}
+FORM_CLOSED_REFUSED = {"train_stiffness_n_mm_per_rad", "train_stiffness_n_per_mm", "damping_ratio", "residual_vibration_limit_mm",
+                       "case_depth_factor", "contact_design_cycles", "contact_friction", "guide_friction", "guide_length_mm",
+                       "guide_overhang_mm", "min_bearing_life_h", "roller_bearing", "roller_dynamic_load_rating_n",
+                       "roller_inertia_kg_mm2", "roller_pin_friction", "roller_pin_radius_mm", "sn_cycles", "sn_exponent",
+                       "sn_stress_mpa"}
+
+
+@pytest.mark.parametrize("key", sorted(NOT_MODELLED))
+def test_the_keys_a_form_closed_train_does_not_model_are_refused_on_a_barrel(key, tmp_path):
+    cam = table(rpm=RPM, mass_kg=MASS)
+    cam[key] = NOT_MODELLED[key]
+    path = tmp_path / "s.toml"
+    path.write_text(scene_toml({"output": {"formats": ["dxf"]}, "cams": {"b": cam}}), encoding="utf-8")
+    done = subprocess.run([sys.executable, "-m", "camgen", "run", str(path), "--out", str(tmp_path / "out")], capture_output=True,
+                          text=True)
+    assert done.returncode == 2 and done.stderr.startswith("camgen: error: ") and done.stderr.count("\n") == 1, done.stderr
+    assert "cams.b." in done.stderr and not (tmp_path / "out").exists()
 
 
 def test_the_walk_covers_every_dynamics_key():
     from camgen.kinds.barrel_dynamics import barrel_dynamics_keys
 
-    assert {k.name for k in barrel_dynamics_keys()} == set(KEY_CHANGES) | REFUSED
+    assert {k.name for k in barrel_dynamics_keys()} == set(KEY_CHANGES) | REFUSED | FORM_CLOSED_REFUSED
 
 
 @pytest.mark.parametrize("key", sorted(KEY_CHANGES))
