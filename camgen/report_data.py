@@ -27,6 +27,7 @@ if TYPE_CHECKING:
         CompliantCurves,
         DynamicsCurves,
         FloatArray,
+        FrictionCurves,
         JsonValue,
         MotionCurves,
         ReportInput,
@@ -219,7 +220,7 @@ def _dynamics(cam: "CamResult") -> "DynamicsCurves | None":
         jump_rpm=res.jump_rpm, torque_peak=res.torque_peak, torque_rms=res.torque_rms, power_peak=res.power_peak,
         power_rms=res.power_rms, mean_power=res.mean_power, hertz_peak=res.hertz_peak, torque_limit=outcome.torque_limit,
         allowable_stress=outcome.allowable_stress, speed_rpm=optional(outcome.speed_rpm), speed_min_force=optional(outcome.speed_min_force),
-        compliant=_compliant(outcome))
+        compliant=_compliant(outcome), friction=_friction(outcome))
 
 
 def _compliant(outcome: Any) -> "CompliantCurves | None":
@@ -237,3 +238,39 @@ def _compliant(outcome: Any) -> "CompliantCurves | None":
         spectrum_unit="m/s^2" if translating else "rad/s^2", natural_frequency=res.natural_frequency,
         turn_frequency=res.turn_frequency, damping_ratio=res.damping_ratio, dwell_theta=_array(res.theta[res.dwell_start]),
         residual=_array(res.residual), residual_limit=res.residual_limit)
+
+
+def _friction(outcome: Any) -> "FrictionCurves | None":
+    """The report's curves of friction, loads and contact life (issue 25 items 3, 4), None when
+    the scene gives none of their keys.  The roller's traction limit ``mu_c F R`` and the torque
+    that turns it (the slip ratio times that limit) are read back from the slip ratio of
+    :func:`camgen.friction.analyse_friction` (same contact friction, same force)."""
+    from camgen.friction import DEFAULT_CONTACT_FRICTION
+    from camgen.report.model import FrictionCurves
+
+    block = outcome.friction_life
+    if block is None:
+        return None
+    fr, life, res = block.friction, block.life, outcome.result
+    force = np.maximum(res.contact_force, 0.0)  # a lifted follower carries none (as the friction module counts it)
+    torques: dict[str, Any] = {}
+    if fr.friction_torque is not None and np.any(fr.friction_torque != 0):  # as report.json's torque_with_friction figures
+        torques = {"torque": _array(res.torque), "torque_with_friction": _array(fr.total_torque),
+                   "friction_torque": _array(fr.friction_torque)}
+    guide: dict[str, Any] = {}
+    if fr.guide_near is not None and fr.guide_far is not None:
+        guide = {"guide_near": _array(np.abs(fr.guide_near)), "guide_far": _array(np.abs(fr.guide_far)),
+                 "binding": _array(fr.binding), "guide_friction": float(block.figures["guide_friction"])}
+    roller: dict[str, Any] = {}
+    if fr.pin_torque is not None and fr.slip is not None:
+        mu_c = block.figures.get("contact_friction", DEFAULT_CONTACT_FRICTION)
+        traction = mu_c * force * outcome.kinematics.follower_radius  # N*mm, friction.analyse_friction's traction
+        drive = np.where(np.isfinite(fr.slip), fr.slip * traction, np.nan)  # slip = drive / traction where loaded
+        roller = {"pin_torque": _array(fr.pin_torque), "roller_drive_torque": _array(drive), "traction_limit": _array(traction),
+                  "slip_peak": float(np.max(fr.slip))}
+    fatigue: dict[str, Any] = {}
+    if life is not None:
+        fatigue = {"half_width": _array(life.half_width), "shear": _array(life.shear), "shear_depth": _array(life.shear_depth),
+                   "case_depth": float(life.case_depth)}
+    return FrictionCurves(theta=_array(res.theta), side_load=_array(fr.side_load) if fr.side_load is not None else None,
+                          **torques, **guide, **roller, **fatigue)

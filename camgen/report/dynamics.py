@@ -11,16 +11,16 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from camgen.report.format import FigureMaker, thin
 
 if TYPE_CHECKING:
-    from camgen.report.model import CamReport, CompliantCurves
+    from camgen.report.model import CamReport, CompliantCurves, FrictionCurves
 
-__all__ = ["ROUNDING", "compliant_section", "dynamics_section"]
+__all__ = ["ROUNDING", "compliant_section", "dynamics_section", "friction_section"]
 
 _LIMIT = {"color": "tab:red", "dash": "--", "width": 0.8}
 #: A mean power below this fraction of the peak is shown as 0 in the plot's title (rounding of a zero integral).
@@ -128,7 +128,8 @@ def dynamics_section(Figure: FigureMaker, cam: "CamReport") -> str:
 
     rows = dynamics_rows(figures)
     compliant = compliant_section(Figure, res.compliant, res.rpm) if res.compliant is not None else ""  # issue 25 item 2
-    return (f"<h3>Dynamics at {res.rpm:g} rpm</h3><div class='fig'>{fig.to_svg()}</div>{compliant}"
+    friction = friction_section(Figure, res.friction, res.rpm, res.torque_limit) if res.friction is not None else ""  # items 3, 4
+    return (f"<h3>Dynamics at {res.rpm:g} rpm</h3><div class='fig'>{fig.to_svg()}</div>{compliant}{friction}"
             "<p class='note'>Rigid follower train, frictionless contact (Rothbart, Cam Design Handbook, ch. 8): contact force "
             "= (inertia + damping + spring + preload + load + weight) over the cosine of the pressure angle; torque from the power "
             "balance; Hertz line-contact stress (Rothbart eq. 9.11) with the profile's radius of curvature at the contact.</p>"
@@ -188,3 +189,112 @@ def compliant_section(Figure: FigureMaker, res: "CompliantCurves", rpm: float) -
             "state over a turn, solved exactly for the linear model; where the dynamic contact force would fall below 0 the "
             "follower leaves the cam.</p>")
 # ---- end compliant -------------------------------------------------------------------------
+
+
+
+# ---- friction, loads and contact life (issue 25 items 3, 4) ---------------------------------
+def friction_section(Figure: FigureMaker, res: "FrictionCurves", rpm: float, torque_limit: float | None) -> str:
+    """The friction's plots, each where it applies: the camshaft torque with and without friction
+    (with the torque limit), the guide's side load and bushing reactions against the binding limit,
+    the roller's drive torque against the traction the contact holds (its slip margin), the
+    sub-surface shear, and the Hertz half-width and shear depth against the case depth asked for."""
+    keep = thin(res.theta.size, 1200)
+    deg = np.degrees(res.theta)[keep]
+    panels = []
+    if res.torque is not None and res.torque_with_friction is not None and res.friction_torque is not None:
+        torque, total, friction = res.torque, res.torque_with_friction, res.friction_torque
+
+        def draw_torque(ax: Any) -> None:
+            ax.plot(deg, torque[keep], color="#737373", width=1, dash="--", label="without friction")
+            ax.plot(deg, total[keep], color="tab:green", width=1, label="with friction")
+            ax.plot(deg, friction[keep], color="tab:orange", width=0.8, label="friction's share")
+            if torque_limit is not None:
+                for sign in (1, -1):
+                    ax.hline(sign * torque_limit, **_LIMIT)
+            ax.hline(0.0, color="#737373", width=0.6)
+            ax.ylabel("camshaft torque (N*m)", font_size=8)
+            ax.title(f"camshaft torque with friction: peak {np.max(np.abs(total)):.4g} N*m (without "
+                     f"{np.max(np.abs(torque)):.4g})" + (f"; limit {torque_limit:g} N*m dashed" if torque_limit is not None else ""),
+                     font_size=8)
+            ax.legend(font_size=7)
+
+        panels.append(draw_torque)
+    if res.side_load is not None:
+        side = res.side_load
+
+        def draw_guide(ax: Any) -> None:
+            ax.plot(deg, np.abs(side)[keep], color="tab:purple", width=1, label="side load |F_x|")
+            if res.guide_near is not None and res.guide_far is not None:
+                ax.plot(deg, res.guide_near[keep], color="tab:blue", width=1, label="near bushing |R1|")
+                ax.plot(deg, res.guide_far[keep], color="tab:cyan", width=1, label="far bushing |R2|")
+                ax.title(f"guide loads: side {np.max(np.abs(side)):.4g} N, bushings {np.max(res.guide_near):.4g} and "
+                         f"{np.max(res.guide_far):.4g} N at most", font_size=8)
+            else:
+                ax.title(f"side load on the guide (F_axial tan phi): peak {np.max(np.abs(side)):.4g} N", font_size=8)
+            ax.ylim(0.0, None)
+            ax.ylabel("force across the stem (N)", font_size=8)
+            ax.legend(font_size=7)
+
+        panels.append(draw_guide)
+    if res.binding is not None and res.guide_friction is not None:
+        binding, mu_g = res.binding, res.guide_friction
+
+        def draw_binding(ax: Any) -> None:
+            ax.plot(deg, binding[keep], color="tab:blue", width=1, label=f"mu_g (|R1| + |R2|) / F_axial, mu_g {mu_g:g}")
+            ax.hline(1.0, label="binds at 1", **_LIMIT)
+            ax.ylim(0.0, None)
+            ax.ylabel("bushing friction / axial force", font_size=8)
+            ax.title(f"guide binding margin: the bushings' friction up to {np.max(binding):.4g} x the axial force", font_size=8)
+            ax.legend(font_size=7)
+
+        panels.append(draw_binding)
+    if res.pin_torque is not None and res.roller_drive_torque is not None and res.traction_limit is not None:
+        pin, drive, traction = res.pin_torque, res.roller_drive_torque, res.traction_limit
+
+        def draw_slip(ax: Any) -> None:
+            ax.plot(deg, traction[keep], label="traction limit mu_c F R", **_LIMIT)
+            ax.plot(deg, drive[keep], color="tab:blue", width=1, label="torque to turn the roller")
+            ax.plot(deg, pin[keep], color="tab:orange", width=0.8, dash=":", label="pin friction mu_p F r_pin")
+            ax.ylim(0.0, None)
+            ax.ylabel("torque on the roller (N*mm)", font_size=8)
+            ax.title(f"roller slip margin: torque to turn it up to {res.slip_peak:.4g} x the traction (skids above 1)", font_size=8)
+            ax.legend(font_size=7)
+
+        panels.append(draw_slip)
+    if res.shear is not None and res.half_width is not None and res.shear_depth is not None:
+        shear, half, depth = res.shear, res.half_width, res.shear_depth
+
+        def draw_shear(ax: Any) -> None:
+            ax.plot(deg, shear[keep], color="tab:red", width=1)
+            ax.ylim(0.0, None)
+            ax.ylabel("sub-surface shear (MPa)", font_size=8)
+            ax.title(f"sub-surface maximum shear 0.30 p_max (Johnson 4.2): peak {np.max(shear):.4g} MPa", font_size=8)
+
+        def draw_depth(ax: Any) -> None:
+            ax.plot(deg, half[keep], color="tab:blue", width=1, label="Hertz half-width b")
+            ax.plot(deg, depth[keep], color="tab:red", width=1, label="depth of the maximum shear 0.78 b")
+            if res.case_depth is not None:
+                ax.hline(res.case_depth, label=f"case depth asked for {res.case_depth:.4g} mm", **_LIMIT)
+            ax.ylim(0.0, None)
+            ax.ylabel("depth below the surface (mm)", font_size=8)
+            ax.title(f"contact half-width and shear depth: deepest {np.max(depth):.4g} mm", font_size=8)
+            ax.legend(font_size=7)
+
+        panels += [draw_shear, draw_depth]
+    if not panels:
+        return ""
+    cols = 1 if len(panels) == 1 else 2
+    rows = -(-len(panels) // cols)
+    fig = Figure(figsize=(10 if cols == 2 else 6, 2.8 * rows + 0.3))
+    axes = np.atleast_1d(fig.subplots(rows, cols)).ravel()
+    for draw, ax in zip(panels, axes):
+        draw(ax)
+        ax.xlabel("cam angle (deg)", font_size=8)
+    for ax in axes[len(panels):]:  # an odd number of panels: say what the blank one would hold
+        ax.text(0.5, 0.5, "(no further friction plot for these keys)", anchor="middle", coords="axes")
+    fig.suptitle(f"friction, loads and contact fatigue at {rpm:g} rpm", font_size=9)
+    return (f"<div class='fig'>{fig.to_svg()}</div><p class='note'>First-order friction (Coulomb's mu N with N the "
+            "frictionless contact force; the friction does not feed back into it): each friction's torque on the camshaft "
+            "from the power it dissipates; the guide's bushing reactions from the stem's statics; Hertz line contact "
+            "(Johnson, Contact Mechanics, 4.2) for the half-width and the sub-surface shear.</p>")
+# ---- end friction -------------------------------------------------------------------------

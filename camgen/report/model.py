@@ -20,8 +20,8 @@ import numpy as np
 import numpy.typing as npt
 
 __all__ = ["CamBody", "CamPlots", "CamReport", "CheckRow", "CompliantCurves", "DynamicsCurves", "FloatArray", "FollowerFaces", "JsonValue",
-           "MechanismReport", "MotionAtSpeed", "MotionCurves", "ReportInput", "RideAnimation", "RollerAtZero", "SectionData", "ZeroMark",
-           "json_number", "json_numbers", "json_object", "json_objects"]
+           "FrictionCurves", "MechanismReport", "MotionAtSpeed", "MotionCurves", "ReportInput", "RideAnimation", "RollerAtZero", "SectionData",
+           "ZeroMark", "json_number", "json_numbers", "json_object", "json_objects"]
 
 #: A value of report.json: what :func:`json.dumps` writes (mappings and sequences read-only).
 JsonValue: TypeAlias = "None | bool | int | float | str | Sequence[JsonValue] | Mapping[str, JsonValue]"
@@ -258,6 +258,7 @@ class DynamicsCurves:
     speed_rpm: FloatArray | None
     speed_min_force: FloatArray | None
     compliant: "CompliantCurves | None" = None  # a compliant train's response (issue 25 item 2)
+    friction: "FrictionCurves | None" = None  # friction, loads and contact life (issue 25 items 3, 4)
 
 
 # ---- compliant follower train (issue 25 item 2) --------------------------------------------
@@ -283,6 +284,51 @@ class CompliantCurves:
     residual: FloatArray
     residual_limit: float | None
 # ---- end compliant -------------------------------------------------------------------------
+
+
+# ---- friction, loads and contact life (issue 25 items 3, 4) ---------------------------------
+@dataclass(frozen=True)
+class FrictionCurves:
+    """Friction, loads and contact fatigue over a turn (:class:`camgen.friction.FrictionResult`,
+    :class:`camgen.contact_life.ContactLife`) against cam angle ``theta`` (rad); None: that part
+    is not computed for this follower or these keys.
+
+    Attributes
+    ----------
+    torque, torque_with_friction, friction_torque : N*m, the camshaft torque without friction,
+        with it, and their difference (None with the other two when no friction torque is asked for).
+    side_load : N, the force across a translating follower's motion (its guide load).
+    guide_near, guide_far : N, the magnitudes of the near and far bushing reactions.
+    binding : the binding ratio ``mu_g (|R1| + |R2|) / F_axial`` (0 where the cam does not push
+        the stem): the guide binds where it reaches 1 (None: no guide).
+    guide_friction : the bushings' coefficient mu_g (None: no guide).
+    pin_torque, roller_drive_torque, traction_limit : N*mm on the roller: its pin's friction
+        torque, the torque that turns it (pin friction and inertia), the traction the contact holds
+        ``mu_c F R`` (the roller skids where the drive torque passes it).
+    slip_peak : the largest slip ratio drive / traction (report.json's ``roller_slip_ratio_peak``).
+    half_width : mm, the Hertz line-contact half-width b.
+    shear, shear_depth : MPa and mm, the sub-surface maximum shear stress (0.30 p_max) and its
+        depth (0.78 b); case_depth : mm, the case depth asked for (None: no contact life).
+    """
+
+    theta: FloatArray
+    torque: FloatArray | None = None
+    torque_with_friction: FloatArray | None = None
+    friction_torque: FloatArray | None = None
+    side_load: FloatArray | None = None
+    guide_near: FloatArray | None = None
+    guide_far: FloatArray | None = None
+    binding: FloatArray | None = None
+    guide_friction: float | None = None
+    pin_torque: FloatArray | None = None
+    roller_drive_torque: FloatArray | None = None
+    traction_limit: FloatArray | None = None
+    slip_peak: float | None = None
+    half_width: FloatArray | None = None
+    shear: FloatArray | None = None
+    shear_depth: FloatArray | None = None
+    case_depth: float | None = None
+# ---- end friction -------------------------------------------------------------------------
 
 
 class SectionData:
