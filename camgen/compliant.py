@@ -69,11 +69,14 @@ SPECTRUM_CHUNK = 1 << 22
 class TrainCompliance:
     """The train's elasticity: ``stiffness`` between the cam contact and the follower's mass
     (translating N/mm; oscillating N*mm/rad about the pivot), ``damping_ratio`` of its mode
-    (0 <= zeta < 1), ``residual_limit`` mm (at the roller for an arm; None: information)."""
+    (0 <= zeta < 1), ``residual_limit`` mm (at the roller for an arm; None: information);
+    ``follower``: the follower's own stiffness and tool mass of a two-mass train
+    (:class:`camgen.compliant_two.FollowerCompliance`; None: one degree of freedom)."""
 
     stiffness: float
     damping_ratio: float = 0.0
     residual_limit: float | None = None
+    follower: Any = None
 
     def __post_init__(self) -> None:
         if not require_finite("train_stiffness", self.stiffness) > 0:
@@ -378,6 +381,11 @@ def compliant_response(kin: "Kinematics", train: "FollowerTrain", compliance: Tr
     Raises :class:`GeometryError` for an undamped train exactly resonant with the turn."""
     from camgen import dynamics as dy
     from camgen.checks import run_ends
+
+    if compliance.follower is not None:  # two masses: the follower's own stiffness between them
+        from camgen.compliant_two import two_degree_response
+
+        return two_degree_response(kin, train, compliance, rpm)
 
     r, r_dot, _ = response_from(kin, train, compliance, rpm)
     osc = oscillator(train, compliance)
