@@ -29,6 +29,8 @@ _T = {"follower_motion": ("translating",)}
 _O = {"follower_motion": ("oscillating",)}
 _R = ("report",)
 STIFFNESS_KEYS = ("train_stiffness_n_per_mm", "train_stiffness_n_mm_per_rad")
+#: kg, the least mass of each of a two-mass train's masses (1 mg: a lighter one is rounding noise).
+MIN_MASS_KG = 1e-6
 #: The two-mass train's keys: given together (translating), with the train stiffness.
 TWO_MASS_KEYS = ("follower_stiffness_n_per_mm", "tool_mass_kg")
 #: The damping ratio when a stiffness is given without one (a lightly damped train).
@@ -63,7 +65,7 @@ def compliant_keys() -> tuple[Key, ...]:
             "follower's k2 on the masses' reduced mass): both natural frequencies against the spectrum, the tool's dynamic "
             "error and residual vibration, the contact force on the train stiffness (left out: one mass).", _R,
             example=5000.0, requires=_T, feeds=("follower_stiffness",)),
-        Key("tool_mass_kg", Number("kg", 0.0, 1e6, low_open=True), "With follower_stiffness_n_per_mm: the tool-side part of "
+        Key("tool_mass_kg", Number("kg", MIN_MASS_KG, 1e4), "With follower_stiffness_n_per_mm: the tool-side part of "
             "mass_kg (mass_kg stays the whole moving mass, the rigid model's and the weight's; tool_mass_kg < mass_kg), beyond "
             "the follower's own stiffness; the external load presses on it, the weight is shared by mass.", _R, example=0.2,
             requires=_T, feeds=("tool_mass",)),
@@ -135,8 +137,8 @@ def read_follower_compliance(where: str, parsed: Mapping[str, Any], given: tuple
         raise ParameterError(f"{where}.{TWO_MASS_KEYS[0]}", parsed[TWO_MASS_KEYS[0]], f"given with {stiffness}",
                              "the follower's stiffness is the second spring of a compliant train")
     tool, total = float(parsed["tool_mass_kg"]), float(parsed.get("mass_kg", 0.0))
-    if not tool < total:
-        raise ParameterError(f"{where}.tool_mass_kg", tool, f"tool_mass_kg < mass_kg ({total:g} kg)",
+    if not tool <= total - MIN_MASS_KG:
+        raise ParameterError(f"{where}.tool_mass_kg", tool, f"tool_mass_kg <= mass_kg - {MIN_MASS_KG:g} ({total - MIN_MASS_KG:g} kg)",
                              "mass_kg is the whole moving mass, the tool's part of it beyond the follower's stiffness")
     return FollowerCompliance(float(parsed["follower_stiffness_n_per_mm"]), tool, str(parsed.get("return_spring_on") or "tool"))
 
