@@ -242,3 +242,28 @@ def test_bad_two_mass_input_is_refused_naming_the_key(case, tmp_path, capsys):
     err = capsys.readouterr().err
     assert code == 2 and err.startswith("camgen: error: ") and err.count("\n") == 1, err
     assert f"'{key}'" in err and why in err, err
+
+
+def test_the_report_marks_both_natural_frequencies_and_plots_both_masses():
+    """report.html's compliant panels: both modes named in the spectrum's title (from the closed
+    form of the 2 x 2 eigenproblem), the tool's and the cam side's errors, the two-mass model."""
+    import json
+
+    from camgen.pipeline import execute, plan_run
+    from camgen.scene import parse_scene
+
+    scene = plate(**TWO)
+    scene["output"]["formats"] = ["html"]
+    parsed = parse_scene(scene, "s")
+    done = execute(parsed, plan_run(parsed))
+    html = done.files["report.html"]
+    m2, big_m = 0.25e-3, 0.6e-3
+    m1, k1, k2, big_k = big_m - m2, TWO["train_stiffness_n_per_mm"], TWO["follower_stiffness_n_per_mm"], 2.0
+    b = m1 * (k2 + big_k) + m2 * (k1 + k2)
+    root = math.sqrt(b * b - 4.0 * m1 * m2 * ((k1 + k2) * (k2 + big_k) - k2 * k2))
+    modes = [math.sqrt((b + sign * root) / (2.0 * m1 * m2)) / TWO_PI for sign in (-1.0, 1.0)]
+    assert f"natural frequencies {modes[0]:.4g} Hz = harmonic {modes[0] / 5.0:.4g}" in html
+    assert f"and {modes[1]:.4g} Hz = harmonic {modes[1] / 5.0:.4g}" in html
+    assert "two-mass compliant follower train" in html and "tool mass" in html and "cam-side mass" in html
+    figures = json.loads(done.files["report.json"])["cams"]["c"]["figures"]["dynamics"]["compliant"]
+    assert figures["natural_frequencies_Hz"] == pytest.approx(modes, rel=1e-9)

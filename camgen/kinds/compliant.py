@@ -172,8 +172,15 @@ def compliant_checks(result: "CompliantResult", compliance: "TrainCompliance", j
     i = int(np.argmin(force))
     bad = force < jump_margin
     where = run_ends(bad, theta) if bad.any() else where_degrees(theta[i])
-    note = (f"compliant train (natural frequency {result.natural_frequency:.6g} Hz = {result.natural_frequency / result.turn_frequency:.4g} "
-            f"x the turn, damping ratio {result.damping_ratio:.4g}): smallest dynamic contact force {force[i]:.6g} N at cam angle "
+    modes = getattr(result, "natural_frequencies", None)  # a two-mass train (camgen.compliant_two.TwoDegreeResult)
+    if modes is not None:
+        train = (f"two-mass compliant train (natural frequencies {modes[0]:.6g} and {modes[1]:.6g} Hz = "
+                 f"{modes[0] / result.turn_frequency:.4g} and {modes[1] / result.turn_frequency:.4g} x the turn, damping ratios "
+                 f"{result.damping_ratios[0]:.4g} and {result.damping_ratios[1]:.4g})")
+    else:
+        train = (f"compliant train (natural frequency {result.natural_frequency:.6g} Hz = "
+                 f"{result.natural_frequency / result.turn_frequency:.4g} x the turn, damping ratio {result.damping_ratio:.4g})")
+    note = (f"{train}: smallest dynamic contact force {force[i]:.6g} N at cam angle "
             f"{math.degrees(theta[i]):.6g} deg against a margin of {jump_margin:g} N (rigid train: {np.min(result.rigid_force):.6g} N); "
             f"peak dynamic force {np.max(force):.6g} N, {result.amplification:.4g} x the rigid peak")
     if result.jump_ranges_deg:
@@ -185,9 +192,11 @@ def compliant_checks(result: "CompliantResult", compliance: "TrainCompliance", j
                                   "after a rise or return is defined"))
         return checks
     j = int(np.argmax(result.residual))
-    note = (f"free vibration amplitude at the start of each dwell after a rise or return (listed cam angles; largest "
+    note = (("the tool mass's " if modes is not None else "") +
+            f"free vibration amplitude at the start of each dwell after a rise or return (listed cam angles; largest "
             f"{result.residual[j]:.6g} mm at {math.degrees(theta[starts[j]]):.6g} deg), about the dwell's static deflection; "
-            f"it decays with damping ratio {result.damping_ratio:.4g}")
+            + ("the sum of both modes' amplitudes at the tool" if modes is not None else
+               f"it decays with damping ratio {result.damping_ratio:.4g}"))
     limit = compliance.residual_limit
     if limit is None:
         checks.append(information("residual_vibration", result.residual_peak, "mm", where_degrees(theta[starts]),
