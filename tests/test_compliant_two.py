@@ -230,6 +230,10 @@ REFUSED = {
     "spring place without two masses": (plate(train_stiffness_n_per_mm=100.0, return_spring_on="tool"),
                                         "cams.c.return_spring_on", "follower_stiffness_n_per_mm"),
     "spring place unknown": (plate(**TWO, return_spring_on="roller"), "cams.c.return_spring_on", '"cam_side"'),
+    "two masses on an arm": (plate(follower_motion="oscillating", pivot_x_mm=120.0, pivot_y_mm=0.0, arm_length_mm=100.0,
+                                   mass_kg=None, inertia_kg_m2=0.01, spring_rate_n_per_mm=None, spring_preload_n=None,
+                                   train_stiffness_n_mm_per_rad=1e7, follower_stiffness_n_per_mm=500.0),
+                             "cams.c.follower_stiffness_n_per_mm", "translating"),
 }
 
 
