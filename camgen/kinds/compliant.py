@@ -174,9 +174,10 @@ def compliant_checks(result: "CompliantResult", compliance: "TrainCompliance", j
     where = run_ends(bad, theta) if bad.any() else where_degrees(theta[i])
     modes = getattr(result, "natural_frequencies", None)  # a two-mass train (camgen.compliant_two.TwoDegreeResult)
     if modes is not None:
+        zetas = getattr(result, "damping_ratios")
         train = (f"two-mass compliant train (natural frequencies {modes[0]:.6g} and {modes[1]:.6g} Hz = "
                  f"{modes[0] / result.turn_frequency:.4g} and {modes[1] / result.turn_frequency:.4g} x the turn, damping ratios "
-                 f"{result.damping_ratios[0]:.4g} and {result.damping_ratios[1]:.4g})")
+                 f"{zetas[0]:.4g} and {zetas[1]:.4g})")
     else:
         train = (f"compliant train (natural frequency {result.natural_frequency:.6g} Hz = "
                  f"{result.natural_frequency / result.turn_frequency:.4g} x the turn, damping ratio {result.damping_ratio:.4g})")

@@ -155,6 +155,7 @@ def compliant_section(Figure: FigureMaker, res: "CompliantCurves", rpm: float) -
                f"({np.max(res.contact_force) / np.max(res.rigid_force):.4g} x rigid), least {np.min(res.contact_force):.4g} N",
                font_size=8)
     two = res.natural_frequencies is not None  # a two-mass train: the tool's error, the cam side's beside it
+    modes: tuple[float, ...] = res.natural_frequencies if res.natural_frequencies is not None else (res.natural_frequency,)
     if two and res.cam_side_error is not None:
         ax_e.plot(deg, res.cam_side_error[keep], color="#737373", width=0.8, label="cam-side mass")
     ax_e.plot(deg, res.error[keep], color="tab:purple", width=1, label="tool mass" if two else None)
@@ -167,7 +168,6 @@ def compliant_section(Figure: FigureMaker, res: "CompliantCurves", rpm: float) -
     harmonic = np.arange(1, res.spectrum.size + 1)
     for n, amplitude in zip(harmonic, res.spectrum):
         ax_s.plot([n, n], [0.0, amplitude], color="tab:blue", width=1.2)
-    modes = res.natural_frequencies if two else (res.natural_frequency,)
     ratios = [f / res.turn_frequency for f in modes]
     for ratio in ratios:
         if ratio <= harmonic[-1] + 1:
@@ -190,7 +190,7 @@ def compliant_section(Figure: FigureMaker, res: "CompliantCurves", rpm: float) -
     ax_r.xlabel("cam angle (deg)", font_size=8)
     ax_r.ylabel("residual amplitude (mm)", font_size=8)
     if two:
-        fig.suptitle(f"two-mass compliant follower train: natural frequencies {modes[0]:.5g} and {modes[1]:.5g} Hz", font_size=9)
+        fig.suptitle(f"two-mass compliant follower train: natural frequencies {modes[0]:.5g} and {modes[-1]:.5g} Hz", font_size=9)
         model = ("two degrees of freedom: the train's stiffness between the cam contact and the cam-side mass, the "
                  "follower's own stiffness between it and the tool mass, a damper across each, Koster 1974")
     else:
