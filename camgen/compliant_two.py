@@ -29,7 +29,7 @@ with ``Km = [[k1 + k2 + e1 K, -k2], [-k2, k2 + e2 K]]``, ``Cm`` the same in ``c1
 The periodic state is found as the one-degree model's (exact for the linear model): the law
 between samples its quintic Hermite interpolant, each step by the matrix exponential of the
 4-state matrix augmented by the forcing's derivative chain (Van Loan 1978), the recursion
-summed by :func:`camgen.compliant._scan`, the turn closed by ``(I - Phi^N) z0 = S_N``.
+summed by :func:`camgen.compliant.prefix_scan`, the turn closed by ``(I - Phi^N) z0 = S_N``.
 """
 from __future__ import annotations
 
@@ -39,8 +39,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from camgen.compliant import (RESONANCE_TOL, SAME_ANGLE, TWO_PI, CompliantResult, _omega, _scan, acceleration_spectrum,
-                              contact_projection, dwell_starts, quintic_chain, spectrum_harmonics)
+from camgen.compliant import (RESONANCE_TOL, SAME_ANGLE, TWO_PI, CompliantResult, acceleration_spectrum, angular_speed,
+                              contact_projection, dwell_starts, prefix_scan, quintic_chain,
+                              spectrum_harmonics)
 from camgen.errors import GeometryError, ParameterError, require_finite
 
 if TYPE_CHECKING:
@@ -184,7 +185,7 @@ def two_degree_states(kin: "Kinematics", train: "FollowerTrain", compliance: "Tr
     Raises :class:`GeometryError` when the undamped train is resonant with the turn."""
     theta = kin.theta
     n = theta.size
-    omega = _omega(rpm)
+    omega = angular_speed(rpm)
     steps = np.diff(np.append(theta, theta[0] + TWO_PI))
     moving = steps > SAME_ANGLE * float(np.max(steps))
     dt = np.where(moving, steps, 1.0) / omega
@@ -202,7 +203,7 @@ def two_degree_states(kin: "Kinematics", train: "FollowerTrain", compliance: "Tr
         e = expm(augmented_matrix(system)[None, :, :] * lengths[:, None, None])[which]
         phi[moving] = e[:, :4, :4]
         g[moving] = np.einsum("nij,nj->ni", e[:, :4, 4:], chain[moving])
-    prod, acc = _scan(phi, g)
+    prod, acc = prefix_scan(phi, g)
     if z0 is None:
         closing = np.eye(4) - prod[-1]
         if abs(np.linalg.det(closing)) < RESONANCE_TOL:
@@ -269,7 +270,7 @@ def two_degree_response(kin: "Kinematics", train: "FollowerTrain", compliance: "
 
     z, _ = two_degree_states(kin, train, compliance, rpm)
     system = two_mass_train(train, compliance)
-    omega = _omega(rpm)
+    omega = angular_speed(rpm)
     projection = contact_projection(kin, train)
     force = -(system.k1 * z[:, 0] + system.c1 * z[:, 2]) / projection
     a, b, c = dy.force_coefficients(kin, train)

@@ -24,7 +24,7 @@ import pytest
 from camgen import dynamics as dy
 from camgen.cli import main
 from camgen.compliant import TrainCompliance, compliant_response
-from camgen.compliant_two import FollowerCompliance, two_degree_states
+from camgen.compliant_two import FollowerCompliance, two_degree_response, two_degree_states
 from helpers import scene_toml
 from test_compliant import DWELL_START, LIFT, RISE, RETURN, kinematics, law
 
@@ -97,7 +97,7 @@ def test_the_periodic_state_comes_back_to_itself_under_dop853(spring_at):
         assert np.max(np.abs((x[i] - kin.s) - z[:, i])) <= 1e-6 * scale
         assert abs(end[i] - start[i]) <= 1e-6 * scale
         assert abs(end[2 + i] - start[2 + i]) <= 1e-6 * float(np.max(np.abs(z[:, 2 + i])))
-    res = compliant_response(kin, TRAIN, compliance(k1, k2, zeta, spring_at), rpm)
+    res = two_degree_response(kin, TRAIN, compliance(k1, k2, zeta, spring_at), rpm)
     c1 = 2.0 * zeta * math.sqrt((k1 + TRAIN.spring_rate) * TRAIN.mass * 1e-3)
     expected = k1 * (kin.s - x[0]) + c1 * (omega * kin.ds - x[2])  # the contact spring and damper
     assert np.max(np.abs(res.contact_force - expected)) <= 1e-6 * float(np.max(np.abs(expected)))
@@ -111,7 +111,7 @@ def test_a_stiff_follower_is_the_one_degree_train_of_both_masses():
     kin = kinematics()
     rpm, k1, zeta = 60.0, 30.0, 0.05
     one = compliant_response(kin, TRAIN, TrainCompliance(k1, zeta), rpm)
-    two = compliant_response(kin, TRAIN, compliance(k1, 1e9, zeta), rpm)
+    two = two_degree_response(kin, TRAIN, compliance(k1, 1e9, zeta), rpm)
     assert np.max(np.abs(two.contact_force - one.contact_force)) <= 1e-6 * float(np.max(np.abs(one.contact_force)))
     assert np.max(np.abs(two.error - one.error)) <= 1e-6 * float(np.max(np.abs(one.error)))
     assert two.natural_frequency == pytest.approx(one.natural_frequency, rel=1e-6)
@@ -129,7 +129,7 @@ def test_the_two_natural_frequencies_are_the_closed_form_of_the_2x2_eigenproblem
     det = k11 * k22 - k2 * k2
     root = math.sqrt(b * b - 4.0 * m1 * m2 * det)
     expected = [math.sqrt((b - root) / (2.0 * m1 * m2)) / TWO_PI, math.sqrt((b + root) / (2.0 * m1 * m2)) / TWO_PI]
-    res = compliant_response(kinematics(), TRAIN, compliance(k1, k2, 0.05, spring_at), 60.0)
+    res = two_degree_response(kinematics(), TRAIN, compliance(k1, k2, 0.05, spring_at), 60.0)
     assert list(res.natural_frequencies) == pytest.approx(expected, rel=1e-9)
     figures = res.figures()
     assert figures["natural_frequencies_Hz"] == pytest.approx(expected, rel=1e-9)
@@ -144,7 +144,7 @@ def test_the_tools_residual_vibration_is_the_free_vibration_dop853_finds_in_the_
     train = dy.FollowerTrain(mass=0.5, spring_rate=2.0, preload=30.0, gravity=0.0)
     kin = kinematics()
     rpm, k1, k2 = 60.0, 30.0, 80.0
-    res = compliant_response(kin, train, compliance(k1, k2, 0.0), rpm)
+    res = two_degree_response(kin, train, compliance(k1, k2, 0.0), rpm)
     z, _ = two_degree_states(kin, train, compliance(k1, k2, 0.0), rpm)
     i = int(res.dwell_start[0])
     assert math.isclose(math.degrees(kin.theta[i]), 90.0)

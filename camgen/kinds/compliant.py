@@ -152,8 +152,11 @@ def run_compliant(kin: "Kinematics", train: "FollowerTrain", compliance: "TrainC
 
     from dataclasses import replace
 
+    respond = compliant_response
+    if compliance.follower is not None:  # two masses: the follower's own stiffness between them (camgen/compliant_two.py)
+        from camgen.compliant_two import two_degree_response as respond
     try:
-        result = replace(compliant_response(kin, train, compliance, rpm), residual_limit=compliance.residual_limit)
+        result = replace(respond(kin, train, compliance, rpm), residual_limit=compliance.residual_limit)
     except GeometryError as exc:
         return None, [information("dynamic_jump", "not computed", "", [], str(exc))], {}
     figures = {"train_stiffness_" + ("N_per_mm" if train.motion == "translating" else "Nmm_per_rad"): compliance.stiffness,
