@@ -271,3 +271,26 @@ def test_the_report_marks_both_natural_frequencies_and_plots_both_masses():
     assert "two-mass compliant follower train" in html and "tool mass" in html and "cam-side mass" in html
     figures = json.loads(done.files["report.json"])["cams"]["c"]["figures"]["dynamics"]["compliant"]
     assert figures["natural_frequencies_Hz"] == pytest.approx(modes, rel=1e-9)
+
+
+def test_the_mode_damping_ratios_are_the_roots_of_the_characteristic_quartic():
+    """det(M s^2 + C s + K) = 0 expanded by hand into a quartic in s (the damper across each
+    spring, the follower's own damping with the spring on the tool); each complex pair of roots
+    s = -zeta w +- i w sqrt(1 - zeta^2) gives zeta = -Re s / |s|, ascending in |s|."""
+    k1, k2, zeta, big_k = 30.0, 80.0, 0.08, TRAIN.spring_rate
+    big_m = TRAIN.mass * 1e-3
+    m2 = TOOL_MASS * 1e-3
+    m1 = big_m - m2
+    c1 = 2.0 * zeta * math.sqrt((k1 + big_k) * big_m)
+    c2 = 2.0 * zeta * math.sqrt(k2 * m1 * m2 / big_m)
+    c_f = TRAIN.damping * 1e-3
+    p11 = [m1, c1 + c2, k1 + k2]
+    p22 = [m2, c2 + c_f, k2 + big_k]
+    p12 = [-c2, -k2]
+    quartic = np.polysub(np.polymul(p11, p22), np.polymul(p12, p12))
+    roots = np.roots(quartic)
+    upper = sorted((r for r in roots if r.imag > 0), key=abs)
+    expected = [-r.real / abs(r) for r in upper]
+    res = two_degree_response(kinematics(), TRAIN, compliance(k1, k2, zeta), 60.0)
+    assert list(res.damping_ratios) == pytest.approx(expected, rel=1e-9)
+    assert res.damping_ratio == pytest.approx(expected[0], rel=1e-9)
