@@ -48,7 +48,7 @@ if TYPE_CHECKING:
     from camgen.dynamics import FollowerTrain, Kinematics
 
 __all__ = ["CompliantResult", "TrainCompliance", "SAME_ANGLE", "DWELL_TOL", "RESONANCE_TOL", "acceleration_spectrum",
-           "compliant_response", "dwell_starts", "response_from", "spectrum_harmonics", "step_matrices"]
+           "angular_speed", "compliant_response", "prefix_scan", "dwell_starts", "response_from", "spectrum_harmonics", "step_matrices"]
 
 TWO_PI = 2.0 * math.pi
 #: Two samples closer than this fraction of the longest step are one cam angle (a break's two sides).
@@ -69,11 +69,14 @@ SPECTRUM_CHUNK = 1 << 22
 class TrainCompliance:
     """The train's elasticity: ``stiffness`` between the cam contact and the follower's mass
     (translating N/mm; oscillating N*mm/rad about the pivot), ``damping_ratio`` of its mode
-    (0 <= zeta < 1), ``residual_limit`` mm (at the roller for an arm; None: information)."""
+    (0 <= zeta < 1), ``residual_limit`` mm (at the roller for an arm; None: information);
+    ``follower``: the follower's own stiffness and tool mass of a two-mass train
+    (:class:`camgen.compliant_two.FollowerCompliance`; None: one degree of freedom)."""
 
     stiffness: float
     damping_ratio: float = 0.0
     residual_limit: float | None = None
+    follower: Any = None
 
     def __post_init__(self) -> None:
         if not require_finite("train_stiffness", self.stiffness) > 0:
@@ -127,7 +130,7 @@ def oscillator(train: "FollowerTrain", compliance: TrainCompliance) -> Oscillato
     return Oscillator(m, k, float(train.spring_rate), c, c_follower)
 
 
-def _omega(rpm: float) -> float:
+def angular_speed(rpm: float) -> float:
     """rad/s of ``rpm`` (> 0)."""
     from camgen.dynamics import RPM_TO_RAD_PER_S
 
@@ -191,7 +194,7 @@ def quintic_chain(y: np.ndarray, v: np.ndarray, a: np.ndarray, dt: np.ndarray | 
     return np.stack([y, v, a, 6.0 * c3, 24.0 * c4, 120.0 * c5], axis=1)
 
 
-def _scan(phi: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def prefix_scan(phi: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The recursion ``z[i+1] = Phi[i] z[i] + g[i]`` summed for every step at once: returns
     ``(P, G)`` with ``P[i] = Phi[i] ... Phi[0]`` and ``G[i]`` the state after step ``i`` from
     ``z[0] = 0`` (so ``z[i+1] = P[i] z[0] + G[i]``).  Hillis-Steele prefix scan of the
@@ -219,7 +222,7 @@ def response_from(kin: "Kinematics", train: "FollowerTrain", compliance: TrainCo
 
     theta = kin.theta
     n = theta.size
-    omega = _omega(rpm)
+    omega = angular_speed(rpm)
     steps = np.diff(np.append(theta, theta[0] + TWO_PI))
     moving = steps > SAME_ANGLE * float(np.max(steps))
     dt = np.where(moving, steps, 1.0) / omega
@@ -234,7 +237,7 @@ def response_from(kin: "Kinematics", train: "FollowerTrain", compliance: TrainCo
         phi_m, gamma_m = step_matrices(osc, dt[moving])
         phi[moving] = phi_m
         g[moving] = np.einsum("nij,nj->ni", gamma_m, chain[moving])
-    prod, acc = _scan(phi, g)
+    prod, acc = prefix_scan(phi, g)
     if z0 is None:
         system = np.eye(2) - prod[-1]
         if abs(np.linalg.det(system)) < RESONANCE_TOL:
@@ -264,7 +267,7 @@ def acceleration_spectrum(kin: "Kinematics", rpm: float, harmonics: int) -> np.n
     harmonics n = 0 .. ``harmonics`` of the turn (translating mm/s^2, an arm rad/s^2): the
     Fourier integrals of the piecewise-linear interpolant of the samples (any spacing; on a
     uniform grid the FFT's coefficients up to the linear interpolant's sinc factor)."""
-    omega = _omega(rpm)
+    omega = angular_speed(rpm)
     theta = np.append(kin.theta, kin.theta[0] + TWO_PI)
     acc = omega**2 * np.append(kin.d2s, kin.d2s[0])
     n = np.arange(1, harmonics + 1)[:, None]
@@ -381,7 +384,7 @@ def compliant_response(kin: "Kinematics", train: "FollowerTrain", compliance: Tr
 
     r, r_dot, _ = response_from(kin, train, compliance, rpm)
     osc = oscillator(train, compliance)
-    omega = _omega(rpm)
+    omega = angular_speed(rpm)
     projection = contact_projection(kin, train)
     force = -(osc.k * r + osc.c * r_dot) / projection
     a, b, c = dy.force_coefficients(kin, train)

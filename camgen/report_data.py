@@ -237,7 +237,9 @@ def _compliant(outcome: Any) -> "CompliantCurves | None":
         error=_array(res.error), error_unit="mm" if translating else "rad", spectrum=_array(res.harmonics() * scale),
         spectrum_unit="m/s^2" if translating else "rad/s^2", natural_frequency=res.natural_frequency,
         turn_frequency=res.turn_frequency, damping_ratio=res.damping_ratio, dwell_theta=_array(res.theta[res.dwell_start]),
-        residual=_array(res.residual), residual_limit=res.residual_limit)
+        residual=_array(res.residual), residual_limit=res.residual_limit,
+        natural_frequencies=getattr(res, "natural_frequencies", None),  # a two-mass train (camgen.compliant_two)
+        cam_side_error=None if getattr(res, "cam_side_error", None) is None else _array(res.cam_side_error))
 
 
 def _friction(outcome: Any) -> "FrictionCurves | None":

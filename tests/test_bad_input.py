@@ -776,6 +776,10 @@ def _edge_scene(where: str, kind: str | None, key: Key, value: float) -> tuple[d
                 cam.update(spring_rate_n_per_mm=1.0, spring_free_length_mm=value, spring_installed_length_mm=value)
             if name in ("damping_ratio", "residual_vibration_limit_mm"):  # the compliant train's: with its stiffness
                 cam["train_stiffness_n_mm_per_rad" if oscillating else "train_stiffness_n_per_mm"] = 1e3
+            if name in ("follower_stiffness_n_per_mm", "tool_mass_kg", "return_spring_on"):  # the two-mass train's: together
+                valid = name == "tool_mass_kg" and isinstance(value, (int, float)) and 0.1 < value <= 1e4  # its edges' mass
+                tool = value if valid else 0.1
+                cam.update(follower_stiffness_n_per_mm=1e3, tool_mass_kg=tool, train_stiffness_n_per_mm=1e3, mass_kg=2.0 * tool + 0.5)
             # FATIGUE (issue 25 items 3, 4): the friction and life keys given with the keys they need
             fatigue = {"guide_length_mm": {"guide_overhang_mm": 20.0}, "guide_overhang_mm": {"guide_length_mm": 40.0},
                        "guide_friction": {"guide_length_mm": 40.0, "guide_overhang_mm": 20.0},

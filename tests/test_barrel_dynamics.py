@@ -339,12 +339,13 @@ REFUSED = {"spring_rate_n_per_mm", "spring_preload_n", "spring_free_length_mm", 
            "spring_rate_n_mm_per_rad", "spring_preload_n_mm", "jump_margin_n"}
 #: the compliant train's and the friction and life keys (issue 25): not modelled for a form-closed train, refused
 NOT_MODELLED = {"train_stiffness_n_per_mm": 1e3, "damping_ratio": 0.1, "residual_vibration_limit_mm": 0.01, "guide_length_mm": 40.0,
-                "roller_pin_friction": 0.1, "roller_dynamic_load_rating_n": 8000.0, "case_depth_factor": 2.0}
+                "roller_pin_friction": 0.1, "roller_dynamic_load_rating_n": 8000.0, "case_depth_factor": 2.0,
+                "follower_stiffness_n_per_mm": 1e3, "tool_mass_kg": 0.1, "return_spring_on": "tool"}
 FORM_CLOSED_REFUSED = {"train_stiffness_n_mm_per_rad", "train_stiffness_n_per_mm", "damping_ratio", "residual_vibration_limit_mm",
                        "case_depth_factor", "contact_design_cycles", "contact_friction", "guide_friction", "guide_length_mm",
                        "guide_overhang_mm", "min_bearing_life_h", "roller_bearing", "roller_dynamic_load_rating_n",
                        "roller_inertia_kg_mm2", "roller_pin_friction", "roller_pin_radius_mm", "sn_cycles", "sn_exponent",
-                       "sn_stress_mpa"}
+                       "sn_stress_mpa", "follower_stiffness_n_per_mm", "tool_mass_kg", "return_spring_on"}
 
 
 @pytest.mark.parametrize("key", sorted(NOT_MODELLED))

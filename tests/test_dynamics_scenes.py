@@ -753,6 +753,14 @@ DISK_WALK = {
     "damping_ratio": (plate(train_stiffness_n_per_mm=500.0), plate(train_stiffness_n_per_mm=500.0, damping_ratio=0.1)),
     "residual_vibration_limit_mm": (plate(train_stiffness_n_per_mm=500.0),
                                     plate(train_stiffness_n_per_mm=500.0, residual_vibration_limit_mm=0.05)),
+    # the two-mass train (camgen/compliant_two.py): its keys given together
+    "follower_stiffness_n_per_mm": (plate(train_stiffness_n_per_mm=500.0, follower_stiffness_n_per_mm=800.0, tool_mass_kg=0.1),
+                                    plate(train_stiffness_n_per_mm=500.0, follower_stiffness_n_per_mm=900.0, tool_mass_kg=0.1)),
+    "tool_mass_kg": (plate(train_stiffness_n_per_mm=500.0, follower_stiffness_n_per_mm=800.0, tool_mass_kg=0.1),
+                     plate(train_stiffness_n_per_mm=500.0, follower_stiffness_n_per_mm=800.0, tool_mass_kg=0.15)),
+    "return_spring_on": (plate(train_stiffness_n_per_mm=500.0, follower_stiffness_n_per_mm=800.0, tool_mass_kg=0.1),
+                         plate(train_stiffness_n_per_mm=500.0, follower_stiffness_n_per_mm=800.0, tool_mass_kg=0.1,
+                               return_spring_on="cam_side")),
 }
 # FATIGUE (issue 25 items 3, 4): the friction and life keys (camgen/kinds/dynamics.py friction_life_keys)
 _GUIDE = {"guide_length_mm": 40.0, "guide_overhang_mm": 20.0}

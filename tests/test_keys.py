@@ -114,6 +114,14 @@ DYNAMICS_WALK = {
     "train_stiffness_n_per_mm": (FLAT_DYNAMICS, {"train_stiffness_n_per_mm": 500.0}),
     "damping_ratio": ({**FLAT_DYNAMICS, "train_stiffness_n_per_mm": 500.0}, {"damping_ratio": 0.1}),
     "residual_vibration_limit_mm": ({**FLAT_DYNAMICS, "train_stiffness_n_per_mm": 500.0}, {"residual_vibration_limit_mm": 0.05}),
+    # the two-mass train (follower stiffness and tool mass given together)
+    "follower_stiffness_n_per_mm": ({**FLAT_DYNAMICS, "train_stiffness_n_per_mm": 500.0, "follower_stiffness_n_per_mm": 500.0,
+                                     "tool_mass_kg": 5.0},
+                                    {"follower_stiffness_n_per_mm": 800.0}),
+    "tool_mass_kg": ({**FLAT_DYNAMICS, "train_stiffness_n_per_mm": 500.0, "follower_stiffness_n_per_mm": 800.0, "tool_mass_kg": 5.0},
+                     {"tool_mass_kg": 6.0}),
+    "return_spring_on": ({**FLAT_DYNAMICS, "train_stiffness_n_per_mm": 500.0, "follower_stiffness_n_per_mm": 800.0, "tool_mass_kg": 5.0},
+                         {"return_spring_on": "cam_side"}),
 }
 
 #: key -> (changes to the base, changes for the altered run), where a generic change does not fit

@@ -155,21 +155,29 @@ def compliant_section(Figure: FigureMaker, res: "CompliantCurves", rpm: float) -
     ax_f.title(f"dynamic contact force at {rpm:g} rpm: peak {np.max(res.contact_force):.4g} N "
                f"({np.max(res.contact_force) / np.max(res.rigid_force):.4g} x rigid), least {np.min(res.contact_force):.4g} N",
                font_size=8)
-    ax_e.plot(deg, res.error[keep], color="tab:purple", width=1)
+    two = res.natural_frequencies is not None  # a two-mass train: the tool's error, the cam side's beside it
+    modes: tuple[float, ...] = res.natural_frequencies if res.natural_frequencies is not None else (res.natural_frequency,)
+    if two and res.cam_side_error is not None:
+        ax_e.plot(deg, res.cam_side_error[keep], color="#737373", width=0.8, label="cam-side mass")
+    ax_e.plot(deg, res.error[keep], color="tab:purple", width=1, label="tool mass" if two else None)
+    if two:
+        ax_e.legend(font_size=7)
     ax_e.hline(0.0, color="#737373", width=0.6)
     ax_e.xlabel("cam angle (deg)", font_size=8)
-    ax_e.ylabel(f"follower - cam ({res.error_unit})", font_size=8)
+    ax_e.ylabel(f"{'tool' if two else 'follower'} - cam ({res.error_unit})", font_size=8)
     ax_e.title("dynamic displacement error x - y (the train's deflection and vibration)", font_size=8)
     harmonic = np.arange(1, res.spectrum.size + 1)
     for n, amplitude in zip(harmonic, res.spectrum):
         ax_s.plot([n, n], [0.0, amplitude], color="tab:blue", width=1.2)
-    ratio = res.natural_frequency / res.turn_frequency
-    if ratio <= harmonic[-1] + 1:
-        ax_s.vline(ratio, color="tab:red", dash="--", width=0.8)
+    ratios = [f / res.turn_frequency for f in modes]
+    for ratio in ratios:
+        if ratio <= harmonic[-1] + 1:
+            ax_s.vline(ratio, color="tab:red", dash="--", width=0.8)
     ax_s.xlabel(f"harmonic of the turn ({res.turn_frequency:.4g} Hz each)", font_size=8)
     ax_s.ylabel(f"acceleration amplitude ({res.spectrum_unit})", font_size=8)
-    ax_s.title(f"the law's acceleration spectrum; natural frequency {res.natural_frequency:.4g} Hz = harmonic {ratio:.4g} "
-               + ("(dashed)" if ratio <= harmonic[-1] + 1 else "(beyond the plot)"), font_size=8)
+    ax_s.title(("the law's acceleration spectrum; natural frequenc" + ("ies " if two else "y ")) + " and ".join(
+        f"{f:.4g} Hz = harmonic {ratio:.4g} " + ("(dashed)" if ratio <= harmonic[-1] + 1 else "(beyond the plot)")
+        for f, ratio in zip(modes, ratios)), font_size=8)
     if res.residual.size:
         ax_r.plot(np.degrees(res.dwell_theta), res.residual, color="tab:blue", marker="o", dash="none")
         if res.residual_limit is not None:
@@ -182,10 +190,16 @@ def compliant_section(Figure: FigureMaker, res: "CompliantCurves", rpm: float) -
         ax_r.text(0.5, 0.5, "no dwell: no residual vibration after a rise or return", anchor="middle", coords="axes")
     ax_r.xlabel("cam angle (deg)", font_size=8)
     ax_r.ylabel("residual amplitude (mm)", font_size=8)
-    fig.suptitle(f"compliant follower train: natural frequency {res.natural_frequency:.5g} Hz, damping ratio "
-                 f"{res.damping_ratio:.4g}", font_size=9)
-    return (f"<div class='fig'>{fig.to_svg()}</div><p class='note'>Compliant follower train (one degree of freedom: the "
-            "train's stiffness and damping between the cam contact and the follower's mass, Koster 1974): its periodic steady "
+    if two:
+        fig.suptitle(f"two-mass compliant follower train: natural frequencies {modes[0]:.5g} and {modes[-1]:.5g} Hz", font_size=9)
+        model = ("two degrees of freedom: the train's stiffness between the cam contact and the cam-side mass, the "
+                 "follower's own stiffness between it and the tool mass, a damper across each, Koster 1974")
+    else:
+        fig.suptitle(f"compliant follower train: natural frequency {res.natural_frequency:.5g} Hz, damping ratio "
+                     f"{res.damping_ratio:.4g}", font_size=9)
+        model = ("one degree of freedom: the train's stiffness and damping between the cam contact and the follower's mass, "
+                 "Koster 1974")
+    return (f"<div class='fig'>{fig.to_svg()}</div><p class='note'>Compliant follower train ({model}): its periodic steady "
             "state over a turn, solved exactly for the linear model; where the dynamic contact force would fall below 0 the "
             "follower leaves the cam.</p>")
 # ---- end compliant -------------------------------------------------------------------------

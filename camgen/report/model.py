@@ -283,6 +283,8 @@ class CompliantCurves:
     dwell_theta: FloatArray
     residual: FloatArray
     residual_limit: float | None
+    natural_frequencies: tuple[float, float] | None = None  # a two-mass train's modes (Hz); then error is the tool's
+    cam_side_error: FloatArray | None = None  # a two-mass train's cam-side mass error (mm)
 # ---- end compliant -------------------------------------------------------------------------
 
 
