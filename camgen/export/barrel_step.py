@@ -27,9 +27,7 @@ Writing, units, schema and the fixed header (time stamp, names) are
 """
 from __future__ import annotations
 
-import io
 import math
-import os
 import re
 from typing import TYPE_CHECKING, Any
 
@@ -263,8 +261,7 @@ def barrel_step_bytes(groove: Any, name: str = "cam") -> bytes:
     """STEP file content of the barrel cam of ``groove`` (module notes): walls within
     ``groove.fit_tol`` mm of the exact ones, stated in the header."""
     _ocp()
-    from OCP.Interface import Interface_Static
-    from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
+    from camgen.export.step import step_text
 
     tol = float(groove.fit_tol)
     try:
@@ -275,22 +272,7 @@ def barrel_step_bytes(groove: Any, name: str = "cam") -> bytes:
         if not type(exc).__module__.startswith("OCP"):
             raise
         raise GeometryError(f"cam '{name}': OpenCASCADE cannot build the barrel's STEP solid ({type(exc).__name__}: {exc})") from None
-    Interface_Static.SetCVal_s("write.step.unit", "MM")
-    Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
-    writer = STEPControl_Writer()
-    stream = io.BytesIO()
-    saved = os.dup(1)  # OCCT prints transfer statistics on stdout: keep the CLI quiet
-    with open(os.devnull, "w") as devnull:
-        os.dup2(devnull.fileno(), 1)
-        try:
-            writer.Transfer(body, STEPControl_AsIs)
-            status = writer.WriteStream(stream)
-        finally:
-            os.dup2(saved, 1)
-            os.close(saved)
-    if int(status) != 1 or not stream.getvalue():  # IFSelect_RetDone
-        raise ExportError(f"cam '{name}': OpenCASCADE could not write the STEP file (status {status})")
-    text = stream.getvalue().decode("ascii", errors="replace")
+    text = step_text(body, name)
     what = f"camgen barrel cam {name}: B-spline groove walls within {tol!r} mm (axially) of the exact walls; cylinders and planes exact"
     text = re.sub(r"FILE_DESCRIPTION\(\('[^']*'\)", f"FILE_DESCRIPTION(('{what}')", text, count=1)
     text = re.sub(r"FILE_NAME\('[^']*','[^']*'", f"FILE_NAME('{name}.step','2000-01-01T00:00:00'", text, count=1)

@@ -42,7 +42,7 @@ import numpy as np
 from camgen.contour import Arc, Contour, Spline
 from camgen.errors import ExportError, GeometryError
 
-__all__ = ["EDGE_SPANS", "FOLD_TOL", "fold_short", "step_bytes", "step_volume"]
+__all__ = ["EDGE_SPANS", "FOLD_TOL", "fold_short", "step_bytes", "step_text", "step_volume"]
 
 #: Most knot spans of one B-spline edge (see the module notes: OCCT's volume integration).
 EDGE_SPANS = 64
@@ -267,6 +267,31 @@ def _solid(contour: Contour, body: Any, bspline_tol: float | None, edge_spans: i
     return solid
 
 
+def step_text(shape: Any, name: str) -> str:
+    """The STEP AP214 text (mm) of an OCCT ``shape``, written in memory (no file outside the
+    run's staging folder) with OCCT's transfer statistics kept off stdout; :class:`ExportError`
+    naming cam ``name`` when OCCT cannot write it."""
+    from OCP.Interface import Interface_Static
+    from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
+
+    Interface_Static.SetCVal_s("write.step.unit", "MM")
+    Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
+    writer = STEPControl_Writer()
+    stream = io.BytesIO()
+    saved = os.dup(1)  # OCCT prints transfer statistics on stdout: keep the CLI quiet
+    with open(os.devnull, "w") as devnull:
+        os.dup2(devnull.fileno(), 1)
+        try:
+            writer.Transfer(shape, STEPControl_AsIs)
+            status = writer.WriteStream(stream)
+        finally:
+            os.dup2(saved, 1)
+            os.close(saved)
+    if int(status) != 1 or not stream.getvalue():  # IFSelect_RetDone
+        raise ExportError(f"cam '{name}': OpenCASCADE could not write the STEP file (status {status})")
+    return stream.getvalue().decode("ascii", errors="replace")
+
+
 def step_bytes(contour: Contour, body: Any, name: str = "cam", bspline_tol: float | None = None, *, exact: bool = False,
                edge_spans: int | None = EDGE_SPANS, pockets: Sequence[Any] = ()) -> bytes:
     """STEP file content of the extruded cam body (``body``: :class:`camgen.export.solid.SolidSpec`).
@@ -289,8 +314,6 @@ def step_bytes(contour: Contour, body: Any, name: str = "cam", bspline_tol: floa
     if edge_spans is not None and (isinstance(edge_spans, bool) or not isinstance(edge_spans, int) or edge_spans < 1):
         raise ParameterError("edge_spans", edge_spans, "a whole number >= 1, or None")
     _ocp()
-    from OCP.Interface import Interface_Static
-    from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
 
     pockets = tuple(pockets)
     if pockets:
@@ -307,22 +330,7 @@ def step_bytes(contour: Contour, body: Any, name: str = "cam", bspline_tol: floa
         raise GeometryError(f"cam '{name}': OpenCASCADE cannot build the STEP solid ({type(exc).__name__}: {exc}); "
                             "check the profile for arcs or splines shorter than "
                             f"{FOLD_TOL:g} mm or nearly touching itself") from None
-    Interface_Static.SetCVal_s("write.step.unit", "MM")
-    Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
-    writer = STEPControl_Writer()
-    stream = io.BytesIO()  # in memory: no file outside the run's staging folder
-    saved = os.dup(1)  # OCCT prints transfer statistics on stdout: keep the CLI quiet
-    with open(os.devnull, "w") as devnull:
-        os.dup2(devnull.fileno(), 1)
-        try:
-            writer.Transfer(solid, STEPControl_AsIs)
-            status = writer.WriteStream(stream)
-        finally:
-            os.dup2(saved, 1)
-            os.close(saved)
-    if int(status) != 1 or not stream.getvalue():  # IFSelect_RetDone
-        raise ExportError(f"cam '{name}': OpenCASCADE could not write the STEP file (status {status})")
-    text = stream.getvalue().decode("ascii", errors="replace")
+    text = step_text(solid, name)
     # the tolerance of the spline edges in the header (FILE_DESCRIPTION)
     curves = [contour] + [wall.contour for pocket in pockets for wall in pocket.walls]
     splines = any(isinstance(seg, Spline) for curve in curves for seg in curve.segments)
