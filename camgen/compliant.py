@@ -48,7 +48,7 @@ if TYPE_CHECKING:
     from camgen.dynamics import FollowerTrain, Kinematics
 
 __all__ = ["CompliantResult", "TrainCompliance", "SAME_ANGLE", "DWELL_TOL", "RESONANCE_TOL", "acceleration_spectrum",
-           "angular_speed", "compliant_response", "prefix_scan", "dwell_starts", "response_from", "spectrum_harmonics", "step_matrices"]
+           "TWO_PI", "angular_speed", "contact_projection", "quintic_chain", "turn_steps", "compliant_response", "prefix_scan", "dwell_starts", "response_from", "spectrum_harmonics", "step_matrices"]
 
 TWO_PI = 2.0 * math.pi
 #: Two samples closer than this fraction of the longest step are one cam angle (a break's two sides).
@@ -139,6 +139,16 @@ def angular_speed(rpm: float) -> float:
     return float(rpm) * RPM_TO_RAD_PER_S
 
 
+
+def turn_steps(theta: np.ndarray, rpm: float) -> tuple[float, np.ndarray, np.ndarray]:
+    """The shaft's angular speed (rad/s) at ``rpm`` and the time steps (s) from each sample of
+    ``theta`` (rad, one turn) to the next: ``moving`` False where two samples share an angle (a
+    break sampled twice: the state carries over, its step is a placeholder 1 / omega)."""
+    omega = angular_speed(rpm)
+    steps = np.diff(np.append(theta, theta[0] + TWO_PI))
+    moving = steps > SAME_ANGLE * float(np.max(steps))
+    return omega, moving, np.where(moving, steps, 1.0) / omega
+
 def contact_projection(kin: "Kinematics", train: "FollowerTrain") -> np.ndarray:
     """The generalised force per newton along the contact normal, ``lever cos(phi)`` (as the
     rigid model: 1 translating, the arm or ``kin.lever`` for an oscillating follower)."""
@@ -222,10 +232,7 @@ def response_from(kin: "Kinematics", train: "FollowerTrain", compliance: TrainCo
 
     theta = kin.theta
     n = theta.size
-    omega = angular_speed(rpm)
-    steps = np.diff(np.append(theta, theta[0] + TWO_PI))
-    moving = steps > SAME_ANGLE * float(np.max(steps))
-    dt = np.where(moving, steps, 1.0) / omega
+    omega, moving, dt = turn_steps(theta, rpm)
     osc = oscillator(train, compliance)
     a_coef, _, _ = dy.force_coefficients(kin, train)
     f = train.spring_rate * kin.s - a_coef  # K q_min - P0 - L - G

@@ -39,7 +39,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from camgen.compliant import (RESONANCE_TOL, SAME_ANGLE, TWO_PI, CompliantResult, acceleration_spectrum, angular_speed,
+from camgen.compliant import (turn_steps, RESONANCE_TOL, TWO_PI, CompliantResult, acceleration_spectrum, angular_speed,
                               contact_projection, dwell_starts, prefix_scan, quintic_chain,
                               spectrum_harmonics)
 from camgen.errors import GeometryError, ParameterError, require_finite
@@ -185,10 +185,7 @@ def two_degree_states(kin: "Kinematics", train: "FollowerTrain", compliance: "Tr
     Raises :class:`GeometryError` when the undamped train is resonant with the turn."""
     theta = kin.theta
     n = theta.size
-    omega = angular_speed(rpm)
-    steps = np.diff(np.append(theta, theta[0] + TWO_PI))
-    moving = steps > SAME_ANGLE * float(np.max(steps))
-    dt = np.where(moving, steps, 1.0) / omega
+    omega, moving, dt = turn_steps(theta, rpm)
     system = two_mass_train(train, compliance)
     f = _loads(kin, train, system)
     slope = (np.roll(f, -1, axis=0) - f) / dt[:, None]
