@@ -93,6 +93,35 @@ def test_combined_torque_is_the_sum_of_each_cam_alone_shifted_by_its_phase():
     assert report["power_peak_W"] == pytest.approx(scale * omega, rel=1e-9)
 
 
+def test_a_cams_friction_torque_is_in_the_machines_torque():
+    """With friction keys on the knife (a guide and a roller pin), the machine sums the knife's
+    camshaft torque with friction (its own run's, tests/test_friction.py checks it) and the
+    others' frictionless torques, each at its phase, and names the knife among the cams with
+    friction; without the friction the sum is lower by the knife's friction torque."""
+    from scipy.interpolate import interp1d
+
+    scene = template()
+    scene["cams"]["knife"].update(guide_length_mm=40.0, guide_overhang_mm=20.0, roller_pin_radius_mm=3.0)
+    report = machine_report(scene)
+    assert report["cams_with_friction"] == ["knife"]
+    phi = np.radians(np.asarray(report["curves"]["machine_angle_deg"]))
+    expected = np.zeros_like(phi)
+    for entry in scene["mechanisms"]["machine"]["cams"]:
+        single = {"output": {"formats": ["dxf"]}, "machining": dict(scene["machining"]),
+                  "cams": {entry["name"]: copy.deepcopy(scene["cams"][entry["name"]])}}
+        outcome = next(c for c in compute(single).cams if c.name == entry["name"]).dynamics_stage.outcome
+        life = outcome.friction_life
+        torque = life.friction.total_torque if life is not None else outcome.result.torque
+        assert (life is not None) == (entry["name"] == "knife")
+        theta = outcome.result.theta
+        expected += interp1d(np.concatenate((theta - TWO_PI, theta, theta + TWO_PI)), np.tile(torque, 3))(
+            np.mod(phi + math.radians(entry["phase_deg"]), TWO_PI))
+    combined = np.asarray(report["curves"]["torque_Nm"])
+    assert np.max(np.abs(combined - expected)) <= 1e-9 * np.max(np.abs(expected))
+    frictionless = np.asarray(machine_report(template())["curves"]["torque_Nm"])
+    assert np.mean(combined) > np.mean(frictionless)  # friction takes energy every turn: the mean torque rises
+
+
 def test_a_cam_without_dynamics_adds_no_torque_and_is_named():
     scene = template()
     base = machine_report(scene)

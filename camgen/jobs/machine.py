@@ -171,6 +171,7 @@ def _run(spec: MachineSpec, cams: Mapping[str, "CamResult"], stages: frozenset[s
     angles = mc.machine_angles(spec.samples)
     omega = spec.rpm * 2.0 * math.pi / 60.0
     torques: list[mc.PhasedTorque] = []
+    frictional: list[str] = []  # the cams whose torque includes friction
     without: dict[str, str] = {}
     timings: list[FollowerTiming] = []
     no_motion: list[str] = []
@@ -182,8 +183,13 @@ def _run(spec: MachineSpec, cams: Mapping[str, "CamResult"], stages: frozenset[s
             without[entry.name] = "no dynamics keys"
         elif stage.outcome is None:
             without[entry.name] = "dynamics not computed (see the cam's dynamics check)"
-        else:
-            torques.append(mc.PhasedTorque(entry.name, stage.outcome.result.theta, stage.outcome.result.torque, entry.phase))
+        else:  # with the friction torque where the cam's friction keys give it (camgen.friction: first order)
+            life = stage.outcome.friction_life
+            with_friction = life.friction.total_torque if life is not None and life.friction is not None else None
+            torque_curve = with_friction if with_friction is not None else stage.outcome.result.torque
+            if with_friction is not None:
+                frictional.append(entry.name)
+            torques.append(mc.PhasedTorque(entry.name, stage.outcome.result.theta, torque_curve, entry.phase))
         timing = _timing(cam, entry.phase, angles)
         if timing is None:
             no_motion.append(entry.name)
@@ -205,7 +211,9 @@ def _run(spec: MachineSpec, cams: Mapping[str, "CamResult"], stages: frozenset[s
         "cams_without_dynamics": dict(without),
         "cams_without_motion": list(no_motion),
         "torque_model": "the sum of the cams' camshaft torques (each cam's dynamics at the machine speed, read at cam angle = "
-                        "machine angle + phase by periodic linear interpolation of its own samples); > 0: the shaft drives the cams",
+                        "machine angle + phase by periodic linear interpolation of its own samples; with its friction torque where "
+                        "its friction keys give one); > 0: the shaft drives the cams",
+        "cams_with_friction": list(frictional),
         "torque_peak_Nm": float(abs(torque[i_peak])),
         "torque_peak_deg": round(float(degrees[i_peak]), 6),
         "torque_rms_Nm": mc.turn_rms(torque),
