@@ -102,7 +102,7 @@ from camgen.errors import GeometryError
 from camgen.synthesis.laws import Displacement
 
 __all__ = [
-    "BarrelGroove", "BarrelLayout", "CONTACT_TOL", "MAX_NEWTON_STEPS", "MOTIONS", "ROLLER_SHAPES", "WALL_ANGLE_TOL", "floor_radius",
+    "BarrelGroove", "BarrelLayout", "BarrelRib", "CONTACT_TOL", "MAX_NEWTON_STEPS", "MOTIONS", "ROLLER_SHAPES", "WALL_ANGLE_TOL", "floor_radius",
 ]
 
 #: Follower motions a barrel cam drives.
@@ -234,6 +234,9 @@ class BarrelGroove:
         ``c`` (mm): the groove is ``2 w = 2 Rr + c`` wide across the roller.
     fit_tol : float
         The walls' stated tolerance (mm), for the exports that approximate them.
+    axis_offset : float
+        A constant shift (mm) of the roller axis along ``z`` from the layout's (0: the groove's
+        roller; a rib's two rollers, :class:`BarrelRib`, ride at ``-+(rib width / 2 + w)``).
     """
 
     layout: BarrelLayout
@@ -244,6 +247,7 @@ class BarrelGroove:
     bore_radius: float
     clearance: float
     fit_tol: float
+    axis_offset: float = 0.0
 
     def __post_init__(self) -> None:
         lay = self.layout
@@ -274,10 +278,10 @@ class BarrelGroove:
         s, s1, s2, _ = self.law(np.asarray(theta, dtype=float))
         if lay.motion == "translating":
             zero = np.zeros_like(s)
-            return _Axis(lay.z0 + s, s1, s2, zero, zero, zero, s1, zero, np.ones_like(s))
+            return _Axis(lay.z0 + s + self.axis_offset if self.axis_offset else lay.z0 + s, s1, s2, zero, zero, zero, s1, zero, np.ones_like(s))
         arm, psi = lay.arm_length, lay.rest_angle + s
         cos, sin = np.cos(psi), np.sin(psi)
-        return _Axis(lay.z0 + arm * sin, arm * cos * s1, arm * (cos * s2 - sin * s1 * s1),
+        return _Axis(lay.z0 + arm * sin + self.axis_offset if self.axis_offset else lay.z0 + arm * sin, arm * cos * s1, arm * (cos * s2 - sin * s1 * s1),
                      arm * (cos - 1.0), -arm * sin * s1, -arm * (sin * s2 + cos * s1 * s1), arm * s1, -sin, cos)
 
     def axis(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -493,3 +497,111 @@ def floor_radius(root_radius: float, e: np.ndarray, tool_radius: float) -> np.nd
         raise GeometryError(f"a tool of radius {tool_radius:g} mm at the follower's tangential offset reaches {float(np.max(reach)):.4g} mm "
                             f"from the axis, not inside the root radius {root_radius:g} mm: its tip cannot cut the walls to the root")
     return np.sqrt(root_radius**2 - reach * reach)
+
+
+@dataclass(frozen=True)
+class BarrelRib:
+    """A rib standing on the root cylinder (radius ``R_i``) up to the rim (``R_o``), straddled by two
+    rollers of the follower whose axes ride ``o = rib_width / 2 + w`` below and above the pitch line
+    (``w = Rr + c / 2``: each roller clears the rib by half the clearance ``c``).  The rib's faces
+    are the two rollers' envelopes on its side: the lower roller's upper envelope is the rib's
+    lower face, the upper roller's lower envelope its upper face; each is
+    :meth:`BarrelGroove.wall` of a groove whose roller axis is shifted by ``-+o``
+    (:attr:`BarrelGroove.axis_offset`), so the closed forms, the undercut and the pressure angle
+    are the groove's.  In a dwell the faces are ``rib_width`` apart along ``z``; during a rise the
+    rib is thinner along the faces' normal than along ``z`` and, where ``rib_width`` is too small for
+    the spacing of the rollers, the faces cross (:meth:`thickness` < 0).
+
+    Parameters
+    ----------
+    groove : BarrelGroove
+        The follower, law, cylinder and clearance (its ``axis_offset`` 0: the pitch line).
+    width : float
+        ``rib_width``, mm (> 0): the rib's width along ``z`` where the follower dwells.
+    """
+
+    groove: BarrelGroove
+    width: float
+
+    def __post_init__(self) -> None:
+        if not self.width > 0.0:
+            raise GeometryError(f"a rib's width must be > 0 (got {self.width:g} mm)")
+        if self.groove.axis_offset != 0.0:
+            raise GeometryError("a rib's groove is the pitch line's (axis_offset 0)")
+
+    # the shapes every export reads from a groove
+    @property
+    def layout(self) -> BarrelLayout:
+        return self.groove.layout
+
+    @property
+    def rim_radius(self) -> float:
+        return self.groove.rim_radius
+
+    @property
+    def root_radius(self) -> float:
+        return self.groove.root_radius
+
+    @property
+    def length(self) -> float:
+        return self.groove.length
+
+    @property
+    def bore_radius(self) -> float:
+        return self.groove.bore_radius
+
+    @property
+    def fit_tol(self) -> float:
+        return self.groove.fit_tol
+
+    @property
+    def half_width(self) -> float:
+        """``w = Rr + c / 2`` (mm): each roller widened by half the clearance."""
+        return self.groove.half_width
+
+    @property
+    def roller_offset(self) -> float:
+        """``o = rib_width / 2 + w`` (mm): each roller axis' distance along ``z`` from the pitch line."""
+        return 0.5 * self.width + self.groove.half_width
+
+    def roller(self, side: int) -> BarrelGroove:
+        """The groove of the roller on the rib's ``side`` (``+1`` the upper roller, its axis at
+        ``z_c + o``; ``-1`` the lower, at ``z_c - o``)."""
+        from dataclasses import replace
+
+        return replace(self.groove, axis_offset=side * self.roller_offset)
+
+    def axis(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The pitch line (midway between the roller axes) at cam angles ``theta``: ``z_c``, ``e`` (mm)."""
+        return self.groove.axis(theta)
+
+    def pitch_developed(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The pitch line unrolled at ``R_m`` (:meth:`BarrelGroove.pitch_developed`)."""
+        return self.groove.pitch_developed(theta)
+
+    def wall(self, side: int, r: np.ndarray, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The exact contact point of the rib's face ``side`` (``+1`` the upper face: the upper
+        roller's lower envelope; ``-1`` the lower face: the lower roller's upper envelope) at cam
+        radius ``r`` (mm) for cam angle ``theta`` (rad): ``(phi, z)`` as :meth:`BarrelGroove.wall`."""
+        return self.roller(side).wall(-side, r, theta)
+
+    def wall_height(self, side: int, r: np.ndarray, phi: np.ndarray) -> np.ndarray:
+        """The face ``side`` at cam radius ``r`` (mm) and polar angle ``phi`` (rad), mm
+        (:meth:`BarrelGroove.wall_height`)."""
+        return self.roller(side).wall_height(-side, r, phi)
+
+    def undercut(self, side: int, r: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        """Where the face ``side``'s section at radius ``r`` folds at cam angle ``theta``
+        (:meth:`BarrelGroove.undercut` of its roller's envelope)."""
+        return self.roller(side).undercut(-side, r, theta)
+
+    def pressure_angle(self, r: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        """The pressure angle (rad) of either roller's section at distance ``r`` from the cam axis: a
+        shift of the axis along ``z`` changes neither its velocity nor the contact's normal, so it is
+        the groove's (:meth:`BarrelGroove.pressure_angle`)."""
+        return self.groove.pressure_angle(r, theta)
+
+    def thickness(self, r: np.ndarray, phi: np.ndarray) -> np.ndarray:
+        """The rib's width along ``z`` (mm) at cam radius ``r`` and polar angle ``phi``: the upper face
+        less the lower (negative: the faces cross, the rollers cut the rib away)."""
+        return self.wall_height(1, r, phi) - self.wall_height(-1, r, phi)
