@@ -43,7 +43,8 @@ def _refuse_formats_of_forms(scene: "Scene", formats: Sequence[str]) -> None:
 
     known = set(form_names())
     for spec in scene.cams:
-        refused = get_form(spec.form).formats_refused if spec.form in known else {}
+        refused = dict(get_form(spec.form).formats_refused) if spec.form in known else {}
+        refused.update(getattr(spec.params, "formats_refused", {}))  # what this cam's own parameters cannot have yet
         for name in formats:
             if name in refused:
                 raise ParameterError("output.formats", name, "any format but " + ", ".join(f'"{f}"' for f in refused),

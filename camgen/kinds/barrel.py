@@ -44,7 +44,7 @@ from camgen.schema import REQUIRED, Angle, Choice, Key, Length, Number, Text
 
 if TYPE_CHECKING:
     from camgen.checks import CamEvaluation, CheckResult, Motion
-    from camgen.synthesis.barrel import BarrelGroove
+    from camgen.synthesis.barrel import BarrelGroove, BarrelRib
 
 __all__ = ["BarrelCam", "BarrelFollower", "BarrelParams", "barrel_keys", "build_barrel", "evaluate_barrel", "read_barrel"]
 
@@ -63,6 +63,12 @@ UNDERCUT_RADII = 9
 ROLLER_SHAPES = ("cylindrical", "conical")
 _OSC = {"follower_motion": ("oscillating",)}
 _TRANS = {"follower_motion": ("translating",)}
+_RIB = {"track": ("rib",)}
+#: The tracks a barrel cam carries.
+TRACKS = ("groove", "rib")
+#: Outputs a rib cam does not have yet (refused naming output.formats, :attr:`BarrelParams.formats_refused`).
+RIB_FORMATS_REFUSED = {"step": "a rib's STEP is not built yet (the meshes, the developed drawing and the point list are)",
+                       "ngc": "a rib's 4th-axis program is not built yet (the meshes, the developed drawing and the point list are)"}
 
 
 def _body_default(name: str) -> Any:
@@ -86,7 +92,15 @@ def barrel_keys() -> tuple[Key, ...]:
         Key("cylinder_radius_mm", Length(high=1e5), "Outer (rim) radius R_o of the cylinder.", ("profile",), default=REQUIRED),
         Key("cylinder_length_mm", Length(high=1e5), "Length of the cylinder along its axis: z = 0 its bottom face, "
             "z = cylinder_length_mm its top face.", ("profile",), default=REQUIRED),
-        Key("groove_depth_mm", Length(high=1e5), "Depth d of the groove below the rim (< cylinder_radius_mm): the root radius is "
+        Key("track", Choice(TRACKS), "groove: a groove cut into the cylinder guides one roller between its walls; rib (translating "
+            "follower only): a rib stands on the root cylinder up to the rim, straddled by two rollers of the follower whose axes "
+            "ride rib_width_mm / 2 + w below and above the pitch line (w = roller_radius_mm + groove_clearance_mm / 2); the rib's "
+            "faces are the exact envelopes of the two rollers (the lower roller's is the lower face). A rib cam's STEP and 4th-axis "
+            "program are not built yet (refused).", ("profile",), default="groove"),
+        Key("rib_width_mm", Length(high=1e5), "Rib (required with track = \"rib\"): the rib's width along the cam axis where the "
+            "follower dwells (the rollers' axes are rib_width_mm + 2 w apart); during a rise the rib is thinner along the axis, "
+            "checked at every radius and cam angle (rib_thickness).", ("profile",), requires=_RIB),
+        Key("groove_depth_mm", Length(high=1e5), "Depth d of the groove below the rim (track = \"rib\": the rib's height above the root cylinder) (< cylinder_radius_mm): the root radius is "
             "R_i = R_o - d, the mean (pitch) radius R_m = R_o - d / 2.", ("profile",), default=REQUIRED),
         Key("groove_clearance_mm", Length(0.0, 100.0, low_open=False), "Groove width less the roller diameter: the walls are the "
             "envelopes of the roller widened by half of it (w = roller_radius_mm + clearance / 2).", ("profile",),
@@ -107,7 +121,8 @@ def barrel_keys() -> tuple[Key, ...]:
         Key("bore_diameter_mm", Length(0.0, 1e5, low_open=False), "Diameter of the shaft bore along the axis; 0: no bore.",
             ("profile",), default=_body_default("bore_diameter")),
         Key("min_wall_mm", Length(0.0, 1e4, low_open=False), "Least material allowed between the groove and the bore (the floor "
-            "an end mill of the groove's width cuts, its flat tip just below the root radius, less the bore radius) and between the groove's walls and each end face (the checks' limit).", ("report",),
+            "an end mill of the groove's width cuts, its flat tip just below the root radius, less the bore radius) and between the groove's walls and each end face (the checks' limit); "
+            "track = \"rib\": the least width of the rib along the axis and the root cylinder's wall over the bore.", ("report",),
             default=_body_default("min_wall")),
         Key("pressure_angle_limit_deg", Angle(0.01, 90.0, high_open=True), "Largest pressure angle allowed at the root radius, "
             "where it is largest (default: 30 deg translating followers, 45 deg oscillating ones).", ("report",)),
@@ -157,6 +172,13 @@ class BarrelParams:
     rest_angle: float = 0.0
     law_figures: Mapping[str, Any] = field(default_factory=dict)
     source: str | None = None
+    track: str = "groove"
+    rib_width: float = 0.0
+
+    @property
+    def formats_refused(self) -> Mapping[str, str]:
+        """Outputs this cam cannot have yet (format -> why; :func:`camgen.planning` refuses them)."""
+        return RIB_FORMATS_REFUSED if self.track == "rib" else {}
 
     @property
     def root_radius(self) -> float:
@@ -189,6 +211,13 @@ def read_barrel(where: str, name: str, parsed: Mapping[str, Any], motion: Any, b
     if not 0.5 * bore < root:
         raise ParameterError(f"{where}.bore_diameter_mm", bore, f"< twice the root radius, {2.0 * root:g} mm",
                              "the bore would cut through the groove's root")
+    track = parsed.get("track", "groove")
+    if track == "rib":
+        if moves != "translating":
+            raise ParameterError(f"{where}.track", track, '"groove" with follower_motion = "oscillating"',
+                                 "a rib's two rollers keep their spacing along the cam axis on a translating follower only")
+        if "rib_width" not in parsed:
+            raise ParameterError(f"{where}.rib_width_mm", None, "a width in mm", 'required with track = "rib"')
     if moves == "oscillating" and "arm_length" not in parsed:
         raise ParameterError(f"{where}.arm_length_mm", None, "a length in mm", 'required with follower_motion = "oscillating"')
     follower = BarrelFollower(moves)
@@ -210,12 +239,15 @@ def read_barrel(where: str, name: str, parsed: Mapping[str, Any], motion: Any, b
                                  f"{90.0 - math.degrees(s_max):.6g} deg", "the arm would turn past the cylinder's axis")
     params = BarrelParams(law, follower, shape, radius, rim, length, depth, parsed["groove_clearance"],
                           1 if parsed["rotation"] == "ccw" else -1, 0.5 * bore, parsed["fit_tol"], float(z0), arm, rest,
-                          dict(reading.figures), parsed.get("source"))
+                          dict(reading.figures), parsed.get("source"), track, float(parsed.get("rib_width", 0.0)))
     body = BodySpec(thickness=length, bore_diameter=bore, min_wall=parsed["min_wall"])
     checks = CheckSettings(parsed.get("pressure_angle_limit"), parsed.get("rpm"), getattr(parsed, "tool_limit", None))
     from camgen.kinds.barrel_dynamics import read_barrel_dynamics
 
     dynamics = read_barrel_dynamics(where, parsed, motion=moves, roller_shape=shape, depth=depth, rpm=checks.rpm, base_dir=base_dir)
+    if track == "rib" and dynamics is not None:
+        raise ParameterError(f"{where}.track", track, '"groove" with the follower-dynamics keys',
+                             "a rib's two-roller dynamics is not built yet (leave out the dynamics keys)")
     return CamSpec(name, motion.name, params, body, checks, None, dynamics, form="barrel")
 
 
@@ -235,7 +267,11 @@ class BarrelCam(BuiltCam):
     spec_follower: BarrelFollower
     motion: "Motion"
     #: wall side (+1 upper, -1 lower) -> (UNDERCUT_RADII, check grid) bool: where its section folds
+    #: (a rib: its faces, +1 the upper face)
     folds: Mapping[int, np.ndarray]
+    #: track = "rib": the rib (:class:`camgen.synthesis.barrel.BarrelRib`; ``groove`` is then its pitch
+    #: line's groove, whose pressure angle and law it shares); None for a groove
+    rib: "BarrelRib | None" = None
 
     @property
     def folded(self) -> bool:
@@ -266,6 +302,20 @@ def _motion(follower: BarrelFollower, law: Any) -> "Motion":
     jumps = np.asarray(law.breaks)[np.asarray(law.break_continuity) < 2]
     return Motion(theta, s, ds, d2s, d3s, follower.lift_unit, where_degrees(jumps), lift_zero=0.0,
                   peaks=(peaks.velocity, peaks.acceleration, peaks.jerk))
+
+
+def make_rib(p: BarrelParams) -> "BarrelRib":
+    """The rib of ``p`` (track = "rib"; :class:`camgen.synthesis.barrel.BarrelRib`)."""
+    from camgen.synthesis.barrel import BarrelRib
+
+    return BarrelRib(make_groove(p), p.rib_width)
+
+
+def rollers_reach(rib: "BarrelRib", theta: np.ndarray) -> tuple[float, float]:
+    """The lowest and highest z (mm) a rib's two rollers reach: the pitch line's extremes less and
+    plus the roller offset o and the roller's largest half width (:func:`axis_reach`)."""
+    low, high = axis_reach(rib.groove, theta)
+    return low - rib.roller_offset, high + rib.roller_offset
 
 
 def axis_reach(groove: "BarrelGroove", theta: np.ndarray) -> tuple[float, float]:
@@ -326,13 +376,26 @@ def _build(spec: CamSpec, stages: frozenset[str]) -> BarrelCam:
     if p.source is not None:
         figures["source"] = p.source
     section = None
+    rib = None
+    if p.track == "rib":
+        rib = make_rib(p)
+        folds = _folds(rib, p, theta)
+        folded = any(bool(mask.any()) for mask in folds.values())
+        del figures["groove"]
+        lo_r, hi_r = rollers_reach(rib, theta)
+        figures["rib"] = {"height_mm": p.depth, "width_mm": p.rib_width, "clearance_mm": p.clearance,
+                          "roller_axis_offset_mm": rib.roller_offset,
+                          "faces": "exact envelopes of the two rollers (widened by half the clearance) on the rib's side, their axes "
+                                   "rib width / 2 + roller radius + clearance / 2 below and above the pitch line, at every radius "
+                                   "from root to rim",
+                          "rollers_z_reach_mm": [lo_r, hi_r]}
     if "plots" in stages and not folded:
-        section = _section(groove, p, theta, pressure_limit_deg(spec))
+        section = _section(rib if rib is not None else groove, p, theta, pressure_limit_deg(spec))
     return BarrelCam(spec.name, spec.kind, None, figures, spec.body, None, section=section, groove=groove, params=p, law=p.law,
-                     spec_follower=f, motion=_motion(f, p.law), folds=folds)
+                     spec_follower=f, motion=_motion(f, p.law), folds=folds, rib=rib)
 
 
-def _folds(groove: "BarrelGroove", p: BarrelParams, theta: np.ndarray) -> dict[int, np.ndarray]:
+def _folds(groove: Any, p: BarrelParams, theta: np.ndarray) -> dict[int, np.ndarray]:
     """Where each wall's section folds at :data:`UNDERCUT_RADII` radii from root to rim (rows) on
     the check grid ``theta`` (columns)."""
     radii = np.linspace(p.root_radius, p.rim_radius, UNDERCUT_RADII)
@@ -390,7 +453,8 @@ def _pressure(cam: BarrelCam, spec: CamSpec) -> "CheckResult":
     i = int(np.argmax(root))
     bad = root > limit
     at = ", ".join(f"{name} (radius {r:g} mm) {math.degrees(float(np.max(alpha[name]))):.6g} deg" for name, r in _radii(p))
-    note = (f"largest pressure angle of the {p.follower.motion} roller in the barrel groove at the root radius, where it is largest "
+    track = "on the barrel's rib" if cam.rib is not None else "in the barrel groove"
+    note = (f"largest pressure angle of the {p.follower.motion} roller {track} at the root radius, where it is largest "
             f"(closed form); at {at}" + ("; above the limit between the listed pairs of cam angles" if bad.any() else ""))
     return CheckResult("pressure_angle", float(np.degrees(root[i])), pressure_limit_deg(spec), "<=", "deg", not bool(bad.any()),
                        run_ends(bad, theta) if bad.any() else where_degrees(theta[i]), note)
@@ -408,14 +472,16 @@ def _undercut(cam: BarrelCam) -> "CheckResult":
     any_fold: np.ndarray = np.asarray(folds[1].any(axis=0) | folds[-1].any(axis=0))
     count = int(any_fold.sum())
     parts = []
+    what = "rib's face" if cam.rib is not None else "wall"
     for side, name in ((1, "upper"), (-1, "lower")):
         at = radii[folds[side].any(axis=1)]
         if at.size:
-            parts.append(f"the {name} wall folds at radii {', '.join(f'{r:g}' for r in at)} mm")
-    note = (f"cam angles (of {theta.size}, every {360.0 / theta.size:g} deg) where either wall's section folds, at {UNDERCUT_RADII} "
+            parts.append(f"the {name} {what} folds at radii {', '.join(f'{r:g}' for r in at)} mm")
+    note = (f"cam angles (of {theta.size}, every {360.0 / theta.size:g} deg) where either {what}'s section folds, at {UNDERCUT_RADII} "
             f"radii from the root {p.root_radius:g} mm to the rim {p.rim_radius:g} mm")
-    note += ("; " + "; ".join(parts) + ": the groove cannot be made (a larger radius or a smaller roller)") if parts else \
-        "; neither wall folds"
+    track = "rib" if cam.rib is not None else "groove"
+    note += ("; " + "; ".join(parts) + f": the {track} cannot be made (a larger radius or a smaller roller)") if parts else \
+        f"; neither {what} folds"
     return limited("undercut", count, "<=", 0, "", run_ends(any_fold, theta), note, blocks_manufacture=True)
 
 
@@ -459,6 +525,68 @@ def _bore(cam: BarrelCam, min_wall: float) -> "CheckResult":
                    f"radius {p.root_radius:g} mm at its rim)", blocks_manufacture=True)
 
 
+#: Polar angles (over a turn) at which the rib's thickness is checked at each of the UNDERCUT_RADII radii.
+RIB_THICKNESS_SAMPLES = 3600
+
+
+def rib_thickness_grid(rib: "BarrelRib") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The rib's width along z (mm) at :data:`UNDERCUT_RADII` radii from root to rim (rows) and
+    :data:`RIB_THICKNESS_SAMPLES` polar angles (columns): radii, polar angles (rad), widths."""
+    radii = np.linspace(rib.root_radius, rib.rim_radius, UNDERCUT_RADII)
+    phi = 2.0 * math.pi * np.arange(RIB_THICKNESS_SAMPLES) / RIB_THICKNESS_SAMPLES
+    return radii, phi, np.asarray(rib.thickness(radii[:, None], phi[None, :]))
+
+
+def _rib_thickness(cam: BarrelCam, min_wall: float) -> "CheckResult":
+    """The rib's least width along z at every radius and polar angle of the grid against ``min_wall``
+    (its faces must not cross: a rib too narrow for its rollers' spacing)."""
+    from camgen.checks import limited
+
+    rib = cam.rib
+    assert rib is not None
+    if any(bool(mask.any()) for mask in cam.folds.values()):
+        from camgen.checks import CheckResult
+
+        return CheckResult("rib_thickness", "not computed", min_wall, ">=", "mm", False, [],
+                           "not computed: a face of the rib folds (the undercut check lists where)", True)
+    radii, phi, width = rib_thickness_grid(rib)
+    i, j = np.unravel_index(int(np.argmin(width)), width.shape)
+    least = float(width[i, j])
+    note = (f"least width of the rib along the cam axis (its upper face less its lower; {rib.width:g} mm where the follower dwells) "
+            f"at {UNDERCUT_RADII} radii from the root to the rim and {RIB_THICKNESS_SAMPLES} polar angles: {least:.6g} mm at radius "
+            f"{radii[i]:g} mm, polar angle {math.degrees(phi[j]):.6g} deg; below 0 the faces cross (the rollers cut the rib away)")
+    if least < min_wall:
+        note += f"; a rib_width_mm of {rib.width + min_wall - least:.6g} mm gives {min_wall:g} mm (the width grows with it one to one)"
+    return limited("rib_thickness", least, ">=", min_wall, "mm", [], note,
+                   blocks_manufacture=True)
+
+
+def _rib_length(cam: BarrelCam) -> "CheckResult":
+    """The rib's two rollers ride on the root cylinder between its end faces."""
+    from camgen.checks import limited
+
+    rib, p = cam.rib, cam.params
+    assert rib is not None
+    low, high = rollers_reach(rib, check_grid())
+    room = min(low, p.length - high)
+    note = (f"least room between the rib's rollers (z from {low:.6g} to {high:.6g} mm: the pitch line's travel plus the roller offset "
+            f"{rib.roller_offset:g} mm and the roller's half width {rib.half_width:g} mm" + (" at the rim" if p.roller_shape == "conical"
+                                                                                             else "")
+            + f") and the end faces z = 0 and z = {p.length:g} mm (the rib lies between the rollers)")
+    if room < 0.0:
+        note += f"; a cylinder_length_mm of {high - low:.6g} mm with the travel centred holds them"
+    return limited("cylinder_length", room, ">=", 0.0, "mm", [], note, blocks_manufacture=True)
+
+
+def _rib_bore(cam: BarrelCam, min_wall: float) -> "CheckResult":
+    from camgen.checks import limited
+
+    p = cam.params
+    return limited("wall_thickness", p.root_radius - p.bore_radius, ">=", min_wall, "mm", [],
+                   f"material between the bore (radius {p.bore_radius:g} mm) and the root cylinder the rib stands on (radius "
+                   f"{p.root_radius:g} mm)", blocks_manufacture=True)
+
+
 def evaluate_barrel(cam: BuiltCam, spec: CamSpec, tool_radius: float, tool_is_limit: bool) -> "CamEvaluation":
     """The design checks of a barrel cam from the closed forms on the check grid."""
     from camgen.checks import CamEvaluation, motion_check
@@ -466,9 +594,14 @@ def evaluate_barrel(cam: BuiltCam, spec: CamSpec, tool_radius: float, tool_is_li
 
     assert isinstance(cam, BarrelCam), f"a barrel cam's checks on a {type(cam).__name__}"
     min_wall = spec.body.min_wall
-    checks = [_pressure(cam, spec), _undercut(cam), _length(cam, min_wall)]
-    if cam.params.bore_radius > 0:
-        checks.append(_bore(cam, min_wall))
+    if cam.rib is not None:
+        checks = [_pressure(cam, spec), _undercut(cam), _rib_thickness(cam, min_wall), _rib_length(cam)]
+        if cam.params.bore_radius > 0:
+            checks.append(_rib_bore(cam, min_wall))
+    else:
+        checks = [_pressure(cam, spec), _undercut(cam), _length(cam, min_wall)]
+        if cam.params.bore_radius > 0:
+            checks.append(_bore(cam, min_wall))
     checks.append(motion_check(cam.motion, spec.checks.rpm))
     joins: Any = cam  # the law and its follower's motion are what law_joins_check reads
     checks.append(law_joins_check(joins, spec.checks.rpm))
@@ -489,7 +622,7 @@ SECTION_SAMPLES = 721
 ANIMATION_FRAMES = 120
 
 
-def _section(groove: "BarrelGroove", p: BarrelParams, theta: np.ndarray, limit_deg: float) -> Any:
+def _section(groove: Any, p: BarrelParams, theta: np.ndarray, limit_deg: float) -> Any:
     """What the report's section draws (:mod:`camgen.report.barrel`)."""
     from camgen.report.barrel import section_class
 
