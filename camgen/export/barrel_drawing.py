@@ -30,10 +30,14 @@ __all__ = ["DEVELOPED_LAYERS", "MAX_CURVE_POINTS", "POINTS_COLUMNS", "developed_
 
 #: Layers of the developed drawing and their ACI colours.
 DEVELOPED_LAYERS = {"OUTLINE_DEVELOPED": 7, "PITCH_DEVELOPED": 4, "WALL_UPPER_DEVELOPED": 5, "WALL_LOWER_DEVELOPED": 1, "NOTES": 8}
+#: A rib cam's drawing: its faces' layers instead of the walls' (same colours).
+RIB_LAYERS = {"OUTLINE_DEVELOPED": 7, "PITCH_DEVELOPED": 4, "RIB_UPPER_DEVELOPED": 5, "RIB_LOWER_DEVELOPED": 1, "NOTES": 8}
 #: Columns of the point list.
 POINTS_COLUMNS = ("wall", "radius_mm", "phi_deg", "x_mm", "y_mm", "z_mm")
 #: Wall names of the point list: side +1, -1.
 WALL_NAMES = {1: "UPPER", -1: "LOWER"}
+#: A rib's face names in the point list.
+RIB_NAMES = {1: "RIB_UPPER", -1: "RIB_LOWER"}
 #: Points of one curve to start from (every 0.5 deg) and the most any curve may get: the sampling
 #: doubles until every chord is within the tolerance, and stops with an error at the cap (a bound
 #: before the work: 2^21 points, 48 MB of text in the point list).
@@ -41,10 +45,16 @@ START_POINTS = 720
 MAX_CURVE_POINTS = 1 << 21
 
 
-def _groove(cam: "CamResult") -> "BarrelGroove":
+def _groove(cam: "CamResult") -> Any:
+    """The surfaces the drawing shows: the rib (track = "rib": its faces as the walls) or the groove."""
     groove = getattr(cam.built, "groove", None)
     assert groove is not None, f"cam {cam.name!r} is not a barrel cam"
-    return groove
+    rib = getattr(cam.built, "rib", None)
+    return rib if rib is not None else groove
+
+
+def _is_rib(surfaces: Any) -> bool:
+    return hasattr(surfaces, "roller_offset")
 
 
 def polyline(curve: Callable[[np.ndarray], np.ndarray], chord_tol: float, what: str) -> np.ndarray:
@@ -72,10 +82,11 @@ def polyline(curve: Callable[[np.ndarray], np.ndarray], chord_tol: float, what: 
                               "(a larger output.chord_tol_mm)")
 
 
-def developed_curves(groove: "BarrelGroove", chord_tol: float) -> dict[str, np.ndarray]:
+def developed_curves(groove: Any, chord_tol: float) -> dict[str, np.ndarray]:
     """The developed drawing's curves (layer -> (n, 2) points, mm): the pitch curve over one turn
     from its point at x = 0 (translating; an oscillating roller's tangential offset shifts it), and
-    both walls' sections at the mean radius over x = 0 .. 2 pi R_m."""
+    both walls' sections at the mean radius over x = 0 .. 2 pi R_m (a rib, :class:`BarrelRib`:
+    its faces' sections, layers RIB_UPPER_DEVELOPED and RIB_LOWER_DEVELOPED)."""
     rm, sigma = groove.layout.mean_radius, groove.layout.sigma
     turn = 2.0 * math.pi
 
@@ -90,7 +101,8 @@ def developed_curves(groove: "BarrelGroove", chord_tol: float) -> dict[str, np.n
         return at
 
     out = {"PITCH_DEVELOPED": polyline(pitch, chord_tol, "developed pitch curve")}
-    for side, layer in ((1, "WALL_UPPER_DEVELOPED"), (-1, "WALL_LOWER_DEVELOPED")):
+    names = ("RIB_UPPER_DEVELOPED", "RIB_LOWER_DEVELOPED") if _is_rib(groove) else ("WALL_UPPER_DEVELOPED", "WALL_LOWER_DEVELOPED")
+    for side, layer in zip((1, -1), names):
         out[layer] = polyline(wall(side), chord_tol, f"{layer} section at the mean radius")
     return out
 
@@ -112,30 +124,33 @@ def dxf(cam: "CamResult", run: "RunSettings", fmt: str) -> str:
                     max(span, float(curves["PITCH_DEVELOPED"][:, 0].max())), hi_z)
     doc.add_custom_property("camgen_developed_radius_mm", repr(float(rm)))
     doc.add_custom_property("camgen_chord_tol_mm", repr(float(chord)))
-    for name, colour in DEVELOPED_LAYERS.items():
+    for name, colour in (RIB_LAYERS if _is_rib(groove) else DEVELOPED_LAYERS).items():
         doc.add_layer(name, colour)
     doc.add_lwpolyline([(0.0, 0.0), (span, 0.0), (span, length), (0.0, length)], True, "OUTLINE_DEVELOPED")
     for layer, pts in curves.items():
         doc.add_lwpolyline(pts, False, layer)
     doc.add_text((0.0, -1.5 * height), height, f"{cam.name}: developed at mean radius R_m = {rm:.6g} mm (x = R_m * polar angle, "
-                 f"z along the axis from the bottom face; groove depth {groove.rim_radius - groove.root_radius:.6g} mm; "
+                 f"z along the axis from the bottom face; {'rib height' if _is_rib(groove) else 'groove depth'} "
+                 f"{groove.rim_radius - groove.root_radius:.6g} mm; "
                  f"chords within {chord:g} mm)", "NOTES")
     return doc.to_text()
 
 
-def wall_sections(groove: "BarrelGroove", chord_tol: float) -> list[tuple[str, float, np.ndarray]]:
+def wall_sections(groove: Any, chord_tol: float) -> list[tuple[str, float, np.ndarray]]:
     """The walls' closed sections at the root, mean and rim radius: (wall, radius mm, points (n, 4):
-    phi rad, x, y, z mm), phi from 0 (included) to 2 pi (excluded: the section is closed)."""
+    phi rad, x, y, z mm), phi from 0 (included) to 2 pi (excluded: the section is closed); a rib's
+    faces named RIB_UPPER and RIB_LOWER."""
     out = []
+    names = RIB_NAMES if _is_rib(groove) else WALL_NAMES
     for r in (groove.root_radius, groove.layout.mean_radius, groove.rim_radius):
         for side in (1, -1):
             def at(u: np.ndarray, r: float = r, side: int = side) -> np.ndarray:
                 phi = 2.0 * math.pi * u
                 return np.stack([r * np.cos(phi), r * np.sin(phi), groove.wall_height(side, np.asarray(r), phi)], axis=1)
 
-            pts = polyline(at, chord_tol, f"{WALL_NAMES[side].lower()} wall at radius {r:g} mm")[:-1]
+            pts = polyline(at, chord_tol, f"{names[side].lower()} wall at radius {r:g} mm")[:-1]
             phi = 2.0 * math.pi * np.arange(len(pts)) / len(pts)
-            out.append((WALL_NAMES[side], r, np.column_stack([phi, pts])))
+            out.append((names[side], r, np.column_stack([phi, pts])))
     return out
 
 
@@ -158,6 +173,14 @@ def points_metadata(cam: "CamResult", chord_tol: float) -> dict[str, Any]:
     """What :func:`points` holds (report.json ``tables``)."""
     groove = _groove(cam)
     radii = [groove.root_radius, groove.layout.mean_radius, groove.rim_radius]
+    if _is_rib(groove):
+        return {"content": "the barrel cam's rib faces (exact envelopes of its two rollers) at the root, mean and rim radius: for "
+                           "each radius the RIB_UPPER face's closed section, then the RIB_LOWER face's (its last row joins its "
+                           "first), every chord within the chord tolerance of the exact face",
+                "columns": {"wall": "RIB_UPPER (the rib's face on its +z side, the upper roller's envelope) or RIB_LOWER",
+                            "radius_mm": "distance from the cam axis, mm", "phi_deg": "the cam's polar angle, deg",
+                            "x_mm": "radius cos(phi), mm", "y_mm": "radius sin(phi), mm", "z_mm": "along the cam axis from the bottom face, mm"},
+                "radii_mm": radii, "chord_tol_mm": chord_tol, "fit_tol_mm": groove.fit_tol}
     return {"content": "the barrel cam's groove walls (exact envelopes of the roller) at the root, mean and rim radius: for each "
                        "radius the UPPER wall's closed section, then the LOWER wall's (its last row joins its first), every chord "
                        "within the chord tolerance of the exact wall",
