@@ -298,6 +298,10 @@ def mesh_stage(cam: "CamResult", output: "OutputSpec", progress: Any) -> "CamRes
     progress(f"meshing cam '{cam.name}'")
     assert isinstance(cam.built, BarrelCam), f"cam {cam.name!r} is not a barrel cam"
     try:
+        if cam.built.rib is not None:  # track = "rib": the root cylinder with the rib on it
+            from camgen.export.barrel_rib_solid import rib_solid
+
+            return cam.with_(solid=rib_solid(cam.built.rib, output.chord_tol, cam.name, tuple(output.formats)))
         return cam.with_(solid=barrel_solid(cam.built.groove, output.chord_tol, cam.name, tuple(output.formats)))
     except GeometryError as exc:  # the failed check camgen.pipeline.mesh_stage reports: no manufacturing file
         failure = CheckResult("solid_export", "failed", "made as designed", "", "", False, [], " ".join(str(exc).split()),
