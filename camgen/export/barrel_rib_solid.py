@@ -41,6 +41,11 @@ def rib_solid(rib: Any, chord_tol: float, cam: str = "cam", formats: tuple[str, 
         raise GeometryError(f"cam '{cam}': the barrel needs 0 <= bore radius < root radius < rim radius (bore {bore:g} mm, root "
                             f"{root:g} mm, rim {rim:g} mm)")
     r, psi, (upper, lower), (phi_up, phi_lo) = wall_grid(rib, chord_tol, _triangle_cap(formats), cam)
+    # manifold3d does not see faces that cross: the lower face's height under each upper-face vertex
+    below = rib.wall_height(-1, np.broadcast_to(r[:, None], phi_up.shape), phi_up)
+    if not np.all(upper[..., 2] > below):
+        raise GeometryError(f"cam '{cam}': the rib's faces cross (its least width along z on the mesh's grid is "
+                            f"{float(np.min(upper[..., 2] - below)):.4g} mm): the rollers cut the rib away")
     low, high = float(np.min(lower[..., 2])), float(np.max(upper[..., 2]))
     if not (low > 0.0 and high < length):
         raise GeometryError(f"cam '{cam}': the rib runs from z = {low:.4g} mm to z = {high:.4g} mm, through an end face of the "
