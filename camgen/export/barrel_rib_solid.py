@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camgen.errors import GeometryError
-from camgen.export.barrel_solid import _band, _triangle_cap, half_chord_step, wall_grid, zipper
+from camgen.export.barrel_solid import band, half_chord_step, triangle_cap, wall_grid, zipper
 
 if TYPE_CHECKING:
     from camgen.export.solid import CamSolid
@@ -40,7 +40,7 @@ def rib_solid(rib: Any, chord_tol: float, cam: str = "cam", formats: tuple[str, 
     if not 0.0 <= bore < root < rim:
         raise GeometryError(f"cam '{cam}': the barrel needs 0 <= bore radius < root radius < rim radius (bore {bore:g} mm, root "
                             f"{root:g} mm, rim {rim:g} mm)")
-    r, psi, (upper, lower), (phi_up, phi_lo) = wall_grid(rib, chord_tol, _triangle_cap(formats), cam)
+    r, psi, (upper, lower), (phi_up, phi_lo) = wall_grid(rib, chord_tol, triangle_cap(formats), cam)
     # manifold3d does not see faces that cross: the lower face's height under each upper-face vertex
     below = rib.wall_height(-1, np.broadcast_to(r[:, None], phi_up.shape), phi_up)
     if not np.all(upper[..., 2] > below):
@@ -63,15 +63,15 @@ def rib_solid(rib: Any, chord_tol: float, cam: str = "cam", formats: tuple[str, 
     lo = up + rows * n
     root0 = 2 * rows * n + np.arange(ring_count)
     root1 = root0 + ring_count
-    faces = [_band(up[i + 1], up[i]) for i in range(rows - 1)]  # the upper face, facing +z: the rib below it
-    faces += [_band(lo[i], lo[i + 1]) for i in range(rows - 1)]  # the lower face, facing -z
+    faces = [band(up[i + 1], up[i]) for i in range(rows - 1)]  # the upper face, facing +z: the rib below it
+    faces += [band(lo[i], lo[i + 1]) for i in range(rows - 1)]  # the lower face, facing -z
     faces += [zipper(lo[-1], phi_lo[-1], up[-1], phi_up[-1]),  # the rib's top at the rim, facing +r
               zipper(root0, ring_angle, lo[0], phi_lo[0]), zipper(up[0], phi_up[0], root1, ring_angle)]  # the root cylinder
     if bore > 0.0:
         blocks += [ring(bore, 0.0), ring(bore, length)]
         bore0 = root0 + 2 * ring_count
         bore1 = bore0 + ring_count
-        faces += [_band(bore1, bore0), _band(bore0, root0), _band(root1, bore1)]  # bore (facing -r), bottom (-z), top (+z)
+        faces += [band(bore1, bore0), band(bore0, root0), band(root1, bore1)]  # bore (facing -r), bottom (-z), top (+z)
     else:
         blocks += [np.array([[0.0, 0.0, 0.0], [0.0, 0.0, length]])]
         centre = root1[-1] + 1

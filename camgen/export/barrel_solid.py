@@ -54,10 +54,8 @@ from camgen.errors import GeometryError
 
 if TYPE_CHECKING:
     from camgen.export.solid import CamSolid
-    from camgen.outputs import OutputSpec
-    from camgen.results import CamResult
 
-__all__ = ["BYTES_PER_TRIANGLE", "MAX_REFINEMENTS", "MIDPOINT_FRACTION", "NEWTON_ITERATIONS", "NEWTON_STEP", "NEWTON_TOL", "axial_deviation", "barrel_solid", "half_chord_step", "mesh_stage", "wall_grid"]
+__all__ = ["BYTES_PER_TRIANGLE", "MAX_REFINEMENTS", "MIDPOINT_FRACTION", "NEWTON_ITERATIONS", "NEWTON_STEP", "NEWTON_TOL", "axial_deviation", "barrel_solid", "band", "half_chord_step", "triangle_cap", "wall_grid", "zipper"]
 
 #: Largest deviation of a wall triangle's edge midpoint from the exact wall, as a fraction of the
 #: chord tolerance: a quadratic surface's deviation over the triangle is at most 4/3 of its largest
@@ -80,7 +78,7 @@ NEWTON_STEP = 1e-7
 NEWTON_TOL = 1e-12
 
 
-def _triangle_cap(formats: tuple[str, ...] | None) -> int:
+def triangle_cap(formats: tuple[str, ...] | None) -> int:
     """Most triangles a mesh may have for ``formats`` (None: every mesh format)."""
     from camgen.export.solid import MAX_FILE_BYTES
 
@@ -196,7 +194,7 @@ def _triangle_count(rows: int, columns: int, ring: int) -> int:
     return 4 * columns * (rows - 1) + 2 * columns + 2 * (columns + ring) + 2 * ring + 4 * ring
 
 
-def _band(first: np.ndarray, second: np.ndarray) -> np.ndarray:
+def band(first: np.ndarray, second: np.ndarray) -> np.ndarray:
     """Two triangles per column between vertex rows ``first`` and ``second`` (ids (N,), columns
     periodic, polar angle increasing): they face ``e_phi x (second - first)``."""
     a, b = first, np.roll(first, -1)
@@ -207,7 +205,7 @@ def _band(first: np.ndarray, second: np.ndarray) -> np.ndarray:
 def zipper(first: np.ndarray, first_angle: np.ndarray, second: np.ndarray, second_angle: np.ndarray) -> np.ndarray:
     """Triangles between two closed rows of vertices (ids ``first`` (n,) and ``second`` (m,), polar
     angles increasing over one turn, rad): merged by angle, each triangle advances one row by one
-    vertex (n + m triangles).  They face ``e_phi x (second - first)``, as :func:`_band`'s.
+    vertex (n + m triangles).  They face ``e_phi x (second - first)``, as :func:`band`'s.
 
     Where two chains in the (angle, height) plane never meet (one always above the other) the
     merge gives a triangulation of the band between them: each diagonal joins two vertices with
@@ -242,7 +240,7 @@ def barrel_solid(groove: Any, chord_tol: float, cam: str = "cam", formats: tuple
     if not 0.0 <= bore < root < rim:
         raise GeometryError(f"cam '{cam}': the barrel needs 0 <= bore radius < root radius < rim radius (bore {bore:g} mm, root "
                             f"{root:g} mm, rim {rim:g} mm)")
-    r, psi, (upper, lower), (phi_up, phi_lo) = wall_grid(groove, chord_tol, _triangle_cap(formats), cam)
+    r, psi, (upper, lower), (phi_up, phi_lo) = wall_grid(groove, chord_tol, triangle_cap(formats), cam)
     low, high = float(np.min(lower[..., 2])), float(np.max(upper[..., 2]))
     if not (low > 0.0 and high < length):
         raise GeometryError(f"cam '{cam}': the groove runs from z = {low:.4g} mm to z = {high:.4g} mm, through an end face of the "
@@ -261,15 +259,15 @@ def barrel_solid(groove: Any, chord_tol: float, cam: str = "cam", formats: tuple
     lo = up + rows * n
     rim0 = 2 * rows * n + np.arange(ring_count)
     rim1 = rim0 + ring_count
-    faces = [_band(up[i], up[i + 1]) for i in range(rows - 1)]  # facing -z: material above the upper wall
-    faces += [_band(lo[i + 1], lo[i]) for i in range(rows - 1)]  # facing +z
+    faces = [band(up[i], up[i + 1]) for i in range(rows - 1)]  # facing -z: material above the upper wall
+    faces += [band(lo[i + 1], lo[i]) for i in range(rows - 1)]  # facing +z
     faces += [zipper(lo[0], phi_lo[0], up[0], phi_up[0]),  # the floor, facing +r
               zipper(rim0, ring_angle, lo[-1], phi_lo[-1]), zipper(up[-1], phi_up[-1], rim1, ring_angle)]  # the rim bands
     if bore > 0.0:
         blocks += [ring(bore, 0.0), ring(bore, length)]
         bore0 = rim0 + 2 * ring_count
         bore1 = bore0 + ring_count
-        faces += [_band(bore1, bore0), _band(bore0, rim0), _band(rim1, bore1)]  # bore (facing -r), bottom (-z), top (+z)
+        faces += [band(bore1, bore0), band(bore0, rim0), band(rim1, bore1)]  # bore (facing -r), bottom (-z), top (+z)
     else:
         blocks += [np.array([[0.0, 0.0, 0.0], [0.0, 0.0, length]])]
         centre = rim1[-1] + 1
@@ -287,23 +285,3 @@ def barrel_solid(groove: Any, chord_tol: float, cam: str = "cam", formats: tuple
         why = f"manifold3d: {status}" if status != manifold3d.Error.NoError else f"{pieces} bodies of genus {genus}"
         raise GeometryError(f"cam '{cam}': the barrel cannot be meshed at chord_tol_mm = {chord_tol:g} ({why}): the walls cross")
     return CamSolid(vertices, triangles, float(solid.volume()), math.pi * (rim * rim - bore * bore), genus, "barrel")
-
-
-def mesh_stage(cam: "CamResult", output: "OutputSpec", progress: Any) -> "CamResult":
-    """``cam`` (a barrel cam: ``cam.built.groove``) with its solid at ``output.chord_tol``, or the
-    failure that stopped it (a failed check): :func:`camgen.pipeline.mesh_stage`'s signature."""
-    from camgen.checks import CheckResult
-    from camgen.kinds.barrel import BarrelCam
-
-    progress(f"meshing cam '{cam.name}'")
-    assert isinstance(cam.built, BarrelCam), f"cam {cam.name!r} is not a barrel cam"
-    try:
-        if cam.built.rib is not None:  # track = "rib": the root cylinder with the rib on it
-            from camgen.export.barrel_rib_solid import rib_solid
-
-            return cam.with_(solid=rib_solid(cam.built.rib, output.chord_tol, cam.name, tuple(output.formats)))
-        return cam.with_(solid=barrel_solid(cam.built.groove, output.chord_tol, cam.name, tuple(output.formats)))
-    except GeometryError as exc:  # the failed check camgen.pipeline.mesh_stage reports: no manufacturing file
-        failure = CheckResult("solid_export", "failed", "made as designed", "", "", False, [], " ".join(str(exc).split()),
-                              blocks_manufacture=True)
-        return cam.with_(mesh_failures=cam.mesh_failures + (failure,))

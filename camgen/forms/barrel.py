@@ -35,5 +35,5 @@ FORM = CamForm(
                      "vtu": _FEA, "msh": _FEA, "inp": _FEA},
     writers={"dxf": "camgen.export.barrel_drawing:dxf", "points": "camgen.export.barrel_drawing:points",
              "step": "camgen.export.barrel_step:writer", "ngc": "camgen.export.gcode_barrel:writer"},
-    stages={"mesh": "camgen.export.barrel_solid:mesh_stage"},
+    stages={"mesh": "camgen.export.barrel_mesh:mesh_stage"},
 )
