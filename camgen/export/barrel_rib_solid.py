@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camgen.errors import GeometryError
-from camgen.export.barrel_solid import band, half_chord_step, triangle_cap, wall_grid, zipper
+from camgen.export.barrel_solid import band, closed_body, half_chord_step, triangle_cap, wall_grid, zipper
 
 if TYPE_CHECKING:
     from camgen.export.solid import CamSolid
@@ -32,9 +32,6 @@ def rib_solid(rib: Any, chord_tol: float, cam: str = "cam", formats: tuple[str, 
     """The :class:`~camgen.export.solid.CamSolid` of the barrel cam with the rib ``rib``
     (:class:`camgen.synthesis.barrel.BarrelRib`): every surface within ``chord_tol`` mm of the exact
     one (module notes), validated by manifold3d; ``formats`` as :func:`~camgen.export.barrel_solid.barrel_solid`'s."""
-    import manifold3d
-
-    from camgen.export.solid import CamSolid
 
     rim, root, length, bore = (float(rib.rim_radius), float(rib.root_radius), float(rib.length), float(rib.bore_radius))
     if not 0.0 <= bore < root < rim:
@@ -67,25 +64,4 @@ def rib_solid(rib: Any, chord_tol: float, cam: str = "cam", formats: tuple[str, 
     faces += [band(lo[i], lo[i + 1]) for i in range(rows - 1)]  # the lower face, facing -z
     faces += [zipper(lo[-1], phi_lo[-1], up[-1], phi_up[-1]),  # the rib's top at the rim, facing +r
               zipper(root0, ring_angle, lo[0], phi_lo[0]), zipper(up[0], phi_up[0], root1, ring_angle)]  # the root cylinder
-    if bore > 0.0:
-        blocks += [ring(bore, 0.0), ring(bore, length)]
-        bore0 = root0 + 2 * ring_count
-        bore1 = bore0 + ring_count
-        faces += [band(bore1, bore0), band(bore0, root0), band(root1, bore1)]  # bore (facing -r), bottom (-z), top (+z)
-    else:
-        blocks += [np.array([[0.0, 0.0, 0.0], [0.0, 0.0, length]])]
-        centre = root1[-1] + 1
-        faces += [np.column_stack([np.full(ring_count, centre), np.roll(root0, -1), root0]),
-                  np.column_stack([np.full(ring_count, centre + 1), root1, np.roll(root1, -1)])]
-    vertices = np.concatenate(blocks)
-    triangles = np.concatenate(faces).astype(np.int64)
-    if not np.all(np.isfinite(vertices)):
-        raise GeometryError(f"cam '{cam}': the rib's faces are not finite everywhere")
-    solid = manifold3d.Manifold(manifold3d.Mesh64(vert_properties=vertices, tri_verts=triangles.astype(np.uint64)))
-    status = solid.status()
-    genus = int(solid.genus()) if status == manifold3d.Error.NoError else -1
-    pieces = len(solid.decompose()) if status == manifold3d.Error.NoError else 0
-    if status != manifold3d.Error.NoError or pieces != 1 or genus != (1 if bore > 0.0 else 0):
-        why = f"manifold3d: {status}" if status != manifold3d.Error.NoError else f"{pieces} bodies of genus {genus}"
-        raise GeometryError(f"cam '{cam}': the rib cannot be meshed at chord_tol_mm = {chord_tol:g} ({why}): its faces cross")
-    return CamSolid(vertices, triangles, float(solid.volume()), math.pi * (rim * rim - bore * bore), genus, "barrel")
+    return closed_body(blocks, faces, root0, root1, ring, bore, length, rim, f"cam '{cam}': the rib", "its faces cross", chord_tol)

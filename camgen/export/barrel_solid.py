@@ -55,7 +55,7 @@ from camgen.errors import GeometryError
 if TYPE_CHECKING:
     from camgen.export.solid import CamSolid
 
-__all__ = ["BYTES_PER_TRIANGLE", "MAX_REFINEMENTS", "MIDPOINT_FRACTION", "NEWTON_ITERATIONS", "NEWTON_STEP", "NEWTON_TOL", "axial_deviation", "barrel_solid", "band", "half_chord_step", "triangle_cap", "wall_grid", "zipper"]
+__all__ = ["BYTES_PER_TRIANGLE", "MAX_REFINEMENTS", "MIDPOINT_FRACTION", "NEWTON_ITERATIONS", "NEWTON_STEP", "NEWTON_TOL", "axial_deviation", "barrel_solid", "band", "closed_body", "half_chord_step", "triangle_cap", "wall_grid", "zipper"]
 
 #: Largest deviation of a wall triangle's edge midpoint from the exact wall, as a fraction of the
 #: chord tolerance: a quadratic surface's deviation over the triangle is at most 4/3 of its largest
@@ -232,10 +232,6 @@ def barrel_solid(groove: Any, chord_tol: float, cam: str = "cam", formats: tuple
     (:class:`camgen.synthesis.barrel.BarrelGroove`): every surface within ``chord_tol`` mm of the
     exact one (module notes), validated by manifold3d.  ``formats``: the mesh formats to be written
     (the size cap, :data:`BYTES_PER_TRIANGLE`; None: every one)."""
-    import manifold3d
-
-    from camgen.export.solid import CamSolid
-
     rim, root, length, bore = (float(groove.rim_radius), float(groove.root_radius), float(groove.length), float(groove.bore_radius))
     if not 0.0 <= bore < root < rim:
         raise GeometryError(f"cam '{cam}': the barrel needs 0 <= bore radius < root radius < rim radius (bore {bore:g} mm, root "
@@ -263,25 +259,41 @@ def barrel_solid(groove: Any, chord_tol: float, cam: str = "cam", formats: tuple
     faces += [band(lo[i + 1], lo[i]) for i in range(rows - 1)]  # facing +z
     faces += [zipper(lo[0], phi_lo[0], up[0], phi_up[0]),  # the floor, facing +r
               zipper(rim0, ring_angle, lo[-1], phi_lo[-1]), zipper(up[-1], phi_up[-1], rim1, ring_angle)]  # the rim bands
+    return closed_body(blocks, faces, rim0, rim1, ring, bore, length, rim, f"cam '{cam}': the barrel", "the walls cross", chord_tol)
+
+
+def closed_body(blocks: list[np.ndarray], faces: list[np.ndarray], outer0: np.ndarray, outer1: np.ndarray, ring: Any, bore: float,
+                length: float, rim: float, what: str, crossing: str, chord_tol: float) -> "CamSolid":
+    """A barrel body's mesh closed and checked: ``blocks`` of vertices (mm) and ``faces`` so far,
+    whose outer rings at z = 0 and z = length are the vertex indices ``outer0``, ``outer1``; the
+    bore (radius ``bore`` mm, 0: none, then a fan to the axis closes each end face) and the end
+    faces added (``ring(radius, z)``: a ring's vertices on the outer rings' angles).  manifold3d
+    must find one closed 2-manifold of genus 1 with a bore (0 without); else a
+    :class:`GeometryError` saying ``what`` cannot be meshed at ``chord_tol`` and why (``crossing``)."""
+    import manifold3d
+
+    from camgen.export.solid import CamSolid
+
+    ring_count = outer0.size
     if bore > 0.0:
-        blocks += [ring(bore, 0.0), ring(bore, length)]
-        bore0 = rim0 + 2 * ring_count
+        blocks = blocks + [ring(bore, 0.0), ring(bore, length)]
+        bore0 = outer0 + 2 * ring_count
         bore1 = bore0 + ring_count
-        faces += [band(bore1, bore0), band(bore0, rim0), band(rim1, bore1)]  # bore (facing -r), bottom (-z), top (+z)
+        faces = faces + [band(bore1, bore0), band(bore0, outer0), band(outer1, bore1)]  # bore (facing -r), bottom (-z), top (+z)
     else:
-        blocks += [np.array([[0.0, 0.0, 0.0], [0.0, 0.0, length]])]
-        centre = rim1[-1] + 1
-        faces += [np.column_stack([np.full(ring_count, centre), np.roll(rim0, -1), rim0]),
-                  np.column_stack([np.full(ring_count, centre + 1), rim1, np.roll(rim1, -1)])]
+        blocks = blocks + [np.array([[0.0, 0.0, 0.0], [0.0, 0.0, length]])]
+        centre = outer1[-1] + 1
+        faces = faces + [np.column_stack([np.full(ring_count, centre), np.roll(outer0, -1), outer0]),
+                         np.column_stack([np.full(ring_count, centre + 1), outer1, np.roll(outer1, -1)])]
     vertices = np.concatenate(blocks)
     triangles = np.concatenate(faces).astype(np.int64)
     if not np.all(np.isfinite(vertices)):
-        raise GeometryError(f"cam '{cam}': the barrel's walls are not finite everywhere")
+        raise GeometryError(f"{what}'s surfaces are not finite everywhere")
     solid = manifold3d.Manifold(manifold3d.Mesh64(vert_properties=vertices, tri_verts=triangles.astype(np.uint64)))
     status = solid.status()
     genus = int(solid.genus()) if status == manifold3d.Error.NoError else -1
     pieces = len(solid.decompose()) if status == manifold3d.Error.NoError else 0
     if status != manifold3d.Error.NoError or pieces != 1 or genus != (1 if bore > 0.0 else 0):
         why = f"manifold3d: {status}" if status != manifold3d.Error.NoError else f"{pieces} bodies of genus {genus}"
-        raise GeometryError(f"cam '{cam}': the barrel cannot be meshed at chord_tol_mm = {chord_tol:g} ({why}): the walls cross")
+        raise GeometryError(f"{what} cannot be meshed at chord_tol_mm = {chord_tol:g} ({why}): {crossing}")
     return CamSolid(vertices, triangles, float(solid.volume()), math.pi * (rim * rim - bore * bore), genus, "barrel")
