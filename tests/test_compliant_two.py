@@ -15,7 +15,6 @@ Every expected number comes from elsewhere:
 """
 from __future__ import annotations
 
-import copy
 import math
 
 import numpy as np
@@ -178,25 +177,7 @@ def test_the_tools_residual_vibration_is_the_free_vibration_dop853_finds_in_the_
 # --------------------------------------------------------------------------------------------
 # Scenes
 # --------------------------------------------------------------------------------------------
-def plate(**changes) -> dict:
-    """A translating roller cam (cycloidal 20 mm over 120 deg, dwell 60, back over 120, dwell 60)."""
-    segments = [{"law": "cycloidal", "span_deg": 120.0, "lift_mm": 20.0}, {"law": "dwell", "span_deg": 60.0},
-                {"law": "cycloidal", "span_deg": 120.0, "lift_mm": -20.0}, {"law": "dwell", "span_deg": 60.0}]
-    cam = {"kind": "motion_law", "base_radius_mm": 40.0, "roller_radius_mm": 10.0, "rpm": 300.0, "thickness_mm": 10.0,
-           "segments": segments, "mass_kg": 0.6, "spring_rate_n_per_mm": 2.0, "spring_preload_n": 35.0, "jump_margin_n": 5.0}
-    cam.update(changes)
-    return {"output": {"formats": ["dxf"]}, "cams": {"c": {k: v for k, v in cam.items() if v is not None}}}
-
-
-def run(scene: dict):
-    import json
-
-    from camgen.pipeline import execute, plan_run
-    from camgen.scene import parse_scene
-
-    parsed = parse_scene(copy.deepcopy(scene), "s")
-    result = execute(parsed, plan_run(parsed))
-    return result.cams[0], json.loads(result.files["report.json"])
+from test_compliant import plate, run  # the one-mass train's scene and runner
 
 
 TWO = {"train_stiffness_n_per_mm": 2000.0, "follower_stiffness_n_per_mm": 500.0, "tool_mass_kg": 0.25}

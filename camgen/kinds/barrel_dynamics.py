@@ -61,12 +61,8 @@ if TYPE_CHECKING:
     from camgen.kinds.dynamics import DynamicsSpec
     from camgen.schema import Key
 
-__all__ = ["CROSSOVER_BISECTIONS", "barrel_crossovers", "barrel_dynamics_keys", "barrel_kinematics", "developed_curvature",
+__all__ = ["barrel_crossovers", "barrel_dynamics_keys", "barrel_kinematics", "developed_curvature",
            "read_barrel_dynamics"]
-
-#: Bisection steps locating a wall crossover (a zero of the law's s'') between two check-grid
-#: samples 0.1 deg apart: 2^-40 of 0.1 deg, 1.6e-15 rad (the groove cam's).
-CROSSOVER_BISECTIONS = 40
 
 _DOCS = {
     "gravity": "The follower's weight loads the contact, along gravity_deg in the plane the follower moves in (false: gravity "
@@ -180,26 +176,13 @@ def barrel_crossovers(cam: Any, rpm: float | None) -> "CheckResult":
     check-grid samples (as the groove cam's ``wall_crossover``)."""
     from camgen.checks import information, where_degrees
 
+    from camgen.kinds.groove import acceleration_zeros
+
     m = cam.motion
-    sign = np.sign(m.acceleration)
-    nz = np.flatnonzero(sign != 0)
-    if nz.size < 2:
+    zeros = acceleration_zeros(cam.law, m)
+    if zeros is None:
         return information("wall_crossover", 0, "", [], "the acceleration never changes sign: the roller stays on one wall")
-    s = sign[nz]
-    change = np.flatnonzero(s != np.roll(s, -1))  # from nz[i] to the next non-zero sample
-    if change.size == 0:
-        return information("wall_crossover", 0, "", [], "the acceleration never changes sign: the roller stays on one wall")
-    theta = m.cam_angle
-    lo, hi = theta[nz[change]], theta[nz[(change + 1) % nz.size]]
-    hi = np.where(hi > lo, hi, hi + 2.0 * math.pi)
-    a_lo = cam.law(np.mod(lo, 2.0 * math.pi))[2]
-    for _ in range(CROSSOVER_BISECTIONS):
-        mid = 0.5 * (lo + hi)
-        a_mid = cam.law(np.mod(mid, 2.0 * math.pi))[2]
-        left = np.sign(a_mid) == np.sign(a_lo)
-        lo, a_lo = np.where(left, mid, lo), np.where(left, a_mid, a_lo)
-        hi = np.where(left, hi, mid)
-    angles = np.mod(0.5 * (lo + hi), 2.0 * math.pi)
+    angles, here = zeros
     what = "axial inertia force" if m.unit == "mm" else "arm's inertia torque"
     note = (f"{angles.size} cam angles where the follower's acceleration changes sign: with inertia the only load the {what} "
             f"changes sign there and the roller crosses the {cam.params.clearance:g} mm clearance from the lower wall to the upper "
@@ -207,7 +190,6 @@ def barrel_crossovers(cam: Any, rpm: float | None) -> "CheckResult":
             "where the load crosses)")
     if rpm:
         omega = 2.0 * math.pi * rpm / 60.0
-        here = nz[change]
         scale, unit = (1e-3, ("m/s", "m/s^3")) if m.unit == "mm" else (1.0, ("rad/s", "rad/s^3"))
         speed = float(np.max(np.abs(m.velocity[here]))) * omega * scale
         jerk = float(np.max(np.abs(m.jerk[here]))) * omega**3 * scale

@@ -35,10 +35,10 @@ from camgen.schema import Key, Length
 
 if TYPE_CHECKING:
     from camgen.body import BodySpec
-    from camgen.checks import CamEvaluation, CheckResult
+    from camgen.checks import CamEvaluation, CheckResult, Motion
     from camgen.contour import Contour
 
-__all__ = ["DEFAULT_CLEARANCE", "GrooveBody", "INNER", "OUTER", "GrooveCam", "GrooveParams", "build_groove", "evaluate_groove", "groove_keys", "groove_kinematics",
+__all__ = ["DEFAULT_CLEARANCE", "acceleration_zeros", "GrooveBody", "INNER", "OUTER", "GrooveCam", "GrooveParams", "build_groove", "evaluate_groove", "groove_keys", "groove_kinematics",
            "groove_tool_check", "groove_wall_checks", "max_radius", "read_groove_depth", "rim_circle", "rim_radius_for", "roller_keys", "groove_spec"]
 
 #: Default ``groove_clearance_mm``: the groove's width less the roller's diameter (mm); a running
@@ -404,31 +404,42 @@ def groove_tool_check(cam: GrooveBody, tool_radius: float, tool_is_limit: bool) 
     return limited("groove_tool", width, ">=", 2.0 * tool_radius, "mm", [], note, blocks_manufacture=True)
 
 
+def acceleration_zeros(law: Any, motion: "Motion") -> tuple[np.ndarray, np.ndarray] | None:
+    """Where the follower's acceleration changes sign (a form-closed follower's crossovers): the
+    cam angles (rad) of the law's own zeros of s'', each bisected (:data:`CROSSOVER_BISECTIONS`)
+    between the two samples of ``motion``'s grid around it, and the index of the sample before
+    each; None when the acceleration never changes sign."""
+    sign = np.sign(motion.acceleration)
+    nz = np.flatnonzero(sign != 0)
+    if nz.size < 2:
+        return None
+    s = sign[nz]
+    change = np.flatnonzero(s != np.roll(s, -1))  # from nz[i] to the next non-zero sample
+    if change.size == 0:
+        return None
+    theta = motion.cam_angle
+    lo, hi = theta[nz[change]], theta[nz[(change + 1) % nz.size]]
+    hi = np.where(hi > lo, hi, hi + 2.0 * math.pi)
+    a_lo = law(np.mod(lo, 2.0 * math.pi))[2]
+    for _ in range(CROSSOVER_BISECTIONS):  # the law's own zero of s'' between the two samples
+        mid = 0.5 * (lo + hi)
+        a_mid = law(np.mod(mid, 2.0 * math.pi))[2]
+        left = np.sign(a_mid) == np.sign(a_lo)
+        lo, a_lo = np.where(left, mid, lo), np.where(left, a_mid, a_lo)
+        hi = np.where(left, hi, mid)
+    return np.mod(0.5 * (lo + hi), 2.0 * math.pi), nz[change]
+
+
 def _crossovers(cam: GrooveCam, rpm: float | None) -> "CheckResult":
     """Where the roller changes walls: the follower's inertia force (mass times acceleration)
     changes sign, so the contact moves across the clearance from one wall to the other."""
     from camgen.checks import information, where_degrees
 
     m = cam.motion
-    a = m.acceleration
-    sign = np.sign(a)
-    nz = np.flatnonzero(sign != 0)
-    if nz.size < 2:
+    zeros = acceleration_zeros(cam.law, m)
+    if zeros is None:
         return information("wall_crossover", 0, "", [], "the acceleration never changes sign: the roller stays on one wall")
-    s = sign[nz]
-    change = np.flatnonzero(s != np.roll(s, -1))  # from nz[i] to the next non-zero sample
-    theta = m.cam_angle
-    lo, hi = theta[nz[change]], theta[nz[(change + 1) % nz.size]]
-    hi = np.where(hi > lo, hi, hi + 2.0 * math.pi)
-    a_lo = cam.law(np.mod(lo, 2.0 * math.pi))[2]
-    for _ in range(CROSSOVER_BISECTIONS):  # the law's own zero of s'' between the two samples
-        mid = 0.5 * (lo + hi)
-        a_mid = cam.law(np.mod(mid, 2.0 * math.pi))[2]
-        left = np.sign(a_mid) == np.sign(a_lo)
-        lo, a_lo = np.where(left, mid, lo), np.where(left, a_mid, a_lo)
-        hi = np.where(left, hi, mid)
-    angles = np.mod(0.5 * (lo + hi), 2.0 * math.pi)
-    here = nz[change]
+    angles, here = zeros
     note = (f"{angles.size} cam angles where the follower's acceleration changes sign: with inertia the only load, the contact "
             f"force changes sign there and the roller crosses the {cam.figures['groove']['clearance_mm']:g} mm clearance to the "
             "other wall (crossover shock; an external load on the follower moves these angles)")
