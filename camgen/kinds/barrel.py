@@ -646,12 +646,15 @@ def _section(groove: Any, p: BarrelParams, theta: np.ndarray, limit_deg: float) 
         a = math.radians(VIEW_AZIMUTH_DEG) + sign * 0.5 * math.pi
         lines.append(("silhouette", np.array([[p.rim_radius * math.cos(a), p.rim_radius * math.sin(a), 0.0],
                                               [p.rim_radius * math.cos(a), p.rim_radius * math.sin(a), p.length]])))
+    surface = "face of the rib" if p.track == "rib" else "wall"
     for r, where in ((p.rim_radius, "rim"), (p.root_radius, "root")):
         for side, name in ((1, "upper"), (-1, "lower")):
             height = groove.wall_height(side, np.asarray(r), phi)
-            lines.append((f"{name} wall at the {where}", np.stack([r * np.cos(phi), r * np.sin(phi), height], axis=1)))
+            lines.append((f"{name} {surface} at the {where}", np.stack([r * np.cos(phi), r * np.sin(phi), height], axis=1)))
     frames = np.linspace(0.0, 2.0 * math.pi, ANIMATION_FRAMES + 1)
-    z_c, e = groove.axis(frames)
+    # each roller's axis per frame (tangential offset e, height z_c): a groove's one roller, a rib's two (lower, upper)
+    carriers = (groove.roller(-1), groove.roller(1)) if p.track == "rib" else (groove,)
+    rollers = tuple((np.broadcast_to(e, frames.shape).astype(float), np.asarray(z_c, dtype=float))
+                    for z_c, e in (carrier.axis(frames) for carrier in carriers))
     return section_class()(np.degrees(t), pressure, phi * p.mean_radius, px[order], pz[order], upper, lower, tuple(lines),
-                           np.broadcast_to(e, frames.shape).astype(float), z_c, p.mean_radius, p.length, p.roller_radius, p.sigma,
-                           limit_deg)
+                           rollers, p.track, p.mean_radius, p.length, p.roller_radius, p.sigma, limit_deg)
