@@ -268,3 +268,17 @@ def test_a_rib_run_writes_its_program_and_a_wrong_tool_exits_2(tmp_path, capsys)
     assert err.startswith("camgen: error: ") and err.count("\n") == 1 and "Traceback" not in err, err
     assert "machining.tool_diameter_mm" in err and "16.05 mm (the rollers' diameter" in err and "for cam 'c'" in err, err
     assert list(parent.iterdir()) == []
+
+
+def test_a_ribs_wall_to_the_bore_is_checked_to_the_floor_the_program_cuts():
+    """The root under each roller's track is cut down to the flat tip's floor sqrt(R_i^2 - w^2)
+    (the faces' passes): the wall_thickness check measures from there to the bore, passing at
+    min_wall_mm just below it and failing just above."""
+    from test_barrel_form import DEPTH, R_O, RR, CLEAR, cam as groove_cam, check, run
+
+    floor = math.sqrt((R_O - DEPTH) ** 2 - (RR + CLEAR / 2) ** 2)
+    wall = floor - 15.0  # bore diameter 30 mm
+    base = groove_cam(track="rib", rib_width_mm=12.0, cylinder_length_mm=90.0, bore_diameter_mm=30.0)
+    assert check(run(base)[1], "wall_thickness")["value"] == pytest.approx(wall, abs=1e-12)
+    assert check(run({**base, "min_wall_mm": wall - 1e-9})[1], "wall_thickness")["status"] == "pass"
+    assert check(run({**base, "min_wall_mm": wall + 1e-9})[1], "wall_thickness")["status"] == "fail"

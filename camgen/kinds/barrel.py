@@ -580,10 +580,16 @@ def _rib_length(cam: BarrelCam) -> "CheckResult":
 def _rib_bore(cam: BarrelCam, min_wall: float) -> "CheckResult":
     from camgen.checks import limited
 
+    from camgen.synthesis.barrel import floor_radius
+
     p = cam.params
-    return limited("wall_thickness", p.root_radius - p.bore_radius, ">=", min_wall, "mm", [],
+    # the 4th-axis program's faces' passes (camgen.export.gcode_barrel_rib) run an end mill of the rollers' diameter with its flat
+    # tip at sqrt(R_i^2 - w^2), cutting the root that far below the root radius along each roller's track
+    deepest = float(np.min(floor_radius(p.root_radius, np.zeros(1), cam.groove.half_width)))
+    return limited("wall_thickness", deepest - p.bore_radius, ">=", min_wall, "mm", [],
                    f"material between the bore (radius {p.bore_radius:g} mm) and the root cylinder the rib stands on (radius "
-                   f"{p.root_radius:g} mm)", blocks_manufacture=True)
+                   f"{p.root_radius:g} mm) where an end mill of the rollers' diameter cuts the faces to the root: its flat tip reaches "
+                   f"radius {deepest:.6g} mm along each roller's track", blocks_manufacture=True)
 
 
 def evaluate_barrel(cam: BuiltCam, spec: CamSpec, tool_radius: float, tool_is_limit: bool) -> "CamEvaluation":
