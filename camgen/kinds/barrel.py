@@ -94,8 +94,8 @@ def barrel_keys() -> tuple[Key, ...]:
         Key("track", Choice(TRACKS), "groove: a groove cut into the cylinder guides one roller between its walls; rib (translating "
             "follower only): a rib stands on the root cylinder up to the rim, straddled by two rollers of the follower whose axes "
             "ride rib_width_mm / 2 + w below and above the pitch line (w = roller_radius_mm + groove_clearance_mm / 2); the rib's "
-            "faces are the exact envelopes of the two rollers (the lower roller's is the lower face). A rib cam's STEP and 4th-axis "
-            "program are not built yet (refused).", ("profile",), default="groove"),
+            "faces are the exact envelopes of the two rollers (the lower roller's is the lower face). A rib cam's STEP is not built "
+            "yet (refused).", ("profile",), default="groove"),
         Key("rib_width_mm", Length(high=1e5), "Rib (required with track = \"rib\"): the rib's width along the cam axis where the "
             "follower dwells (the rollers' axes are rib_width_mm + 2 w apart); during a rise the rib is thinner along the axis, "
             "checked at every radius and cam angle (rib_thickness).", ("profile",), requires=_RIB),
@@ -121,7 +121,8 @@ def barrel_keys() -> tuple[Key, ...]:
             ("profile",), default=_body_default("bore_diameter")),
         Key("min_wall_mm", Length(0.0, 1e4, low_open=False), "Least material allowed between the groove and the bore (the floor "
             "an end mill of the groove's width cuts, its flat tip just below the root radius, less the bore radius) and between the groove's walls and each end face (the checks' limit); "
-            "track = \"rib\": the least width of the rib along the axis and the root cylinder's wall over the bore.", ("report",),
+            "track = \"rib\": the least width of the rib along the axis and the root cylinder's wall over the bore (to the floor an end mill of the rollers' diameter cuts beside the faces, "
+            "sqrt(R_i^2 - w^2)).", ("report",),
             default=_body_default("min_wall")),
         Key("pressure_angle_limit_deg", Angle(0.01, 90.0, high_open=True), "Largest pressure angle allowed at the root radius, "
             "where it is largest (default: 30 deg translating followers, 45 deg oscillating ones).", ("report",)),
