@@ -64,6 +64,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -77,8 +78,8 @@ if TYPE_CHECKING:
     from camgen.results import CamResult
     from camgen.writers import RunSettings
 
-__all__ = ["MAX_REFINEMENTS", "MAX_STATIONS", "BarrelToolPath", "a_decimals", "barrel_program", "floor_radius", "station_angles",
-           "tool_path", "width_tol", "writer"]
+__all__ = ["GROOVE_ONE_PASS", "GROOVE_WIDTH", "MAX_REFINEMENTS", "MAX_STATIONS", "BarrelToolPath", "a_decimals", "barrel_program",
+           "check_tool", "floor_radius", "named_program", "station_angles", "tool_path", "turn_blocks", "width_tol", "writer"]
 
 #: Most stations of one turn (a program of a few turns stays within what controllers load).
 MAX_STATIONS = 400_000
@@ -190,8 +191,17 @@ def tool_path(groove: Any, spec: MachiningSpec) -> BarrelToolPath:
     return BarrelToolPath(np.degrees(travel * u), pose[:, 0], pose[:, 1], pose[:, 2], groove.rim_radius, spec.step_down, turns)
 
 
-def _check(groove: Any, spec: MachiningSpec, cam: str) -> None:
-    """Refuse what this program cannot cut (ParameterError naming the key, or GeometryError)."""
+#: What the groove's tool must match, as a refusal names it (:func:`check_tool`).
+GROOVE_WIDTH = "the groove's width 2 x roller radius + clearance"
+#: Why another tool is refused for a groove (:func:`check_tool`).
+GROOVE_ONE_PASS = "a barrel cam's groove is cut in one pass along its pitch curve by a tool of its width; a wall-offset strategy for another tool is not built"
+
+
+def check_tool(groove: Any, spec: MachiningSpec, cam: str, width_is: str = GROOVE_WIDTH, why: str = GROOVE_ONE_PASS) -> None:
+    """Refuse what a barrel cam's program cannot cut (ParameterError naming the key): a conical
+    roller, a tool whose diameter is not ``2 w`` (``groove.half_width``) within :func:`width_tol`
+    (``width_is`` says what that width is, ``why`` why another tool is refused), the grbl dialect,
+    cutter compensation."""
     layout = groove.layout
     if layout.roller_shape != "cylindrical":
         raise ParameterError(f"cams.{cam}.roller_shape", layout.roller_shape, '"cylindrical" with "ngc" in output.formats',
@@ -199,13 +209,45 @@ def _check(groove: Any, spec: MachiningSpec, cam: str) -> None:
     width = 2.0 * groove.half_width
     tol = width_tol(spec)
     if abs(spec.tool_diameter - width) > tol:
-        raise ParameterError("tool_diameter", spec.tool_diameter, f"{width:.10g} mm (the groove's width 2 x roller radius + clearance, "
-                             f"within {tol:.3g} mm)", "a barrel cam's groove is cut in one pass along its pitch curve by a tool of its "
-                             "width; a wall-offset strategy for another tool is not built")
+        raise ParameterError("tool_diameter", spec.tool_diameter, f"{width:.10g} mm ({width_is}, within {tol:.3g} mm)", why)
     if spec.dialect != "linuxcnc":
         raise ParameterError("dialect", spec.dialect, '"linuxcnc" for a barrel cam', "its program needs a rotary A axis and G93")
     if spec.cutter_compensation:
         raise ParameterError("cutter_compensation", True, "false for a barrel cam", "its program is a tool-centre path on a rotary axis")
+
+
+def turn_blocks(path: BarrelToolPath, xs: np.ndarray, ys: np.ndarray, d: int, da: int, feed: float, rim: float, a_start: float = 0.0,
+                oscillating: bool | None = None, label: str = "", floor_what: str = "finishing turn on the floor") -> list[str]:
+    """The G93 moves of one pass's turns (``path.turns`` roughing turns, then one on the floor), a
+    block of text per turn headed by a comment: ``xs``, ``ys`` the printed X, Y at the stations
+    (mm, ``d`` decimals), A (deg, ``da`` decimals) from ``a_start`` (a multiple of 360: A is not
+    unwound between passes) turning the way ``path.a`` does, the tip from ``rim`` (the level the
+    pass starts at) down by :meth:`BarrelToolPath.tip`; ``F`` the inverse time of ``feed`` (mm/min)
+    over each move's length at the ``rim`` radius (mm).  ``oscillating``: print Y (default: where
+    any ``ys`` is not 0); ``label`` heads each turn's comment; ``floor_what`` names the last turn."""
+    from camgen.export.tables import format_rows
+
+    if oscillating is None:
+        oscillating = bool(np.any(ys != 0.0))
+    n_turns = path.turns + 1
+    blocks: list[str] = []
+    prev_z = rim
+    for turn in range(1, n_turns + 1):
+        a = np.round(path.a + (a_start + (turn - 1) * np.sign(path.a[-1]) * 360.0), da) + 0.0
+        z = np.round(path.tip(turn), d) + 0.0
+        z[0] = prev_z
+        prev_z = float(z[-1])
+        # a step finer than the printed decimals (a refined step at a sharp turn of the law) is dropped
+        keep = np.concatenate([[True], (np.diff(a) != 0.0) | (np.diff(xs) != 0.0) | (np.diff(ys) != 0.0) | (np.diff(z) != 0.0)])
+        a, xt, yt, z = a[keep], xs[keep], ys[keep], z[keep]
+        # inverse time: feed over the move's length at the rim (printed values)
+        length = np.sqrt((rim * np.radians(np.diff(a))) ** 2 + np.diff(xt) ** 2 + np.diff(yt) ** 2 + np.diff(z) ** 2)
+        inverse = np.floor(feed / length * 1e4) / 1e4  # rounded down: never faster than the feed
+        cols = [xt[1:]] + ([yt[1:]] if oscillating else []) + [z[1:], a[1:], inverse]
+        row = f"G1 X%.{d}f" + (f" Y%.{d}f" if oscillating else "") + f" Z%.{d}f A%.{da}f F%.4f"
+        what = floor_what if turn == n_turns else f"roughing turn {turn} of {path.turns}: ramp to Z{float(z[-1]):.{d}f}"
+        blocks.append(f"({label}{what})\n" + format_rows(np.column_stack(cols), row))
+    return blocks
 
 
 def barrel_program(groove: Any, spec: MachiningSpec, cam: str = "cam", scene: str = "") -> str:
@@ -224,9 +266,8 @@ def barrel_program(groove: Any, spec: MachiningSpec, cam: str = "cam", scene: st
     """
     from camgen import __version__
     from camgen.export.gcode import MAX_PROGRAM_MOVES, blend_word
-    from camgen.export.tables import format_rows
 
-    _check(groove, spec, cam)
+    check_tool(groove, spec, cam)
     path = tool_path(groove, spec)
     d = spec.decimals
     da = a_decimals(d, groove.rim_radius)
@@ -245,25 +286,9 @@ def barrel_program(groove: Any, spec: MachiningSpec, cam: str = "cam", scene: st
     xs, ys = np.round(path.x, d) + 0.0, np.round(path.y, d) + 0.0
 
     # one block of moves per turn: the turns run on from A = 360 k (A is not unwound)
-    blocks: list[str] = []
     feed = spec.feed
     rim = groove.rim_radius
-    prev_z = rim
-    for turn in range(1, n_turns + 1):
-        a = np.round(path.a + (turn - 1) * np.sign(path.a[-1]) * 360.0, da) + 0.0
-        z = np.round(path.tip(turn), d) + 0.0
-        z[0] = prev_z
-        prev_z = float(z[-1])
-        # a step finer than the printed decimals (a refined step at a sharp turn of the law) is dropped
-        keep = np.concatenate([[True], (np.diff(a) != 0.0) | (np.diff(xs) != 0.0) | (np.diff(ys) != 0.0) | (np.diff(z) != 0.0)])
-        a, xt, yt, z = a[keep], xs[keep], ys[keep], z[keep]
-        # inverse time: feed over the move's length at the rim (printed values)
-        length = np.sqrt((rim * np.radians(np.diff(a))) ** 2 + np.diff(xt) ** 2 + np.diff(yt) ** 2 + np.diff(z) ** 2)
-        inverse = np.floor(feed / length * 1e4) / 1e4  # rounded down: never faster than the feed
-        cols = [xt[1:]] + ([yt[1:]] if oscillating else []) + [z[1:], a[1:], inverse]
-        row = f"G1 X%.{d}f" + (f" Y%.{d}f" if oscillating else "") + f" Z%.{d}f A%.{da}f F%.4f"
-        what = "finishing turn on the floor" if turn == n_turns else f"roughing turn {turn} of {path.turns}: ramp to Z{float(z[-1]):.{d}f}"
-        blocks.append(f"({what})\n" + format_rows(np.column_stack(cols), row))
+    blocks = turn_blocks(path, xs, ys, d, da, feed, rim, oscillating=oscillating)
 
     chord_tol = spec.chord_tol
     blend = blend_word(BLEND_SHARE * chord_tol, d)
@@ -308,16 +333,22 @@ def barrel_program(groove: Any, spec: MachiningSpec, cam: str = "cam", scene: st
 
 
 def writer(cam: "CamResult", run: "RunSettings", fmt: str) -> str:
-    """The barrel cam's ``ngc`` (:attr:`camgen.forms.base.CamForm.writers`): its groove
-    (``cam.built.groove``) milled on a 4th axis; errors name the scene keys."""
+    """The barrel cam's ``ngc`` for a groove (a rib's: :func:`camgen.export.gcode_barrel_rib.writer`):
+    its groove (``cam.built.groove``) milled on a 4th axis; errors name the scene keys."""
+    groove = getattr(cam.built, "groove")
+    return named_program(cam, run, lambda: barrel_program(groove, run.machining, cam.name, run.scene_name))
+
+
+def named_program(cam: "CamResult", run: "RunSettings", make: Callable[[], str]) -> str:
+    """``make()``, a barrel cam's program from ``run.machining``: a :class:`ParameterError` naming
+    a machining or output parameter is re-raised naming its scene key, its valid range said for
+    the cam ``cam.name``; one naming the cam's own key (``cams.``) passes unchanged."""
     from camgen.keynames import renamed
     from camgen.outputs import machining_keys, output_keys
 
-    groove = getattr(cam.built, "groove")
     assert run.machining.chord_tol == run.output.chord_tol, "the scene reader gives a G-code run its chord tolerance"
     try:
-        return renamed("machining", machining_keys(), lambda: barrel_program(groove, run.machining, cam.name, run.scene_name),
-                       also=(("output", output_keys()),))
+        return renamed("machining", machining_keys(), make, also=(("output", output_keys()),))
     except ParameterError as exc:
         if exc.name.startswith("cams."):
             raise

@@ -67,8 +67,7 @@ _RIB = {"track": ("rib",)}
 #: The tracks a barrel cam carries.
 TRACKS = ("groove", "rib")
 #: Outputs a rib cam does not have yet (refused naming output.formats, :attr:`BarrelParams.formats_refused`).
-RIB_FORMATS_REFUSED = {"step": "a rib's STEP is not built yet (the meshes, the developed drawing and the point list are)",
-                       "ngc": "a rib's 4th-axis program is not built yet (the meshes, the developed drawing and the point list are)"}
+RIB_FORMATS_REFUSED = {"step": "a rib's STEP is not built yet (the meshes, the developed drawing and the point list are)"}
 
 
 def _body_default(name: str) -> Any:
@@ -95,8 +94,8 @@ def barrel_keys() -> tuple[Key, ...]:
         Key("track", Choice(TRACKS), "groove: a groove cut into the cylinder guides one roller between its walls; rib (translating "
             "follower only): a rib stands on the root cylinder up to the rim, straddled by two rollers of the follower whose axes "
             "ride rib_width_mm / 2 + w below and above the pitch line (w = roller_radius_mm + groove_clearance_mm / 2); the rib's "
-            "faces are the exact envelopes of the two rollers (the lower roller's is the lower face). A rib cam's STEP and 4th-axis "
-            "program are not built yet (refused).", ("profile",), default="groove"),
+            "faces are the exact envelopes of the two rollers (the lower roller's is the lower face). A rib cam's STEP is not built "
+            "yet (refused).", ("profile",), default="groove"),
         Key("rib_width_mm", Length(high=1e5), "Rib (required with track = \"rib\"): the rib's width along the cam axis where the "
             "follower dwells (the rollers' axes are rib_width_mm + 2 w apart); during a rise the rib is thinner along the axis, "
             "checked at every radius and cam angle (rib_thickness).", ("profile",), requires=_RIB),
@@ -122,7 +121,8 @@ def barrel_keys() -> tuple[Key, ...]:
             ("profile",), default=_body_default("bore_diameter")),
         Key("min_wall_mm", Length(0.0, 1e4, low_open=False), "Least material allowed between the groove and the bore (the floor "
             "an end mill of the groove's width cuts, its flat tip just below the root radius, less the bore radius) and between the groove's walls and each end face (the checks' limit); "
-            "track = \"rib\": the least width of the rib along the axis and the root cylinder's wall over the bore.", ("report",),
+            "track = \"rib\": the least width of the rib along the axis and the root cylinder's wall over the bore (to the floor an end mill of the rollers' diameter cuts beside the faces, "
+            "sqrt(R_i^2 - w^2)).", ("report",),
             default=_body_default("min_wall")),
         Key("pressure_angle_limit_deg", Angle(0.01, 90.0, high_open=True), "Largest pressure angle allowed at the root radius, "
             "where it is largest (default: 30 deg translating followers, 45 deg oscillating ones).", ("report",)),
@@ -581,10 +581,16 @@ def _rib_length(cam: BarrelCam) -> "CheckResult":
 def _rib_bore(cam: BarrelCam, min_wall: float) -> "CheckResult":
     from camgen.checks import limited
 
+    from camgen.synthesis.barrel import floor_radius
+
     p = cam.params
-    return limited("wall_thickness", p.root_radius - p.bore_radius, ">=", min_wall, "mm", [],
+    # the 4th-axis program's faces' passes (camgen.export.gcode_barrel_rib) run an end mill of the rollers' diameter with its flat
+    # tip at sqrt(R_i^2 - w^2), cutting the root that far below the root radius along each roller's track
+    deepest = float(np.min(floor_radius(p.root_radius, np.zeros(1), cam.groove.half_width)))
+    return limited("wall_thickness", deepest - p.bore_radius, ">=", min_wall, "mm", [],
                    f"material between the bore (radius {p.bore_radius:g} mm) and the root cylinder the rib stands on (radius "
-                   f"{p.root_radius:g} mm)", blocks_manufacture=True)
+                   f"{p.root_radius:g} mm) where an end mill of the rollers' diameter cuts the faces to the root: its flat tip reaches "
+                   f"radius {deepest:.6g} mm along each roller's track", blocks_manufacture=True)
 
 
 def evaluate_barrel(cam: BuiltCam, spec: CamSpec, tool_radius: float, tool_is_limit: bool) -> "CamEvaluation":
