@@ -9,13 +9,15 @@ is no plate, so the form writes its own files: the developed drawing and the wal
 (:mod:`camgen.export.barrel_drawing`), the solid (:mod:`camgen.export.barrel_solid`, the mesh
 stage; STEP :mod:`camgen.export.barrel_step`) and the 4th-axis program
 (:mod:`camgen.export.gcode_barrel`).  The groove is form-closed: its dynamics (both walls' forces,
-torque, Hertz stress) are :mod:`camgen.kinds.barrel_dynamics`.
+torque, Hertz stress) are :mod:`camgen.kinds.barrel_dynamics`; a rib's (its two rollers)
+:mod:`camgen.kinds.barrel_rib_dynamics`.
 """
 from __future__ import annotations
 
 from camgen.forms.base import CamForm
 from camgen.kinds.barrel import barrel_keys, build_barrel, evaluate_barrel, read_barrel
-from camgen.kinds.barrel_dynamics import barrel_dynamics_keys, barrel_kinematics
+from camgen.kinds.barrel_dynamics import barrel_dynamics_keys
+from camgen.kinds.barrel_rib_dynamics import barrel_follower_kinematics
 
 __all__ = ["FORM"]
 
@@ -29,7 +31,7 @@ FORM = CamForm(
     read=read_barrel,
     build=build_barrel,
     evaluate=evaluate_barrel,
-    follower_dynamics=barrel_kinematics,
+    follower_dynamics=barrel_follower_kinematics,
     report_section="camgen.report.barrel:barrel_section",
     formats_refused={"lift": "a cylinder has no polar lift table (the point list holds the walls at root, mean and rim radius)",
                      "vtu": _FEA, "msh": _FEA, "inp": _FEA},

@@ -68,6 +68,10 @@ _RIB = {"track": ("rib",)}
 TRACKS = ("groove", "rib")
 #: Outputs a rib cam does not have yet (refused naming output.formats, :attr:`BarrelParams.formats_refused`).
 RIB_FORMATS_REFUSED = {"step": "a rib's STEP is not built yet (the meshes, the developed drawing and the point list are)"}
+#: Outputs an oscillating follower's rib does not have yet (its rollers ride off the radial line through the station).
+OSCILLATING_RIB_FORMATS_REFUSED = {
+    "step": "an oscillating follower's rib has no STEP yet (the meshes, the developed drawing and the point list are built)",
+    "ngc": "an oscillating follower's rib has no 4th-axis program yet (the meshes, the developed drawing and the point list are built)"}
 
 
 def _body_default(name: str) -> Any:
@@ -91,14 +95,16 @@ def barrel_keys() -> tuple[Key, ...]:
         Key("cylinder_radius_mm", Length(high=1e5), "Outer (rim) radius R_o of the cylinder.", ("profile",), default=REQUIRED),
         Key("cylinder_length_mm", Length(high=1e5), "Length of the cylinder along its axis: z = 0 its bottom face, "
             "z = cylinder_length_mm its top face.", ("profile",), default=REQUIRED),
-        Key("track", Choice(TRACKS), "groove: a groove cut into the cylinder guides one roller between its walls; rib (translating "
-            "follower only): a rib stands on the root cylinder up to the rim, straddled by two rollers of the follower whose axes "
-            "ride rib_width_mm / 2 + w below and above the pitch line (w = roller_radius_mm + groove_clearance_mm / 2); the rib's "
-            "faces are the exact envelopes of the two rollers (the lower roller's is the lower face). A rib cam's STEP is not built "
-            "yet (refused).", ("profile",), default="groove"),
+        Key("track", Choice(TRACKS), "groove: a groove cut into the cylinder guides one roller between its walls; rib: a rib stands on "
+            "the root cylinder up to the rim, straddled by two rollers of the follower whose axes ride rib_width_mm / 2 + w below "
+            "and above the pitch line (w = roller_radius_mm + groove_clearance_mm / 2; oscillating: both on the arm's end, spaced "
+            "along the arm's normal in the plane tangent to the cylinder, turning with the arm); the rib's faces are the exact "
+            "envelopes of the two rollers (the lower roller's is the lower face). A rib cam's STEP is not built yet, nor an "
+            "oscillating follower's rib's 4th-axis program (refused).", ("profile",), default="groove"),
         Key("rib_width_mm", Length(high=1e5), "Rib (required with track = \"rib\"): the rib's width along the cam axis where the "
-            "follower dwells (the rollers' axes are rib_width_mm + 2 w apart); during a rise the rib is thinner along the axis, "
-            "checked at every radius and cam angle (rib_thickness).", ("profile",), requires=_RIB),
+            "follower dwells (the rollers' axes are rib_width_mm + 2 w apart; oscillating: apart along the arm's normal, so where "
+            "the arm dwells at angle psi the rib is (rib_width_mm + 2 w) cos(psi) - 2 w wide); during a rise the rib is thinner "
+            "along the axis, checked at every radius and cam angle (rib_thickness).", ("profile",), requires=_RIB),
         Key("groove_depth_mm", Length(high=1e5), "Depth d of the groove below the rim (track = \"rib\": the rib's height above the root cylinder) (< cylinder_radius_mm): the root radius is "
             "R_i = R_o - d, the mean (pitch) radius R_m = R_o - d / 2.", ("profile",), default=REQUIRED),
         Key("groove_clearance_mm", Length(0.0, 100.0, low_open=False), "Groove width less the roller diameter: the walls are the "
@@ -178,6 +184,8 @@ class BarrelParams:
     @property
     def formats_refused(self) -> Mapping[str, str]:
         """Outputs this cam cannot have yet (format -> why; :func:`camgen.planning` refuses them)."""
+        if self.track == "rib" and self.follower.motion == "oscillating":  # ROSC: until its STEP and program are verified
+            return {**RIB_FORMATS_REFUSED, **OSCILLATING_RIB_FORMATS_REFUSED}
         return RIB_FORMATS_REFUSED if self.track == "rib" else {}
 
     @property
@@ -213,9 +221,6 @@ def read_barrel(where: str, name: str, parsed: Mapping[str, Any], motion: Any, b
                              "the bore would cut through the groove's root")
     track = parsed.get("track", "groove")
     if track == "rib":
-        if moves != "translating":
-            raise ParameterError(f"{where}.track", track, '"groove" with follower_motion = "oscillating"',
-                                 "a rib's two rollers keep their spacing along the cam axis on a translating follower only")
         if "rib_width" not in parsed:
             raise ParameterError(f"{where}.rib_width_mm", None, "a width in mm", 'required with track = "rib"')
     if moves == "oscillating" and "arm_length" not in parsed:
@@ -245,9 +250,6 @@ def read_barrel(where: str, name: str, parsed: Mapping[str, Any], motion: Any, b
     from camgen.kinds.barrel_dynamics import read_barrel_dynamics
 
     dynamics = read_barrel_dynamics(where, parsed, motion=moves, roller_shape=shape, depth=depth, rpm=checks.rpm, base_dir=base_dir)
-    if track == "rib" and dynamics is not None:
-        raise ParameterError(f"{where}.track", track, '"groove" with the follower-dynamics keys',
-                             "a rib's two-roller dynamics is not built yet (leave out the dynamics keys)")
     return CamSpec(name, motion.name, params, body, checks, None, dynamics, form="barrel")
 
 
@@ -313,7 +315,11 @@ def make_rib(p: BarrelParams) -> "BarrelRib":
 
 def rollers_reach(rib: "BarrelRib", theta: np.ndarray) -> tuple[float, float]:
     """The lowest and highest z (mm) a rib's two rollers reach: the pitch line's extremes less and
-    plus the roller offset o and the roller's largest half width (:func:`axis_reach`)."""
+    plus the roller offset o and the roller's largest half width (:func:`axis_reach`); oscillating:
+    each roller axis' own extremes (they turn with the arm) less and plus the half width."""
+    if rib.layout.motion == "oscillating":  # ROSC: the rollers ride on the arm's normal, not at a fixed z offset
+        heights = [rib.roller(side).axis(theta)[0] for side in (1, -1)]
+        return float(min(np.min(z) for z in heights)) - rib.half_width, float(max(np.max(z) for z in heights)) + rib.half_width
     low, high = axis_reach(rib.groove, theta)
     return low - rib.roller_offset, high + rib.roller_offset
 
@@ -389,6 +395,13 @@ def _build(spec: CamSpec, stages: frozenset[str]) -> BarrelCam:
                                    "rib width / 2 + roller radius + clearance / 2 below and above the pitch line, at every radius "
                                    "from root to rim",
                           "rollers_z_reach_mm": [lo_r, hi_r]}
+        if f.motion == "oscillating":  # ROSC: the rollers on the arm's normal, each with its own pressure angle
+            figures["rib"]["rollers"] = ("both on the arm's end, their axes parallel to x, rib width / 2 + roller radius + clearance "
+                                         "/ 2 either side of it along the arm's normal (in the plane tangent to the cylinder), turning "
+                                         "with the arm; each rides an arm of length hypot(L, offset) about the pivot")
+            figures["rib"]["roller_arm_length_mm"] = math.hypot(p.arm_length, rib.roller_offset)
+            figures.update({f"pressure_angle_{name}_deg": float(np.degrees(np.max(np.abs(rib.pressure_angle(np.asarray(r), theta)))))
+                            for name, r in _radii(p)})
     if "plots" in stages and not folded:
         section = _section(rib if rib is not None else groove, p, theta, pressure_limit_deg(spec))
     return BarrelCam(spec.name, spec.kind, None, figures, spec.body, None, section=section, groove=groove, params=p, law=p.law,
@@ -445,7 +458,7 @@ def _pressure(cam: BarrelCam, spec: CamSpec) -> "CheckResult":
     note gives the mean's and the rim's."""
     from camgen.checks import CheckResult, run_ends, where_degrees
 
-    p, g = cam.params, cam.groove
+    p, g = cam.params, (cam.rib if cam.rib is not None else cam.groove)  # a rib: its rollers' (oscillating: each its own)
     theta = check_grid()
     limit = pressure_limit(spec)
     alpha = {name: np.abs(g.pressure_angle(np.asarray(r), theta)) for name, r in _radii(p)}
@@ -454,6 +467,8 @@ def _pressure(cam: BarrelCam, spec: CamSpec) -> "CheckResult":
     bad = root > limit
     at = ", ".join(f"{name} (radius {r:g} mm) {math.degrees(float(np.max(alpha[name]))):.6g} deg" for name, r in _radii(p))
     track = "on the barrel's rib" if cam.rib is not None else "in the barrel groove"
+    if cam.rib is not None and p.follower.motion == "oscillating":
+        track += " (of either roller: each moves about the pivot along its own direction)"
     note = (f"largest pressure angle of the {p.follower.motion} roller {track} at the root radius, where it is largest "
             f"(closed form); at {at}" + ("; above the limit between the listed pairs of cam angles" if bad.any() else ""))
     return CheckResult("pressure_angle", float(np.degrees(root[i])), pressure_limit_deg(spec), "<=", "deg", not bool(bad.any()),
@@ -555,7 +570,11 @@ def _rib_thickness(cam: BarrelCam, min_wall: float) -> "CheckResult":
     note = (f"least width of the rib along the cam axis (its upper face less its lower; {rib.width:g} mm where the follower dwells) "
             f"at {UNDERCUT_RADII} radii from the root to the rim and {RIB_THICKNESS_SAMPLES} polar angles: {least:.6g} mm at radius "
             f"{radii[i]:g} mm, polar angle {math.degrees(phi[j]):.6g} deg; below 0 the faces cross (the rollers cut the rib away)")
-    if least < min_wall:
+    if least < min_wall and rib.layout.motion == "oscillating":  # ROSC: the width does not grow one to one; solved and verified
+        from camgen.kinds.barrel_rib_oscillating import rib_width_hint
+
+        note += rib_width_hint(rib, min_wall, lambda wider: float(np.min(rib_thickness_grid(wider)[2])))
+    elif least < min_wall:
         note += f"; a rib_width_mm of {rib.width + min_wall - least:.6g} mm gives {min_wall:g} mm (the width grows with it one to one)"
     return limited("rib_thickness", least, ">=", min_wall, "mm", [], note,
                    blocks_manufacture=True)
@@ -569,9 +588,10 @@ def _rib_length(cam: BarrelCam) -> "CheckResult":
     assert rib is not None
     low, high = rollers_reach(rib, check_grid())
     room = min(low, p.length - high)
-    note = (f"least room between the rib's rollers (z from {low:.6g} to {high:.6g} mm: the pitch line's travel plus the roller offset "
-            f"{rib.roller_offset:g} mm and the roller's half width {rib.half_width:g} mm" + (" at the rim" if p.roller_shape == "conical"
-                                                                                             else "")
+    travel = (f"each roller axis' travel (on the arm's normal, {rib.roller_offset:g} mm from its end)" if p.follower.motion == "oscillating"
+              else f"the pitch line's travel plus the roller offset {rib.roller_offset:g} mm")
+    note = (f"least room between the rib's rollers (z from {low:.6g} to {high:.6g} mm: {travel} and the roller's half width "
+            f"{rib.half_width:g} mm" + (" at the rim" if p.roller_shape == "conical" else "")
             + f") and the end faces z = 0 and z = {p.length:g} mm (the rib lies between the rollers)")
     if room < 0.0:
         note += f"; a cylinder_length_mm of {high - low:.6g} mm with the travel centred holds them"

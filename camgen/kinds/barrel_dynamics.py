@@ -113,7 +113,10 @@ def developed_curvature(groove: Any, theta: np.ndarray) -> np.ndarray:
     """Signed curvature (1/mm, > 0 where the curve bends towards +z) of the pitch curve developed at
     the mean radius, ``(x, z) = (R_m (asin(e / R_m) - sigma theta), z_c)``
     (:meth:`camgen.synthesis.barrel.BarrelGroove.pitch_developed`), in closed form from the law:
-    ``kappa = (x' z'' - z' x'') sign(x') / (x'^2 + z'^2)^(3/2)`` (derivatives by theta)."""
+    ``kappa = (x' z'' - z' x'') sign(x') / (x'^2 + z'^2)^(3/2)`` (derivatives by theta).  A roller
+    riding ``o = groove.axis_offset`` off the pitch line (a rib's): translating, the curve shifted
+    along z (the same curvature); oscillating, the end of an arm of length ``hypot(L, o)`` at
+    ``psi + atan2(o, L)`` about the same pivot (``e = hypot(L, o) cos(psi') - L``)."""
     lay = groove.layout
     rm, sig = lay.mean_radius, lay.sigma
     s, s1, s2, _ = groove.law(np.asarray(theta, dtype=float))
@@ -122,8 +125,12 @@ def developed_curvature(groove: Any, theta: np.ndarray) -> np.ndarray:
         z1, z2 = s1, s2
     else:
         arm, psi = lay.arm_length, lay.rest_angle + s
+        offset = float(getattr(groove, "axis_offset", 0.0))
+        if offset:  # ROSC: a rib's roller on the arm's normal (BarrelGroove.axis_offset)
+            psi = psi + math.atan2(offset, arm)
+            arm = math.hypot(arm, offset)
         cos, sin = np.cos(psi), np.sin(psi)
-        e = arm * (cos - 1.0)
+        e = arm * (cos - 1.0) if not offset else arm * cos - lay.arm_length
         e1, e2 = -arm * sin * s1, -arm * (sin * s2 + cos * s1 * s1)
         z1, z2 = arm * cos * s1, arm * (cos * s2 - sin * s1 * s1)
         root = np.sqrt(1.0 - (e / rm) ** 2)  # d/dtheta of R_m asin(e / R_m) is e' / root
@@ -184,9 +191,12 @@ def barrel_crossovers(cam: Any, rpm: float | None) -> "CheckResult":
         return information("wall_crossover", 0, "", [], "the acceleration never changes sign: the roller stays on one wall")
     angles, here = zeros
     what = "axial inertia force" if m.unit == "mm" else "arm's inertia torque"
+    crosses = (f"the roller crosses the {cam.params.clearance:g} mm clearance from the lower wall to the upper or back"
+               if getattr(cam, "rib", None) is None else  # ROSC: a rib's two rollers
+               f"the load passes from the rib's upper roller to its lower one or back, the follower crossing the "
+               f"{cam.params.clearance:g} mm clearance")
     note = (f"{angles.size} cam angles where the follower's acceleration changes sign: with inertia the only load the {what} "
-            f"changes sign there and the roller crosses the {cam.params.clearance:g} mm clearance from the lower wall to the upper "
-            "or back (crossover shock; an external load or the weight moves these angles: the dynamics' contact_force check lists "
+            f"changes sign there and {crosses} (crossover shock; an external load or the weight moves these angles: the dynamics' contact_force check lists "
             "where the load crosses)")
     if rpm:
         omega = 2.0 * math.pi * rpm / 60.0

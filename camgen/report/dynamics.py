@@ -34,6 +34,8 @@ FORM_CLOSED_CONTACTS = {
     "groove": ("inner wall", "outer wall", "the groove's two walls"),
     "conjugate": ("roller A on cam A", "roller B on cam B", "the pair's two rollers"),
     "barrel": ("lower wall", "upper wall", "the groove's two walls (at the mean radius)"),  # BDYN: kinds/barrel_dynamics.py
+    "barrel rib": ("upper roller on the rib's upper face", "lower roller on its lower face",
+                   "the rib's two faces (at the mean radius)"),  # ROSC: kinds/barrel_rib_dynamics.py
 }
 
 
@@ -43,7 +45,8 @@ def dynamics_section(Figure: FigureMaker, cam: "CamReport") -> str:
     if res is None:
         return ""
     form = res.closure == "form"
-    one, two, both = FORM_CLOSED_CONTACTS.get(cam.form, FORM_CLOSED_CONTACTS[""])
+    form_name = "barrel rib" if cam.form == "barrel" and "rib" in cam.figures else cam.form  # ROSC: a barrel's rib
+    one, two, both = FORM_CLOSED_CONTACTS.get(form_name, FORM_CLOSED_CONTACTS[""])
     figures = cam.figures.get("dynamics", {})
     assert isinstance(figures, Mapping)
     keep = thin(res.theta.size, 1200)

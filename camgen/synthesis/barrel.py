@@ -235,8 +235,12 @@ class BarrelGroove:
     fit_tol : float
         The walls' stated tolerance (mm), for the exports that approximate them.
     axis_offset : float
-        A constant shift (mm) of the roller axis along ``z`` from the layout's (0: the groove's
-        roller; a rib's two rollers, :class:`BarrelRib`, ride at ``-+(rib width / 2 + w)``).
+        ``o`` (mm): where the roller axis rides from the layout's (0: the groove's roller; a rib's
+        two rollers, :class:`BarrelRib`, ride at ``o = -+(rib width / 2 + w)``).  Translating: a
+        constant shift along ``z``.  Oscillating: a shift along the arm's normal
+        ``n = (-sin psi, cos psi)`` in ``(y, z)`` (a point of the rigid arm, turning with it): the
+        roller axis is the end of an arm of length ``hypot(L, o)`` at ``psi + atan2(o, L)`` about
+        the same pivot.
     """
 
     layout: BarrelLayout
@@ -280,9 +284,25 @@ class BarrelGroove:
             zero = np.zeros_like(s)
             return _Axis(lay.z0 + s + self.axis_offset if self.axis_offset else lay.z0 + s, s1, s2, zero, zero, zero, s1, zero, np.ones_like(s))
         arm, psi = lay.arm_length, lay.rest_angle + s
+        if self.axis_offset:  # a roller on the arm's normal (a rib's): an arm of length hypot(L, o), turned by atan2(o, L)
+            return self._offset_arm_axis(s1, s2, psi)
         cos, sin = np.cos(psi), np.sin(psi)
         return _Axis(lay.z0 + arm * sin + self.axis_offset if self.axis_offset else lay.z0 + arm * sin, arm * cos * s1, arm * (cos * s2 - sin * s1 * s1),
                      arm * (cos - 1.0), -arm * sin * s1, -arm * (sin * s2 + cos * s1 * s1), arm * s1, -sin, cos)
+
+    def _offset_arm_axis(self, s1: np.ndarray, s2: np.ndarray, psi: np.ndarray) -> _Axis:
+        """The axis of an oscillating follower's roller carried ``o = axis_offset`` along the arm's
+        normal ``n = (-sin psi, cos psi)`` (in ``(y, z)``) from the arm's end: the point
+        ``(-L, z_p) + L (cos psi, sin psi) + o n`` of the rigid arm, i.e. the end of an arm of length
+        ``L' = hypot(L, o)`` at the angle ``psi + atan2(o, L)`` about the same pivot:
+        ``e = L' cos psi' - L``, ``z_c = z_p + L' sin psi'``."""
+        lay = self.layout
+        arm, offset = lay.arm_length, self.axis_offset
+        reach = math.hypot(arm, offset)
+        turned = psi + math.atan2(offset, arm)
+        cos, sin = np.cos(turned), np.sin(turned)
+        return _Axis(lay.z0 + reach * sin, reach * cos * s1, reach * (cos * s2 - sin * s1 * s1),
+                     reach * cos - arm, -reach * sin * s1, -reach * (sin * s2 + cos * s1 * s1), reach * s1, -sin, cos)
 
     def axis(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The roller axis at cam angles ``theta`` (rad): its height ``z_c`` and tangential offset
@@ -512,6 +532,32 @@ class BarrelRib:
     rib is thinner along the faces' normal than along ``z`` and, where ``rib_width`` is too small for
     the spacing of the rollers, the faces cross (:meth:`thickness` < 0).
 
+    **Oscillating follower.**  Both rollers sit on the one arm, at its end, their axes parallel to
+    ``x`` (radial at the station, as the groove's roller), spaced ``2 o`` along the arm's normal
+    ``n = (-sin psi, cos psi)`` in the plane ``(y, z)`` tangent to the cylinder at the station:
+    the axes at ``A +- o n``, ``A = (-L, z_p) + L (cos psi, sin psi)`` the arm's end (the pitch
+    line, :meth:`axis`).  Seen along ``-x`` (onto the tangent plane), drawn at ``psi = 0`` (the pair
+    turns with the arm)::
+
+          z
+          ^                               (+)   upper roller, axis at A + o n
+          |      ==============================  the rib's upper face
+          | pivot o------------------------A     the arm (length L, at psi = 0 along +y) to A
+          |      ==============================  the rib's lower face
+          |                               (-)   lower roller, axis at A - o n
+          +--------------------------------------> y
+
+    (the arm and the rollers' axles lie outside the rim, ``x > R_o``; the rollers reach in along
+    ``-x`` across the rib's height).
+
+    Each roller is rigid on the arm: its axis is the end of an arm of length ``hypot(L, o)`` at
+    ``psi -+ atan2(o, L)`` about the same pivot (:attr:`BarrelGroove.axis_offset`), so the contact,
+    the undercut and the pressure angle of each are the oscillating groove's (the envelope argument
+    holds for any roller turning about an axis parallel to its own).  The rollers' axes are
+    ``rib_width + 2 w`` apart along ``n``: where the follower dwells at arm angle ``psi`` the faces
+    are ``(rib_width + 2 w) cos(psi) - 2 w`` apart along ``z`` (``rib_width`` at ``psi = 0``), the
+    rollers ``(rib_width + 2 w) sin(psi)`` apart along ``y``.
+
     Parameters
     ----------
     groove : BarrelGroove
@@ -596,10 +642,22 @@ class BarrelRib:
         return self.roller(side).undercut(-side, r, theta)
 
     def pressure_angle(self, r: np.ndarray, theta: np.ndarray) -> np.ndarray:
-        """The pressure angle (rad) of either roller's section at distance ``r`` from the cam axis: a
-        shift of the axis along ``z`` changes neither its velocity nor the contact's normal, so it is
-        the groove's (:meth:`BarrelGroove.pressure_angle`)."""
-        return self.groove.pressure_angle(r, theta)
+        """The pressure angle (rad) of either roller's section at distance ``r`` from the cam axis.
+        Translating: a shift of the axis along ``z`` changes neither its velocity nor the contact's
+        normal, so it is the groove's (:meth:`BarrelGroove.pressure_angle`).  Oscillating: the two
+        rollers move along different directions (each about the pivot); at each ``(r, theta)`` the
+        one of the larger magnitude (:meth:`roller_pressure_angle`; either roller may carry the load)."""
+        if self.layout.motion == "translating":
+            return self.groove.pressure_angle(r, theta)
+        upper, lower = self.roller_pressure_angle(1, r, theta), self.roller_pressure_angle(-1, r, theta)
+        return np.where(np.abs(upper) >= np.abs(lower), upper, lower)
+
+    def roller_pressure_angle(self, side: int, r: np.ndarray, theta: np.ndarray) -> np.ndarray:
+        """The pressure angle (rad, > 0 on a rise) of the roller on the rib's ``side`` (``+1`` the
+        upper roller, on the rib's upper face) at its section whose centre is ``r`` (mm) from the cam
+        axis, at cam angle ``theta`` (rad): its own axis' velocity against its contact normal
+        (:meth:`BarrelGroove.pressure_angle` of its groove; both of its contacts lie on that line)."""
+        return self.roller(side).pressure_angle(r, theta)
 
     def thickness(self, r: np.ndarray, phi: np.ndarray) -> np.ndarray:
         """The rib's width along ``z`` (mm) at cam radius ``r`` and polar angle ``phi``: the upper face
