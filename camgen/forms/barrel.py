@@ -34,6 +34,6 @@ FORM = CamForm(
     formats_refused={"lift": "a cylinder has no polar lift table (the point list holds the walls at root, mean and rim radius)",
                      "vtu": _FEA, "msh": _FEA, "inp": _FEA},
     writers={"dxf": "camgen.export.barrel_drawing:dxf", "points": "camgen.export.barrel_drawing:points",
-             "step": "camgen.export.barrel_step:writer", "ngc": "camgen.export.gcode_barrel:writer"},
+             "step": "camgen.export.barrel_rib_step:writer", "ngc": "camgen.export.gcode_barrel:writer"},
     stages={"mesh": "camgen.export.barrel_mesh:mesh_stage"},
 )

@@ -67,7 +67,7 @@ _RIB = {"track": ("rib",)}
 #: The tracks a barrel cam carries.
 TRACKS = ("groove", "rib")
 #: Outputs a rib cam does not have yet (refused naming output.formats, :attr:`BarrelParams.formats_refused`).
-RIB_FORMATS_REFUSED = {"step": "a rib's STEP is not built yet (the meshes, the developed drawing and the point list are)",
+RIB_FORMATS_REFUSED = {
                        "ngc": "a rib's 4th-axis program is not built yet (the meshes, the developed drawing and the point list are)"}
 
 
