@@ -104,7 +104,7 @@ def test_rib_faces_cross_when_the_rib_is_too_narrow():
         rib_solid(rib, 0.05)
 
 
-@pytest.mark.parametrize("fmt", ["step", "ngc"])
+@pytest.mark.parametrize("fmt", ["ngc"])
 def test_a_ribs_step_and_program_are_refused_naming_output_formats(fmt, tmp_path, capsys):
     from camgen.cli import main
     from helpers import scene_toml

@@ -7,7 +7,7 @@ are the exact envelopes of the roller at every radius from root to rim
 (:mod:`camgen.synthesis.barrel`); keys, build and checks: :mod:`camgen.kinds.barrel`.  The body
 is no plate, so the form writes its own files: the developed drawing and the walls' point list
 (:mod:`camgen.export.barrel_drawing`), the solid (:mod:`camgen.export.barrel_solid`, the mesh
-stage; STEP :mod:`camgen.export.barrel_step`) and the 4th-axis program
+stage; STEP :mod:`camgen.export.barrel_step`, a rib's :mod:`camgen.export.barrel_rib_step`) and the 4th-axis program
 (:mod:`camgen.export.gcode_barrel`).  The groove is form-closed: its dynamics (both walls' forces,
 torque, Hertz stress) are :mod:`camgen.kinds.barrel_dynamics`.
 """

@@ -95,8 +95,8 @@ def barrel_keys() -> tuple[Key, ...]:
         Key("track", Choice(TRACKS), "groove: a groove cut into the cylinder guides one roller between its walls; rib (translating "
             "follower only): a rib stands on the root cylinder up to the rim, straddled by two rollers of the follower whose axes "
             "ride rib_width_mm / 2 + w below and above the pitch line (w = roller_radius_mm + groove_clearance_mm / 2); the rib's "
-            "faces are the exact envelopes of the two rollers (the lower roller's is the lower face). A rib cam's STEP and 4th-axis "
-            "program are not built yet (refused).", ("profile",), default="groove"),
+            "faces are the exact envelopes of the two rollers (the lower roller's is the lower face). A rib cam's 4th-axis "
+            "program is not built yet (refused).", ("profile",), default="groove"),
         Key("rib_width_mm", Length(high=1e5), "Rib (required with track = \"rib\"): the rib's width along the cam axis where the "
             "follower dwells (the rollers' axes are rib_width_mm + 2 w apart); during a rise the rib is thinner along the axis, "
             "checked at every radius and cam angle (rib_thickness).", ("profile",), requires=_RIB),
