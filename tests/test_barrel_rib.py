@@ -104,20 +104,6 @@ def test_rib_faces_cross_when_the_rib_is_too_narrow():
         rib_solid(rib, 0.05)
 
 
-@pytest.mark.parametrize("fmt", ["step"])
-def test_a_ribs_step_and_program_are_refused_naming_output_formats(fmt, tmp_path, capsys):
-    from camgen.cli import main
-    from helpers import scene_toml
-
-    path = tmp_path / "s.toml"
-    table = groove_cam(track="rib", rib_width_mm=RIB_W, cylinder_length_mm=90.0)
-    path.write_text(scene_toml({"output": {"formats": [fmt]}, "cams": {"c": table}}))
-    assert main(["run", str(path), "-o", str(tmp_path / "out")]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "output.formats" in err[0] and "not built yet" in err[0]
-    assert not (tmp_path / "out").exists()
-
-
 @pytest.mark.parametrize("extra, key", [({"track": "rib"}, "rib_width_mm"), ({"rib_width_mm": 5.0}, "rib_width_mm")])
 def test_bad_rib_scenes_are_refused_naming_the_key(extra, key, tmp_path, capsys):
     from camgen.cli import main

@@ -23,23 +23,23 @@ bore, less the groove, one solid.
   exception.
 
 Writing, units, schema and the fixed header (time stamp, names) are
-:mod:`camgen.export.step`'s.
+:mod:`camgen.export.step`'s.  A rib's solid (:mod:`camgen.export.barrel_rib_step`) is made by
+the same steps: its faces' tube (:func:`tube_solid`), checked (:func:`inside_ends`,
+:func:`one_valid_solid`) and written (:func:`solid_step_bytes`) by this module.
 """
 from __future__ import annotations
 
 import math
 import re
-from typing import TYPE_CHECKING, Any
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
 from camgen.errors import ExportError, GeometryError
 
-if TYPE_CHECKING:
-    from camgen.results import CamResult
-    from camgen.writers import RunSettings
-
-__all__ = ["FACE_SPANS", "MAX_GRID", "MAX_ROWS", "OVERLAP", "SEW_TOL", "barrel_step_bytes", "wall_surface", "writer"]
+__all__ = ["FACE_SPANS", "MAX_GRID", "MAX_ROWS", "OVERLAP", "SEW_TOL", "barrel_step_bytes", "cut_shape", "inside_ends", "one_valid_solid",
+           "solid_step_bytes", "tube_solid", "wall_surface"]
 
 #: How far (as a fraction of the groove depth, at most 1 mm) the wall surfaces reach inside the
 #: root and outside the rim: the booleans then cut across them, never along an edge.
@@ -166,9 +166,12 @@ def _surface(u_knots: np.ndarray, v_knots: np.ndarray, poles: np.ndarray, v_degr
     return Geom_BSplineSurface(net, uk, vk, um, vm, 3, v_degree)
 
 
-def _groove_solid(groove: Any, tol: float, cam: str) -> Any:
-    """The groove tube (module notes): the walls' surfaces over the overlapping radii, closed by
-    ruled surfaces at both ends, sewn and made a solid."""
+def tube_solid(groove: Any, tol: float, cam: str) -> Any:
+    """The tube between the surfaces ``groove.wall(+1, ...)`` above and ``groove.wall(-1, ...)``
+    below (module notes: a groove's walls, or a rib's faces, :class:`~camgen.synthesis.barrel.BarrelRib`)
+    over the radii from :data:`OVERLAP` inside the root to as far outside the rim, the surfaces
+    within ``tol`` mm of the exact ones, closed by ruled surfaces at both ends, sewn and made a
+    solid."""
     from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakeSolid, BRepBuilderAPI_Sewing
     from OCP.BRepLib import BRepLib
     from OCP.GeomConvert import GeomConvert
@@ -206,7 +209,8 @@ def _groove_solid(groove: Any, tol: float, cam: str) -> Any:
     return solid
 
 
-def _cut(shape: Any, tool: Any, what: str, cam: str) -> Any:
+def cut_shape(shape: Any, tool: Any, what: str, cam: str) -> Any:
+    """``shape`` less ``tool`` (OCCT's boolean); GeometryError naming ``what`` and the cam if it fails."""
     from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut
 
     cut = BRepAlgoAPI_Cut(shape, tool)
@@ -215,37 +219,44 @@ def _cut(shape: Any, tool: Any, what: str, cam: str) -> Any:
     return cut.Shape()
 
 
-def _inside_ends(groove: Any, cam: str) -> None:
-    """GeometryError where the groove reaches an end face: its walls sampled at root, mean and rim
-    radius every 0.1 deg of the cam angle (the mesh, :mod:`camgen.export.barrel_solid`, checks
-    every vertex)."""
+def inside_ends(groove: Any, cam: str, what: str = "groove") -> None:
+    """GeometryError where the groove (``what``: or a rib's faces) reaches an end face: its walls
+    sampled at root, mean and rim radius every 0.1 deg of the cam angle (the mesh,
+    :mod:`camgen.export.barrel_solid`, checks every vertex)."""
     theta = np.radians(np.arange(3600) / 10.0)
     r = np.array([groove.root_radius, 0.5 * (groove.root_radius + groove.rim_radius), groove.rim_radius])[:, None]
     low = float(np.min(groove.wall(-1, r, theta)[1]))
     high = float(np.max(groove.wall(1, r, theta)[1]))
     if not (low > 0.0 and high < groove.length):
-        raise GeometryError(f"cam '{cam}': the groove runs from z = {low:.4g} mm to z = {high:.4g} mm, through an end face of the "
+        raise GeometryError(f"cam '{cam}': the {what} runs from z = {low:.4g} mm to z = {high:.4g} mm, through an end face of the "
                             f"cylinder (length {groove.length:g} mm)")
 
 
 def _body(groove: Any, tol: float, cam: str) -> Any:
     """The barrel's OCCT solid: the cylinder of the rim radius less the bore, less the groove."""
-    from OCP.BRepCheck import BRepCheck_Analyzer
     from OCP.BRepPrimAPI import BRepPrimAPI_MakeCylinder
     from OCP.gp import gp_Ax2, gp_Dir, gp_Pnt
-    from OCP.TopAbs import TopAbs_SOLID
-    from OCP.TopExp import TopExp_Explorer
 
     rim, root, length, bore = (float(groove.rim_radius), float(groove.root_radius), float(groove.length), float(groove.bore_radius))
-    _inside_ends(groove, cam)
+    inside_ends(groove, cam)
     axis = gp_Ax2(gp_Pnt(0.0, 0.0, 0.0), gp_Dir(0.0, 0.0, 1.0))
     below = gp_Ax2(gp_Pnt(0.0, 0.0, -1.0), gp_Dir(0.0, 0.0, 1.0))
     body = BRepPrimAPI_MakeCylinder(axis, rim, length).Shape()
     if bore > 0.0:
-        body = _cut(body, BRepPrimAPI_MakeCylinder(below, bore, length + 2.0).Shape(), "the bore", cam)
-    tube = _groove_solid(groove, tol, cam)
-    groove_cut = _cut(tube, BRepPrimAPI_MakeCylinder(below, root, length + 2.0).Shape(), "the groove at the root radius", cam)
-    body = _cut(body, groove_cut, "the groove from the cylinder", cam)
+        body = cut_shape(body, BRepPrimAPI_MakeCylinder(below, bore, length + 2.0).Shape(), "the bore", cam)
+    tube = tube_solid(groove, tol, cam)
+    groove_cut = cut_shape(tube, BRepPrimAPI_MakeCylinder(below, root, length + 2.0).Shape(), "the groove at the root radius", cam)
+    body = cut_shape(body, groove_cut, "the groove from the cylinder", cam)
+    return one_valid_solid(body, cam)
+
+
+def one_valid_solid(body: Any, cam: str) -> Any:
+    """``body``, unless OCCT's checker (BRepCheck_Analyzer) finds it invalid or it is not one solid
+    (a GeometryError naming the cam)."""
+    from OCP.BRepCheck import BRepCheck_Analyzer
+    from OCP.TopAbs import TopAbs_SOLID
+    from OCP.TopExp import TopExp_Explorer
+
     solids = 0
     explorer = TopExp_Explorer(body, TopAbs_SOLID)
     while explorer.More():
@@ -260,12 +271,21 @@ def _body(groove: Any, tol: float, cam: str) -> Any:
 def barrel_step_bytes(groove: Any, name: str = "cam") -> bytes:
     """STEP file content of the barrel cam of ``groove`` (module notes): walls within
     ``groove.fit_tol`` mm of the exact ones, stated in the header."""
+    tol = float(groove.fit_tol)
+    return solid_step_bytes(lambda: _body(groove, tol, name), name,
+                            f"B-spline groove walls within {tol!r} mm (axially) of the exact walls; cylinders and planes exact")
+
+
+def solid_step_bytes(build: Callable[[], Any], name: str, what: str) -> bytes:
+    """STEP file content of the barrel cam ``name``'s solid made by ``build()`` (OCCT's exceptions
+    while building a GeometryError naming the cam), written by
+    :func:`camgen.export.step.step_text` with ``what`` (the surfaces and their tolerance) in the
+    header's FILE_DESCRIPTION and a fixed time stamp."""
     _ocp()
     from camgen.export.step import step_text
 
-    tol = float(groove.fit_tol)
     try:
-        body = _body(groove, tol, name)
+        body = build()
     except GeometryError:
         raise
     except Exception as exc:  # OCCT's exceptions share no Python base
@@ -273,16 +293,7 @@ def barrel_step_bytes(groove: Any, name: str = "cam") -> bytes:
             raise
         raise GeometryError(f"cam '{name}': OpenCASCADE cannot build the barrel's STEP solid ({type(exc).__name__}: {exc})") from None
     text = step_text(body, name)
-    what = f"camgen barrel cam {name}: B-spline groove walls within {tol!r} mm (axially) of the exact walls; cylinders and planes exact"
-    text = re.sub(r"FILE_DESCRIPTION\(\('[^']*'\)", f"FILE_DESCRIPTION(('{what}')", text, count=1)
+    text = re.sub(r"FILE_DESCRIPTION\(\('[^']*'\)", f"FILE_DESCRIPTION(('camgen barrel cam {name}: {what}')", text, count=1)
     text = re.sub(r"FILE_NAME\('[^']*','[^']*'", f"FILE_NAME('{name}.step','2000-01-01T00:00:00'", text, count=1)
     text = re.sub(r"PRODUCT\('[^']*',\s*'[^']*'", f"PRODUCT('{name}','{name}'", text, count=1)
     return text.encode("ascii")
-
-
-def writer(cam: "CamResult", run: "RunSettings", fmt: str) -> bytes:
-    """The barrel form's STEP writer (``CamForm.writers["step"]``): ``cam.built.groove``'s solid."""
-    from camgen.kinds.barrel import BarrelCam
-
-    assert isinstance(cam.built, BarrelCam), f"cam {cam.name!r} is not a barrel cam"
-    return barrel_step_bytes(cam.built.groove, cam.name)

@@ -67,7 +67,7 @@ _RIB = {"track": ("rib",)}
 #: The tracks a barrel cam carries.
 TRACKS = ("groove", "rib")
 #: Outputs a rib cam does not have yet (refused naming output.formats, :attr:`BarrelParams.formats_refused`).
-RIB_FORMATS_REFUSED = {"step": "a rib's STEP is not built yet (the meshes, the developed drawing and the point list are)"}
+RIB_FORMATS_REFUSED: dict[str, str] = {}
 #: Outputs an oscillating follower's rib does not have yet (its rollers ride off the radial line through the station).
 OSCILLATING_RIB_FORMATS_REFUSED = {
     "step": "an oscillating follower's rib has no STEP yet (the meshes, the developed drawing and the point list are built)",
@@ -99,8 +99,8 @@ def barrel_keys() -> tuple[Key, ...]:
             "the root cylinder up to the rim, straddled by two rollers of the follower whose axes ride rib_width_mm / 2 + w below "
             "and above the pitch line (w = roller_radius_mm + groove_clearance_mm / 2; oscillating: both on the arm's end, spaced "
             "along the arm's normal in the plane tangent to the cylinder, turning with the arm); the rib's faces are the exact "
-            "envelopes of the two rollers (the lower roller's is the lower face). A rib cam's STEP is not built yet, nor an "
-            "oscillating follower's rib's 4th-axis program (refused).", ("profile",), default="groove"),
+            "envelopes of the two rollers (the lower roller's is the lower face). An oscillating "
+            "follower's rib has no STEP or 4th-axis program yet (refused).", ("profile",), default="groove"),
         Key("rib_width_mm", Length(high=1e5), "Rib (required with track = \"rib\"): the rib's width along the cam axis where the "
             "follower dwells (the rollers' axes are rib_width_mm + 2 w apart; oscillating: apart along the arm's normal, so where "
             "the arm dwells at angle psi the rib is (rib_width_mm + 2 w) cos(psi) - 2 w wide); during a rise the rib is thinner "
