@@ -367,3 +367,40 @@ def test_bad_parameters_exit_2_with_one_line_naming_the_key(case, tmp_path, caps
     assert err.startswith("camgen: error: ") and err.count("\n") == 1, err
     assert f"'{key}'" in err and why in err, err
     assert not out.exists() or not any(out.rglob("*"))
+
+
+# ------------------------------------------------------------------------------------------------
+# the exported cams ride the new laws (as test_disk_cams.py rides every older law)
+# ------------------------------------------------------------------------------------------------
+#: (law, options, span deg, lift sign): every new law, rises and returns, over one turn
+RIDE_PROGRAM = [("scca", {"scca": [0.2, 0.3, 0.5]}, 60.0, 1), ("asymmetric_modified_sine", {"accel_fraction": 0.3}, 60.0, 1),
+                ("dwell", {}, 20.0, 0), ("trapezoidal", {}, 60.0, -1), ("constant_acceleration", {}, 60.0, -1),
+                ("asymmetric_modified_trapezoid", {"accel_fraction": 0.4}, 50.0, 1),
+                ("asymmetric_modified_trapezoid", {"accel_fraction": 0.7}, 50.0, -1)]
+
+
+@pytest.mark.parametrize("name", ["roller", "roller_offset", "flat", "osc_roller"])
+def test_exported_cam_rides_the_new_laws(name, tmp_path):
+    """<= 1e-6 mm (rad) riding the DXF's exact B-splines (read back by ezdxf and scipy) against the
+    program of the new laws built from the library (test_disk_cams.py's ride)."""
+    from pathlib import Path
+
+    from camgen.pipeline import execute, plan_run
+    from camgen.scene import parse_scene
+    from test_disk_cams import EXACT_TOL, FOLLOWERS, bspline_contour, follower_spec, oscillating, ride_angles, ride_error, size_of
+
+    osc = oscillating(name)
+    key, size = ("swing_deg" if osc else "lift_mm"), size_of(name)
+    segs = [{"law": law, "span_deg": span, **extra, **({key: sign * size} if sign else {})} for law, extra, span, sign in RIDE_PROGRAM]
+    data = {"output": {"formats": ["dxf"], "dxf_splines": "bspline"},
+            "cams": {"c": {**FOLLOWERS[name], "rotation": "ccw", "kind": "motion_law", "segments": segs}}}
+    parsed = parse_scene(data, "s", base_dir=Path(tmp_path))
+    result = execute(parsed, plan_run(parsed))
+    assert not [c.name for _, c in result.failed_checks() if c.blocks_manufacture]
+    amount = D(size) if osc else size
+    motion = MotionProgram([Segment(law, D(span), sign * amount if sign else 0.0,
+                                    scca=extra.get("scca"), accel_fraction=extra.get("accel_fraction"))
+                            for law, extra, span, sign in RIDE_PROGRAM], unit="rad" if osc else "mm")
+    cam = bspline_contour(result.files["c.dxf"])
+    error = ride_error(follower_spec(name, "ccw"), cam, ride_angles(motion, 720), motion)
+    assert np.max(error) <= EXACT_TOL
