@@ -292,7 +292,7 @@ def test_a_skewed_return_is_the_time_reversed_rise_in_a_program():
 # ------------------------------------------------------------------------------------------------
 # scenes: the keys, and bad values refused
 # ------------------------------------------------------------------------------------------------
-def scene(first: dict, formats=("points",)) -> dict:
+def scene(first: dict, formats=("points", "html")) -> dict:
     segs = [{"span_deg": 120.0, "lift_mm": 12.0, **first}, {"law": "dwell", "span_deg": 60.0},
             {"law": "cycloidal", "span_deg": 120.0, "lift_mm": -12.0}, {"law": "dwell", "span_deg": 60.0}]
     return {"output": {"formats": list(formats)},
@@ -331,12 +331,16 @@ def test_scene_scca_cycloid_member_cuts_the_cycloidal_cam_and_the_keys_change_th
     assert np.max(np.abs(points(out) - reference)) <= 2e-9
     report = json.loads(next(out.rglob("report.json")).read_text())
     assert report["cams"]["c"]["figures"]["segments"][0]["scca"] == [0.5, 0.0, 0.5]
+    assert "b 0.5, c 0, d 0.5 (sine ramps, constant, middle cosine)" in next(out.rglob("report.html")).read_text()
     profiles = []
     for k, first in enumerate(({"law": "scca", "scca": [0.25, 0.5, 0.25]}, {"law": "scca", "scca": [0.25, 0.0, 0.75]},
                                {"law": "asymmetric_modified_trapezoid", "accel_fraction": 0.4},
                                {"law": "asymmetric_modified_trapezoid", "accel_fraction": 0.3})):
         code, out = run_cli(tmp_path, scene(first), f"k{k}")
         assert code == 0
+        if "accel_fraction" in first:
+            shown = f"positive acceleration over {first['accel_fraction']:g} of the span"
+            assert shown in next(out.rglob("report.html")).read_text()
         profiles.append(points(out))
     polar = [polar_radius(p) for p in profiles]
     assert np.max(np.abs(polar[0] - polar[1])) > 1e-3
