@@ -45,6 +45,13 @@ TEXTBOOK = {
     "poly4567": (3, 3, {}),
     "constant_velocity_blend_0.2": (3, 3, {0.2: 3, 0.8: 3}),
     "constant_velocity_blend_0.5": (3, 3, {0.5: 3}),
+    # issue 26 LAWS (tests/test_laws_scca.py has their own tests); the catalogue's SCCA is (0.2, 0.3, 0.5), its skewed
+    # laws' accel_fraction 0.4: zone edges b/2, b/2 + c/2, ..; the skewed halves' edges f/4, f, f + (1 - f)/4 ..
+    "constant_acceleration": (1, 1, {0.5: 1}),
+    "trapezoidal": (2, 2, {1 / 8: 2, 3 / 8: 2, 5 / 8: 2, 7 / 8: 2}),
+    "scca": (2, 2, {0.1: 3, 0.25: 3, 0.75: 3, 0.9: 3}),
+    "asymmetric_modified_sine": (2, 2, {0.1: 3, 0.4: 2, 0.85: 3}),
+    "asymmetric_modified_trapezoid": (2, 2, {0.1: 3, 0.3: 3, 0.4: 2, 0.55: 3, 0.85: 3}),
 }
 
 # Norton, Design of Machinery, Table 8-3: (Cv, Ca, Cj) of double-dwell rises

@@ -4,8 +4,9 @@ The segments follow the laws of :mod:`camgen.synthesis.laws` (closed-form displa
 velocity, acceleration and jerk on normalised segments); every cam form that realises a law takes it
 (the open plate cam: :mod:`camgen.forms.plate`).  Segment keys:
 ``law``, ``span_deg``, ``lift_mm`` (translating followers) or ``swing_deg`` (oscillating ones),
-``blend`` (constant_velocity) and ``start`` / ``end`` (polynomial: the displacement, velocity,
-acceleration and jerk at the segment's ends, per degree of cam angle; converted to per rad).
+``blend`` (constant_velocity), ``start`` / ``end`` (polynomial: the displacement, velocity,
+acceleration and jerk at the segment's ends, per degree of cam angle; converted to per rad),
+``scca`` (scca: [b, c, d]) and ``accel_fraction`` (the asymmetric modified sine / trapezoid).
 
 **The abscissa.**  The form tells the motion what its program runs over through the follower it
 drives (``follower.abscissa``, :data:`ANGLE` when it has none): a cam angle (``span_deg``, the
@@ -32,7 +33,9 @@ if TYPE_CHECKING:
 #: Law names scene files may use (camgen.synthesis.laws.LAWS, kept here so reading the key
 #: reference imports no synthesis module; a test keeps them equal).
 LAW_NAMES = ("constant_velocity", "cycloidal", "double_harmonic", "dwell", "harmonic", "modified_cycloidal", "modified_sine",
-             "modified_trapezoid", "poly345", "poly4567", "polynomial", "simple_harmonic")
+             "modified_trapezoid", "poly345", "poly4567", "polynomial", "simple_harmonic",
+             # issue 26 LAWS
+             "constant_acceleration", "trapezoidal", "scca", "asymmetric_modified_sine", "asymmetric_modified_trapezoid")
 
 _CONDITIONS = NumberList(Number(""), 1, 4)
 #: The abscissae of a motion program (``follower.abscissa``): a cam angle, or a plate travel in mm.
@@ -56,6 +59,15 @@ SEGMENT_KEYS = (
         "velocity per degree of cam angle, acceleration per degree^2, jerk per degree^3 (converted to per rad); on a linear cam per "
         "mm of plate travel (v in mm/mm, a in mm/mm^2, j in mm/mm^3; oscillating: deg/mm, ...).", ("profile",)),
     Key("end", _CONDITIONS, "polynomial only: [s, v, a] (optionally j) at the segment's end, in the units of start.", ("profile",)),
+    # issue 26 LAWS
+    Key("scca", NumberList(Number("", 0.0, 1.0), 3, 3), "scca only (required there): [b, c, d], the fractions of the span in "
+        "the sine ramps (b), the constant acceleration (c) and the middle cosine (d) of Norton's SCCA family; b + c + d = 1 "
+        "(within 1e-9). [0, 1, 0] is constant acceleration, [0.25, 0.5, 0.25] the modified trapezoid, [0, 0, 1] simple "
+        "harmonic, [0.25, 0, 0.75] the modified sine, [0.5, 0, 0.5] cycloidal.", ("profile",), example=[0.25, 0.5, 0.25]),
+    Key("accel_fraction", Number("", 0.05, 0.95), "asymmetric_modified_sine and asymmetric_modified_trapezoid only "
+        "(required there): fraction of the span in the positive acceleration pulse, the negative one takes the rest "
+        "(Rothbart's skewed curves: the peak velocity stays the symmetric law's, the positive peak acceleration is its "
+        "times 1/(2 accel_fraction)); 0.5 is the symmetric law.", ("profile",), example=0.4),
 )
 
 KEYS = (
@@ -122,15 +134,17 @@ def read_program(where: str, segments: tuple[dict[str, Any], ...], motion: str, 
             raise ParameterError(f"{path}.{key}", shown, "0 (or leave it out) for a dwell")
         if law not in ("dwell", "polynomial") and not lift:
             raise ParameterError(f"{path}.{key}", shown, f"a non-zero {key} for a {law} segment (a segment without motion is a dwell)")
-        for name, allowed in (("blend", "constant_velocity"), ("start", "polynomial"), ("end", "polynomial")):
-            if name in seg and law != allowed:
+        for name, allowed in (("blend", "constant_velocity"), ("start", "polynomial"), ("end", "polynomial"),
+                              ("scca", "scca"), ("accel_fraction", "asymmetric_modified_sine or asymmetric_modified_trapezoid")):
+            if name in seg and law not in allowed.split(" or "):
                 raise ParameterError(f"{path}.{name}", seg[name], f"no {name} for a {law} segment", f"only for {allowed}")
         if law == "polynomial" and ("start" not in seg or "end" not in seg):
             raise ParameterError(f"{path}.{'start' if 'start' not in seg else 'end'}", None,
                                  "[s, v, a] (optionally j) at both ends of a polynomial segment")
         start = _per_rad(seg["start"], oscillating, per_unit) if "start" in seg else None
         end = _per_rad(seg["end"], oscillating, per_unit) if "end" in seg else None
-        built.append(renamed(path, segment_keys, lambda: laws.Segment(law, spans[i], lift, seg.get("blend"), start, end, where=path)))
+        built.append(renamed(path, segment_keys, lambda: laws.Segment(law, spans[i], lift, seg.get("blend"), start, end,
+                                                                          seg.get("scca"), seg.get("accel_fraction"), where=path)))
     if complete is not None:
         built += complete(built)
     try:
@@ -149,9 +163,9 @@ def _segment_figures(segments: tuple[dict[str, Any], ...], oscillating: bool) ->
             item["lift_mm"] = seg["lift"]
         if "swing" in seg:
             item["swing_deg"] = round(math.degrees(seg["swing"]), 9)
-        for name in ("blend", "start", "end"):
+        for name in ("blend", "start", "end", "scca", "accel_fraction"):
             if name in seg:
-                item[name] = list(seg[name]) if name != "blend" else seg[name]
+                item[name] = list(seg[name]) if name not in ("blend", "accel_fraction") else seg[name]
         out.append(item)
     return out
 

@@ -231,6 +231,11 @@ def program_table(cam: "CamReport") -> str:
             params = ""
         if "blend" in seg:
             params = f"blend {number(json_number(seg['blend']))} of the span at each end (velocity ramps)"
+        if "scca" in seg:  # issue 26 LAWS: Norton's SCCA fractions
+            b, c, d = json_numbers(seg["scca"])
+            params = f"b {number(b)}, c {number(c)}, d {number(d)} (sine ramps, constant, middle cosine)"
+        if "accel_fraction" in seg:  # issue 26 LAWS: the skewed laws
+            params = f"positive acceleration over {number(json_number(seg['accel_fraction']))} of the span"
         rows.append(f"<tr><td class='num'>{i}</td><td>{html.escape(str(seg['law']))}</td><td class='num'>{number(start)}</td>"
                     f"<td class='num'>{number(end)}</td><td class='num'>{number(span)}</td>"
                     f"<td class='num'>{number(motion)}</td><td>{html.escape(params)}</td></tr>")

@@ -33,6 +33,14 @@ poly345                10 tau^3 - 15 tau^4 + 6 tau^5                            
 poly4567               35 tau^4 - 84 tau^5 + 70 tau^6 - 20 tau^7                            Norton ch. 8
 polynomial             the polynomial of lowest degree meeting the user's end conditions    Norton ch. 8
                        (s, v, a[, j] at each end; degree = number of conditions - 1)        (polynomial functions)
+constant_acceleration  2 tau^2 on [0, 1/2], 1 - 2 (1 - tau)^2 on [1/2, 1] (parabolic)         Norton ch. 8
+trapezoidal            A: linear ramps over [0, 1/8], [3/8, 5/8], [7/8, 1], constant        Norton ch. 8 (trapezoidal
+                       between (:mod:`camgen.synthesis.laws_scca`)                          acceleration)
+scca                   ``scca = [b, c, d]``: sine ramps (b), constants (c), middle cosine   Norton, 2nd ed., sec. 8.3
+                       (d); :mod:`camgen.synthesis.laws_scca`                               (eqs. 8.21-8.24)
+asymmetric_modified_   the modified sine / trapezoid with its positive acceleration over    Rothbart, Cam Design
+sine, asymmetric_      ``accel_fraction`` of the span, the negative over the rest           Handbook, sec. 3, Fig.
+modified_trapezoid     (:mod:`camgen.synthesis.laws_scca`)                                  3.7 (skewed curves)
 =====================  ===================================================================  =====================
 
 Peak coefficients (``Cv = max|V|``, ``Ca = max|A|``, ``Cj = max|J|``) follow Norton's convention
@@ -91,11 +99,14 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from camgen.errors import ParameterError, require_finite, require_positive
+from camgen.synthesis import laws_scca
 
 __all__ = [
     "ALIASES", "Displacement", "Join", "KEPLER_MAX_STEPS", "KEPLER_STEP_TOL", "LAWS", "Law", "LawBreak",
     "MODIFIED_CYCLOID_TILT", "MotionProgram", "ORDER_NAMES", "Peaks", "SMOOTH", "Segment", "constant_velocity",
     "polynomial",
+    # issue 26 LAWS
+    "ACCEL_FRACTION_CATALOGUE", "SCCA_CATALOGUE", "asymmetric_modified_sine", "asymmetric_modified_trapezoid", "scca_law",
 ]
 
 TWO_PI = 2.0 * math.pi
@@ -681,6 +692,56 @@ _CANONICAL: dict[str, Law] = {
     # the default conditions give the rest-to-rest quintic (= poly345); segments pass their own
     "polynomial": polynomial((0.0, 0.0, 0.0), (1.0, 0.0, 0.0)),
 }
+
+# ---- issue 26 LAWS: constant acceleration, trapezoidal, SCCA, skewed modified sine / trapezoid ------------
+# (their accelerations: camgen.synthesis.laws_scca; here they become laws and join the catalogue)
+def _planned(name: str, plan: laws_scca.AccelerationPlan, source: str, options: Mapping[str, object] | None = None,
+             builder: Callable[..., Law] | None = None) -> Law:
+    """The law whose acceleration is ``plan``'s, integrated in closed form from rest to S(1) = 1."""
+    return Law(name, tuple(_integrate(plan.edges, plan.accel)), tuple(LawBreak(t, j) for t, j in plan.breaks), source,
+               dict(options or {}), builder=builder)
+
+
+def scca_law(scca: object) -> Law:
+    """The SCCA law of ``scca = (b, c, d)`` (fractions of the span, b + c + d = 1; Norton, Design of
+    Machinery, 2nd ed., sec. 8.3): see :mod:`camgen.synthesis.laws_scca`."""
+    b, c, d = laws_scca.scca_parameters(scca)
+    return _planned("scca", laws_scca.scca_plan(b, c, d),
+                    "Norton, Design of Machinery, 2nd ed., sec. 8.3 (SCCA family, eqs. 8.21-8.24)", {"scca": (b, c, d)}, scca_law)
+
+
+_SKEWED_SOURCE = "Rothbart, Cam Design Handbook (2004), sec. 3 (skewed modified trapezoidal curve, Fig. 3.7, eqs. 3.10-3.13)"
+
+
+def asymmetric_modified_sine(accel_fraction: object) -> Law:
+    """The skewed modified sine: its positive acceleration over ``accel_fraction`` of the span."""
+    f = laws_scca.accel_fraction_value(accel_fraction)
+    return _planned("asymmetric_modified_sine", laws_scca.asymmetric_modified_sine_plan(f),
+                    _SKEWED_SOURCE + ", applied to the modified sine", {"accel_fraction": f}, asymmetric_modified_sine)
+
+
+def asymmetric_modified_trapezoid(accel_fraction: object) -> Law:
+    """The skewed modified trapezoid: its positive acceleration over ``accel_fraction`` of the span."""
+    f = laws_scca.accel_fraction_value(accel_fraction)
+    return _planned("asymmetric_modified_trapezoid", laws_scca.asymmetric_modified_trapezoid_plan(f), _SKEWED_SOURCE,
+                    {"accel_fraction": f}, asymmetric_modified_trapezoid)
+
+
+#: The catalogue's SCCA member and skewed fraction (a segment gives its own: the keys are required).
+SCCA_CATALOGUE = (0.2, 0.3, 0.5)
+ACCEL_FRACTION_CATALOGUE = 0.4
+_CANONICAL.update({
+    # Norton ch. 8, constant (parabolic) acceleration: S = 2 tau^2, then 1 - 2 (1 - tau)^2
+    "constant_acceleration": Law("constant_acceleration", (_Piece(0.0, 0.5, (0.0, 0.0, 2.0)),
+                                                           _Piece(0.5, 1.0, (0.5, 2.0, -2.0), ref=0.5)),
+                                 (LawBreak(0.5, 2),), "Norton, Design of Machinery, ch. 8 (constant acceleration, parabolic)"),
+    "trapezoidal": _planned("trapezoidal", laws_scca.trapezoidal_plan(),
+                            "Norton, Design of Machinery, ch. 8 (trapezoidal acceleration; linear ramps over 1/8 of the span)"),
+    "scca": scca_law(SCCA_CATALOGUE),
+    "asymmetric_modified_sine": asymmetric_modified_sine(ACCEL_FRACTION_CATALOGUE),
+    "asymmetric_modified_trapezoid": asymmetric_modified_trapezoid(ACCEL_FRACTION_CATALOGUE),
+})
+# ---- end of issue 26 LAWS ------------------------------------------------------------------------------------
 #: alternative names users may write
 ALIASES: dict[str, str] = {"harmonic": "simple_harmonic"}
 #: every law by the name scene files use (aliases map to the same object)
@@ -716,6 +777,11 @@ class Segment:
     start, end : sequence of 1..4 floats, optional
         ``polynomial`` only (both required): absolute displacement s [unit], velocity ds/dtheta
         [unit/rad], acceleration [unit/rad^2], jerk [unit/rad^3] at the segment's start and end.
+    scca : sequence of 3 floats, optional
+        ``scca`` only (required): [b, c, d], fractions of the span (b + c + d = 1).
+    accel_fraction : float, optional
+        ``asymmetric_modified_sine`` / ``asymmetric_modified_trapezoid`` only (required): fraction
+        of the span in the positive acceleration pulse, 0.05..0.95.
     where : str
         How messages name this segment (e.g. ``"cams.lifter.segments[2]"``); the program fills in
         ``segments[i]`` when empty.
@@ -731,6 +797,8 @@ class Segment:
     blend: float | None = None
     start: Sequence[float] | None = None
     end: Sequence[float] | None = None
+    scca: Sequence[float] | None = None  # issue 26 LAWS: the scca law's [b, c, d]
+    accel_fraction: float | None = None  # issue 26 LAWS: the skewed laws' fraction of the span at +A
     where: str = field(default="", compare=False)
     shape: Law = field(init=False, repr=False, compare=False)
     scale: float = field(init=False, repr=False, compare=False)
@@ -750,9 +818,10 @@ class Segment:
         if span > TWO_PI * (1 + 1e-12):
             raise ParameterError(self._name("span"), self.span, "0 < span <= 2 pi rad (360 deg)")
         object.__setattr__(self, "span", span)
-        for key in ("blend", "start", "end"):
-            allowed = {"blend": "constant_velocity", "start": "polynomial", "end": "polynomial"}[key]
-            if getattr(self, key) is not None and name != allowed:
+        for key in ("blend", "start", "end", "scca", "accel_fraction"):
+            allowed = {"blend": "constant_velocity", "start": "polynomial", "end": "polynomial", "scca": "scca",
+                       "accel_fraction": "asymmetric_modified_sine or asymmetric_modified_trapezoid"}[key]
+            if getattr(self, key) is not None and name not in allowed.split(" or "):
                 raise ParameterError(self._name(key), getattr(self, key), f"no '{key}' for a {name} segment (only for {allowed})")
         start_level = None
         if name == "polynomial" and not isinstance(self.law, Law):
@@ -785,6 +854,15 @@ class Segment:
                     raise ParameterError(self._name("lift"), self.lift, f"a non-zero lift for a {name} segment (use 'dwell' to stay)")
             try:
                 shape = base.configure(blend=self.blend) if self.blend is not None else base
+                # issue 26 LAWS: the scca and skewed laws take their required option
+                option = {"scca": "scca", "asymmetric_modified_sine": "accel_fraction",
+                          "asymmetric_modified_trapezoid": "accel_fraction"}.get(name)
+                if option is not None and getattr(self, option) is not None:
+                    shape = base.configure(**{option: getattr(self, option)})
+                elif option is not None and not isinstance(self.law, Law):  # a law by name: the option is required
+                    raise ParameterError(option, None, "[b, c, d] (fractions of the span, b + c + d = 1) for an scca segment"
+                                         if option == "scca" else f"a fraction of the span for an {name} segment (0.5: "
+                                         f"the symmetric {name.removeprefix('asymmetric_')})")
             except ParameterError as exc:
                 raise ParameterError(self._name(exc.name), exc.value, exc.valid, exc.why) from None
             if lift < 0.0:
