@@ -1,0 +1,94 @@
+"""Measured lift data (issue 26 item 3): the undercut, contact-stress and jump checks of a
+smoothed lift table say how far the readings' noise would have moved them.
+
+The rule (README, "Measured lift data"): each check's value on the smoothed curve (what camgen
+builds) is compared with the same check on the interpolation of the raw readings
+(``smoothing_mm = 0``), on the same cam-angle grid; the note states the unsmoothed value and
+its relative difference, and says the readings' noise, not the design, drives the value when the
+two differ by more than :data:`NOISE_SHARE` or one passes where the other fails.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from types import SimpleNamespace
+from typing import TYPE_CHECKING, Any, Callable, Sequence
+
+if TYPE_CHECKING:
+    from camgen.checks import CheckResult
+
+__all__ = ["NOISE_SHARE", "dynamics_noise_notes", "noise_note", "undercut_noise_note"]
+
+#: Relative difference between a check's value on the smoothed curve and on the raw readings'
+#: interpolation above which the readings' noise, not the design, is said to drive it.
+NOISE_SHARE = 0.01
+
+
+def _raw_cam(cam: Any) -> Any:
+    """A stand-in of ``cam`` (a disk cam of a smoothed lift table) riding the raw readings'
+    interpolation on the same check grid, for the kinds' check functions; None for other cams."""
+    from camgen.synthesis.followers import kinematics
+    from camgen.synthesis.smoothing import SmoothedLiftTable
+
+    law = getattr(cam, "law", None)
+    if not isinstance(law, SmoothedLiftTable):
+        return None
+    f = cam.spec_follower
+    data = kinematics(f, law.raw, cam.envelope.data.theta)
+    return SimpleNamespace(spec_follower=f, law=law.raw, envelope=SimpleNamespace(data=data), contour=cam.contour, planar=True)
+
+
+def noise_note(smoothed: "CheckResult", raw: "CheckResult", tolerance: float, what: str = "") -> "CheckResult":
+    """``smoothed`` with a sentence comparing it with ``raw`` (the same check on the raw
+    readings' interpolation) by the module's rule."""
+    a, b = smoothed.value, raw.value
+    head = f"; smoothing_mm = {tolerance:g}: on the raw readings' interpolation {what or 'the value'} would be "
+    if isinstance(a, (int, float)) and isinstance(b, (int, float)) and math.isfinite(a) and math.isfinite(b) and a != 0:
+        share = (b - a) / abs(a)
+        verdict = abs(share) > NOISE_SHARE or smoothed.passed != raw.passed
+        text = head + f"{b:.6g} {smoothed.unit} ({share:+.2%})".replace("  ", " ")
+    else:
+        verdict = smoothed.passed != raw.passed or a != b
+        text = head + f"{b}"
+    if raw.passed is not None and raw.passed != smoothed.passed:
+        text += f" and the check would {'pass' if raw.passed else 'fail'}"
+    text += (": the readings' noise, not the design, drives the difference" if verdict
+             else f": within {NOISE_SHARE:.0%}, the design, not the readings' noise, sets it")
+    return replace(smoothed, note=smoothed.note + text)
+
+
+def undercut_noise_note(cam: Any, check: "CheckResult", measure: "Callable[[Any], CheckResult]") -> "CheckResult":
+    """The undercut ``check`` of ``cam`` with the noise note (a smoothed lift table; else as
+    given); ``measure``: the kind's undercut check of a cam."""
+    raw = _raw_cam(cam)
+    if raw is None:
+        return check
+    return noise_note(check, measure(raw), cam.law.fit.tolerance, "the smallest radius")
+
+
+def dynamics_noise_notes(cam: Any, result: Any, checks: "Sequence[CheckResult]",
+                         recheck: "Callable[[Any], tuple[Any, Sequence[CheckResult]]]") -> "list[CheckResult]":
+    """The dynamics ``checks`` of ``cam`` (``result``: its :class:`camgen.dynamics.DynamicsResult`)
+    with the noise notes on ``hertz_stress`` and ``jump`` (the jump speed too) for a smoothed lift
+    table; ``recheck(cam)``: the dynamics result and checks of a cam."""
+    raw = _raw_cam(cam)
+    if raw is None:
+        return list(checks)
+    raw_result, raw_checks = recheck(raw)
+    by_name = {c.name: c for c in raw_checks}
+    tolerance = cam.law.fit.tolerance
+    out = []
+    for check in checks:
+        other = by_name.get(check.name)
+        if check.name == "hertz_stress" and other is not None:
+            check = noise_note(check, other, tolerance, "the largest contact stress")
+        elif check.name == "jump" and other is not None:
+            check = noise_note(check, other, tolerance, "the smallest contact force")
+            jump, raw_jump = result.jump_rpm, raw_result.jump_rpm
+            if math.isfinite(jump) and math.isfinite(raw_jump) and jump > 0:
+                share = (raw_jump - jump) / jump
+                check = replace(check, note=check.note + f"; the jump speed would be {raw_jump:.6g} rpm ({share:+.2%}): " + (
+                    "the readings' noise, not the design, drives the difference" if abs(share) > NOISE_SHARE
+                    else f"within {NOISE_SHARE:.0%}, the design sets it"))
+        out.append(check)
+    return out
