@@ -103,15 +103,13 @@ def _piece_form() -> np.ndarray:
     a = np.zeros((6, 6))  # rows: derivatives 0..2 at u = 0, then at u = 1; columns: coefficients of u^0 .. u^5
     for j in range(3):
         a[j, j] = math.factorial(j)
-        for r in range(j, 6):
-            a[3 + j, r] = math.factorial(r) / math.factorial(r - j)
+        for p in range(j, 6):
+            a[3 + j, p] = math.factorial(p) / math.factorial(p - j)
     hinv = np.linalg.inv(a)
-    r = np.arange(6)
-    falling = r * (r - 1) * (r - 2)  # d^3/du^3 of u^r = falling u^(r-3)
+    power = np.arange(3, 6)  # d^3/du^3 of u^p = p (p - 1) (p - 2) u^(p - 3); lower powers vanish
+    falling = power * (power - 1) * (power - 2)
     g = np.zeros((6, 6))
-    hi = r >= 3
-    rr, ss = np.meshgrid(r[hi], r[hi], indexing="ij")
-    g[np.ix_(hi, hi)] = np.outer(falling[hi], falling[hi]) / (rr + ss - 5)
+    g[3:, 3:] = np.outer(falling, falling) / (power[:, None] + power[None, :] - 5)
     return hinv.T @ g @ hinv
 
 
