@@ -438,7 +438,7 @@ def run_dynamics(cam: "BuiltCam", spec: "CamSpec", stages: frozenset[str]) -> Dy
         other_result = dy.analyse(other_kin, train, rpm, dyn.material, jump_margin=dyn.jump_margin)
         return other_result, dynamics_checks(other_result, other_kin, dyn.material, dyn.torque_limit)
 
-    checks = dynamics_noise_notes(cam, result, checks, recheck)
+    checks = dynamics_noise_notes(cam, result, checks, recheck if spec.form == "plate" else None)
     speed = force = None
     if "plots" in stages and train.closure == "force":
         top = SPEED_SPAN * rpm

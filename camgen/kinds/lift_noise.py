@@ -67,13 +67,19 @@ def undercut_noise_note(cam: Any, check: "CheckResult", measure: "Callable[[Any]
 
 
 def dynamics_noise_notes(cam: Any, result: Any, checks: "Sequence[CheckResult]",
-                         recheck: "Callable[[Any], tuple[Any, Sequence[CheckResult]]]") -> "list[CheckResult]":
+                         recheck: "Callable[[Any], tuple[Any, Sequence[CheckResult]]] | None") -> "list[CheckResult]":
     """The dynamics ``checks`` of ``cam`` (``result``: its :class:`camgen.dynamics.DynamicsResult`)
     with the noise notes on ``hertz_stress`` and ``jump`` (the jump speed too) for a smoothed lift
-    table; ``recheck(cam)``: the dynamics result and checks of a cam."""
+    table; ``recheck(cam)``: the dynamics result and checks of a cam riding the raw readings (a
+    plate cam's; None: a form whose dynamics need more than the follower's kinematics, a groove:
+    the notes say the comparison is not made)."""
     raw = _raw_cam(cam)
     if raw is None:
         return list(checks)
+    if recheck is None:
+        tolerance = cam.law.fit.tolerance
+        return [replace(c, note=c.note + f"; smoothing_mm = {tolerance:g}: not compared with the raw readings' interpolation for "
+                        "this cam form (plate cams only)") if c.name in ("hertz_stress", "jump", "contact_force") else c for c in checks]
     raw_result, raw_checks = recheck(raw)
     by_name = {c.name: c for c in raw_checks}
     tolerance = cam.law.fit.tolerance
