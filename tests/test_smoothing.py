@@ -135,6 +135,8 @@ def test_residual_bound_holds_at_every_reading(tmp_path, step, noise):
     assert fit["rms_residual_mm"] == pytest.approx(math.sqrt(np.mean(residual**2)), abs=1e-9)
     assert np.allclose(fit["residual_mm"], residual, atol=1e-9)
     assert fit["largest_residual_mm"] > 0.9 * tol  # the penalty was raised until the tolerance was reached
+    page = (tmp_path / "out" / "t" / "report.html").read_text()
+    assert "residual at every reading" in page and f"+-smoothing_mm = {tol:g} mm" in page  # the plot against the band
 
 
 def test_no_false_undercut(tmp_path):
@@ -179,3 +181,19 @@ def test_refusals(tmp_path, capsys):
     assert "cams.osc.smoothing_mm" in capsys.readouterr().err
     assert run(tmp_path, "neg", table_cam(tmp_path, deg, lift, 10.0, -0.1))[0] == 2
     assert "cams.neg.smoothing_mm" in capsys.readouterr().err
+    half = tmp_path / "half.csv"  # a half-turn table (0 to 180 deg) of a constant-breadth cam
+    half.write_text("".join(f"{a:g},{10 * (1 - math.cos(math.radians(a))) / 2:.6f}\n" for a in range(0, 181, 10)))
+    cam = {"kind": "lift_table", "form": "constant_breadth", "follower": "yoke", "half_turn": True, "lift_table_csv": str(half),
+           "base_radius_mm": 40.0, "face_half_length_mm": 30.0, "thickness_mm": 10.0, "smoothing_mm": 0.005}
+    assert run(tmp_path, "half", dict(cam), formats=("dxf",))[0] == 2
+    assert "cams.half.smoothing_mm" in capsys.readouterr().err
+    cam["smoothing_mm"] = 0.0  # the same table unsmoothed is a cam
+    assert run(tmp_path, "half", cam, formats=("dxf",))[0] == 0
+
+
+def test_the_readme_figures_of_the_interpolated_readings(tmp_path):
+    # README ("Measured lift data"): readings to 0.01 mm interpolated put the smallest pitch radius at 27.9 mm against 34.5 true
+    deg, lift = readings(0.01, 0.0)
+    code, report = run(tmp_path, "raw", table_cam(tmp_path, deg, lift, 10.0, None), formats=("dxf",))
+    assert code == 0
+    assert round(check(report, "undercut")["value"], 1) == 27.9 and round(true_min_pitch_radius(), 1) == 34.5
