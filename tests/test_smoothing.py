@@ -150,6 +150,42 @@ def test_no_false_undercut(tmp_path):
     assert "the check would fail" in check(report, "undercut")["note"]
 
 
+def test_a_failed_undercut_of_rounded_readings_names_the_smoothing_that_makes_the_cam(tmp_path):
+    # readings to 0.01 mm, no noise, roller 30 mm: interpolated they fail the undercut check (27.9 < 30); the note names
+    # smoothing_mm = 0.005 (half the last digit), and that value, used, makes the cam
+    deg, lift = readings(0.01, 0.0)
+    code, report = run(tmp_path, "raw", table_cam(tmp_path, deg, lift, 30.0, None), formats=("dxf",))
+    note = check(report, "undercut")["note"]
+    assert code == 1 and "given to 0.01 mm" in note and "smoothing_mm = 0.005 makes the cam" in note
+    code, report = run(tmp_path, "used", table_cam(tmp_path, deg, lift, 30.0, 0.005), formats=("dxf",))
+    assert code == 0 and check(report, "undercut")["value"] == pytest.approx(true_min_pitch_radius(), rel=0.01)
+    # readings of a cam that cannot be made (roller 36 mm > the true 34.5 mm): the fit fails too, and says the design drives it
+    code, report = run(tmp_path, "design", table_cam(tmp_path, deg, lift, 36.0, None), formats=("dxf",))
+    assert code == 1 and "the design, not the readings' noise, drives it" in check(report, "undercut")["note"]
+
+
+def test_the_noise_rule_of_the_notes():
+    # README's rule: noise drives a value when smoothed and raw differ by more than 1 % or one passes where the other fails
+    from camgen.checks import limited
+    from camgen.kinds.lift_noise import noise_note
+
+    smoothed = limited("undercut", 10.0, ">", 9.0, "mm", [], "x")
+    within = noise_note(smoothed, limited("undercut", 10.05, ">", 9.0, "mm", [], "x"), 0.005).note
+    beyond = noise_note(smoothed, limited("undercut", 10.2, ">", 9.0, "mm", [], "x"), 0.005).note
+    flips = noise_note(smoothed, limited("undercut", 9.95, ">", 9.96, "mm", [], "x"), 0.005).note
+    assert "within 1%, the design" in within and "+0.50%" in within
+    assert "noise, not the design, drives" in beyond and "+2.00%" in beyond
+    assert "noise, not the design, drives" in flips and "the check would fail" in flips
+
+
+def test_readings_resolution():
+    from camgen.kinds.lift_noise import readings_resolution
+
+    assert readings_resolution([0.0, 1.25, 3.5]) == 0.01
+    assert readings_resolution([0.0, 2.0, -3.0]) == 1.0
+    assert readings_resolution([0.1234567]) is None
+
+
 def test_the_fit_is_c4_and_smoother_than_the_interpolation():
     # the penalised minimiser over C2 piecewise quintics is the C4 quintic spline (natural-spline property):
     # the interpolating C4 quintic through its values has its slopes and 2nd derivatives

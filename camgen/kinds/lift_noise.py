@@ -5,7 +5,11 @@ The rule (README, "Measured lift data"): each check's value on the smoothed curv
 builds) is compared with the same check on the interpolation of the raw readings
 (``smoothing_mm = 0``), on the same cam-angle grid; the note states the unsmoothed value and
 its relative difference, and says the readings' noise, not the design, drives the value when the
-two differ by more than :data:`NOISE_SHARE` or one passes where the other fails.
+two differ by more than :data:`NOISE_SHARE` or one passes where the other fails.  An unsmoothed
+table whose undercut check fails is fitted within half its readings' last digit (the readings'
+resolution): when that fit passes, the note says the noise drives the failure and names the
+``smoothing_mm`` that makes the cam (tests/test_smoothing.py uses it).  Passing unsmoothed tables
+get no note (nothing is computed: their outputs and run time are unchanged).
 """
 from __future__ import annotations
 
@@ -17,11 +21,13 @@ from typing import TYPE_CHECKING, Any, Callable, Sequence
 if TYPE_CHECKING:
     from camgen.checks import CheckResult
 
-__all__ = ["NOISE_SHARE", "dynamics_noise_notes", "noise_note", "undercut_noise_note"]
+__all__ = ["NOISE_SHARE", "RESOLUTION_DIGITS", "dynamics_noise_notes", "noise_note", "readings_resolution", "undercut_noise_note"]
 
 #: Relative difference between a check's value on the smoothed curve and on the raw readings'
 #: interpolation above which the readings' noise, not the design, is said to drive it.
 NOISE_SHARE = 0.01
+#: Finest step (10^-k mm) a table's readings are taken to be given to (finer: no resolution stated).
+RESOLUTION_DIGITS = 6
 
 
 def _raw_cam(cam: Any) -> Any:
@@ -57,13 +63,53 @@ def noise_note(smoothed: "CheckResult", raw: "CheckResult", tolerance: float, wh
     return replace(smoothed, note=smoothed.note + text)
 
 
+def readings_resolution(lifts: Any, finest: int = RESOLUTION_DIGITS) -> float | None:
+    """The step the readings are given to (mm): the largest 10^-k, k = 0 .. ``finest``, of which
+    every reading is a whole multiple (within 1e-6 of the step); None: finer than 10^-finest."""
+    import numpy as np
+
+    values = np.asarray(lifts, dtype=float)
+    for k in range(finest + 1):
+        step = 10.0**-k
+        q = values / step
+        if np.all(np.abs(q - np.round(q)) <= 1e-6):
+            return step
+    return None
+
+
 def undercut_noise_note(cam: Any, check: "CheckResult", measure: "Callable[[Any], CheckResult]") -> "CheckResult":
-    """The undercut ``check`` of ``cam`` with the noise note (a smoothed lift table; else as
+    """The undercut ``check`` of ``cam`` with the noise note (a smoothed lift table: against the
+    raw readings; an unsmoothed one whose undercut check fails: against the fit within half the
+    readings' last digit, ``smoothing_mm`` = that, which the note suggests when it passes; else as
     given); ``measure``: the kind's undercut check of a cam."""
     raw = _raw_cam(cam)
-    if raw is None:
+    if raw is not None:
+        return noise_note(check, measure(raw), cam.law.fit.tolerance, "the smallest radius")
+    return _failed_table_note(cam, check, measure)
+
+
+def _failed_table_note(cam: Any, check: "CheckResult", measure: "Callable[[Any], CheckResult]") -> "CheckResult":
+    from camgen.synthesis.followers import kinematics
+    from camgen.synthesis.lift_table import LiftTable
+    from camgen.synthesis.smoothing import SmoothedLiftTable
+
+    law = getattr(cam, "law", None)
+    if type(law) is not LiftTable or law.unit != "mm" or not check.failed:
         return check
-    return noise_note(check, measure(raw), cam.law.fit.tolerance, "the smallest radius")
+    step = readings_resolution(law.lifts)
+    if step is None:
+        return check
+    tolerance = 0.5 * step
+    smooth = SmoothedLiftTable(law, tolerance)
+    f = cam.spec_follower
+    data = kinematics(f, smooth, cam.envelope.data.theta)
+    fitted = measure(SimpleNamespace(spec_follower=f, law=smooth, envelope=SimpleNamespace(data=data)))
+    head = (f"; the readings are given to {step:g} mm: the smoothest spline within half that, {tolerance:g} mm, of every reading "
+            f"has {fitted.value:.6g} {check.unit}".replace("  ", " "))
+    if fitted.passed:
+        return replace(check, note=check.note + head + f" and passes: the readings' noise, not the design, drives this failure "
+                       f"(smoothing_mm = {tolerance:g} makes the cam)")
+    return replace(check, note=check.note + head + " and fails too: the design, not the readings' noise, drives it")
 
 
 def dynamics_noise_notes(cam: Any, result: Any, checks: "Sequence[CheckResult]",
