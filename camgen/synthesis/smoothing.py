@@ -192,8 +192,8 @@ def smooth_readings(angles: np.ndarray, readings: np.ndarray, tolerance: float) 
     Returns
     -------
     SmoothingFit
-        Its ``fitted`` values within ``tolerance`` of the readings (verified by the caller on the
-        spline it builds: :func:`camgen.motions.lift_table` does).
+        Its ``fitted`` values within ``tolerance`` of the readings (verified on the spline built
+        through them by :class:`SmoothedLiftTable`).
     """
     if not (math.isfinite(tolerance) and tolerance > 0):
         raise ParameterError("smoothing_mm", tolerance, "> 0")
