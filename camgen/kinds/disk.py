@@ -666,6 +666,10 @@ def evaluate_disk(cam: BuiltCam, spec: CamSpec, tool_radius: float, tool_is_limi
     if cam.contour is not None:
         checks.append(_continuity(cam, cam.contour))
     undercut = _undercut(cam)
+    # SMOOTH (issue 26 item 3): a smoothed lift table's undercut against the raw readings'
+    from camgen.kinds.lift_noise import undercut_noise_note
+
+    undercut = undercut_noise_note(cam, undercut, _undercut)
     checks.append(undercut)
     what = f"{f.motion} {f.kind} follower" + (f" (offset {f.offset:g} mm)" if f.motion == "translating" and f.offset else "")
     pressure = pressure_angle_check(k.pressure_angle, theta, pressure_limit(spec), what)

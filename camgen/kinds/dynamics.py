@@ -430,6 +430,15 @@ def run_dynamics(cam: "BuiltCam", spec: "CamSpec", stages: frozenset[str]) -> Dy
     train = replace(dyn.train, arm_length=arm) if dyn.train.motion == "oscillating" else dyn.train
     result = dy.analyse(kin, train, rpm, dyn.material, jump_margin=dyn.jump_margin)
     checks = dynamics_checks(result, kin, dyn.material, dyn.torque_limit)
+    # SMOOTH (issue 26 item 3): a smoothed lift table's stress and jump against the raw readings'
+    from camgen.kinds.lift_noise import dynamics_noise_notes
+
+    def recheck(other: Any) -> tuple[Any, Any]:
+        other_kin = follower_dynamics(other, spec)[0]
+        other_result = dy.analyse(other_kin, train, rpm, dyn.material, jump_margin=dyn.jump_margin)
+        return other_result, dynamics_checks(other_result, other_kin, dyn.material, dyn.torque_limit)
+
+    checks = dynamics_noise_notes(cam, result, checks, recheck if spec.form == "plate" else None)
     speed = force = None
     if "plots" in stages and train.closure == "force":
         top = SPEED_SPAN * rpm

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, Mapping
 from camgen.errors import ParameterError
 from camgen.keynames import renamed
 from camgen.motions.base import LawReading, Motion
-from camgen.schema import REQUIRED, Key, Text
+from camgen.schema import REQUIRED, Key, Number, Text
 
 if TYPE_CHECKING:
     from camgen.synthesis.followers import FollowerSpec
@@ -26,6 +26,13 @@ KEYS = (
         "oscillating follower), relative to the scene file; one turn, closed automatically; '#' comments and a header row allowed. "
         "A linear cam (form = \"linear\") reads the first column as the plate travel x in mm, one turn = travel_mm.",
         ("profile",), default=REQUIRED),
+    # SMOOTH (issue 26 item 3): measured lift data smoothed within a stated tolerance
+    Key("smoothing_mm", Number("mm", 0.0, 10.0), "Measured lift data: 0 interpolates every row (the spline passes through each "
+        "reading); > 0 fits instead the smoothest periodic quintic spline (least integral of the squared jerk) within this many mm "
+        "of every reading (the readings' uncertainty: e.g. half their last digit plus the instrument's noise); the residuals "
+        "(largest, RMS, per reading) are in the report, and the undercut, contact-stress and jump checks say how far the readings' "
+        "noise would have moved them. Translating followers and linear cams (lift in mm); not with half_turn.",
+        ("profile", "report"), default=0.0, example=0.005),
 )
 
 
@@ -57,6 +64,11 @@ def read_law(where: str, parsed: Mapping[str, Any], follower: "FollowerSpec", ba
 
     table = renamed(where, KEYS, read)
     figures = {"lift_table_csv": parsed["lift_table_csv"], "table_rows": int(table.angles.size), "table_spline_degree": table.degree}
+    tolerance = parsed.get("smoothing", 0.0)
+    if tolerance > 0:  # SMOOTH (issue 26 item 3): one call
+        from camgen.motions.smoothing import smoothed_table
+
+        return smoothed_table(where, table, tolerance, oscillating, figures)
     return LawReading(table, figures)
 
 
@@ -74,6 +86,9 @@ def read_half_law(where: str, parsed: Mapping[str, Any], follower: "FollowerSpec
     path = path if path.is_absolute() or base_dir is None else base_dir / path
     oscillating = follower.motion == "oscillating"
     name = f"{where}.lift_table_csv"
+    if parsed.get("smoothing", 0.0) > 0:  # SMOOTH: the fit would have to keep the breadth rule; not offered
+        raise ParameterError(f"{where}.smoothing_mm", parsed["smoothing"], "0 with half_turn = true",
+                             "a smoothed table is not offered for a half-turn program (its fit does not state the breadth rule)")
     angles, lifts, _ = renamed(where, KEYS, lambda: read_two_column_table(path, "lift_table_csv", ("angle_deg", "lift")))
     if angles.size < 2 or angles[0] != 0.0 or angles[-1] != 180.0 or bool(np.any(np.diff(angles) <= 0)):
         raise ParameterError(name, f"rows from {angles[0]:.9g} to {angles[-1]:.9g} deg" if angles.size else "no rows",

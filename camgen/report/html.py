@@ -253,6 +253,7 @@ def report_html(report: "ReportInput") -> str:
     :class:`~camgen.report.model.CamReport` (a mechanism: its
     :class:`~camgen.report.model.MechanismReport`, when its section has data)."""
     from camgen.report.design import design_table, figures_table, program_table
+    from camgen.report.smoothing import smoothing_section
 
     Figure = figure_factory()
     cams = report.cams
@@ -294,6 +295,7 @@ def report_html(report: "ReportInput") -> str:
             parts.append(dynamics_section(Figure, cam))
         parts.append("<h3>Checks</h3>" + _checks_table(cam.checks))
         parts.append(figures_table(cam))
+        parts.append(smoothing_section(Figure, cam))  # SMOOTH: a smoothed lift table's residuals ("" otherwise)
         if cam.report_section:
             parts.append(_section(cam.report_section)(Figure, cam))
     for mechanism in report.mechanisms:
