@@ -245,7 +245,7 @@ def measure(follower: FollowerSpec, law: Displacement, check_step: float = DEFAU
     if stress is not None:
         from camgen.synthesis.sizing_stress import contact_stress
 
-        peak, q = contact_stress(follower, k, stress) if not failures else (math.inf, 0)
+        peak, q = contact_stress(follower, k, stress.train, stress.material, stress.rpm) if not failures else (math.inf, 0)
     return DesignMeasures(float(alpha[i]), float(deg[i]), float(convex[j]), float(deg[j]), float(concave[m]), float(deg[m]), failures,
                           float(rise_alpha[a]), float(deg[a]), float(ret_alpha[b]), float(deg[b]), pitch, float(deg[p]), peak, float(deg[q]),
                           follower.roller_radius if follower.has_radius else 0.0)

@@ -18,13 +18,14 @@ from camgen.errors import GeometryError, ParameterError
 
 if TYPE_CHECKING:
     from camgen.synthesis.followers import FollowerSpec, Kinematics
-    from camgen.synthesis.sizing import ContactStressLimit
 
 __all__ = ["contact_stress"]
 
 
-def contact_stress(follower: "FollowerSpec", k: "Kinematics", limit: "ContactStressLimit") -> tuple[float, int]:
-    """The peak Hertz stress (MPa) of ``follower`` with kinematics ``k`` at ``limit.rpm`` and the
+def contact_stress(follower: "FollowerSpec", k: "Kinematics", train: Any, material: Any, rpm: float) -> tuple[float, int]:
+    """The peak Hertz stress (MPa) of ``follower`` with kinematics ``k``, follower ``train``
+    (:class:`camgen.dynamics.FollowerTrain`) and contact ``material``
+    (:class:`camgen.dynamics.ContactMaterial`) at ``rpm`` (rev/min), and the
     index of the cam angle where it occurs; ``inf`` when the contact cannot carry a force (a
     concave part tighter than the roller, a pressure angle of 90 deg) or has no finite stress
     (a sharp knife)."""
@@ -53,8 +54,8 @@ def contact_stress(follower: "FollowerSpec", k: "Kinematics", limit: "ContactStr
     try:
         kin = dy.Kinematics(theta[keep], k.s[keep], k.ds[keep], k.d2s[keep], k.pressure_angle[keep], k.profile_radius[keep], radius,
                             pick(direction), lever=pick(lever))
-        train = replace(limit.train, arm_length=arm) if limit.train.motion == "oscillating" else limit.train
-        result = dy.analyse(kin, train, limit.rpm, limit.material)
+        train = replace(train, arm_length=arm) if train.motion == "oscillating" else train
+        result = dy.analyse(kin, train, rpm, material)
     except (GeometryError, ParameterError):  # the contact cannot carry the force there
         return math.inf, 0
     stresses = [h for h in (result.hertz_stress, result.hertz_stress_2) if h is not None]
