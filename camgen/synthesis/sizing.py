@@ -533,7 +533,7 @@ def _intervals(name: str, make: Callable[[float], FollowerSpec | None], law: Dis
         tried += 1
         try:
             spec = make(value)
-        except ParameterError:
+        except (ParameterError, GeometryError):  # no follower with that value (the arm cannot reach the prime circle)
             return False
         return spec is not None and _feasible(spec, law, limits, theta)
 
