@@ -511,7 +511,8 @@ class Intervals:
     tried: int
 
     def text(self) -> str:
-        """"roller_radius between 3.2 and 9.125 mm, or between ..." (or that none passes)."""
+        """The runs as a hint prints them: ``roller_radius between 3.2 and 9.125 mm, or between ...``
+        (or that none passes)."""
         if not self.runs:
             return f"no {self.name} in ({self.searched[0]:.6g}, {self.searched[1]:.6g}) mm meets the limits"
         return f"{self.name} between " + ", or between ".join(f"{_quoted(a)} and {_quoted(b)}" for a, b in self.runs) + " mm"
