@@ -392,3 +392,19 @@ def test_margin_keys_are_refused_where_they_do_nothing(tmp_path, capsys):
     assert main(["run", str(path), "-o", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("camgen: error:") and "min_pitch_radius_roller_factor" in err[0]
+
+
+def test_the_scene_sizes_to_the_allowable_contact_stress(tmp_path):
+    """sizing = "base_radius" with the dynamics keys and an allowable stress: the base radius it
+    builds meets the stress (closed form) and 0.001 mm less does not; the hertz_stress check passes."""
+    law = _steep_law()
+    allowable = hertz_closed_form(60.0004, 10.0, law)  # the least base radius 60.0004 mm: sizing quotes 60.001
+    cam = {"kind": "motion_law", "sizing": "base_radius", "roller_radius_mm": 10.0, "segments": STEEP_RETURN, "rpm": 300.0,
+           "mass_kg": 0.5, "spring_rate_n_per_mm": 2.0, "spring_preload_n": 150.0, "contact_width_mm": 10.0,
+           "thickness_mm": 10.0, "allowable_contact_stress_mpa": allowable}
+    status, report = cli(tmp_path, cam, "stress")
+    c = checks(report)
+    sized = c["sizing"]["value"]
+    assert status == 0 and c["hertz_stress"]["status"] == "pass" and "Hertz contact stress" in c["sizing"]["note"]
+    assert sized == 60.001
+    assert hertz_closed_form(sized, 10.0, law) <= allowable * (1 + 1e-9) < hertz_closed_form(sized - 1e-3, 10.0, law)
