@@ -82,7 +82,8 @@ def follower_keys() -> tuple[Key, ...]:
             "Required unless sizing computes it.", ("profile",)),
         Key("sizing", Choice(SIZING), "Let camgen find the smallest base radius (base_radius), or base radius and offset "
             "(base_radius_and_offset: translating roller or knife) that meets the pressure-angle limit and, when a tool is named, "
-            "the tool radius as the smallest concave radius; base_radius_mm (and follower_offset_mm) are then refused and the "
+            "the tool radius as the smallest concave radius (plate cams: also the margin keys and, with the dynamics keys and "
+            "allowable_contact_stress_mpa, the Hertz stress at rpm); base_radius_mm (and follower_offset_mm) are then refused and the "
             "result is in the report's figures.", ("profile",), default="none"),
         Key("follower", Choice(follower_names(("point", "face"))), "Follower (camgen.followers): " + "; ".join(
             f"{name}, {get_follower(name).summary}" for name in follower_names(("point", "face"))) + ".", ("profile",),
@@ -128,6 +129,7 @@ class DiskParams:
     face_half_length: float | None = None
     law_figures: Mapping[str, Any] = field(default_factory=dict)
     source: str | None = None
+    margins: Any = None  # SIZING (issue 26 item 4): camgen.kinds.disk_margins.Margins, None: none
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -221,9 +223,11 @@ def disk_spec(where: str, name: str, kind: str, parsed: Mapping[str, Any], law: 
     with its follower train when the table gives one (:mod:`camgen.kinds.dynamics`; ``form_closed``:
     the form holds the follower both ways, a groove)."""
     from camgen.kinds.base import read_body, read_checks
+    from camgen.kinds.disk_margins import read_margins
     from camgen.kinds.dynamics import read_dynamics
 
     params = DiskParams(law, follower, sizing, parsed["fit_tol"], parsed.get("face_half_length"), dict(law_figures), parsed.get("source"))
+    params = replace(params, margins=read_margins(parsed))  # SIZING (issue 26 item 4): the plate form's margin keys
     body, checks = read_body(where, parsed), read_checks(parsed)
     dynamics = read_dynamics(where, parsed, motion=follower.motion, follower=follower.kind, rpm=checks.rpm, thickness=body.thickness,
                              base_dir=base_dir, form_closed=form_closed)
@@ -256,9 +260,10 @@ class EnvelopeJoins:
 
 
 def _limits(spec: CamSpec, tool_radius: float | None):
+    from camgen.kinds.disk_margins import design_limits
     from camgen.synthesis.sizing import DesignLimits
 
-    return DesignLimits(max_pressure_angle=pressure_limit(spec), min_concave_radius=tool_radius or 0.0)
+    return design_limits(spec, DesignLimits(max_pressure_angle=pressure_limit(spec), min_concave_radius=tool_radius or 0.0), sizing=True)
 
 
 def _ceil(value: float, digits: int = 3) -> float:
@@ -627,8 +632,11 @@ def _base_radius_advice(cam: DiskCam, spec: CamSpec, tool_radius: float, tool_is
     from camgen.synthesis import sizing as sz
 
     p: DiskParams = spec.params
+    from camgen.kinds.disk_margins import design_limits, margin_text  # SIZING (issue 26 item 4)
+
     limit = round(math.degrees(pressure_limit(spec)), 9)
     tool = f" and concave radii >= the tool radius {tool_radius:g} mm" if tool_is_limit else ""
+    tool += margin_text(spec, pressure_limit(spec), sizing=cam.sizing is not None)  # SIZING: the margins met, none without margin keys
     if cam.sizing is not None:
         found = cam.sizing
         extra = f", offset {found.offset:.6g} mm" if p.sizing == "base_radius_and_offset" else ""
@@ -638,6 +646,7 @@ def _base_radius_advice(cam: DiskCam, spec: CamSpec, tool_radius: float, tool_is
     if not failed:
         return None
     limits = sz.DesignLimits(max_pressure_angle=pressure_limit(spec), min_concave_radius=tool_radius if tool_is_limit else 0.0)
+    limits = design_limits(spec, limits)  # SIZING (issue 26 item 4)
     try:
         advice = sz.base_radius_advice(cam.spec_follower, cam.law, limits)
     except GeometryError as exc:
@@ -683,7 +692,13 @@ def evaluate_disk(cam: BuiltCam, spec: CamSpec, tool_radius: float, tool_is_limi
         checks.append(_face_length(cam, p.face_half_length))
     if cam.contour is not None:
         checks.extend(machinability_from_radii(k.profile_radius, theta, tool_radius, tool_is_limit, "cam angles"))
-    advice = _base_radius_advice(cam, spec, tool_radius, tool_is_limit, undercut.failed or pressure.failed)
+    # SIZING (issue 26 item 4): the rise/return limits, Norton's rule, the face's clearance
+    from camgen.kinds.disk_margins import with_margins
+
+    checks = with_margins(cam, spec, checks, pressure_limit(spec))
+    margin_failed = any(c.failed for c in checks if c.name in ("pressure_angle", "pressure_angle_return", "pitch_curvature"))
+    # end SIZING
+    advice = _base_radius_advice(cam, spec, tool_radius, tool_is_limit, undercut.failed or margin_failed)
     if advice is not None:
         checks.append(advice)
     if cam.contour is not None:
