@@ -45,6 +45,9 @@ TEXTBOOK = {
     "poly4567": (3, 3, {}),
     "constant_velocity_blend_0.2": (3, 3, {0.2: 3, 0.8: 3}),
     "constant_velocity_blend_0.5": (3, 3, {0.5: 3}),
+    # SPLINE (issue 26): the defaults (no points, rest ends): the 3-4-5 quintic and the 4-5-6-7
+    "bspline": (2, 2, {}),
+    "velocity_blend": (3, 3, {}),
 }
 
 # Norton, Design of Machinery, Table 8-3: (Cv, Ca, Cj) of double-dwell rises
