@@ -252,6 +252,7 @@ POLY = {"law": "polynomial", "span_deg": 120.0, "start": [0.0, 0.0, 0.0], "end":
 REFUSED = {
     "point outside the span": (dict(BSPLINE, points=[[30.0, 5.0], [130.0, 18.0]]), "cams.c.segments[0].points[1]", "0 < position < 120 deg"),
     "point at the start": (dict(BSPLINE, points=[[0.0, 0.0]]), "cams.c.segments[0].points[0]", "strictly inside"),
+    "point at the end": (dict(BSPLINE, points=[[60.0, 10.0], [120.0, 20.0]]), "cams.c.segments[0].points[1]", "0 < position < 120 deg"),
     "points not increasing": (dict(BSPLINE, points=[[60.0, 5.0], [40.0, 8.0]]), "cams.c.segments[0].points[1]", "increasing order"),
     "point of three numbers": (dict(BSPLINE, points=[[60.0, 5.0, 1.0]]), "cams.c.segments[0].points[0]", "2 to 2 numbers"),
     "even degree": (dict(BSPLINE, degree=4), "cams.c.segments[0].degree", "3, 5 or 7"),
