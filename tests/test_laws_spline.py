@@ -298,3 +298,21 @@ def test_half_turn_program_refuses_points(tmp_path, capsys):
         "face_half_length_mm": 30.0,
         "segments": [{"law": "bspline", "span_deg": 120.0, "lift_mm": 10.0, "points": [[60.0, 5.0]]}, {"law": "dwell", "span_deg": 60.0}]}}}
     _run_refused(scene, "cams.c.segments[0].law", "half_turn", tmp_path, capsys)
+
+
+def _profile_dxf(first: dict, tmp_path, name: str) -> str:
+    path = tmp_path / f"{name}.toml"
+    path.write_text(scene_toml(_plate(first)))
+    assert main(["run", str(path), "-o", str(tmp_path / name)]) in (0, 1)
+    (dxf,) = (tmp_path / name).rglob("c.dxf")
+    return dxf.read_text()
+
+
+@pytest.mark.parametrize("key, before, after", [
+    ("points", dict(BSPLINE, points=[[60.0, 10.0]]), dict(BSPLINE, points=[[60.0, 11.0]])),
+    ("degree", dict(BSPLINE, points=[[40.0, 4.0], [80.0, 16.0]]), dict(BSPLINE, points=[[40.0, 4.0], [80.0, 16.0]], degree=7)),
+    ("interior", dict(POLY, interior=[[60.0, 10.0]]), dict(POLY, interior=[[60.0, 10.0, 0.2]])),
+])
+def test_each_new_key_changes_the_profile(key, before, after, tmp_path):
+    """Nothing silent: each key changes the profile its documentation says it changes."""
+    assert _profile_dxf(before, tmp_path, "a") != _profile_dxf(after, tmp_path, "b"), key

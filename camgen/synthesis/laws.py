@@ -33,6 +33,12 @@ poly345                10 tau^3 - 15 tau^4 + 6 tau^5                            
 poly4567               35 tau^4 - 84 tau^5 + 70 tau^6 - 20 tau^7                            Norton ch. 8
 polynomial             the polynomial of lowest degree meeting the user's end conditions    Norton ch. 8
                        (s, v, a[, j] at each end; degree = number of conditions - 1)        (polynomial functions)
+                       and interior conditions (s[, v[, a]] at points inside; SPLINE)       (single-dwell: 3-4-5-6)
+bspline                the interpolating B-spline of degree 3, 5 or 7 through the user's    de Boor, A Practical
+                       points, (degree - 1)/2 derivatives given at each end (default rest); Guide to Splines; scipy
+                       knots at the points, C^(degree - 1) there                            make_interp_spline
+velocity_blend         the lowest-degree polynomial meeting the neighbouring segments'      camgen's design
+                       velocity, acceleration and jerk at its ends (and the lift if given)  (Norton ch. 8 polys)
 =====================  ===================================================================  =====================
 
 Peak coefficients (``Cv = max|V|``, ``Ca = max|A|``, ``Cj = max|J|``) follow Norton's convention
@@ -72,6 +78,16 @@ Notes on three laws:
   acceleration ``(Vc/b)(1 - cos(2 pi u))`` and the jerk vanish at both ends of each blend: the
   segment starts and ends at rest and is continuous up to jerk everywhere (only the 4th derivative
   steps at ``tau = b, 1 - b``).  ``S(1) = 1`` gives ``Vc = 1/(1 - b)``.
+
+Notes on the SPLINE laws (issue 26): every one is in physical units on tau (a segment's scale is
+1, as for the polynomial).  **bspline**'s points are (position, lift above the segment's start);
+without points it is the one polynomial of its end conditions (rest to rest, degree 5: the 3-4-5).
+**velocity_blend** takes its ends from the segments before and after it (``MotionProgram`` joins
+it): so "dwell -> velocity_blend -> constant_velocity -> velocity_blend -> dwell" and "constant
+velocity -> velocity_blend -> constant velocity at another speed" are continuous up to the jerk at
+every join; without a lift it is the degree-6 polynomial meeting the six derivatives (between two
+constant velocities its velocity ramps as the 3-4-5 and its lift is the mean velocity times the span),
+with a lift the degree-7 one.  Two blends side by side are refused (each needs its neighbour's ends).
 
 Segment joins are checked: :meth:`MotionProgram.joins` lists for every join which derivative jumps
 and by how much (physical units per rad^n), so a report can say "acceleration jumps by X mm/rad^2 at
