@@ -72,12 +72,22 @@ def rows_per_rad(path: str, rows: tuple[tuple[float, ...], ...], span: float, sp
     ParameterError
         A position not strictly inside ``(0, span)`` or not after the previous row's.
     """
+    from camgen.synthesis.laws_spline import MIN_SPACING
+
+    gap = MIN_SPACING * span
     for k, row in enumerate(rows):
         if not 0.0 < row[0] < span:
             raise ParameterError(f"{path}[{k}]", list(row), f"a position strictly inside the segment's span: 0 < position < {span:g} "
                                  f"{span_unit} (from the segment's start)")
+        if not gap <= row[0] <= span - gap:
+            raise ParameterError(f"{path}[{k}]", list(row), f"a position at least {gap:g} {span_unit} ({MIN_SPACING:g} of the span) "
+                                 "from the segment's ends", "closer, the conditions are too ill-conditioned to meet")
         if k and not row[0] > rows[k - 1][0]:
             raise ParameterError(f"{path}[{k}]", list(row), f"a position after {rows[k - 1][0]:g} {span_unit} ({path}[{k - 1}]'s)",
                                  "rows in increasing order of position")
+        if k and not row[0] - rows[k - 1][0] >= gap:
+            raise ParameterError(f"{path}[{k}]", list(row), f"a position at least {gap:g} {span_unit} ({MIN_SPACING:g} of the span) "
+                                 f"after {rows[k - 1][0]:g} {span_unit} ({path}[{k - 1}]'s)",
+                                 "closer, the conditions are too ill-conditioned to meet")
     factor = math.pi / 180.0 if oscillating else 1.0  # deg of swing -> rad
     return tuple((row[0] / per_unit,) + tuple(v * factor * per_unit**k for k, v in enumerate(row[1:])) for row in rows)

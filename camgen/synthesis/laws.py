@@ -108,6 +108,7 @@ import numpy as np
 
 from camgen.errors import ParameterError, require_finite, require_positive
 from camgen.synthesis.laws_spline import (
+    MIN_SPACING,
     SPLINE_DEGREES,
     Polynomial,
     hermite_polynomial,
@@ -710,12 +711,14 @@ _CANONICAL: dict[str, Law] = {
 # below is in physical units on tau (like a configured polynomial: S(0) = 0, S(1) = the lift,
 # V = dS/dtau, ...); the segment's scale is 1.
 def _ordered_inside(name: str, taus: Sequence[float]) -> None:
-    """Refuse interior abscissae (tau) not strictly inside (0, 1) or not increasing."""
+    """Refuse interior abscissae (tau) not inside (0, 1) or not increasing, each at least
+    MIN_SPACING from the ends and from the one before."""
     for k, t in enumerate(taus):
-        if not (math.isfinite(t) and 0.0 < t < 1.0):
-            raise ParameterError(f"{name}[{k}]", t, "a point strictly inside the segment's span (0 < tau < 1)")
-        if k and not t > taus[k - 1]:
-            raise ParameterError(f"{name}[{k}]", t, f"after {name}[{k - 1}] (at tau = {taus[k - 1]:.9g}): points in increasing order")
+        if not (math.isfinite(t) and MIN_SPACING <= t <= 1.0 - MIN_SPACING):
+            raise ParameterError(f"{name}[{k}]", t, f"a point strictly inside the segment's span ({MIN_SPACING:g} <= tau <= 1 - {MIN_SPACING:g})")
+        if k and not t - taus[k - 1] >= MIN_SPACING:
+            raise ParameterError(f"{name}[{k}]", t, f"at least {MIN_SPACING:g} of the span after {name}[{k - 1}] (at tau = "
+                                 f"{taus[k - 1]:.9g}): points in increasing order")
 
 
 def bspline(points: Sequence[Sequence[float]] = (), degree: int = 5, start: Sequence[float] = (0.0, 0.0, 0.0),

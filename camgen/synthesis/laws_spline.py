@@ -29,12 +29,19 @@ import numpy as np
 
 from camgen.errors import ParameterError
 
-__all__ = ["MAX_POLYNOMIAL_DEGREE", "SPLINE_DEGREES", "Polynomial", "SplinePieces", "hermite_polynomial",
+__all__ = ["INTERPOLATION_TOL", "MAX_POLYNOMIAL_DEGREE", "MIN_SPACING", "SPLINE_DEGREES", "Polynomial", "SplinePieces", "hermite_polynomial",
            "interpolating_spline", "polynomial_derivative_at"]
 
 #: Highest degree of a polynomial from conditions (16 conditions): beyond it the power-basis
 #: coefficients grow so that evaluating them loses more than ~1e-9 of the lift to rounding.
 MAX_POLYNOMIAL_DEGREE = 15
+#: Least gap between two positions of a spline's points or a polynomial's conditions (the segment's
+#: ends included), as a fraction of the span: closer ones make the system too ill-conditioned to
+#: meet (refused before the work, naming the row).
+MIN_SPACING = 1e-6
+#: A built spline or polynomial must reproduce every prescribed displacement within this fraction of
+#: the largest one (at least 1): checked after building, refused otherwise (never a silent miss).
+INTERPOLATION_TOL = 1e-9
 #: Degrees of the interpolating B-spline: odd, so that the end conditions split evenly
 #: (``(k - 1) / 2`` derivatives at each end: v; v, a; v, a, j).
 SPLINE_DEGREES = (3, 5, 7)
@@ -110,7 +117,16 @@ def hermite_polynomial(conditions: Sequence[tuple[float, Sequence[float]]], name
             if r != col and rows[r][col] != 0:
                 f = rows[r][col] / pivot[col]
                 rows[r] = [x - f * y for x, y in zip(rows[r], pivot)]
-    return Polynomial(tuple(rows[j][count] / rows[j][j] for j in range(count)))
+    poly = Polynomial(tuple(rows[j][count] / rows[j][j] for j in range(count)))
+    # the float coefficients must meet the displacements (a near-confluent system blows them up)
+    coeffs = [float(c) if abs(c) < 1e300 else math.inf for c in poly.coefficients]
+    targets = [(t, values[0]) for t, values in conditions]
+    scale = max([1.0] + [abs(v) for _, v in targets])
+    if not all(math.isfinite(c) for c in coeffs) or any(
+            abs(float(np.polynomial.polynomial.polyval(t, coeffs)) - v) > INTERPOLATION_TOL * scale for t, v in targets):
+        raise ParameterError(name, f"{count} conditions", f"conditions a polynomial meets to {INTERPOLATION_TOL:g} of the lift in floating point",
+                             "the conditions are too close together for their values: spread them or use fewer")
+    return poly
 
 
 @dataclass(frozen=True)
@@ -167,4 +183,9 @@ def interpolating_spline(points: Sequence[tuple[float, float]], degree: int, sta
             edges.append(lo)
             coefficients.append(tuple(float(c) for c in pp.c[::-1, i]))  # scipy's highest power first
     edges.append(1.0)
+    # the spline must meet its points (a near-confluent system would not, or not finitely)
+    scale = max(1.0, float(np.abs(y).max()))
+    if not (np.isfinite(pp.c).all() and np.abs(pp(x) - y).max() <= INTERPOLATION_TOL * scale):
+        raise ParameterError("points", f"{len(points)} points", f"points the spline meets to {INTERPOLATION_TOL:g} of the lift",
+                             "the points are too close together for their lifts: spread them or use fewer")
     return SplinePieces(tuple(edges), tuple(coefficients), degree)
