@@ -143,7 +143,10 @@ def test_blend_program_runs_and_a_roller_follows_it(tmp_path):
     assert main(["run", str(path), "-o", str(tmp_path / "out")]) == 0
     assert any((tmp_path / "out").rglob("c.dxf"))
     (report,) = (tmp_path / "out").rglob("report.json")
-    joins = {c["name"]: c for c in json.loads(report.read_text())["cams"]["c"]["checks"]}["law_joins"]
+    cam = json.loads(report.read_text())["cams"]["c"]
+    # the lift each blend found, reported: half the constant velocity (30 mm / 120 deg) times 30 deg
+    assert [s.get("lift_mm") for s in cam["figures"]["segments"]][1:4] == [pytest.approx(3.75, rel=1e-12), 30.0, pytest.approx(3.75, rel=1e-12)]
+    joins = {c["name"]: c for c in cam["checks"]}["law_joins"]
     assert joins["value"] == 2, joins  # only the 3-4-5 return's jerk steps (at 270 and 0 deg): the blends join smoothly
 
 

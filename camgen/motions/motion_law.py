@@ -55,7 +55,7 @@ SEGMENT_KEYS = (
         "velocity_blend's may be left out: the lift of the lowest-degree blend, between two constant velocities their mean times "
         "the span).", ("profile",)),
     Key("swing_deg", Angle(-180.0, 180.0), "Oscillating follower: swing of the arm over the segment (> 0 away from the cam, "
-        "< 0 back; 0 or left out for a dwell).", ("profile",), feeds=("lift",)),
+        "< 0 back; 0 or left out for a dwell; left out for a velocity_blend: as lift_mm).", ("profile",), feeds=("lift",)),
     Key("blend", Number("", 0.0, 0.5), "constant_velocity only: fraction of the span in each end blend that ramps the velocity "
         "(0: plain constant velocity, whose velocity jumps at the ends: a knife follower only).", ("profile",)),
     Key("start", _CONDITIONS, "polynomial and bspline only: [s, v, a] (optionally j) at the segment's start: lift mm (oscillating: swing deg), "
@@ -192,6 +192,10 @@ def read_law(where: str, parsed: Mapping[str, Any], follower: "FollowerSpec", ba
     abscissa = getattr(follower, "abscissa", ANGLE)  # the form's follower says what the program runs over
     program = read_program(where, parsed["segments"], follower.motion, abscissa=abscissa)
     figures: dict[str, Any] = {"segments": _segment_figures(parsed["segments"], follower.motion == "oscillating")}
+    for item, seg in zip(figures["segments"], program.segments):  # SPLINE (issue 26): the lift a velocity_blend found
+        if item["law"] == "velocity_blend" and "lift_mm" not in item and "swing_deg" not in item:
+            item["swing_deg" if follower.motion == "oscillating" else "lift_mm"] = (
+                round(math.degrees(seg.lift), 9) if follower.motion == "oscillating" else seg.lift)
     if abscissa == TRAVEL:
         figures["travel_mm"] = math.fsum(seg["span_travel"] for seg in parsed["segments"])
     _refuse_corners(where, program, parsed["segments"], follower, figures.get("travel_mm"))
