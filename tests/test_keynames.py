@@ -116,7 +116,8 @@ def _specs():
         ("the table's path", (tr.read_trajectory_csv, tr.trajectory_from_table, tr._check_periodic),
          [tuple(k for k in trajectory.KEYS if k.name != "expression")], ("trajectory",), set()),
         ("Segment", (laws.Segment,), [tuple(k for k in motion_law.SEGMENT_KEYS if k.name != "swing_deg"),
-                                      tuple(k for k in motion_law.SEGMENT_KEYS if k.name != "lift_mm")], ("segments",), set()),
+                                      tuple(k for k in motion_law.SEGMENT_KEYS if k.name != "lift_mm")], ("segments",),
+         {"ends"}),  # a velocity_blend's ends: MotionProgram gives them from its neighbours, no scene key
     ]
 
 

@@ -52,6 +52,9 @@ TEXTBOOK = {
     "scca": (2, 2, {0.1: 3, 0.25: 3, 0.75: 3, 0.9: 3}),
     "asymmetric_modified_sine": (2, 2, {0.1: 3, 0.4: 2, 0.85: 3}),
     "asymmetric_modified_trapezoid": (2, 2, {0.1: 3, 0.3: 3, 0.4: 2, 0.55: 3, 0.85: 3}),
+    # SPLINE (issue 26): the defaults (no points, rest ends): the 3-4-5 quintic and the 4-5-6-7
+    "bspline": (2, 2, {}),
+    "velocity_blend": (3, 3, {}),
 }
 
 # Norton, Design of Machinery, Table 8-3: (Cv, Ca, Cj) of double-dwell rises

@@ -6,7 +6,9 @@ velocity, acceleration and jerk on normalised segments); every cam form that rea
 ``law``, ``span_deg``, ``lift_mm`` (translating followers) or ``swing_deg`` (oscillating ones),
 ``blend`` (constant_velocity), ``start`` / ``end`` (polynomial: the displacement, velocity,
 acceleration and jerk at the segment's ends, per degree of cam angle; converted to per rad),
-``scca`` (scca: [b, c, d]) and ``accel_fraction`` (the asymmetric modified sine / trapezoid).
+``scca`` (scca: [b, c, d]), ``accel_fraction`` (the asymmetric modified sine / trapezoid),
+``points`` and ``degree`` (bspline), ``interior`` (polynomial: conditions inside the span); a
+``velocity_blend`` segment has no key of its own: its ends are its neighbours'.
 
 **The abscissa.**  The form tells the motion what its program runs over through the follower it
 drives (``follower.abscissa``, :data:`ANGLE` when it has none): a cam angle (``span_deg``, the
@@ -25,7 +27,8 @@ from typing import TYPE_CHECKING, Any, Mapping
 from camgen.errors import ParameterError
 from camgen.keynames import renamed
 from camgen.motions.base import LawReading, Motion
-from camgen.schema import REQUIRED, Angle, Choice, Key, Number, NumberList, TableList
+from camgen.motions.segment_rows import Rows, rows_per_rad
+from camgen.schema import REQUIRED, Angle, Choice, Count, Key, Number, NumberList, TableList
 
 if TYPE_CHECKING:
     from camgen.synthesis.followers import FollowerSpec
@@ -35,7 +38,8 @@ if TYPE_CHECKING:
 LAW_NAMES = ("constant_velocity", "cycloidal", "double_harmonic", "dwell", "harmonic", "modified_cycloidal", "modified_sine",
              "modified_trapezoid", "poly345", "poly4567", "polynomial", "simple_harmonic",
              # issue 26 LAWS
-             "constant_acceleration", "trapezoidal", "scca", "asymmetric_modified_sine", "asymmetric_modified_trapezoid")
+             "constant_acceleration", "trapezoidal", "scca", "asymmetric_modified_sine", "asymmetric_modified_trapezoid",
+             "bspline", "velocity_blend")  # SPLINE (issue 26)
 
 _CONDITIONS = NumberList(Number(""), 1, 4)
 #: The abscissae of a motion program (``follower.abscissa``): a cam angle, or a plate travel in mm.
@@ -50,15 +54,17 @@ SEGMENT_KEYS = (
         "the spans add up to the travel (travel_mm, derived from them when left out, else equal to their sum).", ("profile",),
         attr="span_travel"),
     Key("lift_mm", Number("mm", -1e4, 1e4), "Translating follower: travel over the segment (> 0 rise, < 0 return; 0 or left out "
-        "for a dwell; a polynomial's follows from its start and end).", ("profile",)),
+        "for a dwell; a polynomial's follows from its start and end, as a bspline's given start/end; a bspline's may be 0; a "
+        "velocity_blend's may be left out: the lift of the lowest-degree blend, between two constant velocities their mean times "
+        "the span).", ("profile",)),
     Key("swing_deg", Angle(-180.0, 180.0), "Oscillating follower: swing of the arm over the segment (> 0 away from the cam, "
-        "< 0 back; 0 or left out for a dwell).", ("profile",), feeds=("lift",)),
+        "< 0 back; 0 or left out for a dwell; left out for a velocity_blend: as lift_mm).", ("profile",), feeds=("lift",)),
     Key("blend", Number("", 0.0, 0.5), "constant_velocity only: fraction of the span in each end blend that ramps the velocity "
         "(0: plain constant velocity, whose velocity jumps at the ends: a knife follower only).", ("profile",)),
-    Key("start", _CONDITIONS, "polynomial only: [s, v, a] (optionally j) at the segment's start: lift mm (oscillating: swing deg), "
+    Key("start", _CONDITIONS, "polynomial and bspline only: [s, v, a] (optionally j) at the segment's start: lift mm (oscillating: swing deg), "
         "velocity per degree of cam angle, acceleration per degree^2, jerk per degree^3 (converted to per rad); on a linear cam per "
         "mm of plate travel (v in mm/mm, a in mm/mm^2, j in mm/mm^3; oscillating: deg/mm, ...).", ("profile",)),
-    Key("end", _CONDITIONS, "polynomial only: [s, v, a] (optionally j) at the segment's end, in the units of start.", ("profile",)),
+    Key("end", _CONDITIONS, "polynomial and bspline only: [s, v, a] (optionally j) at the segment's end, in the units of start.", ("profile",)),
     # issue 26 LAWS
     Key("scca", NumberList(Number("", 0.0, 1.0), 3, 3), "scca only (required there): [b, c, d], the fractions of the span in "
         "the sine ramps (b), the constant acceleration (c) and the middle cosine (d) of Norton's SCCA family; b + c + d = 1 "
@@ -68,6 +74,18 @@ SEGMENT_KEYS = (
         "(required there): fraction of the span in the positive acceleration pulse, the negative one takes the rest "
         "(Rothbart's skewed curves: the peak velocity stays the symmetric law's, the positive peak acceleration is its "
         "times 1/(2 accel_fraction)); 0.5 is the symmetric law.", ("profile",), example=0.4),
+    # SPLINE (issue 26)
+    Key("points", Rows(2, 2), "bspline only: [[position, lift], ...] the points the spline passes through exactly: position from the "
+        "segment's start in deg of cam angle (a linear cam: mm of travel), strictly inside the span and increasing; lift in mm above "
+        "the segment's start (oscillating: swing deg). bspline's ends: at rest (v = a = 0; lift_mm the lift, 0 allowed: back to "
+        "the start) or, both given, start/end = [s, v] (degree 3), [s, v, a] (5), [s, v, a, j] (7) in the units of a polynomial's.",
+        ("profile",)),
+    Key("degree", Count(3, 7), "bspline only: degree of the interpolating spline, 3, 5 or 7 (odd): C2, C4 or C6 at the points; "
+        "(degree - 1)/2 derivatives (v; v, a; v, a, j) prescribed at each end (default 5).", ("profile",)),
+    Key("interior", Rows(2, 4, 12), "polynomial only: interior conditions [[position, s, v, a], ...] (v, a optional): the "
+        "displacement s (and velocity, acceleration) at a position from the segment's start (deg; a linear cam: mm), strictly "
+        "inside the span and increasing, in the units of start/end (s absolute like start[0]); the polynomial is the "
+        "lowest-degree one meeting every condition (degree = their number - 1, at most 15).", ("profile",)),
 )
 
 KEYS = (
@@ -132,10 +150,11 @@ def read_program(where: str, segments: tuple[dict[str, Any], ...], motion: str, 
         shown = math.degrees(lift) if oscillating and lift is not None else lift
         if law == "dwell" and lift not in (None, 0.0):
             raise ParameterError(f"{path}.{key}", shown, "0 (or leave it out) for a dwell")
-        if law not in ("dwell", "polynomial") and not lift:
+        if law not in ("dwell", "polynomial", "bspline", "velocity_blend") and not lift:
             raise ParameterError(f"{path}.{key}", shown, f"a non-zero {key} for a {law} segment (a segment without motion is a dwell)")
-        for name, allowed in (("blend", "constant_velocity"), ("start", "polynomial"), ("end", "polynomial"),
-                              ("scca", "scca"), ("accel_fraction", "asymmetric_modified_sine or asymmetric_modified_trapezoid")):
+        for name, allowed in (("blend", "constant_velocity"), ("start", "polynomial or bspline"), ("end", "polynomial or bspline"),
+                              ("scca", "scca"), ("accel_fraction", "asymmetric_modified_sine or asymmetric_modified_trapezoid"),
+                              ("points", "bspline"), ("degree", "bspline"), ("interior", "polynomial")):
             if name in seg and law not in allowed.split(" or "):
                 raise ParameterError(f"{path}.{name}", seg[name], f"no {name} for a {law} segment", f"only for {allowed}")
         if law == "polynomial" and ("start" not in seg or "end" not in seg):
@@ -143,8 +162,13 @@ def read_program(where: str, segments: tuple[dict[str, Any], ...], motion: str, 
                                  "[s, v, a] (optionally j) at both ends of a polynomial segment")
         start = _per_rad(seg["start"], oscillating, per_unit) if "start" in seg else None
         end = _per_rad(seg["end"], oscillating, per_unit) if "end" in seg else None
+        # SPLINE (issue 26): a bspline's points, a polynomial's interior conditions (positions checked in scene units)
+        span_scene, span_unit = (math.degrees(spans[i]), "deg") if travel is None else (seg["span_travel"], "mm")
+        rows = {name: rows_per_rad(f"{path}.{name}", seg[name], span_scene, span_unit, per_unit, oscillating)
+                for name in ("points", "interior") if name in seg}
         built.append(renamed(path, segment_keys, lambda: laws.Segment(law, spans[i], lift, seg.get("blend"), start, end,
-                                                                          seg.get("scca"), seg.get("accel_fraction"), where=path)))
+                                                                      seg.get("scca"), seg.get("accel_fraction"), where=path, points=rows.get("points"), degree=seg.get("degree"),
+                                                                      interior=rows.get("interior"))))
     if complete is not None:
         built += complete(built)
     try:
@@ -163,9 +187,12 @@ def _segment_figures(segments: tuple[dict[str, Any], ...], oscillating: bool) ->
             item["lift_mm"] = seg["lift"]
         if "swing" in seg:
             item["swing_deg"] = round(math.degrees(seg["swing"]), 9)
-        for name in ("blend", "start", "end", "scca", "accel_fraction"):
+        for name in ("blend", "start", "end", "scca", "accel_fraction", "degree"):
             if name in seg:
-                item[name] = list(seg[name]) if name not in ("blend", "accel_fraction") else seg[name]
+                item[name] = list(seg[name]) if name not in ("blend", "accel_fraction", "degree") else seg[name]
+        for name in ("points", "interior"):  # SPLINE (issue 26)
+            if name in seg:
+                item[name] = [list(row) for row in seg[name]]
         out.append(item)
     return out
 
@@ -178,6 +205,10 @@ def read_law(where: str, parsed: Mapping[str, Any], follower: "FollowerSpec", ba
     abscissa = getattr(follower, "abscissa", ANGLE)  # the form's follower says what the program runs over
     program = read_program(where, parsed["segments"], follower.motion, abscissa=abscissa)
     figures: dict[str, Any] = {"segments": _segment_figures(parsed["segments"], follower.motion == "oscillating")}
+    for item, seg in zip(figures["segments"], program.segments):  # SPLINE (issue 26): the lift a velocity_blend found
+        if item["law"] == "velocity_blend" and "lift_mm" not in item and "swing_deg" not in item:
+            item["swing_deg" if follower.motion == "oscillating" else "lift_mm"] = (
+                round(math.degrees(seg.lift), 9) if follower.motion == "oscillating" else seg.lift)
     if abscissa == TRAVEL:
         figures["travel_mm"] = math.fsum(seg["span_travel"] for seg in parsed["segments"])
     _refuse_corners(where, program, parsed["segments"], follower, figures.get("travel_mm"))
@@ -212,6 +243,12 @@ def read_half_law(where: str, parsed: Mapping[str, Any], follower: "FollowerSpec
 
     segments = parsed["segments"]
     _spans(where, segments, ANGLE)  # every segment gives span_deg (a span_mm is refused naming it)
+    for i, seg in enumerate(segments):  # SPLINE (issue 26): the mirror rebuilds segments from lifts and end conditions only
+        if seg["law"] in ("bspline", "velocity_blend") or "interior" in seg:
+            key = "interior" if "interior" in seg else "law"
+            raise ParameterError(f"{where}.segments[{i}].{key}", seg[key] if key == "law" else [list(r) for r in seg[key]],
+                                 "a law without points, interior conditions or neighbour-made ends (half_turn = true)",
+                                 "the half-turn rule mirrors the first half's segments; give the whole turn instead")
     total = math.fsum(seg["span"] for seg in segments)
     if abs(total - math.pi) > 1e-9:
         raise ParameterError(f"{where}.segments", f"spans adding up to {math.degrees(total):.9g} deg", "spans adding up to 180 deg",

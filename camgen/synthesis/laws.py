@@ -41,6 +41,12 @@ scca                   ``scca = [b, c, d]``: sine ramps (b), constants (c), midd
 asymmetric_modified_   the modified sine / trapezoid with its positive acceleration over    Rothbart, Cam Design
 sine, asymmetric_      ``accel_fraction`` of the span, the negative over the rest           Handbook, sec. 3, Fig.
 modified_trapezoid     (:mod:`camgen.synthesis.laws_scca`)                                  3.7 (skewed curves)
+                       and interior conditions (s[, v[, a]] at points inside; SPLINE)       (single-dwell: 3-4-5-6)
+bspline                the interpolating B-spline of degree 3, 5 or 7 through the user's    de Boor, A Practical
+                       points, (degree - 1)/2 derivatives given at each end (default rest); Guide to Splines; scipy
+                       knots at the points, C^(degree - 1) there                            make_interp_spline
+velocity_blend         the lowest-degree polynomial meeting the neighbouring segments'      camgen's design
+                       velocity, acceleration and jerk at its ends (and the lift if given)  (Norton ch. 8 polys)
 =====================  ===================================================================  =====================
 
 Peak coefficients (``Cv = max|V|``, ``Ca = max|A|``, ``Cj = max|J|``) follow Norton's convention
@@ -81,6 +87,16 @@ Notes on three laws:
   segment starts and ends at rest and is continuous up to jerk everywhere (only the 4th derivative
   steps at ``tau = b, 1 - b``).  ``S(1) = 1`` gives ``Vc = 1/(1 - b)``.
 
+Notes on the SPLINE laws (issue 26): every one is in physical units on tau (a segment's scale is
+1, as for the polynomial).  **bspline**'s points are (position, lift above the segment's start);
+without points it is the one polynomial of its end conditions (rest to rest, degree 5: the 3-4-5).
+**velocity_blend** takes its ends from the segments before and after it (``MotionProgram`` joins
+it): so "dwell -> velocity_blend -> constant_velocity -> velocity_blend -> dwell" and "constant
+velocity -> velocity_blend -> constant velocity at another speed" are continuous up to the jerk at
+every join; without a lift it is the degree-6 polynomial meeting the six derivatives (between two
+constant velocities its velocity ramps as the 3-4-5 and its lift is the mean velocity times the span),
+with a lift the degree-7 one.  Two blends side by side are refused (each needs its neighbour's ends).
+
 Segment joins are checked: :meth:`MotionProgram.joins` lists for every join which derivative jumps
 and by how much (physical units per rad^n), so a report can say "acceleration jumps by X mm/rad^2 at
 120 deg".  A displacement jump is an error; a velocity jump (infinite acceleration) is allowed but
@@ -100,6 +116,14 @@ import numpy as np
 
 from camgen.errors import ParameterError, require_finite, require_positive
 from camgen.synthesis import laws_scca
+from camgen.synthesis.laws_spline import (
+    MIN_SPACING,
+    SPLINE_DEGREES,
+    Polynomial,
+    hermite_polynomial,
+    interpolating_spline,
+    polynomial_derivative_at,
+)
 
 __all__ = [
     "ALIASES", "Displacement", "Join", "KEPLER_MAX_STEPS", "KEPLER_STEP_TOL", "LAWS", "Law", "LawBreak",
@@ -107,6 +131,7 @@ __all__ = [
     "polynomial",
     # issue 26 LAWS
     "ACCEL_FRACTION_CATALOGUE", "SCCA_CATALOGUE", "asymmetric_modified_sine", "asymmetric_modified_trapezoid", "scca_law",
+    "bspline", "polynomial_through", "velocity_blend",  # SPLINE (issue 26)
 ]
 
 TWO_PI = 2.0 * math.pi
@@ -742,6 +767,201 @@ _CANONICAL.update({
     "asymmetric_modified_trapezoid": asymmetric_modified_trapezoid(ACCEL_FRACTION_CATALOGUE),
 })
 # ---- end of issue 26 LAWS ------------------------------------------------------------------------------------
+# ---- SPLINE (issue 26, item 1): bspline, polynomial with interior conditions, velocity_blend ------------
+# The numbers come from camgen.synthesis.laws_spline; here they become pieces and laws.  Every law
+# below is in physical units on tau (like a configured polynomial: S(0) = 0, S(1) = the lift,
+# V = dS/dtau, ...); the segment's scale is 1.
+def _ordered_inside(name: str, taus: Sequence[float]) -> None:
+    """Refuse interior abscissae (tau) not inside (0, 1) or not increasing, each at least
+    MIN_SPACING from the ends and from the one before."""
+    for k, t in enumerate(taus):
+        if not (math.isfinite(t) and MIN_SPACING <= t <= 1.0 - MIN_SPACING):
+            raise ParameterError(f"{name}[{k}]", t, f"a point strictly inside the segment's span ({MIN_SPACING:g} <= tau <= 1 - {MIN_SPACING:g})")
+        if k and not t - taus[k - 1] >= MIN_SPACING:
+            raise ParameterError(f"{name}[{k}]", t, f"at least {MIN_SPACING:g} of the span after {name}[{k - 1}] (at tau = "
+                                 f"{taus[k - 1]:.9g}): points in increasing order")
+
+
+def bspline(points: Sequence[Sequence[float]] = (), degree: int = 5, start: Sequence[float] = (0.0, 0.0, 0.0),
+            end: Sequence[float] = (1.0, 0.0, 0.0)) -> Law:
+    """The interpolating B-spline of odd ``degree`` (3, 5, 7) through ``points`` ((tau, S), inside
+    (0, 1), increasing) with ``start`` / ``end`` = (S, V, ..) at the ends, ``(degree + 1)/2`` values
+    each (tau units); knots at the points, C^(degree - 1) there (:func:`~camgen.synthesis.laws_spline.interpolating_spline`:
+    scipy's make_interp_spline).  Without points: the one polynomial of that degree (degree 5, rest
+    to rest: the 3-4-5)."""
+    if isinstance(degree, bool) or not isinstance(degree, int) or degree not in SPLINE_DEGREES:
+        raise ParameterError("degree", degree, "3, 5 or 7 (odd: the end conditions split evenly)")
+    rows = []
+    for k, row in enumerate(points):
+        if isinstance(row, (str, bytes)) or not isinstance(row, Sequence) or len(row) != 2:
+            raise ParameterError(f"points[{k}]", row, "[position, lift]: two numbers")
+        rows.append((require_finite(f"points[{k}]", row[0]), require_finite(f"points[{k}]", row[1])))
+    _ordered_inside("points", [t for t, _ in rows])
+    conds = [tuple(require_finite(key, x) for x in values) for key, values in (("start", start), ("end", end))]
+    made = interpolating_spline(rows, degree, conds[0], conds[1])
+    pieces = tuple(_Piece(lo, hi, coeffs, ref=lo) for lo, hi, coeffs in zip(made.edges[:-1], made.edges[1:], made.coefficients))
+    m = (degree - 1) // 2
+    # exact ends: the conditions; the orders above them (the jerk of a quintic) from the end pieces
+    first, last = pieces[0].values(np.zeros(1)), pieces[-1].values(np.ones(1))
+    at0 = tuple(conds[0][n] if n <= m else float(first[n][0]) for n in range(4))
+    at1 = tuple(conds[1][n] if n <= m else float(last[n][0]) for n in range(4))
+    return Law("bspline", pieces, tuple(LawBreak(t, min(degree, 4)) for t in made.knots),
+               f"interpolating B-spline of degree {degree} (scipy make_interp_spline, knots at the points; "
+               "de Boor, A Practical Guide to Splines)",
+               {"points": tuple(rows), "degree": degree, "start": conds[0], "end": conds[1]}, (at0, at1), bspline)
+
+
+def _exact_law(name: str, poly: Polynomial, source: str, options: Mapping[str, object], builder: Callable[..., Law]) -> Law:
+    """A one-piece law from an exact :class:`~camgen.synthesis.laws_spline.Polynomial` (ends exact)."""
+    ends = [tuple(float(polynomial_derivative_at(poly, Fraction(t), n)) for n in range(4)) for t in (0, 1)]
+    return Law(name, (_Piece(0.0, 1.0, poly.floats()),), (), source, dict(options, degree=poly.degree), (ends[0], ends[1]), builder)
+
+
+def polynomial_through(start: Sequence[float], end: Sequence[float], interior: Sequence[Sequence[float]] = ()) -> Law:
+    """The polynomial of lowest degree meeting ``start`` / ``end`` (S, V, A, J: 1 to 4 values, tau
+    units) and the ``interior`` conditions ``(tau, S[, V[, A]])`` (0 < tau < 1, increasing): degree
+    = number of conditions - 1 (at most 15).  Norton's single-dwell polynomial (Design of Machinery,
+    ch. 8) is ``start = end = (0, 0, 0)``, ``interior = [(0.5, 1)]``: ``64 tau^3 - 192 tau^4 + 192 tau^5
+    - 64 tau^6``."""
+    conds = [tuple(require_finite(key, x) for x in values) for key, values in (("start", start), ("end", end))]
+    for key, values in zip(("start", "end"), conds):
+        if not 1 <= len(values) <= 4:
+            raise ParameterError(key, list(values), "1 to 4 values (s, v, a, j)")
+    rows = []
+    for k, row in enumerate(interior):
+        if isinstance(row, (str, bytes)) or not isinstance(row, Sequence) or not 2 <= len(row) <= 4:
+            raise ParameterError(f"interior[{k}]", row, "[position, s] and optionally v, a: 2 to 4 numbers")
+        rows.append(tuple(require_finite(f"interior[{k}]", x) for x in row))
+    _ordered_inside("interior", [r[0] for r in rows])
+    poly = hermite_polynomial([(0.0, conds[0]), (1.0, conds[1])] + [(r[0], r[1:]) for r in rows], "interior")
+    return _exact_law("polynomial", poly, "Norton, Design of Machinery, ch. 8 (polynomial functions from boundary and interior "
+                      "conditions)", {"start": conds[0], "end": conds[1], "interior": tuple(rows)}, polynomial_through)
+
+
+def velocity_blend(start: Sequence[float] = (0.0, 0.0, 0.0), end: Sequence[float] = (0.0, 0.0, 0.0),
+                   lift: float | None = 1.0) -> Law:
+    """A blend from ``start`` = (V, A, J) at tau = 0 to ``end`` = (V, A, J) at tau = 1 (tau units):
+    with ``lift``, the degree-7 polynomial with S(0) = 0, S(1) = lift; without (None), the
+    lowest-degree one meeting only the six derivatives (its V the degree-5 Hermite polynomial, S its
+    integral, degree 6): between two constant velocities V0, V1 its velocity ramps as the 3-4-5
+    polynomial, ``V = V0 + (V1 - V0) (10 tau^3 - 15 tau^4 + 6 tau^5)``, and its lift is
+    ``(V0 + V1)/2``.  Continuous up to the jerk against neighbours whose ends these are."""
+    conds = []
+    for key, values in (("start", start), ("end", end)):
+        if isinstance(values, (str, bytes)) or not isinstance(values, Sequence) or len(values) != 3:
+            raise ParameterError(key, values, "(velocity, acceleration, jerk): 3 numbers")
+        conds.append(tuple(require_finite(key, x) for x in values))
+    if lift is None:
+        vel = hermite_polynomial([(0.0, conds[0]), (1.0, conds[1])], "ends")
+        poly = Polynomial((Fraction(0),) + tuple(c / (i + 1) for i, c in enumerate(vel.coefficients)))
+    else:
+        poly = hermite_polynomial([(0.0, (0.0,) + conds[0]), (1.0, (require_finite("lift", lift),) + conds[1])], "ends")
+    return _exact_law("velocity_blend", poly, "camgen: the lowest-degree polynomial meeting the neighbours' velocity, "
+                      "acceleration and jerk (Norton, Design of Machinery, ch. 8, polynomial functions)",
+                      {"start": conds[0], "end": conds[1], "lift": lift}, velocity_blend)
+
+
+def _segment_rows(seg: "Segment", key: str, widths: tuple[int, int]) -> list[tuple[float, ...]]:
+    """A segment's ``points`` / ``interior`` rows (position rad from the segment's start first),
+    checked: ``widths`` numbers a row, the positions inside the span and increasing."""
+    value = getattr(seg, key)
+    if isinstance(value, (str, bytes)) or not isinstance(value, Sequence):
+        raise ParameterError(seg._name(key), value, "a list of rows [position, ...]")
+    rows = []
+    for k, row in enumerate(value):
+        if isinstance(row, (str, bytes)) or not isinstance(row, Sequence) or not widths[0] <= len(row) <= widths[1]:
+            raise ParameterError(seg._name(f"{key}[{k}]"), row, f"{widths[0]} to {widths[1]} numbers" if widths[0] < widths[1]
+                                 else f"{widths[0]} numbers")
+        rows.append(tuple(require_finite(seg._name(f"{key}[{k}]"), x) for x in row))
+    for k, row in enumerate(rows):
+        if not 0.0 < row[0] < seg.span:
+            raise ParameterError(seg._name(f"{key}[{k}]"), list(row), f"a position strictly inside the segment's span "
+                                 f"(0 < position < {seg.span:.9g} rad)")
+        if k and not row[0] > rows[k - 1][0]:
+            raise ParameterError(seg._name(f"{key}[{k}]"), list(row), f"a position after {key}[{k - 1}]'s: rows in increasing order")
+    return rows
+
+
+def _spline_segment(seg: "Segment", name: str, span: float) -> tuple[Law, float | None, float | None, tuple | None, tuple | None]:
+    """(shape, lift, start level, start, end) of a bspline, velocity_blend or polynomial-with-interior
+    segment (per-rad conditions to tau units: ``d^k/dtau^k = span^k d^k/dtheta^k``)."""
+    def tau_units(values: Sequence[float], level: float) -> tuple[float, ...]:
+        return (values[0] - level,) + tuple(x * span**k for k, x in enumerate(values) if k)
+
+    def checked_lift(lift: float) -> None:
+        if seg.lift is not None:
+            given = require_finite(seg._name("lift"), seg.lift)
+            if abs(given - lift) > 1e-9 * max(1.0, abs(lift)):
+                raise ParameterError(seg._name("lift"), seg.lift, f"end[0] - start[0] = {lift:g} (or omit it)")
+
+    try:
+        if name == "velocity_blend":
+            if seg.start is not None or seg.end is not None:
+                raise ParameterError(seg._name("start" if seg.start is not None else "end"), seg.start or seg.end,
+                                     "no start/end for a velocity_blend segment (its ends are its neighbours')")
+            lift = None if seg.lift is None else require_finite(seg._name("lift"), seg.lift)
+            if seg.ends is None:  # not joined yet: MotionProgram gives it its neighbours' ends
+                return velocity_blend((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), lift), lift, None, None, None
+            ends = []
+            for side in seg.ends:
+                values = _conditions(seg._name("ends"), side)
+                if len(values) != 3:
+                    raise ParameterError(seg._name("ends"), seg.ends, "(v, a, j) per rad at each end")
+                ends.append(tuple(x * span ** (k + 1) for k, x in enumerate(values)))
+            shape = velocity_blend(ends[0], ends[1], lift)
+            return shape, shape.end[0], None, None, None
+        if seg.start is None and seg.end is None and name == "bspline":
+            if seg.lift is None:
+                raise ParameterError(seg._name("lift"), None, "a lift for a bspline segment (0: back to its start level), "
+                                     "or its start and end conditions")
+            lift = require_finite(seg._name("lift"), seg.lift)
+            m = (5 if seg.degree is None else seg.degree) // 2
+            start, end, level = (0.0,) * (m + 1), (lift,) + (0.0,) * m, None
+        else:
+            if seg.start is None or seg.end is None:
+                raise ParameterError(seg._name("start" if seg.start is None else "end"), None,
+                                     f"conditions at both ends of a {name} segment")
+            start, end = _conditions(seg._name("start"), seg.start), _conditions(seg._name("end"), seg.end)
+            lift, level = end[0] - start[0], start[0]
+            checked_lift(lift)
+        if name == "bspline":
+            rows = _segment_rows(seg, "points", (2, 2)) if seg.points is not None else []
+            shape = bspline([(t / span, s) for t, s in rows], 5 if seg.degree is None else seg.degree,
+                            tau_units(start, start[0]), tau_units(end, start[0]))
+        else:
+            rows = _segment_rows(seg, "interior", (2, 4))
+            base = start[0]
+            shape = polynomial_through(tau_units(start, base), tau_units(end, base),
+                                       [(r[0] / span, r[1] - base) + tuple(x * span ** (k + 1) for k, x in enumerate(r[2:])) for r in rows])
+    except ParameterError as exc:
+        name_ = exc.name if exc.name.startswith(seg.where) and seg.where else seg._name(exc.name)
+        raise ParameterError(name_, exc.value, exc.valid, exc.why) from None
+    return shape, lift, level, (start if level is not None else None), (end if level is not None else None)
+
+
+def _joined_blends(segments: tuple["Segment", ...]) -> tuple["Segment", ...]:
+    """The segments with every velocity_blend not yet joined given its neighbours' ends: the
+    velocity, acceleration and jerk (per rad) where the segment before it ends and the one after it
+    starts (cyclically: the program is one turn)."""
+    n = len(segments)
+    out = list(segments)
+    for i, seg in enumerate(segments):
+        if seg.shape.name != "velocity_blend" or seg.ends is not None:
+            continue
+        for k in ((i - 1) % n, (i + 1) % n):
+            if segments[k].shape.name == "velocity_blend":
+                raise ParameterError(f"{seg.where or f'segments[{i}]'}.law", "velocity_blend",
+                                     "a velocity_blend between two segments of other laws",
+                                     f"segments[{k}] is a velocity_blend too: a blend takes its ends from its neighbours")
+        before, after = segments[(i - 1) % n].end_values(True), segments[(i + 1) % n].end_values(False)
+        out[i] = replace(seg, ends=(before[1:], after[1:]))
+    return tuple(out)
+
+
+_CANONICAL.update(bspline=bspline(), velocity_blend=velocity_blend())
+# ---- end SPLINE --------------------------------------------------------------------------------------------
+
+
 #: alternative names users may write
 ALIASES: dict[str, str] = {"harmonic": "simple_harmonic"}
 #: every law by the name scene files use (aliases map to the same object)
@@ -800,6 +1020,11 @@ class Segment:
     scca: Sequence[float] | None = None  # issue 26 LAWS: the scca law's [b, c, d]
     accel_fraction: float | None = None  # issue 26 LAWS: the skewed laws' fraction of the span at +A
     where: str = field(default="", compare=False)
+    # SPLINE (issue 26): bspline points/degree, polynomial interior conditions, a velocity_blend's ends
+    points: Sequence[Sequence[float]] | None = None
+    degree: int | None = None
+    interior: Sequence[Sequence[float]] | None = None
+    ends: tuple[Sequence[float], Sequence[float]] | None = None
     shape: Law = field(init=False, repr=False, compare=False)
     scale: float = field(init=False, repr=False, compare=False)
     start_level: float | None = field(init=False, repr=False, compare=False)
@@ -818,13 +1043,20 @@ class Segment:
         if span > TWO_PI * (1 + 1e-12):
             raise ParameterError(self._name("span"), self.span, "0 < span <= 2 pi rad (360 deg)")
         object.__setattr__(self, "span", span)
-        for key in ("blend", "start", "end", "scca", "accel_fraction"):
-            allowed = {"blend": "constant_velocity", "start": "polynomial", "end": "polynomial", "scca": "scca",
-                       "accel_fraction": "asymmetric_modified_sine or asymmetric_modified_trapezoid"}[key]
+        for key in ("blend", "start", "end", "scca", "accel_fraction", "points", "degree", "interior", "ends"):
+            allowed = {"blend": "constant_velocity", "start": "polynomial or bspline", "end": "polynomial or bspline",
+                       "scca": "scca", "accel_fraction": "asymmetric_modified_sine or asymmetric_modified_trapezoid",
+                       "points": "bspline", "degree": "bspline", "interior": "polynomial", "ends": "velocity_blend"}[key]
             if getattr(self, key) is not None and name not in allowed.split(" or "):
                 raise ParameterError(self._name(key), getattr(self, key), f"no '{key}' for a {name} segment (only for {allowed})")
         start_level = None
-        if name == "polynomial" and not isinstance(self.law, Law):
+        if not isinstance(self.law, Law) and (name in ("bspline", "velocity_blend") or (name == "polynomial" and self.interior)):
+            shape, lift, start_level, start, end = _spline_segment(self, name, span)  # SPLINE (issue 26)
+            scale = 1.0
+            if start is not None:
+                object.__setattr__(self, "start", start)
+                object.__setattr__(self, "end", end)
+        elif name == "polynomial" and not isinstance(self.law, Law):
             if self.start is None or self.end is None:
                 raise ParameterError(self._name("start" if self.start is None else "end"), None,
                                      "s, v, a (optionally j) at both ends of a polynomial segment")
@@ -968,6 +1200,7 @@ class MotionProgram:
         for i, seg in enumerate(self.segments):
             if not isinstance(seg, Segment):
                 raise ParameterError(f"segments[{i}]", seg, "a Segment")
+        self.segments = _joined_blends(self.segments)  # SPLINE (issue 26): a velocity_blend takes its neighbours' ends
         n = len(self.segments)
         # the per-segment bookkeeping in Python floats (a program has a few segments)
         spans = [seg.span for seg in self.segments]
