@@ -236,6 +236,12 @@ def _animation(cam: "CamReport") -> str:
             "the purple line marks cam angle 0 on the cam.</p></div>")
 
 
+def _vdi_section(Figure: FigureMaker, cam: "CamReport") -> str:
+    from camgen.report.vdi import vdi_section
+
+    return vdi_section(Figure, cam)
+
+
 def _section(path: str) -> Callable[..., str]:
     """The function ``"module:function"`` names (a kind's or mechanism's own report section)."""
     import importlib
@@ -280,6 +286,7 @@ def report_html(report: "ReportInput") -> str:
         else:
             parts.append(design_table(cam))
         parts.append(program_table(cam))
+        parts.append(_vdi_section(Figure, cam))  # VDI: issue 26 items 2 and 5 (camgen/report/vdi.py)
         # a kind that draws its own curves (a linear cam: against travel) gives none here and its section's data
         own_curves = cam.plots is not None and cam.plots.pressure_angle is None and cam.plots.curvature is None and cam.section is not None
         if cam.plots is not None and not own_curves:
