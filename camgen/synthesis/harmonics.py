@@ -6,10 +6,11 @@ The acceleration ``s''(theta)`` over a turn is ``sum_n A_n cos(n theta + p_n)``;
 ``w^2 A_n`` (what a train whose natural frequency lies near it feels: Koster, *Vibrations of cam
 mechanisms*, 1974, ch. 3).  The amplitudes are those the machine job's compliant train reports,
 from the same code (:func:`camgen.compliant.sample_spectrum`): the Fourier integrals of the
-piecewise-linear interpolant of the acceleration at the cam's motion samples (a uniform grid of
-``m`` cam angles, step ``h = 2 pi / m``).  On such a grid the interpolant's amplitude of harmonic
-``n`` is the samples' discrete amplitude times ``sinc^2(n h / 2)``, so it lies within
-``(n h)^2 / 12`` (relative) of it: :func:`harmonic_tolerance`, stated in report.json.
+piecewise-linear interpolant ``I_h a`` of the acceleration at the cam's motion samples (a uniform
+grid of ``m`` cam angles, stated in report.json).  Each amplitude is within ``(1/pi) int |a - I_h
+a| dtheta`` of the law's own (the triangle inequality on the Fourier integral): ``O(h^2)``, ``h =
+2 pi / m``, for a law whose acceleration is continuous, ``O(h)`` where it jumps.  On a pure
+harmonic ``cos(n theta)`` the interpolant's amplitude is exactly ``sinc^2(n h / 2)`` times it.
 """
 from __future__ import annotations
 
@@ -21,17 +22,10 @@ import numpy as np
 if TYPE_CHECKING:
     from camgen.checks import Motion
 
-__all__ = ["ACCELERATION_HARMONICS", "acceleration_harmonics", "harmonic_figures", "harmonic_tolerance"]
+__all__ = ["ACCELERATION_HARMONICS", "acceleration_harmonics", "harmonic_figures"]
 
 #: Harmonics of the turn reported per cam (n = 1 .. this).
 ACCELERATION_HARMONICS = 20
-
-
-def harmonic_tolerance(harmonic: int, samples: int) -> float:
-    """The relative bound ``(n h)^2 / 12`` (``h = 2 pi / samples``) within which the interpolant's
-    amplitude of harmonic ``n`` lies of the samples' discrete amplitude (module notes)."""
-    step = 2.0 * math.pi / samples
-    return (harmonic * step) ** 2 / 12.0
 
 
 def acceleration_harmonics(motion: "Motion", harmonics: int = ACCELERATION_HARMONICS) -> np.ndarray:
@@ -57,7 +51,6 @@ def harmonic_figures(motion: "Motion | None", rpm: float | None) -> dict[str, An
         "method": f"Fourier integrals of the piecewise-linear interpolant of the acceleration at {samples} cam angles "
                   "(camgen.compliant.sample_spectrum, as the compliant train's spectrum)",
         "samples": samples,
-        "relative_tol_last_harmonic": harmonic_tolerance(ACCELERATION_HARMONICS, samples),
         f"amplitude_{unit}_per_rad2": amplitudes.tolist(),
     }
     if rpm:
