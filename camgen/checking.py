@@ -60,7 +60,7 @@ def evaluate(cam: "BuiltCam", spec: "CamSpec", tool_radius: float, tool_is_limit
     from camgen.kinds.jerk_limit import jerk_limit_check
     from camgen.synthesis.harmonics import harmonic_figures
 
-    checks += jerk_limit_check(spec.checks, evaluation.motion)
+    checks += jerk_limit_check(spec.checks.jerk_limit, spec.checks.rpm, evaluation.motion)
     harmonics = harmonic_figures(evaluation.motion, rpm)
     if harmonics:
         figures["acceleration_harmonics"] = harmonics

@@ -24,7 +24,6 @@ from camgen.schema import Key, Number
 
 if TYPE_CHECKING:
     from camgen.checks import CheckResult, Motion
-    from camgen.kinds.base import CheckSettings
 
 __all__ = ["JERK_KEYS", "jerk_limit_check", "jerk_limit_keys", "read_jerk_limit"]
 
@@ -33,16 +32,19 @@ JERK_KEYS = {"translating": ("jerk_limit_m_per_s3", "jerk_limit", "m/s^3"),
              "oscillating": ("jerk_limit_rad_per_s3", "jerk_limit_angular", "rad/s^3")}
 
 
-def jerk_limit_keys() -> tuple[Key, ...]:
-    """The two jerk-limit keys (module notes)."""
-    return (
+def jerk_limit_keys(oscillating: bool = True) -> tuple[Key, ...]:
+    """The jerk-limit keys (module notes); ``oscillating`` False: the translating follower's only
+    (a kind whose follower only translates)."""
+    keys = (
         Key("jerk_limit_m_per_s3", Number("m/s^3", 0.0, 1e15, low_open=True), "Translating follower: the largest follower jerk "
             "allowed at the cam speed rpm (which it needs); the jerk_limit check fails above it, and where the acceleration jumps "
             "(an unbounded jerk).", ("report",), example=5000.0, attr="jerk_limit"),
         Key("jerk_limit_rad_per_s3", Number("rad/s^3", 0.0, 1e15, low_open=True), "Oscillating follower: the largest angular jerk "
             "of the arm allowed at the cam speed rpm (which it needs); the jerk_limit check fails above it, and where the "
-            "acceleration jumps (an unbounded jerk).", ("report",), example=50000.0, attr="jerk_limit_angular"),
+            "acceleration jumps (an unbounded jerk).", ("report",), example=50000.0, attr="jerk_limit_angular",
+            requires={"follower_motion": ("oscillating",)}),
     )
+    return keys if oscillating else keys[:1]
 
 
 def read_jerk_limit(where: str, parsed: Mapping[str, Any]) -> None:
@@ -62,14 +64,13 @@ def read_jerk_limit(where: str, parsed: Mapping[str, Any]) -> None:
                                  f"the jerk limit ({name} given) holds the jerk at the cam speed")
 
 
-def jerk_limit_check(settings: "CheckSettings", motion: "Motion | None") -> "list[CheckResult]":
-    """The ``jerk_limit`` check of a cam (a list of one; empty without a limit)."""
+def jerk_limit_check(limit: float | None, rpm: float | None, motion: "Motion | None") -> "list[CheckResult]":
+    """The ``jerk_limit`` check of a cam (a list of one; empty without a ``limit``), at ``rpm``
+    (the cam's check settings: :attr:`camgen.kinds.base.CheckSettings.jerk_limit`)."""
     from camgen.checks import CheckResult, limited, where_degrees
 
-    limit = settings.jerk_limit
     if limit is None:
         return []
-    rpm = settings.rpm
     assert rpm is not None  # read_jerk_limit refuses a limit without rpm
     if motion is None:
         return [CheckResult("jerk_limit", "not computed", limit, "<=", "", False, [],
