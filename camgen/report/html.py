@@ -286,7 +286,6 @@ def report_html(report: "ReportInput") -> str:
         else:
             parts.append(design_table(cam))
         parts.append(program_table(cam))
-        parts.append(_vdi_section(Figure, cam))  # VDI: issue 26 items 2 and 5 (camgen/report/vdi.py)
         # a kind that draws its own curves (a linear cam: against travel) gives none here and its section's data
         own_curves = cam.plots is not None and cam.plots.pressure_angle is None and cam.plots.curvature is None and cam.section is not None
         if cam.plots is not None and not own_curves:
@@ -301,6 +300,7 @@ def report_html(report: "ReportInput") -> str:
             parts.append(dynamics_section(Figure, cam))
         parts.append("<h3>Checks</h3>" + _checks_table(cam.checks))
         parts.append(figures_table(cam))
+        parts.append(_vdi_section(Figure, cam))  # VDI: issue 26 items 2 and 5 (camgen/report/vdi.py)
         if cam.report_section:
             parts.append(_section(cam.report_section)(Figure, cam))
     for mechanism in report.mechanisms:

@@ -31,9 +31,8 @@ def _tasks_table(cam: "CamReport") -> str:
         values = "".join(f"<td class='num'>{number(json_number(seg[k]))}</td>" for k in ("Cv", "Ca", "Cj", "C_Mdyn"))
         rows.append(f"<tr><td class='num'>{i}</td><td>{html.escape(str(seg['law']))}</td><td>{shown}</td>"
                     f"<td>{html.escape(str(seg['task']))}</td>{values}</tr>")
-    return ("<table class='vdi'><caption>Motion program after VDI 2143: name, motion task (R rest, G constant velocity, "
-            "U reversal, B general motion; start-end) and characteristic values of the normalised law (Cv = max|V|, "
-            "Ca = max|A|, Cj = max|J|, C_Mdyn = max|V A|; * a name no source we read confirms)</caption>"
+    return ("<table class='vdi'><caption>VDI 2143: motion task (R rest, G constant velocity, U reversal, B general motion) "
+            "and characteristic values (Cv = max|V|, Ca = max|A|, Cj = max|J|, C_Mdyn = max|V A|; * unconfirmed name)</caption>"
             "<thead><tr><th>segment</th><th>law</th><th>VDI 2143 name</th><th>task</th><th>Cv</th><th>Ca</th><th>Cj</th>"
             f"<th>C_Mdyn</th></tr></thead><tbody>{''.join(rows)}</tbody></table>")
 
@@ -46,18 +45,20 @@ def _harmonics_figure(Figure: FigureMaker, cam: "CamReport") -> str:
     key = speed or next(k for k in block if k.startswith("amplitude_") and k.endswith("_per_rad2"))
     amplitudes = np.asarray(json_numbers(block[key]))
     unit = key[len("amplitude_"):].replace("_per_", "/").replace("s2", "s²").replace("rad2", "rad²")
-    fig = Figure(figsize=(10, 2.6))
+    fig = Figure(figsize=(5.2, 2.0))
     ax = fig.add_subplot()
     for n, amplitude in enumerate(amplitudes, start=1):
         ax.plot([n, n], [0.0, float(amplitude)], color="tab:blue", width=1.5)
     ax.xlabel("harmonic of the turn", font_size=8)
     ax.ylabel(f"amplitude ({unit})", font_size=8)
     what = f"at {number(cam.rpm)} rpm" if speed and cam.rpm else "per unit cam speed"
-    ax.title(f"{cam.name}: the law's acceleration harmonics {what} (first {len(amplitudes)})", font_size=8)
+    ax.title(f"{cam.name}: acceleration harmonics {what}", font_size=8)
     return f"<div class='fig'>{fig.to_svg()}</div>"
 
 
 def vdi_section(Figure: FigureMaker, cam: "CamReport") -> str:
     """The VDI 2143 table and the harmonics plot of ``cam`` ("" when it has neither)."""
-    parts = [_tasks_table(cam), _harmonics_figure(Figure, cam)]
-    return "".join(parts)
+    table, figure = _tasks_table(cam), _harmonics_figure(Figure, cam)
+    if table and figure:  # side by side, as the profile beside the design table (the printed page stays short)
+        return f"<div class='tables'>{table}{figure}</div>"
+    return table + figure
