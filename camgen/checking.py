@@ -56,6 +56,15 @@ def evaluate(cam: "BuiltCam", spec: "CamSpec", tool_radius: float, tool_is_limit
     rpm = spec.checks.rpm
     if rpm and evaluation.motion is not None:
         figures["motion_at_rpm"] = {"rpm": rpm, **evaluation.motion.at_rpm(rpm)}
+    # ---- VDI (issue 26 item 5): the jerk limit at rpm, the law's harmonic content ----
+    from camgen.kinds.jerk_limit import jerk_limit_check
+    from camgen.synthesis.harmonics import harmonic_figures
+
+    checks += jerk_limit_check(spec.checks.jerk_limit, spec.checks.rpm, evaluation.motion)
+    harmonics = harmonic_figures(evaluation.motion, rpm)
+    if harmonics:
+        figures["acceleration_harmonics"] = harmonics
+    # ---- end VDI ----
     return dataclasses.replace(evaluation, checks=tuple(checks), figures=figures, **changes)
 
 

@@ -48,7 +48,7 @@ if TYPE_CHECKING:
     from camgen.dynamics import FollowerTrain, Kinematics
 
 __all__ = ["CompliantResult", "TrainCompliance", "SAME_ANGLE", "DWELL_TOL", "RESONANCE_TOL", "acceleration_spectrum",
-           "TWO_PI", "angular_speed", "contact_projection", "quintic_chain", "turn_steps", "compliant_response", "prefix_scan", "dwell_starts", "response_from", "spectrum_harmonics", "step_matrices"]
+           "TWO_PI", "angular_speed", "contact_projection", "quintic_chain", "turn_steps", "compliant_response", "prefix_scan", "dwell_starts", "response_from", "sample_spectrum", "spectrum_harmonics", "step_matrices"]
 
 TWO_PI = 2.0 * math.pi
 #: Two samples closer than this fraction of the longest step are one cam angle (a break's two sides).
@@ -275,8 +275,17 @@ def acceleration_spectrum(kin: "Kinematics", rpm: float, harmonics: int) -> np.n
     Fourier integrals of the piecewise-linear interpolant of the samples (any spacing; on a
     uniform grid the FFT's coefficients up to the linear interpolant's sinc factor)."""
     omega = angular_speed(rpm)
-    theta = np.append(kin.theta, kin.theta[0] + TWO_PI)
-    acc = omega**2 * np.append(kin.d2s, kin.d2s[0])
+    return sample_spectrum(kin.theta, omega**2 * np.append(kin.d2s, kin.d2s[0]), harmonics)
+
+
+def sample_spectrum(angles: np.ndarray, values: np.ndarray, harmonics: int) -> np.ndarray:
+    """Amplitudes ``A_n`` (n = 0 .. ``harmonics``) of a periodic signal over one turn,
+    ``f(theta) = sum A_n cos(n theta + p_n)``, from its samples ``values`` at the cam angles
+    ``angles`` (rad, sorted, one turn) with the first sample repeated at the end (``values`` one
+    longer than ``angles``): the Fourier integrals of their piecewise-linear interpolant (the
+    shared core of :func:`acceleration_spectrum`, in the samples' own unit)."""
+    theta = np.append(angles, angles[0] + TWO_PI)
+    acc = np.asarray(values, dtype=float)
     n = np.arange(1, harmonics + 1)[:, None]
     width = np.diff(theta)
     keep = width > 0

@@ -164,7 +164,14 @@ def _cam(name: str, table: object, base_dir: Path | None, tool_limit: float | No
     kind = get_kind(kind_name, form_name)
     parsed = parse_table(where, {k: v for k, v in table.items() if k != "kind"}, kind.keys)
     parsed.tool_limit = tool_limit  # the kind's check settings hold it (read_checks)
+    _jerk_limit(where, parsed)  # VDI: a jerk limit needs rpm and its follower motion's unit (issue 26 item 5)
     return dataclasses.replace(kind.read(where, name, parsed, base_dir), form=form_name)
+
+
+def _jerk_limit(where: str, parsed: Mapping[str, Any]) -> None:
+    from camgen.kinds.jerk_limit import read_jerk_limit
+
+    read_jerk_limit(where, parsed)
 
 
 def _bodies(cams: "tuple[CamSpec, ...]") -> "tuple[CamSpec, ...]":

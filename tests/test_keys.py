@@ -137,6 +137,9 @@ OVERRIDES: dict[str, dict[str, tuple[dict, dict]]] = {
         "follower_offset_mm": (ROLLER, {"follower_offset_mm": 5.0}),
         "face_half_length_mm": ({}, {"face_half_length_mm": 400.0}),
         "b_mm": ({}, {"b_mm": 150.0}),
+        # the jerk limit at rpm (issue 26 item 5): a limit the cam's jerk stays under, then one it exceeds
+        "jerk_limit_m_per_s3": ({"rpm": 30.0, "jerk_limit_m_per_s3": 1e6}, {"jerk_limit_m_per_s3": 1e-6}),
+        "jerk_limit_rad_per_s3": ({**OSCILLATING, "rpm": 30.0, "jerk_limit_rad_per_s3": 1e6}, {"jerk_limit_rad_per_s3": 1e-6}),
     },
     "trajectory": {
         "expression": ({}, {"expression": "190*sin(pi*x/1000)"}),
@@ -148,6 +151,7 @@ OVERRIDES: dict[str, dict[str, tuple[dict, dict]]] = {
         "keyway_width_mm": ({"keyway_width_mm": 2.0, "keyway_depth_mm": 1.0}, {"keyway_width_mm": 2.5}),
         "keyway_depth_mm": ({"keyway_width_mm": 2.0, "keyway_depth_mm": 1.0}, {"keyway_depth_mm": 1.2}),
         "keyway_angle_deg": ({"keyway_width_mm": 2.0, "keyway_depth_mm": 1.0}, {"keyway_angle_deg": 45.0}),
+        "jerk_limit_m_per_s3": ({"rpm": 30.0, "jerk_limit_m_per_s3": 1e6}, {"jerk_limit_m_per_s3": 1e-6}),  # issue 26 item 5
     },
 }
 

@@ -52,6 +52,7 @@ class CheckSettings:
     pressure_angle_limit: float | None = None
     rpm: float | None = None
     tool_radius: float | None = None
+    jerk_limit: float | None = None  # VDI: the follower's jerk limit at rpm (m/s^3 or rad/s^3; camgen/kinds/jerk_limit.py)
 
     @property
     def tool_is_limit(self) -> bool:
@@ -223,15 +224,23 @@ def body_keys() -> tuple[Key, ...]:
 MIN_PRESSURE_ANGLE_LIMIT_DEG = 0.01
 
 
-def check_keys() -> tuple[Key, ...]:
-    """Keys of the design checks (every kind)."""
+def check_keys(oscillating: bool = True) -> tuple[Key, ...]:
+    """Keys of the design checks (every kind); ``oscillating`` False leaves out the keys of an
+    oscillating arm (a kind whose follower only translates)."""
     return (
         Key("pressure_angle_limit_deg", Angle(MIN_PRESSURE_ANGLE_LIMIT_DEG, 90.0, high_open=True),
             "Largest pressure angle allowed (default: 30 deg translating followers, 45 deg oscillating ones and yokes); disk cams "
             "with sizing are sized to it.", ("report",)),
         Key("rpm", Number("rev/min", MIN_RPM, 1e6), "Cam speed: the follower's velocity, acceleration and jerk at speed in "
             "the report, and the follower table (<cam>_follower.csv, which needs it).", ("report", "motion")),
+        *_jerk_limit_keys(oscillating),  # VDI: issue 26 item 5
     )
+
+
+def _jerk_limit_keys(oscillating: bool) -> tuple[Key, ...]:
+    from camgen.kinds.jerk_limit import jerk_limit_keys
+
+    return jerk_limit_keys(oscillating)
 
 
 def source_key() -> Key:
@@ -249,7 +258,8 @@ def read_body(where: str, parsed: Mapping[str, Any]) -> "BodySpec":
 def read_checks(parsed: Mapping[str, Any]) -> CheckSettings:
     """The check settings of a cam table: its limits, and the tool radius the scene reader set as
     a limit (:attr:`camgen.schema.Parsed.tool_limit`)."""
-    return CheckSettings(parsed.get("pressure_angle_limit"), parsed.get("rpm"), getattr(parsed, "tool_limit", None))
+    return CheckSettings(parsed.get("pressure_angle_limit"), parsed.get("rpm"), getattr(parsed, "tool_limit", None),
+                         parsed.get("jerk_limit", parsed.get("jerk_limit_angular")))  # VDI: the jerk limit
 
 
 def rename_errors(where: str, make: Callable[[], Any], keys: tuple[Key, ...]) -> Any:

@@ -92,7 +92,7 @@ def keys() -> tuple[Key, ...]:
             "exact envelope (measured at the quarter and mid points of every piece); the breadth (diameter) check's limit is "
             f"{BREADTH_TOL_FACTOR:g} times it.", ("profile",), default=DEFAULT_FIT_TOL),
         source_key(),
-    ) + body_keys() + check_keys()
+    ) + body_keys() + check_keys(oscillating=False)
 
 
 @dataclass(frozen=True)

@@ -212,6 +212,7 @@ def read_law(where: str, parsed: Mapping[str, Any], follower: "FollowerSpec", ba
     if abscissa == TRAVEL:
         figures["travel_mm"] = math.fsum(seg["span_travel"] for seg in parsed["segments"])
     _refuse_corners(where, program, parsed["segments"], follower, figures.get("travel_mm"))
+    figures["vdi2143"] = _vdi_figures(program)  # VDI: VDI 2143 names, tasks, characteristic values (issue 26 item 2)
     return LawReading(program, figures)
 
 
@@ -256,7 +257,16 @@ def read_half_law(where: str, parsed: Mapping[str, Any], follower: "FollowerSpec
                              "the second")
     program = read_program(where, segments, follower.motion, complete=mirror_segments)
     _refuse_corners(where, program, segments, follower)
-    return LawReading(program, {"segments": _segment_figures(segments, follower.motion == "oscillating"), "half_turn": True})
+    return LawReading(program, {"segments": _segment_figures(segments, follower.motion == "oscillating"), "half_turn": True,
+                                "vdi2143": _vdi_figures(program)})  # VDI: issue 26 item 2
+
+
+# ---- VDI 2143 (issue 26 item 2: camgen/synthesis/vdi2143.py) ---------------------------------
+def _vdi_figures(program: Any) -> dict[str, Any]:
+    from camgen.synthesis.vdi2143 import program_figures
+
+    return program_figures(program)
+# ---- end VDI 2143 ----------------------------------------------------------------------------
 
 
 MOTION = Motion(

@@ -89,7 +89,7 @@ KEYS = (
         "ride does not reach the table's last x, 2296 mm for A1 and 2063 mm for A2, or the scaled Jacobian's condition number exceeds 1e6) is refused naming this "
         "key: its uncertainties would be infinite and its adjustment advice meaningless.", ("report",)),
     source_key(),
-) + body_keys() + check_keys()
+) + body_keys() + check_keys(oscillating=False)
 
 
 @dataclass(frozen=True)

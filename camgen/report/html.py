@@ -236,6 +236,12 @@ def _animation(cam: "CamReport") -> str:
             "the purple line marks cam angle 0 on the cam.</p></div>")
 
 
+def _vdi_section(Figure: FigureMaker, cam: "CamReport") -> str:
+    from camgen.report.vdi import vdi_section
+
+    return vdi_section(Figure, cam)
+
+
 def _section(path: str) -> Callable[..., str]:
     """The function ``"module:function"`` names (a kind's or mechanism's own report section)."""
     import importlib
@@ -296,6 +302,7 @@ def report_html(report: "ReportInput") -> str:
         parts.append("<h3>Checks</h3>" + _checks_table(cam.checks))
         parts.append(figures_table(cam))
         parts.append(smoothing_section(Figure, cam))  # SMOOTH: a smoothed lift table's residuals ("" otherwise)
+        parts.append(_vdi_section(Figure, cam))  # VDI: issue 26 items 2 and 5 (camgen/report/vdi.py)
         if cam.report_section:
             parts.append(_section(cam.report_section)(Figure, cam))
     for mechanism in report.mechanisms:
