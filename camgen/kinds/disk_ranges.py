@@ -122,6 +122,18 @@ def _verified(name: str, answer: "Intervals", make: Callable[[float], "FollowerS
     return runs
 
 
+def _maker(follower: "FollowerSpec", name: str) -> Callable[[float], "FollowerSpec | None"]:
+    """``follower`` with the quantity ``name`` set to a value (mm); a pivot moved along its own
+    direction from the cam axis to that distance."""
+    if name == "roller_radius":
+        return lambda r: replace(follower, roller_radius=r)
+    if name == "arm_length":
+        return lambda arm: replace(follower, arm_length=arm)
+    px, py = follower.pivot_xy
+    d0 = math.hypot(px, py)
+    return lambda d: replace(follower, pivot=(px * d / d0, py * d / d0))
+
+
 def sizing_range_figures(names: tuple[str, ...], follower: "FollowerSpec", law: Any, limits: "DesignLimits") -> dict[str, Any]:
     """report.json's ``figures.sizing_ranges`` for the quantities ``names`` of ``follower`` on
     ``law`` against ``limits``: per quantity the value the scene gives, the open range searched
@@ -133,29 +145,17 @@ def sizing_range_figures(names: tuple[str, ...], follower: "FollowerSpec", law: 
     for name in names:
         if name == "roller_radius":
             answer = sz.roller_radius_intervals(follower, law, limits)
-
-            def make(r: float) -> "FollowerSpec | None":
-                return replace(follower, roller_radius=r)
-
             given, cap = follower.roller_radius, follower.motion == "translating"
         elif name == "arm_length":
             answer = sz.arm_length_intervals(follower, law, limits)
-
-            def make(arm: float) -> "FollowerSpec | None":
-                return replace(follower, arm_length=arm)
-
             given, cap = follower.arm_length, False
         else:
             answer = sz.pivot_distance_intervals(follower, law, limits)
-            px, py = follower.pivot_xy
-            given, cap = math.hypot(px, py), False
-
-            def make(d: float) -> "FollowerSpec | None":
-                return replace(follower, pivot=(px * d / given, py * d / given))
-
-        runs = _verified(name, answer, make, law, limits, cap)
+            given, cap = math.hypot(*follower.pivot_xy), False
+        runs = _verified(name, answer, _maker(follower, name), law, limits, cap)
         entry: dict[str, Any] = {"scene_mm": given, "searched_mm": [answer.searched[0], answer.searched[1]], "intervals": runs}
         if name == "pivot_distance":
+            px, py = follower.pivot_xy
             entry["direction_deg"] = math.degrees(math.atan2(py, px))
             for run in runs:
                 for side in ("low", "high"):
