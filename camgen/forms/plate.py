@@ -16,6 +16,7 @@ from camgen.forms.base import CamForm
 from camgen.kinds.base import body_keys, check_keys, source_key
 from camgen.kinds.disk import build_disk, disk_spec, evaluate_disk, follower_keys, read_follower
 from camgen.kinds.disk_margins import margin_keys
+from camgen.kinds.disk_ranges import ranges_key
 from camgen.kinds.dynamics import disk_kinematics, dynamics_keys
 
 if TYPE_CHECKING:
@@ -36,7 +37,7 @@ def read(where: str, name: str, parsed: Mapping[str, Any], motion: "Motion", bas
 FORM = CamForm(
     name="plate",
     summary="open plate (disk) cam: the exact envelope of a translating or oscillating roller, flat face or knife",
-    keys=lambda: follower_keys() + (source_key(),) + body_keys() + check_keys() + dynamics_keys() + margin_keys(),
+    keys=lambda: follower_keys() + (source_key(),) + body_keys() + check_keys() + dynamics_keys() + margin_keys() + ranges_key(),
     read=read,
     build=build_disk,
     evaluate=evaluate_disk,

@@ -130,6 +130,7 @@ class DiskParams:
     law_figures: Mapping[str, Any] = field(default_factory=dict)
     source: str | None = None
     margins: Any = None  # SIZING (issue 26 item 4): camgen.kinds.disk_margins.Margins, None: none
+    sizing_ranges: tuple[str, ...] = ()  # SIZE2 (issue 26 item 4): the quantities sizing_ranges names
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -228,6 +229,11 @@ def disk_spec(where: str, name: str, kind: str, parsed: Mapping[str, Any], law: 
 
     params = DiskParams(law, follower, sizing, parsed["fit_tol"], parsed.get("face_half_length"), dict(law_figures), parsed.get("source"))
     params = replace(params, margins=read_margins(parsed))  # SIZING (issue 26 item 4): the plate form's margin keys
+    # SIZE2 (issue 26 item 4): the sizing answers the scene asks for
+    from camgen.kinds.disk_ranges import read_sizing_ranges
+
+    params = replace(params, sizing_ranges=read_sizing_ranges(where, parsed, follower))
+    # end SIZE2
     body, checks = read_body(where, parsed), read_checks(parsed)
     dynamics = read_dynamics(where, parsed, motion=follower.motion, follower=follower.kind, rpm=checks.rpm, thickness=body.thickness,
                              base_dir=base_dir, form_closed=form_closed)
@@ -437,6 +443,10 @@ def build_disk(spec: CamSpec, stages: frozenset[str]) -> DiskCam:
                              **({"offset_mm": sizing.offset} if p.sizing == "base_radius_and_offset" else {}),
                              "pressure_angle_limit_deg": round(math.degrees(pressure_limit(spec)), 9),
                              "min_concave_radius_mm": spec.checks.tool_radius or 0.0}
+    if p.sizing_ranges:  # SIZE2 (issue 26 item 4): every passing interval of the quantities the scene names
+        from camgen.kinds.disk_ranges import sizing_range_figures
+
+        figures["sizing_ranges"] = sizing_range_figures(p.sizing_ranges, follower, p.law, _limits(spec, spec.checks.tool_radius))
     figures["fit_tol_mm"] = p.fit_tol
     if profile is not None:
         figures["fit_error_mm"] = env.fit_error

@@ -80,7 +80,7 @@ LABELS = {
 DESIGN = ("base_radius_mm", "a_mm", "b_mm", "c_mm", "trajectory", "period_mm", "samples", "curvature_scheme", "lever_mm",
           "gear_teeth_rear_cam", "lift_table_csv", "table_rows", "table_spline_degree", "fit_tol_mm", "source")
 #: Figures with a table of their own (the motion program, the dynamics section, the fitted tables).
-OWN_TABLE = ("segments", "dynamics", "fits", "follower", "sizing", "smoothing", "vdi2143",
+OWN_TABLE = ("segments", "dynamics", "fits", "follower", "sizing", "smoothing", "sizing_ranges", "vdi2143",
              "acceleration_harmonics")  # VDI: report/vdi.py
 
 _ROTATION = {"ccw": "counter-clockwise (ccw)", "cw": "clockwise (cw)"}

@@ -260,6 +260,7 @@ def report_html(report: "ReportInput") -> str:
     :class:`~camgen.report.model.MechanismReport`, when its section has data)."""
     from camgen.report.design import design_table, figures_table, program_table
     from camgen.report.smoothing import smoothing_section
+    from camgen.report.sizing_ranges import sizing_ranges_section
 
     Figure = figure_factory()
     cams = report.cams
@@ -302,6 +303,7 @@ def report_html(report: "ReportInput") -> str:
         parts.append("<h3>Checks</h3>" + _checks_table(cam.checks))
         parts.append(figures_table(cam))
         parts.append(smoothing_section(Figure, cam))  # SMOOTH: a smoothed lift table's residuals ("" otherwise)
+        parts.append(sizing_ranges_section(cam))  # SIZE2: the sizing_ranges key's intervals ("" otherwise)
         parts.append(_vdi_section(Figure, cam))  # VDI: issue 26 items 2 and 5 (camgen/report/vdi.py)
         if cam.report_section:
             parts.append(_section(cam.report_section)(Figure, cam))
