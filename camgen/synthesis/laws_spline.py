@@ -163,14 +163,17 @@ def interpolating_spline(points: Sequence[tuple[float, float]], degree: int, sta
         One polynomial per knot interval (knots at the points: scipy's ``make_interp_spline`` with
         the derivatives as ``bc_type``; the pieces from ``PPoly.from_spline``).
     """
-    from scipy.interpolate import PPoly, make_interp_spline
-
     if degree not in SPLINE_DEGREES:
         raise ParameterError("degree", degree, "3, 5 or 7 (odd: the end conditions split evenly)")
     m = (degree - 1) // 2
     if len(start) != m + 1 or len(end) != m + 1:
         raise ParameterError("start" if len(start) != m + 1 else "end", list(start if len(start) != m + 1 else end),
                              f"{m + 1} values (s and {m} derivative{'s' if m > 1 else ''}) for degree {degree}")
+    if not points:  # no interior point: the one polynomial of that degree meeting both ends (exact; scipy not imported)
+        poly = hermite_polynomial([(0.0, tuple(start)), (1.0, tuple(end))], "ends")
+        return SplinePieces((0.0, 1.0), (poly.floats(),), degree)
+    from scipy.interpolate import PPoly, make_interp_spline
+
     x = np.array([0.0] + [float(t) for t, _ in points] + [1.0])
     y = np.array([float(start[0])] + [float(s) for _, s in points] + [float(end[0])])
     bc = ([(k + 1, float(start[k + 1])) for k in range(m)], [(k + 1, float(end[k + 1])) for k in range(m)])
