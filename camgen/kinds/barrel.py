@@ -183,7 +183,7 @@ class BarrelParams:
     @property
     def formats_refused(self) -> Mapping[str, str]:
         """Outputs this cam cannot have yet (format -> why; :func:`camgen.planning` refuses them)."""
-        if self.track == "rib" and self.follower.motion == "oscillating":  # ROSC: until its STEP and program are verified
+        if self.track == "rib" and self.follower.motion == "oscillating":  # ROSC; ORIB lifted its STEP and program (none left)
             return {**RIB_FORMATS_REFUSED, **OSCILLATING_RIB_FORMATS_REFUSED}
         return RIB_FORMATS_REFUSED if self.track == "rib" else {}
 
