@@ -265,16 +265,3 @@ def test_oscillating_rib_mesh_is_watertight_with_the_volume_of_an_independent_in
     area = 0.5 * float(np.sum(np.linalg.norm(np.cross(v[t[:, 1]] - v[t[:, 0]], v[t[:, 2]] - v[t[:, 0]]), axis=1)))
     assert abs(solid.volume - want) <= tol * area, (solid.volume, want, tol * area)
     assert abs(float(m.volume()) - want) <= tol * area
-
-
-@pytest.mark.parametrize("fmt", ["step", "ngc"])
-def test_an_oscillating_ribs_step_and_program_are_refused_naming_output_formats(fmt, tmp_path, capsys):
-    from camgen.cli import main
-    from helpers import scene_toml
-
-    path = tmp_path / "s.toml"
-    path.write_text(scene_toml({"output": {"formats": [fmt]}, "cams": {"c": osc_rib()}}))
-    assert main(["run", str(path), "-o", str(tmp_path / "out")]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "output.formats" in err[0] and "oscillating" in err[0]
-    assert not (tmp_path / "out").exists()

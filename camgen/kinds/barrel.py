@@ -68,10 +68,8 @@ _RIB = {"track": ("rib",)}
 TRACKS = ("groove", "rib")
 #: Outputs a rib cam does not have yet (refused naming output.formats, :attr:`BarrelParams.formats_refused`).
 RIB_FORMATS_REFUSED: dict[str, str] = {}
-#: Outputs an oscillating follower's rib does not have yet (its rollers ride off the radial line through the station).
-OSCILLATING_RIB_FORMATS_REFUSED = {
-    "step": "an oscillating follower's rib has no STEP yet (the meshes, the developed drawing and the point list are built)",
-    "ngc": "an oscillating follower's rib has no 4th-axis program yet (the meshes, the developed drawing and the point list are built)"}
+#: Outputs an oscillating follower's rib does not have yet (none: its STEP and its program are built, ORIB).
+OSCILLATING_RIB_FORMATS_REFUSED: dict[str, str] = {}
 
 
 def _body_default(name: str) -> Any:
@@ -99,8 +97,9 @@ def barrel_keys() -> tuple[Key, ...]:
             "the root cylinder up to the rim, straddled by two rollers of the follower whose axes ride rib_width_mm / 2 + w below "
             "and above the pitch line (w = roller_radius_mm + groove_clearance_mm / 2; oscillating: both on the arm's end, spaced "
             "along the arm's normal in the plane tangent to the cylinder, turning with the arm); the rib's faces are the exact "
-            "envelopes of the two rollers (the lower roller's is the lower face). An oscillating "
-            "follower's rib has no STEP or 4th-axis program yet (refused).", ("profile",), default="groove"),
+            "envelopes of the two rollers (the lower roller's is the lower face). Its STEP and 4th-axis program (oscillating too: "
+            "each face cut along its roller's axis, off the radial line by the roller's tangential offset) are built.",
+            ("profile",), default="groove"),
         Key("rib_width_mm", Length(high=1e5), "Rib (required with track = \"rib\"): the rib's width along the cam axis where the "
             "follower dwells (the rollers' axes are rib_width_mm + 2 w apart; oscillating: apart along the arm's normal, so where "
             "the arm dwells at angle psi the rib is (rib_width_mm + 2 w) cos(psi) - 2 w wide); during a rise the rib is thinner "
@@ -184,7 +183,7 @@ class BarrelParams:
     @property
     def formats_refused(self) -> Mapping[str, str]:
         """Outputs this cam cannot have yet (format -> why; :func:`camgen.planning` refuses them)."""
-        if self.track == "rib" and self.follower.motion == "oscillating":  # ROSC: until its STEP and program are verified
+        if self.track == "rib" and self.follower.motion == "oscillating":  # ROSC; ORIB lifted its STEP and program (none left)
             return {**RIB_FORMATS_REFUSED, **OSCILLATING_RIB_FORMATS_REFUSED}
         return RIB_FORMATS_REFUSED if self.track == "rib" else {}
 
@@ -606,7 +605,17 @@ def _rib_bore(cam: BarrelCam, min_wall: float) -> "CheckResult":
     p = cam.params
     # the 4th-axis program's faces' passes (camgen.export.gcode_barrel_rib) run an end mill of the rollers' diameter with its flat
     # tip at sqrt(R_i^2 - w^2), cutting the root that far below the root radius along each roller's track
-    deepest = float(np.min(floor_radius(p.root_radius, np.zeros(1), cam.groove.half_width)))
+    offset = np.zeros(1)
+    if cam.rib is not None and p.follower.motion == "oscillating":  # ORIB: each roller's axis off the radial line by |e_k|
+        from camgen.errors import GeometryError
+
+        rib = cam.rib
+        offset = np.atleast_1d(max(float(np.max(np.abs(rib.roller(k).axis(cam.motion.cam_angle)[1]))) for k in (-1, 1)))
+        try:
+            floor_radius(p.root_radius, offset, cam.groove.half_width)
+        except GeometryError as exc:
+            return limited("wall_thickness", -p.bore_radius, ">=", min_wall, "mm", [], str(exc), blocks_manufacture=True)
+    deepest = float(np.min(floor_radius(p.root_radius, offset, cam.groove.half_width)))
     return limited("wall_thickness", deepest - p.bore_radius, ">=", min_wall, "mm", [],
                    f"material between the bore (radius {p.bore_radius:g} mm) and the root cylinder the rib stands on (radius "
                    f"{p.root_radius:g} mm) where an end mill of the rollers' diameter cuts the faces to the root: its flat tip reaches "
