@@ -40,6 +40,7 @@ import numpy as np
 
 from camgen.errors import ParameterError
 from camgen.kinds.base import BuiltCam, CamSpec, CheckSettings, field_default, with_cam
+from camgen.kinds.jerk_limit import jerk_limit_keys
 from camgen.schema import REQUIRED, Angle, Choice, Key, Length, Number, Text
 
 if TYPE_CHECKING:
@@ -136,6 +137,7 @@ def barrel_keys() -> tuple[Key, ...]:
             default=DEFAULT_FIT_TOL),
         Key("rpm", Number("rev/min", 1e-3, 1e6), "Cam speed: the follower's velocity, acceleration and jerk at speed in the report, "
             "and the follower table (<cam>_follower.csv, which needs it).", ("report", "motion")),
+        *jerk_limit_keys(oscillating=True),  # issue 26 item 5: the follower's jerk at rpm against a limit
         Key("source", Text(), "Where the numbers come from (a note copied into the report).", ("report",)),
     )
 
@@ -245,7 +247,8 @@ def read_barrel(where: str, name: str, parsed: Mapping[str, Any], motion: Any, b
                           1 if parsed["rotation"] == "ccw" else -1, 0.5 * bore, parsed["fit_tol"], float(z0), arm, rest,
                           dict(reading.figures), parsed.get("source"), track, float(parsed.get("rib_width", 0.0)))
     body = BodySpec(thickness=length, bore_diameter=bore, min_wall=parsed["min_wall"])
-    checks = CheckSettings(parsed.get("pressure_angle_limit"), parsed.get("rpm"), getattr(parsed, "tool_limit", None))
+    checks = CheckSettings(parsed.get("pressure_angle_limit"), parsed.get("rpm"), getattr(parsed, "tool_limit", None),
+                           parsed.get("jerk_limit", parsed.get("jerk_limit_angular")))
     from camgen.kinds.barrel_dynamics import read_barrel_dynamics
 
     dynamics = read_barrel_dynamics(where, parsed, motion=moves, roller_shape=shape, depth=depth, rpm=checks.rpm, base_dir=base_dir)
