@@ -78,7 +78,7 @@ if TYPE_CHECKING:
     from camgen.results import CamResult
     from camgen.writers import RunSettings
 
-__all__ = ["GROOVE_ONE_PASS", "GROOVE_WIDTH", "MAX_REFINEMENTS", "MAX_STATIONS", "BarrelToolPath", "a_decimals", "barrel_program",
+__all__ = ["GROOVE_ONE_PASS", "GROOVE_WIDTH", "MAX_REFINEMENTS", "MAX_STATIONS", "BarrelToolPath", "a_decimals", "barrel_program", "framed",
            "check_tool", "floor_radius", "named_program", "station_angles", "tool_path", "turn_blocks", "width_tol", "writer"]
 
 #: Most stations of one turn (a program of a few turns stays within what controllers load).
@@ -319,17 +319,25 @@ def barrel_program(groove: Any, spec: MachiningSpec, cam: str = "cam", scene: st
     ]
     assert rounding <= rounding_error(d) <= ROUNDING_SHARE * chord_tol * (1 + 1e-12)  # the spec's decimals check covers the barrel's
     safe = rim + spec.safe_z
-    head = "\n".join(lines) + "\n" + (
+    return framed("\n".join(lines), blocks, spec, blend, safe, rim, (float(xs[0]), float(ys[0])), d, da)
+
+
+def framed(header: str, blocks: list[str], spec: "MachiningSpec", blend: str, safe: float, rim: float,
+           first: tuple[float, float], d: int, da: int) -> str:
+    """A 4th-axis program: the ``header`` comments, the modal start (G21 metric, G90, G17, G64
+    blending ``blend``), a rapid to ``first`` = (X, Y) at A 0 above the rim (``safe`` mm), the
+    spindle, the plunge to the ``rim`` radius, G93 inverse time, the cutting ``blocks``, and back
+    to G94, the safe height, M5 and M2; ``d``, ``da``: decimals of mm and deg."""
+    head = header + "\n" + (
         "G21 G90 G17 G40 G49 G80 G94\n"
         f"G64 P{blend}\n"
         f"G0 Z{safe:.{d}f}\n"
-        f"G0 X{xs[0]:.{d}f} Y{ys[0]:.{d}f} A{0.0:.{da}f}\n"
+        f"G0 X{first[0]:.{d}f} Y{first[1]:.{d}f} A{0.0:.{da}f}\n"
         f"M3 S{spec.spindle_rpm:.0f}\n"
         f"G1 Z{rim:.{d}f} F{spec.plunge_feed:.0f}\n"
         "G93\n"
     )
-    tail = f"G94\nG0 Z{safe:.{d}f}\nM5\nM2\n"
-    return head + "".join(blocks) + tail
+    return head + "".join(blocks) + f"G94\nG0 Z{safe:.{d}f}\nM5\nM2\n"
 
 
 def writer(cam: "CamResult", run: "RunSettings", fmt: str) -> str:

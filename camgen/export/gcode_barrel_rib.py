@@ -72,7 +72,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camgen.errors import GeometryError, ParameterError, ceil_significant
-from camgen.export.gcode_barrel import BarrelToolPath, a_decimals, check_tool, named_program, tool_path, turn_blocks, width_tol
+from camgen.export.gcode_barrel import (BarrelToolPath, a_decimals, check_tool, framed, named_program, tool_path, turn_blocks,
+                                        width_tol)
 from camgen.export.gcode_barrel import writer as groove_writer
 from camgen.export.gcode_moves import comment
 from camgen.export.gcode_spec import BLEND_SHARE, FIT_SHARE, ROUNDING_SHARE, MachiningSpec, depth_passes, rounding_error
@@ -324,17 +325,8 @@ def rib_program(rib: Any, spec: MachiningSpec, cam: str = "cam", scene: str = ""
                 f"+ tool width mismatch {0.5 * width_tol(spec):.3g}"),
         ("not used by this program: machining.lead_mm, breakthrough_mm, spline_mode"),
     ]
-    head = "\n".join(line for text in lines for line in _comment_lines(text)) + "\n" + (
-        "G21 G90 G17 G40 G49 G80 G94\n"
-        f"G64 P{blend}\n"
-        f"G0 Z{safe:.{d}f}\n"
-        f"G0 X{first_x:.{d}f} Y{first_y:.{d}f} A{0.0:.{da}f}\n"
-        f"M3 S{spec.spindle_rpm:.0f}\n"
-        f"G1 Z{rim:.{d}f} F{spec.plunge_feed:.0f}\n"
-        "G93\n"
-    )
-    tail = f"G94\nG0 Z{safe:.{d}f}\nM5\nM2\n"
-    return head + "".join(body) + tail
+    header = "\n".join(line for text in lines for line in _comment_lines(text))
+    return framed(header, body, spec, blend, safe, rim, (float(first_x), float(first_y)), d, da)
 
 
 def writer(cam: "CamResult", run: "RunSettings", fmt: str) -> str:
