@@ -195,6 +195,7 @@ def output_keys() -> tuple[Key, ...]:
 def machining_keys() -> tuple[Key, ...]:
     """Keys of the ``[machining]`` table (defaults owned by :class:`camgen.export.gcode.MachiningSpec`)."""
     from camgen.export.gcode import DIALECTS, DIRECTIONS, SPLINE_MODES, MachiningSpec
+    from camgen.export.wire_edm_spec import wire_edm_keys
     from camgen.kinds.base import field_default
 
     def d(name: str):
@@ -227,4 +228,4 @@ def machining_keys() -> tuple[Key, ...]:
         Key("spline_mode", Choice(SPLINE_MODES), "Spline segments as G2/G3 biarcs or G1 chords, within chord_tol_mm.", ("gcode",),
             default=d("spline_mode")),
         Key("decimals", Count(3, 6), "Decimal places of the coordinates in the program.", ("gcode",), default=d("decimals")),
-    )
+    ) + wire_edm_keys()  # wire EDM (camgen.export.wire_edm_spec)
