@@ -16,6 +16,7 @@ from dataclasses import dataclass, fields
 from typing import Any, Mapping
 
 from camgen.errors import ParameterError, require_finite
+from camgen.keynames import renamed
 from camgen.schema import Count, Key, Number, NumberList
 
 __all__ = ["ALLOWANCE_RATIO", "FIRST_ALLOWANCE", "MAX_SKIM_CUTS", "MILLING_KEYS", "WIRE_EDM", "WireEdmSpec", "default_allowances",
@@ -147,7 +148,7 @@ def wire_edm_table(parsed: Mapping[str, Any]) -> dict[str, Any]:
     wire = {k.field: parsed[k.field] for k in keys if k.field in parsed}
     if "cut_allowances" in wire:
         wire["cut_allowances"] = tuple(wire["cut_allowances"])
-    out["wire_edm"] = WireEdmSpec(**wire)
+    out["wire_edm"] = renamed("machining", keys, lambda: WireEdmSpec(**wire))  # errors name the scene key
     return out
 
 
