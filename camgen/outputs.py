@@ -216,7 +216,8 @@ def machining_keys() -> tuple[Key, ...]:
         Key("direction", Choice(DIRECTIONS), "Climb (clockwise round the outside, spindle M3) or conventional milling; in a groove climb "
             "runs the outer wall counter-clockwise and the inner wall clockwise.", ("gcode",),
             default=d("direction")),
-        Key("dialect", Choice(DIALECTS), "Controller: LinuxCNC (G64 blending, cutter compensation) or GRBL.", ("gcode",),
+        Key("dialect", Choice(DIALECTS), "Controller: LinuxCNC (G64 blending, cutter compensation) or GRBL; wire_edm: an ISO wire-EDM "
+            "program of the outline (the wire keys below; the milling keys refused).", ("gcode",),
             default=d("dialect")),
         Key("cutter_compensation", Flag(), "Program the profile itself with G41.1/G42.1 (LinuxCNC) instead of the tool-centre path "
             "(refused for a cam with pockets: their passes are tool-centre paths).",

@@ -266,3 +266,32 @@ def test_a_groove_cam_is_refused_for_wire_edm(tmp_path):
     proc = _cli('[machining]\ndialect = "wire_edm"\n' + body, tmp_path)
     assert proc.returncode == 2, (proc.returncode, proc.stderr)
     assert "machining.dialect" in proc.stderr and "pockets" in proc.stderr, proc.stderr
+
+
+@pytest.mark.usefixtures("needs_rs274")
+def test_the_template_program_cuts_its_profile(tmp_path):
+    """wire_edm_cam as the ngc writer writes it: rs274 runs it with the registers its header
+    names, the last cut and the cut-off leave the profile within 1 um."""
+    import dataclasses
+
+    from camgen.pipeline import Plan, compute
+    from camgen.scene import load_template
+
+    scene = load_template("wire_edm_cam")
+    cam = compute(scene, Plan((), frozenset())).cams[0]
+    spec = dataclasses.replace(scene.machining, thickness=cam.body.thickness, chord_tol=scene.output.chord_tol)
+    program = wire_edm_program(cam.contour, spec, cam.name, scene.name, cam.body.thickness)
+    registers = [float(v) for v in re.findall(r"\(register D\d+ = ([0-9.]+)", program)]
+    kerf = 0.25 / 2 + 0.02
+    assert registers == pytest.approx([kerf + 0.1, kerf + 0.02, kerf], abs=1e-12)  # the template's keys, by the stated rule
+    status, message, chains = run_rs274(program, registers, tmp_path)
+    assert status == 0, message
+    profile = ExactProfile(cam.contour)
+    s = _arc_lengths(profile.vertices)[:-1]
+    total = float(_arc_lengths(profile.vertices)[-1])
+    s_start, s_stop = tab_stretch(chains[2], profile)
+    assert abs((s_stop - s_start) % total - 3.0) <= CUT_TOL
+    tab = _in_stretch(s, s_start, s_stop, total)
+    for chain, skip in ((chains[2], tab), (chains[3], ~tab)):
+        gouge, proud = cut_report(chain, profile, kerf, skip=skip)
+        assert gouge <= CUT_TOL and proud <= CUT_TOL, (gouge, proud)

@@ -13,11 +13,11 @@ carries, refusing the milling keys that have no meaning for a wire (a spindle, d
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
-from typing import Any, Mapping
+from typing import Any
 
 from camgen.errors import ParameterError, require_finite
 from camgen.keynames import renamed
-from camgen.schema import Count, Key, Number, NumberList
+from camgen.schema import Count, Key, Number, NumberList, Parsed
 
 __all__ = ["ALLOWANCE_RATIO", "FIRST_ALLOWANCE", "MAX_SKIM_CUTS", "MILLING_KEYS", "WIRE_EDM", "WireEdmSpec", "default_allowances",
            "wire_edm_keys", "wire_edm_table"]
@@ -131,16 +131,17 @@ def wire_edm_keys() -> tuple[Key, ...]:
     )
 
 
-def wire_edm_table(parsed: Mapping[str, Any]) -> dict[str, Any]:
+def wire_edm_table(parsed: Parsed) -> Parsed:
     """The parsed ``[machining]`` table for :class:`camgen.export.gcode_spec.MachiningSpec`: the
     wire keys taken out and, for ``dialect = "wire_edm"``, made into its ``wire_edm`` spec; a
     milling key given with that dialect is refused naming it."""
     keys = wire_edm_keys()
     wire_fields = {k.field for k in keys}
-    out = {name: value for name, value in parsed.items() if name not in wire_fields}
+    out = Parsed({name: value for name, value in parsed.items() if name not in wire_fields})
+    out.given, out.tool_limit = parsed.given, parsed.tool_limit
     if parsed.get("dialect") != WIRE_EDM:
         return out
-    given = getattr(parsed, "given", frozenset())
+    given = parsed.given
     for name, attr in MILLING_KEYS.items():
         if name in given:
             raise ParameterError(f"machining.{name}", parsed.get(attr), 'left out with dialect = "wire_edm"',
