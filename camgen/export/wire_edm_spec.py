@@ -108,25 +108,25 @@ def wire_edm_keys() -> tuple[Key, ...]:
     """The ``[machining]`` keys of the wire-EDM dialect (each only with ``dialect = "wire_edm"``)."""
     only = {"dialect": (WIRE_EDM,)}
     return (
-        Key("wire_diameter_mm", Number("mm", 0.0, 1.0, low_open=True), "Wire-EDM: diameter of the wire.", ("gcode",),
+        Key("wire_diameter_mm", Number("mm", 0.02, 1.0), "Wire-EDM: diameter of the wire.", ("gcode",),
             default=_d("wire_diameter"), requires=only),
-        Key("spark_gap_mm", Number("mm", 0.0, 0.5), "Wire-EDM: spark gap (overcut) on each side of the wire; the wire offset of "
+        Key("spark_gap_mm", Number("mm", 0.0, 0.2), "Wire-EDM: spark gap (overcut) on each side of the wire; the wire offset of "
             "cut k is wire radius + spark gap + allowance of cut k, in register D<k>.", ("gcode",), default=_d("spark_gap"), requires=only),
         Key("skim_cuts", Count(0, MAX_SKIM_CUTS), "Wire-EDM: skim cuts after the first cut (registers D1 .. D<skim_cuts + 1>).",
             ("gcode",), default=_d("skim_cuts"), requires=only),
-        Key("cut_allowances_mm", NumberList(Number("mm", 0.0, 5.0, low_open=True), min_items=1, max_items=MAX_SKIM_CUTS),
+        Key("cut_allowances_mm", NumberList(Number("mm", 1e-4, 2.0), min_items=1, max_items=MAX_SKIM_CUTS),
             "Wire-EDM: the allowance each cut before the last leaves (skim_cuts values, falling; the last cut leaves none; "
             f"default {FIRST_ALLOWANCE:g} mm for the first cut and {ALLOWANCE_RATIO:g} of the one before for each next).", ("gcode",),
             requires=only),
-        Key("start_hole_diameter_mm", Number("mm", 0.0, 100.0, low_open=True), "Wire-EDM: diameter of the start hole the wire is "
+        Key("start_hole_diameter_mm", Number("mm", 0.1, 20.0), "Wire-EDM: diameter of the start hole the wire is "
             "threaded in (drilled before; its centre is in the header).", ("gcode",), default=_d("start_hole_diameter"), requires=only),
-        Key("start_hole_offset_mm", Number("mm", 0.0, 1000.0, low_open=True), "Wire-EDM: the start hole's centre lies this far "
+        Key("start_hole_offset_mm", Number("mm", 1.0, 1000.0), "Wire-EDM: the start hole's centre lies this far "
             "outside the profile's tangent line at the start point and this far back along it; the wire enters along the normal, "
             "then along the tangent (> hole radius + first cut's offset).", ("gcode",), default=_d("start_hole_offset"), requires=only),
-        Key("tab_width_mm", Number("mm", 0.0, 1000.0, low_open=True), "Wire-EDM: length of the profile (measured along it, ending at "
+        Key("tab_width_mm", Number("mm", 0.1, 100.0), "Wire-EDM: length of the profile (measured along it, ending at "
             "the start point) every cut leaves uncut; the last cut stops before it (M00) and then cuts it off: the part drops.",
             ("gcode",), default=_d("tab_width"), requires=only),
-        Key("wire_feed_mm_per_min", Number("mm/min", 0.0, 1e4, low_open=True), "Wire-EDM: feed of the cuts (the control's servo "
+        Key("wire_feed_mm_per_min", Number("mm/min", 0.01, 1e4), "Wire-EDM: feed of the cuts (the control's servo "
             "may cut slower).", ("gcode",), default=_d("wire_feed"), attr="wire_feed", requires=only),
     )
 
