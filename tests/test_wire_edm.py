@@ -16,7 +16,6 @@ by cut (the moves between two program stops, M00):
 """
 from __future__ import annotations
 
-import math
 import re
 import subprocess
 import sys
