@@ -195,6 +195,7 @@ def output_keys() -> tuple[Key, ...]:
 def machining_keys() -> tuple[Key, ...]:
     """Keys of the ``[machining]`` table (defaults owned by :class:`camgen.export.gcode.MachiningSpec`)."""
     from camgen.export.gcode import DIALECTS, DIRECTIONS, SPLINE_MODES, MachiningSpec
+    from camgen.export.wire_edm_spec import wire_edm_keys
     from camgen.kinds.base import field_default
 
     def d(name: str):
@@ -215,7 +216,8 @@ def machining_keys() -> tuple[Key, ...]:
         Key("direction", Choice(DIRECTIONS), "Climb (clockwise round the outside, spindle M3) or conventional milling; in a groove climb "
             "runs the outer wall counter-clockwise and the inner wall clockwise.", ("gcode",),
             default=d("direction")),
-        Key("dialect", Choice(DIALECTS), "Controller: LinuxCNC (G64 blending, cutter compensation) or GRBL.", ("gcode",),
+        Key("dialect", Choice(DIALECTS), "Controller: LinuxCNC (G64 blending, cutter compensation) or GRBL; wire_edm: an ISO wire-EDM "
+            "program of the outline (the wire keys below; the milling keys refused).", ("gcode",),
             default=d("dialect")),
         Key("cutter_compensation", Flag(), "Program the profile itself with G41.1/G42.1 (LinuxCNC) instead of the tool-centre path "
             "(refused for a cam with pockets: their passes are tool-centre paths).",
@@ -227,4 +229,4 @@ def machining_keys() -> tuple[Key, ...]:
         Key("spline_mode", Choice(SPLINE_MODES), "Spline segments as G2/G3 biarcs or G1 chords, within chord_tol_mm.", ("gcode",),
             default=d("spline_mode")),
         Key("decimals", Count(3, 6), "Decimal places of the coordinates in the program.", ("gcode",), default=d("decimals")),
-    )
+    ) + wire_edm_keys()  # wire EDM (camgen.export.wire_edm_spec)

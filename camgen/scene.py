@@ -104,6 +104,7 @@ def _machining(table: object, output: "OutputSpec", machined: bool) -> "Machinin
     :class:`camgen.export.gcode.MachiningSpec`), before anything is computed; errors name the
     scene key (``machining.decimals``, ``output.chord_tol_mm``)."""
     from camgen.export.gcode import MachiningSpec
+    from camgen.export.wire_edm_spec import wire_edm_table
     from camgen.keynames import renamed
     from camgen.outputs import MACHINING_FORMATS, machining_keys, output_keys
 
@@ -111,6 +112,7 @@ def _machining(table: object, output: "OutputSpec", machined: bool) -> "Machinin
     table = {} if table is None else table
     p = parse_table("machining", table, keys)
     assert isinstance(table, dict)  # parse_table refuses anything else
+    p = wire_edm_table(p)  # wire EDM (camgen.export.wire_edm_spec): its keys into one spec, milling keys refused
     if not set(MACHINING_FORMATS) & set(output.formats):  # the tool diameter also sets the machinability check's limit
         gcode = " or ".join(f'"{name}"' for name in MACHINING_FORMATS)
         for key in sorted(set(table) - {"tool_diameter_mm"}, key=str):

@@ -109,6 +109,8 @@ def gcode(cam: "CamResult", run: RunSettings, fmt: str) -> str:
     from camgen.outputs import machining_keys, output_keys
 
     assert run.machining.chord_tol == run.output.chord_tol, "the scene reader gives a G-code run its chord tolerance"
+    if run.machining.wire_edm is not None:  # wire EDM: its own program (camgen.export.wire_edm)
+        from camgen.export.wire_edm import wire_edm_program as gcode_program
     try:  # a program too long: the error names the scene key to change
         return renamed("machining", machining_keys(), lambda: gcode_program(_profile(cam), run.machining, cam.name, run.scene_name,
                                                                              cam.body.thickness, cam.pockets),

@@ -864,6 +864,12 @@ def _edge_scene(where: str, kind: str | None, key: Key, value: float) -> tuple[d
         machining["tool_diameter_mm"] = value  # the lead must exceed the tool radius (export/gcode.py)
     if where == "machining" and name == "decimals":
         output["chord_tol_mm"] = 0.01  # 3 printed decimals resolve a quarter of 0.01 mm
+    if where == "machining" and key.requires.get("dialect") == ("wire_edm",):  # WIRE EDM: its dialect refuses the milling keys
+        for milling in ("tool_diameter_mm", "step_down_mm"):
+            machining.pop(milling, None)
+        machining.update(start_hole_offset_mm=50.0, start_hole_diameter_mm=1.0)  # room for any hole and allowance
+        if name == "cut_allowances_mm" and isinstance(value, list):
+            machining["skim_cuts"] = len(value)
     if where in ("machining",) and "ngc" not in formats:
         formats.append("ngc")
     if where == "output" and "fea" in key.affects:  # an FEA key needs an FEA mesh; a coarse tolerance keeps it small

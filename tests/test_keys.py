@@ -263,10 +263,13 @@ def test_every_output_key_changes_what_it_documents(key_name, tmp_path):
 def test_every_machining_key_changes_what_it_documents(key_name, tmp_path):
     key = next(k for k in machining_keys() if k.name == key_name)
     machining = {"tool_diameter_mm": 6.0}
+    if key.requires.get("dialect") == ("wire_edm",):  # a wire-EDM key: with its dialect, which refuses the milling keys
+        machining = {"dialect": "wire_edm"}
     base = scene(SPLINE_CAM, ("dxf", "points", "ngc"), machining)
     alt = copy.deepcopy(base)
     value = alt["machining"].get(key_name, key.default)
-    alt["machining"][key_name] = {"lead_mm": 5.0, "cutter_compensation": True}.get(key_name, _changed(value, key))
+    overrides = {"lead_mm": 5.0, "cutter_compensation": True, "cut_allowances_mm": [0.12, 0.03]}
+    alt["machining"][key_name] = overrides[key_name] if key_name in overrides else _changed(value, key)
     _assert_effect(key, run(base, tmp_path), run(alt, tmp_path))
 
 

@@ -8,13 +8,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from camgen.errors import ParameterError, require_finite, require_positive
+
+if TYPE_CHECKING:  # wire EDM (camgen.export.wire_edm_spec)
+    from camgen.export.wire_edm_spec import WireEdmSpec
 
 __all__ = ["BLEND_SHARE", "DIALECTS", "DIRECTIONS", "FIT_SHARE", "MIN_GCODE_CHORD_TOL", "MachiningSpec", "REFIT_SHARE",
            "ROUNDING_SHARE", "SPLINE_MODES", "depth_passes", "rounding_error"]
 
-DIALECTS = ("linuxcnc", "grbl")
+DIALECTS = ("linuxcnc", "grbl", "wire_edm")
 DIRECTIONS = ("climb", "conventional")
 SPLINE_MODES = ("lines", "biarcs")
 
@@ -63,6 +67,8 @@ class MachiningSpec:
     chord_tol: float = 1e-3
     decimals: int = 4
     breakthrough: float = 0.2
+    # wire EDM (camgen.export.wire_edm_spec): the wire and its cuts, given with dialect = "wire_edm"
+    wire_edm: "WireEdmSpec | None" = None
 
     def __post_init__(self) -> None:
         for name in ("tool_diameter", "thickness", "step_down", "safe_z", "feed", "plunge_feed", "spindle_rpm", "chord_tol"):
@@ -73,6 +79,12 @@ class MachiningSpec:
             raise ParameterError("direction", self.direction, f"one of {DIRECTIONS}")
         if self.dialect not in DIALECTS:
             raise ParameterError("dialect", self.dialect, f"one of {DIALECTS}")
+        if (self.dialect == "wire_edm") != (self.wire_edm is not None):  # wire EDM: its spec exactly with its dialect
+            if self.wire_edm is not None:
+                raise ParameterError("dialect", self.dialect, '"wire_edm" for a wire spec')
+            from camgen.export.wire_edm_spec import WireEdmSpec
+
+            object.__setattr__(self, "wire_edm", WireEdmSpec())
         if self.spline_mode not in SPLINE_MODES:
             raise ParameterError("spline_mode", self.spline_mode, f"one of {SPLINE_MODES}")
         if self.cutter_compensation and self.dialect == "grbl":
@@ -97,6 +109,8 @@ class MachiningSpec:
 
     @property
     def tool_radius(self) -> float:
+        if self.wire_edm is not None:  # wire EDM: the first cut's wire offset is the least concave radius it follows
+            return self.wire_edm.offsets[0]
         return self.tool_diameter / 2
 
     @property
