@@ -53,7 +53,12 @@ def sheet_pdf(sheet: "Sheet") -> bytes:
     """PDF bytes of ``sheet``: one page of the sheet's size, coordinates in mm (fpdf2)."""
     from datetime import datetime, timezone
 
-    from fpdf import FPDF
+    try:
+        from fpdf import FPDF
+    except ImportError:
+        from camgen.errors import ExportError
+
+        raise ExportError('the "drawing_pdf" output needs fpdf2: pip install "camgen[drawing]"') from None
 
     pdf = FPDF(orientation="L" if sheet.width > sheet.height else "P", unit="mm",
                format=(min(sheet.width, sheet.height), max(sheet.width, sheet.height)))
