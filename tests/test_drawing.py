@@ -16,12 +16,14 @@ from __future__ import annotations
 
 import copy
 import math
+import re
 import subprocess
+import sys
 
 import numpy as np
 import pytest
 
-from helpers import require_tool
+from helpers import require_tool, scene_toml
 
 RB, RR, H, BETA = 40.0, 10.0, 20.0, math.radians(120.0)
 CAM = {"kind": "motion_law", "base_radius_mm": RB, "follower": "roller", "roller_radius_mm": RR, "rotation": "ccw",
@@ -181,3 +183,37 @@ def test_pdf_scale_bar_measures_100_mm_on_the_page(tmp_path):
         bar = max(bands, key=len)
         assert len(bar) / dpi * 25.4 == pytest.approx(3.0, abs=0.2)
         assert np.median(length[bar]) == pytest.approx(100.0, abs=0.2)
+
+
+def _cli(table: dict, tmp_path, name: str) -> subprocess.CompletedProcess:
+    import json
+
+    extra = "".join(f"{k} = {json.dumps(v)}\n" for k, v in table["output"].items() if k != "formats")  # scene_toml writes formats only
+    text = scene_toml(table).replace("[output]\n", "[output]\n" + extra, 1)
+    (tmp_path / f"{name}.toml").write_text(text, encoding="utf-8")
+    return subprocess.run([sys.executable, "-m", "camgen", "run", str(tmp_path / f"{name}.toml"), "-o", str(tmp_path / name)],
+                          capture_output=True, text=True)
+
+
+def test_a_drawing_too_large_for_its_sheet_is_refused_naming_the_largest_scale_that_fits(tmp_path):
+    from camgen.export.drawing_spec import DRAWING_SCALES
+
+    table = copy.deepcopy(SCENE)
+    table["output"].update(drawing_scale="5:1", drawing_sheet="A4")
+    refused = _cli(table, tmp_path, "big")
+    assert refused.returncode == 2 and not (tmp_path / "big").exists()
+    (line,) = refused.stderr.strip().splitlines()
+    assert line.startswith("camgen: error: parameter 'output.drawing_scale' = '5:1'") and "A4" in line, line
+    hint = re.search(r"valid range is (\d+:\d+) or smaller", line).group(1)
+    table["output"]["drawing_scale"] = hint  # the hint, used: the drawing is written on A4
+    assert _cli(table, tmp_path, "fits").returncode == 0
+    assert 'width="297mm" height="210mm"' in next((tmp_path / "fits").rglob("c_drawing.svg")).read_text()
+    table["output"]["drawing_scale"] = DRAWING_SCALES[DRAWING_SCALES.index(hint) - 1]  # the next larger scale does not fit
+    assert _cli(table, tmp_path, "larger").returncode == 2
+
+
+def test_a_cam_without_a_zero_mark_is_refused_naming_output_formats(tmp_path):
+    table = {"output": {"formats": ["inspection"]}, "cams": {"t": {"kind": "three_arc", "a_mm": 100.0, "b_mm": 100.0, "c_mm": 35.0}}}
+    refused = _cli(table, tmp_path, "arc")
+    (line,) = refused.stderr.strip().splitlines()
+    assert refused.returncode == 2 and "'output.formats' = 'inspection'" in line and "cam 't'" in line, line

@@ -26,9 +26,9 @@ __all__ = ["drawing_pdf", "drawing_svg", "inspection", "inspection_description",
 def _zero(cam: "CamResult", fmt: str) -> "ZeroMark":
     """The cam's zero mark, or the refusal of ``fmt`` for a cam that is not a plate cam turning about its axis."""
     if cam.pockets or cam.contour is None or cam.zero_mark is None:
-        why = ("its body has pockets" if cam.pockets else "it has no zero mark and sense of rotation")
+        why = ("its body has pockets" if cam.pockets else "it has no cam angle 0 (zero mark) and sense of rotation")
         raise ParameterError("output.formats", fmt, f"formats without {fmt} for cam '{cam.name}'",
-                             f"the drawing and inspection table are of plate cams turning about their axis, and {why}")
+                             f"the drawing and inspection table are of disk cams without pockets, and {why}")
     return cam.zero_mark
 
 
