@@ -27,10 +27,10 @@ BORDER = 10.0
 SCALE_BAR = 100.0
 #: Text height of the labels, mm (ISO 3098: 2.5 mm on A4/A3), and the height of a table row.
 TEXT = 2.5
-ROW = 3.6
+ROW = 3.0
 #: Widths of the title block and of one column block of the inspection table, mm.
 TITLE_WIDTH, TITLE_ROW, TITLE_ROWS = 130.0, 6.0, 6
-TABLE_BLOCK = 50.0
+TABLE_BLOCK = 42.0
 #: Room beside the view for the dimension labels, mm, and between the profile and the rotation arrow.
 LABEL_ROOM, ARROW_GAP = 46.0, 6.0
 #: Line widths (ISO 128: 0.5 mm visible outlines, 0.25 mm thin lines) and the chord tolerance of drawn circles (page mm).
@@ -179,7 +179,8 @@ def _leader(start: np.ndarray, angle: float, reach: float, text: str, strokes: l
 
 
 def _fmt(x: float) -> str:
-    return f"{x:.3f}"
+    """Three decimals (um), no "-0.000"."""
+    return f"{round(float(x), 3) + 0.0:.3f}"
 
 
 # -- the sheet -----------------------------------------------------------------------------
@@ -263,14 +264,14 @@ def _table(data: DrawingInput, spec: DrawingSpec, left: float, top: float, width
     for b in range(-(-theta.size // per_block)):
         bx = left + b * TABLE_BLOCK
         y = top + 3 * ROW
-        for text, dx in (("ANGLE \u00b0", 12.0), ("R", 31.0), ("LIFT", 46.0)):
-            labels.append(Label(bx + dx, y, text, 2.2, "end"))
+        for text, dx in (("ANGLE \u00b0", 11.0), ("R", 26.0), ("LIFT", 39.0)):
+            labels.append(Label(bx + dx, y, text, 2.0, "end"))
         strokes.append(Stroke(np.array([[bx, y + 0.9], [bx + TABLE_BLOCK - 3.0, y + 0.9]]), THIN))
         for i in range(b * per_block, min(theta.size, (b + 1) * per_block)):
             y += ROW
-            labels.append(Label(bx + 12.0, y, f"{theta[i]:.2f}", 2.2, "end"))
-            labels.append(Label(bx + 31.0, y, _fmt(radius[i]), 2.2, "end"))
-            labels.append(Label(bx + 46.0, y, _fmt(lift[i]), 2.2, "end"))
+            labels.append(Label(bx + 11.0, y, f"{theta[i]:.2f}", 2.0, "end"))
+            labels.append(Label(bx + 26.0, y, _fmt(radius[i]), 2.0, "end"))
+            labels.append(Label(bx + 39.0, y, _fmt(lift[i]), 2.0, "end"))
 
 
 def _scale_bar(spec: DrawingSpec, left: float, base: float, fills: list, labels: list, strokes: list) -> None:
