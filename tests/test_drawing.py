@@ -100,6 +100,11 @@ def test_inspection_with_the_followers_roller_is_base_plus_roller_plus_lift(file
     assert np.allclose(table["polar_angle_deg"], np.mod(90.0 - table["cam_angle_deg"], 360.0), atol=1e-9)
     assert np.max(np.abs(table["centre_radius_mm"] - (RB + RR + lift(theta)))) <= 1e-6
     assert np.max(np.abs(table["lift_mm"] - lift(theta))) <= 1e-6
+    import json
+
+    meta = json.loads(files["report.json"])["tables"]["c_inspection.csv"]  # the table states its roller, step and ray
+    assert (meta["roller_radius_mm"], meta["angle_step_deg"], meta["rotation"]) == (RR, 10.0, "ccw")
+    assert meta["zero_mark_polar_angle_deg"] == pytest.approx(90.0, abs=1e-9)
 
 
 def test_inspection_with_another_roller_rests_on_the_parallel_curve(tmp_path):
