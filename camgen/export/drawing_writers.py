@@ -115,7 +115,23 @@ def _sheet(cam: "CamResult", run: "RunSettings", fmt: str) -> "Sheet":
         raise ParameterError("output.formats", fmt, f"formats without {fmt} for cam '{cam.name}'",
                              f"its largest radius {data.outer_radius:.1f} mm does not fit the {where} sheet at any scale down to "
                              f"{DRAWING_SCALES[-1]}")
-    return drawing_sheet(data, spec, sheet)
+    drawn = drawing_sheet(data, spec, sheet)
+    _require_finite(cam.name, drawn, data)
+    return drawn
+
+
+def _require_finite(name: str, sheet: "Sheet", data: "DrawingInput") -> None:
+    """Every coordinate drawn and every number printed is finite (the PDF's streams are compressed:
+    the run's text guard, :mod:`camgen.nonfinite`, cannot read them)."""
+    import numpy as np
+
+    from camgen.errors import ExportError
+
+    t = data.table
+    numbers = [s.points for s in sheet.strokes] + [f.points for f in sheet.fills] + [t.centre_radius, t.lift]
+    scalars = (data.base_radius, data.outer_radius, data.bore_diameter, data.keyway_reach, data.thickness, *data.zero)
+    if not (all(bool(np.all(np.isfinite(a))) for a in numbers) and bool(np.all(np.isfinite(scalars)))):
+        raise ExportError(f"drawing of cam '{name}': a non-finite coordinate or number")
 
 
 def drawing_svg(cam: "CamResult", run: "RunSettings", fmt: str) -> str:
