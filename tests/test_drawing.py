@@ -118,8 +118,8 @@ def test_inspection_with_another_roller_rests_on_the_parallel_curve(tmp_path):
     assert np.max(np.abs(table["centre_radius_mm"] - ray_radius(np.radians(table["polar_angle_deg"]), -RR))) <= 1e-6
 
 
-def _svg_profile(svg_text: str, tmp_path, scale: float) -> np.ndarray:
-    """The profile path read by svgelements, in part mm (cam frame)."""
+def _svg_profile(svg_text: str, tmp_path, scale: float, centre_only: bool = False):
+    """The profile path read by svgelements, in part mm (cam frame); ``centre_only``: the page x (mm) of the axis."""
     from svgelements import SVG, Path
 
     name = tmp_path / "d.svg"
@@ -138,6 +138,8 @@ def _svg_profile(svg_text: str, tmp_path, scale: float) -> np.ndarray:
 
     cx = points(elements["centre_y"])[:, 0].mean()
     cy = points(elements["centre_x"])[:, 1].mean()
+    if centre_only:
+        return float(cx)
     page = points(elements["profile"], 2)  # vertices and chord midpoints
     return np.column_stack([(page[:, 0] - cx) / scale, (cy - page[:, 1]) / scale])
 
@@ -169,12 +171,25 @@ def longest_dark_runs(image: np.ndarray, block: int = 256) -> np.ndarray:
     return out
 
 
-def test_pdf_scale_bar_measures_100_mm_on_the_page(tmp_path):
+def profile_crossings(x: float) -> tuple[float, float]:
+    """Highest and lowest y (mm) where the closed-form profile crosses the vertical line at ``x`` mm (cam frame)."""
+    p = parallel(np.linspace(0.0, 2 * math.pi, 400_001), -RR)
+    i = np.flatnonzero(np.sign(p[:-1, 0] - x) != np.sign(p[1:, 0] - x))
+    w = (x - p[i, 0]) / (p[i + 1, 0] - p[i, 0])
+    y = p[i, 1] + w * (p[i + 1, 1] - p[i, 1])
+    return float(y.max()), float(y.min())
+
+
+def test_pdf_scale_bar_measures_100_mm_and_the_profile_its_height_at_scale(tmp_path):
     pdftoppm = require_tool("pdftoppm")
     from PIL import Image
 
-    for scale in ("1:1", "1:2"):
-        (tmp_path / "d.pdf").write_bytes(run(tmp_path, drawing_scale=scale)["c_drawing.pdf"])
+    x_cut = 5.0  # mm right of the axis: the column crosses the profile, bore and base circle, no leader outside the profile
+    top, bottom = profile_crossings(x_cut)
+    for scale, k in (("1:1", 1.0), ("1:2", 0.5)):
+        files = run(tmp_path, drawing_scale=scale)
+        (tmp_path / "d.pdf").write_bytes(files["c_drawing.pdf"])
+        centre_x = _svg_profile(files["c_drawing.svg"], tmp_path, k, centre_only=True)
         dpi = 600
         subprocess.run([pdftoppm, "-r", str(dpi), "-gray", "-singlefile", str(tmp_path / "d.pdf"), str(tmp_path / "d")],
                        check=True)
@@ -188,6 +203,13 @@ def test_pdf_scale_bar_measures_100_mm_on_the_page(tmp_path):
         bar = max(bands, key=len)
         assert len(bar) / dpi * 25.4 == pytest.approx(3.0, abs=0.2)
         assert np.median(length[bar]) == pytest.approx(100.0, abs=0.2)
+        # the profile's height along the column x_cut right of the axis (the axis from the SVG of the same drawing):
+        # the outer edges of its 0.5 mm line are k (top - bottom) + 0.5 mm apart on the page
+        column = image[:, int(round((centre_x + k * x_cut) / 25.4 * dpi))]
+        dark = np.flatnonzero(column)
+        inside = dark[(dark > 11.0 / 25.4 * dpi) & (dark < (297.0 - 11.0) / 25.4 * dpi)]  # the frame's lines left out
+        height = (inside.max() - inside.min() + 1) / dpi * 25.4
+        assert height == pytest.approx(k * (top - bottom) + 0.5, abs=0.2)
 
 
 def _cli(table: dict, tmp_path, name: str) -> subprocess.CompletedProcess:
