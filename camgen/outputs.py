@@ -14,6 +14,7 @@ import math
 from dataclasses import dataclass
 
 from camgen.schema import Angle, Choice, ChoiceList, Count, Flag, Key, Number
+from camgen.export.drawing_spec import DrawingSpec, drawing_keys
 
 #: Stages: ``mesh`` (the extruded solid), ``analysis`` (ride simulations, fits, sweeps: report
 #: figures beyond the checks), ``plots`` (the data report.html draws).
@@ -67,6 +68,9 @@ class OutputFormat:
 
 #: The FEA meshes' keys (every FEA format takes them).
 _FEA_KEYS = ("fea_element_size_mm", "fea_elements")
+#: The drawing's keys (its SVG and PDF take them) and the inspection table's (the drawing shows it too).
+_INSPECTION_KEYS = ("inspection_step_deg", "inspection_roller_radius_mm")
+_DRAWING_KEYS = ("drawing_scale", "drawing_sheet", "drawing_material", "drawing_tolerance_mm") + _INSPECTION_KEYS
 
 _FORMATS = (
     OutputFormat("dxf", "{cam}.dxf", "2-D drawing of what is cut: PROFILE (exact ARCs, B-splines or biarcs), BORE, KEYWAY layers "
@@ -103,6 +107,15 @@ _FORMATS = (
                  scope="kind", implied=True),
     OutputFormat("legs", "leg_path_alpha_<deg>.csv", "horse leg: the leg end point's path per inclination", None, manufacturing=False,
                  scope="job", implied=True),
+    # -- the manufacturing drawing and its inspection table (issue 27 item 4: camgen/export/drawing*.py) --
+    OutputFormat("drawing", "{cam}_drawing.svg", "dimensioned manufacturing drawing of a plate cam at output.drawing_scale: profile, "
+                 "base circle, bore, keyway, zero mark, rotation arrow, inspection table, scale bar, title block; SVG in mm",
+                 "camgen.export.drawing_writers:drawing_svg", keys=_DRAWING_KEYS),
+    OutputFormat("drawing_pdf", "{cam}_drawing.pdf", "the manufacturing drawing as PDF, one page printing at the stated scale; needs "
+                 "the drawing extra (fpdf2)", "camgen.export.drawing_writers:drawing_pdf", keys=_DRAWING_KEYS),
+    OutputFormat("inspection", "{cam}_inspection.csv", "inspection table of a plate cam: per cam-angle step, the distance from the "
+                 "axis of a checking roller's centre resting on the profile", "camgen.export.drawing_writers:inspection",
+                 keys=_INSPECTION_KEYS),
 )
 
 #: format name -> OutputFormat
@@ -164,6 +177,7 @@ class OutputSpec:
     lift_step: float = math.radians(1.0)
     fea_element_size: float | None = None
     fea_elements: str = "wedge"
+    drawing: DrawingSpec = DrawingSpec()  # the drawing and inspection table (camgen.export.drawing_spec)
 
 
 def output_keys() -> tuple[Key, ...]:
@@ -189,6 +203,7 @@ def output_keys() -> tuple[Key, ...]:
         Key("fea_elements", Choice(("wedge", "tetra")), "Elements of the FEA meshes: 6-node wedges (the section's triangles, "
             "least angle >= 20 deg, in layers of about the element size through the thickness) or 4-node tetrahedra (gmsh's "
             "3-D mesh, sizes graded the same way from every face).", ("fea",), default=d.fea_elements),
+        *drawing_keys(),
     )
 
 

@@ -81,6 +81,7 @@ def check_name(where: str, name: object, hint: str = "") -> str:
 
 def _output(table: object) -> "OutputSpec":
     from camgen.outputs import OUTPUTS, REMOVED_OUTPUT_KEYS, OutputSpec, output_keys
+    from camgen.export.drawing_spec import drawing_spec
 
     table = {} if table is None else table
     for key, replacement in REMOVED_OUTPUT_KEYS.items():
@@ -95,7 +96,7 @@ def _output(table: object) -> "OutputSpec":
             raise ParameterError(f"output.{key}", table[key], f"only with {needs} in output.formats",
                                  "it changes only that file" if len(owners) == 1 else "it changes only those files")
     return OutputSpec(p["formats"], p["chord_tol"], p["dxf_splines"], p["dxf_construction"], p["lift_step"],
-                      p.get("fea_element_size"), p["fea_elements"])
+                      p.get("fea_element_size"), p["fea_elements"], drawing_spec(p))
 
 
 def _machining(table: object, output: "OutputSpec", machined: bool) -> "MachiningSpec":

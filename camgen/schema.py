@@ -35,6 +35,7 @@ EFFECTS = {
     "motion": "the follower table at the cam's speed (<cam>_follower.csv)",
     "tolerance": "every flattened output: DXF biarcs, point lists, meshes, G-code",
     "fea": "the FEA meshes (vtu, msh, inp) only",
+    "drawing": "the manufacturing drawing (<cam>_drawing.svg, .pdf) and the inspection table (<cam>_inspection.csv) only",
 }
 
 #: Largest number of items of any list key (lists are small in every real scene).

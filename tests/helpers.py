@@ -22,6 +22,7 @@ VALIDATOR_PACKAGES = {
     "librecad": "librecad",
     "prusa-slicer": "prusa-slicer",
     "freecadcmd": "freecad-python3",
+    "pdftoppm": "poppler-utils",
 }
 
 

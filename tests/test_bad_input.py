@@ -737,6 +737,8 @@ def _edge_scene(where: str, kind: str | None, key: Key, value: float) -> tuple[d
     elif kind == "lift_table":
         scene = base_scene()
         scene["cams"] = {"x": dict(LIFT_CAM)}
+    elif where == "output" and "drawing" in key.affects:  # the drawing's keys: a disk cam (it has a zero mark)
+        scene = copy.deepcopy(base_scene("motion_law"))
     else:
         scene = copy.deepcopy(base_scene(kind or "three_arc"))
     cams = scene["cams"]
@@ -875,6 +877,8 @@ def _edge_scene(where: str, kind: str | None, key: Key, value: float) -> tuple[d
     if where == "output" and "fea" in key.affects:  # an FEA key needs an FEA mesh; a coarse tolerance keeps it small
         formats.append("msh")
         output["chord_tol_mm"] = 0.05
+    if where == "output" and "drawing" in key.affects:  # the drawing's keys need its formats
+        formats += ["drawing", "drawing_pdf", "inspection"]
     output["formats"] = formats
     output.pop("lift_step_deg", None) if "lift" not in formats else None
     table[name] = value
@@ -983,7 +987,8 @@ def test_valid_edge_value_is_accepted_and_written_right(scene, formats, key, val
     for name, cam in report["cams"].items():
         for fmt in formats:
             file = {"dxf": f"{name}.dxf", "points": f"{name}_points.csv", "lift": f"{name}_lift.csv", "ngc": f"{name}.ngc",
-                    "follower": f"{name}_follower.csv", "msh": f"{name}.msh"}[fmt]
+                    "follower": f"{name}_follower.csv", "msh": f"{name}.msh", "drawing": f"{name}_drawing.svg",
+                    "drawing_pdf": f"{name}_drawing.pdf", "inspection": f"{name}_inspection.csv"}[fmt]
             if file not in written:  # withheld: the cam cannot be made, and a failed check says so
                 assert file in cam["withheld_files"] and not cam["manufacturable"], file
                 assert any(c["status"] == "fail" and c["blocks_manufacture"] for c in cam["checks"]), file

@@ -231,7 +231,8 @@ def test_progress_is_shown_on_a_terminal_for_long_runs_only(tmp_path):
     from camgen.scene import template_path
 
     formats = ", ".join(f'"{name}"' for name, fmt in OUTPUTS.items()
-                        if not fmt.implied and name not in ("step", "follower", "vtu", "msh", "inp"))  # FEA meshes: minutes here
+                        if not fmt.implied and name not in ("step", "follower", "vtu", "msh", "inp")  # FEA meshes: minutes here
+                        and name not in ("drawing", "drawing_pdf", "inspection"))  # the drawing: disk cams only, none here
     text = template_path("default").read_text(encoding="utf-8")
     text = re.sub(r"(?m)^formats = .*$", f"formats = [{formats}]", text)
     text = text.replace("chord_tol_mm = 0.001", "chord_tol_mm = 0.00001").replace("tool_diameter_mm = 8.0", "tool_diameter_mm = 8.0\ndecimals = 6")

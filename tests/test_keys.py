@@ -33,6 +33,7 @@ MAY = {
     "mechanism": {"json", "legs"},
     "motion": {"json", "follower"},
     "fea": {"fea", "json"},
+    "drawing": {"drawing"},
 }
 MUST = {
     "profile": {"dxf", "points"}, "pitch": {"dxf"}, "body": {"dxf", "stl"}, "thickness": {"stl", "ngc"}, "gcode": {"ngc"},
@@ -40,6 +41,7 @@ MUST = {
     "mechanism": {"legs", "json"},
     "motion": {"json"},
     "fea": {"fea"},
+    "drawing": {"drawing"},
 }
 MANUFACTURING = {"dxf", "points", "lift", "stl", "ngc", "obj"}
 #: kinds whose keys test_disk_cams.py walks
@@ -49,7 +51,8 @@ DISK_KINDS = {"motion_law", "lift_table"}
 def classify(name: str) -> str:
     for suffix, kind in (("_points.csv", "points"), ("_lift.csv", "lift"), ("_ride.csv", "ride"), (".dxf", "dxf"), (".stl", "stl"),
                          (".ngc", "ngc"), (".obj", "obj"), ("report.json", "json"), ("_follower.csv", "follower"),
-                         (".inp", "fea"), (".msh", "fea"), (".vtu", "fea")):
+                         (".inp", "fea"), (".msh", "fea"), (".vtu", "fea"),
+                         ("_drawing.svg", "drawing"), ("_drawing.pdf", "drawing"), ("_inspection.csv", "drawing")):
         if name.endswith(suffix):
             return kind
     return "legs" if name.startswith("leg_path") else name
@@ -243,9 +246,23 @@ def _write_tables(folder) -> None:
 SPLINE_CAM = dict(TRAJECTORY)
 
 
+#: A small plate cam (its drawing fits A4 at 1:1, so drawing_sheet = "A3" changes it) for the drawing's keys.
+SMALL_PLATE = {"kind": "motion_law", "base_radius_mm": 6.0, "follower": "roller", "roller_radius_mm": 2.0, "bore_diameter_mm": 3.0,
+               "segments": [{"law": "cycloidal", "span_deg": 180.0, "lift_mm": 3.0},
+                            {"law": "cycloidal", "span_deg": 180.0, "lift_mm": -3.0}]}
+
+
 @pytest.mark.parametrize("key_name", [k.name for k in output_keys()])
 def test_every_output_key_changes_what_it_documents(key_name, tmp_path):
     key = next(k for k in output_keys() if k.name == key_name)
+    if "drawing" in key.affects:  # the drawing's keys: its formats, a plate cam, the key's example value
+        from camgen.export.drawing_spec import INSPECTION_FORMATS
+
+        base = scene(SMALL_PLATE, ("dxf", "points") + INSPECTION_FORMATS)
+        alt = copy.deepcopy(base)
+        alt["output"][key_name] = key.example
+        _assert_effect(key, run(base, tmp_path), run(alt, tmp_path))
+        return
     base_output = {"formats": ["dxf", "points", "lift", "stl", "ngc"] + (["inp"] if "fea" in key.affects else [])}
     base = scene(SPLINE_CAM, base_output["formats"])
     if "fea" in key.affects:  # a coarser tolerance keeps the FEA meshes small

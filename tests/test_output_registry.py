@@ -78,6 +78,9 @@ def test_every_key_a_format_owns_is_an_output_key_refused_without_the_format():
     assert owned and set(owned) <= names
     cams = {"c": {"kind": "three_arc", "a_mm": 100.0, "b_mm": 100.0, "c_mm": 35.0}}
     value = {"dxf_splines": "bspline", "dxf_construction": True, "lift_step_deg": 2.0, "fea_element_size_mm": 2.0, "fea_elements": "tetra"}
+    from camgen.export.drawing_spec import drawing_keys
+
+    value.update({k.name: k.example for k in drawing_keys()})  # the drawing's keys (issue 27 item 4)
     for key, formats in owned.items():
         with pytest.raises(ParameterError) as caught:
             parse_scene({"output": {"formats": ["points"], key: value[key]}, "cams": cams}, "t")

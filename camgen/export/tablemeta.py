@@ -48,6 +48,10 @@ def _cam_tables(cam: "CamResult", scene: "Scene", written: set[str]) -> dict[str
 
         add(OUTPUTS["points"].files.format(cam=cam.name), lambda: points_metadata(scene.output.chord_tol, cam.pockets))
         add(OUTPUTS["lift"].files.format(cam=cam.name), lambda: lift_metadata(cam.contour, scene.output.lift_step, cam.pockets))
+    if OUTPUTS["inspection"].files.format(cam=cam.name) in written:  # the drawing's inspection table (camgen.export.drawing_writers)
+        from camgen.export.drawing_writers import inspection_description
+
+        add(OUTPUTS["inspection"].files.format(cam=cam.name), lambda: inspection_description(cam, scene.output.drawing))
     motion = cam.evaluation.motion if cam.evaluation is not None else None
     if motion is not None and cam.rpm is not None:
         from camgen.export.motion import follower_metadata
