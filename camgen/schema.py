@@ -35,6 +35,7 @@ EFFECTS = {
     "motion": "the follower table at the cam's speed (<cam>_follower.csv)",
     "tolerance": "every flattened output: DXF biarcs, point lists, meshes, G-code",
     "fea": "the FEA meshes (vtu, msh, inp) only",
+    "step": "the STEP file only",
 }
 
 #: Largest number of items of any list key (lists are small in every real scene).

@@ -33,6 +33,7 @@ MAY = {
     "mechanism": {"json", "legs"},
     "motion": {"json", "follower"},
     "fea": {"fea", "json"},
+    "step": {"step"},
 }
 MUST = {
     "profile": {"dxf", "points"}, "pitch": {"dxf"}, "body": {"dxf", "stl"}, "thickness": {"stl", "ngc"}, "gcode": {"ngc"},
@@ -40,6 +41,7 @@ MUST = {
     "mechanism": {"legs", "json"},
     "motion": {"json"},
     "fea": {"fea"},
+    "step": {"step"},
 }
 MANUFACTURING = {"dxf", "points", "lift", "stl", "ngc", "obj"}
 #: kinds whose keys test_disk_cams.py walks
@@ -49,7 +51,7 @@ DISK_KINDS = {"motion_law", "lift_table"}
 def classify(name: str) -> str:
     for suffix, kind in (("_points.csv", "points"), ("_lift.csv", "lift"), ("_ride.csv", "ride"), (".dxf", "dxf"), (".stl", "stl"),
                          (".ngc", "ngc"), (".obj", "obj"), ("report.json", "json"), ("_follower.csv", "follower"),
-                         (".inp", "fea"), (".msh", "fea"), (".vtu", "fea")):
+                         (".inp", "fea"), (".msh", "fea"), (".vtu", "fea"), (".step", "step")):
         if name.endswith(suffix):
             return kind
     return "legs" if name.startswith("leg_path") else name
@@ -246,12 +248,14 @@ SPLINE_CAM = dict(TRAJECTORY)
 @pytest.mark.parametrize("key_name", [k.name for k in output_keys()])
 def test_every_output_key_changes_what_it_documents(key_name, tmp_path):
     key = next(k for k in output_keys() if k.name == key_name)
-    base_output = {"formats": ["dxf", "points", "lift", "stl", "ngc"] + (["inp"] if "fea" in key.affects else [])}
+    base_output = {"formats": ["dxf", "points", "lift", "stl", "ngc"] + (["inp"] if "fea" in key.affects else [])
+                   + (["step"] if "step" in key.affects else [])}
     base = scene(SPLINE_CAM, base_output["formats"])
     if "fea" in key.affects:  # a coarser tolerance keeps the FEA meshes small
         base["output"]["chord_tol_mm"] = 0.01
     current = {"formats": base_output["formats"], "dxf_splines": "biarc", "dxf_construction": True, "chord_tol_mm": 0.001,
-               "lift_step_deg": 1.0, "fea_element_size_mm": None, "fea_elements": "wedge"}[key_name]
+               "lift_step_deg": 1.0, "fea_element_size_mm": None, "fea_elements": "wedge", "dxf_version": "R2010",
+               "step_schema": "AP214"}[key_name]
     alt = copy.deepcopy(base)
     alt["output"][key_name] = base_output["formats"] + ["obj"] if key_name == "formats" else _changed(current, key)
     if key_name == "fea_element_size_mm":  # a size of the cam's scale (the default is 4.2 mm)
