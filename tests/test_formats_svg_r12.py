@@ -267,3 +267,40 @@ def test_librecad_draws_the_r12_file(rendered, tmp_path):
     # within the PDF's units, and Qt's cubic Beziers through arcs (at most 2.7e-4 of the radius: a quarter circle's)
     assert np.max(drawing.distance(mm)) <= PDF_UNITS_TOL / s + 2.7e-4 * np.max(arcs[:, 2]), "a LibreCAD vertex is off the drawing"
     assert len(paths) >= 4  # rim, two walls, the bore with its keyway
+
+
+def test_barrel_cam_developed_drawing_in_r12_and_its_refusals(tmp_path):
+    """The barrel form's own DXF (the developed drawing) follows ``dxf_version``: ezdxf reads the
+    R12 file's POLYLINEs through the same vertices as the R2010 file's LWPOLYLINEs, and TEXT; SVG
+    and IGES are refused for it naming the format, before anything is computed."""
+    import tomllib
+
+    import ezdxf
+
+    from camgen.errors import ParameterError
+    from camgen.planning import plan_run
+    from camgen.scene import parse_scene, template_dir
+
+    from camgen.export.barrel_drawing import dxf
+    from camgen.writers import RunSettings
+
+    scene, r2010 = _render("barrel_cam", formats=("dxf",))
+    (cam,) = r2010.cams
+    r12 = dxf(cam, RunSettings(scene.name, dataclasses.replace(scene.output, dxf_version="R12"), scene.machining), "dxf")
+    assert _entity_names(r12) <= R12_KINDS
+    old, new = ezdxf.read(io.StringIO(r12)), ezdxf.read(io.StringIO(r2010.files[f"{cam.name}.dxf"]))
+    assert old.dxfversion == "AC1009" and not old.audit().has_errors
+    polylines = [(e.dxf.layer, np.array([(v.dxf.location.x, v.dxf.location.y) for v in e.vertices]), e.is_closed)
+                 for e in old.modelspace() if e.dxftype() == "POLYLINE"]
+    lwpolylines = [(e.dxf.layer, np.array(e.get_points("xy")), e.closed) for e in new.modelspace() if e.dxftype() == "LWPOLYLINE"]
+    assert len(polylines) == len(lwpolylines) >= 3
+    for (la, pa, ca), (lb, pb, cb) in zip(polylines, lwpolylines):
+        assert (la, ca) == (lb, cb) and np.array_equal(pa, pb)
+    assert [e.dxf.text for e in old.modelspace() if e.dxftype() == "TEXT"] == [e.dxf.text for e in new.modelspace() if e.dxftype() == "TEXT"]
+    table = tomllib.loads((template_dir() / "barrel_cam.toml").read_text())
+    table.pop("machining", None)
+    for fmt in ("svg", "iges"):
+        table["output"] = {"formats": [fmt]}
+        with pytest.raises(ParameterError) as caught:
+            plan_run(parse_scene(table, "t", base_dir=tmp_path))
+        assert caught.value.name == "output.formats" and fmt in str(caught.value)
