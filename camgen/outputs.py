@@ -74,8 +74,8 @@ _DRAWING_KEYS = ("drawing_scale", "drawing_sheet", "drawing_material", "drawing_
 
 _FORMATS = (
     OutputFormat("dxf", "{cam}.dxf", "2-D drawing of what is cut: PROFILE (exact ARCs, B-splines or biarcs), BORE, KEYWAY layers "
-                 "(with output.dxf_construction: PITCH, CENTER, ZERO too); R2010, mm", "camgen.writers:dxf",
-                 keys=("dxf_splines", "dxf_construction")),
+                 "(with output.dxf_construction: PITCH, CENTER, ZERO too); R2010, mm (R12: output.dxf_version)", "camgen.writers:dxf",
+                 keys=("dxf_splines", "dxf_construction", "dxf_version")),
     OutputFormat("points", "{cam}_points.csv", "XY point list of the profile at the chord tolerance", "camgen.writers:points",
                  flattens=True),
     OutputFormat("lift", "{cam}_lift.csv", "polar lift table of the profile: polar angle on the cam -> radius, lift above the base radius",
@@ -95,8 +95,8 @@ _FORMATS = (
     OutputFormat("inp", "{cam}.inp", "Abaqus/CalculiX input mesh of the body (FEA: C3D6 or C3D4, node sets PROFILE, BORE with a "
                  "bore, BOTTOM, TOP, and with pockets one per wall named by its layer and one per floor, e.g. GROOVE_FLOOR); needs "
                  "the fea extra (gmsh)", "camgen.export.fea:writer", FEA, keys=_FEA_KEYS),
-    OutputFormat("step", "{cam}.step", "exact solid (circles and B-splines), AP214, mm; needs the step extra (cadquery-ocp-novtk)",
-                 "camgen.writers:step"),
+    OutputFormat("step", "{cam}.step", "exact solid (circles and B-splines), AP214, mm (AP242: output.step_schema); needs the step "
+                 "extra (cadquery-ocp-novtk)", "camgen.writers:step", keys=("step_schema",)),
     OutputFormat("ngc", "{cam}.ngc", "RS274/NGC G-code milling the outside profile and pockets (LinuxCNC or GRBL); a barrel cam's groove on a rotary A axis (LinuxCNC)", "camgen.writers:gcode",
                  machining=True),
     OutputFormat("html", "report.html", "the design-check report with plots, one self-contained page",
@@ -116,6 +116,12 @@ _FORMATS = (
     OutputFormat("inspection", "{cam}_inspection.csv", "inspection table of a plate cam: per cam-angle step, the distance from the "
                  "axis of a checking roller's centre resting on the profile", "camgen.export.drawing_writers:inspection",
                  keys=_INSPECTION_KEYS),
+    # --- issue 27 item 5 (formats): SVG for laser cutters, IGES ---
+    OutputFormat("svg", "{cam}.svg", "what is cut for laser cutters: profile, bore and keyway, pocket walls as stroked paths of exact "
+                 "arcs (A) and lines, mm (width, height and viewBox; y flipped: SVG y = -y)", "camgen.export.svg:writer"),
+    OutputFormat("iges", "{cam}.igs", "the STEP file's exact solid as IGES 5.3 (B-rep solid, entity 186), mm; needs the step extra",
+                 "camgen.export.iges:writer"),
+    # --- end issue 27 item 5 ---
 )
 
 #: format name -> OutputFormat
@@ -178,6 +184,8 @@ class OutputSpec:
     fea_element_size: float | None = None
     fea_elements: str = "wedge"
     drawing: DrawingSpec = DrawingSpec()  # the drawing and inspection table (camgen.export.drawing_spec)
+    dxf_version: str = "R2010"
+    step_schema: str = "AP214"
 
 
 def output_keys() -> tuple[Key, ...]:
@@ -204,6 +212,12 @@ def output_keys() -> tuple[Key, ...]:
             "least angle >= 20 deg, in layers of about the element size through the thickness) or 4-node tetrahedra (gmsh's "
             "3-D mesh, sizes graded the same way from every face).", ("fea",), default=d.fea_elements),
         *drawing_keys(),
+        # --- issue 27 item 5 (formats) ---
+        Key("dxf_version", Choice(("R2010", "R12")), "DXF version of the dxf file: R2010, or R12 (AC1009) for legacy CAM programs: "
+            "LINE, ARC, CIRCLE and POLYLINE only, spline segments as ARCs and LINEs within chord_tol_mm (R12 has no SPLINE: "
+            'needs dxf_splines = "biarc"), units and spline tolerance stated in comments.', ("dxf",), default=d.dxf_version),
+        Key("step_schema", Choice(("AP214", "AP242")), "Schema of the STEP file: AP214 (automotive design) or AP242 (managed "
+            "model-based 3-D engineering); the same solid.", ("step",), default=d.step_schema),
     )
 
 

@@ -95,8 +95,10 @@ def _output(table: object) -> "OutputSpec":
             needs = f'"{owners[0]}"' if len(owners) == 1 else ", ".join(owners)
             raise ParameterError(f"output.{key}", table[key], f"only with {needs} in output.formats",
                                  "it changes only that file" if len(owners) == 1 else "it changes only those files")
+    if p["dxf_version"] == "R12" and p["dxf_splines"] != "biarc":  # issue 27 item 5: R12 has no SPLINE
+        raise ParameterError("output.dxf_splines", p["dxf_splines"], '"biarc" with output.dxf_version = "R12"', "R12 has no SPLINE entity")
     return OutputSpec(p["formats"], p["chord_tol"], p["dxf_splines"], p["dxf_construction"], p["lift_step"],
-                      p.get("fea_element_size"), p["fea_elements"], drawing_spec(p))
+                      p.get("fea_element_size"), p["fea_elements"], drawing_spec(p), dxf_version=p["dxf_version"], step_schema=p["step_schema"])
 
 
 def _machining(table: object, output: "OutputSpec", machined: bool) -> "MachiningSpec":

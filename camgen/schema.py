@@ -36,6 +36,7 @@ EFFECTS = {
     "tolerance": "every flattened output: DXF biarcs, point lists, meshes, G-code",
     "fea": "the FEA meshes (vtu, msh, inp) only",
     "drawing": "the manufacturing drawing (<cam>_drawing.svg, .pdf) and the inspection table (<cam>_inspection.csv) only",
+    "step": "the STEP file only",
 }
 
 #: Largest number of items of any list key (lists are small in every real scene).

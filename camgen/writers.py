@@ -47,7 +47,8 @@ def dxf(cam: "CamResult", run: RunSettings, fmt: str) -> str:
     fit = cam.figures.get("fit_tol_mm")
     bspline_tol = min(DEFAULT_BSPLINE_TOL, float(fit)) if isinstance(fit, (int, float)) else DEFAULT_BSPLINE_TOL
     options = DxfOptions(splines=run.output.dxf_splines, chord_tol=run.output.chord_tol,
-                         center_mark=DXF_CENTER_MARK_MM if construction else 0.0, bspline_tol=bspline_tol)
+                         center_mark=DXF_CENTER_MARK_MM if construction else 0.0, bspline_tol=bspline_tol,
+                         version=run.output.dxf_version)
     if not construction:
         return contour_to_dxf(_profile(cam), cam.body, None, options, None, cam.pockets)
     # the synthesis' follower-centre path, else the roller checks' pitch curve
@@ -97,7 +98,7 @@ def mesh(cam: "CamResult", run: RunSettings, fmt: str) -> bytes:
 def step(cam: "CamResult", run: RunSettings, fmt: str) -> bytes:
     from camgen.export.step import step_bytes
 
-    return step_bytes(_profile(cam), cam.body, cam.name, pockets=cam.pockets)
+    return step_bytes(_profile(cam), cam.body, cam.name, pockets=cam.pockets, schema=run.output.step_schema)
 
 
 def gcode(cam: "CamResult", run: RunSettings, fmt: str) -> str:

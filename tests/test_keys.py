@@ -34,6 +34,7 @@ MAY = {
     "motion": {"json", "follower"},
     "fea": {"fea", "json"},
     "drawing": {"drawing"},
+    "step": {"step"},
 }
 MUST = {
     "profile": {"dxf", "points"}, "pitch": {"dxf"}, "body": {"dxf", "stl"}, "thickness": {"stl", "ngc"}, "gcode": {"ngc"},
@@ -42,6 +43,7 @@ MUST = {
     "motion": {"json"},
     "fea": {"fea"},
     "drawing": {"drawing"},
+    "step": {"step"},
 }
 MANUFACTURING = {"dxf", "points", "lift", "stl", "ngc", "obj"}
 #: kinds whose keys test_disk_cams.py walks
@@ -52,7 +54,7 @@ def classify(name: str) -> str:
     for suffix, kind in (("_points.csv", "points"), ("_lift.csv", "lift"), ("_ride.csv", "ride"), (".dxf", "dxf"), (".stl", "stl"),
                          (".ngc", "ngc"), (".obj", "obj"), ("report.json", "json"), ("_follower.csv", "follower"),
                          (".inp", "fea"), (".msh", "fea"), (".vtu", "fea"),
-                         ("_drawing.svg", "drawing"), ("_drawing.pdf", "drawing"), ("_inspection.csv", "drawing")):
+                         ("_drawing.svg", "drawing"), ("_drawing.pdf", "drawing"), ("_inspection.csv", "drawing"), (".step", "step")):
         if name.endswith(suffix):
             return kind
     return "legs" if name.startswith("leg_path") else name
@@ -263,12 +265,14 @@ def test_every_output_key_changes_what_it_documents(key_name, tmp_path):
         alt["output"][key_name] = key.example
         _assert_effect(key, run(base, tmp_path), run(alt, tmp_path))
         return
-    base_output = {"formats": ["dxf", "points", "lift", "stl", "ngc"] + (["inp"] if "fea" in key.affects else [])}
+    base_output = {"formats": ["dxf", "points", "lift", "stl", "ngc"] + (["inp"] if "fea" in key.affects else [])
+                   + (["step"] if "step" in key.affects else [])}
     base = scene(SPLINE_CAM, base_output["formats"])
     if "fea" in key.affects:  # a coarser tolerance keeps the FEA meshes small
         base["output"]["chord_tol_mm"] = 0.01
     current = {"formats": base_output["formats"], "dxf_splines": "biarc", "dxf_construction": True, "chord_tol_mm": 0.001,
-               "lift_step_deg": 1.0, "fea_element_size_mm": None, "fea_elements": "wedge"}[key_name]
+               "lift_step_deg": 1.0, "fea_element_size_mm": None, "fea_elements": "wedge", "dxf_version": "R2010",
+               "step_schema": "AP214"}[key_name]
     alt = copy.deepcopy(base)
     alt["output"][key_name] = base_output["formats"] + ["obj"] if key_name == "formats" else _changed(current, key)
     if key_name == "fea_element_size_mm":  # a size of the cam's scale (the default is 4.2 mm)

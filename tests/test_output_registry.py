@@ -77,7 +77,8 @@ def test_every_key_a_format_owns_is_an_output_key_refused_without_the_format():
     owned = {key: [f.name for f in OUTPUTS.values() if key in f.keys] for f in OUTPUTS.values() for key in f.keys}
     assert owned and set(owned) <= names
     cams = {"c": {"kind": "three_arc", "a_mm": 100.0, "b_mm": 100.0, "c_mm": 35.0}}
-    value = {"dxf_splines": "bspline", "dxf_construction": True, "lift_step_deg": 2.0, "fea_element_size_mm": 2.0, "fea_elements": "tetra"}
+    value = {"dxf_splines": "bspline", "dxf_construction": True, "lift_step_deg": 2.0, "fea_element_size_mm": 2.0, "fea_elements": "tetra",
+             "dxf_version": "R12", "step_schema": "AP242"}
     from camgen.export.drawing_spec import drawing_keys
 
     value.update({k.name: k.example for k in drawing_keys()})  # the drawing's keys (issue 27 item 4)

@@ -116,7 +116,7 @@ def dxf(cam: "CamResult", run: "RunSettings", fmt: str) -> str:
     span = 2.0 * math.pi * rm
     chord = run.output.chord_tol
     curves = developed_curves(groove, chord)
-    doc = DxfDocument(insunits=4, measurement=1, lunits=2, luprec=6)
+    doc = DxfDocument(insunits=4, measurement=1, lunits=2, luprec=6, version=run.output.dxf_version)
     height = max(2.5, round(0.04 * length, 1))
     lo_z = min(0.0, float(min(float(c[:, 1].min()) for c in curves.values())))
     hi_z = max(length, float(max(float(c[:, 1].max()) for c in curves.values())))

@@ -73,13 +73,13 @@ def _body(rib: Any, tol: float, cam: str) -> Any:
     return one_valid_solid(body, cam)
 
 
-def rib_step_bytes(rib: Any, name: str = "cam") -> bytes:
+def rib_step_bytes(rib: Any, name: str = "cam", schema: str = "AP214") -> bytes:
     """STEP file content of the barrel cam with the rib ``rib``
     (:class:`camgen.synthesis.barrel.BarrelRib`; module notes): its faces within ``rib.fit_tol`` mm
     of the exact ones, stated in the header."""
     tol = float(rib.fit_tol)
     return solid_step_bytes(lambda: _body(rib, tol, name), name,
-                            f"B-spline rib faces within {tol!r} mm (axially) of the exact faces; cylinders and planes exact")
+                            f"B-spline rib faces within {tol!r} mm (axially) of the exact faces; cylinders and planes exact", schema)
 
 
 def writer(cam: "CamResult", run: "RunSettings", fmt: str) -> bytes:
@@ -90,5 +90,5 @@ def writer(cam: "CamResult", run: "RunSettings", fmt: str) -> bytes:
 
     assert isinstance(cam.built, BarrelCam), f"cam {cam.name!r} is not a barrel cam"
     if cam.built.rib is not None:
-        return rib_step_bytes(cam.built.rib, cam.name)
-    return barrel_step_bytes(cam.built.groove, cam.name)
+        return rib_step_bytes(cam.built.rib, cam.name, run.output.step_schema)
+    return barrel_step_bytes(cam.built.groove, cam.name, run.output.step_schema)

@@ -268,19 +268,19 @@ def one_valid_solid(body: Any, cam: str) -> Any:
     return body
 
 
-def barrel_step_bytes(groove: Any, name: str = "cam") -> bytes:
-    """STEP file content of the barrel cam of ``groove`` (module notes): walls within
-    ``groove.fit_tol`` mm of the exact ones, stated in the header."""
+def barrel_step_bytes(groove: Any, name: str = "cam", schema: str = "AP214") -> bytes:
+    """STEP file content (``schema`` AP214 or AP242) of the barrel cam of ``groove`` (module notes):
+    walls within ``groove.fit_tol`` mm of the exact ones, stated in the header."""
     tol = float(groove.fit_tol)
     return solid_step_bytes(lambda: _body(groove, tol, name), name,
-                            f"B-spline groove walls within {tol!r} mm (axially) of the exact walls; cylinders and planes exact")
+                            f"B-spline groove walls within {tol!r} mm (axially) of the exact walls; cylinders and planes exact", schema)
 
 
-def solid_step_bytes(build: Callable[[], Any], name: str, what: str) -> bytes:
+def solid_step_bytes(build: Callable[[], Any], name: str, what: str, schema: str = "AP214") -> bytes:
     """STEP file content of the barrel cam ``name``'s solid made by ``build()`` (OCCT's exceptions
     while building a GeometryError naming the cam), written by
     :func:`camgen.export.step.step_text` with ``what`` (the surfaces and their tolerance) in the
-    header's FILE_DESCRIPTION and a fixed time stamp."""
+    header's FILE_DESCRIPTION and a fixed time stamp, under ``schema`` (AP214 or AP242)."""
     _ocp()
     from camgen.export.step import step_text
 
@@ -292,7 +292,7 @@ def solid_step_bytes(build: Callable[[], Any], name: str, what: str) -> bytes:
         if not type(exc).__module__.startswith("OCP"):
             raise
         raise GeometryError(f"cam '{name}': OpenCASCADE cannot build the barrel's STEP solid ({type(exc).__name__}: {exc})") from None
-    text = step_text(body, name)
+    text = step_text(body, name, schema)
     text = re.sub(r"FILE_DESCRIPTION\(\('[^']*'\)", f"FILE_DESCRIPTION(('camgen barrel cam {name}: {what}')", text, count=1)
     text = re.sub(r"FILE_NAME\('[^']*','[^']*'", f"FILE_NAME('{name}.step','2000-01-01T00:00:00'", text, count=1)
     text = re.sub(r"PRODUCT\('[^']*',\s*'[^']*'", f"PRODUCT('{name}','{name}'", text, count=1)

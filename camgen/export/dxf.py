@@ -1,4 +1,4 @@
-"""2-D DXF export: R2010, units mm, ARC and LINE entities every reader takes.
+"""2-D DXF export: R2010 (or R12), units mm, ARC and LINE entities every reader takes.
 
 The file is written by camgen's own DXF writer (:mod:`camgen.export.dxfwriter`): no third-party
 library is imported at run time, numbers are the exact doubles (``repr``), and the same drawing
@@ -35,6 +35,11 @@ direction the cam turns).  Only the layers drawn are defined.  The header extent
 $EXTMAX, and $LIMMIN/$LIMMAX) are the exact bounding box of everything drawn; the spline mode
 and tolerance are stated in the header's custom properties (``camgen_splines`` and
 ``camgen_biarc_tol_mm`` or ``camgen_bspline_tol_mm``).
+
+``DxfOptions(version="R12")`` writes the same drawing as an R12 (AC1009) file for legacy CAM
+programs (:mod:`camgen.export.dxfwriter`): LINE, ARC, CIRCLE and POLYLINE only, spline segments
+as biarcs (R12 has no SPLINE: ``splines = "bspline"`` is refused), the custom properties and the
+units as comments.
 """
 from __future__ import annotations
 
@@ -48,11 +53,11 @@ import numpy as np
 from camgen.contour import DEFAULT_CHORD_TOL, SPLINE_DEGREES, Arc, Contour, Spline
 from camgen.errors import ExportError, ParameterError, require_finite, require_positive
 from camgen.export.atomic import write_atomic
-from camgen.export.dxfwriter import DxfDocument
+from camgen.export.dxfwriter import DXF_VERSIONS, DxfDocument
 
 __all__ = [
     "C1_JUMP", "C2_JUMP", "CONSTRUCTION_LAYERS", "CUT_LAYERS", "DEFAULT_BSPLINE_TOL", "DxfOptions", "FULL_TURN", "PROFILE_LAYER",
-    "SPLINE_MODES", "ZERO_ARROW_RADIUS", "ZERO_ARROW_SWEEP", "compact_spline", "contour_to_dxf", "drawing_bounds",
+    "SPLINE_MODES", "ZERO_ARROW_RADIUS", "arc_contour", "ZERO_ARROW_SWEEP", "compact_spline", "contour_to_dxf", "drawing_bounds",
     "spline_bezier_controls", "spline_bspline", "write_dxf", "zero_mark_geometry",
 ]
 
@@ -219,16 +224,24 @@ class DxfOptions:
     center_mark : float
         Half-length of the centre cross on the rotation axis (CENTER layer, construction), mm;
         0 (default): no centre mark.
+    version : {"R2010", "R12"}
+        The file's DXF version (R12: LINE, ARC, CIRCLE and POLYLINE only; ``splines`` must be
+        ``"biarc"``).
     """
 
     splines: str = "biarc"
     chord_tol: float = DEFAULT_CHORD_TOL
     center_mark: float = 0.0
     bspline_tol: float = DEFAULT_BSPLINE_TOL
+    version: str = "R2010"
 
     def __post_init__(self) -> None:
         if self.splines not in SPLINE_MODES:
             raise ParameterError("dxf_splines", self.splines, f"one of {', '.join(SPLINE_MODES)}")
+        if self.version not in DXF_VERSIONS:
+            raise ParameterError("dxf_version", self.version, f"one of {', '.join(DXF_VERSIONS)}")
+        if self.version == "R12" and self.splines != "biarc":
+            raise ParameterError("dxf_splines", self.splines, 'biarc with dxf_version = "R12"', "R12 has no SPLINE entity")
         require_positive("chord_tol", self.chord_tol)
         require_positive("bspline_tol", self.bspline_tol)
         if require_finite("center_mark", self.center_mark) < 0:
@@ -240,9 +253,9 @@ def _is_line(seg: Spline) -> bool:
     return seg.n_pieces == 1 and not np.any(seg.coeffs[:-2])
 
 
-def _arc_spline(contour: Contour, tol: float) -> Contour:
-    """``contour`` with every curved spline segment replaced by biarcs within ``tol`` mm (arcs
-    and straight pieces kept as they are)."""
+def arc_contour(contour: Contour, tol: float) -> Contour:
+    """``contour`` as the DXF draws it in biarc mode: every curved spline segment replaced by
+    biarcs within ``tol`` mm, arcs and straight pieces (one piece of degree <= 1) kept as they are."""
     from camgen.contour.arcspline import spline_to_biarcs
 
     if all(isinstance(seg, Arc) or _is_line(seg) for seg in contour.segments):
@@ -271,7 +284,7 @@ FULL_TURN = 2.0 * math.pi * (1.0 - 1e-12)
 
 def _add_contour(msp: DxfDocument, contour: Contour, layer: str) -> None:
     """ARCs, LINEs and cubic SPLINEs of ``contour`` as drawn (spline segments already biarcs or
-    cubic: :func:`_arc_spline`, :func:`_cubic_contour`)."""
+    cubic: :func:`arc_contour`, :func:`_cubic_contour`)."""
     for seg in contour.segments:
         if isinstance(seg, Arc) and abs(seg.sweep) >= FULL_TURN:  # a whole circle (a rim, a circular wall): ARC 0-360 is ambiguous
             msp.add_circle(seg.center, seg.radius, layer)
@@ -385,12 +398,12 @@ def _contour_to_dxf(contour: Contour, body: Any, pitch: Contour | None, options:
 
     # the curves as drawn: biarcs, or the compact cubic form of every spline segment
     def drawn(c: Contour) -> Contour:
-        return _arc_spline(c, options.chord_tol) if options.splines == "biarc" else _cubic_contour(c, options.bspline_tol)
+        return arc_contour(c, options.chord_tol) if options.splines == "biarc" else _cubic_contour(c, options.bspline_tol)
 
     contour = drawn(contour)
     pitch = drawn(pitch) if pitch is not None else None
     walls = [(wall.layer, drawn(wall.contour)) for pocket in pockets for wall in pocket.walls]
-    msp = DxfDocument(insunits=4, measurement=1, lunits=2, luprec=6)  # mm, metric, decimal, 6 places
+    msp = DxfDocument(insunits=4, measurement=1, lunits=2, luprec=6, version=options.version)  # mm, metric, decimal, 6 places
     # readers zoom to $EXTMIN/$EXTMAX: the exact bounds; the limits are the same box
     msp.set_extents(*drawing_bounds(contour, body, pitch, options.center_mark, zero_mark, [wall for _, wall in walls]))
     msp.add_custom_property("camgen_splines", options.splines)

@@ -1,4 +1,4 @@
-"""A small, exact, deterministic DXF R2010 (AC1024) ASCII writer for 2-D drawings.
+"""A small, exact, deterministic DXF R2010 (AC1024) or R12 (AC1009) ASCII writer for 2-D drawings.
 
 It writes the structure an R2000-and-later file needs (Autodesk, *AutoCAD 2012 DXF Reference*:
 chapter 2 HEADER, 3 CLASSES, 4 TABLES, 5 BLOCKS, 6 ENTITIES, 7 OBJECTS; chapter 10 for handles
@@ -23,6 +23,15 @@ its subclass markers (100).  Numbers are written with ``repr(float)``, the short
 reads back as the same double, so a reader gets the exact coordinates; NaN and infinities raise
 :class:`camgen.errors.ExportError` before anything is returned.  There are no time stamps or
 GUIDs: the same drawing always gives the same text.
+
+**R12** (``DxfDocument(version="R12")``, for legacy CAM programs; Autodesk, *AutoCAD Release 12
+DXF Reference*, chapter 11): HEADER (``$ACADVER`` AC1009, ``$DWGCODEPAGE``, ``$INSBASE``,
+``$EXTMIN``/``$EXTMAX``, ``$LIMMIN``/``$LIMMAX``, ``$LUNITS``, ``$LUPREC``, ``$HANDLING`` 0: no
+handles), TABLES (LTYPE CONTINUOUS, LAYER), an empty BLOCKS section and ENTITIES of the R12
+kinds only: LINE, ARC, CIRCLE, TEXT, and POLYLINE (with its VERTEX and SEQEND) for what R2010
+writes as an LWPOLYLINE; no subclass markers (group 100), no OBJECTS.  R12 has no SPLINE (adding
+one raises :class:`camgen.errors.ExportError`), no ``$INSUNITS`` and no custom properties: the
+units (mm) and the custom properties are stated in comments (group 999) before the HEADER.
 """
 from __future__ import annotations
 
@@ -35,10 +44,16 @@ import numpy.typing as npt
 
 from camgen.errors import ExportError
 
-__all__ = ["ACADVER", "DxfDocument", "INSUNITS_MM", "PAPER_MM", "ZOOM_MARGIN"]
+__all__ = ["ACADVER", "ACADVER_R12", "DXF_VERSIONS", "DxfDocument", "INSUNITS_MM", "PAPER_MM", "R12_ENTITIES", "ZOOM_MARGIN"]
 
-#: DXF version written: R2010.
+#: DXF version written by default: R2010.
 ACADVER = "AC1024"
+#: ``$ACADVER`` of an R12 file.
+ACADVER_R12 = "AC1009"
+#: The versions :class:`DxfDocument` writes: name -> ``$ACADVER``.
+DXF_VERSIONS = {"R2010": ACADVER, "R12": ACADVER_R12}
+#: The entities an R12 file holds (the R12 reference's ENTITIES section; camgen writes these).
+R12_ENTITIES = ("LINE", "ARC", "CIRCLE", "TEXT", "POLYLINE", "VERTEX", "SEQEND")
 #: Characters a DXF symbol-table name may not contain (AutoCAD's naming rules).
 _FORBIDDEN_NAME = set('<>/\\":;?*|=`')
 #: $INSUNITS of millimetres (DXF Reference, HEADER: 4 = Millimeters).
@@ -109,9 +124,15 @@ class DxfDocument:
         ``$MEASUREMENT`` (0: imperial, 1: metric).
     lunits, luprec : int
         ``$LUNITS`` (2: decimal) and ``$LUPREC`` (decimal places shown by CAD programs).
+    version : {"R2010", "R12"}
+        The file's DXF version (:data:`DXF_VERSIONS`; R12: see the module notes).
     """
 
-    def __init__(self, insunits: int = INSUNITS_MM, measurement: int = 1, lunits: int = 2, luprec: int = 6) -> None:
+    def __init__(self, insunits: int = INSUNITS_MM, measurement: int = 1, lunits: int = 2, luprec: int = 6,
+                 version: str = "R2010") -> None:
+        if version not in DXF_VERSIONS:
+            raise ExportError(f"cannot write DXF: version {version!r} is not one of {', '.join(DXF_VERSIONS)}")
+        self.version = version
         self._header_ints = {"$LUNITS": int(lunits), "$LUPREC": int(luprec), "$MEASUREMENT": int(measurement),
                              "$INSUNITS": int(insunits)}
         self._layers: dict[str, int] = {"0": 7}
@@ -169,6 +190,8 @@ class DxfDocument:
                    layer: str = "0") -> None:
         """A non-rational B-spline SPLINE in the x-y plane: control points (n, 2), knots
         (n + degree + 1,), non-decreasing (clamped: the first and last ``degree + 1`` equal)."""
+        if self.version == "R12":
+            raise ExportError("cannot write DXF: R12 has no SPLINE entity (write the curve as ARCs and LINEs)")
         p = _points(control_points, "SPLINE control points")
         k = _points(np.asarray(knots, dtype=float).reshape(-1, 1), "SPLINE knots", width=1)[:, 0]
         if isinstance(degree, bool) or not isinstance(degree, (int, np.integer)) or degree < 1:
@@ -237,11 +260,19 @@ class DxfDocument:
     # ------------------------------------------------------------------ output
     def to_text(self) -> str:
         """The whole file as text ('\\n' line ends; write it UTF-8 encoded, as R2007+ files are)."""
-        return _Writer(self).text()
+        return _R12Writer(self).text() if self.version == "R12" else _Writer(self).text()
 
 
 def _xyz(code: int, p: np.ndarray) -> tuple[tuple[int, str], ...]:
     return (code, repr(float(p[0]))), (code + 10, repr(float(p[1]))), (code + 20, "0.0")
+
+
+def _extents_and_limits(doc: DxfDocument) -> tuple[tuple[float, float, float, float], tuple[float, float, float, float]]:
+    """The header's extents and limits of ``doc`` (AutoCAD's "empty drawing" values without extents)."""
+    ext = doc._extents
+    extents = ext if ext is not None else (1e20, 1e20, -1e20, -1e20)
+    limits = doc._limits or (ext if ext is not None else (0.0, 0.0, 420.0, 297.0))
+    return extents, limits
 
 
 class _Handles:
@@ -298,10 +329,7 @@ class _Writer:
 
     # ------------------------------------------------------------------ HEADER
     def _box(self) -> tuple[tuple[float, float, float, float], tuple[float, float, float, float]]:
-        ext = self.doc._extents
-        extents = ext if ext is not None else (1e20, 1e20, -1e20, -1e20)  # AutoCAD's "empty drawing" values
-        limits = self.doc._limits or (ext if ext is not None else (0.0, 0.0, 420.0, 297.0))
-        return extents, limits
+        return _extents_and_limits(self.doc)
 
     def header(self) -> None:
         (ex0, ey0, ex1, ey1), (lx0, ly0, lx1, ly1) = self._box()
@@ -452,3 +480,59 @@ class _Writer:
         self._layout("*Model_Space", "Model", 0)
         self._layout("*Paper_Space", "Layout1", 1)
         self.g((0, "ENDSEC"))
+
+
+class _R12Writer:
+    """The R12 file (module notes): no handles, no subclass markers, an LWPOLYLINE as a
+    POLYLINE with its VERTEX entities and SEQEND."""
+
+    def __init__(self, doc: DxfDocument) -> None:
+        self.doc = doc
+        self.out: list[str] = []
+
+    def g(self, *pairs: tuple[int, str]) -> None:
+        for code, value in pairs:
+            self.out.append(f"{code:>3}")
+            self.out.append(value)
+
+    def text(self) -> str:
+        doc = self.doc
+        units = {INSUNITS_MM: "millimetres"}.get(doc._header_ints["$INSUNITS"], f"$INSUNITS {doc._header_ints['$INSUNITS']}")
+        self.g((999, f"units: {units} (R12 has no $INSUNITS)"))
+        for tag, value in doc._custom:
+            self.g((999, f"{tag} = {value}"))
+        (ex0, ey0, ex1, ey1), (lx0, ly0, lx1, ly1) = _extents_and_limits(doc)
+        ints = doc._header_ints
+        self.g((0, "SECTION"), (2, "HEADER"), (9, "$ACADVER"), (1, ACADVER_R12), (9, "$DWGCODEPAGE"), (3, "ANSI_1252"),
+               (9, "$INSBASE"), (10, "0.0"), (20, "0.0"), (30, "0.0"),
+               (9, "$EXTMIN"), (10, repr(ex0)), (20, repr(ey0)), (30, "0.0"),
+               (9, "$EXTMAX"), (10, repr(ex1)), (20, repr(ey1)), (30, "0.0"),
+               (9, "$LIMMIN"), (10, repr(lx0)), (20, repr(ly0)),
+               (9, "$LIMMAX"), (10, repr(lx1)), (20, repr(ly1)),
+               (9, "$LUNITS"), (70, str(ints["$LUNITS"])), (9, "$LUPREC"), (70, str(ints["$LUPREC"])),
+               (9, "$HANDLING"), (70, "0"), (0, "ENDSEC"))
+        self.g((0, "SECTION"), (2, "TABLES"),
+               (0, "TABLE"), (2, "LTYPE"), (70, "1"),
+               (0, "LTYPE"), (2, "CONTINUOUS"), (70, "0"), (3, "Solid line"), (72, "65"), (73, "0"), (40, "0.0"),
+               (0, "ENDTAB"), (0, "TABLE"), (2, "LAYER"), (70, str(len(doc._layers))))
+        for name, colour in doc._layers.items():
+            self.g((0, "LAYER"), (2, name), (70, "0"), (62, str(colour)), (6, "CONTINUOUS"))
+        self.g((0, "ENDTAB"), (0, "ENDSEC"), (0, "SECTION"), (2, "BLOCKS"), (0, "ENDSEC"), (0, "SECTION"), (2, "ENTITIES"))
+        for e in doc._entities:
+            if e.kind == "LWPOLYLINE":
+                self._polyline(e)
+            else:  # LINE, ARC, CIRCLE, TEXT: the R2010 groups less the subclass markers
+                self.g((0, e.kind), (8, e.layer), *(pair for pair in e.groups if pair[0] != 100))
+        self.g((0, "ENDSEC"), (0, "EOF"))
+        return "\n".join(self.out) + "\n"
+
+    def _polyline(self, e: _Entity) -> None:
+        """An LWPOLYLINE's vertices (its groups 10/20) as a POLYLINE (group 66: vertices follow;
+        70: 1 closed), a VERTEX each, and SEQEND."""
+        closed = dict(pair for pair in e.groups if pair[0] == 70)[70]
+        xs = [v for code, v in e.groups if code == 10]
+        ys = [v for code, v in e.groups if code == 20]
+        self.g((0, "POLYLINE"), (8, e.layer), (66, "1"), (10, "0.0"), (20, "0.0"), (30, "0.0"), (70, closed))
+        for x, y in zip(xs, ys):
+            self.g((0, "VERTEX"), (8, e.layer), (10, x), (20, y), (30, "0.0"), (70, "0"))
+        self.g((0, "SEQEND"), (8, e.layer))

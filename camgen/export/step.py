@@ -1,4 +1,4 @@
-"""STEP (AP214, mm) of the cam body with exact geometry, through OpenCASCADE (OCP).
+"""STEP (AP214, or AP242 on request; mm) of the cam body with exact geometry, through OpenCASCADE (OCP).
 
 Arcs become circles built from their centre, radius and turning sense (the circle's axis +z for a
 counter-clockwise arc, -z for a clockwise one) trimmed at their two end angles: never from three
@@ -25,6 +25,10 @@ with one Gauss rule of at most 61 points over the face's whole parameter range
 hundreds of spans came out up to ~1e-3 relative off in volume (~1e-6 for a smooth cam); over
 edges of at most 64 spans it is within ~1e-8 (``test_step.py``, ``benchmarks/bench_step.py``).
 
+The schema (:data:`STEP_SCHEMAS`): AP214 (default, OCCT's ``AP214IS``) or AP242 (``AP242DIS``:
+the same solid under the AP242 schema, ``FILE_SCHEMA(('AP242_MANAGED_MODEL_BASED_3D_ENGINEERING_MIM_LF ...'))``).
+:func:`cam_solid` is the solid itself (the IGES writer, :mod:`camgen.export.iges`, writes it too).
+
 Optional: ``pip install "camgen[step]"`` (cadquery-ocp-novtk, Apache-2.0 bindings of OCCT).  The
 file's time stamp is fixed so the same cam gives the same bytes.
 """
@@ -42,7 +46,7 @@ import numpy as np
 from camgen.contour import Arc, Contour, Spline
 from camgen.errors import ExportError, GeometryError
 
-__all__ = ["EDGE_SPANS", "FOLD_TOL", "fold_short", "step_bytes", "step_text", "step_volume"]
+__all__ = ["EDGE_SPANS", "FOLD_TOL", "STEP_SCHEMAS", "cam_solid", "fold_short", "step_bytes", "step_text", "step_volume"]
 
 #: Most knot spans of one B-spline edge (see the module notes: OCCT's volume integration).
 EDGE_SPANS = 64
@@ -50,6 +54,8 @@ EDGE_SPANS = 64
 #: tolerance of a vertex: OCCT's ``Precision::Confusion()``, the distance below which it takes two
 #: points for one (an edge shorter than its vertices' tolerance is invalid).
 FOLD_TOL = 1e-7
+#: STEP schemas written: the ``step_schema`` name -> OCCT's ``write.step.schema``.
+STEP_SCHEMAS = {"AP214": "AP214IS", "AP242": "AP242DIS"}
 
 
 def _ocp():
@@ -267,15 +273,18 @@ def _solid(contour: Contour, body: Any, bspline_tol: float | None, edge_spans: i
     return solid
 
 
-def step_text(shape: Any, name: str) -> str:
-    """The STEP AP214 text (mm) of an OCCT ``shape``, written in memory (no file outside the
-    run's staging folder) with OCCT's transfer statistics kept off stdout; :class:`ExportError`
-    naming cam ``name`` when OCCT cannot write it."""
+def step_text(shape: Any, name: str, schema: str = "AP214") -> str:
+    """The STEP text (mm) of an OCCT ``shape`` under ``schema`` (:data:`STEP_SCHEMAS`: AP214 or
+    AP242), written in memory (no file outside the run's staging folder) with OCCT's transfer
+    statistics kept off stdout; :class:`ExportError` naming cam ``name`` when OCCT cannot write it."""
     from OCP.Interface import Interface_Static
-    from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
+    from OCP.STEPControl import STEPControl_AsIs, STEPControl_Controller, STEPControl_Writer
 
-    Interface_Static.SetCVal_s("write.step.unit", "MM")
-    Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
+    if schema not in STEP_SCHEMAS:
+        raise ExportError(f"cam '{name}': STEP schema {schema!r} is not one of {', '.join(STEP_SCHEMAS)}")
+    STEPControl_Controller.Init_s()  # defines the write.step.* settings (before it, setting them does nothing)
+    if not (Interface_Static.SetCVal_s("write.step.unit", "MM") and Interface_Static.SetCVal_s("write.step.schema", STEP_SCHEMAS[schema])):
+        raise ExportError(f"cam '{name}': OpenCASCADE refused the STEP settings (unit MM, schema {STEP_SCHEMAS[schema]})")
     writer = STEPControl_Writer()
     stream = io.BytesIO()
     saved = os.dup(1)  # OCCT prints transfer statistics on stdout: keep the CLI quiet
@@ -292,21 +301,10 @@ def step_text(shape: Any, name: str) -> str:
     return stream.getvalue().decode("ascii", errors="replace")
 
 
-def step_bytes(contour: Contour, body: Any, name: str = "cam", bspline_tol: float | None = None, *, exact: bool = False,
-               edge_spans: int | None = EDGE_SPANS, pockets: Sequence[Any] = ()) -> bytes:
-    """STEP file content of the extruded cam body (``body``: :class:`camgen.export.solid.SolidSpec`).
-
-    Spline segments are written within ``bspline_tol`` mm of the contour (default
-    :data:`camgen.export.dxf.DEFAULT_BSPLINE_TOL`), stated in the header's FILE_DESCRIPTION, as
-    edges of at most ``edge_spans`` knot spans: cubic B-splines (:func:`camgen.export.dxf.compact_spline`;
-    a quintic segment is refitted).  ``exact=True`` writes every segment's own pieces in their own
-    degree (no compact form: a quintic segment becomes a degree-5 B-spline) and ``edge_spans=None``
-    one edge per segment: together the earlier form (benchmarks/bench_step.py compares them).
-
-    ``pockets`` (:class:`camgen.kinds.base.Pocket`: a groove, a slot): ``contour`` is the body's
-    outline and each pocket is cut from the top face down its depth, its walls written as the
-    profile is.
-    """
+def cam_solid(contour: Contour, body: Any, name: str = "cam", bspline_tol: float | None = None, *, exact: bool = False,
+              edge_spans: int | None = EDGE_SPANS, pockets: Sequence[Any] = ()) -> Any:
+    """The OCCT solid of the extruded cam body that :func:`step_bytes` writes (same arguments),
+    valid by OCCT's checker; :class:`GeometryError` naming cam ``name`` when OCCT cannot build it."""
     from camgen.errors import ParameterError, require_positive
     from camgen.export.dxf import DEFAULT_BSPLINE_TOL
 
@@ -321,7 +319,7 @@ def step_bytes(contour: Contour, body: Any, name: str = "cam", bspline_tol: floa
 
         check_pockets(pockets, body.thickness)
     try:
-        solid = _solid(contour, body, None if exact else tol, edge_spans, pockets)
+        return _solid(contour, body, None if exact else tol, edge_spans, pockets)
     except GeometryError as exc:
         raise GeometryError(f"cam '{name}': STEP: {exc}") from None
     except Exception as exc:  # OCCT's exceptions (Standard_Failure, StdFail_NotDone, ...) share no Python base
@@ -330,7 +328,30 @@ def step_bytes(contour: Contour, body: Any, name: str = "cam", bspline_tol: floa
         raise GeometryError(f"cam '{name}': OpenCASCADE cannot build the STEP solid ({type(exc).__name__}: {exc}); "
                             "check the profile for arcs or splines shorter than "
                             f"{FOLD_TOL:g} mm or nearly touching itself") from None
-    text = step_text(solid, name)
+
+
+def step_bytes(contour: Contour, body: Any, name: str = "cam", bspline_tol: float | None = None, *, exact: bool = False,
+               edge_spans: int | None = EDGE_SPANS, pockets: Sequence[Any] = (), schema: str = "AP214") -> bytes:
+    """STEP file content of the extruded cam body (``body``: :class:`camgen.export.solid.SolidSpec`).
+
+    Spline segments are written within ``bspline_tol`` mm of the contour (default
+    :data:`camgen.export.dxf.DEFAULT_BSPLINE_TOL`), stated in the header's FILE_DESCRIPTION, as
+    edges of at most ``edge_spans`` knot spans: cubic B-splines (:func:`camgen.export.dxf.compact_spline`;
+    a quintic segment is refitted).  ``exact=True`` writes every segment's own pieces in their own
+    degree (no compact form: a quintic segment becomes a degree-5 B-spline) and ``edge_spans=None``
+    one edge per segment: together the earlier form (benchmarks/bench_step.py compares them).
+
+    ``pockets`` (:class:`camgen.kinds.base.Pocket`: a groove, a slot): ``contour`` is the body's
+    outline and each pocket is cut from the top face down its depth, its walls written as the
+    profile is.  ``schema``: AP214 (default) or AP242 (:data:`STEP_SCHEMAS`).
+    """
+    from camgen.errors import require_positive
+    from camgen.export.dxf import DEFAULT_BSPLINE_TOL
+
+    pockets = tuple(pockets)
+    solid = cam_solid(contour, body, name, bspline_tol, exact=exact, edge_spans=edge_spans, pockets=pockets)
+    tol = require_positive("bspline_tol", DEFAULT_BSPLINE_TOL if bspline_tol is None else bspline_tol, "mm")
+    text = step_text(solid, name, schema)
     # the tolerance of the spline edges in the header (FILE_DESCRIPTION)
     curves = [contour] + [wall.contour for pocket in pockets for wall in pocket.walls]
     splines = any(isinstance(seg, Spline) for curve in curves for seg in curve.segments)
