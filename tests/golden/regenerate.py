@@ -16,7 +16,7 @@ import tempfile
 
 TEMPLATES = ("default", "horse_leg", "motion_law", "tricycle", "plate_cam", "flat_follower", "knife_follower", "oscillating_roller",
              "oscillating_flat", "lift_table", "groove_cam", "conjugate_cam", "constant_breadth", "linear_cam",
-             "barrel_cam", "packaging_machine")
+             "barrel_cam", "packaging_machine", "wire_edm_cam")
 LIBRARIES = ("numpy", "scipy", "manifold3d", "trimesh", "meshio")
 
 
