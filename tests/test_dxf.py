@@ -19,7 +19,7 @@ from helpers import distance_to_arcs, require_tool
 
 TEMPLATES = ("default", "horse_leg", "motion_law", "tricycle", "plate_cam", "flat_follower", "knife_follower", "oscillating_roller",
              "oscillating_flat", "lift_table", "groove_cam", "conjugate_cam", "constant_breadth", "linear_cam",
-             "packaging_machine")
+             "packaging_machine", "wire_edm_cam")
 #: templates whose form draws its own DXF (not a plate's profile): tests/test_barrel_drawing.py reads it back
 OWN_DRAWING = ("barrel_cam",)
 GDAL_STEP_DEG = 0.05  # OGR_ARC_STEPSIZE: GDAL samples arcs every 0.05 deg
