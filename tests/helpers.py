@@ -122,13 +122,14 @@ def table1_paper(a: float, b: float, c: float, phi: np.ndarray) -> tuple[np.ndar
     return beta, radius
 
 
-def rs274_canon(program: str, workdir) -> tuple[int, str, list[dict]]:
+def rs274_canon(program: str, workdir, tool_table: str | None = None) -> tuple[int, str, list[dict]]:
     """Run LinuxCNC's ``rs274 -g`` on ``program``; return (exit status, message, canonical moves).
 
     Every ``STRAIGHT_TRAVERSE``, ``STRAIGHT_FEED`` and ``ARC_FEED`` call becomes a dict with
     ``kind`` ("traverse", "line" or "arc"), ``start`` and ``end`` (3,) in mm, and for arcs
     ``centre`` (2,) and ``turn`` (rs274's rotation: > 0 counter-clockwise, |turn| - 1 extra
     full turns).  rs274 prints 4 decimals, so every number is within 5e-5 mm of its value.
+    ``tool_table``: the text of a LinuxCNC tool table (``T1 P1 Z0 D6 ;``) rs274 reads (``-t``).
     """
     import re
     import subprocess
@@ -136,7 +137,11 @@ def rs274_canon(program: str, workdir) -> tuple[int, str, list[dict]]:
 
     path = Path(workdir) / "program.ngc"
     path.write_text(program)
-    proc = subprocess.run(["rs274", "-g", str(path)], stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120)
+    table = []
+    if tool_table is not None:
+        (Path(workdir) / "tools.tbl").write_text(tool_table)
+        table = ["-t", str(Path(workdir) / "tools.tbl")]
+    proc = subprocess.run(["rs274", *table, "-g", str(path)], stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120)
     number = r"(-?\d+(?:\.\d+)?)"
     straight = re.compile(rf"STRAIGHT_(FEED|TRAVERSE)\({number}, {number}, {number}")
     arc = re.compile(rf"ARC_FEED\({number}, {number}, {number}, {number}, (-?\d+), {number}")

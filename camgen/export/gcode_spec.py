@@ -10,11 +10,12 @@ import math
 from dataclasses import dataclass
 
 from camgen.errors import ParameterError, require_finite, require_positive
+from camgen.export.fanuc_settings import check_fanuc_settings
 
 __all__ = ["BLEND_SHARE", "DIALECTS", "DIRECTIONS", "FIT_SHARE", "MIN_GCODE_CHORD_TOL", "MachiningSpec", "REFIT_SHARE",
            "ROUNDING_SHARE", "SPLINE_MODES", "depth_passes", "rounding_error"]
 
-DIALECTS = ("linuxcnc", "grbl")
+DIALECTS = ("linuxcnc", "grbl", "fanuc")
 DIRECTIONS = ("climb", "conventional")
 SPLINE_MODES = ("lines", "biarcs")
 
@@ -63,6 +64,10 @@ class MachiningSpec:
     chord_tol: float = 1e-3
     decimals: int = 4
     breakthrough: float = 0.2
+    # --- fanuc dialect only (camgen.export.fanuc_settings: None = its default) ---
+    program_number: int | None = None
+    tool_number: int | None = None
+    radius_register: int | None = None
 
     def __post_init__(self) -> None:
         for name in ("tool_diameter", "thickness", "step_down", "safe_z", "feed", "plunge_feed", "spindle_rpm", "chord_tol"):
@@ -73,6 +78,7 @@ class MachiningSpec:
             raise ParameterError("direction", self.direction, f"one of {DIRECTIONS}")
         if self.dialect not in DIALECTS:
             raise ParameterError("dialect", self.dialect, f"one of {DIALECTS}")
+        check_fanuc_settings(self.dialect, self.program_number, self.tool_number, self.radius_register)  # fanuc dialect
         if self.spline_mode not in SPLINE_MODES:
             raise ParameterError("spline_mode", self.spline_mode, f"one of {SPLINE_MODES}")
         if self.cutter_compensation and self.dialect == "grbl":
