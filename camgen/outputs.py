@@ -231,10 +231,11 @@ def machining_keys() -> tuple[Key, ...]:
             default=d("spline_mode")),
         Key("decimals", Count(3, 6), "Decimal places of the coordinates in the program.", ("gcode",), default=d("decimals")),
         # --- fanuc dialect (camgen.export.fanuc_settings) ---
-        Key("program_number", Count(1, MAX_PROGRAM_NUMBER), f"fanuc only: the program's O number (default {DEFAULT_PROGRAM_NUMBER}).",
-            ("gcode",)),
-        Key("tool_number", Count(1, MAX_TOOL_NUMBER), f"fanuc only: T<n> M06 and its length offset G43 H<n> (default {DEFAULT_TOOL_NUMBER}).",
-            ("gcode",)),
-        Key("radius_register", Count(1, MAX_RADIUS_REGISTER), "fanuc only: the D register of G41/G42, holding a radius: the tool "
-            "radius with cutter_compensation, else 0 (wear only); the header says which (default: tool_number).", ("gcode",)),
+        Key("program_number", Count(1, MAX_PROGRAM_NUMBER), f"The Fanuc program's O number (default {DEFAULT_PROGRAM_NUMBER}).",
+            ("gcode",), requires={"dialect": ("fanuc",)}),
+        Key("tool_number", Count(1, MAX_TOOL_NUMBER), f"The Fanuc program's tool: T<n> M06 and its length offset G43 H<n> "
+            f"(default {DEFAULT_TOOL_NUMBER}).", ("gcode",), requires={"dialect": ("fanuc",)}),
+        Key("radius_register", Count(1, MAX_RADIUS_REGISTER), "The D register of the Fanuc program's G41/G42, holding a radius: the "
+            "tool radius with cutter_compensation, else 0 (the wear only); the header says which (default: tool_number).", ("gcode",),
+            requires={"dialect": ("fanuc",)}),
     )

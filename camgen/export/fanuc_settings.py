@@ -48,7 +48,7 @@ def check_fanuc_settings(dialect: str, program_number: int | None, tool_number: 
     if dialect != FANUC_DIALECT:
         for name, value in given.items():
             if value is not None:
-                raise ParameterError(name, value, f'only with dialect = "{FANUC_DIALECT}"', f"the {dialect} program has no such word")
+                raise ParameterError(name, value, f"only with dialect = '{FANUC_DIALECT}'", f"the {dialect} program has no such word")
     _whole("program_number", program_number, MAX_PROGRAM_NUMBER)
     _whole("tool_number", tool_number, MAX_TOOL_NUMBER)
     _whole("radius_register", radius_register, MAX_RADIUS_REGISTER)
