@@ -122,6 +122,25 @@ def table1_paper(a: float, b: float, c: float, phi: np.ndarray) -> tuple[np.ndar
     return beta, radius
 
 
+def rs274_command(path, workdir, tool_table: str | None = None) -> list[str]:
+    """``rs274 -g path``, with ``-t`` and the tool table written into ``workdir`` when one is given."""
+    from pathlib import Path
+
+    if tool_table is None:
+        return ["rs274", "-g", str(path)]
+    table = Path(workdir) / "tools.tbl"
+    table.write_text(tool_table)
+    return ["rs274", "-t", str(table), "-g", str(path)]
+
+
+def rs274_env(workdir, tool_table: str | None = None) -> dict[str, str] | None:
+    """rs274's environment: with a tool table of its own, HOME is ``workdir``: LinuxCNC keeps the
+    loaded tool table in ``$HOME/.tool.mmap``, shared by every rs274 running at the same time."""
+    import os
+
+    return None if tool_table is None else {**os.environ, "HOME": str(workdir)}
+
+
 def rs274_canon(program: str, workdir, tool_table: str | None = None) -> tuple[int, str, list[dict]]:
     """Run LinuxCNC's ``rs274 -g`` on ``program``; return (exit status, message, canonical moves).
 
@@ -137,11 +156,8 @@ def rs274_canon(program: str, workdir, tool_table: str | None = None) -> tuple[i
 
     path = Path(workdir) / "program.ngc"
     path.write_text(program)
-    table = []
-    if tool_table is not None:
-        (Path(workdir) / "tools.tbl").write_text(tool_table)
-        table = ["-t", str(Path(workdir) / "tools.tbl")]
-    proc = subprocess.run(["rs274", *table, "-g", str(path)], stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120)
+    proc = subprocess.run(rs274_command(path, workdir, tool_table), stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120,
+                          env=rs274_env(workdir, tool_table))
     number = r"(-?\d+(?:\.\d+)?)"
     straight = re.compile(rf"STRAIGHT_(FEED|TRAVERSE)\({number}, {number}, {number}")
     arc = re.compile(rf"ARC_FEED\({number}, {number}, {number}, {number}, (-?\d+), {number}")

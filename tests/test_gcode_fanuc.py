@@ -22,7 +22,7 @@ import pytest
 from camgen.contour import Arc, Contour
 from camgen.export.gcode import MachiningSpec, gcode_program
 from cutting import CUT_TOL, ExactProfile, simulate, simulate_pockets
-from helpers import require_tool, rs274_canon
+from helpers import require_tool, rs274_canon, rs274_command, rs274_env
 
 TEMPLATES = ("default", "tricycle", "horse_leg", "motion_law", "plate_cam", "flat_follower", "knife_follower", "oscillating_roller",
              "oscillating_flat", "lift_table", "groove_cam", "conjugate_cam", "constant_breadth")
@@ -182,9 +182,9 @@ def test_compensation_switches_on_a_line_in_rs274s_moves(template_cams, tmp_path
         program = gcode_program(cam.contour, spec, cam.name)
         path = tmp_path / "program.ngc"
         path.write_text(masked(program))
-        (tmp_path / "tools.tbl").write_text(tool_table(program))
-        out = subprocess.run(["rs274", "-t", str(tmp_path / "tools.tbl"), "-g", str(path)], stdin=subprocess.DEVNULL,
-                             capture_output=True, text=True, timeout=120).stdout.splitlines()
+        table = tool_table(program)
+        out = subprocess.run(rs274_command(path, tmp_path, table), stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120,
+                             env=rs274_env(tmp_path, table)).stdout.splitlines()
         switches = [k for k, line in enumerate(out) if "cutter radius compensation o" in line][1:]  # the first: the reset
         assert len(switches) == 2 * program.count("(PASS "), (comp, direction)
         for k in switches:
