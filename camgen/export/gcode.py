@@ -1,4 +1,5 @@
-"""G-code (RS274/NGC) for milling the cam profile: LinuxCNC dialect by default, GRBL on request.
+"""G-code (RS274/NGC) for milling the cam profile: LinuxCNC dialect by default, GRBL or Fanuc/Haas on request
+(the Fanuc words around the same moves: :mod:`camgen.export.gcode_fanuc`).
 
 The program cuts the outside of the profile in step-down passes to the stock bottom and
 ``breakthrough`` below it:
