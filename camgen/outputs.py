@@ -225,6 +225,7 @@ def machining_keys() -> tuple[Key, ...]:
     """Keys of the ``[machining]`` table (defaults owned by :class:`camgen.export.gcode.MachiningSpec`)."""
     from camgen.export.gcode import DIALECTS, DIRECTIONS, SPLINE_MODES, MachiningSpec
     from camgen.export.wire_edm_spec import wire_edm_keys
+    from camgen.export.fanuc_settings import DEFAULT_PROGRAM_NUMBER, DEFAULT_TOOL_NUMBER, MAX_PROGRAM_NUMBER, MAX_RADIUS_REGISTER, MAX_TOOL_NUMBER
     from camgen.kinds.base import field_default
 
     def d(name: str):
@@ -245,11 +246,13 @@ def machining_keys() -> tuple[Key, ...]:
         Key("direction", Choice(DIRECTIONS), "Climb (clockwise round the outside, spindle M3) or conventional milling; in a groove climb "
             "runs the outer wall counter-clockwise and the inner wall clockwise.", ("gcode",),
             default=d("direction")),
-        Key("dialect", Choice(DIALECTS), "Controller: LinuxCNC (G64 blending, cutter compensation) or GRBL; wire_edm: an ISO wire-EDM "
-            "program of the outline (the wire keys below; the milling keys refused).", ("gcode",),
+        Key("dialect", Choice(DIALECTS), "Controller: LinuxCNC (G64 blending, cutter compensation), GRBL, fanuc: Fanuc/Haas and "
+            "the ISO modes of Okuma and Mazak (% framing, O number, T M06 and G43 H, G41/G42 D on the leads' G1 blocks, M30), or wire_edm: "
+            "an ISO wire-EDM program of the outline (the wire keys below; the milling keys refused).", ("gcode",),
             default=d("dialect")),
-        Key("cutter_compensation", Flag(), "Program the profile itself with G41.1/G42.1 (LinuxCNC) instead of the tool-centre path "
-            "(refused for a cam with pockets: their passes are tool-centre paths).",
+        Key("cutter_compensation", Flag(), "Program the profile itself with G41.1/G42.1 (LinuxCNC) or G41/G42 D, D holding the tool "
+            "radius (fanuc) instead of the tool-centre path (fanuc: the tool-centre path with G41/G42 D for the wear only, D "
+            "holding 0) (refused for a cam with pockets: their passes are tool-centre paths).",
             ("gcode",), default=d("cutter_compensation")),
         Key("lead_mm", Number("mm", 0.0, 1000.0, low_open=True), "Length of the tangent lead-in and lead-out moves (default: tool radius + 3 mm).",
             ("gcode",)),
@@ -258,4 +261,12 @@ def machining_keys() -> tuple[Key, ...]:
         Key("spline_mode", Choice(SPLINE_MODES), "Spline segments as G2/G3 biarcs or G1 chords, within chord_tol_mm.", ("gcode",),
             default=d("spline_mode")),
         Key("decimals", Count(3, 6), "Decimal places of the coordinates in the program.", ("gcode",), default=d("decimals")),
+        # --- fanuc dialect (camgen.export.fanuc_settings) ---
+        Key("program_number", Count(1, MAX_PROGRAM_NUMBER), f"The Fanuc program's O number (default {DEFAULT_PROGRAM_NUMBER}).",
+            ("gcode",), requires={"dialect": ("fanuc",)}),
+        Key("tool_number", Count(1, MAX_TOOL_NUMBER), f"The Fanuc program's tool: T<n> M06 and its length offset G43 H<n> "
+            f"(default {DEFAULT_TOOL_NUMBER}).", ("gcode",), requires={"dialect": ("fanuc",)}),
+        Key("radius_register", Count(1, MAX_RADIUS_REGISTER), "The D register of the Fanuc program's G41/G42, holding a radius: the "
+            "tool radius with cutter_compensation, else 0 (the wear only); the header says which (default: tool_number).", ("gcode",),
+            requires={"dialect": ("fanuc",)}),
     ) + wire_edm_keys()  # wire EDM (camgen.export.wire_edm_spec)

@@ -190,9 +190,9 @@ def _check_pass(chain: list[dict], profile: ExactProfile, radius: float, step: f
 
 
 def simulate(program: str, contour, tool_radius: float, workdir, step: float = SAMPLE_STEP,
-             profile: ExactProfile | None = None) -> CutReport:
-    """Run ``program`` through rs274 and cut ``contour`` (the exact profile) with it."""
-    status, message, canon = rs274_canon(program, workdir)
+             profile: ExactProfile | None = None, tool_table: str | None = None) -> CutReport:
+    """Run ``program`` through rs274 (with ``tool_table``, if given) and cut ``contour`` (the exact profile) with it."""
+    status, message, canon = rs274_canon(program, workdir, tool_table)
     report = CutReport(status, message, canon=canon)
     if status != 0:
         return report
@@ -280,14 +280,16 @@ def _least_distance(pts: np.ndarray, move: np.ndarray, h: np.ndarray, rho: np.nd
     return float(min(np.min(low[same], initial=np.inf), np.min(f)))
 
 
-def simulate_pockets(program: str, outline, walls: dict, tool_radius: float, workdir, step: float = SAMPLE_STEP) -> GrooveCutReport:
+def simulate_pockets(program: str, outline, walls: dict, tool_radius: float, workdir, step: float = SAMPLE_STEP,
+                     tool_table: str | None = None) -> GrooveCutReport:
     """Run ``program`` through rs274 and cut a part whose outline is ``outline`` (a contour) and
     whose pocket lies inside ``walls[first]`` and outside the other walls (``{layer: contour or
     any object with flatten(tol)}``, the outer wall first).  Cutting chains whose tool centre
-    starts inside the outline are the pocket's; the others are the outline's."""
+    starts inside the outline are the pocket's; the others are the outline's.  ``tool_table``: as
+    for :func:`simulate`."""
     from scipy.spatial import cKDTree
 
-    status, message, canon = rs274_canon(program, workdir)
+    status, message, canon = rs274_canon(program, workdir, tool_table)
     report = CutReport(status, message, canon=canon)
     if status != 0:
         return GrooveCutReport(report, None, [])

@@ -123,13 +123,33 @@ def table1_paper(a: float, b: float, c: float, phi: np.ndarray) -> tuple[np.ndar
     return beta, radius
 
 
-def rs274_canon(program: str, workdir) -> tuple[int, str, list[dict]]:
+def rs274_command(path, workdir, tool_table: str | None = None) -> list[str]:
+    """``rs274 -g path``, with ``-t`` and the tool table written into ``workdir`` when one is given."""
+    from pathlib import Path
+
+    if tool_table is None:
+        return ["rs274", "-g", str(path)]
+    table = Path(workdir) / "tools.tbl"
+    table.write_text(tool_table)
+    return ["rs274", "-t", str(table), "-g", str(path)]
+
+
+def rs274_env(workdir, tool_table: str | None = None) -> dict[str, str] | None:
+    """rs274's environment: with a tool table of its own, HOME is ``workdir``: LinuxCNC keeps the
+    loaded tool table in ``$HOME/.tool.mmap``, shared by every rs274 running at the same time."""
+    import os
+
+    return None if tool_table is None else {**os.environ, "HOME": str(workdir)}
+
+
+def rs274_canon(program: str, workdir, tool_table: str | None = None) -> tuple[int, str, list[dict]]:
     """Run LinuxCNC's ``rs274 -g`` on ``program``; return (exit status, message, canonical moves).
 
     Every ``STRAIGHT_TRAVERSE``, ``STRAIGHT_FEED`` and ``ARC_FEED`` call becomes a dict with
     ``kind`` ("traverse", "line" or "arc"), ``start`` and ``end`` (3,) in mm, and for arcs
     ``centre`` (2,) and ``turn`` (rs274's rotation: > 0 counter-clockwise, |turn| - 1 extra
     full turns).  rs274 prints 4 decimals, so every number is within 5e-5 mm of its value.
+    ``tool_table``: the text of a LinuxCNC tool table (``T1 P1 Z0 D6 ;``) rs274 reads (``-t``).
     """
     import re
     import subprocess
@@ -137,7 +157,8 @@ def rs274_canon(program: str, workdir) -> tuple[int, str, list[dict]]:
 
     path = Path(workdir) / "program.ngc"
     path.write_text(program)
-    proc = subprocess.run(["rs274", "-g", str(path)], stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120)
+    proc = subprocess.run(rs274_command(path, workdir, tool_table), stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120,
+                          env=rs274_env(workdir, tool_table))
     number = r"(-?\d+(?:\.\d+)?)"
     straight = re.compile(rf"STRAIGHT_(FEED|TRAVERSE)\({number}, {number}, {number}")
     arc = re.compile(rf"ARC_FEED\({number}, {number}, {number}, {number}, (-?\d+), {number}")

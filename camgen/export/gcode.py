@@ -1,4 +1,5 @@
-"""G-code (RS274/NGC) for milling the cam profile: LinuxCNC dialect by default, GRBL on request.
+"""G-code (RS274/NGC) for milling the cam profile: LinuxCNC dialect by default, GRBL or Fanuc/Haas on request
+(the Fanuc words around the same moves: :mod:`camgen.export.gcode_fanuc`).
 
 The program cuts the outside of the profile in step-down passes to the stock bottom and
 ``breakthrough`` below it:
@@ -264,6 +265,10 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
         lead_in = f"G1 {xy(start)} F{spec.feed:.0f}\n"
         lead_out = f"G1 {xy(leave)}\n"
         mode = "tool-centre path = profile offset by the tool radius"
+    if spec.dialect == "fanuc":  # Fanuc/Haas: G41/G42 D<register> on the leads' G1 blocks (camgen.export.gcode_fanuc)
+        from camgen.export.gcode_fanuc import fanuc_leads
+
+        lead_in, lead_out, mode = fanuc_leads(spec, climb, xy, start, leave, *((a_point, b_point) if comp else ()))
     fit_what = "biarc" if spec.spline_mode == "biarcs" else "chord"
     lines = [
         comment(f"camgen {__version__}: cam '{cam}'" + (f", scene '{scene}'" if scene else "")),
@@ -278,10 +283,15 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     ]
     if pocketed is not None:
         lines += list(pocketed.header)
-    lines.append("G21 G90 G17 G40 G49 G80 G94")
-    if spec.dialect == "linuxcnc":
-        lines.append(f"G64 P{blend}")
-    lines += [f"G0 Z{spec.safe_z:.{d}f}", f"M3 S{spec.spindle_rpm:.0f}"]
+    if spec.dialect == "fanuc":  # Fanuc/Haas: register line, units, safe start, tool call, G43 (camgen.export.gcode_fanuc)
+        from camgen.export.gcode_fanuc import fanuc_start
+
+        lines += fanuc_start(spec, pocketed is not None)
+    else:
+        lines.append("G21 G90 G17 G40 G49 G80 G94")
+        if spec.dialect == "linuxcnc":
+            lines.append(f"G64 P{blend}")
+        lines += [f"G0 Z{spec.safe_z:.{d}f}", f"M3 S{spec.spindle_rpm:.0f}"]
     body = ["\n".join(lines) + "\n"]
     if pocketed is not None:
         body.append(pocketed.moves)
@@ -295,5 +305,9 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
             f"{lead_out}"
             f"G0 Z{spec.safe_z:.{d}f}\n"
         )
+    if spec.dialect == "fanuc":  # % O-number ... M05 M30 %, comments Fanuc-safe (camgen.export.gcode_fanuc)
+        from camgen.export.gcode_fanuc import fanuc_end
+
+        return fanuc_end(spec, cam, body)
     body.append("M5\nM2\n")
     return "".join(body)

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from camgen.errors import ParameterError, require_finite, require_positive
+from camgen.export.fanuc_settings import check_fanuc_settings
 
 if TYPE_CHECKING:  # wire EDM (camgen.export.wire_edm_spec)
     from camgen.export.wire_edm_spec import WireEdmSpec
@@ -18,7 +19,7 @@ if TYPE_CHECKING:  # wire EDM (camgen.export.wire_edm_spec)
 __all__ = ["BLEND_SHARE", "DIALECTS", "DIRECTIONS", "FIT_SHARE", "MIN_GCODE_CHORD_TOL", "MachiningSpec", "REFIT_SHARE",
            "ROUNDING_SHARE", "SPLINE_MODES", "depth_passes", "rounding_error"]
 
-DIALECTS = ("linuxcnc", "grbl", "wire_edm")
+DIALECTS = ("linuxcnc", "grbl", "wire_edm", "fanuc")
 DIRECTIONS = ("climb", "conventional")
 SPLINE_MODES = ("lines", "biarcs")
 
@@ -69,6 +70,10 @@ class MachiningSpec:
     breakthrough: float = 0.2
     # wire EDM (camgen.export.wire_edm_spec): the wire and its cuts, given with dialect = "wire_edm"
     wire_edm: "WireEdmSpec | None" = None
+    # --- fanuc dialect only (camgen.export.fanuc_settings: None = its default) ---
+    program_number: int | None = None
+    tool_number: int | None = None
+    radius_register: int | None = None
 
     def __post_init__(self) -> None:
         for name in ("tool_diameter", "thickness", "step_down", "safe_z", "feed", "plunge_feed", "spindle_rpm", "chord_tol"):
@@ -85,6 +90,7 @@ class MachiningSpec:
             from camgen.export.wire_edm_spec import WireEdmSpec
 
             object.__setattr__(self, "wire_edm", WireEdmSpec())
+        check_fanuc_settings(self.dialect, self.program_number, self.tool_number, self.radius_register)  # fanuc dialect
         if self.spline_mode not in SPLINE_MODES:
             raise ParameterError("spline_mode", self.spline_mode, f"one of {SPLINE_MODES}")
         if self.cutter_compensation and self.dialect == "grbl":
