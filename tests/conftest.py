@@ -75,6 +75,20 @@ class _WorkerCounts:
                 counts[(family, outcome)] += n
 
 
+@pytest.fixture
+def tmp_path(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A new empty folder for each test, in pytest's base temporary folder (kept as pytest keeps
+    it), as pytest's own ``tmp_path`` makes it but without its ``<name>current`` symlink: pytest
+    replaces that link for every test, and a link to a long path has a data block whose release
+    costs milliseconds on a busy ext4 disk (mounted with ``discard``), for each of the suite's
+    thousands of tests that take a folder."""
+    import re
+    import tempfile
+
+    name = re.sub(r"[\W]", "_", request.node.name)[:30]
+    return Path(tempfile.mkdtemp(prefix=name, dir=tmp_path_factory.getbasetemp()))
+
+
 @pytest.fixture(scope="session")
 def default_run(tmp_path_factory):
     """``camgen run`` of the bundled default scene, once per test session: its output folder."""

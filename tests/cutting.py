@@ -319,7 +319,9 @@ def simulate_pockets(program: str, outline, walls: dict, tool_radius: float, wor
     reach = tool_radius + 1.0
     least: dict[bytes, list[float]] = {}  # levels with the same XY moves come as close to the walls
     for pts, mv, h, rho, _ in samples:
-        least.setdefault(np.round(pts, 6).tobytes(), [_least_distance(pts, mv, h, rho, prof, reach) for prof in profiles.values()])
+        key = np.round(pts, 6).tobytes()
+        if key not in least:  # (computed once per key: setdefault would compute it for every level, then drop it)
+            least[key] = [_least_distance(pts, mv, h, rho, prof, reach) for prof in profiles.values()]
     gouge = {layer: tool_radius - min(v[k] for v in least.values()) for k, layer in enumerate(profiles)}
     pts = np.concatenate([s[0] for s in samples])
     z = np.concatenate([s[4] for s in samples])

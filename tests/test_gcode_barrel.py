@@ -192,27 +192,48 @@ def exact_walls(case: Case, r: np.ndarray, phi: np.ndarray, w: float) -> tuple[n
 def removed(points: np.ndarray, poses: np.ndarray, tool_radius: float, chunk: int = 64) -> np.ndarray:
     """Whether each point (r, phi, z) lies inside the cutter at some pose (X, Y, Z tip, A deg): the
     cam turned by A, the point at world (x, y) = r (cos, sin)(phi + A); machine (X, Y, Z) = (z, -y, x);
-    the cutter is the cylinder of ``tool_radius`` about the line (X, Y) above its tip Z."""
+    the cutter is the cylinder of ``tool_radius`` about the line (X, Y) above its tip Z.
+
+    Every pose is tested that could hold the point: the cutter is over a point only where
+    ``|z - X| < tool_radius`` (its axis' distance along the cam axis) and A is within the angle the
+    cutter spans at radius r, so the poses are sorted by their band of X (``tool_radius`` wide) and
+    then by A, and each point tests the poses of the bands that reach ``[z - R, z + R]`` (widened
+    by 1e-9 mm against rounding) within its angular window: a superset of the poses that can hold
+    it, the test itself unchanged (a bruteforce over all poses gives the same answer)."""
+    band_width = tool_radius
     a = np.mod(np.radians(poses[:, 3]), 2 * math.pi)
-    order = np.argsort(a)
-    a, poses = a[order], poses[order]
-    a = np.concatenate([a - 2 * math.pi, a, a + 2 * math.pi])  # wrap
+    band = np.floor(poses[:, 0] / band_width).astype(np.int64)
+    a = np.concatenate([a - 2 * math.pi, a, a + 2 * math.pi]) + 2 * math.pi  # wrapped, in [0, 6 pi)
+    band = np.concatenate([band, band, band])
     poses = np.concatenate([poses, poses, poses])
+    span = 8 * math.pi  # > 6 pi: one band's angles never reach the next band's
+    key = band * span + a
+    order = np.argsort(key, kind="stable")
+    key, poses = key[order], poses[order]
     out = np.zeros(len(points), dtype=bool)
     half = np.arcsin(np.minimum(1.0, (tool_radius + np.abs(poses[:, 1]).max() + 0.01) / points[:, 0]))
+    margin = 1e-9
+    low_band = np.floor((points[:, 2] - tool_radius - margin) / band_width).astype(np.int64)
+    high_band = np.floor((points[:, 2] + tool_radius + margin) / band_width).astype(np.int64)
     for lo_i in range(0, len(points), chunk):
         p = points[lo_i:lo_i + chunk]
-        centre = np.mod(-p[:, 1], 2 * math.pi)  # the poses whose tool is over the point: A = -phi
-        first = np.searchsorted(a, centre - half[lo_i:lo_i + chunk])
-        last = np.searchsorted(a, centre + half[lo_i:lo_i + chunk])
-        width = int((last - first).max())
-        idx = first[:, None] + np.arange(width)[None, :]
-        valid = idx < last[:, None]
-        q = poses[np.minimum(idx, len(poses) - 1)]
-        ang = p[:, 1:2] + np.radians(q[..., 3])
-        x_m, y_m, z_m = p[:, 2:3], -p[:, 0:1] * np.sin(ang), p[:, 0:1] * np.cos(ang)
-        inside = ((x_m - q[..., 0]) ** 2 + (y_m - q[..., 1]) ** 2 < tool_radius**2) & (z_m >= q[..., 2]) & valid
-        out[lo_i:lo_i + chunk] = inside.any(axis=1)
+        centre = np.mod(-p[:, 1], 2 * math.pi) + 2 * math.pi  # the poses whose tool is over the point: A = -phi
+        h = half[lo_i:lo_i + chunk]
+        lo_b, hi_b = low_band[lo_i:lo_i + chunk], high_band[lo_i:lo_i + chunk]
+        for k in range(int((hi_b - lo_b).max()) + 1):
+            b = lo_b + k
+            first = np.searchsorted(key, b * span + centre - h)
+            last = np.where(b <= hi_b, np.searchsorted(key, b * span + centre + h), first)
+            width = int((last - first).max())
+            if width == 0:
+                continue
+            idx = first[:, None] + np.arange(width)[None, :]
+            valid = idx < last[:, None]
+            q = poses[np.minimum(idx, len(poses) - 1)]
+            ang = p[:, 1:2] + np.radians(q[..., 3])
+            x_m, y_m, z_m = p[:, 2:3], -p[:, 0:1] * np.sin(ang), p[:, 0:1] * np.cos(ang)
+            inside = ((x_m - q[..., 0]) ** 2 + (y_m - q[..., 1]) ** 2 < tool_radius**2) & (z_m >= q[..., 2]) & valid
+            out[lo_i:lo_i + chunk] |= inside.any(axis=1)
     return out
 
 
