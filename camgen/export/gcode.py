@@ -62,6 +62,7 @@ from camgen.contour import Contour
 from camgen.errors import CornerError, GeometryError, ParameterError, ceil_significant, require_positive
 # the settings, their error budget and the moves live in their own modules (the pockets' passes
 # share them); their names stay importable from here
+from camgen.export.gcode_leads import COMP_ENTRY_ANGLE, COMP_STRAIGHT, lead_blocks, lead_moves
 from camgen.export.gcode_moves import START_SAMPLING, comment, loop_moves, primitives, reverse_primitives, rotate, split_segment
 from camgen.export.gcode_spec import (BLEND_SHARE, DIALECTS, DIRECTIONS, FIT_SHARE, MIN_GCODE_CHORD_TOL, REFIT_SHARE, ROUNDING_SHARE,
                                       SPLINE_MODES, MachiningSpec, depth_passes, rounding_error)
@@ -76,12 +77,6 @@ __all__ = ["BLEND_SHARE", "COMP_ENTRY_ANGLE", "COMP_STRAIGHT", "DIALECTS", "DIRE
 #: gcode._split: the segment split of :func:`camgen.export.gcode_moves.split_segment` (its old name)
 _split = split_segment
 
-#: LinuxCNC's TOLERANCE_CONCAVE_CORNER (rad): compensated corners flatter than this are run
-#: straight on (interp_internal.hh).
-COMP_STRAIGHT = 0.05
-#: Angle (rad) between the compensation entry move and the tangent lead line, above COMP_STRAIGHT
-#: so that LinuxCNC treats the corner as concave and moves the entry's end onto the offset line.
-COMP_ENTRY_ANGLE = 0.1
 #: Largest distance (mm) the profile may reach beyond the tangent line at the start point.
 SUPPORT_TOL = 1e-7
 #: Candidates of the start point whose support is tested at once (in order of falling curvature).
@@ -226,16 +221,12 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     if climb:
         prims = reverse_primitives(prims, start)
     travel = -tangent if climb else tangent
-    r, lead = spec.tool_radius, spec.lead_length
-    centre_start = start + r * normal if comp else start  # S': the tool centre at the start
-    plunge = centre_start - lead * travel
-    leave = centre_start + lead * travel
-    if comp:
-        # L': length of the entry move along the tangent; its angle atan(r / L') to the tangent
-        # stays above COMP_STRAIGHT so that LinuxCNC takes the corner as concave
-        entry = min(math.sqrt(lead * lead - r * r) / 2.0, r / math.tan(COMP_ENTRY_ANGLE))
-        a_point = start - (lead - entry) * travel
-        b_point = start + 0.5 * lead * travel
+    # the lead-in and lead-out (camgen.export.gcode_leads): straight moves and tangent arcs;
+    # plunge: the tool-centre point where the lead-in starts (leads.away: away from the part)
+    leads = lead_moves(start, travel, normal, spec)
+    lead, centre_start, plunge = spec.lead_length, leads.centre_start, leads.plunge
+    entry_blocks = lead_blocks(leads.entry, spec.decimals, plunge)
+    exit_blocks = lead_blocks(leads.exit, spec.decimals, start)
 
     contour_moves = loop_moves(prims, start, spec.decimals)
 
@@ -247,7 +238,7 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     stock = spec.thickness if thickness is None else require_positive("thickness", thickness, "mm")
     depth = stock + spec.breakthrough
     n_passes = max(1, math.ceil(depth / spec.step_down - 1e-9))
-    moves = contour_moves.count("\n") + 6  # + plunge, feed down, lead-in (2), lead-out (2)
+    moves = contour_moves.count("\n") + 2 + len(entry_blocks) + len(exit_blocks)  # + plunge, feed down, leads
     if pocketed is not None:  # the pockets' levels count as passes of the same length on average
         moves += -(-pocketed.count // n_passes)
     if n_passes * moves > MAX_PROGRAM_MOVES:
@@ -255,20 +246,27 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     depths = -np.minimum(spec.step_down * np.arange(1, n_passes + 1), depth)
     chord_tol = spec.chord_tol
     blend = blend_word(BLEND_SHARE * chord_tol, d)
+    feed = f"F{spec.feed:.0f}"
+
+    def blocks(moves: list[tuple[str, str]]) -> str:
+        return "".join(f"{word} {words}\n" for word, words in moves)
+
     if comp:
         # G41: tool left of the travel direction = outside of a clockwise (climb) path
         side = "G41.1" if climb else "G42.1"
-        lead_in = f"{side} D{spec.tool_diameter:.{d}f} G1 {xy(a_point)} F{spec.feed:.0f}\nG1 {xy(start)}\n"
-        lead_out = f"G1 {xy(b_point)}\nG40 G1 {xy(leave)}\n"
+        (word, words), *rest = entry_blocks
+        lead_in = f"{side} D{spec.tool_diameter:.{d}f} {word} {words} {feed}\n" + blocks(rest)
+        lead_out = blocks(exit_blocks[:-1]) + "G40 " + blocks(exit_blocks[-1:])
         mode = f"cutter compensation {side} on the profile"
     else:
-        lead_in = f"G1 {xy(start)} F{spec.feed:.0f}\n"
-        lead_out = f"G1 {xy(leave)}\n"
+        (word, words), *rest = entry_blocks
+        lead_in = f"{word} {words} {feed}\n" + blocks(rest)
+        lead_out = blocks(exit_blocks)
         mode = "tool-centre path = profile offset by the tool radius"
     if spec.dialect == "fanuc":  # Fanuc/Haas: G41/G42 D<register> on the leads' G1 blocks (camgen.export.gcode_fanuc)
         from camgen.export.gcode_fanuc import fanuc_leads
 
-        lead_in, lead_out, mode = fanuc_leads(spec, climb, xy, start, leave, *((a_point, b_point) if comp else ()))
+        lead_in, lead_out, mode = fanuc_leads(spec, climb, entry_blocks, exit_blocks)
     fit_what = "biarc" if spec.spline_mode == "biarcs" else "chord"
     lines = [
         comment(f"camgen {__version__}: cam '{cam}'" + (f", scene '{scene}'" if scene else "")),
@@ -279,7 +277,10 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
                  f"{min(1e-6, REFIT_SHARE * chord_tol):.3g} "
                  f"+ {d} printed decimals {rounding_error(d):.3g}"
                  + (f" + G64 blending {blend}" if spec.dialect == "linuxcnc" else "")),
-        comment(f"tangent lead-in and lead-out of {lead:g} at tool-centre point {xy(centre_start)}, plunge at {xy(plunge)}"),
+        comment(f"tangent lead-in and lead-out of {lead:g} at tool-centre point {xy(centre_start)}, plunge at {xy(plunge)}"
+                if leads.arc_centre is None else
+                f"lead-in and lead-out: straight {lead:g} and a tangent quarter arc of tool-centre radius {leads.radius:g} about "
+                f"{xy(leads.arc_centre)}, into and out of tool-centre point {xy(centre_start)}; plunge at {xy(plunge)}"),
     ]
     if pocketed is not None:
         lines += list(pocketed.header)

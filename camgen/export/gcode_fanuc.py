@@ -21,17 +21,19 @@ passes and pockets); this module writes the words a Fanuc-style control needs ar
 * comments upper-case, of letters, digits and ``. , = _ - + *`` only (older Fanuc controls take
   no lower-case letters or other signs in a comment).
 
-The leads are the tangent leads of :mod:`camgen.export.gcode`: the compensated entry move
-ends, on a Fanuc (start-up type A or B) as on LinuxCNC, on the offset line of the following
-line, which the lead-in runs along; the ``G40`` block starts at the offset point of the
-previous line's end, on the same line.  So the tool runs straight along the tangent in and out.
+The leads are those of :mod:`camgen.export.gcode_leads` (a straight move and a tangent quarter
+arc, ``lead_style = "arc"``, or a straight tangent line): the compensation is switched on in
+the straight move before the arc and off in the straight move after the lead-out arc.  The
+compensated entry move ends, on a Fanuc (start-up type A or B) as on LinuxCNC, on the offset
+line of the following straight block, which the tool runs along into the lead arc; the ``G40``
+block starts at the offset point of the previous line's end, on the same line.  So the tool
+runs tangentially in and out, with no corner.  Without compensation (``D`` = 0) the lead arc is
+the tool-centre arc: a wear value in ``D`` must stay below its radius (``lead_radius_mm``).
 """
 from __future__ import annotations
 
 import re
-from typing import Callable, Sequence
-
-import numpy as np
+from typing import Sequence
 
 from camgen.export.fanuc_settings import FanucNumbers, fanuc_numbers
 from camgen.export.gcode_moves import comment
@@ -68,28 +70,24 @@ def _register_words(spec: MachiningSpec, climb: bool) -> str:
     return f"{'G41' if climb else 'G42'} D{fanuc_numbers_of(spec).radius_register:02d}"
 
 
-def fanuc_leads(spec: MachiningSpec, climb: bool, xy: Callable[[np.ndarray], str], start: np.ndarray, leave: np.ndarray,
-                entry: np.ndarray | None = None, exit_point: np.ndarray | None = None) -> tuple[str, str, str]:
+def fanuc_leads(spec: MachiningSpec, climb: bool, entry: Sequence[tuple[str, str]], exit_blocks: Sequence[tuple[str, str]]) -> tuple[str, str, str]:
     """Lead-in, lead-out and the header's mode text of a Fanuc program.
 
-    ``start``: the first point of the programmed loop; ``leave``: the tool centre at the end of
-    the lead-out.  With cutter compensation (the profile programmed) ``entry`` is the point on
-    the profile's tangent the compensated entry move goes to and ``exit_point`` the end of the
-    line run along the tangent before ``G40`` (:func:`camgen.export.gcode.gcode_program`); without
-    it (the tool-centre path) the compensation is switched on along the lead-in to ``start``
-    itself and off along the lead-out, for the wear offset only.
+    ``entry`` and ``exit_blocks``: the leads' blocks as (motion word, words)
+    (:func:`camgen.export.gcode_leads.lead_blocks`); the first of ``entry`` and the last of
+    ``exit_blocks`` are straight moves, which switch the compensation on and off.  With cutter
+    compensation the profile is programmed; without it the tool-centre path, the compensation
+    switched on and off along the same leads for the wear offset only.
     """
     words = _register_words(spec, climb)
-    feed = f"F{spec.feed:.0f}"
     register = f"D{fanuc_numbers_of(spec).radius_register:02d}"
+    (word, first), *rest = entry
+    *before, (last_word, last) = exit_blocks
+    lead_in = f"{word} {words} {first} F{spec.feed:.0f}\n" + "".join(f"{w} {rest_words}\n" for w, rest_words in rest)
+    lead_out = "".join(f"{w} {rest_words}\n" for w, rest_words in before) + f"G40 {last_word} {last}\n"
     if spec.cutter_compensation:
-        assert entry is not None and exit_point is not None
-        lead_in = f"G1 {words} {xy(entry)} {feed}\nG1 {xy(start)}\n"
-        lead_out = f"G1 {xy(exit_point)}\nG40 G1 {xy(leave)}\n"
         mode = f"cutter compensation {words} on the profile, {register} = tool radius"
     else:
-        lead_in = f"G1 {words} {xy(start)} {feed}\n"
-        lead_out = f"G40 G1 {xy(leave)}\n"
         mode = f"tool-centre path = profile offset by the tool radius, {words} for the wear only, {register} = 0"
     return lead_in, lead_out, mode
 

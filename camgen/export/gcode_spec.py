@@ -16,12 +16,18 @@ from camgen.export.fanuc_settings import check_fanuc_settings
 if TYPE_CHECKING:  # wire EDM (camgen.export.wire_edm_spec)
     from camgen.export.wire_edm_spec import WireEdmSpec
 
-__all__ = ["BLEND_SHARE", "DIALECTS", "DIRECTIONS", "FIT_SHARE", "MIN_GCODE_CHORD_TOL", "MachiningSpec", "REFIT_SHARE",
-           "ROUNDING_SHARE", "SPLINE_MODES", "depth_passes", "rounding_error"]
+__all__ = ["BLEND_SHARE", "DIALECTS", "DIRECTIONS", "FIT_SHARE", "LEAD_STYLES", "MIN_GCODE_CHORD_TOL", "MIN_LEAD_RADIUS_UNITS", "MachiningSpec",
+           "REFIT_SHARE", "ROUNDING_SHARE", "SPLINE_MODES", "depth_passes", "rounding_error"]
 
 DIALECTS = ("linuxcnc", "grbl", "wire_edm", "fanuc")
 DIRECTIONS = ("climb", "conventional")
 SPLINE_MODES = ("lines", "biarcs")
+#: Lead-in and lead-out: tangent quarter arcs after straight moves, or straight tangent lines
+#: (camgen.export.gcode_leads).
+LEAD_STYLES = ("arc", "line")
+#: Least lead-arc radius in units of the last printed decimal: the quarter arc's chord is then
+#: >= 141 units, an arc no control can read as a full circle (the rule of the contour's arcs).
+MIN_LEAD_RADIUS_UNITS = 100
 
 #: Shares of ``chord_tol`` (they sum to 1): fit of spline segments by biarcs or chords,
 #: offset refit of spline segments, printed decimals, LinuxCNC path blending (G64 P).
@@ -64,6 +70,8 @@ class MachiningSpec:
     dialect: str = "linuxcnc"
     cutter_compensation: bool = False
     lead: float | None = None
+    lead_style: str = "arc"
+    lead_radius: float | None = None
     spline_mode: str = "biarcs"
     chord_tol: float = 1e-3
     decimals: int = 4
@@ -99,6 +107,12 @@ class MachiningSpec:
             raise ParameterError("lead", self.lead, f"lead > tool radius = {self.tool_diameter / 2:g} mm", "the cutter-compensation entry move must be longer than the tool radius")
         if isinstance(self.decimals, bool) or not isinstance(self.decimals, int) or not 3 <= self.decimals <= 6:
             raise ParameterError("decimals", self.decimals, "an integer 3..6")
+        if self.lead_style not in LEAD_STYLES:  # the leads (camgen.export.gcode_leads)
+            raise ParameterError("lead_style", self.lead_style, f"one of {LEAD_STYLES}")
+        least_radius = MIN_LEAD_RADIUS_UNITS * 10.0 ** (-self.decimals)
+        if self.lead_radius is not None and not require_finite("lead_radius", self.lead_radius) >= least_radius:
+            raise ParameterError("lead_radius", self.lead_radius, f"lead_radius >= {least_radius:g} mm",
+                                 f"a shorter lead arc could not be printed safely with {self.decimals} decimals")
         budget = ROUNDING_SHARE * self.chord_tol
         if rounding_error(self.decimals) > budget:
             lowest = next((d for d in range(3, 7) if rounding_error(d) <= budget), None)
@@ -122,6 +136,12 @@ class MachiningSpec:
     @property
     def lead_length(self) -> float:
         return self.lead if self.lead is not None else self.tool_radius + 3.0
+
+    @property
+    def lead_arc_radius(self) -> float:
+        """Radius (mm) of the tool centre's lead arcs (``lead_style = "arc"``): ``lead_radius``,
+        by default the tool radius + 3 mm."""
+        return self.lead_radius if self.lead_radius is not None else self.tool_radius + 3.0
 
     @property
     def depth(self) -> float:
