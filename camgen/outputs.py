@@ -224,6 +224,7 @@ def output_keys() -> tuple[Key, ...]:
 def machining_keys() -> tuple[Key, ...]:
     """Keys of the ``[machining]`` table (defaults owned by :class:`camgen.export.gcode.MachiningSpec`)."""
     from camgen.export.gcode import DIALECTS, DIRECTIONS, SPLINE_MODES, MachiningSpec
+    from camgen.export.gcode_spec import LEAD_STYLES
     from camgen.export.wire_edm_spec import wire_edm_keys
     from camgen.export.fanuc_settings import DEFAULT_PROGRAM_NUMBER, DEFAULT_TOOL_NUMBER, MAX_PROGRAM_NUMBER, MAX_RADIUS_REGISTER, MAX_TOOL_NUMBER
     from camgen.kinds.base import field_default
@@ -254,8 +255,16 @@ def machining_keys() -> tuple[Key, ...]:
             "radius (fanuc) instead of the tool-centre path (fanuc: the tool-centre path with G41/G42 D for the wear only, D "
             "holding 0) (refused for a cam with pockets: their passes are tool-centre paths).",
             ("gcode",), default=d("cutter_compensation")),
-        Key("lead_mm", Number("mm", 0.0, 1000.0, low_open=True), "Length of the tangent lead-in and lead-out moves (default: tool radius + 3 mm).",
-            ("gcode",)),
+        Key("lead_mm", Number("mm", 0.0, 1000.0, low_open=True), "Length of the straight lead-in and lead-out moves (default: tool "
+            "radius + 3 mm): the tangent lines themselves with lead_style = \"line\", the straight moves before and after the lead "
+            "arcs with \"arc\" (cutter compensation is switched on and off on them).", ("gcode",)),
+        Key("lead_style", Choice(LEAD_STYLES), "Lead-in and lead-out: arc = a straight move along the outward normal, then a tangent "
+            "quarter arc into the tool path at the start point (the tool centre's arc centred outside the part; with cutter "
+            "compensation the programmed arc's radius is lead_radius_mm + tool radius) and the mirror arc and straight move out; "
+            "line = straight along the tangent in and out.", ("gcode",), default=d("lead_style")),
+        Key("lead_radius_mm", Number("mm", 0.0, 1000.0, low_open=True), "Radius of the tool centre's lead arcs (default: tool radius "
+            "+ 3 mm); at least 100 units of the last printed decimal (0.01 mm with decimals = 4). Fanuc without cutter_compensation: "
+            "a wear value in the D register must stay below it.", ("gcode",), requires={"lead_style": ("arc",)}),
         Key("breakthrough_mm", Number("mm", 0.0, 100.0), "How far the last pass goes below the stock bottom (Z = -thickness), so "
             "no skin or burr is left.", ("gcode",), default=d("breakthrough")),
         Key("spline_mode", Choice(SPLINE_MODES), "Spline segments as G2/G3 biarcs or G1 chords, within chord_tol_mm.", ("gcode",),

@@ -7,34 +7,39 @@ The program cuts the outside of the profile in step-down passes to the stock bot
 * header ``G21 G90 G17 G40 G49 G80 G94`` (+ ``G64 P<blend>`` path blending tolerance for LinuxCNC);
 * by default the **tool-centre path**: the profile offset outward by the tool radius (exact
   arcs stay ``G2/G3``; spline segments become biarcs ``G2/G3`` or ``G1`` chords);
-* optionally **cutter compensation** (LinuxCNC only): the profile itself with ``G41.1/G42.1
-  D<diameter>``, switched on along the lead-in and off (``G40``) along the lead-out;
+* optionally **cutter compensation** (LinuxCNC, Fanuc): the profile itself with ``G41.1/G42.1
+  D<diameter>`` (Fanuc ``G41/G42 D<register>``), switched on in a straight move of the lead-in
+  and off (``G40``) in a straight move of the lead-out;
 * climb milling (clockwise around the outside with a clockwise spindle, ``M3``) or conventional.
 
-Lead-in and lead-out (the same geometry in both modes).  The tool enters and leaves along the
-tangent of the tool-centre path at its start ``S' = S + r n`` (``S`` on the profile, ``n`` the
-outward normal, ``t`` the travel direction, ``L`` the lead length): it plunges at
-``P0 = S' - L t`` and runs straight to ``S'``; after the closed contour it runs on to
-``Q = S' + L t``.  ``S`` is a **support point** of the profile: its tangent line touches the
-profile and has all of it on one side (a point of the convex hull where the curvature is > 0;
-the sharpest such point is taken).  The lead line lies at distance ``r`` outside that tangent
-line, so every point of the lead-in, the lead-out and the plunge is at least ``r`` from every
-point of the profile: the tool disc swept along them never touches the part.
+Lead-in and lead-out (:mod:`camgen.export.gcode_leads`; the same tool-centre path in both
+modes).  ``S`` is a **support point** of the profile: its tangent line touches the profile and
+has all of it on one side (a point of the convex hull where the curvature is > 0; the sharpest
+such point is taken); ``n`` the outward normal there, ``t`` the travel direction, ``r`` the tool
+radius, ``S' = S + r n`` the tool centre at the start, ``L`` = ``lead_mm``, ``rho`` =
+``lead_radius_mm``.  With ``lead_style = "arc"`` (the default) the tool plunges at
+``P0 = S' + rho n - rho t + L n``, runs straight along ``-n`` for ``L``, then on a quarter arc of
+centre ``C = S' + rho n`` (outside the part) tangentially into the tool path at ``S'``; after
+the closed contour it leaves on the mirror quarter arc of the same circle and runs straight on
+along ``+n`` for ``L``.  With ``lead_style = "line"`` it runs along the tangent of the tool path:
+from ``P0 = S' - L t`` to ``S'`` and on to ``S' + L t``.  Every point of the leads and the
+plunge is at least ``r`` from the tangent line at ``S`` (``r + rho (1 - cos a)`` on the arcs),
+which has the whole profile on its other side: the tool disc swept along them never touches
+the part.
 
-Cutter compensation.  LinuxCNC's interpreter (``convert_straight_comp1``) ends the entry move
-at ``A' = A + r u_perp`` (``A`` the programmed point, ``u`` the direction from the tool to
-``A``); a following line that turns the other way is a concave corner and moves that end to
-the intersection of the two offset lines.  camgen therefore programs the entry on the
-profile's tangent line: ``G41.1`` to ``A = S - a t`` from ``P0``, then a line ``A -> S``.  With
-``L' = min(sqrt(L^2 - r^2) / 2, r / tan(COMP_ENTRY_ANGLE))`` the length of the entry move along
-the tangent (``a = L - L'``; its angle to the tangent stays above LinuxCNC's 0.05 rad, below
-which a corner is run straight on), the
-interpreter ends the entry move on the offset line at ``S' - (L - sqrt(L'^2 + r^2)) t``,
-before ``S'``: the tool runs along the tangent from ``P0`` to ``S'`` and into the contour with
-no corner.  The exit programs a line ``S -> B = S + (L / 2) t`` (tool on the offset line),
-then ``G40`` with a straight move to ``Q``, again along the tangent.  A concave arc whose
-radius is not above the tool radius is refused (LinuxCNC's own rule); arcs too short to print
-safely are written as lines, never as arcs that the control could read as full circles.
+Cutter compensation.  Compensation is switched on and off on straight moves only.  LinuxCNC's
+interpreter (``convert_straight_comp1``) ends the entry move at ``A' = A + r u_perp`` (``A``
+the programmed point, ``u`` the direction from the tool to ``A``); a following line that turns
+the other way is a concave corner and moves that end to the intersection of the two offset
+lines.  camgen therefore programs the entry to a point ``A`` on the programmed straight lead
+(the tool's lead line pushed out by ``r``), at an angle above LinuxCNC's 0.05 rad to it: the
+interpreter ends the entry move on the tool's lead line, and the tool runs straight from
+``P0`` on into the lead arc (programmed with radius ``rho + r`` about ``C``) and the contour
+with no corner; the exit programs the lead-out arc, a line along its tangent, then ``G40``
+with a straight move to the tool-centre end point, on the same line (details and the lengths:
+:mod:`camgen.export.gcode_leads`).  A concave arc whose radius is not above the tool radius is
+refused (LinuxCNC's own rule); arcs too short to print safely are written as lines, never as
+arcs that the control could read as full circles.
 
 Error budget.  The program follows the ideal tool path within ``chord_tol``:
 ``FIT_SHARE`` for the biarc / chord fit of spline segments, ``REFIT_SHARE`` for the offset
