@@ -224,7 +224,7 @@ def output_keys() -> tuple[Key, ...]:
 def machining_keys() -> tuple[Key, ...]:
     """Keys of the ``[machining]`` table (defaults owned by :class:`camgen.export.gcode.MachiningSpec`)."""
     from camgen.export.gcode import DIALECTS, DIRECTIONS, SPLINE_MODES, MachiningSpec
-    from camgen.export.gcode_spec import LEAD_STYLES
+    from camgen.export.gcode_spec import LEAD_STYLES, MIN_LEAD_RADIUS
     from camgen.export.wire_edm_spec import wire_edm_keys
     from camgen.export.fanuc_settings import DEFAULT_PROGRAM_NUMBER, DEFAULT_TOOL_NUMBER, MAX_PROGRAM_NUMBER, MAX_RADIUS_REGISTER, MAX_TOOL_NUMBER
     from camgen.kinds.base import field_default
@@ -262,8 +262,8 @@ def machining_keys() -> tuple[Key, ...]:
             "quarter arc into the tool path at the start point (the tool centre's arc centred outside the part; with cutter "
             "compensation the programmed arc's radius is lead_radius_mm + tool radius) and the mirror arc and straight move out; "
             "line = straight along the tangent in and out.", ("gcode",), default=d("lead_style")),
-        Key("lead_radius_mm", Number("mm", 0.0, 1000.0, low_open=True), "Radius of the tool centre's lead arcs (default: tool radius "
-            "+ 3 mm); at least 100 units of the last printed decimal (0.01 mm with decimals = 4). Fanuc without cutter_compensation: "
+        Key("lead_radius_mm", Number("mm", MIN_LEAD_RADIUS, 1000.0), "Radius of the tool centre's lead arcs (default: tool radius "
+            "+ 3 mm; at least 0.1 mm, so that no printed lead arc can be read as a full circle). Fanuc without cutter_compensation: "
             "a wear value in the D register must stay below it.", ("gcode",), requires={"lead_style": ("arc",)}),
         Key("breakthrough_mm", Number("mm", 0.0, 100.0), "How far the last pass goes below the stock bottom (Z = -thickness), so "
             "no skin or burr is left.", ("gcode",), default=d("breakthrough")),

@@ -159,7 +159,7 @@ def lead_blocks(moves: tuple[LeadMove, ...], decimals: int, current: np.ndarray)
     writer = MoveWriter(decimals, current)
     for move in moves:
         end = writer.round(move.end)
-        if move.arc is not None:  # (never short: a lead radius >= MIN_LEAD_RADIUS_UNITS printed units, gcode_spec)
+        if move.arc is not None:  # (never short: a lead radius >= gcode_spec.MIN_LEAD_RADIUS)
             ij = writer.round(np.asarray(move.arc.center)) - writer.current
             out.append(("G3" if move.arc.sweep > 0 else "G2", f"{writer.xy(end)} I{ij[0]:.{decimals}f} J{ij[1]:.{decimals}f}"))
         else:

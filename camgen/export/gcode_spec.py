@@ -16,7 +16,7 @@ from camgen.export.fanuc_settings import check_fanuc_settings
 if TYPE_CHECKING:  # wire EDM (camgen.export.wire_edm_spec)
     from camgen.export.wire_edm_spec import WireEdmSpec
 
-__all__ = ["BLEND_SHARE", "DIALECTS", "DIRECTIONS", "FIT_SHARE", "LEAD_STYLES", "MIN_GCODE_CHORD_TOL", "MIN_LEAD_RADIUS_UNITS", "MachiningSpec",
+__all__ = ["BLEND_SHARE", "DIALECTS", "DIRECTIONS", "FIT_SHARE", "LEAD_STYLES", "MIN_GCODE_CHORD_TOL", "MIN_LEAD_RADIUS", "MachiningSpec",
            "REFIT_SHARE", "ROUNDING_SHARE", "SPLINE_MODES", "depth_passes", "rounding_error"]
 
 DIALECTS = ("linuxcnc", "grbl", "wire_edm", "fanuc")
@@ -25,9 +25,10 @@ SPLINE_MODES = ("lines", "biarcs")
 #: Lead-in and lead-out: tangent quarter arcs after straight moves, or straight tangent lines
 #: (camgen.export.gcode_leads).
 LEAD_STYLES = ("arc", "line")
-#: Least lead-arc radius in units of the last printed decimal: the quarter arc's chord is then
-#: >= 141 units, an arc no control can read as a full circle (the rule of the contour's arcs).
-MIN_LEAD_RADIUS_UNITS = 100
+#: Least lead-arc radius (mm): 100 units of the last decimal at the coarsest 3 decimals, so the
+#: quarter arc's chord is >= 141 printed units, an arc no control can read as a full circle
+#: (the rule of the contour's arcs).
+MIN_LEAD_RADIUS = 0.1
 
 #: Shares of ``chord_tol`` (they sum to 1): fit of spline segments by biarcs or chords,
 #: offset refit of spline segments, printed decimals, LinuxCNC path blending (G64 P).
@@ -109,10 +110,9 @@ class MachiningSpec:
             raise ParameterError("decimals", self.decimals, "an integer 3..6")
         if self.lead_style not in LEAD_STYLES:  # the leads (camgen.export.gcode_leads)
             raise ParameterError("lead_style", self.lead_style, f"one of {LEAD_STYLES}")
-        least_radius = MIN_LEAD_RADIUS_UNITS * 10.0 ** (-self.decimals)
-        if self.lead_radius is not None and not require_finite("lead_radius", self.lead_radius) >= least_radius:
-            raise ParameterError("lead_radius", self.lead_radius, f"lead_radius >= {least_radius:g} mm",
-                                 f"a shorter lead arc could not be printed safely with {self.decimals} decimals")
+        if self.lead_radius is not None and not require_finite("lead_radius", self.lead_radius) >= MIN_LEAD_RADIUS:
+            raise ParameterError("lead_radius", self.lead_radius, f"{MIN_LEAD_RADIUS:g} <= lead_radius mm",
+                                 "a shorter lead arc could be read as a full circle once printed")
         budget = ROUNDING_SHARE * self.chord_tol
         if rounding_error(self.decimals) > budget:
             lowest = next((d for d in range(3, 7) if rounding_error(d) <= budget), None)
