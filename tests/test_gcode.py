@@ -303,9 +303,10 @@ def test_leads_are_tangent_to_the_tool_path_and_end_at_its_start(comp, lead, dir
     the profile, the lead-out continues along the same line, and nothing on the line comes
     closer than r to the exact profile.  A 300 mm lead under compensation: LinuxCNC runs corners
     flatter than 0.05 rad straight on, so the entry move must still meet the tangent line at a
-    steeper angle."""
+    steeper angle.  (``lead_style = "line"``; the arc leads: tests/test_gcode_leads.py.)"""
     contour = contours["stride"]
-    spec = MachiningSpec(tool_diameter=8.0, thickness=1.0, step_down=2.0, direction=direction, cutter_compensation=comp, lead=lead)
+    spec = MachiningSpec(tool_diameter=8.0, thickness=1.0, step_down=2.0, direction=direction, cutter_compensation=comp, lead=lead,
+                         lead_style="line")
     status, message, canon = rs274_canon(gcode_program(contour, spec), tmp_path)
     assert status == 0, message
     chain = _passes(canon)[0]
@@ -413,9 +414,9 @@ def test_breakthrough_sets_the_last_pass(breakthrough, contours, tmp_path):
     passes = math.ceil((6.0 + breakthrough) / 2.5)
     assert len(report.passes) == passes
     # the exact arcs stay arcs: per pass two G1 leads, every other move a G2/G3 whose offset radius
-    # is one of the six radii of the cam + the tool radius
+    # is one of the six radii of the cam + the tool radius, or the lead arcs' radius (tool radius + 3 mm)
     assert program.count("G1 X") == 2 * passes
-    radii = {round(seg.radius + 4.0, 3) for seg in contours["stride"].segments}
+    radii = {round(seg.radius + 4.0, 3) for seg in contours["stride"].segments} | {4.0 + 3.0}
     arcs = [m for m in report.canon if m["kind"] == "arc"]
     assert len(arcs) >= 6 * passes
     assert {round(float(np.hypot(*(m["end"][:2] - m["centre"]))), 3) for m in arcs} <= radii
