@@ -148,11 +148,11 @@ def test_the_lead_arcs_are_tangent_arcs_in_rs274s_moves(dialect, comp, direction
 # ---------------------------------------------------------------------------------------------
 # the program text at 6 decimals: tangency to 1e-6 rad, clearance to 1e-6 mm
 # ---------------------------------------------------------------------------------------------
-_BLOCK = re.compile(r"^G([0123]) X(-?[\d.]+) Y(-?[\d.]+)(?: I(-?[\d.]+) J(-?[\d.]+))?")
+_BLOCK = re.compile(r"^(?:G4[0-2](?:\.1)? (?:D[\d.]+ )?)?G([0123]) X(-?[\d.]+) Y(-?[\d.]+)(?: I(-?[\d.]+) J(-?[\d.]+))?")
 
 
 def _text_moves(program: str) -> list[dict]:
-    """The XY moves of the first pass of a tool-centre program, from its words (after the plunge)."""
+    """The programmed XY moves of the first pass of a program, from its words (after the plunge)."""
     body = program.split("(pass 1 of", 1)[1].split("G0 Z", 1)[0]
     moves, current = [], None
     for line in body.splitlines():
@@ -171,14 +171,20 @@ def _text_moves(program: str) -> list[dict]:
     return moves
 
 
+@pytest.mark.parametrize("comp", [False, True])
 @pytest.mark.parametrize("direction", ["climb", "conventional"])
-def test_the_lead_arcs_are_tangent_within_1e_6_rad_in_the_program(direction, contours):
-    """A tool-centre program at 6 decimals (each printed point within 7.1e-7 mm): the lead-in line
-    meets its arc, the arc meets the tool path and the lead-out arc leaves it with the tangent
-    turning by < 1e-6 rad; every point of the leads is >= r - 1e-6 mm from the exact profile."""
+def test_the_lead_arcs_are_tangent_within_1e_6_rad_in_the_program(comp, direction, contours):
+    """A program at 6 decimals (each printed point within 7.1e-7 mm): the straight lead-in meets its
+    arc, the arc meets the contour and the lead-out arc leaves it, then meets the straight lead-out,
+    with the tangent turning by < 1e-6 rad.  Tool-centre programs: every point of the leads is
+    >= r - 1e-6 mm from the exact profile.  Compensated programs: the programmed leads are tangent
+    to the profile itself (LinuxCNC runs such tangent joins straight on: the tool path is tangent too)."""
     contour = contours["stride"]
-    spec = MachiningSpec(tool_diameter=8.0, thickness=1.0, step_down=2.0, direction=direction, decimals=6, chord_tol=1e-4)
+    spec = MachiningSpec(tool_diameter=8.0, thickness=1.0, step_down=2.0, direction=direction, decimals=6, chord_tol=1e-4,
+                         cutter_compensation=comp)
     moves = _text_moves(gcode_program(contour, spec))
+    if comp:  # the entry move (compensation on) and the move to the tool-centre end (off) are not on the programmed path
+        moves = moves[1:-1]
     line_in, arc_in, first, last, arc_out, line_out = moves[0], moves[1], moves[2], moves[-3], moves[-2], moves[-1]
     assert [m["kind"] for m in (line_in, arc_in, arc_out, line_out)] == ["line", "arc", "arc", "line"]
     s_dash = arc_in["end"][:2]
@@ -187,6 +193,11 @@ def test_the_lead_arcs_are_tangent_within_1e_6_rad_in_the_program(direction, con
     assert _angle(_tangent(arc_in, s_dash), _tangent(first, s_dash)) < 1e-6
     assert _angle(_tangent(last, s_dash), _tangent(arc_out, s_dash)) < 1e-6
     assert _angle(_tangent(arc_out, arc_out["end"][:2]), _tangent(line_out, line_out["start"][:2])) < 1e-6
+    if comp:  # the programmed arcs: radius lead radius + r, touching the profile at S from outside
+        for arc in (arc_in, arc_out):
+            assert np.linalg.norm(s_dash - arc["centre"]) == pytest.approx(spec.lead_arc_radius + spec.tool_radius, abs=2e-6)
+        assert distance_to_arcs(s_dash[None], contour.segments)[0] < 1e-6
+        return
     points = sample_moves([line_in, arc_in, arc_out, line_out], 0.002)[0]
     assert np.min(distance_to_arcs(points, contour.segments)) >= spec.tool_radius - 1e-6
 
