@@ -27,8 +27,9 @@ the straight move before the arc and off in the straight move after the lead-out
 compensated entry move ends, on a Fanuc (start-up type A or B) as on LinuxCNC, on the offset
 line of the following straight block, which the tool runs along into the lead arc; the ``G40``
 block starts at the offset point of the previous line's end, on the same line.  So the tool
-runs tangentially in and out, with no corner.  Without compensation (``D`` = 0) the lead arc is
-the tool-centre arc: a wear value in ``D`` must stay below its radius (``lead_radius_mm``).
+runs tangentially in and out, with no corner.  The tool runs inside the lead arcs, its centre on
+the radius ``lead_radius_mm`` less the wear: a wear value in ``D`` must stay below that radius
+(the header says so).
 """
 from __future__ import annotations
 
@@ -100,8 +101,11 @@ def fanuc_start(spec: MachiningSpec, pocketed: bool) -> list[str]:
     d = spec.decimals
     value = spec.tool_radius if spec.cutter_compensation else 0.0
     what = "the tool radius" if spec.cutter_compensation else "0, the path is the tool centre"
+    wear = "plus the wear"
+    if spec.lead_style == "arc":  # the tool runs inside the lead arcs: its centre on radius lead radius - wear
+        wear += f", below the lead arcs' radius {spec.lead_arc_radius:g} mm"
     return [
-        comment(f"radius register D{numbers.radius_register:02d} = {value:.{d}f} mm: {what}; plus the wear; "
+        comment(f"radius register D{numbers.radius_register:02d} = {value:.{d}f} mm: {what}; {wear}; "
                 f"D read as a radius; length offset H{numbers.tool:02d} of tool T{numbers.tool}"
                 + ("; pockets without compensation" if pocketed else "")),
         UNITS_BLOCK,
