@@ -264,7 +264,7 @@ def machining_keys() -> tuple[Key, ...]:
             "line = straight along the tangent in and out.", ("gcode",), default=d("lead_style")),
         Key("lead_radius_mm", Number("mm", MIN_LEAD_RADIUS, 1000.0), "Radius of the tool centre's lead arcs (default: tool radius "
             "+ 3 mm; at least 0.1 mm, so that no printed lead arc can be read as a full circle). Fanuc: a wear value in the D "
-            "register must stay below it (the tool runs inside the lead arcs).", ("gcode",), requires={"lead_style": ("arc",)}),
+            "register must stay below it (the tool runs inside the lead arcs; the program's header states the wear the leads take).", ("gcode",), requires={"lead_style": ("arc",)}),
         Key("breakthrough_mm", Number("mm", 0.0, 100.0), "How far the last pass goes below the stock bottom (Z = -thickness), so "
             "no skin or burr is left.", ("gcode",), default=d("breakthrough")),
         Key("spline_mode", Choice(SPLINE_MODES), "Spline segments as G2/G3 biarcs or G1 chords, within chord_tol_mm.", ("gcode",),

@@ -293,3 +293,21 @@ def test_the_header_states_the_lead_geometry(contours):
     assert np.linalg.norm(p0 - s_dash) == pytest.approx(math.hypot(12.5 + 9.0, 12.5), abs=2e-4)  # 9 along the normal beyond the quarter arc
     straight = gcode_program(contours["stride"], dataclasses.replace(spec, lead_radius=None, lead_style="line"))
     assert "(tangent lead-in and lead-out of 9 at tool-centre point" in straight and "quarter arc" not in straight
+
+
+@pytest.mark.parametrize(("comp", "lead_radius", "lead"), [(False, 2.0, None), (True, 2.0, None), (True, 9.0, 4.5), (False, None, 5.0)])
+@pytest.mark.usefixtures("needs_rs274")
+def test_the_wear_a_fanuc_header_allows_runs_and_no_more(comp, lead_radius, lead, contours, tmp_path):
+    """The Fanuc header states the largest wear the D register may add for the leads: rs274, told
+    the register holds the stated value + 0.99 x that wear, runs the program; + 1.01 x it, it
+    refuses the entry move or the lead arc (the tool would not fit)."""
+    from test_gcode_fanuc import masked, stated_register, tool_table
+
+    spec = MachiningSpec(tool_diameter=8.0, thickness=1.0, step_down=2.0, dialect="fanuc", cutter_compensation=comp, lead_radius=lead_radius,
+                         lead=lead)
+    program = gcode_program(contours["stride"], spec)
+    wear = float(re.search(r"PLUS THE WEAR, BELOW ([\d.]+) MM FOR THE LEADS", program).group(1))
+    _, value = stated_register(program)
+    for factor, runs in ((0.99, True), (1.01, False)):
+        status, message, _ = rs274_canon(masked(program), tmp_path, tool_table(program, 2.0 * (value + factor * wear)))
+        assert (status == 0) == runs, (factor, wear, message)

@@ -27,16 +27,18 @@ the straight move before the arc and off in the straight move after the lead-out
 compensated entry move ends, on a Fanuc (start-up type A or B) as on LinuxCNC, on the offset
 line of the following straight block, which the tool runs along into the lead arc; the ``G40``
 block starts at the offset point of the previous line's end, on the same line.  So the tool
-runs tangentially in and out, with no corner.  The tool runs inside the lead arcs, its centre on
-the radius ``lead_radius_mm`` less the wear: a wear value in ``D`` must stay below that radius
-(the header says so).
+runs tangentially in and out, with no corner.  A wear value in ``D`` must stay below what the
+leads take (:func:`camgen.export.gcode_leads.wear_limit`: the entry move longer than the radius
+offset by, the tool inside the lead arcs); the header states that limit.
 """
 from __future__ import annotations
 
+import math
 import re
 from typing import Sequence
 
 from camgen.export.fanuc_settings import FanucNumbers, fanuc_numbers
+from camgen.export.gcode_leads import wear_limit
 from camgen.export.gcode_moves import comment
 from camgen.export.gcode_spec import MachiningSpec
 
@@ -101,9 +103,9 @@ def fanuc_start(spec: MachiningSpec, pocketed: bool) -> list[str]:
     d = spec.decimals
     value = spec.tool_radius if spec.cutter_compensation else 0.0
     what = "the tool radius" if spec.cutter_compensation else "0, the path is the tool centre"
-    wear = "plus the wear"
-    if spec.lead_style == "arc":  # the tool runs inside the lead arcs: its centre on radius lead radius - wear
-        wear += f", below the lead arcs' radius {spec.lead_arc_radius:g} mm"
+    # the leads take a wear below wear_limit (the entry move, the lead arcs), printed rounded down
+    limit = math.floor(wear_limit(spec) * 10**d) / 10**d
+    wear = f"plus the wear, below {limit:.{d}f} mm for the leads"
     return [
         comment(f"radius register D{numbers.radius_register:02d} = {value:.{d}f} mm: {what}; {wear}; "
                 f"D read as a radius; length offset H{numbers.tool:02d} of tool T{numbers.tool}"

@@ -50,7 +50,8 @@ from camgen.contour import Arc
 from camgen.export.gcode_moves import MoveWriter
 from camgen.export.gcode_spec import LEAD_STYLES, MachiningSpec
 
-__all__ = ["COMP_ENTRY_ANGLE", "COMP_STRAIGHT", "LEAD_STYLES", "LEAD_SWEEP", "LeadMove", "Leads", "lead_blocks", "lead_moves"]
+__all__ = ["COMP_ENTRY_ANGLE", "COMP_STRAIGHT", "LEAD_STYLES", "LEAD_SWEEP", "LeadMove", "Leads", "entry_along", "lead_blocks", "lead_moves",
+           "wear_limit"]
 
 #: LinuxCNC's TOLERANCE_CONCAVE_CORNER (rad): compensated corners flatter than this are run
 #: straight on (interp_internal.hh).
@@ -101,6 +102,26 @@ def _arc(centre: np.ndarray, radius: float, start: np.ndarray, sweep: float) -> 
     return Arc((float(centre[0]), float(centre[1])), radius, a0, sweep)
 
 
+def entry_along(spec: MachiningSpec) -> float:
+    """``L'`` (mm): the compensation entry move's length along the straight lead, so that its angle
+    ``atan(r / L')`` to it stays above :data:`COMP_STRAIGHT` (LinuxCNC then takes the corner as
+    concave) and its end ``sqrt(L'^2 + r^2) < L`` from the plunge point."""
+    length, r = spec.lead_length, spec.tool_radius
+    return min(math.sqrt(length * length - r * r) / 2.0, r / math.tan(COMP_ENTRY_ANGLE))
+
+
+def wear_limit(spec: MachiningSpec) -> float:
+    """The largest wear (mm) a control's radius register may add to the radius the program expects
+    (the tool radius with cutter compensation, else 0) before the leads fail: the compensation
+    entry move must stay longer than the radius the control offsets by (LinuxCNC's and Fanuc's
+    rule), and the tool must fit inside the lead arcs (their tool-centre radius)."""
+    if spec.cutter_compensation:
+        room = math.hypot(entry_along(spec), spec.tool_radius) - spec.tool_radius
+    else:
+        room = spec.lead_length  # the entry move runs from the plunge point to the lead's end (the tool centre)
+    return min(room, spec.lead_arc_radius) if spec.lead_style == "arc" else room
+
+
 def lead_moves(start: np.ndarray, travel: np.ndarray, normal: np.ndarray, spec: MachiningSpec) -> Leads:
     """The leads of the outline that starts at ``start`` (the programmed point: ``S`` on the
     profile with ``spec.cutter_compensation``, else the tool centre ``S'``), travelling along the
@@ -133,9 +154,7 @@ def lead_moves(start: np.ndarray, travel: np.ndarray, normal: np.ndarray, spec: 
     entry: list[LeadMove] = []
     exit_: list[LeadMove] = []
     if comp:
-        # L': the entry move's length along the lead line; its angle atan(r / L') to the line
-        # stays above COMP_STRAIGHT so that LinuxCNC takes the corner as concave
-        along = min(math.sqrt(length * length - r * r) / 2.0, r / math.tan(COMP_ENTRY_ANGLE))
+        along = entry_along(spec)  # L': the entry move's length along the straight lead
         entry.append(LeadMove(on_in - (length - along) * v_in))
         entry.append(LeadMove(on_in))
         if arc_centre is not None:
