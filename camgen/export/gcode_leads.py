@@ -30,8 +30,8 @@ direction at ``M``; ``L' = min(sqrt(L^2 - r^2) / 2, r / tan(COMP_ENTRY_ANGLE))``
 interpreter (``convert_straight_comp1``) ends that entry move at ``A1 + r perp(u)`` (``u`` the
 direction from the tool to ``A1``); as the next line turns by more than ``COMP_STRAIGHT`` the
 corner is concave and the end moves to the intersection of the two offset lines, which is on
-the tool-centre line through ``P0`` and ``M`` (``sqrt(L'^2 + r^2) < L`` ahead of ``P0`` is it
-reached).  So the tool runs from ``P0`` straight to ``M``, then on the arc (the line->arc and
+the tool-centre line through ``P0`` and ``M``, ``sqrt(L'^2 + r^2) < L`` ahead of ``P0`` (before
+``M``).  So the tool runs from ``P0`` straight to ``M``, then on the arc (the line->arc and
 arc->contour joints are tangent: LinuxCNC runs them straight on) to ``S'``: the same tool-centre
 path as without compensation, with no corner.  The exit mirrors it: the programmed arc from
 ``S`` to ``Nm``, a line ``Nm -> Nm + (L / 2) v_N`` (the tool on the offset line), then ``G40``
