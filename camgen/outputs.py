@@ -224,6 +224,7 @@ def output_keys() -> tuple[Key, ...]:
 def machining_keys() -> tuple[Key, ...]:
     """Keys of the ``[machining]`` table (defaults owned by :class:`camgen.export.gcode.MachiningSpec`)."""
     from camgen.export.gcode import DIALECTS, DIRECTIONS, SPLINE_MODES, MachiningSpec
+    from camgen.export.gcode_spec import UNITS
     from camgen.export.wire_edm_spec import wire_edm_keys
     from camgen.export.fanuc_settings import DEFAULT_PROGRAM_NUMBER, DEFAULT_TOOL_NUMBER, MAX_PROGRAM_NUMBER, MAX_RADIUS_REGISTER, MAX_TOOL_NUMBER
     from camgen.kinds.base import field_default
@@ -260,7 +261,12 @@ def machining_keys() -> tuple[Key, ...]:
             "no skin or burr is left.", ("gcode",), default=d("breakthrough")),
         Key("spline_mode", Choice(SPLINE_MODES), "Spline segments as G2/G3 biarcs or G1 chords, within chord_tol_mm.", ("gcode",),
             default=d("spline_mode")),
-        Key("decimals", Count(3, 6), "Decimal places of the coordinates in the program.", ("gcode",), default=d("decimals")),
+        Key("decimals", Count(3, 6), "Decimal places of the coordinates in the program, in its units (mm or inches); their "
+            "rounding must stay within a quarter of chord_tol_mm (a coarser value is refused naming the least). Default: 4 in mm; "
+            "in inches the least that keeps that budget (6 with the default chord_tol_mm).", ("gcode",)),
+        Key("units", Choice(UNITS), 'Units of the program: "mm" (G21) or "inch" (G20: every coordinate, I/J, Z, safe Z and '
+            'register value in inches, feeds in in/min with 2 decimals; the header gives the tolerance in both units). The scene '
+            'keys stay in mm. Plate cams (milling and wire EDM); a barrel cam\'s program is mm only.', ("gcode",), default=d("units")),
         # --- fanuc dialect (camgen.export.fanuc_settings) ---
         Key("program_number", Count(1, MAX_PROGRAM_NUMBER), f"The Fanuc program's O number (default {DEFAULT_PROGRAM_NUMBER}).",
             ("gcode",), requires={"dialect": ("fanuc",)}),

@@ -204,6 +204,12 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     wall passes and the slot cleared); then the outline as without them."""
     from camgen import __version__
 
+    if spec.program_unit != 1.0:  # inch: the same program of the scaled geometry and spec (camgen.export.gcode_units)
+        from camgen.export.gcode_units import in_program_units
+
+        return in_program_units(gcode_program, contour, spec, cam, scene, thickness, pockets)
+    from camgen.export.gcode_units import units_note
+
     pocketed = None
     if pockets:
         from camgen.export.gcode_pockets import pocket_program
@@ -258,11 +264,11 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     if comp:
         # G41: tool left of the travel direction = outside of a clockwise (climb) path
         side = "G41.1" if climb else "G42.1"
-        lead_in = f"{side} D{spec.tool_diameter:.{d}f} G1 {xy(a_point)} F{spec.feed:.0f}\nG1 {xy(start)}\n"
+        lead_in = f"{side} D{spec.tool_diameter:.{d}f} G1 {xy(a_point)} F{spec.feed:.{spec.feed_decimals}f}\nG1 {xy(start)}\n"
         lead_out = f"G1 {xy(b_point)}\nG40 G1 {xy(leave)}\n"
         mode = f"cutter compensation {side} on the profile"
     else:
-        lead_in = f"G1 {xy(start)} F{spec.feed:.0f}\n"
+        lead_in = f"G1 {xy(start)} F{spec.feed:.{spec.feed_decimals}f}\n"
         lead_out = f"G1 {xy(leave)}\n"
         mode = "tool-centre path = profile offset by the tool radius"
     if spec.dialect == "fanuc":  # Fanuc/Haas: G41/G42 D<register> on the leads' G1 blocks (camgen.export.gcode_fanuc)
@@ -272,7 +278,7 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     fit_what = "biarc" if spec.spline_mode == "biarcs" else "chord"
     lines = [
         comment(f"camgen {__version__}: cam '{cam}'" + (f", scene '{scene}'" if scene else "")),
-        comment(f"units mm; tool diameter {spec.tool_diameter:g}; {mode}; {spec.direction} milling, outside contour"),
+        comment(f"{units_note(spec)}; tool diameter {spec.tool_diameter:g}; {mode}; {spec.direction} milling, outside contour"),
         comment(f"stock top Z0, bottom Z{-stock:g}; last pass Z{-depth:g} = {spec.breakthrough:g} below the stock bottom "
                  f"(breakthrough); {n_passes} passes of <= {spec.step_down:g}"),
         comment(f"path tolerance {chord_tol:g} = {fit_what} fit {FIT_SHARE * chord_tol:.3g} + offset refit "
@@ -288,7 +294,7 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
 
         lines += fanuc_start(spec, pocketed is not None)
     else:
-        lines.append("G21 G90 G17 G40 G49 G80 G94")
+        lines.append(f"{spec.units_word} G90 G17 G40 G49 G80 G94")
         if spec.dialect == "linuxcnc":
             lines.append(f"G64 P{blend}")
         lines += [f"G0 Z{spec.safe_z:.{d}f}", f"M3 S{spec.spindle_rpm:.0f}"]
@@ -299,7 +305,7 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
         body.append(
             f"(pass {k} of {n_passes}: Z{z:.{d}f})\n"
             f"G0 {xy(plunge)}\n"
-            f"G1 Z{z:.{d}f} F{spec.plunge_feed:.0f}\n"
+            f"G1 Z{z:.{d}f} F{spec.plunge_feed:.{spec.feed_decimals}f}\n"
             f"{lead_in}"
             f"{contour_moves}"
             f"{lead_out}"

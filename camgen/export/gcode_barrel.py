@@ -214,6 +214,8 @@ def check_tool(groove: Any, spec: MachiningSpec, cam: str, width_is: str = GROOV
         raise ParameterError("dialect", spec.dialect, '"linuxcnc" for a barrel cam', "its program needs a rotary A axis and G93")
     if spec.cutter_compensation:
         raise ParameterError("cutter_compensation", True, "false for a barrel cam", "its program is a tool-centre path on a rotary axis")
+    if spec.units != "mm":  # inch programs (camgen.export.gcode_units): plate cams only
+        raise ParameterError("units", spec.units, '"mm" for a barrel cam', "its 4th-axis program is written in mm only (an inch one is not built)")
 
 
 def turn_blocks(path: BarrelToolPath, xs: np.ndarray, ys: np.ndarray, d: int, da: int, feed: float, rim: float, a_start: float = 0.0,

@@ -80,7 +80,7 @@ def fanuc_leads(spec: MachiningSpec, climb: bool, xy: Callable[[np.ndarray], str
     itself and off along the lead-out, for the wear offset only.
     """
     words = _register_words(spec, climb)
-    feed = f"F{spec.feed:.0f}"
+    feed = f"F{spec.feed:.{spec.feed_decimals}f}"
     register = f"D{fanuc_numbers_of(spec).radius_register:02d}"
     if spec.cutter_compensation:
         assert entry is not None and exit_point is not None
@@ -103,10 +103,10 @@ def fanuc_start(spec: MachiningSpec, pocketed: bool) -> list[str]:
     value = spec.tool_radius if spec.cutter_compensation else 0.0
     what = "the tool radius" if spec.cutter_compensation else "0, the path is the tool centre"
     return [
-        comment(f"radius register D{numbers.radius_register:02d} = {value:.{d}f} mm: {what}; plus the wear; "
+        comment(f"radius register D{numbers.radius_register:02d} = {value:.{d}f} {"in" if spec.units == "inch" else "mm"}: {what}; plus the wear; "
                 f"D read as a radius; length offset H{numbers.tool:02d} of tool T{numbers.tool}"
                 + ("; pockets without compensation" if pocketed else "")),
-        UNITS_BLOCK,
+        spec.units_word,  # UNITS_BLOCK, or G20 in an inch program (camgen.export.gcode_units)
         SAFE_START,
         f"T{numbers.tool} M06",
         f"S{spec.spindle_rpm:.0f} M03",
