@@ -78,7 +78,7 @@ def _numbers(canon: list[dict]) -> np.ndarray:
 @pytest.mark.usefixtures("needs_rs274")
 @pytest.mark.parametrize("dialect", ["linuxcnc", "grbl", "fanuc"])
 def test_inch_programs_cut_the_exact_profile(dialect, plate, tmp_path):
-    from test_gcode_fanuc import TABLE_UNIT_MM, masked, stated_register
+    from test_gcode_fanuc import TABLE_UNIT_MM, masked
 
     cam, base = plate
     profile = ExactProfile(cam.contour)
@@ -92,7 +92,9 @@ def test_inch_programs_cut_the_exact_profile(dialect, plate, tmp_path):
         assert "G21" not in program and re.search(r"^G20\b", program, re.M), label
         table = None
         if dialect == "fanuc":
-            register, radius = stated_register(program.replace(" IN:", " MM:"))  # the header's value, in inches
+            m = re.search(r"^\(RADIUS REGISTER D(\d+) = ([\d.]+) IN ", program, re.M)  # the header's value, in inches
+            assert m, label
+            register, radius = int(m.group(1)), float(m.group(2))
             assert radius == pytest.approx(spec.tool_radius / INCH if comp else 0.0, abs=1e-6), label
             table = f"T1 P1 Z0 D{2.0 * radius:.12f} ;\n" if register == 1 else None  # rs274's table is in inches (as the program)
             assert table is not None and TABLE_UNIT_MM == INCH
@@ -231,3 +233,29 @@ def test_barrel_program_in_inches_is_refused():
         check_tool(Groove(), spec, "barrel")
     assert info.value.name == "units"
     check_tool(Groove(), dataclasses.replace(spec, units="mm", decimals=4), "barrel")  # mm: accepted
+
+
+@pytest.mark.usefixtures("needs_rs274")
+def test_groove_cam_inch_program_cuts_groove_and_outline(tmp_path):
+    """The groove_cam template's pockets (ramped passes with Z on lines and helical arcs) and
+    outline in inches: accepted by rs274, and converted back cut within 1 um."""
+    from camgen.pipeline import Plan, compute
+    from camgen.scene import load_template
+    from cutting import simulate_pockets
+
+    scene = load_template("groove_cam")
+    cam = compute(scene, Plan((), frozenset())).cams[0]
+    assert cam.pockets
+    spec = dataclasses.replace(scene.machining, thickness=cam.body.thickness, chord_tol=scene.output.chord_tol, units="inch", decimals=0)
+    program = gcode_program(cam.contour, spec, cam.name, "groove_cam", cam.body.thickness, cam.pockets)
+    status, message, inch_canon = rs274_canon(program, tmp_path)
+    assert status == 0, message
+    walls = {wall.layer: wall.contour for wall in cam.pockets[0].walls}
+    report = simulate_pockets(to_mm(program), cam.contour, walls, spec.tool_radius, tmp_path)
+    assert np.max(np.abs(_numbers(inch_canon) * INCH - _numbers(report.outline.canon))) <= PRINT_GAP
+    pocket, outline = report.pocket, report.outline
+    assert outline.status == 0 and pocket is not None
+    for layer in walls:
+        assert pocket.gouge[layer] <= CUT_TOL and pocket.proud[layer] <= CUT_TOL, (layer, pocket.gouge, pocket.proud)
+    assert pocket.deepest == pytest.approx(-cam.pockets[0].depth, abs=1e-6)
+    assert outline.gouge <= CUT_TOL and outline.proud <= CUT_TOL and outline.rapid_clearance >= 0.0

@@ -103,7 +103,7 @@ def fanuc_start(spec: MachiningSpec, pocketed: bool) -> list[str]:
     value = spec.tool_radius if spec.cutter_compensation else 0.0
     what = "the tool radius" if spec.cutter_compensation else "0, the path is the tool centre"
     return [
-        comment(f"radius register D{numbers.radius_register:02d} = {value:.{d}f} {"in" if spec.units == "inch" else "mm"}: {what}; plus the wear; "
+        comment(f"radius register D{numbers.radius_register:02d} = {value:.{d}f} {'in' if spec.units == 'inch' else 'mm'}: {what}; plus the wear; "
                 f"D read as a radius; length offset H{numbers.tool:02d} of tool T{numbers.tool}"
                 + ("; pockets without compensation" if pocketed else "")),
         spec.units_word,  # UNITS_BLOCK, or G20 in an inch program (camgen.export.gcode_units)
