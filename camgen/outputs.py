@@ -97,7 +97,7 @@ _FORMATS = (
                  "the fea extra (gmsh)", "camgen.export.fea:writer", FEA, keys=_FEA_KEYS),
     OutputFormat("step", "{cam}.step", "exact solid (circles and B-splines), AP214, mm (AP242: output.step_schema); needs the step "
                  "extra (cadquery-ocp-novtk)", "camgen.writers:step", keys=("step_schema",)),
-    OutputFormat("ngc", "{cam}.ngc", "RS274/NGC G-code milling the outside profile and pockets (LinuxCNC or GRBL); a barrel cam's groove on a rotary A axis (LinuxCNC)", "camgen.writers:gcode",
+    OutputFormat("ngc", "{cam}.ngc", "RS274/NGC G-code milling the outside profile and pockets (LinuxCNC or GRBL), in mm or inches (machining.units); a barrel cam's groove on a rotary A axis (LinuxCNC)", "camgen.writers:gcode",
                  machining=True),
     OutputFormat("html", "report.html", "the design-check report with plots, one self-contained page",
                  "camgen.writers:html", frozenset({"analysis", "plots"}), manufacturing=False, scope="run"),

@@ -30,7 +30,7 @@ import pytest
 from camgen.errors import ParameterError
 from camgen.export.gcode import MachiningSpec, gcode_program
 from cutting import CUT_TOL, ExactProfile, simulate
-from helpers import require_tool, rs274_canon
+from helpers import require_tool, rs274_canon, tree  # noqa: F401 (tree: a fixture)
 
 INCH = 25.4  # mm, by definition
 MODES = [(comp, direction) for comp in (False, True) for direction in ("climb", "conventional")]
@@ -259,3 +259,10 @@ def test_groove_cam_inch_program_cuts_groove_and_outline(tmp_path):
         assert pocket.gouge[layer] <= CUT_TOL and pocket.proud[layer] <= CUT_TOL, (layer, pocket.gouge, pocket.proud)
     assert pocket.deepest == pytest.approx(-cam.pockets[0].depth, abs=1e-6)
     assert outline.gouge <= CUT_TOL and outline.proud <= CUT_TOL and outline.rapid_clearance >= 0.0
+
+
+def test_the_readme_quotes_the_inch_tolerance_bound(tree):
+    """The README's Limits: with inches, chord_tol_mm >= 4 x the rounding of 6 decimals of an inch."""
+    bound = 3.0 * math.hypot(0.5e-6, 0.5e-6) * INCH / 0.25
+    text = " ".join((tree / "README.md").read_text(encoding="utf-8").split())
+    assert f"`chord_tol_mm >= {bound:.1e} mm`".replace("e-04", "e-4") in text
