@@ -217,22 +217,42 @@ def test_wire_edm_inch_program_matches_the_mm_program(plate):
     assert feed == pytest.approx(wire.wire_feed / INCH, rel=1e-4)
 
 
-def test_barrel_program_in_inches_is_refused():
-    from camgen.export.gcode_barrel import check_tool
+_ROW = re.compile(r"^G1 X(-?[\d.]+)(?: Y(-?[\d.]+))? Z(-?[\d.]+) A(-?[\d.]+) F([\d.]+)$", re.M)
 
-    class Layout:
-        roller_shape = "cylindrical"
-        sigma = 1
 
-    class Groove:
-        layout = Layout()
-        half_width = 5.0
+@pytest.mark.usefixtures("needs_rs274")
+def test_barrel_groove_inch_program_matches_the_mm_program(tmp_path):
+    """The barrel_cam template's groove on the A axis: the inch program is accepted by rs274
+    (read in inches), and its moves converted back are the mm program's within the two
+    programs' rounding: X, Z within half a unit of each last decimal, A within half a unit of
+    each A decimal (A in degrees, not converted), the inverse-time F (1/min) the same within
+    the rounding of the move lengths; the plunge feed in in/min."""
+    from camgen.export.gcode_barrel import barrel_program
+    from camgen.pipeline import Plan, compute
+    from camgen.scene import load_template
 
-    spec = MachiningSpec(tool_diameter=10.0, units="inch")
-    with pytest.raises(ParameterError) as info:
-        check_tool(Groove(), spec, "barrel")
-    assert info.value.name == "units"
-    check_tool(Groove(), dataclasses.replace(spec, units="mm", decimals=4), "barrel")  # mm: accepted
+    scene = load_template("barrel_cam")
+    cam = compute(scene, Plan((), frozenset())).cams[0]
+    groove = cam.built.groove
+    spec = dataclasses.replace(scene.machining, chord_tol=scene.output.chord_tol)
+    mm = barrel_program(groove, spec, cam.name)
+    inch = barrel_program(groove, dataclasses.replace(spec, units="inch", decimals=0), cam.name)
+    assert "G20 G90" in inch and "G21" not in inch and "G21 G90" in mm and "units inch" in inch
+    status, message, canon = rs274_canon(inch, tmp_path)
+    assert status == 0, message
+    a = np.array([[float(v or 0.0) for v in row] for row in _ROW.findall(mm)])
+    b = np.array([[float(v or 0.0) for v in row] for row in _ROW.findall(inch)])
+    assert a.shape == b.shape and len(a) > 1000
+    d_mm = len(re.search(r"^G1 X-?\d+\.(\d+)", mm, re.M).group(1))
+    da_mm = len(re.search(r" A-?\d+\.(\d+)", mm).group(1))
+    da_in = len(re.search(r" A-?\d+\.(\d+)", inch).group(1))
+    xyz = 0.5 * 10.0 ** -d_mm + 0.5e-6 * INCH + 1e-12
+    assert np.max(np.abs(b[:, [0, 1, 2]] * INCH - a[:, [0, 1, 2]])) <= xyz
+    assert np.max(np.abs(b[:, 3] - a[:, 3])) <= 0.5 * 10.0 ** -da_mm + 0.5 * 10.0 ** -da_in + 1e-12
+    assert np.allclose(b[:, 4], a[:, 4], rtol=2e-3)  # feed / length: the same ratio in either unit
+    plunge = float(re.search(r"^G1 Z[\d.]+ F([\d.]+)$", inch, re.M).group(1))
+    assert plunge == pytest.approx(spec.plunge_feed / INCH, abs=0.005)
+    assert max(m["end"][2] for m in canon if m["kind"] != "traverse") * INCH == pytest.approx(groove.rim_radius, abs=0.5e-4 * INCH)  # rs274 prints 4 decimals of an inch
 
 
 @pytest.mark.usefixtures("needs_rs274")
@@ -266,3 +286,16 @@ def test_the_readme_quotes_the_inch_tolerance_bound(tree):
     bound = 3.0 * math.hypot(0.5e-6, 0.5e-6) * INCH / 0.25
     text = " ".join((tree / "README.md").read_text(encoding="utf-8").split())
     assert f"`chord_tol_mm >= {bound:.1e} mm`".replace("e-04", "e-4") in text
+
+
+def test_a_barrel_rib_program_in_inches_is_refused():
+    """A rib's 4th-axis program is mm only: units = "inch" is refused naming the key, nothing silent."""
+    from camgen.pipeline import execute, plan_run
+    from camgen.scene import parse_scene
+    from test_barrel_rib_files import CLEARANCE, RR, rib_table
+
+    scene = parse_scene({"output": {"formats": ["ngc"]}, "machining": {"units": "inch", "tool_diameter_mm": 2 * RR + CLEARANCE},
+                         "cams": {"b": rib_table()}}, "t")
+    with pytest.raises(ParameterError) as info:
+        execute(scene, plan_run(scene))
+    assert info.value.name == "machining.units" and '"mm"' in info.value.valid

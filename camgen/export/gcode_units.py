@@ -11,6 +11,10 @@ on (tangency, offsets by the tool radius, the error budget's shares of ``chord_t
 blend, all in inches), so only the units word (``G20``), the feed decimals
 (:data:`camgen.export.gcode_spec.FEED_DECIMALS_INCH`) and the header's units note differ.
 
+A barrel cam's groove (:func:`camgen.export.gcode_barrel.barrel_program`) is scaled the same
+way (:class:`ScaledGroove`: its roller axis' height and offset, radii and half width); A stays
+in degrees and the inverse-time feeds (feed over a move's length, 1/min) do not change.
+
 Decimals count inches: ``decimals`` rounds each printed value by up to ``0.5 10^-decimals`` in,
 so the spec (in mm) checks ``rounding_error(decimals) x 25.4 <= ROUNDING_SHARE x chord_tol``
 (:class:`camgen.export.gcode_spec.MachiningSpec`).  A refusal raised while writing the inch
@@ -20,7 +24,7 @@ so that its values are the scene's mm.
 from __future__ import annotations
 
 import dataclasses
-from typing import TYPE_CHECKING, Callable, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Sequence
 
 import numpy as np
 
@@ -32,7 +36,7 @@ from camgen.export.gcode_spec import MM_PER_INCH, MachiningSpec
 if TYPE_CHECKING:
     from camgen.kinds.base import Pocket
 
-__all__ = ["Writer", "in_program_units", "program_spec", "scaled_contour", "scaled_pocket", "units_line", "units_note"]
+__all__ = ["ScaledGroove", "Writer", "groove_in_program_units", "in_program_units", "program_spec", "scaled_contour", "scaled_pocket", "units_line", "units_note"]
 
 #: A program writer: (contour, spec, cam, scene, thickness, pockets) -> program text.
 Writer = Callable[[Contour, MachiningSpec, str, str, "float | None", "Sequence[Pocket]"], str]
@@ -119,5 +123,38 @@ def in_program_units(write: Writer, contour: Contour, spec: MachiningSpec, cam: 
                         tuple(scaled_pocket(p, s) for p in pockets))
     except (ParameterError, GeometryError):
         write(contour, dataclasses.replace(spec, units="mm", decimals=6), cam, scene, thickness, pockets)  # raises in mm, as a rule
+        raise
+    return _with_units_line(program, inch)
+
+
+class ScaledGroove:
+    """A barrel cam's groove (:class:`camgen.synthesis.barrel.BarrelGroove`) seen at scale ``s``:
+    what :func:`camgen.export.gcode_barrel.barrel_program` reads of it, its lengths times ``s``
+    (the roller axis' height ``z_c`` and tangential offset ``e``, rim and root radii, half width);
+    the layout (shape, sense of rotation) and the law (its breaks are cam angles) unchanged."""
+
+    def __init__(self, groove: Any, s: float) -> None:
+        self.groove, self.s = groove, s
+        self.layout, self.law = groove.layout, groove.law
+        self.half_width = groove.half_width * s
+        self.rim_radius = groove.rim_radius * s
+        self.root_radius = groove.root_radius * s
+
+    def axis(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Height and tangential offset of the roller's axis at cam angles ``theta``, scaled."""
+        z_c, e = self.groove.axis(theta)
+        return np.asarray(z_c) * self.s, np.asarray(e) * self.s
+
+
+def groove_in_program_units(write: Callable[[Any, MachiningSpec, str, str], str], groove: Any, spec: MachiningSpec, cam: str,
+                            scene: str) -> str:
+    """The barrel program ``write`` makes of ``groove`` for ``spec`` (in mm, ``units = "inch"``),
+    written in inches (:class:`ScaledGroove`, :func:`program_spec`); a refusal is the mm program's."""
+    s = 1.0 / spec.program_unit
+    inch = program_spec(spec)
+    try:
+        program = write(ScaledGroove(groove, s), inch, cam, scene)
+    except (ParameterError, GeometryError):
+        write(groove, dataclasses.replace(spec, units="mm", decimals=6), cam, scene)  # raises in mm, as a rule
         raise
     return _with_units_line(program, inch)
