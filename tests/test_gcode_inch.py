@@ -198,8 +198,11 @@ def _moves(program: str) -> np.ndarray:
     return np.array(rows)
 
 
-def test_wire_edm_inch_program_matches_the_mm_program(plate):
-    """The same moves, converted back: within half a unit of each program's last decimal."""
+@pytest.mark.usefixtures("needs_rs274")
+def test_wire_edm_inch_program_matches_the_mm_program(plate, tmp_path):
+    """The same moves, converted back: within half a unit of each program's last decimal; the
+    inch program accepted by rs274 with its registers D<k> (tool table in inches) holding the
+    offsets the header states."""
     from camgen.export.wire_edm import wire_edm_program
 
     cam, base = plate
@@ -210,9 +213,12 @@ def test_wire_edm_inch_program_matches_the_mm_program(plate):
     a, b = _moves(mm), _moves(inch) * INCH
     assert a.shape == b.shape and len(a) > 10
     assert np.max(np.hypot(*(a - b).T)) <= math.hypot(0.5e-4 + 0.5e-6 * INCH, 0.5e-4 + 0.5e-6 * INCH)
-    regs = {k: float(v) for k, v in re.findall(r"^\(register D(\d) = ([\d.]+)", inch, re.M)}
+    regs = {int(k): float(v) for k, v in re.findall(r"^\(register D(\d) = ([\d.]+)", inch, re.M)}
     wire = spec.wire_edm
-    assert wire is not None and regs and all(regs[str(k + 1)] * INCH == pytest.approx(o, abs=0.5e-6 * INCH) for k, o in enumerate(wire.offsets))
+    assert wire is not None and regs and all(regs[k + 1] * INCH == pytest.approx(o, abs=0.5e-6 * INCH) for k, o in enumerate(wire.offsets))
+    table = "".join(f"T{k} P{k} D{2.0 * regs[k]:.12f} ;\n" for k in sorted(regs))  # rs274 reads D as a diameter
+    status, message, canon = rs274_canon(inch, tmp_path, table)
+    assert status == 0 and canon, message
     feed = float(re.search(r"G41 D1 G1 .* F([\d.e-]+)", inch).group(1))
     assert feed == pytest.approx(wire.wire_feed / INCH, rel=1e-4)
 
