@@ -305,3 +305,22 @@ def test_a_barrel_rib_program_in_inches_is_refused():
     with pytest.raises(ParameterError) as info:
         execute(scene, plan_run(scene))
     assert info.value.name == "machining.units" and '"mm"' in info.value.valid
+
+
+def test_a_refusal_of_an_inch_program_quotes_the_scene_mm():
+    """A tool wider than the groove: refused naming tool_diameter with its value and bound in mm
+    (the groove's width, not the width / 25.4 of the inch program)."""
+    from camgen.pipeline import Plan, compute
+    from camgen.scene import load_template
+
+    scene = load_template("groove_cam")
+    cam = compute(scene, Plan((), frozenset())).cams[0]
+    pocket = cam.pockets[0]
+    wide = pocket.width + 1.0
+    spec = dataclasses.replace(scene.machining, thickness=cam.body.thickness, chord_tol=scene.output.chord_tol, units="inch", decimals=0,
+                               tool_diameter=wide)
+    with pytest.raises(ParameterError) as info:
+        gcode_program(cam.contour, spec, cam.name, "groove_cam", cam.body.thickness, cam.pockets)
+    assert info.value.name == "tool_diameter" and info.value.value == wide
+    bound = float(re.search(r"<= ([\d.]+) mm", info.value.valid).group(1))
+    assert bound == pytest.approx(pocket.width, rel=1e-5) and "inches" not in info.value.why

@@ -24,7 +24,7 @@ so that its values are the scene's mm.
 from __future__ import annotations
 
 import dataclasses
-from typing import TYPE_CHECKING, Any, Callable, Sequence
+from typing import TYPE_CHECKING, Any, Callable, NoReturn, Sequence
 
 import numpy as np
 
@@ -36,7 +36,8 @@ from camgen.export.gcode_spec import MM_PER_INCH, MachiningSpec
 if TYPE_CHECKING:
     from camgen.kinds.base import Pocket
 
-__all__ = ["ScaledGroove", "Writer", "groove_in_program_units", "in_program_units", "program_spec", "scaled_contour", "scaled_pocket", "units_line", "units_note"]
+__all__ = ["ScaledGroove", "Writer", "groove_in_program_units", "in_program_units", "program_spec", "scaled_contour", "scaled_pocket",
+           "units_line", "units_note"]
 
 #: A program writer: (contour, spec, cam, scene, thickness, pockets) -> program text.
 Writer = Callable[[Contour, MachiningSpec, str, str, "float | None", "Sequence[Pocket]"], str]
@@ -52,7 +53,7 @@ def program_spec(spec: MachiningSpec) -> MachiningSpec:
     if spec.program_unit == 1.0:
         return spec
     s = 1.0 / spec.program_unit
-    changes: dict[str, object] = {name: getattr(spec, name) * s for name in _LENGTHS}
+    changes: dict[str, Any] = {name: getattr(spec, name) * s for name in _LENGTHS}
     if spec.wire_edm is not None:
         wire = spec.wire_edm
         assert wire.cut_allowances is not None
@@ -60,7 +61,7 @@ def program_spec(spec: MachiningSpec) -> MachiningSpec:
                                                   **{name: getattr(wire, name) * s for name in _WIRE_LENGTHS})
     else:
         changes["lead"] = spec.lead_length * s
-    return dataclasses.replace(spec, converted=True, **changes)  # type: ignore[arg-type]
+    return dataclasses.replace(spec, converted=True, **changes)
 
 
 def _scaled_segment(seg: Arc | Spline, s: float) -> Arc | Spline:
@@ -111,6 +112,20 @@ def _with_units_line(program: str, spec: MachiningSpec) -> str:
     return "\n".join(lines[:k + 1] + [line] + lines[k + 1:])
 
 
+def _in_mm(spec: MachiningSpec) -> MachiningSpec:
+    """``spec`` writing a mm program, with 6 decimals (finer than any inch program's in mm)."""
+    return dataclasses.replace(spec, units="mm", decimals=6)
+
+
+def _refuse_in_mm(write_mm: Callable[[], str], exc: Exception) -> NoReturn:
+    """Raise the refusal of the mm program (``write_mm``), whose values are the scene's mm; where
+    it writes, ``exc`` (the inch program's), a ParameterError saying its values are in inches."""
+    write_mm()
+    if isinstance(exc, ParameterError):
+        raise ParameterError(exc.name, exc.value, exc.valid, "; ".join(filter(None, [exc.why, "values of the inch program, in inches"])))
+    raise exc
+
+
 def in_program_units(write: Writer, contour: Contour, spec: MachiningSpec, cam: str, scene: str, thickness: float | None,
                      pockets: "Sequence[Pocket]") -> str:
     """The program ``write`` makes of ``contour`` (mm) for ``spec`` (in mm, ``units = "inch"``):
@@ -121,9 +136,8 @@ def in_program_units(write: Writer, contour: Contour, spec: MachiningSpec, cam: 
         inch = program_spec(spec)
         program = write(scaled_contour(contour, s), inch, cam, scene, None if thickness is None else thickness * s,
                         tuple(scaled_pocket(p, s) for p in pockets))
-    except (ParameterError, GeometryError):
-        write(contour, dataclasses.replace(spec, units="mm", decimals=6), cam, scene, thickness, pockets)  # raises in mm, as a rule
-        raise
+    except (ParameterError, GeometryError) as exc:
+        _refuse_in_mm(lambda: write(contour, _in_mm(spec), cam, scene, thickness, pockets), exc)
     return _with_units_line(program, inch)
 
 
@@ -154,7 +168,6 @@ def groove_in_program_units(write: Callable[[Any, MachiningSpec, str, str], str]
     inch = program_spec(spec)
     try:
         program = write(ScaledGroove(groove, s), inch, cam, scene)
-    except (ParameterError, GeometryError):
-        write(groove, dataclasses.replace(spec, units="mm", decimals=6), cam, scene)  # raises in mm, as a rule
-        raise
+    except (ParameterError, GeometryError) as exc:
+        _refuse_in_mm(lambda: write(groove, _in_mm(spec), cam, scene), exc)
     return _with_units_line(program, inch)
