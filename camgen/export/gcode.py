@@ -4,7 +4,8 @@
 The program cuts the outside of the profile in step-down passes to the stock bottom and
 ``breakthrough`` below it:
 
-* header ``G21 G90 G17 G40 G49 G80 G94`` (+ ``G64 P<blend>`` path blending tolerance for LinuxCNC);
+* header ``G21 G90 G17 G40 G49 G80 G94`` (+ ``G64 P<blend>`` path blending tolerance for LinuxCNC; ``G20`` and every
+  number in inches with ``units = "inch"``: :mod:`camgen.export.gcode_units`);
 * by default the **tool-centre path**: the profile offset outward by the tool radius (exact
   arcs stay ``G2/G3``; spline segments become biarcs ``G2/G3`` or ``G1`` chords);
 * optionally **cutter compensation** (LinuxCNC only): the profile itself with ``G41.1/G42.1

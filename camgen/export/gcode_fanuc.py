@@ -4,7 +4,7 @@ The moves are those of :func:`camgen.export.gcode.gcode_program` (the same tool 
 passes and pockets); this module writes the words a Fanuc-style control needs around them:
 
 * ``%`` framing, ``O<program_number>`` (four digits) with the cam's name, ``M30`` and ``%``;
-* ``G21`` alone in the first block (units before anything else), then the safe start line
+* ``G21`` (``G20`` in an inch program: :mod:`camgen.export.gcode_units`) alone in the first block (units before anything else), then the safe start line
   ``G17 G40 G49 G80 G90 G94 G54``, the tool call ``T<n> M06``, spindle ``S.. M03`` and the length
   offset ``G0 G43 H<n> Z<safe>`` (``H`` = the tool number);
 * cutter compensation ``G41/G42 D<radius_register>`` switched on in a ``G1`` block of the
