@@ -97,7 +97,7 @@ _FORMATS = (
                  "the fea extra (gmsh)", "camgen.export.fea:writer", FEA, keys=_FEA_KEYS),
     OutputFormat("step", "{cam}.step", "exact solid (circles and B-splines), AP214, mm (AP242: output.step_schema); needs the step "
                  "extra (cadquery-ocp-novtk)", "camgen.writers:step", keys=("step_schema",)),
-    OutputFormat("ngc", "{cam}.ngc", "RS274/NGC G-code milling the outside profile and pockets (LinuxCNC or GRBL); a barrel cam's groove on a rotary A axis (LinuxCNC)", "camgen.writers:gcode",
+    OutputFormat("ngc", "{cam}.ngc", "RS274/NGC G-code milling the outside profile and pockets (LinuxCNC or GRBL), in mm or inches (machining.units); a barrel cam's groove on a rotary A axis (LinuxCNC)", "camgen.writers:gcode",
                  machining=True),
     OutputFormat("html", "report.html", "the design-check report with plots, one self-contained page",
                  "camgen.writers:html", frozenset({"analysis", "plots"}), manufacturing=False, scope="run"),
@@ -224,7 +224,7 @@ def output_keys() -> tuple[Key, ...]:
 def machining_keys() -> tuple[Key, ...]:
     """Keys of the ``[machining]`` table (defaults owned by :class:`camgen.export.gcode.MachiningSpec`)."""
     from camgen.export.gcode import DIALECTS, DIRECTIONS, SPLINE_MODES, MachiningSpec
-    from camgen.export.gcode_spec import LEAD_STYLES, MIN_LEAD_RADIUS
+    from camgen.export.gcode_spec import LEAD_STYLES, MIN_LEAD_RADIUS, UNITS
     from camgen.export.wire_edm_spec import wire_edm_keys
     from camgen.export.fanuc_settings import DEFAULT_PROGRAM_NUMBER, DEFAULT_TOOL_NUMBER, MAX_PROGRAM_NUMBER, MAX_RADIUS_REGISTER, MAX_TOOL_NUMBER
     from camgen.kinds.base import field_default
@@ -269,7 +269,13 @@ def machining_keys() -> tuple[Key, ...]:
             "no skin or burr is left.", ("gcode",), default=d("breakthrough")),
         Key("spline_mode", Choice(SPLINE_MODES), "Spline segments as G2/G3 biarcs or G1 chords, within chord_tol_mm.", ("gcode",),
             default=d("spline_mode")),
-        Key("decimals", Count(3, 6), "Decimal places of the coordinates in the program.", ("gcode",), default=d("decimals")),
+        Key("decimals", Count(3, 6), "Decimal places of the coordinates in the program, in its units (mm or inches); their "
+            "rounding must stay within a quarter of chord_tol_mm (a coarser value is refused naming the least). Default: 4 in mm; "
+            "in inches the least that keeps that budget (6 with the default chord_tol_mm).", ("gcode",)),
+        Key("units", Choice(UNITS), 'Units of the program: "mm" (G21) or "inch" (G20: every coordinate, I/J, Z, safe Z and '
+            'register value in inches, feeds in in/min with 2 decimals; the header gives the tolerance in both units). The scene '
+            'keys stay in mm. Plate cams (milling and wire EDM) and a barrel cam\'s groove (X, Y, Z in inches, A in degrees); a '
+            'barrel cam\'s rib is mm only.', ("gcode",), default=d("units")),
         # --- fanuc dialect (camgen.export.fanuc_settings) ---
         Key("program_number", Count(1, MAX_PROGRAM_NUMBER), f"The Fanuc program's O number (default {DEFAULT_PROGRAM_NUMBER}).",
             ("gcode",), requires={"dialect": ("fanuc",)}),

@@ -16,6 +16,7 @@ by cut (the moves between two program stops, M00):
 """
 from __future__ import annotations
 
+import os
 import re
 import subprocess
 import sys
@@ -69,7 +70,7 @@ def run_rs274(program: str, offsets, workdir) -> tuple[int, str, list[list[dict]
     path = workdir / "wire.ngc"
     path.write_text(_masked(program))
     proc = subprocess.run(["rs274", "-t", str(table), "-g", str(path)], stdin=subprocess.DEVNULL, capture_output=True, text=True,
-                          timeout=120)
+                          timeout=120, env={**os.environ, "HOME": str(workdir)})  # LinuxCNC keeps the table in $HOME/.tool.mmap
     number = r"(-?\d+(?:\.\d+)?)"
     straight = re.compile(rf"STRAIGHT_(FEED|TRAVERSE)\({number}, {number}, {number}")
     arc = re.compile(rf"ARC_FEED\({number}, {number}, {number}, {number}, (-?\d+), {number}")

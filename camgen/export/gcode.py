@@ -4,7 +4,8 @@
 The program cuts the outside of the profile in step-down passes to the stock bottom and
 ``breakthrough`` below it:
 
-* header ``G21 G90 G17 G40 G49 G80 G94`` (+ ``G64 P<blend>`` path blending tolerance for LinuxCNC);
+* header ``G21 G90 G17 G40 G49 G80 G94`` (+ ``G64 P<blend>`` path blending tolerance for LinuxCNC; ``G20`` and every
+  number in inches with ``units = "inch"``: :mod:`camgen.export.gcode_units`);
 * by default the **tool-centre path**: the profile offset outward by the tool radius (exact
   arcs stay ``G2/G3``; spline segments become biarcs ``G2/G3`` or ``G1`` chords);
 * optionally **cutter compensation** (LinuxCNC, Fanuc): the profile itself with ``G41.1/G42.1
@@ -204,6 +205,12 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     wall passes and the slot cleared); then the outline as without them."""
     from camgen import __version__
 
+    if spec.program_unit != 1.0:  # inch: the same program of the scaled geometry and spec (camgen.export.gcode_units)
+        from camgen.export.gcode_units import in_program_units
+
+        return in_program_units(gcode_program, contour, spec, cam, scene, thickness, pockets)
+    from camgen.export.gcode_units import units_note
+
     pocketed = None
     if pockets:
         from camgen.export.gcode_pockets import pocket_program
@@ -251,7 +258,7 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     depths = -np.minimum(spec.step_down * np.arange(1, n_passes + 1), depth)
     chord_tol = spec.chord_tol
     blend = blend_word(BLEND_SHARE * chord_tol, d)
-    feed = f"F{spec.feed:.0f}"
+    feed = f"F{spec.feed:.{spec.feed_decimals}f}"
 
     def blocks(moves: list[tuple[str, str]]) -> str:
         return "".join(f"{word} {words}\n" for word, words in moves)
@@ -275,7 +282,7 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     fit_what = "biarc" if spec.spline_mode == "biarcs" else "chord"
     lines = [
         comment(f"camgen {__version__}: cam '{cam}'" + (f", scene '{scene}'" if scene else "")),
-        comment(f"units mm; tool diameter {spec.tool_diameter:g}; {mode}; {spec.direction} milling, outside contour"),
+        comment(f"{units_note(spec)}; tool diameter {spec.tool_diameter:g}; {mode}; {spec.direction} milling, outside contour"),
         comment(f"stock top Z0, bottom Z{-stock:g}; last pass Z{-depth:g} = {spec.breakthrough:g} below the stock bottom "
                  f"(breakthrough); {n_passes} passes of <= {spec.step_down:g}"),
         comment(f"path tolerance {chord_tol:g} = {fit_what} fit {FIT_SHARE * chord_tol:.3g} + offset refit "
@@ -294,7 +301,7 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
 
         lines += fanuc_start(spec, pocketed is not None)
     else:
-        lines.append("G21 G90 G17 G40 G49 G80 G94")
+        lines.append(f"{spec.units_word} G90 G17 G40 G49 G80 G94")
         if spec.dialect == "linuxcnc":
             lines.append(f"G64 P{blend}")
         lines += [f"G0 Z{spec.safe_z:.{d}f}", f"M3 S{spec.spindle_rpm:.0f}"]
@@ -305,7 +312,7 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
         body.append(
             f"(pass {k} of {n_passes}: Z{z:.{d}f})\n"
             f"G0 {xy(plunge)}\n"
-            f"G1 Z{z:.{d}f} F{spec.plunge_feed:.0f}\n"
+            f"G1 Z{z:.{d}f} F{spec.plunge_feed:.{spec.feed_decimals}f}\n"
             f"{lead_in}"
             f"{contour_moves}"
             f"{lead_out}"

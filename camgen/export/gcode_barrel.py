@@ -267,6 +267,10 @@ def barrel_program(groove: Any, spec: MachiningSpec, cam: str = "cam", scene: st
     from camgen import __version__
     from camgen.export.gcode import MAX_PROGRAM_MOVES, blend_word
 
+    if spec.program_unit != 1.0:  # inch: the same program of the scaled groove and spec (camgen.export.gcode_units)
+        from camgen.export.gcode_units import groove_in_program_units
+
+        return groove_in_program_units(barrel_program, groove, spec, cam, scene)
     check_tool(groove, spec, cam)
     path = tool_path(groove, spec)
     d = spec.decimals
@@ -301,7 +305,7 @@ def barrel_program(groove: Any, spec: MachiningSpec, cam: str = "cam", scene: st
         comment("machine: the cam's axis on the A axis along X; X0 at the cam's bottom face [cam z = 0], +X to its top face; "
                 "Z radial: the tool tip's distance from the A axis; Y0 through the axis"
                 + ("; the tool's axis at Y = -e, the roller axis's tangential offset" if oscillating else "")),
-        comment(f"units mm, A in degrees: the cam turned by A counter-clockwise seen from +X [right-hand rule]; at A the tool is over cam "
+        comment(f"units {spec.units}, A in degrees: the cam turned by A counter-clockwise seen from +X [right-hand rule]; at A the tool is over cam "
                 f"polar angle -A, cam angle theta = {'+' if sigma > 0 else '-'}A [rotation {rotation}]"),
         comment(f"tool: end mill diameter {spec.tool_diameter:g} = groove width {2.0 * groove.half_width:.10g} within "
                 f"{width_tol(spec):.3g}, axis radial, on the roller's axis at every station: it sweeps the exact groove"),
@@ -329,12 +333,12 @@ def framed(header: str, blocks: list[str], spec: "MachiningSpec", blend: str, sa
     spindle, the plunge to the ``rim`` radius, G93 inverse time, the cutting ``blocks``, and back
     to G94, the safe height, M5 and M2; ``d``, ``da``: decimals of mm and deg."""
     head = header + "\n" + (
-        "G21 G90 G17 G40 G49 G80 G94\n"
+        f"{spec.units_word} G90 G17 G40 G49 G80 G94\n"
         f"G64 P{blend}\n"
         f"G0 Z{safe:.{d}f}\n"
         f"G0 X{first[0]:.{d}f} Y{first[1]:.{d}f} A{0.0:.{da}f}\n"
         f"M3 S{spec.spindle_rpm:.0f}\n"
-        f"G1 Z{rim:.{d}f} F{spec.plunge_feed:.0f}\n"
+        f"G1 Z{rim:.{d}f} F{spec.plunge_feed:.{spec.feed_decimals}f}\n"
         "G93\n"
     )
     return head + "".join(blocks) + f"G94\nG0 Z{safe:.{d}f}\nM5\nM2\n"

@@ -245,6 +245,8 @@ def rib_program(rib: Any, spec: MachiningSpec, cam: str = "cam", scene: str = ""
     from camgen.export.gcode import blend_word
 
     check_tool(rib.groove, spec, cam, ROLLER_WIDTH, RIB_ONE_PASS)
+    if spec.units != "mm":  # inch programs (camgen.export.gcode_units): plate cams and a barrel cam's groove
+        raise ParameterError("units", spec.units, '"mm" for a barrel cam with a rib', "its 4th-axis program is written in mm only; an inch one is not built")
     passes = rib_passes(rib, spec, cam)
     _refuse_long(passes, spec)
     arm = rib.layout.motion == "oscillating"

@@ -4,7 +4,7 @@ The moves are those of :func:`camgen.export.gcode.gcode_program` (the same tool 
 passes and pockets); this module writes the words a Fanuc-style control needs around them:
 
 * ``%`` framing, ``O<program_number>`` (four digits) with the cam's name, ``M30`` and ``%``;
-* ``G21`` alone in the first block (units before anything else), then the safe start line
+* ``G21`` (``G20`` in an inch program: :mod:`camgen.export.gcode_units`) alone in the first block (units before anything else), then the safe start line
   ``G17 G40 G49 G80 G90 G94 G54``, the tool call ``T<n> M06``, spindle ``S.. M03`` and the length
   offset ``G0 G43 H<n> Z<safe>`` (``H`` = the tool number);
 * cutter compensation ``G41/G42 D<radius_register>`` switched on in a ``G1`` block of the
@@ -86,7 +86,7 @@ def fanuc_leads(spec: MachiningSpec, climb: bool, entry: Sequence[tuple[str, str
     register = f"D{fanuc_numbers_of(spec).radius_register:02d}"
     (word, first), *rest = entry
     *before, (last_word, last) = exit_blocks
-    lead_in = f"{word} {words} {first} F{spec.feed:.0f}\n" + "".join(f"{w} {rest_words}\n" for w, rest_words in rest)
+    lead_in = f"{word} {words} {first} F{spec.feed:.{spec.feed_decimals}f}\n" + "".join(f"{w} {rest_words}\n" for w, rest_words in rest)
     lead_out = "".join(f"{w} {rest_words}\n" for w, rest_words in before) + f"G40 {last_word} {last}\n"
     if spec.cutter_compensation:
         mode = f"cutter compensation {words} on the profile, {register} = tool radius"
@@ -105,12 +105,13 @@ def fanuc_start(spec: MachiningSpec, pocketed: bool) -> list[str]:
     what = "the tool radius" if spec.cutter_compensation else "0, the path is the tool centre"
     # the leads take a wear below wear_limit (the entry move, the lead arcs), printed rounded down
     limit = math.floor(wear_limit(spec) * 10**d) / 10**d
-    wear = f"plus the wear, below {limit:.{d}f} mm for the leads"
+    unit = "in" if spec.units == "inch" else "mm"
+    wear = f"plus the wear, below {limit:.{d}f} {unit} for the leads"
     return [
-        comment(f"radius register D{numbers.radius_register:02d} = {value:.{d}f} mm: {what}; {wear}; "
+        comment(f"radius register D{numbers.radius_register:02d} = {value:.{d}f} {unit}: {what}; {wear}; "
                 f"D read as a radius; length offset H{numbers.tool:02d} of tool T{numbers.tool}"
                 + ("; pockets without compensation" if pocketed else "")),
-        UNITS_BLOCK,
+        spec.units_word,  # UNITS_BLOCK, or G20 in an inch program (camgen.export.gcode_units)
         SAFE_START,
         f"T{numbers.tool} M06",
         f"S{spec.spindle_rpm:.0f} M03",

@@ -362,8 +362,8 @@ def pocket_program(pockets: Sequence["Pocket"], spec: MachiningSpec) -> PocketPr
             z_prev = 0.0 if k == 1 else float(levels[k - 2])
             parts = [f"(pocket '{pocket.name}' level {k} of {n_levels}: Z{z:.{d}f})\n",
                      f"G0 X{first_start[0]:.{d}f} Y{first_start[1]:.{d}f}\n",
-                     f"G1 Z{z_prev:.{d}f} F{spec.plunge_feed:.0f}\n",
-                     f"F{spec.feed:.0f}\n",
+                     f"G1 Z{z_prev:.{d}f} F{spec.plunge_feed:.{spec.feed_decimals}f}\n",
+                     f"F{spec.feed:.{spec.feed_decimals}f}\n",
                      ramp_moves(first_prims, first_start, z_prev, float(z), d, end=ramp_end),
                      texts[0]]
             for join, text in zip(joins[1:], texts[1:]):

@@ -16,8 +16,9 @@ from camgen.export.fanuc_settings import check_fanuc_settings
 if TYPE_CHECKING:  # wire EDM (camgen.export.wire_edm_spec)
     from camgen.export.wire_edm_spec import WireEdmSpec
 
-__all__ = ["BLEND_SHARE", "DIALECTS", "DIRECTIONS", "FIT_SHARE", "LEAD_STYLES", "MIN_GCODE_CHORD_TOL", "MIN_LEAD_RADIUS", "MachiningSpec",
-           "REFIT_SHARE", "ROUNDING_SHARE", "SPLINE_MODES", "depth_passes", "rounding_error"]
+__all__ = ["AUTO_DECIMALS", "BLEND_SHARE", "DEFAULT_DECIMALS", "DIALECTS", "DIRECTIONS", "FEED_DECIMALS_INCH", "FIT_SHARE", "LEAD_STYLES",
+           "MIN_GCODE_CHORD_TOL", "MIN_LEAD_RADIUS", "MM_PER_INCH", "MachiningSpec", "REFIT_SHARE", "ROUNDING_SHARE", "SPLINE_MODES", "UNITS",
+           "depth_passes", "least_decimals", "rounding_error"]
 
 DIALECTS = ("linuxcnc", "grbl", "wire_edm", "fanuc")
 DIRECTIONS = ("climb", "conventional")
@@ -29,6 +30,17 @@ LEAD_STYLES = ("arc", "line")
 #: quarter arc's chord is >= 141 printed units, an arc no control can read as a full circle
 #: (the rule of the contour's arcs).
 MIN_LEAD_RADIUS = 0.1
+#: Units of the program (``machining.units``; the scene keys stay in mm): mm (G21) or inch (G20).
+UNITS = ("mm", "inch")
+#: Millimetres per inch (exact, by definition: 1959 international yard and pound agreement).
+MM_PER_INCH = 25.4
+#: ``decimals`` left to its default: 4 in a mm program; in an inch program the least that keeps
+#: the rounding share of the budget (:func:`least_decimals`; 6 with the default chord_tol 1e-3 mm).
+AUTO_DECIMALS = 0
+DEFAULT_DECIMALS = 4
+#: Decimals of the feeds (F, in/min) of an inch program: 0.005 in/min = 0.127 mm/min, finer than
+#: the whole mm/min of a mm program.
+FEED_DECIMALS_INCH = 2
 
 #: Shares of ``chord_tol`` (they sum to 1): fit of spline segments by biarcs or chords,
 #: offset refit of spline segments, printed decimals, LinuxCNC path blending (G64 P).
@@ -49,6 +61,12 @@ def rounding_error(decimals: int) -> float:
 MIN_GCODE_CHORD_TOL = rounding_error(6) / ROUNDING_SHARE
 
 
+def least_decimals(budget: float, unit: float = 1.0) -> int | None:
+    """The least printed decimals 3..6 whose rounding (:func:`rounding_error`, in program units
+    of ``unit`` mm each) is within ``budget`` mm; None when 6 are not enough."""
+    return next((d for d in range(3, 7) if rounding_error(d) * unit <= budget), None)
+
+
 @dataclass(frozen=True)
 class MachiningSpec:
     """Cutting parameters (mm, mm/min, rev/min).
@@ -58,6 +76,13 @@ class MachiningSpec:
     the machine's Z zero is set by touching off, to a few hundredths of a millimetre: a last pass
     exactly at the stock bottom leaves a skin or burr that holds the part to the stock.  Going a
     little deeper (into a spoil board or a gap below the stock) cuts the part free.
+
+    ``units`` (``"mm"`` or ``"inch"``): the program's units; the spec's lengths and feeds stay in
+    mm and mm/min (the scene's), an inch program is written from a converted copy
+    (:mod:`camgen.export.gcode_units`).  ``decimals`` counts the program's decimals (of mm or of
+    inches): its rounding (:func:`rounding_error`, times 25.4 mm for an inch) must stay within
+    ``ROUNDING_SHARE * chord_tol``; left out (:data:`AUTO_DECIMALS`) it is 4 in mm and in inches
+    the least that keeps that budget (6 with the default chord_tol 1e-3 mm).
     """
 
     tool_diameter: float = 6.0
@@ -75,7 +100,7 @@ class MachiningSpec:
     lead_radius: float | None = None
     spline_mode: str = "biarcs"
     chord_tol: float = 1e-3
-    decimals: int = 4
+    decimals: int = AUTO_DECIMALS
     breakthrough: float = 0.2
     # wire EDM (camgen.export.wire_edm_spec): the wire and its cuts, given with dialect = "wire_edm"
     wire_edm: "WireEdmSpec | None" = None
@@ -83,6 +108,11 @@ class MachiningSpec:
     program_number: int | None = None
     tool_number: int | None = None
     radius_register: int | None = None
+    # --- program units (camgen.export.gcode_units): "inch" writes G20 and every length in inches ---
+    units: str = "mm"
+    #: True: the lengths and feeds are already in the program's units (a copy made by
+    #: camgen.export.gcode_units.program_spec for the writers; not a scene key)
+    converted: bool = False
 
     def __post_init__(self) -> None:
         for name in ("tool_diameter", "thickness", "step_down", "safe_z", "feed", "plunge_feed", "spindle_rpm", "chord_tol"):
@@ -106,26 +136,50 @@ class MachiningSpec:
             raise ParameterError("cutter_compensation", True, "false for the grbl dialect", "GRBL has no G41/G42: camgen writes the tool-centre path")
         if self.lead is not None and require_finite("lead", self.lead) <= self.tool_diameter / 2:
             raise ParameterError("lead", self.lead, f"lead > tool radius = {self.tool_diameter / 2:g} mm", "the cutter-compensation entry move must be longer than the tool radius")
-        if isinstance(self.decimals, bool) or not isinstance(self.decimals, int) or not 3 <= self.decimals <= 6:
+        if self.units not in UNITS:
+            raise ParameterError("units", self.units, f"one of {UNITS}")
+        if isinstance(self.decimals, bool) or not isinstance(self.decimals, int) or not (3 <= self.decimals <= 6 or self.decimals == AUTO_DECIMALS):
             raise ParameterError("decimals", self.decimals, "an integer 3..6")
         if self.lead_style not in LEAD_STYLES:  # the leads (camgen.export.gcode_leads)
             raise ParameterError("lead_style", self.lead_style, f"one of {LEAD_STYLES}")
-        if self.lead_radius is not None and not require_finite("lead_radius", self.lead_radius) >= MIN_LEAD_RADIUS:
+        if self.lead_radius is not None and not self.converted and not require_finite("lead_radius", self.lead_radius) >= MIN_LEAD_RADIUS:
             raise ParameterError("lead_radius", self.lead_radius, f"{MIN_LEAD_RADIUS:g} <= lead_radius mm",
                                  "a shorter lead arc could be read as a full circle once printed")
+        unit = self.program_unit  # a program unit in the spec's length unit
         budget = ROUNDING_SHARE * self.chord_tol
-        if rounding_error(self.decimals) > budget:
-            lowest = next((d for d in range(3, 7) if rounding_error(d) <= budget), None)
+        if self.decimals == AUTO_DECIMALS:  # 4 in mm; in inches the least that keeps the budget
+            auto = DEFAULT_DECIMALS if self.units == "mm" else least_decimals(budget, unit)
+            object.__setattr__(self, "decimals", 6 if auto is None else auto)
+        if rounding_error(self.decimals) * unit > budget and not self.converted:
+            lowest = least_decimals(budget, unit)
+            inch = " in inches" if unit != 1.0 else ""
             if lowest is None:
-                raise ParameterError("chord_tol", self.chord_tol, f">= {MIN_GCODE_CHORD_TOL:.2g} mm for G-code (with machining.decimals = 6)",
-                                     f"6 printed decimals may move an arc by {rounding_error(6):.2g} mm, more than "
+                least_tol = rounding_error(6) * unit / ROUNDING_SHARE
+                raise ParameterError("chord_tol", self.chord_tol, f">= {least_tol:.2g} mm for G-code{inch} (with machining.decimals = 6)",
+                                     f"6 printed decimals{inch} may move an arc by {rounding_error(6) * unit:.2g} mm, more than "
                                      f"{ROUNDING_SHARE:g} x chord_tol = {budget:.2g} mm")
             valid = f"an integer {lowest}..6"
             raise ParameterError(
                 "decimals", self.decimals, valid,
-                f"printed coordinates may move an arc by {rounding_error(self.decimals):.2g} mm, more than "
+                f"printed coordinates{inch} may move an arc by {rounding_error(self.decimals) * unit:.2g} mm, more than "
                 f"{ROUNDING_SHARE:g} x chord_tol = {budget:.2g} mm",
             )
+
+    @property
+    def program_unit(self) -> float:
+        """A unit of the program in the spec's length unit: 25.4 for an inch program of a spec in
+        mm (the scene's), else 1 (a mm program, or a spec already converted to inches)."""
+        return MM_PER_INCH if self.units == "inch" and not self.converted else 1.0
+
+    @property
+    def units_word(self) -> str:
+        """The program's units word: G20 (inch) or G21 (mm)."""
+        return "G20" if self.units == "inch" else "G21"
+
+    @property
+    def feed_decimals(self) -> int:
+        """Decimals of the printed feeds: whole mm/min, or :data:`FEED_DECIMALS_INCH` in/min."""
+        return FEED_DECIMALS_INCH if self.units == "inch" else 0
 
     @property
     def tool_radius(self) -> float:

@@ -98,7 +98,10 @@ def wire_edm_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", sc
     """ISO wire-EDM program text that cuts the outline ``contour`` of a plate ``thickness`` mm
     thick (default ``spec.thickness``) with the cuts of ``spec.wire_edm`` (module docstring)."""
     from camgen import __version__
+    from camgen.export.gcode_units import in_program_units, units_note
 
+    if spec.program_unit != 1.0:  # inch: the same program of the scaled geometry and spec (camgen.export.gcode_units)
+        return in_program_units(wire_edm_program, contour, spec, cam, scene, thickness, pockets)
     wire = spec.wire_edm
     assert wire is not None, "a wire-EDM program needs the wire spec (dialect = wire_edm)"
     if pockets:
@@ -155,7 +158,7 @@ def wire_edm_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", sc
     lines = [
         "%",
         comment(f"camgen {__version__}: cam '{cam}'" + (f", scene '{scene}'" if scene else "") + "; wire EDM, ISO"),
-        comment(f"units mm; X0 Y0 = the cam axis; XY only, plate {stock:g} thick; the outline, wire outside, clockwise"),
+        comment(f"{units_note(spec)}; X0 Y0 = the cam axis; XY only, plate {stock:g} thick; the outline, wire outside, clockwise"),
         comment(f"wire diameter {wire.wire_diameter:g}; spark gap {wire.spark_gap:g}; {n} cuts = 1 + {wire.skim_cuts} skims; "
                 "offset of cut k = wire radius + spark gap + allowance k"),
     ]
@@ -169,7 +172,7 @@ def wire_edm_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", sc
         comment("the tab stretch is cut once, at the last cut's offset; the bore and keyway are not cut: another operation"),
         comment(f"path tolerance {spec.chord_tol:g} = {fit_what} fit {FIT_SHARE * spec.chord_tol:.3g} + {d} printed decimals "
                 f"{rounding_error(d):.3g}"),
-        "G21 G90 G17 G40 G54",
+        f"{spec.units_word} G90 G17 G40 G54",
     ]
     body = ["\n".join(lines) + "\n"]
     for k, offset in enumerate(offsets, 1):

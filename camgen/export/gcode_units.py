@@ -1,0 +1,174 @@
+"""Inch programs (``machining.units = "inch"``): the one place where lengths become inches.
+
+The scene keys stay in mm and mm/min.  An inch program is the program of the same writers
+(:func:`camgen.export.gcode.gcode_program`, :func:`camgen.export.wire_edm.wire_edm_program`)
+run on the geometry scaled by ``1 / 25.4`` (arcs: centre and radius; splines: their
+coefficients; pockets: walls, centres, width and depth) and on a copy of the spec whose lengths
+(tool, thickness, steps, safe Z, lead, breakthrough, chord tolerance; the wire's diameter, gap,
+allowances, start hole and tab) and feeds (mm/min -> in/min) are divided by 25.4
+(:func:`program_spec`, ``converted = True``).  A similarity keeps every relation the writers rely
+on (tangency, offsets by the tool radius, the error budget's shares of ``chord_tol``, the G64 P
+blend, all in inches), so only the units word (``G20``), the feed decimals
+(:data:`camgen.export.gcode_spec.FEED_DECIMALS_INCH`) and the header's units note differ.
+
+A barrel cam's groove (:func:`camgen.export.gcode_barrel.barrel_program`) is scaled the same
+way (:class:`ScaledGroove`: its roller axis' height and offset, radii and half width); A stays
+in degrees and the inverse-time feeds (feed over a move's length, 1/min) do not change.
+
+Decimals count inches: ``decimals`` rounds each printed value by up to ``0.5 10^-decimals`` in,
+so the spec (in mm) checks ``rounding_error(decimals) x 25.4 <= ROUNDING_SHARE x chord_tol``
+(:class:`camgen.export.gcode_spec.MachiningSpec`).  A refusal raised while writing the inch
+program (a tool too wide for a pocket, a program too long) is raised again from the mm program,
+so that its values are the scene's mm.
+"""
+from __future__ import annotations
+
+import dataclasses
+from typing import TYPE_CHECKING, Any, Callable, NoReturn, Sequence
+
+import numpy as np
+
+from camgen.contour import Arc, Contour, Spline
+from camgen.errors import GeometryError, ParameterError
+from camgen.export.gcode_moves import comment
+from camgen.export.gcode_spec import MM_PER_INCH, MachiningSpec
+
+if TYPE_CHECKING:
+    from camgen.kinds.base import Pocket
+
+__all__ = ["ScaledGroove", "Writer", "groove_in_program_units", "in_program_units", "program_spec", "scaled_contour", "scaled_pocket",
+           "units_line", "units_note"]
+
+#: A program writer: (contour, spec, cam, scene, thickness, pockets) -> program text.
+Writer = Callable[[Contour, MachiningSpec, str, str, "float | None", "Sequence[Pocket]"], str]
+
+#: The spec's lengths (mm) and feeds (mm/min) that an inch program has in inches (and in/min).
+_LENGTHS = ("tool_diameter", "thickness", "step_down", "safe_z", "feed", "plunge_feed", "chord_tol", "breakthrough")
+_WIRE_LENGTHS = ("wire_diameter", "spark_gap", "start_hole_diameter", "start_hole_offset", "tab_width", "wire_feed")
+
+
+def program_spec(spec: MachiningSpec) -> MachiningSpec:
+    """``spec`` with its lengths and feeds in program units (``converted``): divided by 25.4 for
+    an inch program; the lead and the lead arcs' radius given explicitly (their defaults, tool radius + 3 mm, is in mm)."""
+    if spec.program_unit == 1.0:
+        return spec
+    s = 1.0 / spec.program_unit
+    changes: dict[str, Any] = {name: getattr(spec, name) * s for name in _LENGTHS}
+    if spec.wire_edm is not None:
+        wire = spec.wire_edm
+        assert wire.cut_allowances is not None
+        changes["wire_edm"] = dataclasses.replace(wire, cut_allowances=tuple(a * s for a in wire.cut_allowances),
+                                                  **{name: getattr(wire, name) * s for name in _WIRE_LENGTHS})
+    else:
+        changes["lead"] = spec.lead_length * s
+        changes["lead_radius"] = spec.lead_arc_radius * s  # the lead arcs' radius (camgen.export.gcode_leads), default in mm too
+    return dataclasses.replace(spec, converted=True, **changes)
+
+
+def _scaled_segment(seg: Arc | Spline, s: float) -> Arc | Spline:
+    if isinstance(seg, Arc):
+        return Arc((seg.center[0] * s, seg.center[1] * s), seg.radius * s, seg.start_angle, seg.sweep)
+    return Spline(seg.breaks, np.asarray(seg.coeffs) * s)  # P(t) scaled: every coefficient
+
+
+def scaled_contour(contour: Contour, s: float) -> Contour:
+    """``contour`` scaled by ``s`` about the origin (the cam axis): the same parameters."""
+    return Contour([_scaled_segment(seg, s) for seg in contour.segments])
+
+
+def scaled_pocket(pocket: "Pocket", s: float) -> "Pocket":
+    """``pocket`` scaled by ``s``: walls, centre (closed or open), width, depth, clearance."""
+    walls = tuple(dataclasses.replace(w, contour=scaled_contour(w.contour, s)) for w in pocket.walls)
+    return dataclasses.replace(
+        pocket, walls=walls, depth=pocket.depth * s, clearance=pocket.clearance * s,
+        width=None if pocket.width is None else pocket.width * s,
+        centre=None if pocket.centre is None else scaled_contour(pocket.centre, s),
+        centre_path=None if pocket.centre_path is None else tuple(_scaled_segment(seg, s) for seg in pocket.centre_path))
+
+
+def units_note(spec: MachiningSpec) -> str:
+    """The header's units word of a program written from ``spec``: ``units mm`` or ``units inch``
+    (an inch program also has :func:`units_line` after that header line)."""
+    return f"units {spec.units}"
+
+
+def units_line(spec: MachiningSpec) -> str:
+    """The comment line an inch program's header has after its units: lengths, feeds and the
+    path tolerance in both units (``spec`` in program units)."""
+    return comment(f"units inch [G20]: every length in inches, feeds in in/min [{spec.feed_decimals} decimals]: the scene's mm / "
+                   f"{MM_PER_INCH:g}; path tolerance {spec.chord_tol:.6g} in = {spec.chord_tol * MM_PER_INCH:.6g} mm; "
+                   f"{spec.decimals} decimals of an inch")
+
+
+def _with_units_line(program: str, spec: MachiningSpec) -> str:
+    """``program`` with :func:`units_line` after the first header line that says ``units inch``
+    (Fanuc-safe in a Fanuc program)."""
+    line = units_line(spec)
+    if spec.dialect == "fanuc":
+        from camgen.export.gcode_fanuc import fanuc_comment
+
+        line = f"({fanuc_comment(line[1:-1])})"
+    lines = program.split("\n")
+    k = next(i for i, text in enumerate(lines) if text.startswith("(") and "units inch" in text.lower())
+    return "\n".join(lines[:k + 1] + [line] + lines[k + 1:])
+
+
+def _in_mm(spec: MachiningSpec) -> MachiningSpec:
+    """``spec`` writing a mm program, with 6 decimals (finer than any inch program's in mm)."""
+    return dataclasses.replace(spec, units="mm", decimals=6)
+
+
+def _refuse_in_mm(write_mm: Callable[[], str], exc: Exception) -> NoReturn:
+    """Raise the refusal of the mm program (``write_mm``), whose values are the scene's mm; where
+    it writes, ``exc`` (the inch program's), a ParameterError saying its values are in inches."""
+    write_mm()
+    if isinstance(exc, ParameterError):
+        raise ParameterError(exc.name, exc.value, exc.valid, "; ".join(filter(None, [exc.why, "values of the inch program, in inches"])))
+    raise exc
+
+
+def in_program_units(write: Writer, contour: Contour, spec: MachiningSpec, cam: str, scene: str, thickness: float | None,
+                     pockets: "Sequence[Pocket]") -> str:
+    """The program ``write`` makes of ``contour`` (mm) for ``spec`` (in mm, ``units = "inch"``):
+    written in inches from the scaled geometry and :func:`program_spec`.  A refusal is that of
+    the mm program (its values in the scene's mm)."""
+    s = 1.0 / spec.program_unit
+    try:
+        inch = program_spec(spec)
+        program = write(scaled_contour(contour, s), inch, cam, scene, None if thickness is None else thickness * s,
+                        tuple(scaled_pocket(p, s) for p in pockets))
+    except (ParameterError, GeometryError) as exc:
+        _refuse_in_mm(lambda: write(contour, _in_mm(spec), cam, scene, thickness, pockets), exc)
+    return _with_units_line(program, inch)
+
+
+class ScaledGroove:
+    """A barrel cam's groove (:class:`camgen.synthesis.barrel.BarrelGroove`) seen at scale ``s``:
+    what :func:`camgen.export.gcode_barrel.barrel_program` reads of it, its lengths times ``s``
+    (the roller axis' height ``z_c`` and tangential offset ``e``, rim and root radii, half width);
+    the layout (shape, sense of rotation) and the law (its breaks are cam angles) unchanged."""
+
+    def __init__(self, groove: Any, s: float) -> None:
+        self.groove, self.s = groove, s
+        self.layout, self.law = groove.layout, groove.law
+        self.half_width = groove.half_width * s
+        self.rim_radius = groove.rim_radius * s
+        self.root_radius = groove.root_radius * s
+
+    def axis(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Height and tangential offset of the roller's axis at cam angles ``theta``, scaled."""
+        z_c, e = self.groove.axis(theta)
+        return np.asarray(z_c) * self.s, np.asarray(e) * self.s
+
+
+def groove_in_program_units(write: Callable[[Any, MachiningSpec, str, str], str], groove: Any, spec: MachiningSpec, cam: str,
+                            scene: str) -> str:
+    """The barrel program ``write`` makes of ``groove`` for ``spec`` (in mm, ``units = "inch"``),
+    written in inches (:class:`ScaledGroove`, :func:`program_spec`); a refusal is the mm program's."""
+    s = 1.0 / spec.program_unit
+    inch = program_spec(spec)
+    try:
+        program = write(ScaledGroove(groove, s), inch, cam, scene)
+    except (ParameterError, GeometryError) as exc:
+        _refuse_in_mm(lambda: write(groove, _in_mm(spec), cam, scene), exc)
+    return _with_units_line(program, inch)
