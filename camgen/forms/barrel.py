@@ -36,7 +36,9 @@ FORM = CamForm(
     report_section="camgen.report.barrel:barrel_section",
     formats_refused={"lift": "a cylinder has no polar lift table (the point list holds the walls at root, mean and rim radius)",
                      "vtu": _FEA, "msh": _FEA, "inp": _FEA,
-                     "svg": "a cylinder has no flat profile to cut (the developed drawing is the dxf)"},
+                     "svg": "a cylinder has no flat profile to cut (the developed drawing is the dxf)",
+                     **dict.fromkeys(("drawing", "drawing_pdf", "inspection"), "a dimensioned drawing and inspection table of a "
+                                     "barrel cam are not built yet (its developed drawing is the dxf)")},
     writers={"dxf": "camgen.export.barrel_drawing:dxf", "points": "camgen.export.barrel_drawing:points",
              "step": "camgen.export.barrel_rib_step:writer", "ngc": "camgen.export.gcode_barrel_rib:writer",
              "iges": "camgen.export.barrel_iges:writer"},
