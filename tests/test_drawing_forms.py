@@ -15,7 +15,12 @@ in-line translating roller follower, cycloidal rise and return: its pitch curve 
   cam's; each cam has its own drawing;
 * constant breadth: the yoke's breadth ``B = 2 base + C`` (the scene's rule): the drawn dimension
   line is B long at scale in the SVG, the two extension lines B apart on the rendered PDF;
-* linear and barrel cams: the drawing and the table are refused naming output.formats.
+* linear cam (tests/test_linear_cam.py's cycloidal program, translating roller): the table is
+  the closed-form lift against x; the SVG's length and height dimension lines are the plate's
+  (margins + travel; below the pitch line + the dwell's lift less the roller) and its edge the
+  roller's exact envelope within the chord tolerance; the PDF's plate is its length at scale;
+  an oscillating follower is refused;
+* barrel cams: the drawing and the table are refused naming output.formats.
 """
 from __future__ import annotations
 
@@ -193,17 +198,105 @@ def test_constant_breadth_dimension_at_scale_in_svg_and_pdf(tmp_path):
         assert outer == pytest.approx(k * BREADTH + 0.25, abs=0.2)  # the lines' outer edges: k B + one thin line's width
 
 
-@pytest.mark.parametrize("template", ["linear_cam", "barrel_cam"])
-def test_linear_and_barrel_cams_refuse_the_drawing_naming_output_formats(template, tmp_path):
+def test_barrel_cams_refuse_the_drawing_naming_output_formats(tmp_path):
     import dataclasses
 
     from camgen.errors import ParameterError
     from camgen.pipeline import plan_run
     from camgen.scene import load_template
 
-    scene = load_template(template)
+    scene = load_template("barrel_cam")
     for fmt in ("drawing", "drawing_pdf", "inspection"):
         run = dataclasses.replace(scene, output=dataclasses.replace(scene.output, formats=(fmt,)))
         with pytest.raises(ParameterError) as caught:
             plan_run(run)
         assert caught.value.name == "output.formats" and fmt in str(caught.value) and "not built yet" in str(caught.value)
+
+
+# ----------------------------------------------------------------------------------- linear cam
+def _page_paths(svg_text: str, tmp_path) -> dict[str, np.ndarray]:
+    """Every named path of the SVG read by svgelements: its points (segment ends and midpoints), page mm."""
+    from svgelements import SVG, Path
+
+    name = tmp_path / "l.svg"
+    name.write_text(svg_text)
+    doc = SVG.parse(str(name))
+    per_mm = doc.width / float(doc.values["width"].removesuffix("mm"))
+    out = {}
+    for e in doc.elements():
+        if isinstance(e, Path) and e.id:
+            pts = [seg.point(t) for seg in e.segments() if seg.end is not None and type(seg).__name__ != "Move" for t in (0.0, 0.5, 1.0)]
+            out[e.id] = np.array([[p.x, p.y] for p in pts]) / per_mm
+    return out
+
+
+@pytest.fixture(scope="module")
+def linear_files(tmp_path_factory):
+    from test_linear_cam import _cam
+
+    return _run({"l": _cam()}, tmp_path_factory.mktemp("linear"), drawing_scale="1:2")
+
+
+def test_linear_inspection_is_the_lift_against_x(linear_files):
+    """The travel in 36 equal steps (the default 10 deg of a turn), both ends: the roller's centre
+    at the lift of the closed-form program (Norton's cycloidal rise and return)."""
+    import json
+
+    from test_linear_cam import TRAVEL, cycloidal_lift
+
+    table = read_csv(linear_files["l_inspection.csv"])
+    assert np.allclose(table["x_mm"], TRAVEL * np.arange(37) / 36, atol=1e-9, rtol=0)
+    assert np.max(np.abs(table["lift_mm"] - cycloidal_lift(table["x_mm"]))) <= 2e-9
+    meta = json.loads(linear_files["report.json"])["tables"]["l_inspection.csv"]
+    assert meta["roller_radius_mm"] == 10.0 and meta["x_step_mm"] == pytest.approx(TRAVEL / 36)
+
+
+def test_linear_svg_plate_dimensions_and_edge_at_scale(linear_files, tmp_path):
+    """The dimension lines are the plate's length (margins + travel) and height (below the pitch
+    line + the edge's top: the dwell's lift less the roller) at scale; the drawn edge lies within
+    the chord tolerance of the roller's exact envelope (the pitch curve (x, s(x)) offset by -r)."""
+    from scipy.spatial import cKDTree
+
+    from test_linear_cam import H, R, TRAVEL, cycloidal_lift
+
+    k = 0.5
+    svg = linear_files["l_drawing.svg"]
+    paths = _page_paths(svg, tmp_path)
+    assert float(np.ptp(paths["length"][:, 0])) / k == pytest.approx(30.0 + TRAVEL + 30.0, abs=TOL + 1e-4)
+    assert float(np.ptp(paths["height"][:, 1])) / k == pytest.approx(45.0 + H - R, abs=TOL + 1e-4)
+    # the part frame on the page: x = 0 from the x_zero line, y = 0 from the pitch line
+    x0, y0 = float(paths["x_zero"][:, 0].mean()), float(paths["pitch_line"][:, 1].mean())
+    drawn = np.column_stack([(paths["profile"][:, 0] - x0) / k, (y0 - paths["profile"][:, 1]) / k])
+    top = drawn[(drawn[:, 0] > 5.0) & (drawn[:, 0] < TRAVEL - 5.0) & (drawn[:, 1] > -20.0)]
+    x = np.linspace(-10.0, TRAVEL + 10.0, 400_001)
+    s = cycloidal_lift(x)
+    ds = np.gradient(s, x)
+    exact = np.column_stack([x + R * ds / np.hypot(1.0, ds), s - R / np.hypot(1.0, ds)])  # C - r n, n = (-s', 1) / |.|
+    gap, _ = cKDTree(exact).query(top)
+    assert top.shape[0] > 100 and gap.max() <= TOL + 2e-5 / k + 1e-4, gap.max()  # + the closed form's finite-difference slope
+
+
+def test_linear_pdf_plate_length_at_scale(linear_files, tmp_path):
+    """pdftoppm's rendering: a row through the plate's body crosses its two ends k L + one wide line apart."""
+    from test_linear_cam import TRAVEL
+
+    k, dpi = 0.5, 600
+    paths = _page_paths(linear_files["l_drawing.svg"], tmp_path)
+    image = _render(linear_files["l_drawing.pdf"], tmp_path, dpi)
+    y0 = float(paths["pitch_line"][:, 1].mean())
+    row = image[int(round((y0 + k * 30.0) / 25.4 * dpi))]  # 30 mm below the pitch line on the part
+    left, right = paths["profile"][:, 0].min() - 3.0, paths["profile"][:, 0].max() + 3.0  # a window: the plate, not the dimensions
+    lo, hi = int(left / 25.4 * dpi), int(right / 25.4 * dpi)
+    dark = np.flatnonzero(row[lo:hi])
+    measured = (dark.max() - dark.min() + 1) / dpi * 25.4
+    assert measured == pytest.approx(k * (30.0 + TRAVEL + 30.0) + 0.5, abs=0.2)
+
+
+def test_linear_oscillating_follower_is_refused_naming_output_formats(tmp_path):
+    from camgen.errors import ParameterError
+    from test_linear_cam import _cam, _segments
+
+    cam = _cam(follower_motion="oscillating", pivot_x_mm=90.0, pivot_y_mm=40.0, swing_turn="cw", segments=_segments(swing=True))
+    with pytest.raises(ParameterError) as caught:
+        _run({"o": cam}, tmp_path, formats=["inspection"])
+    assert caught.value.name == "output.formats" and "oscillating" in str(caught.value)

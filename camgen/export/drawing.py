@@ -20,7 +20,8 @@ from camgen.export.drawing_forms import FormFeatures, form_strokes
 from camgen.export.drawing_spec import DRAWING_SCALES, SHEETS, DrawingSpec, scale_factor
 from camgen.export.inspection import InspectionTable
 
-__all__ = ["BORDER", "DrawingInput", "Fill", "Label", "SCALE_BAR", "Sheet", "Stroke", "drawing_sheet", "fitting_scales", "sheet_for"]
+__all__ = ["BORDER", "DASH_DOT", "DrawingInput", "Fill", "Label", "ROW", "SCALE_BAR", "Sheet", "Stroke", "TEXT", "THIN", "TITLE_ROW",
+           "TITLE_ROWS", "TITLE_WIDTH", "WIDE", "drawing_sheet", "fitting_scales", "sheet_for"]
 
 #: Border of the drawing frame from the sheet's edge, mm (ISO 5457: 10 mm on A4 and A3).
 BORDER = 10.0

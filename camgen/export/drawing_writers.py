@@ -6,8 +6,8 @@ rotation: the plate, conjugate (each cam of the pair its own drawing) and consta
 and the groove cam, whose groove (one pocket of two walls about its pitch curve) the drawing shows
 and whose inspection table is read by a checking roller of the groove's width resting on both
 walls (its centre on the pitch curve); a cam with other pockets is refused naming
-``output.formats`` (the linear and barrel forms refuse these formats themselves: their
-``formats_refused``).  The drawing
+``output.formats``.  A linear cam's drawing and table are its form's writers
+(:mod:`camgen.export.drawing_linear`); the barrel form refuses these formats (its ``formats_refused``).  The drawing
 that does not fit its sheet at its scale is refused naming ``output.drawing_scale`` (and the
 largest scale that fits) or ``output.drawing_sheet``.
 """
@@ -101,6 +101,12 @@ def inspection_description(cam: "CamResult", spec: "DrawingSpec") -> dict[str, A
     """What ``<cam>_inspection.csv`` holds (report.json ``tables``)."""
     from camgen.export.inspection import inspection_metadata
 
+    from camgen.kinds.linear import LinearCam
+
+    if isinstance(cam.built, LinearCam):  # a linear cam's table: lift against x (camgen.export.drawing_linear)
+        from camgen.export.drawing_linear import linear_inspection_metadata
+
+        return linear_inspection_metadata(cam, spec)
     table = plate_inspection(cam, spec, "inspection")
     assert cam.zero_mark is not None
     return inspection_metadata(table, cam.zero_mark)

@@ -28,8 +28,8 @@ FORM = CamForm(
     evaluate=evaluate_linear,
     report_section="camgen.kinds.linear:linear_section",
     formats_refused={"lift": "its plate turns about no axis, so it has no polar lift table (the point list and the DXF hold the edge)",
-                     "follower": "it has no cam speed (rpm) to tabulate the follower's motion at",
-                     # the manufacturing drawing and inspection table are of cams turning about an axis (camgen.export.drawing_writers)
-                     **dict.fromkeys(("drawing", "drawing_pdf", "inspection"), "the manufacturing drawing and inspection table of a "
-                                     "linear cam (lift against x) are not built yet: its DXF and point list hold the edge")},
+                     "follower": "it has no cam speed (rpm) to tabulate the follower's motion at"},
+    # the plate's drawing and its inspection table, lift against x (camgen.export.drawing_linear)
+    writers={"drawing": "camgen.export.drawing_linear:drawing_svg", "drawing_pdf": "camgen.export.drawing_linear:drawing_pdf",
+             "inspection": "camgen.export.drawing_linear:inspection"},
 )
