@@ -300,3 +300,27 @@ def test_linear_oscillating_follower_is_refused_naming_output_formats(tmp_path):
     with pytest.raises(ParameterError) as caught:
         _run({"o": cam}, tmp_path, formats=["inspection"])
     assert caught.value.name == "output.formats" and "oscillating" in str(caught.value)
+
+
+def test_linear_slot_wall_at_scale(tmp_path):
+    """A slot cam (tests/test_linear_cam.py's): the drawn slot wall is the closed-form slot boundary
+    (the pitch graph's offsets by the half width and the end half circles) within the chord
+    tolerance; the height dimension is below + above the pitch line."""
+    from scipy.spatial import cKDTree
+
+    from test_linear_cam import SLOT_ABOVE, _slot_cam, exact_slot
+
+    k = 0.5
+    files = _run({"s": _slot_cam()}, tmp_path, drawing_scale="1:2", formats=["drawing"])
+    paths = _page_paths(files["s_drawing.svg"], tmp_path)
+    assert float(np.ptp(paths["height"][:, 1])) / k == pytest.approx(45.0 + SLOT_ABOVE, abs=TOL + 1e-4)
+    x0, y0 = float(paths["x_zero"][:, 0].mean()), float(paths["pitch_line"][:, 1].mean())
+    drawn = np.column_stack([(paths["slot"][:, 0] - x0) / k, (y0 - paths["slot"][:, 1]) / k])
+    exact = exact_slot()
+    gap, _ = cKDTree(exact).query(drawn)
+    assert gap.max() <= TOL + 2e-5 / k + 2e-3, gap.max()  # + the reference's 0.002 mm spacing
+    # the drawn wall covers the whole slot: every exact point within the chord tolerance of the drawn polyline
+    q, a_, b_ = exact[::100][:, None, :], drawn[None, :-1, :], drawn[None, 1:, :]
+    t = np.clip(np.sum((q - a_) * (b_ - a_), axis=2) / np.maximum(np.sum((b_ - a_) ** 2, axis=2), 1e-30), 0.0, 1.0)
+    back = np.min(np.hypot(*np.moveaxis(q - (a_ + t[..., None] * (b_ - a_)), 2, 0)), axis=1)
+    assert back.max() <= TOL + 2e-5 / k + 2e-3, back.max()
