@@ -19,7 +19,7 @@ in-line translating roller follower, cycloidal rise and return: its pitch curve 
   the closed-form lift against x; the SVG's length and height dimension lines are the plate's
   (margins + travel; below the pitch line + the dwell's lift less the roller) and its edge the
   roller's exact envelope within the chord tolerance; the PDF's plate is its length at scale;
-  an oscillating follower is refused;
+  an oscillating follower's table is its swing against x;
 * barrel cams: the drawing and the table are refused naming output.formats.
 """
 from __future__ import annotations
@@ -292,14 +292,18 @@ def test_linear_pdf_plate_length_at_scale(linear_files, tmp_path):
     assert measured == pytest.approx(k * (30.0 + TRAVEL + 30.0) + 0.5, abs=0.2)
 
 
-def test_linear_oscillating_follower_is_refused_naming_output_formats(tmp_path):
-    from camgen.errors import ParameterError
-    from test_linear_cam import _cam, _segments
+def test_linear_oscillating_follower_table_is_the_swing_against_x(tmp_path):
+    """An arm pivoted at (90, 40) mm swinging 12 deg by the cycloidal program (tests/test_linear_cam.py):
+    the table's swing is the closed-form program in degrees; the drawing is written."""
+    from test_linear_cam import TRAVEL, _cam, _segments, cycloidal_lift
 
     cam = _cam(follower_motion="oscillating", pivot_x_mm=90.0, pivot_y_mm=40.0, swing_turn="cw", segments=_segments(swing=True))
-    with pytest.raises(ParameterError) as caught:
-        _run({"o": cam}, tmp_path, formats=["inspection"])
-    assert caught.value.name == "output.formats" and "oscillating" in str(caught.value)
+    files = _run({"o": cam}, tmp_path, drawing_scale="1:2", formats=["inspection", "drawing"])
+    table = read_csv(files["o_inspection.csv"])
+    assert list(table) == ["x_mm", "swing_deg"]
+    assert np.allclose(table["x_mm"], TRAVEL * np.arange(37) / 36, atol=1e-9, rtol=0)
+    assert np.max(np.abs(table["swing_deg"] - cycloidal_lift(table["x_mm"], 12.0))) <= 2e-9
+    assert "SWING" in files["o_drawing.svg"]
 
 
 def test_linear_slot_wall_at_scale(tmp_path):

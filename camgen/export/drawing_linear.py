@@ -1,5 +1,5 @@
-"""The manufacturing drawing (SVG, PDF) and inspection table (CSV) of a linear cam with a
-translating follower (``form = "linear"``; the form's writers for ``drawing``, ``drawing_pdf`` and
+"""The manufacturing drawing (SVG, PDF) and inspection table (CSV) of a linear cam
+(``form = "linear"``; the form's writers for ``drawing``, ``drawing_pdf`` and
 ``inspection``).
 
 The plate is drawn in its frame (:mod:`camgen.synthesis.linear`: ``x = 0`` where the follower's
@@ -13,10 +13,10 @@ block; the sheet, border and text sizes are the disk cam drawing's (:mod:`camgen
 Inspection: a checking roller of the follower's radius (a probe point for a knife) on the
 follower's line, the plate moved by ``x``: its centre's height above the pitch line is the lift
 ``s(x)`` (the follower point is ``(x, s(x))`` in the plate frame), the profile made within
-``fit_tol_mm`` of it.  The rows: the travel in as many equal steps as ``inspection_step_deg``
-makes of a turn (the motion reads the travel onto one turn, ``theta = 2 pi x / travel``), both
-ends included.  An oscillating follower's cam is refused naming ``output.formats`` (its table
-would be an arm angle: not built yet).
+``fit_tol_mm`` of it.  An oscillating follower's table gives the arm's swing ``s(x)`` from its
+rest angle instead (deg: the roller on the arm resting on the profile).  The rows: the travel in
+as many equal steps as ``inspection_step_deg`` makes of a turn (the motion reads the travel onto
+one turn, ``theta = 2 pi x / travel``), both ends included.
 """
 from __future__ import annotations
 
@@ -37,12 +37,17 @@ if TYPE_CHECKING:
     from camgen.results import CamResult
     from camgen.writers import RunSettings
 
-__all__ = ["LINEAR_COLUMNS", "LinearTable", "drawing_pdf", "drawing_svg", "inspection", "linear_inspection_metadata", "linear_table"]
+__all__ = ["LINEAR_COLUMNS", "LinearTable", "SWING_COLUMNS", "drawing_pdf", "drawing_svg", "inspection", "linear_inspection_metadata", "linear_table"]
 
 #: Columns of a linear cam's ``<cam>_inspection.csv``.
 LINEAR_COLUMNS = {
     "x_mm": "plate travel x: the plate moved by x, the follower's line at x = x on the plate, mm",
     "lift_mm": "height of the checking roller's centre (the follower's point) above the pitch line y = 0: the lift s(x), mm",
+}
+#: ... and with an oscillating follower.
+SWING_COLUMNS = {
+    "x_mm": LINEAR_COLUMNS["x_mm"],
+    "swing_deg": "the arm's swing from its rest angle, the roller on it resting on the profile: s(x), deg",
 }
 #: Width of one column block of the table (mm) and the room (mm) around the plate for its dimensions.
 BLOCK = 30.0
@@ -51,12 +56,18 @@ ROOM_X, ROOM_Y = 60.0, 44.0
 
 @dataclass(frozen=True)
 class LinearTable:
-    """Travels and lifts (mm) of the inspection table, the roller's radius and the stated tolerance (mm)."""
+    """Travels and lifts (mm) of the inspection table, the roller's radius and the stated tolerance
+    (mm); ``swing``: an oscillating follower's table, ``lift`` its swing (deg)."""
 
     x: np.ndarray
     lift: np.ndarray
     roller_radius: float
     tolerance: float
+    swing: bool = False
+
+    @property
+    def columns(self) -> dict[str, str]:
+        return SWING_COLUMNS if self.swing else LINEAR_COLUMNS
 
 
 def _params(cam: "CamResult", fmt: str) -> Any:
@@ -66,9 +77,6 @@ def _params(cam: "CamResult", fmt: str) -> Any:
     assert isinstance(built, LinearCam), f"cam {cam.name!r} is not a linear cam"
     if cam.contour is None:
         raise ParameterError("output.formats", fmt, f"formats without {fmt} for cam '{cam.name}'", "the cam cannot be made")
-    if built.params.follower.motion != "translating":
-        raise ParameterError("output.formats", fmt, f"formats without {fmt} for cam '{cam.name}'",
-                             "the drawing and inspection table of a linear cam with an oscillating follower are not built yet")
     return built.params
 
 
@@ -84,13 +92,16 @@ def linear_table(cam: "CamResult", spec: DrawingSpec, fmt: str) -> LinearTable:
                              "a linear cam's table is read with the follower's own roller")
     count = inspection_angles(spec.inspection_step).size
     x = p.travel * np.arange(count + 1) / count
-    return LinearTable(x, law_in_x(p.law, p.travel, x)[0], float(radius), float(p.fit_tol))
+    s = law_in_x(p.law, p.travel, x)[0]
+    if p.follower.motion == "oscillating":  # the swing, rad -> deg (the tolerance: the point's, over the arm)
+        return LinearTable(x, np.degrees(s), float(radius), float(np.degrees(p.fit_tol / p.follower.arm_length)), swing=True)
+    return LinearTable(x, s, float(radius), float(p.fit_tol))
 
 
 def inspection(cam: "CamResult", run: "RunSettings", fmt: str) -> str:
     """``<cam>_inspection.csv`` of a linear cam."""
     t = linear_table(cam, run.output.drawing, fmt)
-    return csv_table(dict(zip(LINEAR_COLUMNS, (t.x, t.lift))))
+    return csv_table(dict(zip(t.columns, (t.x, t.lift))))
 
 
 def linear_inspection_metadata(cam: "CamResult", spec: DrawingSpec) -> dict[str, Any]:
@@ -98,8 +109,8 @@ def linear_inspection_metadata(cam: "CamResult", spec: DrawingSpec) -> dict[str,
     t = linear_table(cam, spec, "inspection")
     return {"content": "inspection table of a linear cam: the plate moved by x, a checking roller of the follower's radius on the "
                        "follower's line rests on the profile; its centre's height above the pitch line",
-            "columns": dict(LINEAR_COLUMNS), "x_step_mm": float(t.x[1] - t.x[0]), "roller_radius_mm": t.roller_radius,
-            "lift_tol_mm": t.tolerance}
+            "columns": dict(t.columns), "x_step_mm": float(t.x[1] - t.x[0]), "roller_radius_mm": t.roller_radius,
+            ("swing_tol_deg" if t.swing else "lift_tol_mm"): t.tolerance}
 
 
 def _right_width(rows: int, height: float) -> tuple[float, int]:
@@ -192,11 +203,13 @@ def _sheet(cam: "CamResult", run: "RunSettings", fmt: str) -> Sheet:
     # the table
     tx = x1 - right_w
     probe = f"ROLLER R{mm_text(table.roller_radius)}" if table.roller_radius > 0 else "PROBE POINT"
-    labels.append(Label(tx, y0 + ROW, f"INSPECTION: {probe} ON THE FOLLOWER'S LINE, PLATE MOVED BY x", 2.2))
-    labels.append(Label(tx, y0 + 2 * ROW, f"LIFT ABOVE THE PITCH LINE, TOLERANCE \u00b1{spec.tolerance:g}", 2.2))
+    labels.append(Label(tx, y0 + ROW, f"INSPECTION: {probe} ON THE FOLLOWER{' ARM' if table.swing else chr(39) + 'S LINE'}, "
+                        "PLATE MOVED BY x", 2.2))
+    labels.append(Label(tx, y0 + 2 * ROW, "SWING OF THE ARM FROM REST, deg" if table.swing else
+                        f"LIFT ABOVE THE PITCH LINE, TOLERANCE \u00b1{spec.tolerance:g}", 2.2))
     for b in range(-(-rows // per_block)):
         bx, y = tx + b * BLOCK, y0 + 3 * ROW
-        labels += [Label(bx + 12.0, y, "x", 2.0, "end"), Label(bx + 26.0, y, "LIFT", 2.0, "end")]
+        labels += [Label(bx + 12.0, y, "x", 2.0, "end"), Label(bx + 26.0, y, "SWING \u00b0" if table.swing else "LIFT", 2.0, "end")]
         strokes.append(Stroke(np.array([[bx, y + 0.9], [bx + BLOCK - 3.0, y + 0.9]]), THIN))
         for i in range(b * per_block, min(rows, (b + 1) * per_block)):
             y += ROW
