@@ -56,8 +56,9 @@ ROOM_X, ROOM_Y = 60.0, 44.0
 
 @dataclass(frozen=True)
 class LinearTable:
-    """Travels and lifts (mm) of the inspection table, the roller's radius and the stated tolerance
-    (mm); ``swing``: an oscillating follower's table, ``lift`` its swing (deg)."""
+    """Travels and lifts (mm) of the inspection table, the roller's radius and how far (mm) the made
+    profile may be from the exact one (``fit_tol_mm``); ``swing``: an oscillating follower's table,
+    ``lift`` its swing (deg)."""
 
     x: np.ndarray
     lift: np.ndarray
@@ -93,8 +94,8 @@ def linear_table(cam: "CamResult", spec: DrawingSpec, fmt: str) -> LinearTable:
     count = inspection_angles(spec.inspection_step).size
     x = p.travel * np.arange(count + 1) / count
     s = law_in_x(p.law, p.travel, x)[0]
-    if p.follower.motion == "oscillating":  # the swing, rad -> deg (the tolerance: the point's, over the arm)
-        return LinearTable(x, np.degrees(s), float(radius), float(np.degrees(p.fit_tol / p.follower.arm_length)), swing=True)
+    if p.follower.motion == "oscillating":  # the swing, rad -> deg
+        return LinearTable(x, np.degrees(s), float(radius), float(p.fit_tol), swing=True)
     return LinearTable(x, s, float(radius), float(p.fit_tol))
 
 
@@ -110,7 +111,7 @@ def linear_inspection_metadata(cam: "CamResult", spec: DrawingSpec) -> dict[str,
     return {"content": "inspection table of a linear cam: the plate moved by x, a checking roller of the follower's radius on the "
                        "follower's line rests on the profile; its centre's height above the pitch line",
             "columns": dict(t.columns), "x_step_mm": float(t.x[1] - t.x[0]), "roller_radius_mm": t.roller_radius,
-            ("swing_tol_deg" if t.swing else "lift_tol_mm"): t.tolerance}
+            "profile_fit_tol_mm": t.tolerance}
 
 
 def _right_width(rows: int, height: float) -> tuple[float, int]:
