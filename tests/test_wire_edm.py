@@ -28,7 +28,7 @@ from camgen.export.gcode import MachiningSpec
 from camgen.export.wire_edm import wire_edm_program
 from camgen.export.wire_edm_spec import WireEdmSpec
 from cutting import CUT_TOL, ExactProfile, sample_moves
-from helpers import require_tool
+from helpers import require_tool, rs274_env
 
 #: Lines of the programs LinuxCNC does not know, masked before rs274 reads them: none (%, M00,
 #: G41 D<k>, G54 and M30 are all LinuxCNC's).
@@ -70,7 +70,7 @@ def run_rs274(program: str, offsets, workdir) -> tuple[int, str, list[list[dict]
     path = workdir / "wire.ngc"
     path.write_text(_masked(program))
     proc = subprocess.run(["rs274", "-t", str(table), "-g", str(path)], stdin=subprocess.DEVNULL, capture_output=True, text=True,
-                          timeout=120, env={**os.environ, "HOME": str(workdir)})  # LinuxCNC keeps the table in $HOME/.tool.mmap
+                          timeout=120, env=rs274_env(workdir, table.read_text()))  # HOME: a tool table of its own (helpers.rs274_env)
     number = r"(-?\d+(?:\.\d+)?)"
     straight = re.compile(rf"STRAIGHT_(FEED|TRAVERSE)\({number}, {number}, {number}")
     arc = re.compile(rf"ARC_FEED\({number}, {number}, {number}, {number}, (-?\d+), {number}")

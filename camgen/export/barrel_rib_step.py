@@ -21,13 +21,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camgen.errors import GeometryError
-from camgen.export.barrel_step import OVERLAP, barrel_step_bytes, cut_shape, inside_ends, one_valid_solid, solid_step_bytes, tube_solid
+from camgen.export.barrel_step import (OVERLAP, barrel_step_bytes, build_solid, cut_shape, inside_ends, one_valid_solid, solid_step_bytes,
+                                      tube_solid)
 
 if TYPE_CHECKING:
     from camgen.results import CamResult
     from camgen.writers import RunSettings
 
-__all__ = ["CROSSING_RADII", "CROSSING_SAMPLES", "rib_step_bytes", "writer"]
+__all__ = ["CROSSING_RADII", "CROSSING_SAMPLES", "rib_solid", "rib_step_bytes", "writer"]
 
 #: Radii (evenly from the tube's inner to its outer radius) and polar angles (over a turn) at which
 #: the faces are checked not to cross before the tube is made.
@@ -71,6 +72,12 @@ def _body(rib: Any, tol: float, cam: str) -> Any:
     if bore > 0.0:
         body = cut_shape(body, BRepPrimAPI_MakeCylinder(below, bore, length + 2.0).Shape(), "the bore", cam)
     return one_valid_solid(body, cam)
+
+
+def rib_solid(rib: Any, name: str = "cam") -> Any:
+    """The OCCT solid of the STEP file of the barrel cam with the rib ``rib`` (:func:`rib_step_bytes`),
+    for the other writers of that solid (IGES)."""
+    return build_solid(lambda: _body(rib, float(rib.fit_tol), name), name)
 
 
 def rib_step_bytes(rib: Any, name: str = "cam", schema: str = "AP214") -> bytes:

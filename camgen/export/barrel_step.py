@@ -38,8 +38,8 @@ import numpy as np
 
 from camgen.errors import ExportError, GeometryError
 
-__all__ = ["FACE_SPANS", "MAX_GRID", "MAX_ROWS", "OVERLAP", "SEW_TOL", "barrel_step_bytes", "cut_shape", "inside_ends", "one_valid_solid",
-           "solid_step_bytes", "tube_solid", "wall_surface"]
+__all__ = ["FACE_SPANS", "MAX_GRID", "MAX_ROWS", "OVERLAP", "SEW_TOL", "barrel_step_bytes", "build_solid", "cut_shape", "groove_solid",
+           "inside_ends", "one_valid_solid", "solid_step_bytes", "tube_solid", "wall_surface"]
 
 #: How far (as a fraction of the groove depth, at most 1 mm) the wall surfaces reach inside the
 #: root and outside the rim: the booleans then cut across them, never along an edge.
@@ -276,22 +276,34 @@ def barrel_step_bytes(groove: Any, name: str = "cam", schema: str = "AP214") -> 
                             f"B-spline groove walls within {tol!r} mm (axially) of the exact walls; cylinders and planes exact", schema)
 
 
-def solid_step_bytes(build: Callable[[], Any], name: str, what: str, schema: str = "AP214") -> bytes:
-    """STEP file content of the barrel cam ``name``'s solid made by ``build()`` (OCCT's exceptions
-    while building a GeometryError naming the cam), written by
-    :func:`camgen.export.step.step_text` with ``what`` (the surfaces and their tolerance) in the
-    header's FILE_DESCRIPTION and a fixed time stamp, under ``schema`` (AP214 or AP242)."""
-    _ocp()
-    from camgen.export.step import step_text
+def groove_solid(groove: Any, name: str = "cam") -> Any:
+    """The OCCT solid of the STEP file of the barrel cam of ``groove`` (:func:`barrel_step_bytes`:
+    walls within ``groove.fit_tol`` mm), for the other writers of that solid (IGES)."""
+    return build_solid(lambda: _body(groove, float(groove.fit_tol), name), name)
 
+
+def build_solid(build: Callable[[], Any], name: str) -> Any:
+    """``build()``, the barrel cam ``name``'s OCCT solid: an ExportError without OCP, OCCT's
+    exceptions while building a GeometryError naming the cam."""
+    _ocp()
     try:
-        body = build()
+        return build()
     except GeometryError:
         raise
     except Exception as exc:  # OCCT's exceptions share no Python base
         if not type(exc).__module__.startswith("OCP"):
             raise
         raise GeometryError(f"cam '{name}': OpenCASCADE cannot build the barrel's STEP solid ({type(exc).__name__}: {exc})") from None
+
+
+def solid_step_bytes(build: Callable[[], Any], name: str, what: str, schema: str = "AP214") -> bytes:
+    """STEP file content of the barrel cam ``name``'s solid made by ``build()`` (OCCT's exceptions
+    while building a GeometryError naming the cam), written by
+    :func:`camgen.export.step.step_text` with ``what`` (the surfaces and their tolerance) in the
+    header's FILE_DESCRIPTION and a fixed time stamp, under ``schema`` (AP214 or AP242)."""
+    body = build_solid(build, name)
+    from camgen.export.step import step_text
+
     text = step_text(body, name, schema)
     text = re.sub(r"FILE_DESCRIPTION\(\('[^']*'\)", f"FILE_DESCRIPTION(('camgen barrel cam {name}: {what}')", text, count=1)
     text = re.sub(r"FILE_NAME\('[^']*','[^']*'", f"FILE_NAME('{name}.step','2000-01-01T00:00:00'", text, count=1)

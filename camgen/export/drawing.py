@@ -16,10 +16,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from camgen.export.drawing_forms import FormFeatures, form_strokes
 from camgen.export.drawing_spec import DRAWING_SCALES, SHEETS, DrawingSpec, scale_factor
 from camgen.export.inspection import InspectionTable
 
-__all__ = ["BORDER", "DrawingInput", "Fill", "Label", "SCALE_BAR", "Sheet", "Stroke", "drawing_sheet", "fitting_scales", "sheet_for"]
+__all__ = ["BORDER", "DASH_DOT", "DrawingInput", "Fill", "Label", "ROW", "SCALE_BAR", "Sheet", "Stroke", "TEXT", "THIN", "TITLE_ROW",
+           "TITLE_ROWS", "TITLE_WIDTH", "WIDE", "drawing_sheet", "fitting_scales", "sheet_for"]
 
 #: Border of the drawing frame from the sheet's edge, mm (ISO 5457: 10 mm on A4 and A3).
 BORDER = 10.0
@@ -87,7 +89,8 @@ class DrawingInput:
     """What the drawing shows of one cam (part mm, rad): the profile flattened within ``chord_tol``
     (closed, counter-clockwise), its base radius and largest radius, the bore diameter and keyway
     corners (4, 2) outside the bore (None: none), keyway width and reach, the zero mark point and
-    rotation sense, the thickness, the inspection table and the title block's words."""
+    rotation sense, the thickness, the inspection table and the title block's words; ``features``:
+    what the cam's form adds (:mod:`camgen.export.drawing_forms`: a groove's walls, a breadth)."""
 
     cam: str
     scene: str
@@ -103,6 +106,7 @@ class DrawingInput:
     sigma: float
     thickness: float
     table: InspectionTable
+    features: FormFeatures = FormFeatures()
 
 
 # -- fitting the sheet ----------------------------------------------------------------------
@@ -246,6 +250,10 @@ def drawing_sheet(data: DrawingInput, spec: DrawingSpec, sheet: str) -> Sheet:
     mid = arc[len(arc) // 2]
     labels.append(Label(float(mid[0] + 2.0 * (mid[0] - cx) / r_arrow), float(mid[1] + 2.0 * (mid[1] - cy) / r_arrow + 1.0),
                         "ROTATION " + ("CCW" if data.sigma > 0 else "CW"), anchor="start" if mid[0] >= cx else "end"))
+    # the form's features: a groove's walls and pitch curve, a constant breadth (camgen.export.drawing_forms)
+    form_strokes(data.features, data.profile, page, (x0, y0), lambda p, w, d, c, n: strokes.append(Stroke(p, w, d, c, n)),
+                 lambda tip, d: fills.append(_arrowhead(tip, d)), lambda x, y, t, a: labels.append(Label(x, y, t, anchor=a)),
+                 WIDE, THIN, DASH_DOT, _fmt)
     _table(data, spec, x1 - right_w, y0, right_w, table_h, labels, strokes)
     _scale_bar(spec, x1 - right_w, y1 - TITLE_ROWS * TITLE_ROW - 6.0, fills, labels, strokes)
     _title_block(data, spec, sheet, x1 - TITLE_WIDTH, y1 - TITLE_ROWS * TITLE_ROW, x1, labels, strokes)
@@ -293,7 +301,7 @@ def _title_block(data: DrawingInput, spec: DrawingSpec, sheet: str, left: float,
         (f"PROFILE TOLERANCE \u00b1{spec.tolerance:g} mm", f"DRAWN WITHIN {data.chord_tol:g} mm"),
         (f"SCALE {spec.scale}", f"SHEET {sheet} LANDSCAPE"),
         ("UNITS mm, ANGLES deg", "ROTATION " + ("COUNTER-CLOCKWISE" if data.sigma > 0 else "CLOCKWISE")),
-        ("DRAWN BY camgen", f"PLATE CAM {data.cam}"),
+        ("DRAWN BY camgen", f"{data.features.form} {data.cam}"),
     )
     for i, (a, b) in enumerate(rows):
         y = top + (i + 1) * TITLE_ROW

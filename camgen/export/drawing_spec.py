@@ -56,7 +56,8 @@ def drawing_keys() -> tuple[Key, ...]:
         Key("drawing_sheet", Choice(("auto",) + tuple(SHEETS)), "Sheet of the drawing, landscape: A4 (297 x 210 mm), A3 "
             "(420 x 297 mm), or auto: A4 where the drawing fits it, else A3.", ("drawing",), default=d.sheet, example="A3"),
         Key("inspection_step_deg", Angle(2.0, 45.0), "Cam-angle step of the inspection table (<cam>_inspection.csv and the "
-            "drawing's table): the whole turn in equal steps, the nearest that divides 360 deg.", ("drawing",),
+            "drawing's table): the whole turn in equal steps, the nearest that divides 360 deg (a linear cam: its travel in as "
+            "many equal steps).", ("drawing",),
             default=math.degrees(d.inspection_step), example=5.0),
         Key("inspection_roller_radius_mm", Number("mm", 0.0, 1000.0), "Radius of the checking roller of the inspection table, "
             "moving along the ray through the axis and the zero mark: the table gives its centre's distance from the axis "

@@ -22,6 +22,10 @@ counter-clockwise tangent and ``n`` the outward normal there; ``h`` = ``start_ho
   ``T -> S`` at its offset: the part drops at ``S``.  The tab stretch is cut once, at the final
   offset (no skim: its surface is a first cut's).
 
+With ``wire_compensation = false`` every cut programs the wire-centre path instead (the profile
+offset by the cut's offset, the same entry and tab moved out by it, no ``G41``):
+:mod:`camgen.export.wire_edm_centre`.
+
 The bore and keyway are not cut: they are left to another operation (the header says so).
 """
 from __future__ import annotations
@@ -37,6 +41,7 @@ from camgen.errors import GeometryError, ParameterError, require_positive
 from camgen.export.gcode import start_parameter
 from camgen.export.gcode_moves import MoveWriter, comment, primitives, reverse_primitives, rotate, split_segment
 from camgen.export.gcode_spec import FIT_SHARE, MachiningSpec, rounding_error
+from camgen.export.wire_edm_centre import centre_cut_text, centre_cuts, refit_tolerance
 
 if TYPE_CHECKING:
     from camgen.kinds.base import Pocket
@@ -124,7 +129,8 @@ def wire_edm_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", sc
     path = _split_at(path, t_tab)
     comp_spec = dataclasses.replace(spec, cutter_compensation=True)  # chords fitted for a compensated path
     prims = primitives(path, comp_spec)
-    _check_concave(prims, offsets[0], spec.decimals)
+    if wire.wire_compensation:
+        _check_concave(prims, offsets[0], spec.decimals)
     start = path.segments[0].start_point
     tangent = path.tangent(np.array([0.0]))[0]  # counter-clockwise
     normal = np.array([tangent[1], -tangent[0]])  # outward
@@ -149,6 +155,8 @@ def wire_edm_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", sc
     if gap > 1e-4:
         raise GeometryError(f"the written contour does not close: it ends {gap:.3g} mm from its start")  # pragma: no cover
     tab_writer.line(start)
+    # wire_compensation = false: every cut programs the wire-centre path (camgen.export.wire_edm_centre)
+    centre = None if wire.wire_compensation else centre_cuts(path, offsets, spec, stop)
 
     def xy(p: np.ndarray) -> str:
         return f"X{p[0]:.{d}f} Y{p[1]:.{d}f}"
@@ -163,19 +171,26 @@ def wire_edm_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", sc
                 "offset of cut k = wire radius + spark gap + allowance k"),
     ]
     for k, (offset, allowance) in enumerate(zip(offsets, wire.allowances), 1):
-        lines.append(comment(f"register D{k} = {offset:.{d}f}: cut {k}, allowance {allowance:g}"))
+        lines.append(comment(f"register D{k} = {offset:.{d}f}: cut {k}, allowance {allowance:g}" if centre is None else
+                             f"cut {k}: wire-centre path = the profile offset by {offset:.{d}f}, allowance {allowance:g}"))
+    if centre is not None:
+        lines.append(comment("wire_compensation = false: the wire-centre path is programmed, no G41/G42 [no register used]; "
+                             f"spline segments of the offset refitted within {refit_tolerance(spec):.3g}"))
     lines += [
         comment(f"start hole diameter {wire.start_hole_diameter:g} at {xy(hole)} [drill it first]; lead-in {xy(hole)} -> "
-                f"{xy(a_point)} [G41 on], then along the tangent to the start point {xy(start)}"),
+                f"{xy(a_point)} {'[G41 on]' if centre is None else '+ the cut offset along the normal'}, then along the tangent to the start point {xy(start)}"),
         comment(f"tab {wire.tab_width:g} long along the profile from the stop point {xy(stop)} to the start point: cuts 1.."
                 f"{n} stop there; the last cut stops [M00] before cutting it off and the part drops"),
         comment("the tab stretch is cut once, at the last cut's offset; the bore and keyway are not cut: another operation"),
-        comment(f"path tolerance {spec.chord_tol:g} = {fit_what} fit {FIT_SHARE * spec.chord_tol:.3g} + {d} printed decimals "
-                f"{rounding_error(d):.3g}"),
+        comment(f"path tolerance {spec.chord_tol:g} = {fit_what} fit {FIT_SHARE * spec.chord_tol:.3g} + "
+                + ("" if centre is None else f"offset refit {refit_tolerance(spec):.3g} + ") + f"{d} printed decimals {rounding_error(d):.3g}"),
         f"{spec.units_word} G90 G17 G40 G54",
     ]
     body = ["\n".join(lines) + "\n"]
     for k, offset in enumerate(offsets, 1):
+        if centre is not None:
+            body.append(centre_cut_text(k, n, centre[k - 1], hole, a_point, normal, wire.wire_feed, xy))
+            continue
         body.append(
             f"(cut {k} of {n}: wire offset D{k} = {offset:.{d}f})\n"
             f"G0 {xy(hole)}\n"

@@ -17,7 +17,7 @@ from typing import Any
 
 from camgen.errors import ParameterError, require_finite
 from camgen.keynames import renamed
-from camgen.schema import Count, Key, Number, NumberList, Parsed
+from camgen.schema import Count, Flag, Key, Number, NumberList, Parsed
 
 __all__ = ["ALLOWANCE_RATIO", "FIRST_ALLOWANCE", "MAX_SKIM_CUTS", "MILLING_KEYS", "WIRE_EDM", "WireEdmSpec", "default_allowances",
            "wire_edm_keys", "wire_edm_table"]
@@ -51,7 +51,9 @@ class WireEdmSpec:
     falling, > 0); the last cut leaves none.  ``start_hole_offset``: the start hole's centre lies
     this far outside the profile's tangent line at the start point and this far back along it;
     ``tab_width``: the stretch of the profile (measured along it) that every cut leaves uncut
-    until the last cut, after its stop, cuts it off.
+    until the last cut, after its stop, cuts it off.  ``wire_compensation``: program the profile
+    with ``G41 D<k>`` (True) or the wire-centre path of every cut (False,
+    :mod:`camgen.export.wire_edm_centre`).
     """
 
     wire_diameter: float = 0.25
@@ -62,6 +64,7 @@ class WireEdmSpec:
     start_hole_offset: float = 5.0
     tab_width: float = 3.0
     wire_feed: float = 3.0
+    wire_compensation: bool = True
 
     def __post_init__(self) -> None:
         if self.cut_allowances is None:
@@ -129,6 +132,9 @@ def wire_edm_keys() -> tuple[Key, ...]:
             ("gcode",), default=_d("tab_width"), requires=only),
         Key("wire_feed_mm_per_min", Number("mm/min", 0.01, 1e4), "Wire-EDM: feed of the cuts (the control's servo "
             "may cut slower).", ("gcode",), default=_d("wire_feed"), attr="wire_feed", requires=only),
+        Key("wire_compensation", Flag(), "Wire-EDM: program the profile with the control's wire offset G41 D<k> (true), or "
+            "(false) the wire-centre path of every cut: the profile offset by its wire offset, exact arcs, no G41/G42 and no "
+            "register (the header says which).", ("gcode",), default=_d("wire_compensation"), requires=only),
     )
 
 

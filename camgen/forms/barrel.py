@@ -7,7 +7,8 @@ are the exact envelopes of the roller at every radius from root to rim
 (:mod:`camgen.synthesis.barrel`); keys, build and checks: :mod:`camgen.kinds.barrel`.  The body
 is no plate, so the form writes its own files: the developed drawing and the walls' point list
 (:mod:`camgen.export.barrel_drawing`), the solid (:mod:`camgen.export.barrel_solid`, the mesh
-stage; STEP :mod:`camgen.export.barrel_step`, a rib's :mod:`camgen.export.barrel_rib_step`) and the 4th-axis program
+stage; STEP :mod:`camgen.export.barrel_step`, a rib's :mod:`camgen.export.barrel_rib_step`, the same solid as IGES
+:mod:`camgen.export.barrel_iges`) and the 4th-axis program
 (:mod:`camgen.export.gcode_barrel`).  The groove is form-closed: its dynamics (both walls' forces,
 torque, Hertz stress) are :mod:`camgen.kinds.barrel_dynamics`; a rib's (its two rollers)
 :mod:`camgen.kinds.barrel_rib_dynamics`.
@@ -36,8 +37,10 @@ FORM = CamForm(
     formats_refused={"lift": "a cylinder has no polar lift table (the point list holds the walls at root, mean and rim radius)",
                      "vtu": _FEA, "msh": _FEA, "inp": _FEA,
                      "svg": "a cylinder has no flat profile to cut (the developed drawing is the dxf)",
-                     "iges": "the barrel's solid is written as STEP only"},
+                     **dict.fromkeys(("drawing", "drawing_pdf", "inspection"), "a dimensioned drawing and inspection table of a "
+                                     "barrel cam are not built yet (its developed drawing is the dxf)")},
     writers={"dxf": "camgen.export.barrel_drawing:dxf", "points": "camgen.export.barrel_drawing:points",
-             "step": "camgen.export.barrel_rib_step:writer", "ngc": "camgen.export.gcode_barrel_rib:writer"},
+             "step": "camgen.export.barrel_rib_step:writer", "ngc": "camgen.export.gcode_barrel_rib:writer",
+             "iges": "camgen.export.barrel_iges:writer"},
     stages={"mesh": "camgen.export.barrel_mesh:mesh_stage"},
 )

@@ -29,4 +29,7 @@ FORM = CamForm(
     report_section="camgen.kinds.linear:linear_section",
     formats_refused={"lift": "its plate turns about no axis, so it has no polar lift table (the point list and the DXF hold the edge)",
                      "follower": "it has no cam speed (rpm) to tabulate the follower's motion at"},
+    # the plate's drawing and its inspection table, lift against x (camgen.export.drawing_linear)
+    writers={"drawing": "camgen.export.drawing_linear:drawing_svg", "drawing_pdf": "camgen.export.drawing_linear:drawing_pdf",
+             "inspection": "camgen.export.drawing_linear:inspection"},
 )
