@@ -226,7 +226,10 @@ def machining_keys() -> tuple[Key, ...]:
     from camgen.export.gcode import DIALECTS, DIRECTIONS, SPLINE_MODES, MachiningSpec
     from camgen.export.wire_edm_spec import wire_edm_keys
     from camgen.export.fanuc_settings import DEFAULT_PROGRAM_NUMBER, DEFAULT_TOOL_NUMBER, MAX_PROGRAM_NUMBER, MAX_RADIUS_REGISTER, MAX_TOOL_NUMBER
+    from camgen.export.gcode_bore import BORE_OPERATIONS
     from camgen.kinds.base import field_default
+
+    MILLING = ("linuxcnc", "grbl", "fanuc")
 
     def d(name: str):
         return field_default(MachiningSpec, name)
@@ -269,4 +272,17 @@ def machining_keys() -> tuple[Key, ...]:
         Key("radius_register", Count(1, MAX_RADIUS_REGISTER), "The D register of the Fanuc program's G41/G42, holding a radius: the "
             "tool radius with cutter_compensation, else 0 (the wear only); the header says which (default: tool_number).", ("gcode",),
             requires={"dialect": ("fanuc",)}),
+        # --- the bore and keyway (camgen.export.gcode_bore) ---
+        Key("bore_operation", Choice(BORE_OPERATIONS), "The cam's shaft bore in a milling program: helix = milled first, while the "
+            "stock holds the part, by helical interpolation (tool-centre circles stepped out by <= half the tool so no core is left, "
+            "helix pitch <= step_down_mm, a full circle at the bottom) and the keyway slotted with the same tool where it fits (its "
+            "inner corners left at the tool radius); none = a header note that bore and keyway are left to another operation "
+            "(default: helix when bore_tool_diameter_mm is given, else none).", ("gcode",), requires={"dialect": MILLING}),
+        Key("bore_tool_diameter_mm", Number("mm", 0.0, 1000.0, low_open=True), "End mill of the bore and keyway (default: the "
+            "outline's tool, no tool change); 0.4 mm .. bore diameter - 0.2 mm; a tool wider than the keyway leaves it to another "
+            "operation (the header says so).", ("gcode",), requires={"dialect": MILLING}),
+        Key("bore_tool_number", Count(1, MAX_TOOL_NUMBER), "Tool number of the bore tool (T<n> M6 and G43 H<n>, then the outline's "
+            f"tool T<tool_number> again; default: tool_number + 1, tool_number being {DEFAULT_TOOL_NUMBER} unless a fanuc program "
+            "sets it); needs bore_tool_diameter_mm (GRBL: M0 stops to change the tool).", ("gcode",),
+            requires={"dialect": ("linuxcnc", "fanuc")}),
     ) + wire_edm_keys()  # wire EDM (camgen.export.wire_edm_spec)

@@ -67,6 +67,7 @@ from camgen.export.gcode_spec import (BLEND_SHARE, DIALECTS, DIRECTIONS, FIT_SHA
                                       SPLINE_MODES, MachiningSpec, depth_passes, rounding_error)
 
 if TYPE_CHECKING:
+    from camgen.body import BodySpec
     from camgen.kinds.base import Pocket
 
 __all__ = ["BLEND_SHARE", "COMP_ENTRY_ANGLE", "COMP_STRAIGHT", "DIALECTS", "DIRECTIONS", "FIT_SHARE", "MAX_PASSES", "MAX_PROGRAM_MOVES",
@@ -193,7 +194,7 @@ def _refuse_long_program(spec: MachiningSpec, depth: float, n_passes: int, moves
 
 
 def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene: str = "", thickness: float | None = None,
-                  pockets: "Sequence[Pocket]" = ()) -> str:
+                  pockets: "Sequence[Pocket]" = (), body: "BodySpec | None" = None) -> str:
     """RS274/NGC program text that mills ``contour`` (the cam profile) to ``thickness`` (mm; the
     cam's, default ``spec.thickness``) plus ``spec.breakthrough``, with tangent lead-in and
     lead-out (see the module docstring).  ``spec`` is final (the scene reader checked it against
@@ -201,7 +202,8 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
 
     ``pockets`` (a groove cam's groove) are milled first, to their depth, while the stock still
     holds the part (:mod:`camgen.export.gcode_pockets`: one pass along the pitch curve, or two
-    wall passes and the slot cleared); then the outline as without them."""
+    wall passes and the slot cleared); then the outline as without them.  ``body``: the cam's
+    bore and keyway, milled first or left to another operation (:mod:`camgen.export.gcode_bore`)."""
     from camgen import __version__
 
     pocketed = None
@@ -250,6 +252,11 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     moves = contour_moves.count("\n") + 6  # + plunge, feed down, lead-in (2), lead-out (2)
     if pocketed is not None:  # the pockets' levels count as passes of the same length on average
         moves += -(-pocketed.count // n_passes)
+    from camgen.export.gcode_bore import bore_program, with_bore  # the bore and keyway, first
+
+    bored = bore_program(body, spec, depth)
+    if bored is not None:
+        moves += -(-bored.count // n_passes)
     if n_passes * moves > MAX_PROGRAM_MOVES:
         _refuse_long_program(spec, depth, n_passes, moves)
     depths = -np.minimum(spec.step_down * np.arange(1, n_passes + 1), depth)
@@ -283,15 +290,16 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     ]
     if pocketed is not None:
         lines += list(pocketed.header)
+    if bored is not None:
+        lines += list(bored.header)
     if spec.dialect == "fanuc":  # Fanuc/Haas: register line, units, safe start, tool call, G43 (camgen.export.gcode_fanuc)
         from camgen.export.gcode_fanuc import fanuc_start
 
-        lines += fanuc_start(spec, pocketed is not None)
+        start = fanuc_start(spec, pocketed is not None)
     else:
-        lines.append("G21 G90 G17 G40 G49 G80 G94")
-        if spec.dialect == "linuxcnc":
-            lines.append(f"G64 P{blend}")
-        lines += [f"G0 Z{spec.safe_z:.{d}f}", f"M3 S{spec.spindle_rpm:.0f}"]
+        start = ["G21 G90 G17 G40 G49 G80 G94"] + ([f"G64 P{blend}"] if spec.dialect == "linuxcnc" else [])
+        start += [f"G0 Z{spec.safe_z:.{d}f}", f"M3 S{spec.spindle_rpm:.0f}"]
+    lines += start if bored is None else with_bore(start, bored, spec)
     body = ["\n".join(lines) + "\n"]
     if pocketed is not None:
         body.append(pocketed.moves)

@@ -74,6 +74,10 @@ class MachiningSpec:
     program_number: int | None = None
     tool_number: int | None = None
     radius_register: int | None = None
+    # --- the bore and keyway (camgen.export.gcode_bore: None = its default) ---
+    bore_operation: str | None = None
+    bore_tool_diameter: float | None = None
+    bore_tool_number: int | None = None
 
     def __post_init__(self) -> None:
         for name in ("tool_diameter", "thickness", "step_down", "safe_z", "feed", "plunge_feed", "spindle_rpm", "chord_tol"):
@@ -91,6 +95,9 @@ class MachiningSpec:
 
             object.__setattr__(self, "wire_edm", WireEdmSpec())
         check_fanuc_settings(self.dialect, self.program_number, self.tool_number, self.radius_register)  # fanuc dialect
+        from camgen.export.gcode_bore import check_bore_settings
+
+        check_bore_settings(self)  # the bore and keyway (camgen.export.gcode_bore)
         if self.spline_mode not in SPLINE_MODES:
             raise ParameterError("spline_mode", self.spline_mode, f"one of {SPLINE_MODES}")
         if self.cutter_compensation and self.dialect == "grbl":

@@ -39,6 +39,7 @@ from camgen.export.gcode_moves import MoveWriter, comment, primitives, reverse_p
 from camgen.export.gcode_spec import FIT_SHARE, MachiningSpec, rounding_error
 
 if TYPE_CHECKING:
+    from camgen.body import BodySpec
     from camgen.kinds.base import Pocket
 
 __all__ = ["LENGTH_TOL", "length_parameter", "wire_edm_program"]
@@ -94,9 +95,10 @@ def _check_concave(prims: list[tuple], offset: float, decimals: int) -> None:
 
 
 def wire_edm_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene: str = "", thickness: float | None = None,
-                     pockets: "Sequence[Pocket]" = ()) -> str:
+                     pockets: "Sequence[Pocket]" = (), body: "BodySpec | None" = None) -> str:
     """ISO wire-EDM program text that cuts the outline ``contour`` of a plate ``thickness`` mm
-    thick (default ``spec.thickness``) with the cuts of ``spec.wire_edm`` (module docstring)."""
+    thick (default ``spec.thickness``) with the cuts of ``spec.wire_edm`` (module docstring);
+    ``body``'s bore and keyway are left to another operation (the header says so)."""
     from camgen import __version__
 
     wire = spec.wire_edm

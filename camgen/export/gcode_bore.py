@@ -1,0 +1,274 @@
+"""The shaft bore and keyway in a milling program (``linuxcnc``, ``grbl``, ``fanuc``): helical
+interpolation of the bore, the keyway slotted with the same tool, or a header note that they are
+left to another operation.
+
+Settings (``[machining]``): ``bore_operation`` = ``"helix"`` or ``"none"`` (default: ``"helix"``
+when ``bore_tool_diameter`` is given, else ``"none"``: the programs of a scene without the bore
+keys cut no bore); ``bore_tool_diameter`` (mm; default: the outline's tool, no tool change);
+``bore_tool_number`` (LinuxCNC and Fanuc: ``T<n> M6`` and ``G43 H<n>``; default the outline's
+tool number + 1).  GRBL has no tool changer: the program stops (``M0``) with a comment naming the
+tool to load, before the bore and before the outline.
+
+The bore (radius ``R``, tool radius ``r``, axis at X0 Y0) is cut before the outline, while the
+stock still holds the part, as a tool-centre path (no cutter compensation):
+
+* tool-centre circles of radius ``rho_k = rho_n k / g`` (``k = 1 .. g``), ``rho_n = R - r`` the
+  finishing circle, ``g`` the least count with a stepover ``rho_n / g <= BORE_STEPOVER * 2 r``:
+  the first circle's disc covers the axis (``rho_1 <= r``) and neighbouring discs overlap, so no
+  core is left to fall loose at the breakthrough;
+* each circle is a **helix** from Z0 (the stock top) down to ``-(thickness + breakthrough)`` in
+  ``ceil(depth / step_down)`` turns (pitch ``<= step_down``), written as half turns ``G2/G3`` with
+  ``I J`` (never a full circle in one block), then a full circle (two half turns) at the bottom;
+* climb milling (spindle ``M3``) runs counter-clockwise inside a hole (``G3``: the wall on the
+  right of the travel), conventional clockwise (``G2``).
+
+The tool enters each helix above the stock at ``(rho_k, 0)`` and every tool-centre position
+stays within ``rho_n = R - r`` of the axis: the bore wall is never gouged.
+
+The keyway (width ``w``, bottom at ``R + keyway_depth`` from the axis, along ``keyway_angle``) is
+slotted with the bore tool where it fits (``2 r <= w``), in depth levels of at most ``step_down``
+(each fed down inside the cleared bore): lanes parallel to the keyway's centre line at the
+lateral offsets ``y_k`` evenly from ``-(w/2 - r)`` to ``w/2 - r`` (stepover <= ``BORE_STEPOVER *
+2 r``), from the axis out to ``R + keyway_depth - r``; the first lane, the bottom and the last
+lane are run as one pass (the finished walls on the right of the travel in climb milling), the
+others out and back.  The keyway's two inner (bottom) corners are left at the tool radius ``r``;
+the header says so.  A tool wider than the keyway leaves it to another operation (broach, wire
+EDM): the header says so.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from camgen.errors import ParameterError, floor_significant, require_positive
+from camgen.export.fanuc_settings import DEFAULT_TOOL_NUMBER, MAX_TOOL_NUMBER
+from camgen.export.gcode_moves import comment
+
+if TYPE_CHECKING:
+    from camgen.body import BodySpec
+    from camgen.export.gcode_spec import MachiningSpec
+
+__all__ = ["BORE_OPERATIONS", "BORE_STEPOVER", "MIN_HELIX_RADIUS", "BoreProgram", "bore_operation_of", "bore_program",
+           "bore_tool_number_of", "check_bore_settings", "helix_radii", "with_bore"]
+
+#: Values of ``bore_operation``.
+BORE_OPERATIONS = ("helix", "none")
+#: Largest stepover between neighbouring helix circles and keyway lanes, as a fraction of the
+#: tool diameter (below 1: the discs overlap, no core or rib is left between them).
+BORE_STEPOVER = 0.5
+#: Least radius (mm) of a helix circle: an arc of a smaller radius is hard to print and to run.
+MIN_HELIX_RADIUS = 0.1
+#: Dialects with a tool changer (``T<n> M6`` and ``G43 H<n>``).
+TOOL_CHANGERS = ("linuxcnc", "fanuc")
+_MILLING = ("linuxcnc", "grbl", "fanuc")
+
+
+def check_bore_settings(spec: "MachiningSpec") -> None:
+    """Refuse bore settings out of range or where they would change nothing (called by
+    :class:`camgen.export.gcode_spec.MachiningSpec`)."""
+    op, tool, number = spec.bore_operation, spec.bore_tool_diameter, spec.bore_tool_number
+    if op is not None and op not in BORE_OPERATIONS:
+        raise ParameterError("bore_operation", op, f"one of {BORE_OPERATIONS}")
+    if spec.dialect not in _MILLING:
+        for name, value in (("bore_operation", op), ("bore_tool_diameter", tool), ("bore_tool_number", number)):
+            if value is not None:
+                raise ParameterError(name, value, f"only with dialect = {' or '.join(_MILLING)}", f"the {spec.dialect} program mills no bore")
+    if tool is not None:
+        require_positive("bore_tool_diameter", tool)
+        if op == "none":
+            raise ParameterError("bore_tool_diameter", tool, 'left out with bore_operation = "none"', "no bore is milled")
+    if number is not None:
+        if isinstance(number, bool) or not isinstance(number, int) or not 1 <= number <= MAX_TOOL_NUMBER:
+            raise ParameterError("bore_tool_number", number, f"a whole number, 1 <= n <= {MAX_TOOL_NUMBER}")
+        if spec.dialect not in TOOL_CHANGERS:
+            raise ParameterError("bore_tool_number", number, f"only with dialect = {' or '.join(TOOL_CHANGERS)}",
+                                 "GRBL has no tool changer: the program stops (M0) for the change")
+        if tool is None:
+            raise ParameterError("bore_tool_number", number, "only with bore_tool_diameter_mm",
+                                 "without it the outline's tool cuts the bore, no tool change")
+        if number == _outline_tool(spec):
+            raise ParameterError("bore_tool_number", number, f"another number than the outline's tool T{number}")
+
+
+def _outline_tool(spec: "MachiningSpec") -> int:
+    return DEFAULT_TOOL_NUMBER if spec.tool_number is None else spec.tool_number
+
+
+def bore_operation_of(spec: "MachiningSpec") -> str:
+    """``spec.bore_operation`` resolved: ``"helix"`` when a bore tool is given, else ``"none"``
+    (a wire program mills none)."""
+    if spec.bore_operation is not None:
+        return spec.bore_operation
+    return "helix" if spec.bore_tool_diameter is not None else "none"
+
+
+def bore_tool_number_of(spec: "MachiningSpec") -> int:
+    """The bore tool's number: ``bore_tool_number``, else the outline's tool number + 1 (- 1 for the last)."""
+    if spec.bore_tool_number is not None:
+        return spec.bore_tool_number
+    main = _outline_tool(spec)
+    return main + 1 if main < MAX_TOOL_NUMBER else main - 1
+
+
+def helix_radii(bore_radius: float, tool_radius: float) -> np.ndarray:
+    """Radii (mm, rising) of the tool-centre circles that clear a bore of ``bore_radius`` with a
+    tool of ``tool_radius`` (module docstring): ``rho_n k / g``, ``rho_n = bore_radius - tool_radius``."""
+    outer = bore_radius - tool_radius
+    g = max(1, math.ceil(outer / (BORE_STEPOVER * 2.0 * tool_radius) - 1e-9))
+    return outer * np.arange(1, g + 1) / g
+
+
+@dataclass(frozen=True)
+class BoreProgram:
+    """The bore's part of a program: ``header`` comment lines; ``moves`` the blocks that cut it
+    ('' when nothing is cut), inserted before the outline's tool is set up (``own_tool``) or after
+    (the outline's tool cuts it); ``count`` the moves."""
+
+    header: tuple[str, ...]
+    moves: str
+    own_tool: bool
+    count: int
+
+
+def _tool_words(spec: "MachiningSpec", diameter: float) -> tuple[list[str], list[str], str]:
+    """Blocks before and after the bore (tool change, spindle) and the header's tool text."""
+    safe, rpm = f"{spec.safe_z:.{spec.decimals}f}", f"{spec.spindle_rpm:.0f}"
+    if spec.bore_tool_diameter is None:
+        return [], [], f"the outline's tool [diameter {spec.tool_diameter:g}], no tool change"
+    main, bore = _outline_tool(spec), bore_tool_number_of(spec)
+    if spec.dialect == "fanuc":
+        return ([f"T{bore} M06", f"S{rpm} M03", f"G0 G43 H{bore:02d} Z{safe}"], ["M05"],
+                f"bore tool T{bore} [diameter {diameter:g}, length offset H{bore:02d}], then T{main} for the outline")
+    if spec.dialect == "linuxcnc":
+        return ([f"T{bore} M6", f"G43 H{bore}", f"G0 Z{safe}", f"M3 S{rpm}"], ["M5", f"T{main} M6", f"G43 H{main}"],
+                f"bore tool T{bore} [diameter {diameter:g}, length offset H{bore}], then T{main} for the outline")
+    return ([f"M0 (load the bore tool, diameter {diameter:g}; touch off Z0 on the stock top)", f"G0 Z{safe}", f"M3 S{rpm}"],
+            ["M5", f"M0 (load the outline's tool, diameter {spec.tool_diameter:g}; touch off Z0 on the stock top)"],
+            f"bore tool diameter {diameter:g}: GRBL has no tool changer, the program stops [M0] to load it and again to load "
+            f"the outline's tool [diameter {spec.tool_diameter:g}]")
+
+
+def _helix(rho: float, depth: float, spec: "MachiningSpec") -> tuple[list[str], int, float]:
+    """Blocks of one helix of radius ``rho`` from Z0 to ``-depth`` and the full circle there
+    (half turns), its number of turns and pitch (mm)."""
+    from camgen.export.gcode_spec import depth_passes
+
+    d = spec.decimals
+    turns = int(depth_passes(depth, spec.step_down))
+    pitch = depth / turns
+    word = "G3" if spec.direction == "climb" else "G2"
+    halves = np.arange(1, 2 * turns + 3)  # 2 per turn, then the full circle at the bottom
+    z = -np.minimum(0.5 * pitch * halves, depth)
+    ends = np.where(halves % 2 == 1, -rho, rho)  # half turns from (rho, 0): (-rho, 0), (rho, 0), ...
+    # the centre (the axis) from the previous end (-end): I = end, J = 0
+    blocks = [f"G0 X{rho:.{d}f} Y{0.0:.{d}f}", f"G1 Z{0.0:.{d}f} F{spec.plunge_feed:.0f}"]
+    blocks += [f"{word} X{xk:.{d}f} Y{0.0:.{d}f} Z{zk:.{d}f} I{xk:.{d}f} J{0.0:.{d}f}" for xk, zk in zip(ends, z)]
+    blocks[2] += f" F{spec.feed:.0f}"
+    blocks.append(f"G0 Z{spec.safe_z:.{d}f}")
+    return blocks, turns, pitch
+
+
+def _keyway(body: "BodySpec", depth: float, spec: "MachiningSpec", radius: float) -> tuple[list[str], list[str]]:
+    """Blocks slotting the keyway with a tool of ``radius`` (module docstring) and the header text."""
+    from camgen.export.gcode_spec import depth_passes
+
+    d = spec.decimals
+    w = body.keyway_width
+    half = w / 2.0 - radius
+    lanes = max(1, math.ceil(2.0 * half / (BORE_STEPOVER * 2.0 * radius) - 1e-9)) if half > 0.0 else 0
+    ys = np.linspace(-half, half, lanes + 1) if lanes else np.zeros(1)
+    if spec.direction != "climb":
+        ys = ys[::-1]
+    out = body.keyway_reach - radius
+    c, s = math.cos(body.keyway_angle), math.sin(body.keyway_angle)
+
+    def at(along: float, y: float) -> str:
+        return f"X{along * c - y * s:.{d}f} Y{along * s + y * c:.{d}f}"
+
+    # one level: first lane out, along the bottom, last lane in; the lanes between out and back
+    level = [f"G1 {at(out, ys[0])} F{spec.feed:.0f}", f"G1 {at(out, ys[-1])}", f"G1 {at(0.0, ys[-1])}"] if ys.size > 1 else \
+        [f"G1 {at(out, ys[0])} F{spec.feed:.0f}", f"G1 {at(0.0, ys[0])}"]
+    for y in ys[1:-1]:
+        level += [f"G1 {at(0.0, y)}", f"G1 {at(out, y)}", f"G1 {at(0.0, y)}"]
+    n = int(depth_passes(depth, spec.step_down))
+    zs = -np.minimum(spec.step_down * np.arange(1, n + 1), depth)
+    home = f"G1 {at(0.0, ys[0])}"
+    blocks = [f"G0 {at(0.0, ys[0])}"]
+    for z in zs:
+        if blocks[-1] != home and not blocks[-1].startswith("G0 "):  # back to the first lane's start, inside the bore
+            blocks.append(home)
+        blocks += [f"G1 Z{z:.{d}f} F{spec.plunge_feed:.0f}", *level]
+    blocks.append(f"G0 Z{spec.safe_z:.{d}f}")
+    text = [f"keyway {w:g} wide to {body.keyway_reach:g} from the axis at {math.degrees(body.keyway_angle):g} deg: slotted with the bore "
+            f"tool after the bore, {n} levels of <= {spec.step_down:g} fed down inside the bore, lanes: {ys.size}",
+            f"keyway: its two inner corners left at the tool radius {radius:g}"]
+    return blocks, text
+
+
+def bore_program(body: "BodySpec | None", spec: "MachiningSpec", depth: float) -> BoreProgram | None:
+    """The bore's blocks and header of a program cutting to ``depth`` mm (thickness +
+    breakthrough); None for a cam without a bore.
+
+    Raises
+    ------
+    ParameterError
+        ``bore_tool_diameter`` (or ``tool_diameter`` when the outline's tool cuts the bore) outside
+        ``[4 MIN_HELIX_RADIUS, bore diameter - 2 MIN_HELIX_RADIUS]``.
+    """
+    if body is None or body.bore_diameter <= 0.0:
+        return None
+    keyway = body.keyway_width > 0.0
+    what = "bore and keyway" if keyway else "bore"
+    if bore_operation_of(spec) == "none":
+        return BoreProgram((comment(f"the {what} [diameter {body.bore_diameter:g}] are not cut: left to another operation "
+                                    "[bore_operation = none; bore_tool_diameter_mm mills the bore by a helix]"),), "", False, 0)
+    name, diameter = ("bore_tool_diameter", spec.bore_tool_diameter) if spec.bore_tool_diameter is not None else \
+        ("tool_diameter", spec.tool_diameter)
+    radius, bore = diameter / 2.0, body.bore_diameter / 2.0
+    low, high = 4.0 * MIN_HELIX_RADIUS, body.bore_diameter - 2.0 * MIN_HELIX_RADIUS
+    if not low <= diameter <= high:
+        raise ParameterError(name, diameter, f"{low:g} mm <= diameter <= bore diameter - {2.0 * MIN_HELIX_RADIUS:g} = "
+                                             f"{floor_significant(high, 6):g} mm" if high > low else "a cam with a larger bore",
+                             f"the helix that mills the bore [diameter {body.bore_diameter:g} mm] needs a circle of at least "
+                             f"{MIN_HELIX_RADIUS:g} mm radius")
+    before, after, tool_text = _tool_words(spec, diameter)
+    radii = helix_radii(bore, radius)
+    blocks = [comment(f"bore diameter {body.bore_diameter:g}: helical interpolation")] + before
+    turns, pitch = 0, 0.0
+    for rho in radii:
+        helix, turns, pitch = _helix(float(rho), depth, spec)
+        blocks += helix
+    d = spec.decimals
+    step = float(radii[0])
+    header = [comment(f"bore diameter {body.bore_diameter:g} at the axis, cut first, while the stock holds the part; {tool_text}"),
+              comment(f"bore: {radii.size} tool-centre circles of radius {step:.{d}f} to {float(radii[-1]):.{d}f} in steps of "
+                      f"{step:.{d}f} [<= {BORE_STEPOVER:g} x tool: no core left]; no compensation"),
+              comment(f"bore: each circle a helix of {turns} turns of pitch {pitch:.4g} <= step_down {spec.step_down:g} from Z0 to "
+                      f"Z{-depth:g}, then a full circle there; {'G3 counter-clockwise' if spec.direction == 'climb' else 'G2 clockwise'} "
+                      f"[{spec.direction}]")]
+    if keyway:
+        if diameter <= body.keyway_width:
+            slot, text = _keyway(body, depth, spec, radius)
+            blocks += slot
+            header += [comment(line) for line in text]
+        else:
+            header.append(comment(f"the keyway [{body.keyway_width:g} wide] is not cut: the bore tool [diameter {diameter:g}] is wider; "
+                                  "left to another operation [broach or wire EDM]"))
+    blocks += after
+    return BoreProgram(tuple(header), "\n".join(blocks) + "\n", spec.bore_tool_diameter is not None, len(blocks))
+
+
+def with_bore(start: list[str], bored: BoreProgram, spec: "MachiningSpec") -> list[str]:
+    """The program's start blocks ``start`` with the bore's blocks inserted: before the outline's
+    tool is set up (its ``T M06`` for fanuc, its ``G0 Z<safe>`` otherwise) when the bore has its
+    own tool, else after the start (spindle running)."""
+    if not bored.moves:
+        return start
+    at = len(start)
+    if bored.own_tool:
+        first = f"T{_outline_tool(spec)} M06" if spec.dialect == "fanuc" else f"G0 Z{spec.safe_z:.{spec.decimals}f}"
+        at = start.index(first)
+    return start[:at] + [bored.moves.rstrip("\n")] + start[at:]

@@ -1,0 +1,277 @@
+"""The shaft bore and keyway in the milling programs (``bore_operation``, ``bore_tool_diameter_mm``),
+run through LinuxCNC's rs274 and cut in a simulation.
+
+Every number the programs are judged by comes from outside camgen.export.gcode_bore: the cam's
+body (bore diameter, keyway width, depth and angle), the rule the header and README state (the
+bore round to its diameter; the keyway its rectangle except its two inner corners, left at the
+tool radius), the scene's step_down and depth, and rs274's canonical moves:
+
+* the expected hole (:class:`HoleWall`) is built here from that rule with numpy: the bore
+  circle, the keyway's sides and bottom, quarter circles of the tool radius at its bottom
+  corners; the tool disc swept along rs274's tool-centre moves (tests/cutting.py
+  ``simulate_pockets``) gouges no point of it and leaves none proud by more than 1 um;
+* every bore arc of rs274's output is centred on the axis, its radius at most ``R - r`` (the
+  tool disc never reaches beyond the bore wall, at entry too) to rs274's printed precision
+  (4 decimals: :data:`PRINTED`), its helix pitch at most step_down;
+* the outline's passes (with the outline's tool) leave the profile within 1 um as before.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import re
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from camgen.errors import ParameterError
+from camgen.export.gcode import MachiningSpec, gcode_program
+from cutting import CUT_TOL, simulate_pockets
+from helpers import arc_sweep, require_tool
+
+#: rs274 prints 4 decimals: a printed point is within sqrt(2)/2 * 1e-4 mm of the interpreter's.
+PRINTED = math.sqrt(2.0) / 2.0 * 1e-4
+#: The lines of a Fanuc program masked for rs274 (as tests/test_gcode_fanuc.py): % and the O line.
+FANUC_MASKED = (re.compile(r"%"), re.compile(r"O\d{4} \(.*\)"))
+#: rs274's tool table is in inches.
+INCH = 25.4
+
+
+@pytest.fixture
+def needs_rs274():
+    return require_tool("rs274")
+
+
+@pytest.fixture(scope="module")
+def plate():
+    """The plate_cam template's cam (bore 12 mm, keyway 4 x 1.8 mm at 90 deg) and its machining spec
+    as the ngc writer uses it."""
+    from camgen.pipeline import Plan, compute
+    from camgen.scene import load_template
+
+    scene = load_template("plate_cam")
+    cam = compute(scene, Plan((), frozenset())).cams[0]
+    spec = dataclasses.replace(scene.machining, thickness=cam.body.thickness, chord_tol=scene.output.chord_tol)
+    return cam, spec
+
+
+class HoleWall:
+    """The expected bore and keyway after milling with a tool of radius ``r`` (the stated rule),
+    as a counter-clockwise polygon within ``flatten``'s tolerance of the exact curve (vertices on it,
+    the circle's chords of sagitta <= tol, straight sides sampled at the circle's spacing).
+    ``keyway``: the keyway is cut (else the bore circle alone)."""
+
+    def __init__(self, body, r: float, keyway: bool) -> None:
+        self.body, self.r, self.keyway = body, r, keyway
+
+    def flatten(self, tol: float) -> np.ndarray:
+        body, r = self.body, self.r
+        big = body.bore_diameter / 2.0
+        step = 2.0 * math.acos(1.0 - tol / big)  # chord angle of sagitta tol on the bore circle
+        spacing = big * step
+
+        def arc(centre, radius, a0, a1):  # without its end point
+            n = max(1, math.ceil(abs(a1 - a0) / (2.0 * math.acos(1.0 - min(tol / radius, 1.0)))))
+            a = a0 + (a1 - a0) * np.arange(n) / n
+            return np.asarray(centre) + radius * np.stack([np.cos(a), np.sin(a)], axis=1)
+
+        def line(p, q):
+            n = max(1, math.ceil(math.hypot(q[0] - p[0], q[1] - p[1]) / spacing))
+            w = np.arange(n)[:, None] / n
+            return np.asarray(p) + w * (np.asarray(q) - np.asarray(p))
+
+        if not self.keyway:
+            return arc((0.0, 0.0), big, 0.0, 2.0 * math.pi)
+        half, reach = body.keyway_width / 2.0, body.bore_diameter / 2.0 + body.keyway_depth
+        beta = math.asin(half / big)
+        chord = math.sqrt(big * big - half * half)
+        # in the keyway's frame (along, across), then turned by the keyway angle
+        pieces = [arc((0.0, 0.0), big, beta, 2.0 * math.pi - beta),
+                  line((chord, -half), (reach - r, -half)),
+                  arc((reach - r, -(half - r)), r, -math.pi / 2.0, 0.0),
+                  line((reach, -(half - r)), (reach, half - r)),
+                  arc((reach - r, half - r), r, 0.0, math.pi / 2.0),
+                  line((reach - r, half), (chord, half))]
+        local = np.vstack([p for p in pieces if len(p)])
+        c, s = math.cos(body.keyway_angle), math.sin(body.keyway_angle)
+        return local @ np.array([[c, s], [-s, c]])
+
+
+def masked(program: str, dialect: str) -> str:
+    if dialect != "fanuc":
+        return program
+    return "".join(line + "\n" for line in program.splitlines() if not any(p.fullmatch(line) for p in FANUC_MASKED))
+
+
+def tool_table(program: str, dialect: str, spec: MachiningSpec) -> str | None:
+    """A LinuxCNC tool table of every tool the program calls (length offsets 0); the Fanuc radius
+    register (tool 1 by default) holds what the header states: the tool radius with compensation, else 0."""
+    numbers = {int(n) for n in re.findall(r"^T(\d+) M0?6\b", program, re.M)}
+    if not numbers:
+        return None
+    rows = {n: 10.0 for n in numbers}
+    if dialect == "fanuc":
+        m = re.search(r"^\(RADIUS REGISTER D(\d+) = ([\d.]+) MM ", program, re.M)
+        rows[int(m.group(1))] = 2.0 * float(m.group(2))
+    return "".join(f"T{n} P{n} Z0 D{diameter / INCH:.12f} ;\n" for n, diameter in rows.items())
+
+
+def bore_moves(canon: list[dict], outline) -> list[dict]:
+    """rs274's feed moves inside the outline below Z 0 (the bore and keyway)."""
+    from cutting import ExactProfile
+
+    part = ExactProfile(outline, tol=1e-3)
+    return [m for m in canon if m["kind"] != "traverse" and min(m["start"][2], m["end"][2]) < 0.0
+            and part.contains(np.asarray(m["end"][:2]))]
+
+
+CASES = [  # dialect, direction, bore tool diameter (None: the outline's 6 mm tool), cutter compensation of the outline
+    ("linuxcnc", "climb", 3.0, False),  # keyway 4 wide: three lanes, the corners at 1.5
+    ("linuxcnc", "conventional", 4.0, True),  # a tool of the keyway's width: one lane, the bottom a half circle
+    ("grbl", "climb", 2.5, False),
+    ("grbl", "conventional", None, False),  # the outline's tool: wider than the keyway, which is left
+    ("fanuc", "climb", 4.0, False),
+    ("fanuc", "conventional", 3.0, True),
+]
+
+
+@pytest.mark.parametrize("dialect, direction, tool, comp", CASES)
+@pytest.mark.usefixtures("needs_rs274")
+def test_bore_round_keyway_rectangle_and_outline_exact(plate, dialect, direction, tool, comp, tmp_path):
+    cam, base = plate
+    body = cam.body
+    spec = dataclasses.replace(base, dialect=dialect, direction=direction, bore_operation="helix", bore_tool_diameter=tool,
+                               cutter_compensation=comp)
+    program = gcode_program(cam.contour, spec, cam.name, "bore", body.thickness, body=body)
+    text = masked(program, dialect)
+    table = tool_table(program, dialect, spec)
+    diameter = spec.tool_diameter if tool is None else tool
+    r, big = diameter / 2.0, body.bore_diameter / 2.0
+    keyway = diameter <= body.keyway_width
+    assert ("keyway" in program.lower() and ("not cut" in program.lower()) != keyway), "the header says whether the keyway is cut"
+    wall = HoleWall(body, r, keyway)
+    cut = simulate_pockets(text, cam.contour, {"bore": wall}, r, tmp_path, tool_table=table)
+    assert cut.outline.status == 0, cut.outline.message
+    pocket = cut.pocket
+    assert pocket is not None and pocket.between, "the bore's moves stay inside the expected hole"
+    assert pocket.gouge["bore"] <= CUT_TOL, ("gouge", pocket.gouge)
+    assert pocket.proud["bore"] <= CUT_TOL, ("proud", pocket.proud)
+    depth = body.thickness + spec.breakthrough
+    assert abs(pocket.deepest + depth) < 1e-9
+    assert cut.order.index("outline") > max(i for i, o in enumerate(cut.order) if o == "pocket"), "the bore before the outline"
+    # the bore's arcs: centred on the axis, radius <= R - r (no gouge, entry included), pitch <= step_down, the turn's sense
+    arcs = [m for m in bore_moves(cut.outline.canon, cam.contour) if m["kind"] == "arc"]
+    assert arcs
+    centres = np.array([m["centre"] for m in arcs])
+    radii = np.array([[np.hypot(*m["start"][:2]), np.hypot(*m["end"][:2])] for m in arcs])
+    assert np.max(np.hypot(*centres.T)) <= 1e-9 and np.max(radii) <= big - r + PRINTED, (np.max(radii), big - r)
+    sweeps = np.array([arc_sweep(m["start"], m["end"], m["centre"], m["turn"]) for m in arcs])
+    drops = np.array([m["start"][2] - m["end"][2] for m in arcs])
+    assert np.all(drops >= 0.0) and np.max(drops * 2.0 * math.pi / np.abs(sweeps)) <= spec.step_down + 2e-4
+    assert np.all(sweeps > 0) if direction == "climb" else np.all(sweeps < 0), "climb: counter-clockwise inside the hole"
+    bottom = np.abs(np.array([m["end"][2] for m in arcs]) + depth) < 1e-9
+    finish = np.abs(radii[:, 1] - (big - r)) <= PRINTED
+    assert np.sum(np.abs(sweeps[bottom & finish])) >= 2.0 * math.pi - 1e-9, "a full circle at the bottom on the finishing radius"
+    # the outline, with its own tool (the Fanuc register holds 0 or the tool radius, as the header says)
+    outline = simulate_pockets(text, cam.contour, {"bore": wall}, spec.tool_radius, tmp_path, tool_table=table).outline
+    assert outline.passes and outline.gouge <= CUT_TOL and outline.proud <= CUT_TOL, (outline.gouge, outline.proud)
+    assert all(p.outside for p in outline.passes)
+
+
+@pytest.mark.parametrize("dialect, words", [
+    ("linuxcnc", ["T2 M6", "G43 H2", "T1 M6", "G43 H1"]),
+    ("fanuc", ["T2 M06", "G0 G43 H02 Z", "T1 M06", "G0 G43 H01 Z"]),
+    ("grbl", ["M0 (load the bore tool, diameter 3", "M0 (load the outline's tool, diameter 6"]),
+])
+def test_tool_changes_in_order(plate, dialect, words):
+    """The bore tool is called (or, GRBL, asked for with M0) before the bore's first move, the
+    outline's tool after its last one; one call each."""
+    cam, base = plate
+    spec = dataclasses.replace(base, dialect=dialect, bore_tool_diameter=3.0)
+    program = gcode_program(cam.contour, spec, cam.name, "bore", cam.body.thickness, body=cam.body)
+    lines = program.splitlines()
+    at = [next(i for i, line in enumerate(lines) if line.startswith(w)) for w in words]
+    assert at == sorted(at), at
+    first_helix = next(i for i, line in enumerate(lines) if re.match(r"G3 .*Z", line))
+    first_outline = next(i for i, line in enumerate(lines) if "PASS 1 OF" in line.upper())
+    half = len(words) // 2
+    assert at[half - 1] < first_helix < at[half] < first_outline
+    assert sum(1 for line in lines if re.match(r"T\d+ M0?6$", line)) == (2 if dialect != "grbl" else 0)
+
+
+@pytest.mark.usefixtures("needs_rs274")
+def test_the_simulation_sees_a_bore_too_small(plate, tmp_path):
+    """The check itself: the bore cut with a tool 10 um smaller than the program's leaves the wall
+    10 um proud, more than the tests accept."""
+    cam, base = plate
+    spec = dataclasses.replace(base, bore_tool_diameter=3.0)
+    program = gcode_program(cam.contour, spec, cam.name, "bore", cam.body.thickness, body=cam.body)
+    table = tool_table(program, "linuxcnc", spec)
+    cut = simulate_pockets(program, cam.contour, {"bore": HoleWall(cam.body, 1.5, True)}, 1.5 - 0.01, tmp_path, tool_table=table)
+    assert cut.pocket.proud["bore"] > CUT_TOL and abs(cut.pocket.proud["bore"] - 0.01) <= CUT_TOL
+
+
+def test_none_by_default_says_so_and_cuts_nothing_inside(plate):
+    """Without the bore keys the program cuts no bore and its header says the bore and keyway are
+    left to another operation; the same moves as a cam without a bore."""
+    cam, spec = plate
+    program = gcode_program(cam.contour, spec, cam.name, "bore", cam.body.thickness, body=cam.body)
+    assert "(the bore and keyway [diameter 12] are not cut: left to another operation" in program
+    plain = gcode_program(cam.contour, spec, cam.name, "bore", cam.body.thickness)
+    assert [line for line in program.splitlines() if not line.startswith("(")] == [line for line in plain.splitlines()
+                                                                                    if not line.startswith("(")]
+
+
+def test_settings_are_refused_naming_the_key(plate):
+    cam, spec = plate
+    body = cam.body
+    for tool in (12.0, 11.9, 0.3):  # the bore's diameter, a helix circle under 0.1 mm, a tool under 0.4 mm
+        with pytest.raises(ParameterError) as err:
+            gcode_program(cam.contour, dataclasses.replace(spec, bore_tool_diameter=tool), cam.name, "b", body.thickness, body=body)
+        assert err.value.name == "bore_tool_diameter" and "11.8" in err.value.valid, err.value
+    with pytest.raises(ParameterError) as err:  # the outline's tool cuts the bore: its key is named
+        big = dataclasses.replace(body, bore_diameter=6.1, keyway_width=0.0, keyway_depth=0.0)
+        gcode_program(cam.contour, dataclasses.replace(spec, bore_operation="helix"), cam.name, "b", body.thickness, body=big)
+    assert err.value.name == "tool_diameter"
+    for changes, name in (({"bore_tool_number": 3}, "bore_tool_number"),  # no bore tool: nothing to change to
+                          ({"bore_tool_diameter": 3.0, "bore_tool_number": 1}, "bore_tool_number"),  # the outline's own number
+                          ({"dialect": "grbl", "bore_tool_diameter": 3.0, "bore_tool_number": 3}, "bore_tool_number"),
+                          ({"bore_operation": "none", "bore_tool_diameter": 3.0}, "bore_tool_diameter"),
+                          ({"bore_operation": "drill"}, "bore_operation")):
+        with pytest.raises(ParameterError) as err:
+            dataclasses.replace(spec, **changes)
+        assert err.value.name == name, (changes, err.value)
+
+
+def _cli(machining: str, tmp_path) -> subprocess.CompletedProcess:
+    from importlib.resources import files
+
+    body = files("camgen.templates").joinpath("plate_cam.toml").read_text()
+    body = re.sub(r"\[machining\][^\[]*", "", body)
+    body = re.sub(r"formats = \[[^\]]*\]", 'formats = ["ngc"]', body, count=1)
+    path = tmp_path / "bore.toml"
+    path.write_text(f"[machining]\n{machining}\n" + body)
+    return subprocess.run([sys.executable, "-P", "-m", "camgen", "run", str(path), "-o", str(tmp_path / "out")], capture_output=True,
+                          text=True, timeout=300)
+
+
+@pytest.mark.parametrize("machining, key", [
+    ("bore_tool_diameter_mm = 12.0", "machining.bore_tool_diameter_mm"),
+    ('dialect = "wire_edm"\nbore_operation = "helix"', "machining.bore_operation"),
+    ('dialect = "grbl"\nbore_tool_diameter_mm = 3.0\nbore_tool_number = 2', "machining.bore_tool_number"),
+])
+def test_bad_input_exits_2_naming_the_key(machining, key, tmp_path):
+    proc = _cli(machining, tmp_path)
+    assert proc.returncode == 2, (proc.returncode, proc.stderr)
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("camgen: error: ") and key in lines[0], proc.stderr
+
+
+def test_the_ngc_writer_mills_the_bore(tmp_path):
+    """The scene keys reach the written program (camgen.writers passes the cam's body)."""
+    proc = _cli('bore_tool_diameter_mm = 3.0\nbore_tool_number = 7', tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    program = next((tmp_path / "out").rglob("*.ngc")).read_text()
+    assert "T7 M6" in program and "G43 H7" in program and "inner corners left at the tool radius 1.5" in program
