@@ -226,10 +226,8 @@ def machining_keys() -> tuple[Key, ...]:
     from camgen.export.gcode import DIALECTS, DIRECTIONS, SPLINE_MODES, MachiningSpec
     from camgen.export.wire_edm_spec import wire_edm_keys
     from camgen.export.fanuc_settings import DEFAULT_PROGRAM_NUMBER, DEFAULT_TOOL_NUMBER, MAX_PROGRAM_NUMBER, MAX_RADIUS_REGISTER, MAX_TOOL_NUMBER
-    from camgen.export.gcode_bore import BORE_OPERATIONS
+    from camgen.export.bore_settings import BORE_OPERATIONS, MILLING_DIALECTS as MILLING
     from camgen.kinds.base import field_default
-
-    MILLING = ("linuxcnc", "grbl", "fanuc")
 
     def d(name: str):
         return field_default(MachiningSpec, name)

@@ -128,7 +128,7 @@ def bore_moves(canon: list[dict], outline) -> list[dict]:
 
 
 CASES = [  # dialect, direction, bore tool diameter (None: the outline's 6 mm tool), cutter compensation of the outline
-    ("linuxcnc", "climb", 3.0, False),  # keyway 4 wide: three lanes, the corners at 1.5
+    ("linuxcnc", "climb", 3.0, False),  # keyway 4 wide: two lanes and the bottom, the corners at 1.5
     ("linuxcnc", "conventional", 4.0, True),  # a tool of the keyway's width: one lane, the bottom a half circle
     ("grbl", "climb", 2.5, False),
     ("grbl", "conventional", None, False),  # the outline's tool: wider than the keyway, which is left
@@ -144,7 +144,7 @@ def test_bore_round_keyway_rectangle_and_outline_exact(plate, dialect, direction
     body = cam.body
     spec = dataclasses.replace(base, dialect=dialect, direction=direction, bore_operation="helix", bore_tool_diameter=tool,
                                cutter_compensation=comp)
-    program = gcode_program(cam.contour, spec, cam.name, "bore", body.thickness, body=body)
+    program = gcode_program(cam.contour, spec, cam.name, "bore", body.thickness, cam_body=body)
     text = masked(program, dialect)
     table = tool_table(program, dialect, spec)
     diameter = spec.tool_diameter if tool is None else tool
@@ -190,7 +190,7 @@ def test_tool_changes_in_order(plate, dialect, words):
     outline's tool after its last one; one call each."""
     cam, base = plate
     spec = dataclasses.replace(base, dialect=dialect, bore_tool_diameter=3.0)
-    program = gcode_program(cam.contour, spec, cam.name, "bore", cam.body.thickness, body=cam.body)
+    program = gcode_program(cam.contour, spec, cam.name, "bore", cam.body.thickness, cam_body=cam.body)
     lines = program.splitlines()
     at = [next(i for i, line in enumerate(lines) if line.startswith(w)) for w in words]
     assert at == sorted(at), at
@@ -207,7 +207,7 @@ def test_the_simulation_sees_a_bore_too_small(plate, tmp_path):
     10 um proud, more than the tests accept."""
     cam, base = plate
     spec = dataclasses.replace(base, bore_tool_diameter=3.0)
-    program = gcode_program(cam.contour, spec, cam.name, "bore", cam.body.thickness, body=cam.body)
+    program = gcode_program(cam.contour, spec, cam.name, "bore", cam.body.thickness, cam_body=cam.body)
     table = tool_table(program, "linuxcnc", spec)
     cut = simulate_pockets(program, cam.contour, {"bore": HoleWall(cam.body, 1.5, True)}, 1.5 - 0.01, tmp_path, tool_table=table)
     assert cut.pocket.proud["bore"] > CUT_TOL and abs(cut.pocket.proud["bore"] - 0.01) <= CUT_TOL
@@ -217,7 +217,7 @@ def test_none_by_default_says_so_and_cuts_nothing_inside(plate):
     """Without the bore keys the program cuts no bore and its header says the bore and keyway are
     left to another operation; the same moves as a cam without a bore."""
     cam, spec = plate
-    program = gcode_program(cam.contour, spec, cam.name, "bore", cam.body.thickness, body=cam.body)
+    program = gcode_program(cam.contour, spec, cam.name, "bore", cam.body.thickness, cam_body=cam.body)
     assert "(the bore and keyway [diameter 12] are not cut: left to another operation" in program
     plain = gcode_program(cam.contour, spec, cam.name, "bore", cam.body.thickness)
     assert [line for line in program.splitlines() if not line.startswith("(")] == [line for line in plain.splitlines()
@@ -229,11 +229,11 @@ def test_settings_are_refused_naming_the_key(plate):
     body = cam.body
     for tool in (12.0, 11.9, 0.3):  # the bore's diameter, a helix circle under 0.1 mm, a tool under 0.4 mm
         with pytest.raises(ParameterError) as err:
-            gcode_program(cam.contour, dataclasses.replace(spec, bore_tool_diameter=tool), cam.name, "b", body.thickness, body=body)
+            gcode_program(cam.contour, dataclasses.replace(spec, bore_tool_diameter=tool), cam.name, "b", body.thickness, cam_body=body)
         assert err.value.name == "bore_tool_diameter" and "11.8" in err.value.valid, err.value
     with pytest.raises(ParameterError) as err:  # the outline's tool cuts the bore: its key is named
         big = dataclasses.replace(body, bore_diameter=6.1, keyway_width=0.0, keyway_depth=0.0)
-        gcode_program(cam.contour, dataclasses.replace(spec, bore_operation="helix"), cam.name, "b", body.thickness, body=big)
+        gcode_program(cam.contour, dataclasses.replace(spec, bore_operation="helix"), cam.name, "b", body.thickness, cam_body=big)
     assert err.value.name == "tool_diameter"
     for changes, name in (({"bore_tool_number": 3}, "bore_tool_number"),  # no bore tool: nothing to change to
                           ({"bore_tool_diameter": 3.0, "bore_tool_number": 1}, "bore_tool_number"),  # the outline's own number

@@ -194,7 +194,7 @@ def _refuse_long_program(spec: MachiningSpec, depth: float, n_passes: int, moves
 
 
 def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene: str = "", thickness: float | None = None,
-                  pockets: "Sequence[Pocket]" = (), body: "BodySpec | None" = None) -> str:
+                  pockets: "Sequence[Pocket]" = (), cam_body: "BodySpec | None" = None) -> str:
     """RS274/NGC program text that mills ``contour`` (the cam profile) to ``thickness`` (mm; the
     cam's, default ``spec.thickness``) plus ``spec.breakthrough``, with tangent lead-in and
     lead-out (see the module docstring).  ``spec`` is final (the scene reader checked it against
@@ -202,7 +202,7 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
 
     ``pockets`` (a groove cam's groove) are milled first, to their depth, while the stock still
     holds the part (:mod:`camgen.export.gcode_pockets`: one pass along the pitch curve, or two
-    wall passes and the slot cleared); then the outline as without them.  ``body``: the cam's
+    wall passes and the slot cleared); then the outline as without them.  ``cam_body``: the cam's
     bore and keyway, milled first or left to another operation (:mod:`camgen.export.gcode_bore`)."""
     from camgen import __version__
 
@@ -254,7 +254,7 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
         moves += -(-pocketed.count // n_passes)
     from camgen.export.gcode_bore import bore_program, with_bore  # the bore and keyway, first
 
-    bored = bore_program(body, spec, depth)
+    bored = bore_program(cam_body, spec, depth)
     if bored is not None:
         moves += -(-bored.count // n_passes)
     if n_passes * moves > MAX_PROGRAM_MOVES:
@@ -295,11 +295,11 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     if spec.dialect == "fanuc":  # Fanuc/Haas: register line, units, safe start, tool call, G43 (camgen.export.gcode_fanuc)
         from camgen.export.gcode_fanuc import fanuc_start
 
-        start = fanuc_start(spec, pocketed is not None)
+        starting = fanuc_start(spec, pocketed is not None)
     else:
-        start = ["G21 G90 G17 G40 G49 G80 G94"] + ([f"G64 P{blend}"] if spec.dialect == "linuxcnc" else [])
-        start += [f"G0 Z{spec.safe_z:.{d}f}", f"M3 S{spec.spindle_rpm:.0f}"]
-    lines += start if bored is None else with_bore(start, bored, spec)
+        starting = ["G21 G90 G17 G40 G49 G80 G94"] + ([f"G64 P{blend}"] if spec.dialect == "linuxcnc" else [])
+        starting += [f"G0 Z{spec.safe_z:.{d}f}", f"M3 S{spec.spindle_rpm:.0f}"]
+    lines += starting if bored is None else with_bore(starting, bored, spec)
     body = ["\n".join(lines) + "\n"]
     if pocketed is not None:
         body.append(pocketed.moves)

@@ -2,9 +2,9 @@
 interpolation of the bore, the keyway slotted with the same tool, or a header note that they are
 left to another operation.
 
-Settings (``[machining]``): ``bore_operation`` = ``"helix"`` or ``"none"`` (default: ``"helix"``
-when ``bore_tool_diameter`` is given, else ``"none"``: the programs of a scene without the bore
-keys cut no bore); ``bore_tool_diameter`` (mm; default: the outline's tool, no tool change);
+Settings (``[machining]``, checked in :mod:`camgen.export.bore_settings`): ``bore_operation`` =
+``"helix"`` or ``"none"`` (default: ``"helix"`` when ``bore_tool_diameter`` is given, else
+``"none"``: the programs of a scene without the bore keys cut no bore); ``bore_tool_diameter`` (mm; default: the outline's tool, no tool change);
 ``bore_tool_number`` (LinuxCNC and Fanuc: ``T<n> M6`` and ``G43 H<n>``; default the outline's
 tool number + 1).  GRBL has no tool changer: the program stops (``M0``) with a comment naming the
 tool to load, before the bore and before the outline.
@@ -43,74 +43,21 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from camgen.errors import ParameterError, floor_significant, require_positive
-from camgen.export.fanuc_settings import DEFAULT_TOOL_NUMBER, MAX_TOOL_NUMBER
+from camgen.errors import ParameterError, floor_significant
+from camgen.export.bore_settings import bore_operation_of, bore_tool_number_of, outline_tool_number
 from camgen.export.gcode_moves import comment
+from camgen.export.gcode_spec import MachiningSpec, depth_passes
 
 if TYPE_CHECKING:
     from camgen.body import BodySpec
-    from camgen.export.gcode_spec import MachiningSpec
 
-__all__ = ["BORE_OPERATIONS", "BORE_STEPOVER", "MIN_HELIX_RADIUS", "BoreProgram", "bore_operation_of", "bore_program",
-           "bore_tool_number_of", "check_bore_settings", "helix_radii", "with_bore"]
+__all__ = ["BORE_STEPOVER", "MIN_HELIX_RADIUS", "BoreProgram", "bore_program", "helix_radii", "with_bore"]
 
-#: Values of ``bore_operation``.
-BORE_OPERATIONS = ("helix", "none")
 #: Largest stepover between neighbouring helix circles and keyway lanes, as a fraction of the
 #: tool diameter (below 1: the discs overlap, no core or rib is left between them).
 BORE_STEPOVER = 0.5
 #: Least radius (mm) of a helix circle: an arc of a smaller radius is hard to print and to run.
 MIN_HELIX_RADIUS = 0.1
-#: Dialects with a tool changer (``T<n> M6`` and ``G43 H<n>``).
-TOOL_CHANGERS = ("linuxcnc", "fanuc")
-_MILLING = ("linuxcnc", "grbl", "fanuc")
-
-
-def check_bore_settings(spec: "MachiningSpec") -> None:
-    """Refuse bore settings out of range or where they would change nothing (called by
-    :class:`camgen.export.gcode_spec.MachiningSpec`)."""
-    op, tool, number = spec.bore_operation, spec.bore_tool_diameter, spec.bore_tool_number
-    if op is not None and op not in BORE_OPERATIONS:
-        raise ParameterError("bore_operation", op, f"one of {BORE_OPERATIONS}")
-    if spec.dialect not in _MILLING:
-        for name, value in (("bore_operation", op), ("bore_tool_diameter", tool), ("bore_tool_number", number)):
-            if value is not None:
-                raise ParameterError(name, value, f"only with dialect = {' or '.join(_MILLING)}", f"the {spec.dialect} program mills no bore")
-    if tool is not None:
-        require_positive("bore_tool_diameter", tool)
-        if op == "none":
-            raise ParameterError("bore_tool_diameter", tool, 'left out with bore_operation = "none"', "no bore is milled")
-    if number is not None:
-        if isinstance(number, bool) or not isinstance(number, int) or not 1 <= number <= MAX_TOOL_NUMBER:
-            raise ParameterError("bore_tool_number", number, f"a whole number, 1 <= n <= {MAX_TOOL_NUMBER}")
-        if spec.dialect not in TOOL_CHANGERS:
-            raise ParameterError("bore_tool_number", number, f"only with dialect = {' or '.join(TOOL_CHANGERS)}",
-                                 "GRBL has no tool changer: the program stops (M0) for the change")
-        if tool is None:
-            raise ParameterError("bore_tool_number", number, "only with bore_tool_diameter_mm",
-                                 "without it the outline's tool cuts the bore, no tool change")
-        if number == _outline_tool(spec):
-            raise ParameterError("bore_tool_number", number, f"another number than the outline's tool T{number}")
-
-
-def _outline_tool(spec: "MachiningSpec") -> int:
-    return DEFAULT_TOOL_NUMBER if spec.tool_number is None else spec.tool_number
-
-
-def bore_operation_of(spec: "MachiningSpec") -> str:
-    """``spec.bore_operation`` resolved: ``"helix"`` when a bore tool is given, else ``"none"``
-    (a wire program mills none)."""
-    if spec.bore_operation is not None:
-        return spec.bore_operation
-    return "helix" if spec.bore_tool_diameter is not None else "none"
-
-
-def bore_tool_number_of(spec: "MachiningSpec") -> int:
-    """The bore tool's number: ``bore_tool_number``, else the outline's tool number + 1 (- 1 for the last)."""
-    if spec.bore_tool_number is not None:
-        return spec.bore_tool_number
-    main = _outline_tool(spec)
-    return main + 1 if main < MAX_TOOL_NUMBER else main - 1
 
 
 def helix_radii(bore_radius: float, tool_radius: float) -> np.ndarray:
@@ -133,12 +80,12 @@ class BoreProgram:
     count: int
 
 
-def _tool_words(spec: "MachiningSpec", diameter: float) -> tuple[list[str], list[str], str]:
+def _tool_words(spec: MachiningSpec, diameter: float) -> tuple[list[str], list[str], str]:
     """Blocks before and after the bore (tool change, spindle) and the header's tool text."""
     safe, rpm = f"{spec.safe_z:.{spec.decimals}f}", f"{spec.spindle_rpm:.0f}"
     if spec.bore_tool_diameter is None:
         return [], [], f"the outline's tool [diameter {spec.tool_diameter:g}], no tool change"
-    main, bore = _outline_tool(spec), bore_tool_number_of(spec)
+    main, bore = outline_tool_number(spec.tool_number), bore_tool_number_of(spec.bore_tool_number, spec.tool_number)
     if spec.dialect == "fanuc":
         return ([f"T{bore} M06", f"S{rpm} M03", f"G0 G43 H{bore:02d} Z{safe}"], ["M05"],
                 f"bore tool T{bore} [diameter {diameter:g}, length offset H{bore:02d}], then T{main} for the outline")
@@ -151,11 +98,9 @@ def _tool_words(spec: "MachiningSpec", diameter: float) -> tuple[list[str], list
             f"the outline's tool [diameter {spec.tool_diameter:g}]")
 
 
-def _helix(rho: float, depth: float, spec: "MachiningSpec") -> tuple[list[str], int, float]:
+def _helix(rho: float, depth: float, spec: MachiningSpec) -> tuple[list[str], int, float]:
     """Blocks of one helix of radius ``rho`` from Z0 to ``-depth`` and the full circle there
     (half turns), its number of turns and pitch (mm)."""
-    from camgen.export.gcode_spec import depth_passes
-
     d = spec.decimals
     turns = int(depth_passes(depth, spec.step_down))
     pitch = depth / turns
@@ -171,10 +116,8 @@ def _helix(rho: float, depth: float, spec: "MachiningSpec") -> tuple[list[str], 
     return blocks, turns, pitch
 
 
-def _keyway(body: "BodySpec", depth: float, spec: "MachiningSpec", radius: float) -> tuple[list[str], list[str]]:
+def _keyway(body: "BodySpec", depth: float, spec: MachiningSpec, radius: float) -> tuple[list[str], list[str]]:
     """Blocks slotting the keyway with a tool of ``radius`` (module docstring) and the header text."""
-    from camgen.export.gcode_spec import depth_passes
-
     d = spec.decimals
     w = body.keyway_width
     half = w / 2.0 - radius
@@ -208,7 +151,7 @@ def _keyway(body: "BodySpec", depth: float, spec: "MachiningSpec", radius: float
     return blocks, text
 
 
-def bore_program(body: "BodySpec | None", spec: "MachiningSpec", depth: float) -> BoreProgram | None:
+def bore_program(body: "BodySpec | None", spec: MachiningSpec, depth: float) -> BoreProgram | None:
     """The bore's blocks and header of a program cutting to ``depth`` mm (thickness +
     breakthrough); None for a cam without a bore.
 
@@ -222,7 +165,7 @@ def bore_program(body: "BodySpec | None", spec: "MachiningSpec", depth: float) -
         return None
     keyway = body.keyway_width > 0.0
     what = "bore and keyway" if keyway else "bore"
-    if bore_operation_of(spec) == "none":
+    if bore_operation_of(spec.bore_operation, spec.bore_tool_diameter) == "none":
         return BoreProgram((comment(f"the {what} [diameter {body.bore_diameter:g}] are not cut: left to another operation "
                                     "[bore_operation = none; bore_tool_diameter_mm mills the bore by a helix]"),), "", False, 0)
     name, diameter = ("bore_tool_diameter", spec.bore_tool_diameter) if spec.bore_tool_diameter is not None else \
@@ -261,7 +204,7 @@ def bore_program(body: "BodySpec | None", spec: "MachiningSpec", depth: float) -
     return BoreProgram(tuple(header), "\n".join(blocks) + "\n", spec.bore_tool_diameter is not None, len(blocks))
 
 
-def with_bore(start: list[str], bored: BoreProgram, spec: "MachiningSpec") -> list[str]:
+def with_bore(start: list[str], bored: BoreProgram, spec: MachiningSpec) -> list[str]:
     """The program's start blocks ``start`` with the bore's blocks inserted: before the outline's
     tool is set up (its ``T M06`` for fanuc, its ``G0 Z<safe>`` otherwise) when the bore has its
     own tool, else after the start (spindle running)."""
@@ -269,6 +212,6 @@ def with_bore(start: list[str], bored: BoreProgram, spec: "MachiningSpec") -> li
         return start
     at = len(start)
     if bored.own_tool:
-        first = f"T{_outline_tool(spec)} M06" if spec.dialect == "fanuc" else f"G0 Z{spec.safe_z:.{spec.decimals}f}"
+        first = f"T{outline_tool_number(spec.tool_number)} M06" if spec.dialect == "fanuc" else f"G0 Z{spec.safe_z:.{spec.decimals}f}"
         at = start.index(first)
     return start[:at] + [bored.moves.rstrip("\n")] + start[at:]

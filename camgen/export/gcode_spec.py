@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from camgen.errors import ParameterError, require_finite, require_positive
+from camgen.export.bore_settings import check_bore_settings
 from camgen.export.fanuc_settings import check_fanuc_settings
 
 if TYPE_CHECKING:  # wire EDM (camgen.export.wire_edm_spec)
@@ -95,9 +96,8 @@ class MachiningSpec:
 
             object.__setattr__(self, "wire_edm", WireEdmSpec())
         check_fanuc_settings(self.dialect, self.program_number, self.tool_number, self.radius_register)  # fanuc dialect
-        from camgen.export.gcode_bore import check_bore_settings
-
-        check_bore_settings(self)  # the bore and keyway (camgen.export.gcode_bore)
+        check_bore_settings(self.dialect, self.tool_number, self.bore_operation, self.bore_tool_diameter,
+                            self.bore_tool_number)  # the bore and keyway (camgen.export.bore_settings)
         if self.spline_mode not in SPLINE_MODES:
             raise ParameterError("spline_mode", self.spline_mode, f"one of {SPLINE_MODES}")
         if self.cutter_compensation and self.dialect == "grbl":

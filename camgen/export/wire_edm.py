@@ -95,10 +95,10 @@ def _check_concave(prims: list[tuple], offset: float, decimals: int) -> None:
 
 
 def wire_edm_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene: str = "", thickness: float | None = None,
-                     pockets: "Sequence[Pocket]" = (), body: "BodySpec | None" = None) -> str:
+                     pockets: "Sequence[Pocket]" = (), cam_body: "BodySpec | None" = None) -> str:
     """ISO wire-EDM program text that cuts the outline ``contour`` of a plate ``thickness`` mm
     thick (default ``spec.thickness``) with the cuts of ``spec.wire_edm`` (module docstring);
-    ``body``'s bore and keyway are left to another operation (the header says so)."""
+    ``cam_body``'s bore and keyway are left to another operation (the header says so)."""
     from camgen import __version__
 
     wire = spec.wire_edm
