@@ -271,11 +271,13 @@ def machining_keys() -> tuple[Key, ...]:
             "tool radius with cutter_compensation, else 0 (the wear only); the header says which (default: tool_number).", ("gcode",),
             requires={"dialect": ("fanuc",)}),
         # --- the bore and keyway (camgen.export.gcode_bore) ---
-        Key("bore_operation", Choice(BORE_OPERATIONS), "The cam's shaft bore in a milling program: helix = milled first, while the "
+        Key("bore_operation", Choice(BORE_OPERATIONS), "The cam's shaft bore: helix (milling dialects) = milled first, while the "
             "stock holds the part, by helical interpolation (tool-centre circles stepped out by <= half the tool so no core is left, "
             "helix pitch <= step_down_mm, a full circle at the bottom) and the keyway slotted with the same tool where it fits (its "
-            "inner corners left at the tool radius); none = a header note that bore and keyway are left to another operation "
-            "(default: helix when bore_tool_diameter_mm is given, else none).", ("gcode",), requires={"dialect": MILLING}),
+            "inner corners left at the tool radius); wire (wire_edm) = bore and keyway cut first as an inner contour with the outline's "
+            "cuts and registers, from a start hole at the axis, the slug held by a tab of tab_width_mm until the last cut's stop; none = a "
+            "header note that bore and keyway are left to another operation (default: wire for wire_edm; helix when "
+            "bore_tool_diameter_mm is given, else none).", ("gcode",)),
         Key("bore_tool_diameter_mm", Number("mm", 0.0, 1000.0, low_open=True), "End mill of the bore and keyway (default: the "
             "outline's tool, no tool change); 0.4 mm .. bore diameter - 0.2 mm; a tool wider than the keyway leaves it to another "
             "operation (the header says so).", ("gcode",), requires={"dialect": MILLING}),

@@ -275,3 +275,120 @@ def test_the_ngc_writer_mills_the_bore(tmp_path):
     assert proc.returncode == 0, proc.stderr
     program = next((tmp_path / "out").rglob("*.ngc")).read_text()
     assert "T7 M6" in program and "G43 H7" in program and "inner corners left at the tool radius 1.5" in program
+
+
+# ---------------------------------------------------------------------------------------------
+# wire EDM: the bore and keyway an inner contour, cut first, each cut at its register's offset
+# ---------------------------------------------------------------------------------------------
+#: Spacing of the samples along every wire move, mm (the proud bound is step^2 / (8 offset) too large).
+WIRE_STEP = 0.005
+
+
+@pytest.fixture(scope="module")
+def wire_cam():
+    """The wire_edm_cam template's cam (bore 12, keyway 4 x 1.8 at 90 deg) and its machining spec."""
+    from camgen.pipeline import Plan, compute
+    from camgen.scene import load_template
+
+    scene = load_template("wire_edm_cam")
+    cam = compute(scene, Plan((), frozenset())).cams[0]
+    return cam, dataclasses.replace(scene.machining, thickness=cam.body.thickness, chord_tol=scene.output.chord_tol)
+
+
+def _wire_cut(chain: list[dict], wall, offset: float) -> tuple[float, np.ndarray, bool]:
+    """(gouge, distance of every wall vertex to the wire path minus ``offset``, every sample inside
+    the hole) of one cut: gouge = offset - the least distance (rigorous lower bound) of the wire
+    centre from the hole's wall."""
+    from scipy.spatial import cKDTree
+
+    from cutting import ExactProfile, sample_moves
+
+    profile = ExactProfile(wall)
+    pts, move, h, rho = sample_moves(chain, WIRE_STEP)
+    reach = offset + 1.0
+    f = profile.distance_lower_bound(pts, reach)
+    same = move[:-1] == move[1:]
+    slack = ((1.0 + (reach + h) / rho) * h * h / 4.0)[move[:-1]]
+    pair = np.minimum(f[:-1], f[1:])
+    low = np.where(pair > 0, np.sqrt(np.maximum(pair * pair - slack, 0.0)), pair)
+    low = float(min(np.min(low[same], initial=np.inf), np.min(f)))
+    proud = cKDTree(pts).query(profile.vertices)[0] - offset
+    return offset - low, proud, bool(np.all(profile.contains_many(pts)))
+
+
+@pytest.mark.parametrize("keyway, skims", [(True, 2), (False, 0), (True, 1)])
+@pytest.mark.usefixtures("needs_rs274")
+def test_wire_bore_is_the_hole_offset_by_each_cut(wire_cam, keyway, skims, tmp_path):
+    """rs274 runs the program with registers of the stated rule (wire radius + gap + allowance):
+    each bore cut stays >= its offset from the hole (the body's bore circle and keyway rectangle)
+    and reaches every point of it within its offset + 1 um (the keyway's bottom corners at that
+    offset) except one stretch of the bore wall of the tab's length; the cut-off after the last
+    stop cuts that stretch; then the outline's cuts follow."""
+    from test_wire_edm import run_rs274
+
+    from camgen.export.wire_edm import wire_edm_program
+    from camgen.export.wire_edm_spec import WireEdmSpec
+
+    cam, base = wire_cam
+    body = cam.body if keyway else dataclasses.replace(cam.body, keyway_width=0.0, keyway_depth=0.0, keyway_angle=0.5)
+    wire = WireEdmSpec(wire_diameter=0.25, spark_gap=0.03, skim_cuts=skims, tab_width=2.5)
+    spec = dataclasses.replace(base, wire_edm=wire)
+    program = wire_edm_program(cam.contour, spec, cam.name, "edm", body.thickness, cam_body=body)
+    kerf = 0.125 + 0.03
+    offsets = [kerf + a for a in (0.1 * 0.2**k for k in range(skims))] + [kerf]  # the rule of the header and README
+    status, message, chains = run_rs274(program, offsets, tmp_path)
+    assert status == 0, message
+    n = skims + 1
+    assert len(chains) == 2 * (n + 1)  # bore cuts and cut-off, then the outline's
+    centre_first = [np.hypot(*c[0]["start"][:2]) for c in chains[:n]]
+    assert max(centre_first) <= PRINTED, "every bore cut threads at the axis"
+    for k, (chain, offset) in enumerate(zip(chains[:n], offsets), 1):
+        wall = HoleWall(body, offset, keyway)
+        gouge, proud, inside = _wire_cut(chain, wall, offset)
+        assert inside and gouge <= CUT_TOL, (k, gouge)
+        vertices = wall.flatten(1e-7)
+        s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(vertices, axis=0).T))])
+        left = np.flatnonzero(proud > CUT_TOL)
+        assert left.size and np.all(np.diff(left) == 1), (k, "one stretch left: the tab")
+        span = s[left[-1]] - s[left[0]]
+        # within offset + CUT_TOL of the wire's disc lie the wall points up to sqrt(2 rho CUT_TOL R / (R - rho)) along the
+        # wall (radius R) from where a circle of radius rho inside touches it: the wire at the stop (rho = offset), and the
+        # lead-in arc (rho = its radius, stated in the header) touching the bore at the start point
+        big = body.bore_diameter / 2.0
+        lead = float(re.search(r"then an arc of radius ([0-9.]+) touching the bore", program).group(1))
+        reach = sum(math.sqrt(2.0 * rho * CUT_TOL * big / (big - rho)) for rho in (offset, lead))
+        assert wire.tab_width - reach - 0.01 <= span <= wire.tab_width, (k, span, reach)
+        assert np.all(np.abs(np.hypot(*vertices[left].T) - body.bore_diameter / 2.0) < 1e-6), "the tab lies on the bore wall"
+    wall = HoleWall(body, offsets[-1], keyway)
+    gouge, proud_off, inside = _wire_cut(chains[n], wall, offsets[-1])
+    _, proud_last, _ = _wire_cut(chains[n - 1], wall, offsets[-1])
+    assert inside and gouge <= CUT_TOL, gouge
+    assert np.max(np.minimum(proud_off, proud_last)) <= CUT_TOL, "the last cut and the cut-off leave the whole hole"
+    outside = [np.hypot(*c[0]["end"][:2]) for c in chains[n + 1:]]
+    assert min(outside) > body.bore_diameter, "then the outline"
+
+
+def test_wire_bore_none_is_said_and_cuts_nothing(wire_cam):
+    from camgen.export.wire_edm import wire_edm_program
+
+    cam, spec = wire_cam
+    program = wire_edm_program(cam.contour, dataclasses.replace(spec, bore_operation="none"), cam.name, "edm", cam.body.thickness,
+                               cam_body=cam.body)
+    assert "the bore and keyway are not cut: another operation" in program and "bore cut" not in program
+    cut = wire_edm_program(cam.contour, spec, cam.name, "edm", cam.body.thickness, cam_body=cam.body)
+    assert "not cut" not in cut and cut.count("(bore cut ") == 3 and "secure the slug" in cut
+
+
+def test_wire_bore_settings_refused(wire_cam):
+    from camgen.export.wire_edm import wire_edm_program
+    from camgen.export.wire_edm_spec import WireEdmSpec
+
+    cam, spec = wire_cam
+    for wire, name in ((WireEdmSpec(start_hole_diameter=6.0, start_hole_offset=10.0), "start_hole_diameter"),
+                       (WireEdmSpec(tab_width=20.0), "tab_width")):
+        with pytest.raises(ParameterError) as err:
+            wire_edm_program(cam.contour, dataclasses.replace(spec, wire_edm=wire), cam.name, "edm", cam.body.thickness, cam_body=cam.body)
+        assert err.value.name == name, err.value
+    with pytest.raises(ParameterError) as err:
+        dataclasses.replace(spec, bore_operation="helix")
+    assert err.value.name == "bore_operation"

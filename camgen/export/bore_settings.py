@@ -9,11 +9,13 @@ from __future__ import annotations
 from camgen.errors import ParameterError, require_positive
 from camgen.export.fanuc_settings import DEFAULT_TOOL_NUMBER, MAX_TOOL_NUMBER
 
-__all__ = ["BORE_OPERATIONS", "MILLING_DIALECTS", "TOOL_CHANGERS", "bore_operation_of", "bore_tool_number_of", "check_bore_settings",
+__all__ = ["BORE_OPERATIONS", "MILLING_DIALECTS", "TOOL_CHANGERS", "WIRE_DIALECT", "bore_operation_of", "bore_tool_number_of", "check_bore_settings",
            "outline_tool_number"]
 
-#: Values of ``bore_operation``.
-BORE_OPERATIONS = ("helix", "none")
+#: Values of ``bore_operation``: milled by a helix, cut by the wire (wire EDM), left to another operation.
+BORE_OPERATIONS = ("helix", "wire", "none")
+#: The wire-EDM dialect (its bore: :mod:`camgen.export.wire_edm_bore`).
+WIRE_DIALECT = "wire_edm"
 #: Dialects whose programs mill (the bore settings apply).
 MILLING_DIALECTS = ("linuxcnc", "grbl", "fanuc")
 #: Dialects with a tool changer (``T<n> M6`` and ``G43 H<n>``).
@@ -30,8 +32,11 @@ def check_bore_settings(dialect: str, tool_number: int | None, op: str | None, t
     operation, ``tool`` the bore tool's diameter (mm), ``number`` its tool number."""
     if op is not None and op not in BORE_OPERATIONS:
         raise ParameterError("bore_operation", op, f"one of {BORE_OPERATIONS}")
+    if op is not None and op != "none" and (op == "wire") != (dialect == WIRE_DIALECT):
+        raise ParameterError("bore_operation", op, '"wire" or "none" with dialect = "wire_edm"' if dialect == WIRE_DIALECT else
+                             '"helix" or "none" with a milling dialect', f"the {dialect} program cannot cut the bore that way")
     if dialect not in MILLING_DIALECTS:
-        for name, value in (("bore_operation", op), ("bore_tool_diameter", tool), ("bore_tool_number", number)):
+        for name, value in (("bore_tool_diameter", tool), ("bore_tool_number", number)):
             if value is not None:
                 raise ParameterError(name, value, f"only with dialect = {' or '.join(MILLING_DIALECTS)}", f"the {dialect} program mills no bore")
     if tool is not None:
@@ -51,10 +56,13 @@ def check_bore_settings(dialect: str, tool_number: int | None, op: str | None, t
             raise ParameterError("bore_tool_number", number, f"another number than the outline's tool T{number}")
 
 
-def bore_operation_of(op: str | None, tool: float | None) -> str:
-    """The operation ``op`` resolved: ``"helix"`` when a bore tool is given, else ``"none"``."""
+def bore_operation_of(op: str | None, tool: float | None, dialect: str) -> str:
+    """The operation ``op`` resolved: a wire program cuts the bore (``"wire"``); a milling one mills
+    it (``"helix"``) when a bore tool is given, else leaves it (``"none"``)."""
     if op is not None:
         return op
+    if dialect == WIRE_DIALECT:
+        return "wire"
     return "helix" if tool is not None else "none"
 
 

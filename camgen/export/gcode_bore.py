@@ -165,7 +165,7 @@ def bore_program(body: "BodySpec | None", spec: MachiningSpec, depth: float) -> 
         return None
     keyway = body.keyway_width > 0.0
     what = "bore and keyway" if keyway else "bore"
-    if bore_operation_of(spec.bore_operation, spec.bore_tool_diameter) == "none":
+    if bore_operation_of(spec.bore_operation, spec.bore_tool_diameter, spec.dialect) == "none":
         return BoreProgram((comment(f"the {what} [diameter {body.bore_diameter:g}] are not cut: left to another operation "
                                     "[bore_operation = none; bore_tool_diameter_mm mills the bore by a helix]"),), "", False, 0)
     name, diameter = ("bore_tool_diameter", spec.bore_tool_diameter) if spec.bore_tool_diameter is not None else \

@@ -22,7 +22,9 @@ counter-clockwise tangent and ``n`` the outward normal there; ``h`` = ``start_ho
   ``T -> S`` at its offset: the part drops at ``S``.  The tab stretch is cut once, at the final
   offset (no skim: its surface is a first cut's).
 
-The bore and keyway are not cut: they are left to another operation (the header says so).
+The bore and keyway (``cam_body``) are cut first, before the outline, as an inner contour with the
+same cuts and registers (:mod:`camgen.export.wire_edm_bore`), unless ``bore_operation = "none"``
+leaves them to another operation (the header says which).
 """
 from __future__ import annotations
 
@@ -98,7 +100,8 @@ def wire_edm_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", sc
                      pockets: "Sequence[Pocket]" = (), cam_body: "BodySpec | None" = None) -> str:
     """ISO wire-EDM program text that cuts the outline ``contour`` of a plate ``thickness`` mm
     thick (default ``spec.thickness``) with the cuts of ``spec.wire_edm`` (module docstring);
-    ``cam_body``'s bore and keyway are left to another operation (the header says so)."""
+    ``cam_body``'s bore and keyway are cut first (:mod:`camgen.export.wire_edm_bore`) or left to
+    another operation (the header says which)."""
     from camgen import __version__
 
     wire = spec.wire_edm
@@ -152,6 +155,9 @@ def wire_edm_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", sc
     def xy(p: np.ndarray) -> str:
         return f"X{p[0]:.{d}f} Y{p[1]:.{d}f}"
 
+    from camgen.export.wire_edm_bore import wire_bore  # the bore and keyway: an inner contour, cut first
+
+    bored = wire_bore(cam_body, spec)
     n = wire.cuts
     fit_what = "biarc" if spec.spline_mode == "biarcs" else "chord"
     lines = [
@@ -168,12 +174,15 @@ def wire_edm_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", sc
                 f"{xy(a_point)} [G41 on], then along the tangent to the start point {xy(start)}"),
         comment(f"tab {wire.tab_width:g} long along the profile from the stop point {xy(stop)} to the start point: cuts 1.."
                 f"{n} stop there; the last cut stops [M00] before cutting it off and the part drops"),
-        comment("the tab stretch is cut once, at the last cut's offset; the bore and keyway are not cut: another operation"),
+        comment("the tab stretch is cut once, at the last cut's offset" + ("" if bored is not None else
+                                                                          "; the bore and keyway are not cut: another operation")),
         comment(f"path tolerance {spec.chord_tol:g} = {fit_what} fit {FIT_SHARE * spec.chord_tol:.3g} + {d} printed decimals "
                 f"{rounding_error(d):.3g}"),
         "G21 G90 G17 G40 G54",
     ]
-    body = ["\n".join(lines) + "\n"]
+    if bored is not None:
+        lines[-1:-1] = bored.header
+    body = ["\n".join(lines) + "\n"] + (list(bored.cuts) if bored is not None else [])
     for k, offset in enumerate(offsets, 1):
         body.append(
             f"(cut {k} of {n}: wire offset D{k} = {offset:.{d}f})\n"
