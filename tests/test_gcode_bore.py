@@ -392,3 +392,15 @@ def test_wire_bore_settings_refused(wire_cam):
     with pytest.raises(ParameterError) as err:
         dataclasses.replace(spec, bore_operation="helix")
     assert err.value.name == "bore_operation"
+
+
+def test_the_wire_template_program_cuts_its_bore_first(tmp_path):
+    """wire_edm_cam as the ngc writer writes it: the bore's cuts come before the outline's."""
+    from camgen.pipeline import execute, plan_run
+    from camgen.scene import load_template
+
+    scene = load_template("wire_edm_cam")
+    files = execute(scene, plan_run(scene)).files
+    program = next(data for name, data in files.items() if name.endswith(".ngc"))
+    assert program.index("(bore cut 1 of 3") < program.index("(bore cut 3 of 3") < program.index("(cut 1 of 3")
+    assert "not cut" not in program and "keyway: its two inner corners left at the last cut's wire offset 0.1450" in program
