@@ -245,10 +245,12 @@ def test_settings_are_refused_naming_the_key(plate):
         assert err.value.name == name, (changes, err.value)
 
 
-def _cli(machining: str, tmp_path) -> subprocess.CompletedProcess:
+def _cli(machining: str, tmp_path, template: str = "plate_cam") -> subprocess.CompletedProcess:
     from importlib.resources import files
 
-    body = files("camgen.templates").joinpath("plate_cam.toml").read_text()
+    body = files("camgen.templates").joinpath(f"{template}.toml").read_text()
+    if template == "barrel_cam":  # the groove's tool kept
+        machining += "\ntool_diameter_mm = " + re.search(r"tool_diameter_mm = ([0-9.]+)", body).group(1)
     body = re.sub(r"\[machining\][^\[]*", "", body)
     body = re.sub(r"formats = \[[^\]]*\]", 'formats = ["ngc"]', body, count=1)
     path = tmp_path / "bore.toml"
@@ -257,13 +259,14 @@ def _cli(machining: str, tmp_path) -> subprocess.CompletedProcess:
                           text=True, timeout=300)
 
 
-@pytest.mark.parametrize("machining, key", [
-    ("bore_tool_diameter_mm = 12.0", "machining.bore_tool_diameter_mm"),
-    ('dialect = "wire_edm"\nbore_operation = "helix"', "machining.bore_operation"),
-    ('dialect = "grbl"\nbore_tool_diameter_mm = 3.0\nbore_tool_number = 2', "machining.bore_tool_number"),
+@pytest.mark.parametrize("machining, key, template", [
+    ("bore_tool_diameter_mm = 12.0", "machining.bore_tool_diameter_mm", "plate_cam"),
+    ("bore_tool_diameter_mm = 3.0", "machining.bore_tool_diameter_mm", "barrel_cam"),  # its program cuts the groove only
+    ('dialect = "wire_edm"\nbore_operation = "helix"', "machining.bore_operation", "plate_cam"),
+    ('dialect = "grbl"\nbore_tool_diameter_mm = 3.0\nbore_tool_number = 2', "machining.bore_tool_number", "plate_cam"),
 ])
-def test_bad_input_exits_2_naming_the_key(machining, key, tmp_path):
-    proc = _cli(machining, tmp_path)
+def test_bad_input_exits_2_naming_the_key(machining, key, template, tmp_path):
+    proc = _cli(machining, tmp_path, template)
     assert proc.returncode == 2, (proc.returncode, proc.stderr)
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("camgen: error: ") and key in lines[0], proc.stderr
@@ -404,3 +407,12 @@ def test_the_wire_template_program_cuts_its_bore_first(tmp_path):
     program = next(data for name, data in files.items() if name.endswith(".ngc"))
     assert program.index("(bore cut 1 of 3") < program.index("(bore cut 3 of 3") < program.index("(cut 1 of 3")
     assert "not cut" not in program and "keyway: its two inner corners left at the last cut's wire offset 0.1450" in program
+
+
+def test_a_cam_without_a_bore_says_the_settings_cut_nothing(plate):
+    cam, spec = plate
+    body = dataclasses.replace(cam.body, bore_diameter=0.0, keyway_width=0.0, keyway_depth=0.0)
+    program = gcode_program(cam.contour, dataclasses.replace(spec, bore_tool_diameter=3.0), cam.name, "b", body.thickness, cam_body=body)
+    assert "(the cam has no bore: the bore settings cut nothing here)" in program and "T2" not in program
+    plain = gcode_program(cam.contour, spec, cam.name, "b", body.thickness, cam_body=body)
+    assert "bore" not in plain

@@ -153,7 +153,8 @@ def _keyway(body: "BodySpec", depth: float, spec: MachiningSpec, radius: float) 
 
 def bore_program(body: "BodySpec | None", spec: MachiningSpec, depth: float) -> BoreProgram | None:
     """The bore's blocks and header of a program cutting to ``depth`` mm (thickness +
-    breakthrough); None for a cam without a bore.
+    breakthrough); None without a body, or for a cam without a bore when no bore is asked for
+    (asked for, the header says the cam has none).
 
     Raises
     ------
@@ -161,8 +162,12 @@ def bore_program(body: "BodySpec | None", spec: MachiningSpec, depth: float) -> 
         ``bore_tool_diameter`` (or ``tool_diameter`` when the outline's tool cuts the bore) outside
         ``[4 MIN_HELIX_RADIUS, bore diameter - 2 MIN_HELIX_RADIUS]``.
     """
-    if body is None or body.bore_diameter <= 0.0:
+    if body is None:
         return None
+    if body.bore_diameter <= 0.0:  # bore settings given for a scene whose other cams have a bore: said, not silent
+        if bore_operation_of(spec.bore_operation, spec.bore_tool_diameter, spec.dialect) == "none":
+            return None
+        return BoreProgram((comment("the cam has no bore: the bore settings cut nothing here"),), "", False, 0)
     keyway = body.keyway_width > 0.0
     what = "bore and keyway" if keyway else "bore"
     if bore_operation_of(spec.bore_operation, spec.bore_tool_diameter, spec.dialect) == "none":
