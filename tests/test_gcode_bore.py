@@ -180,6 +180,35 @@ def test_bore_round_keyway_rectangle_and_outline_exact(plate, dialect, direction
     assert all(p.outside for p in outline.passes)
 
 
+@pytest.mark.parametrize("dialect, direction", [("linuxcnc", "climb"), ("fanuc", "conventional")])
+@pytest.mark.usefixtures("needs_rs274")
+def test_drilled_bore_round_pecks_and_outline_exact(plate, dialect, direction, tmp_path):
+    """bore_operation = "drill": rs274 runs the G83 cycle at the axis; a drill of the bore's
+    diameter there cuts the bore round (the simulation's disc of radius R at the axis); its point
+    (118 deg, the standard twist drill) through: the deepest Z = the last pass's depth + R / tan 59
+    deg; every peck at most step_down deeper than the one before; the keyway left (said)."""
+    cam, base = plate
+    body = cam.body
+    spec = dataclasses.replace(base, dialect=dialect, direction=direction, bore_operation="drill")
+    program = gcode_program(cam.contour, spec, cam.name, "bore", body.thickness, cam_body=body)
+    assert re.search(r"KEYWAY\W+4 WIDE\W+IS NOT CUT\W+LEFT TO ANOTHER OPERATION", program.upper())  # Fanuc: no brackets or colons
+    text, table = masked(program, dialect), tool_table(program, dialect, spec)
+    big = body.bore_diameter / 2.0
+    cut = simulate_pockets(text, cam.contour, {"bore": HoleWall(body, big, False)}, big, tmp_path, tool_table=table)
+    assert cut.outline.status == 0, cut.outline.message
+    drill = [m for m in cut.outline.canon if m["kind"] != "traverse" and min(m["start"][2], m["end"][2]) < 0.0
+             and np.hypot(*m["end"][:2]) < 1.0]
+    assert drill and all(np.hypot(*m["start"][:2]) == 0.0 and np.hypot(*m["end"][:2]) == 0.0 for m in drill)
+    depth = body.thickness + spec.breakthrough + big / math.tan(math.radians(59.0))
+    ends = np.array([m["end"][2] for m in drill])
+    assert abs(ends.min() + depth) <= 1e-4, (ends.min(), depth)
+    pecks = np.concatenate([[min(0.0, drill[0]["start"][2])], ends])
+    assert np.all(np.diff(pecks) < 0.0) and np.max(-np.diff(pecks)) <= spec.step_down + 1e-4, pecks
+    assert cut.pocket.gouge["bore"] <= CUT_TOL and cut.pocket.proud["bore"] <= CUT_TOL
+    outline = simulate_pockets(text, cam.contour, {"bore": HoleWall(body, big, False)}, spec.tool_radius, tmp_path, tool_table=table).outline
+    assert outline.passes and outline.gouge <= CUT_TOL and outline.proud <= CUT_TOL, (outline.gouge, outline.proud)
+
+
 @pytest.mark.parametrize("dialect, words", [
     ("linuxcnc", ["T2 M6", "G43 H2", "T1 M6", "G43 H1"]),
     ("fanuc", ["T2 M06", "G0 G43 H02 Z", "T1 M06", "G0 G43 H01 Z"]),
@@ -239,7 +268,9 @@ def test_settings_are_refused_naming_the_key(plate):
                           ({"bore_tool_diameter": 3.0, "bore_tool_number": 1}, "bore_tool_number"),  # the outline's own number
                           ({"dialect": "grbl", "bore_tool_diameter": 3.0, "bore_tool_number": 3}, "bore_tool_number"),
                           ({"bore_operation": "none", "bore_tool_diameter": 3.0}, "bore_tool_diameter"),
-                          ({"bore_operation": "drill"}, "bore_operation")):
+                          ({"dialect": "grbl", "bore_operation": "drill"}, "bore_operation"),  # no canned cycle
+                          ({"bore_operation": "drill", "bore_tool_diameter": 12.0}, "bore_tool_diameter"),
+                          ({"bore_operation": "spiral"}, "bore_operation")):
         with pytest.raises(ParameterError) as err:
             dataclasses.replace(spec, **changes)
         assert err.value.name == name, (changes, err.value)
@@ -298,6 +329,43 @@ def wire_cam():
     return cam, dataclasses.replace(scene.machining, thickness=cam.body.thickness, chord_tol=scene.output.chord_tol)
 
 
+def _wire_rs274(program: str, offsets, workdir) -> tuple[int, str, list[list[dict]]]:
+    """rs274 with tools 1..n of radius offsets[k - 1] (mm; the table in inches), its tool table in
+    ``workdir`` (HOME there: rs274s running at once do not share one); the canonical feed moves in
+    chains split at every program stop and traverse (as tests/test_wire_edm.py splits them)."""
+    from helpers import rs274_command, rs274_env
+
+    table = "".join(f"T{k} P{k} D{2.0 * o / INCH:.12f}\n" for k, o in enumerate(offsets, 1))
+    path = workdir / "wire.ngc"
+    path.write_text(program)
+    proc = subprocess.run(rs274_command(path, workdir, table), stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120,
+                          env=rs274_env(workdir, table))
+    number = r"(-?\d+(?:\.\d+)?)"
+    straight = re.compile(rf"STRAIGHT_(FEED|TRAVERSE)\({number}, {number}, {number}")
+    arc = re.compile(rf"ARC_FEED\({number}, {number}, {number}, {number}, (-?\d+), {number}")
+    chains: list[list[dict]] = [[]]
+    current = np.zeros(3)
+    for line in proc.stdout.splitlines():
+        m = straight.search(line)
+        if m:
+            end = np.array([float(m.group(i)) for i in (2, 3, 4)])
+            if m.group(1) == "FEED":
+                chains[-1].append({"kind": "line", "start": current, "end": end})
+            else:
+                chains.append([])
+            current = end
+            continue
+        m = arc.search(line)
+        if m:
+            end = np.array([float(m.group(1)), float(m.group(2)), float(m.group(6))])
+            chains[-1].append({"kind": "arc", "start": current, "end": end, "centre": np.array([float(m.group(3)), float(m.group(4))]),
+                               "turn": int(m.group(5))})
+            current = end
+        elif "PROGRAM_STOP" in line:
+            chains.append([])
+    return proc.returncode, proc.stderr + (proc.stdout[-2000:] if proc.returncode else ""), [c for c in chains if c]
+
+
 def _wire_cut(chain: list[dict], wall, offset: float) -> tuple[float, np.ndarray, bool]:
     """(gouge, distance of every wall vertex to the wire path minus ``offset``, every sample inside
     the hole) of one cut: gouge = offset - the least distance (rigorous lower bound) of the wire
@@ -327,8 +395,6 @@ def test_wire_bore_is_the_hole_offset_by_each_cut(wire_cam, keyway, skims, tmp_p
     and reaches every point of it within its offset + 1 um (the keyway's bottom corners at that
     offset) except one stretch of the bore wall of the tab's length; the cut-off after the last
     stop cuts that stretch; then the outline's cuts follow."""
-    from test_wire_edm import run_rs274
-
     from camgen.export.wire_edm import wire_edm_program
     from camgen.export.wire_edm_spec import WireEdmSpec
 
@@ -339,7 +405,7 @@ def test_wire_bore_is_the_hole_offset_by_each_cut(wire_cam, keyway, skims, tmp_p
     program = wire_edm_program(cam.contour, spec, cam.name, "edm", body.thickness, cam_body=body)
     kerf = 0.125 + 0.03
     offsets = [kerf + a for a in (0.1 * 0.2**k for k in range(skims))] + [kerf]  # the rule of the header and README
-    status, message, chains = run_rs274(program, offsets, tmp_path)
+    status, message, chains = _wire_rs274(program, offsets, tmp_path)
     assert status == 0, message
     n = skims + 1
     assert len(chains) == 2 * (n + 1)  # bore cuts and cut-off, then the outline's

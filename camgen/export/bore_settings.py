@@ -12,8 +12,8 @@ from camgen.export.fanuc_settings import DEFAULT_TOOL_NUMBER, MAX_TOOL_NUMBER
 __all__ = ["BORE_OPERATIONS", "MILLING_DIALECTS", "TOOL_CHANGERS", "WIRE_DIALECT", "bore_operation_of", "bore_tool_number_of", "check_bore_settings",
            "outline_tool_number"]
 
-#: Values of ``bore_operation``: milled by a helix, cut by the wire (wire EDM), left to another operation.
-BORE_OPERATIONS = ("helix", "wire", "none")
+#: Values of ``bore_operation``: milled by a helix, drilled, cut by the wire (wire EDM), left to another operation.
+BORE_OPERATIONS = ("helix", "drill", "wire", "none")
 #: The wire-EDM dialect (its bore: :mod:`camgen.export.wire_edm_bore`).
 WIRE_DIALECT = "wire_edm"
 #: Dialects whose programs mill (the bore settings apply).
@@ -34,23 +34,27 @@ def check_bore_settings(dialect: str, tool_number: int | None, op: str | None, t
         raise ParameterError("bore_operation", op, f"one of {BORE_OPERATIONS}")
     if op is not None and op != "none" and (op == "wire") != (dialect == WIRE_DIALECT):
         raise ParameterError("bore_operation", op, '"wire" or "none" with dialect = "wire_edm"' if dialect == WIRE_DIALECT else
-                             '"helix" or "none" with a milling dialect', f"the {dialect} program cannot cut the bore that way")
+                             '"helix", "drill" or "none" with a milling dialect', f"the {dialect} program cannot cut the bore that way")
+    if op == "drill" and dialect not in TOOL_CHANGERS:
+        raise ParameterError("bore_operation", op, f'"drill" only with dialect = {" or ".join(TOOL_CHANGERS)}',
+                             "GRBL has no canned drilling cycle (G83)")
     if dialect not in MILLING_DIALECTS:
         for name, value in (("bore_tool_diameter", tool), ("bore_tool_number", number)):
             if value is not None:
                 raise ParameterError(name, value, f"only with dialect = {' or '.join(MILLING_DIALECTS)}", f"the {dialect} program mills no bore")
     if tool is not None:
         require_positive("bore_tool_diameter", tool)
-        if op == "none":
-            raise ParameterError("bore_tool_diameter", tool, 'left out with bore_operation = "none"', "no bore is milled")
+        if op in ("none", "drill"):
+            raise ParameterError("bore_tool_diameter", tool, f'left out with bore_operation = "{op}"',
+                                 "no bore is milled" if op == "none" else "the drill has the bore's diameter")
     if number is not None:
         if isinstance(number, bool) or not isinstance(number, int) or not 1 <= number <= MAX_TOOL_NUMBER:
             raise ParameterError("bore_tool_number", number, f"a whole number, 1 <= n <= {MAX_TOOL_NUMBER}")
         if dialect not in TOOL_CHANGERS:
             raise ParameterError("bore_tool_number", number, f"only with dialect = {' or '.join(TOOL_CHANGERS)}",
                                  "GRBL has no tool changer: the program stops (M0) for the change")
-        if tool is None:
-            raise ParameterError("bore_tool_number", number, "only with bore_tool_diameter_mm",
+        if tool is None and op != "drill":
+            raise ParameterError("bore_tool_number", number, 'only with bore_tool_diameter_mm or bore_operation = "drill"',
                                  "without it the outline's tool cuts the bore, no tool change")
         if number == outline_tool_number(tool_number):
             raise ParameterError("bore_tool_number", number, f"another number than the outline's tool T{number}")

@@ -3,7 +3,7 @@ interpolation of the bore, the keyway slotted with the same tool, or a header no
 left to another operation.
 
 Settings (``[machining]``, checked in :mod:`camgen.export.bore_settings`): ``bore_operation`` =
-``"helix"`` or ``"none"`` (default: ``"helix"`` when ``bore_tool_diameter`` is given, else
+``"helix"``, ``"drill"`` or ``"none"`` (default: ``"helix"`` when ``bore_tool_diameter`` is given, else
 ``"none"``: the programs of a scene without the bore keys cut no bore); ``bore_tool_diameter`` (mm; default: the outline's tool, no tool change);
 ``bore_tool_number`` (LinuxCNC and Fanuc: ``T<n> M6`` and ``G43 H<n>``; default the outline's
 tool number + 1).  GRBL has no tool changer: the program stops (``M0``) with a comment naming the
@@ -24,6 +24,11 @@ stock still holds the part, as a tool-centre path (no cutter compensation):
 
 The tool enters each helix above the stock at ``(rho_k, 0)`` and every tool-centre position
 stays within ``rho_n = R - r`` of the axis: the bore wall is never gouged.
+
+``bore_operation = "drill"`` (linuxcnc, fanuc: GRBL has no canned cycle): ``G98 G83`` peck drilling
+at the axis, pecks of ``step_down``, with a drill of the bore's diameter (its own tool, ``T M6``),
+its point (:data:`DRILL_POINT_ANGLE`) through: the full diameter reaches the last pass's depth;
+the keyway is then left to another operation.
 
 The keyway (width ``w``, bottom at ``R + keyway_depth`` from the axis, along ``keyway_angle``) is
 slotted with the bore tool where it fits (``2 r <= w``), in depth levels of at most ``step_down``
@@ -51,13 +56,18 @@ from camgen.export.gcode_spec import MachiningSpec, depth_passes
 if TYPE_CHECKING:
     from camgen.body import BodySpec
 
-__all__ = ["BORE_STEPOVER", "MIN_HELIX_RADIUS", "BoreProgram", "bore_program", "helix_radii", "with_bore"]
+__all__ = ["BORE_STEPOVER", "DRILL_POINT_ANGLE", "DRILL_R_PLANE", "MIN_HELIX_RADIUS", "BoreProgram", "bore_program", "helix_radii", "with_bore"]
 
 #: Largest stepover between neighbouring helix circles and keyway lanes, as a fraction of the
 #: tool diameter (below 1: the discs overlap, no core or rib is left between them).
 BORE_STEPOVER = 0.5
 #: Least radius (mm) of a helix circle: an arc of a smaller radius is hard to print and to run.
 MIN_HELIX_RADIUS = 0.1
+#: Point angle (deg) of the drill of ``bore_operation = "drill"``: the standard twist drill's 118 deg
+#: (Machinery's Handbook, "Twist Drills"); its point reaches 0.3 x the diameter below the full diameter.
+DRILL_POINT_ANGLE = 118.0
+#: Height (mm) above the stock top of the drilling cycle's R plane (the pecks start there; at most safe_z).
+DRILL_R_PLANE = 1.0
 
 
 def helix_radii(bore_radius: float, tool_radius: float) -> np.ndarray:
@@ -80,18 +90,19 @@ class BoreProgram:
     count: int
 
 
-def _tool_words(spec: MachiningSpec, diameter: float) -> tuple[list[str], list[str], str]:
-    """Blocks before and after the bore (tool change, spindle) and the header's tool text."""
+def _tool_words(spec: MachiningSpec, diameter: float, what: str = "bore tool") -> tuple[list[str], list[str], str]:
+    """Blocks before and after the bore (tool change, spindle) and the header's tool text;
+    ``what`` the bore's tool (a drill has its own; an end mill only with ``bore_tool_diameter``)."""
     safe, rpm = f"{spec.safe_z:.{spec.decimals}f}", f"{spec.spindle_rpm:.0f}"
-    if spec.bore_tool_diameter is None:
+    if spec.bore_tool_diameter is None and what == "bore tool":
         return [], [], f"the outline's tool [diameter {spec.tool_diameter:g}], no tool change"
     main, bore = outline_tool_number(spec.tool_number), bore_tool_number_of(spec.bore_tool_number, spec.tool_number)
     if spec.dialect == "fanuc":
         return ([f"T{bore} M06", f"S{rpm} M03", f"G0 G43 H{bore:02d} Z{safe}"], ["M05"],
-                f"bore tool T{bore} [diameter {diameter:g}, length offset H{bore:02d}], then T{main} for the outline")
+                f"{what} T{bore} [diameter {diameter:g}, length offset H{bore:02d}], then T{main} for the outline")
     if spec.dialect == "linuxcnc":
         return ([f"T{bore} M6", f"G43 H{bore}", f"G0 Z{safe}", f"M3 S{rpm}"], ["M5", f"T{main} M6", f"G43 H{main}"],
-                f"bore tool T{bore} [diameter {diameter:g}, length offset H{bore}], then T{main} for the outline")
+                f"{what} T{bore} [diameter {diameter:g}, length offset H{bore}], then T{main} for the outline")
     return ([f"M0 (load the bore tool, diameter {diameter:g}; touch off Z0 on the stock top)", f"G0 Z{safe}", f"M3 S{rpm}"],
             ["M5", f"M0 (load the outline's tool, diameter {spec.tool_diameter:g}; touch off Z0 on the stock top)"],
             f"bore tool diameter {diameter:g}: GRBL has no tool changer, the program stops [M0] to load it and again to load "
@@ -170,7 +181,10 @@ def bore_program(body: "BodySpec | None", spec: MachiningSpec, depth: float) -> 
         return BoreProgram((comment("the cam has no bore: the bore settings cut nothing here"),), "", False, 0)
     keyway = body.keyway_width > 0.0
     what = "bore and keyway" if keyway else "bore"
-    if bore_operation_of(spec.bore_operation, spec.bore_tool_diameter, spec.dialect) == "none":
+    operation = bore_operation_of(spec.bore_operation, spec.bore_tool_diameter, spec.dialect)
+    if operation == "drill":
+        return _drill(body, spec, depth)
+    if operation == "none":
         return BoreProgram((comment(f"the {what} [diameter {body.bore_diameter:g}] are not cut: left to another operation "
                                     "[bore_operation = none; bore_tool_diameter_mm mills the bore by a helix]"),), "", False, 0)
     name, diameter = ("bore_tool_diameter", spec.bore_tool_diameter) if spec.bore_tool_diameter is not None else \
@@ -207,6 +221,26 @@ def bore_program(body: "BodySpec | None", spec: MachiningSpec, depth: float) -> 
                                   "left to another operation [broach or wire EDM]"))
     blocks += after
     return BoreProgram(tuple(header), "\n".join(blocks) + "\n", spec.bore_tool_diameter is not None, len(blocks))
+
+
+def _drill(body: "BodySpec", spec: MachiningSpec, depth: float) -> BoreProgram:
+    """The bore drilled (``G98 G83`` peck drilling, pecks of ``step_down``) with a drill of its
+    diameter, its point (:data:`DRILL_POINT_ANGLE`) through the stock: the full diameter reaches the
+    last pass's depth; the keyway left to another operation."""
+    d, diameter = spec.decimals, body.bore_diameter
+    tip = 0.5 * diameter / math.tan(math.radians(DRILL_POINT_ANGLE) / 2.0)  # the cone of the drill's point
+    bottom = depth + tip
+    before, after, tool_text = _tool_words(spec, diameter, "drill")
+    safe, plane = f"{spec.safe_z:.{d}f}", f"{min(spec.safe_z, DRILL_R_PLANE):.{d}f}"
+    blocks = [comment(f"bore diameter {diameter:g}: peck drilling"), *before, f"G0 X{0.0:.{d}f} Y{0.0:.{d}f}",
+              f"G98 G83 X{0.0:.{d}f} Y{0.0:.{d}f} Z{-bottom:.{d}f} R{plane} Q{spec.step_down:.{d}f} F{spec.plunge_feed:.0f}", "G80",
+              f"G0 Z{safe}", *after]
+    header = [comment(f"bore diameter {diameter:g} at the axis, drilled first, while the stock holds the part; {tool_text}"),
+              comment(f"bore: a drill of the bore's diameter, point angle {DRILL_POINT_ANGLE:g} deg: G98 G83 pecks of <= step_down "
+                      f"{spec.step_down:g} from R{plane} to Z{-bottom:.{d}f} = the last pass's depth {depth:g} + the point {tip:.4g}")]
+    if body.keyway_width > 0.0:
+        header.append(comment(f"the keyway [{body.keyway_width:g} wide] is not cut: left to another operation [broach or wire EDM]"))
+    return BoreProgram(tuple(header), "\n".join(blocks) + "\n", True, len(blocks))
 
 
 def with_bore(start: list[str], bored: BoreProgram, spec: MachiningSpec) -> list[str]:
