@@ -227,6 +227,7 @@ def machining_keys() -> tuple[Key, ...]:
     from camgen.export.wire_edm_spec import wire_edm_keys
     from camgen.export.fanuc_settings import DEFAULT_PROGRAM_NUMBER, DEFAULT_TOOL_NUMBER, MAX_PROGRAM_NUMBER, MAX_RADIUS_REGISTER, MAX_TOOL_NUMBER
     from camgen.export.bore_settings import BORE_OPERATIONS, MILLING_DIALECTS as MILLING
+    from camgen.export.gcode_bore import MIN_BORE_TOOL
     from camgen.kinds.base import field_default
 
     def d(name: str):
@@ -280,8 +281,8 @@ def machining_keys() -> tuple[Key, ...]:
             "cuts and registers, from a start hole at the axis, the slug held by a tab of tab_width_mm until the last cut's stop; none = a "
             "header note that bore and keyway are left to another operation (default: wire for wire_edm; helix when "
             "bore_tool_diameter_mm is given, else none).", ("gcode",)),
-        Key("bore_tool_diameter_mm", Number("mm", 0.0, 1000.0, low_open=True), "End mill of the bore and keyway, helix only (default: the "
-            "outline's tool, no tool change); 0.4 mm .. bore diameter - 0.2 mm; a tool wider than the keyway leaves it to another "
+        Key("bore_tool_diameter_mm", Number("mm", MIN_BORE_TOOL, 1000.0), "End mill of the bore and keyway, helix only (default: the "
+            "outline's tool, no tool change); at most the bore diameter - 0.2 mm; a tool wider than the keyway leaves it to another "
             "operation (the header says so).", ("gcode",), requires={"dialect": MILLING}),
         Key("bore_tool_number", Count(1, MAX_TOOL_NUMBER), "Tool number of the bore tool (T<n> M6 and G43 H<n>, then the outline's "
             f"tool T<tool_number> again; default: tool_number + 1, tool_number being {DEFAULT_TOOL_NUMBER} unless a fanuc program "

@@ -56,13 +56,15 @@ from camgen.export.gcode_spec import MachiningSpec, depth_passes
 if TYPE_CHECKING:
     from camgen.body import BodySpec
 
-__all__ = ["BORE_STEPOVER", "DRILL_POINT_ANGLE", "DRILL_R_PLANE", "MIN_HELIX_RADIUS", "BoreProgram", "bore_program", "helix_radii", "with_bore"]
+__all__ = ["BORE_STEPOVER", "DRILL_POINT_ANGLE", "DRILL_R_PLANE", "MIN_BORE_TOOL", "MIN_HELIX_RADIUS", "BoreProgram", "bore_program", "helix_radii", "with_bore"]
 
 #: Largest stepover between neighbouring helix circles and keyway lanes, as a fraction of the
 #: tool diameter (below 1: the discs overlap, no core or rib is left between them).
 BORE_STEPOVER = 0.5
 #: Least radius (mm) of a helix circle: an arc of a smaller radius is hard to print and to run.
 MIN_HELIX_RADIUS = 0.1
+#: Least bore tool diameter (mm): its first circle (radius > a quarter of it when several) is a printable helix.
+MIN_BORE_TOOL = 4.0 * MIN_HELIX_RADIUS
 #: Point angle (deg) of the drill of ``bore_operation = "drill"``: the standard twist drill's 118 deg
 #: (Machinery's Handbook, "Twist Drills"); its point reaches 0.3 x the diameter below the full diameter.
 DRILL_POINT_ANGLE = 118.0
@@ -190,7 +192,7 @@ def bore_program(body: "BodySpec | None", spec: MachiningSpec, depth: float) -> 
     name, diameter = ("bore_tool_diameter", spec.bore_tool_diameter) if spec.bore_tool_diameter is not None else \
         ("tool_diameter", spec.tool_diameter)
     radius, bore = diameter / 2.0, body.bore_diameter / 2.0
-    low, high = 4.0 * MIN_HELIX_RADIUS, body.bore_diameter - 2.0 * MIN_HELIX_RADIUS
+    low, high = MIN_BORE_TOOL, body.bore_diameter - 2.0 * MIN_HELIX_RADIUS
     if not low <= diameter <= high:
         raise ParameterError(name, diameter, f"{low:g} mm <= diameter <= bore diameter - {2.0 * MIN_HELIX_RADIUS:g} = "
                                              f"{floor_significant(high, 6):g} mm" if high > low else "a cam with a larger bore",
