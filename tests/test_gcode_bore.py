@@ -482,3 +482,18 @@ def test_a_cam_without_a_bore_says_the_settings_cut_nothing(plate):
     assert "(the cam has no bore: the bore settings cut nothing here)" in program and "T2" not in program
     plain = gcode_program(cam.contour, spec, cam.name, "b", body.thickness, cam_body=body)
     assert "bore" not in plain
+
+
+def test_wire_bore_no_z_and_compensation_switched_on_linear_moves_only(wire_cam):
+    """The bore's cuts as the outline's: no Z word, G41 D<k> on and G40 off in G1 blocks only, once
+    per cut (3 bore cuts + 3 outline cuts by default)."""
+    from camgen.export.wire_edm import wire_edm_program
+
+    cam, spec = wire_cam
+    program = wire_edm_program(cam.contour, spec, cam.name, "edm", cam.body.thickness, cam_body=cam.body)
+    code = [re.sub(r"\(.*?\)", "", line).strip() for line in program.splitlines()]
+    assert not any(re.search(r"\bZ", line) for line in code)
+    switches = [line for line in code if re.search(r"\bG4[012]\b", line) and not line.startswith("G21 ")]
+    assert len(switches) == 2 * 3 * 2
+    assert all(re.search(r"\bG1\b", line) and not re.search(r"\bG[23]\b", line) for line in switches), switches
+    assert [line.split()[1] for line in switches if line.startswith("G41")] == ["D1", "D2", "D3"] * 2  # the bore's cuts, the outline's

@@ -48,6 +48,9 @@ milled first, to their depth, while the stock still holds the part; then its out
 (:mod:`camgen.export.gcode_pockets`: one pass along the pitch curve with a tool of the groove's
 width, or two wall passes and the slot cleared with a smaller one; the header says which).
 
+Bore.  The cam's shaft bore and keyway are milled first (helix, keyway slot) or drilled, or the
+header says they are left to another operation (:mod:`camgen.export.gcode_bore`).
+
 A concave radius of the profile smaller than the tool radius would be gouged: that is a
 :class:`GeometryError` naming the cam angle.  Z = 0 is the top face of the stock.
 """
