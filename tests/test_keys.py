@@ -22,7 +22,7 @@ from camgen.schema import Choice, Count, Flag, Key, Number, Text
 MAY = {
     "profile": {"dxf", "points", "lift", "stl", "ngc", "json", "ride"},
     "pitch": {"dxf", "json"},
-    "body": {"dxf", "stl", "json"},
+    "body": {"dxf", "stl", "json", "ngc"},  # the G-code cuts the bore or says it is left (camgen.export.gcode_bore)
     "thickness": {"stl", "ngc", "json"},
     "gcode": {"ngc"},
     "dxf": {"dxf"},
