@@ -228,6 +228,8 @@ def machining_keys() -> tuple[Key, ...]:
     from camgen.export.gcode_spec import LEAD_STYLES, MIN_LEAD_RADIUS, UNITS
     from camgen.export.wire_edm_spec import wire_edm_keys
     from camgen.export.fanuc_settings import DEFAULT_PROGRAM_NUMBER, DEFAULT_TOOL_NUMBER, MAX_PROGRAM_NUMBER, MAX_RADIUS_REGISTER, MAX_TOOL_NUMBER
+    from camgen.export.bore_settings import BORE_OPERATIONS, MILLING_DIALECTS as MILLING
+    from camgen.export.gcode_bore import MIN_BORE_TOOL
     from camgen.kinds.base import field_default
 
     def d(name: str):
@@ -285,4 +287,21 @@ def machining_keys() -> tuple[Key, ...]:
         Key("radius_register", Count(1, MAX_RADIUS_REGISTER), "The D register of the Fanuc program's G41/G42, holding a radius: the "
             "tool radius with cutter_compensation, else 0 (the wear only); the header says which (default: tool_number).", ("gcode",),
             requires={"dialect": ("fanuc",)}),
+        # --- the bore and keyway (camgen.export.gcode_bore) ---
+        Key("bore_operation", Choice(BORE_OPERATIONS), "The cam's shaft bore: helix (milling dialects) = milled first, while the "
+            "stock holds the part, by helical interpolation (tool-centre circles stepped out by <= half the tool so no core is left, "
+            "helix pitch <= step_down_mm, a full circle at the bottom) and the keyway slotted with the same tool where it fits (its "
+            "inner corners left at the tool radius); drill (linuxcnc, fanuc) = G98 G83 peck drilling at the axis, pecks of step_down_mm, with a "
+            "drill of the bore's diameter (118 deg point, through: its full diameter reaches the last pass's depth; its own tool, "
+            "bore_tool_number), the keyway left to another operation; wire (wire_edm) = bore and keyway cut first as an inner contour with the outline's "
+            "cuts and registers, from a start hole at the axis, the slug held by a tab of tab_width_mm until the last cut's stop; none = a "
+            "header note that bore and keyway are left to another operation (default: wire for wire_edm; helix when "
+            "bore_tool_diameter_mm is given, else none).", ("gcode",)),
+        Key("bore_tool_diameter_mm", Number("mm", MIN_BORE_TOOL, 1000.0), "End mill of the bore and keyway, helix only (default: the "
+            "outline's tool, no tool change); at most the bore diameter - 0.2 mm; a tool wider than the keyway leaves it to another "
+            "operation (the header says so).", ("gcode",), requires={"dialect": MILLING}),
+        Key("bore_tool_number", Count(1, MAX_TOOL_NUMBER), "Tool number of the bore tool (T<n> M6 and G43 H<n>, then the outline's "
+            f"tool T<tool_number> again; default: tool_number + 1, tool_number being {DEFAULT_TOOL_NUMBER} unless a fanuc program "
+            "sets it); needs bore_tool_diameter_mm or bore_operation = \"drill\" (GRBL: M0 stops to change the tool).", ("gcode",),
+            requires={"dialect": ("linuxcnc", "fanuc")}),
     ) + wire_edm_keys()  # wire EDM (camgen.export.wire_edm_spec)

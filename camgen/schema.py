@@ -24,7 +24,7 @@ from camgen.errors import ParameterError, SceneError, quoted
 EFFECTS = {
     "profile": "the cam profile: DXF, points and lift tables, meshes, STEP and G-code",
     "pitch": "the follower-centre path (DXF PITCH layer)",
-    "body": "the cam body (bore, keyway, thickness): DXF BORE/KEYWAY layers, meshes, STEP",
+    "body": "the cam body (bore, keyway, thickness): DXF BORE/KEYWAY layers, meshes, STEP, the G-code's bore (cut or said to be left)",
     "thickness": "the cam thickness: meshes, STEP, G-code depth",
     "gcode": "the G-code program",
     "dxf": "the DXF drawing only",

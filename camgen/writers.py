@@ -114,7 +114,7 @@ def gcode(cam: "CamResult", run: RunSettings, fmt: str) -> str:
         from camgen.export.wire_edm import wire_edm_program as gcode_program
     try:  # a program too long: the error names the scene key to change
         return renamed("machining", machining_keys(), lambda: gcode_program(_profile(cam), run.machining, cam.name, run.scene_name,
-                                                                             cam.body.thickness, cam.pockets),
+                                                                             cam.body.thickness, cam.pockets, cam_body=cam.body),
                        also=(("output", output_keys()),))
     except ParameterError as exc:
         raise ParameterError(exc.name, exc.value, f"{exc.valid} for cam '{cam.name}'", exc.why) from None

@@ -335,5 +335,6 @@ def simulate_pockets(program: str, outline, walls: dict, tool_radius: float, wor
     levels = []
     for chain in pocket_chains:
         sideways = [m for m in chain if np.hypot(*(m["end"][:2] - m["start"][:2])) > 0.0]  # after the feed down
-        levels.append((float(sideways[0]["start"][2]), float(min(min(m["start"][2], m["end"][2]) for m in chain))))
+        first = sideways[0] if sideways else chain[0]  # a drill's peck moves only down
+        levels.append((float(first["start"][2]), float(min(min(m["start"][2], m["end"][2]) for m in chain))))
     return GrooveCutReport(report, PocketCut(gouge, proud, between, levels, deepest, floor), order)

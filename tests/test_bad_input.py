@@ -924,6 +924,10 @@ EDGE_DOCUMENTED: dict[str, str] = {
     # ground_y_mm: "the foot path must cross it twice at every inclination ... (the error gives the band)"
     "mechanisms.horse_leg.ground_y_mm=-100000": "a ground line the foot path crosses twice",
     "mechanisms.horse_leg.ground_y_mm=100000": "a ground line the foot path crosses twice",
+    # bore_tool_diameter_mm: "at most the bore diameter - 0.2 mm"; the edge scenes' bore is 20 mm
+    "machining.bore_tool_diameter_mm=1000": "bore diameter - 0.2",
+    # bore_tool_number: "needs bore_tool_diameter_mm or bore_operation = "drill""
+    **{f"machining.bore_tool_number={n}": "only with bore_tool_diameter_mm" for n in (1, 99)},
 }
 
 

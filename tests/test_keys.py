@@ -22,7 +22,7 @@ from camgen.schema import Choice, Count, Flag, Key, Number, Text
 MAY = {
     "profile": {"dxf", "points", "lift", "stl", "ngc", "json", "ride"},
     "pitch": {"dxf", "json"},
-    "body": {"dxf", "stl", "json"},
+    "body": {"dxf", "stl", "json", "ngc"},  # the G-code cuts the bore or says it is left (camgen.export.gcode_bore)
     "thickness": {"stl", "ngc", "json"},
     "gcode": {"ngc"},
     "dxf": {"dxf"},
@@ -287,10 +287,12 @@ def test_every_machining_key_changes_what_it_documents(key_name, tmp_path):
     machining = {"tool_diameter_mm": 6.0, **({"dialect": "fanuc"} if key_name in fanuc else {})}
     if key.requires.get("dialect") == ("wire_edm",):  # a wire-EDM key: with its dialect, which refuses the milling keys
         machining = {"dialect": "wire_edm"}
+    if key_name == "bore_tool_number":  # the bore tool's number: with a bore tool (else no tool change)
+        machining["bore_tool_diameter_mm"] = 4.0
     base = scene(SPLINE_CAM, ("dxf", "points", "ngc"), machining)
     alt = copy.deepcopy(base)
     value = alt["machining"].get(key_name, key.default)
-    overrides = {"lead_mm": 5.0, "cutter_compensation": True, "cut_allowances_mm": [0.12, 0.03], "decimals": 5, **fanuc}
+    overrides = {"lead_mm": 5.0, "cutter_compensation": True, "cut_allowances_mm": [0.12, 0.03], "decimals": 5, "bore_tool_number": 3, **fanuc}
     alt["machining"][key_name] = overrides[key_name] if key_name in overrides else _changed(value, key)
     _assert_effect(key, run(base, tmp_path), run(alt, tmp_path))
 

@@ -54,6 +54,9 @@ milled first, to their depth, while the stock still holds the part; then its out
 (:mod:`camgen.export.gcode_pockets`: one pass along the pitch curve with a tool of the groove's
 width, or two wall passes and the slot cleared with a smaller one; the header says which).
 
+Bore.  The cam's shaft bore and keyway are milled first (helix, keyway slot) or drilled, or the
+header says they are left to another operation (:mod:`camgen.export.gcode_bore`).
+
 A concave radius of the profile smaller than the tool radius would be gouged: that is a
 :class:`GeometryError` naming the cam angle.  Z = 0 is the top face of the stock.
 """
@@ -74,6 +77,7 @@ from camgen.export.gcode_spec import (BLEND_SHARE, DIALECTS, DIRECTIONS, FIT_SHA
                                       SPLINE_MODES, MachiningSpec, depth_passes, rounding_error)
 
 if TYPE_CHECKING:
+    from camgen.body import BodySpec
     from camgen.kinds.base import Pocket
 
 __all__ = ["BLEND_SHARE", "COMP_ENTRY_ANGLE", "COMP_STRAIGHT", "DIALECTS", "DIRECTIONS", "FIT_SHARE", "MAX_PASSES", "MAX_PROGRAM_MOVES",
@@ -194,7 +198,7 @@ def _refuse_long_program(spec: MachiningSpec, depth: float, n_passes: int, moves
 
 
 def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene: str = "", thickness: float | None = None,
-                  pockets: "Sequence[Pocket]" = ()) -> str:
+                  pockets: "Sequence[Pocket]" = (), cam_body: "BodySpec | None" = None) -> str:
     """RS274/NGC program text that mills ``contour`` (the cam profile) to ``thickness`` (mm; the
     cam's, default ``spec.thickness``) plus ``spec.breakthrough``, with tangent lead-in and
     lead-out (see the module docstring).  ``spec`` is final (the scene reader checked it against
@@ -202,13 +206,14 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
 
     ``pockets`` (a groove cam's groove) are milled first, to their depth, while the stock still
     holds the part (:mod:`camgen.export.gcode_pockets`: one pass along the pitch curve, or two
-    wall passes and the slot cleared); then the outline as without them."""
+    wall passes and the slot cleared); then the outline as without them.  ``cam_body``: the cam's
+    bore and keyway, milled first or left to another operation (:mod:`camgen.export.gcode_bore`)."""
     from camgen import __version__
 
     if spec.program_unit != 1.0:  # inch: the same program of the scaled geometry and spec (camgen.export.gcode_units)
         from camgen.export.gcode_units import in_program_units
 
-        return in_program_units(gcode_program, contour, spec, cam, scene, thickness, pockets)
+        return in_program_units(gcode_program, contour, spec, cam, scene, thickness, pockets, cam_body)
     from camgen.export.gcode_units import units_note
 
     pocketed = None
@@ -253,6 +258,11 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     moves = contour_moves.count("\n") + 2 + len(entry_blocks) + len(exit_blocks)  # + plunge, feed down, leads
     if pocketed is not None:  # the pockets' levels count as passes of the same length on average
         moves += -(-pocketed.count // n_passes)
+    from camgen.export.gcode_bore import bore_program, with_bore  # the bore and keyway, first
+
+    bored = bore_program(cam_body, spec, depth)
+    if bored is not None:
+        moves += -(-bored.count // n_passes)
     if n_passes * moves > MAX_PROGRAM_MOVES:
         _refuse_long_program(spec, depth, n_passes, moves)
     depths = -np.minimum(spec.step_down * np.arange(1, n_passes + 1), depth)
@@ -296,15 +306,16 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     ]
     if pocketed is not None:
         lines += list(pocketed.header)
+    if bored is not None:
+        lines += list(bored.header)
     if spec.dialect == "fanuc":  # Fanuc/Haas: register line, units, safe start, tool call, G43 (camgen.export.gcode_fanuc)
         from camgen.export.gcode_fanuc import fanuc_start
 
-        lines += fanuc_start(spec, pocketed is not None)
+        starting = fanuc_start(spec, pocketed is not None)
     else:
-        lines.append(f"{spec.units_word} G90 G17 G40 G49 G80 G94")
-        if spec.dialect == "linuxcnc":
-            lines.append(f"G64 P{blend}")
-        lines += [f"G0 Z{spec.safe_z:.{d}f}", f"M3 S{spec.spindle_rpm:.0f}"]
+        starting = [f"{spec.units_word} G90 G17 G40 G49 G80 G94"] + ([f"G64 P{blend}"] if spec.dialect == "linuxcnc" else [])
+        starting += [f"G0 Z{spec.safe_z:.{d}f}", f"M3 S{spec.spindle_rpm:.0f}"]
+    lines += starting if bored is None else with_bore(starting, bored, spec)
     body = ["\n".join(lines) + "\n"]
     if pocketed is not None:
         body.append(pocketed.moves)

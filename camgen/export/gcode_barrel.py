@@ -201,7 +201,7 @@ def check_tool(groove: Any, spec: MachiningSpec, cam: str, width_is: str = GROOV
     """Refuse what a barrel cam's program cannot cut (ParameterError naming the key): a conical
     roller, a tool whose diameter is not ``2 w`` (``groove.half_width``) within :func:`width_tol`
     (``width_is`` says what that width is, ``why`` why another tool is refused), the grbl dialect,
-    cutter compensation."""
+    cutter compensation, a bore milled."""
     layout = groove.layout
     if layout.roller_shape != "cylindrical":
         raise ParameterError(f"cams.{cam}.roller_shape", layout.roller_shape, '"cylindrical" with "ngc" in output.formats',
@@ -214,6 +214,9 @@ def check_tool(groove: Any, spec: MachiningSpec, cam: str, width_is: str = GROOV
         raise ParameterError("dialect", spec.dialect, '"linuxcnc" for a barrel cam', "its program needs a rotary A axis and G93")
     if spec.cutter_compensation:
         raise ParameterError("cutter_compensation", True, "false for a barrel cam", "its program is a tool-centre path on a rotary axis")
+    for name in ("bore_tool_diameter", "bore_operation"):  # the bore settings (camgen.export.gcode_bore) mill a plate cam's bore
+        if getattr(spec, name) not in (None, "none"):
+            raise ParameterError(name, getattr(spec, name), "left out for a barrel cam", "its program cuts the groove only")
 
 
 def turn_blocks(path: BarrelToolPath, xs: np.ndarray, ys: np.ndarray, d: int, da: int, feed: float, rim: float, a_start: float = 0.0,

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from camgen.errors import ParameterError, require_finite, require_positive
+from camgen.export.bore_settings import check_bore_settings
 from camgen.export.fanuc_settings import check_fanuc_settings
 
 if TYPE_CHECKING:  # wire EDM (camgen.export.wire_edm_spec)
@@ -108,6 +109,10 @@ class MachiningSpec:
     program_number: int | None = None
     tool_number: int | None = None
     radius_register: int | None = None
+    # --- the bore and keyway (camgen.export.gcode_bore: None = its default) ---
+    bore_operation: str | None = None
+    bore_tool_diameter: float | None = None
+    bore_tool_number: int | None = None
     # --- program units (camgen.export.gcode_units): "inch" writes G20 and every length in inches ---
     units: str = "mm"
     #: True: the lengths and feeds are already in the program's units (a copy made by
@@ -130,6 +135,8 @@ class MachiningSpec:
 
             object.__setattr__(self, "wire_edm", WireEdmSpec())
         check_fanuc_settings(self.dialect, self.program_number, self.tool_number, self.radius_register)  # fanuc dialect
+        check_bore_settings(self.dialect, self.tool_number, self.bore_operation, self.bore_tool_diameter,
+                            self.bore_tool_number, self.wire_edm is None or self.wire_edm.wire_compensation)  # the bore and keyway (camgen.export.bore_settings)
         if self.spline_mode not in SPLINE_MODES:
             raise ParameterError("spline_mode", self.spline_mode, f"one of {SPLINE_MODES}")
         if self.cutter_compensation and self.dialect == "grbl":

@@ -34,13 +34,14 @@ from camgen.export.gcode_moves import comment
 from camgen.export.gcode_spec import MM_PER_INCH, MachiningSpec
 
 if TYPE_CHECKING:
+    from camgen.body import BodySpec
     from camgen.kinds.base import Pocket
 
-__all__ = ["ScaledGroove", "Writer", "groove_in_program_units", "in_program_units", "program_spec", "scaled_contour", "scaled_pocket",
+__all__ = ["ScaledGroove", "Writer", "groove_in_program_units", "in_program_units", "program_spec", "scaled_body", "scaled_contour", "scaled_pocket",
            "units_line", "units_note"]
 
-#: A program writer: (contour, spec, cam, scene, thickness, pockets) -> program text.
-Writer = Callable[[Contour, MachiningSpec, str, str, "float | None", "Sequence[Pocket]"], str]
+#: A program writer: (contour, spec, cam, scene, thickness, pockets, cam body) -> program text.
+Writer = Callable[[Contour, MachiningSpec, str, str, "float | None", "Sequence[Pocket]", "BodySpec | None"], str]
 
 #: The spec's lengths (mm) and feeds (mm/min) that an inch program has in inches (and in/min).
 _LENGTHS = ("tool_diameter", "thickness", "step_down", "safe_z", "feed", "plunge_feed", "chord_tol", "breakthrough")
@@ -61,6 +62,8 @@ def program_spec(spec: MachiningSpec) -> MachiningSpec:
                                                   **{name: getattr(wire, name) * s for name in _WIRE_LENGTHS})
     else:
         changes["lead"] = spec.lead_length * s
+        if spec.bore_tool_diameter is not None:  # the bore's own tool (camgen.export.gcode_bore)
+            changes["bore_tool_diameter"] = spec.bore_tool_diameter * s
         changes["lead_radius"] = spec.lead_arc_radius * s  # the lead arcs' radius (camgen.export.gcode_leads), default in mm too
     return dataclasses.replace(spec, converted=True, **changes)
 
@@ -84,6 +87,15 @@ def scaled_pocket(pocket: "Pocket", s: float) -> "Pocket":
         width=None if pocket.width is None else pocket.width * s,
         centre=None if pocket.centre is None else scaled_contour(pocket.centre, s),
         centre_path=None if pocket.centre_path is None else tuple(_scaled_segment(seg, s) for seg in pocket.centre_path))
+
+
+def scaled_body(body: "BodySpec | None", s: float) -> "BodySpec | None":
+    """``body`` (bore and keyway) scaled by ``s``: thickness, bore, keyway width and depth, least
+    wall; the keyway's angle unchanged."""
+    if body is None:
+        return None
+    return dataclasses.replace(body, thickness=body.thickness * s, bore_diameter=body.bore_diameter * s,
+                               keyway_width=body.keyway_width * s, keyway_depth=body.keyway_depth * s, min_wall=body.min_wall * s)
 
 
 def units_note(spec: MachiningSpec) -> str:
@@ -128,17 +140,17 @@ def _refuse_in_mm(write_mm: Callable[[], str], exc: Exception) -> NoReturn:
 
 
 def in_program_units(write: Writer, contour: Contour, spec: MachiningSpec, cam: str, scene: str, thickness: float | None,
-                     pockets: "Sequence[Pocket]") -> str:
+                     pockets: "Sequence[Pocket]", cam_body: "BodySpec | None" = None) -> str:
     """The program ``write`` makes of ``contour`` (mm) for ``spec`` (in mm, ``units = "inch"``):
-    written in inches from the scaled geometry and :func:`program_spec`.  A refusal is that of
+    written in inches from the scaled geometry (the cam body's bore and keyway too) and :func:`program_spec`.  A refusal is that of
     the mm program (its values in the scene's mm)."""
     s = 1.0 / spec.program_unit
     try:
         inch = program_spec(spec)
         program = write(scaled_contour(contour, s), inch, cam, scene, None if thickness is None else thickness * s,
-                        tuple(scaled_pocket(p, s) for p in pockets))
+                        tuple(scaled_pocket(p, s) for p in pockets), scaled_body(cam_body, s))
     except (ParameterError, GeometryError) as exc:
-        _refuse_in_mm(lambda: write(contour, _in_mm(spec), cam, scene, thickness, pockets), exc)
+        _refuse_in_mm(lambda: write(contour, _in_mm(spec), cam, scene, thickness, pockets, cam_body), exc)
     return _with_units_line(program, inch)
 
 

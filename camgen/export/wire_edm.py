@@ -26,7 +26,9 @@ With ``wire_compensation = false`` every cut programs the wire-centre path inste
 offset by the cut's offset, the same entry and tab moved out by it, no ``G41``):
 :mod:`camgen.export.wire_edm_centre`.
 
-The bore and keyway are not cut: they are left to another operation (the header says so).
+The bore and keyway (``cam_body``) are cut first, before the outline, as an inner contour with the
+same cuts and registers (:mod:`camgen.export.wire_edm_bore`), unless ``bore_operation = "none"``
+leaves them to another operation (the header says which).
 """
 from __future__ import annotations
 
@@ -44,6 +46,7 @@ from camgen.export.gcode_spec import FIT_SHARE, MachiningSpec, rounding_error
 from camgen.export.wire_edm_centre import centre_cut_text, centre_cuts, refit_tolerance
 
 if TYPE_CHECKING:
+    from camgen.body import BodySpec
     from camgen.kinds.base import Pocket
 
 __all__ = ["LENGTH_TOL", "length_parameter", "wire_edm_program"]
@@ -99,14 +102,16 @@ def _check_concave(prims: list[tuple], offset: float, decimals: int) -> None:
 
 
 def wire_edm_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene: str = "", thickness: float | None = None,
-                     pockets: "Sequence[Pocket]" = ()) -> str:
+                     pockets: "Sequence[Pocket]" = (), cam_body: "BodySpec | None" = None) -> str:
     """ISO wire-EDM program text that cuts the outline ``contour`` of a plate ``thickness`` mm
-    thick (default ``spec.thickness``) with the cuts of ``spec.wire_edm`` (module docstring)."""
+    thick (default ``spec.thickness``) with the cuts of ``spec.wire_edm`` (module docstring);
+    ``cam_body``'s bore and keyway are cut first (:mod:`camgen.export.wire_edm_bore`) or left to
+    another operation (the header says which)."""
     from camgen import __version__
     from camgen.export.gcode_units import in_program_units, units_note
 
     if spec.program_unit != 1.0:  # inch: the same program of the scaled geometry and spec (camgen.export.gcode_units)
-        return in_program_units(wire_edm_program, contour, spec, cam, scene, thickness, pockets)
+        return in_program_units(wire_edm_program, contour, spec, cam, scene, thickness, pockets, cam_body)
     wire = spec.wire_edm
     assert wire is not None, "a wire-EDM program needs the wire spec (dialect = wire_edm)"
     if pockets:
@@ -161,6 +166,9 @@ def wire_edm_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", sc
     def xy(p: np.ndarray) -> str:
         return f"X{p[0]:.{d}f} Y{p[1]:.{d}f}"
 
+    from camgen.export.wire_edm_bore import wire_bore  # the bore and keyway: an inner contour, cut first
+
+    bored = wire_bore(cam_body, spec)
     n = wire.cuts
     fit_what = "biarc" if spec.spline_mode == "biarcs" else "chord"
     lines = [
@@ -181,12 +189,15 @@ def wire_edm_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", sc
                 f"{xy(a_point)} {'[G41 on]' if centre is None else '+ the cut offset along the normal'}, then along the tangent to the start point {xy(start)}"),
         comment(f"tab {wire.tab_width:g} long along the profile from the stop point {xy(stop)} to the start point: cuts 1.."
                 f"{n} stop there; the last cut stops [M00] before cutting it off and the part drops"),
-        comment("the tab stretch is cut once, at the last cut's offset; the bore and keyway are not cut: another operation"),
+        comment("the tab stretch is cut once, at the last cut's offset" + ("" if bored is not None else
+                                                                          "; the bore and keyway are not cut: another operation")),
         comment(f"path tolerance {spec.chord_tol:g} = {fit_what} fit {FIT_SHARE * spec.chord_tol:.3g} + "
                 + ("" if centre is None else f"offset refit {refit_tolerance(spec):.3g} + ") + f"{d} printed decimals {rounding_error(d):.3g}"),
         f"{spec.units_word} G90 G17 G40 G54",
     ]
-    body = ["\n".join(lines) + "\n"]
+    if bored is not None:
+        lines[-1:-1] = bored.header
+    body = ["\n".join(lines) + "\n"] + (list(bored.cuts) if bored is not None else [])
     for k, offset in enumerate(offsets, 1):
         if centre is not None:
             body.append(centre_cut_text(k, n, centre[k - 1], hole, a_point, normal, wire.wire_feed, xy))
