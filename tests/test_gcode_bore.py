@@ -29,7 +29,7 @@ import pytest
 from camgen.errors import ParameterError
 from camgen.export.gcode import MachiningSpec, gcode_program
 from cutting import CUT_TOL, simulate_pockets
-from helpers import arc_sweep, require_tool
+from helpers import arc_sweep, require_tool, rs274_canon
 
 #: rs274 prints 4 decimals: a printed point is within sqrt(2)/2 * 1e-4 mm of the interpreter's.
 PRINTED = math.sqrt(2.0) / 2.0 * 1e-4
@@ -497,3 +497,45 @@ def test_wire_bore_no_z_and_compensation_switched_on_linear_moves_only(wire_cam)
     assert len(switches) == 2 * 3 * 2
     assert all(re.search(r"\bG1\b", line) and not re.search(r"\bG[23]\b", line) for line in switches), switches
     assert [line.split()[1] for line in switches if line.startswith("G41")] == ["D1", "D2", "D3"] * 2  # the bore's cuts, the outline's
+
+
+@pytest.mark.parametrize("dialect, direction, tool", [("linuxcnc", "climb", 3.0), ("grbl", "conventional", 2.5)])
+@pytest.mark.usefixtures("needs_rs274")
+def test_an_inch_program_cuts_the_same_bore_and_keyway(plate, dialect, direction, tool, tmp_path):
+    """units = "inch": the bore (tool, keyway, least sizes) is written in inches too; rs274 runs the
+    inch program, and converted back to mm word by word (x 25.4, in the test) it cuts the bore round
+    and the keyway to its rectangle within 1 um, as the mm program does."""
+    from test_gcode_inch import to_mm
+
+    cam, base = plate
+    body = cam.body
+    spec = dataclasses.replace(base, dialect=dialect, direction=direction, bore_operation="helix", bore_tool_diameter=tool, units="inch",
+                               decimals=6)
+    program = gcode_program(cam.contour, spec, cam.name, "bore", body.thickness, cam_body=body)
+    assert re.search(r"^G20\b", program, re.M) and not re.search(r"^G21\b", program, re.M)
+    status, message, _ = rs274_canon(program, tmp_path, tool_table(program, dialect, spec))
+    assert status == 0, message
+    text = to_mm(program)
+    wall = HoleWall(body, tool / 2.0, tool <= body.keyway_width)
+    cut = simulate_pockets(text, cam.contour, {"bore": wall}, tool / 2.0, tmp_path, tool_table=tool_table(text, dialect, spec))
+    assert cut.outline.status == 0, cut.outline.message
+    assert cut.pocket is not None and cut.pocket.between
+    # the inch program's printed decimals (6 of an inch: 1.8e-5 mm) stay inside the cut tolerance
+    assert cut.pocket.gouge["bore"] <= CUT_TOL and cut.pocket.proud["bore"] <= CUT_TOL, (cut.pocket.gouge, cut.pocket.proud)
+    assert abs(cut.pocket.deepest + (body.thickness + spec.breakthrough)) < 1e-4
+
+
+def test_wire_centre_mode_leaves_the_bore_and_refuses_to_wire_it(wire_cam):
+    """wire_compensation = false (the wire-centre path): the bore's cuts need the control's wire
+    offset, so by default the bore is left to another operation (said), and "wire" is refused."""
+    from camgen.export.wire_edm import wire_edm_program
+
+    cam, spec = wire_cam
+    assert spec.wire_edm is not None
+    centre = dataclasses.replace(spec, wire_edm=dataclasses.replace(spec.wire_edm, wire_compensation=False))
+    program = wire_edm_program(cam.contour, centre, cam.name, "edm", cam.body.thickness, cam_body=cam.body)
+    assert "the bore and keyway are not cut: another operation" in program and "(bore cut " not in program
+    assert not re.search(r"^G4[12]\b", program, re.M), "no wire offset anywhere in a wire-centre program"
+    with pytest.raises(ParameterError) as err:
+        dataclasses.replace(centre, bore_operation="wire")
+    assert err.value.name == "bore_operation" and "wire_compensation" in str(err.value)
