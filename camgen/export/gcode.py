@@ -62,6 +62,7 @@ from camgen.contour import Contour
 from camgen.errors import CornerError, GeometryError, ParameterError, ceil_significant, require_positive
 # the settings, their error budget and the moves live in their own modules (the pockets' passes
 # share them); their names stay importable from here
+from camgen.export.gcode_passes import Operation, outline_passes
 from camgen.export.gcode_moves import START_SAMPLING, comment, loop_moves, primitives, reverse_primitives, rotate, split_segment
 from camgen.export.gcode_spec import (BLEND_SHARE, DIALECTS, DIRECTIONS, FIT_SHARE, MIN_GCODE_CHORD_TOL, REFIT_SHARE, ROUNDING_SHARE,
                                       SPLINE_MODES, MachiningSpec, depth_passes, rounding_error)
@@ -295,16 +296,7 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     body = ["\n".join(lines) + "\n"]
     if pocketed is not None:
         body.append(pocketed.moves)
-    for k, z in enumerate(depths, 1):
-        body.append(
-            f"(pass {k} of {n_passes}: Z{z:.{d}f})\n"
-            f"G0 {xy(plunge)}\n"
-            f"G1 Z{z:.{d}f} F{spec.plunge_feed:.0f}\n"
-            f"{lead_in}"
-            f"{contour_moves}"
-            f"{lead_out}"
-            f"G0 Z{spec.safe_z:.{d}f}\n"
-        )
+    body.append(outline_passes(Operation(plunge, lead_in, contour_moves, lead_out, tuple(float(z) for z in depths)), spec))
     if spec.dialect == "fanuc":  # % O-number ... M05 M30 %, comments Fanuc-safe (camgen.export.gcode_fanuc)
         from camgen.export.gcode_fanuc import fanuc_end
 
