@@ -62,6 +62,8 @@ from camgen.contour import Contour
 from camgen.errors import CornerError, GeometryError, ParameterError, ceil_significant, require_positive
 # the settings, their error budget and the moves live in their own modules (the pockets' passes
 # share them); their names stay importable from here
+from camgen.export.entry_settings import turn_length
+from camgen.export.gcode_entry import entry_text, plan_entry
 from camgen.export.gcode_passes import Operation, outline_passes
 from camgen.export.gcode_moves import START_SAMPLING, comment, loop_moves, primitives, reverse_primitives, rotate, split_segment
 from camgen.export.gcode_spec import (BLEND_SHARE, DIALECTS, DIRECTIONS, FIT_SHARE, MIN_GCODE_CHORD_TOL, REFIT_SHARE, ROUNDING_SHARE,
@@ -239,6 +241,8 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
         b_point = start + 0.5 * lead * travel
 
     contour_moves = loop_moves(prims, start, spec.decimals)
+    # the way down to each pass at P0, clear of the part on the outward side (camgen.export.gcode_entry)
+    way_down = plan_entry(spec.entry, spec.ramp_angle, plunge, travel, normal, r, lead)
 
     d = spec.decimals
 
@@ -249,6 +253,8 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     depth = stock + spec.breakthrough
     n_passes = max(1, math.ceil(depth / spec.step_down - 1e-9))
     moves = contour_moves.count("\n") + 6  # + plunge, feed down, lead-in (2), lead-out (2)
+    if spec.entry != "plunge":  # + the helix's half turns or the ramps (camgen.export.gcode_entry)
+        moves += 2 * math.ceil(spec.step_down / (turn_length(spec.entry, r, lead) * math.tan(spec.ramp_angle)))
     if pocketed is not None:  # the pockets' levels count as passes of the same length on average
         moves += -(-pocketed.count // n_passes)
     if n_passes * moves > MAX_PROGRAM_MOVES:
@@ -281,6 +287,7 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
                  f"+ {d} printed decimals {rounding_error(d):.3g}"
                  + (f" + G64 blending {blend}" if spec.dialect == "linuxcnc" else "")),
         comment(f"tangent lead-in and lead-out of {lead:g} at tool-centre point {xy(centre_start)}, plunge at {xy(plunge)}"),
+        comment(entry_text(way_down)),
     ]
     if pocketed is not None:
         lines += list(pocketed.header)
@@ -296,7 +303,7 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     body = ["\n".join(lines) + "\n"]
     if pocketed is not None:
         body.append(pocketed.moves)
-    body.append(outline_passes(Operation(plunge, lead_in, contour_moves, lead_out, tuple(float(z) for z in depths)), spec))
+    body.append(outline_passes(Operation(plunge, lead_in, contour_moves, lead_out, tuple(float(z) for z in depths), entry=way_down), spec))
     if spec.dialect == "fanuc":  # % O-number ... M05 M30 %, comments Fanuc-safe (camgen.export.gcode_fanuc)
         from camgen.export.gcode_fanuc import fanuc_end
 

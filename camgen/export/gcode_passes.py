@@ -2,8 +2,14 @@
 
 An :class:`Operation` is one programmed closed path with its leads, cut at its depths: per pass
 a rapid to the entry point ``P0`` (the tool centre where the lead-in starts, outside the part),
-the descent to the pass depth, the lead-in, the closed path, the lead-out and a rapid up to the
-safe height.  The leads are given as text, one block each, so their geometry lives elsewhere.
+the descent to the pass depth (:mod:`camgen.export.gcode_entry`: a helix or ramp from the floor
+the tool reached before, or a plunge), the lead-in, the closed path, the lead-out and a rapid up
+to the safe height.  The leads are given as text, one block each, so their geometry lives
+elsewhere.
+
+An operation with an ``approach`` point (the finishing pass after roughing with a stock
+allowance) goes down straight there, where an earlier operation's entry has cleared the stock to
+its depth, and feeds across to ``P0`` at that depth.
 """
 from __future__ import annotations
 
@@ -11,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from camgen.export.gcode_entry import Entry, entry_moves
 from camgen.export.gcode_spec import MachiningSpec
 
 __all__ = ["Operation", "outline_passes"]
@@ -23,7 +30,10 @@ class Operation:
     ``plunge``: the entry point ``P0`` (2,), the tool centre where the lead-in starts;
     ``lead_in``, ``moves``, ``lead_out``: the program text of the lead-in (from ``P0``), of the
     closed path and of the lead-out (ending with the tool outside the part); ``depths``: the Z of
-    its passes, falling, < 0; ``name``: how the pass comments call it.
+    its passes, falling, < 0; ``name``: how the pass comments call it; ``entry``: the way down
+(None: a plunge); ``floor``: the Z the first pass descends from (the stock top, 0, or the depth
+an earlier operation reached at ``P0``); ``approach``: where the tool goes down instead of ``P0``
+(module docstring).
     """
 
     plunge: np.ndarray
@@ -32,23 +42,30 @@ class Operation:
     lead_out: str
     depths: tuple[float, ...]
     name: str = "pass"
+    entry: Entry | None = None
+    floor: float = 0.0
+    approach: np.ndarray | None = None
 
 
 def outline_passes(op: Operation, spec: MachiningSpec) -> str:
-    """The program text of every pass of ``op``: rapid to ``P0`` at the safe height, the plunge
-    to the pass depth at the plunge feed, the leads and the closed path, a rapid up."""
+    """The program text of every pass of ``op``: rapid to ``P0`` (or the approach point) at the
+    safe height, the way down to the pass depth at the plunge feed, the leads and the closed path,
+    a rapid up."""
     d = spec.decimals
-    plunge = f"G0 X{op.plunge[0]:.{d}f} Y{op.plunge[1]:.{d}f}\n"
     out = []
     n = len(op.depths)
+    floor = op.floor
     for k, z in enumerate(op.depths, 1):
-        out.append(
-            f"({op.name} {k} of {n}: Z{z:.{d}f})\n"
-            f"{plunge}"
-            f"G1 Z{z:.{d}f} F{spec.plunge_feed:.0f}\n"
-            f"{op.lead_in}"
-            f"{op.moves}"
-            f"{op.lead_out}"
-            f"G0 Z{spec.safe_z:.{d}f}\n"
-        )
+        out.append(f"({op.name} {k} of {n}: Z{z:.{d}f})\n")
+        if op.approach is not None:  # down where the stock is cleared, across to P0 at the depth
+            out.append(f"G0 X{op.approach[0]:.{d}f} Y{op.approach[1]:.{d}f}\nG1 Z{z:.{d}f} F{spec.plunge_feed:.0f}\n"
+                       f"G1 X{op.plunge[0]:.{d}f} Y{op.plunge[1]:.{d}f}\n")
+        else:
+            out.append(f"G0 X{op.plunge[0]:.{d}f} Y{op.plunge[1]:.{d}f}\n")
+            if op.entry is None or op.entry.kind == "plunge":
+                out.append(f"G1 Z{z:.{d}f} F{spec.plunge_feed:.0f}\n")
+            else:  # straight down to the floor reached before, then the helix or ramp
+                out.append(f"G1 Z{floor:.{d}f} F{spec.plunge_feed:.0f}\n" + entry_moves(op.entry, floor, z, d, spec.plunge_feed))
+        out.append(f"{op.lead_in}{op.moves}{op.lead_out}G0 Z{spec.safe_z:.{d}f}\n")
+        floor = z
     return "".join(out)

@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 
 from camgen.errors import ParameterError, require_finite, require_positive
 from camgen.export.fanuc_settings import check_fanuc_settings
+from camgen.export.entry_settings import check_entry_settings
 
 if TYPE_CHECKING:  # wire EDM (camgen.export.wire_edm_spec)
     from camgen.export.wire_edm_spec import WireEdmSpec
@@ -74,6 +75,9 @@ class MachiningSpec:
     program_number: int | None = None
     tool_number: int | None = None
     radius_register: int | None = None
+    # --- outline passes (camgen.export.gcode_entry, camgen.export.gcode_passes) ---
+    entry: str = "helix"
+    ramp_angle: float = math.radians(3.0)
 
     def __post_init__(self) -> None:
         for name in ("tool_diameter", "thickness", "step_down", "safe_z", "feed", "plunge_feed", "spindle_rpm", "chord_tol"):
@@ -91,6 +95,8 @@ class MachiningSpec:
 
             object.__setattr__(self, "wire_edm", WireEdmSpec())
         check_fanuc_settings(self.dialect, self.program_number, self.tool_number, self.radius_register)  # fanuc dialect
+        if self.wire_edm is None:  # the way down to each pass (camgen.export.gcode_entry)
+            check_entry_settings(self.entry, self.ramp_angle, self.tool_radius, self.step_down, self.lead_length)
         if self.spline_mode not in SPLINE_MODES:
             raise ParameterError("spline_mode", self.spline_mode, f"one of {SPLINE_MODES}")
         if self.cutter_compensation and self.dialect == "grbl":
