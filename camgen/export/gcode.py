@@ -54,6 +54,7 @@ A concave radius of the profile smaller than the tool radius would be gouged: th
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
@@ -64,7 +65,7 @@ from camgen.errors import CornerError, GeometryError, ParameterError, ceil_signi
 # share them); their names stay importable from here
 from camgen.export.entry_settings import turn_length
 from camgen.export.gcode_entry import entry_text, plan_entry
-from camgen.export.gcode_passes import Operation, outline_passes
+from camgen.export.gcode_passes import Operation, grown_paths, outline_passes, passes_text
 from camgen.export.gcode_moves import START_SAMPLING, comment, loop_moves, primitives, reverse_primitives, rotate, split_segment
 from camgen.export.gcode_spec import (BLEND_SHARE, DIALECTS, DIRECTIONS, FIT_SHARE, MIN_GCODE_CHORD_TOL, REFIT_SHARE, ROUNDING_SHARE,
                                       SPLINE_MODES, MachiningSpec, depth_passes, rounding_error)
@@ -195,29 +196,26 @@ def _refuse_long_program(spec: MachiningSpec, depth: float, n_passes: int, moves
                          coarser, why)
 
 
-def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene: str = "", thickness: float | None = None,
-                  pockets: "Sequence[Pocket]" = ()) -> str:
-    """RS274/NGC program text that mills ``contour`` (the cam profile) to ``thickness`` (mm; the
-    cam's, default ``spec.thickness``) plus ``spec.breakthrough``, with tangent lead-in and
-    lead-out (see the module docstring).  ``spec`` is final (the scene reader checked it against
-    its chord tolerance and the cam's depth): it is used as it is.
+@dataclass(frozen=True)
+class _Outline:
+    """One programmed closed path with its leads (mm): ``plunge`` P0, ``travel`` and ``normal``
+    (outward) unit vectors at the start, ``centre_start`` S', program text of the leads and of
+    the closed path, the header's ``mode``."""
 
-    ``pockets`` (a groove cam's groove) are milled first, to their depth, while the stock still
-    holds the part (:mod:`camgen.export.gcode_pockets`: one pass along the pitch curve, or two
-    wall passes and the slot cleared); then the outline as without them."""
-    from camgen import __version__
+    plunge: np.ndarray
+    travel: np.ndarray
+    normal: np.ndarray
+    centre_start: np.ndarray
+    lead_in: str
+    moves: str
+    lead_out: str
+    mode: str
 
-    pocketed = None
-    if pockets:
-        from camgen.export.gcode_pockets import pocket_program
 
-        pocketed = pocket_program(pockets, spec)
-
+def _outline(contour: Contour, offset: Contour, spec: MachiningSpec, t_start: float) -> _Outline:
+    """The closed path (``contour`` programmed under cutter compensation, else its tool-centre
+    ``offset``) started at global parameter ``t_start``, its moves and its leads (module docstring)."""
     comp = spec.cutter_compensation
-    # the start is chosen on the profile; the offset keeps the parameter (arcs: same angles,
-    # splines: refitted at the same parameter values), so it starts at the same global parameter
-    t_start = start_parameter(contour, "cutter_compensation" if comp else "lead")
-    offset = tool_path(contour, spec)  # in compensation mode still refuses a gouging tool
     path = rotate(contour if comp else offset, t_start)
     prims = primitives(path, spec)
     if comp:
@@ -241,27 +239,11 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
         b_point = start + 0.5 * lead * travel
 
     contour_moves = loop_moves(prims, start, spec.decimals)
-    # the way down to each pass at P0, clear of the part on the outward side (camgen.export.gcode_entry)
-    way_down = plan_entry(spec.entry, spec.ramp_angle, plunge, travel, normal, r, lead)
-
     d = spec.decimals
 
     def xy(p: np.ndarray) -> str:
         return f"X{p[0]:.{d}f} Y{p[1]:.{d}f}"
 
-    stock = spec.thickness if thickness is None else require_positive("thickness", thickness, "mm")
-    depth = stock + spec.breakthrough
-    n_passes = max(1, math.ceil(depth / spec.step_down - 1e-9))
-    moves = contour_moves.count("\n") + 6  # + plunge, feed down, lead-in (2), lead-out (2)
-    if spec.entry != "plunge":  # + the helix's half turns or the ramps (camgen.export.gcode_entry)
-        moves += 2 * math.ceil(spec.step_down / (turn_length(spec.entry, r, lead) * math.tan(spec.ramp_angle)))
-    if pocketed is not None:  # the pockets' levels count as passes of the same length on average
-        moves += -(-pocketed.count // n_passes)
-    if n_passes * moves > MAX_PROGRAM_MOVES:
-        _refuse_long_program(spec, depth, n_passes, moves)
-    depths = -np.minimum(spec.step_down * np.arange(1, n_passes + 1), depth)
-    chord_tol = spec.chord_tol
-    blend = blend_word(BLEND_SHARE * chord_tol, d)
     if comp:
         # G41: tool left of the travel direction = outside of a clockwise (climb) path
         side = "G41.1" if climb else "G42.1"
@@ -276,12 +258,66 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
         from camgen.export.gcode_fanuc import fanuc_leads
 
         lead_in, lead_out, mode = fanuc_leads(spec, climb, xy, start, leave, *((a_point, b_point) if comp else ()))
+    return _Outline(plunge, travel, normal, centre_start, lead_in, contour_moves, lead_out, mode)
+
+
+def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene: str = "", thickness: float | None = None,
+                  pockets: "Sequence[Pocket]" = ()) -> str:
+    """RS274/NGC program text that mills ``contour`` (the cam profile) to ``thickness`` (mm; the
+    cam's, default ``spec.thickness``) plus ``spec.breakthrough``, with tangent lead-in and
+    lead-out (see the module docstring).  ``spec`` is final (the scene reader checked it against
+    its chord tolerance and the cam's depth): it is used as it is.
+
+    ``pockets`` (a groove cam's groove) are milled first, to their depth, while the stock still
+    holds the part (:mod:`camgen.export.gcode_pockets`: one pass along the pitch curve, or two
+    wall passes and the slot cleared); then the outline as without them."""
+    from camgen import __version__
+
+    pocketed = None
+    if pockets:
+        from camgen.export.gcode_pockets import pocket_program
+
+        pocketed = pocket_program(pockets, spec)
+
+    comp = spec.cutter_compensation
+    # the start is chosen on the profile; the offset keeps the parameter (arcs: same angles,
+    # splines: refitted at the same parameter values), so it starts at the same global parameter
+    t_start = start_parameter(contour, "cutter_compensation" if comp else "lead")
+    offset = tool_path(contour, spec)  # in compensation mode still refuses a gouging tool
+    fin = _outline(contour, offset, spec, t_start)
+    plunge, travel, normal, centre_start, contour_moves, mode = fin.plunge, fin.travel, fin.normal, fin.centre_start, fin.moves, fin.mode
+    r, lead = spec.tool_radius, spec.lead_length
+    rough = None
+    if spec.stock_allowance > 0.0:  # roughing passes on the profile grown by the allowance (camgen.export.gcode_passes)
+        rough = _outline(*grown_paths(contour, spec), spec, t_start)
+    # the way down to each pass at P0, clear of the part on the outward side (camgen.export.gcode_entry)
+    first = rough or fin
+    way_down = plan_entry(spec.entry, spec.ramp_angle, first.plunge, first.travel, first.normal, r, lead)
+
+    d = spec.decimals
+
+    def xy(p: np.ndarray) -> str:
+        return f"X{p[0]:.{d}f} Y{p[1]:.{d}f}"
+
+    stock = spec.thickness if thickness is None else require_positive("thickness", thickness, "mm")
+    depth = stock + spec.breakthrough
+    n_passes = max(1, math.ceil(depth / spec.step_down - 1e-9))
+    moves = contour_moves.count("\n") + 6  # + plunge, feed down, lead-in (2), lead-out (2)
+    if spec.entry != "plunge":  # + the helix's half turns or the ramps (camgen.export.gcode_entry)
+        moves += 2 * math.ceil(spec.step_down / (turn_length(spec.entry, r, lead) * math.tan(spec.ramp_angle)))
+    if pocketed is not None:  # the pockets' levels count as passes of the same length on average
+        moves += -(-pocketed.count // n_passes)
+    if (n_passes + (rough is not None)) * moves > MAX_PROGRAM_MOVES:  # (+ the finishing pass)
+        _refuse_long_program(spec, depth, n_passes + (rough is not None), moves)
+    depths = -np.minimum(spec.step_down * np.arange(1, n_passes + 1), depth)
+    chord_tol = spec.chord_tol
+    blend = blend_word(BLEND_SHARE * chord_tol, d)
     fit_what = "biarc" if spec.spline_mode == "biarcs" else "chord"
     lines = [
         comment(f"camgen {__version__}: cam '{cam}'" + (f", scene '{scene}'" if scene else "")),
         comment(f"units mm; tool diameter {spec.tool_diameter:g}; {mode}; {spec.direction} milling, outside contour"),
         comment(f"stock top Z0, bottom Z{-stock:g}; last pass Z{-depth:g} = {spec.breakthrough:g} below the stock bottom "
-                 f"(breakthrough); {n_passes} passes of <= {spec.step_down:g}"),
+                 f"(breakthrough); {n_passes} passes of <= {spec.step_down:g}" + passes_text(spec, tuple(float(z) for z in depths))),
         comment(f"path tolerance {chord_tol:g} = {fit_what} fit {FIT_SHARE * chord_tol:.3g} + offset refit "
                  f"{min(1e-6, REFIT_SHARE * chord_tol):.3g} "
                  f"+ {d} printed decimals {rounding_error(d):.3g}"
@@ -303,7 +339,14 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     body = ["\n".join(lines) + "\n"]
     if pocketed is not None:
         body.append(pocketed.moves)
-    body.append(outline_passes(Operation(plunge, lead_in, contour_moves, lead_out, tuple(float(z) for z in depths), entry=way_down), spec))
+    levels = tuple(float(z) for z in depths)
+    if rough is None:
+        body.append(outline_passes(Operation(plunge, fin.lead_in, contour_moves, fin.lead_out, levels, entry=way_down), spec))
+    else:  # roughing to the full depth, then one finishing pass there, gone down at the roughing's entry
+        body.append(outline_passes(Operation(rough.plunge, rough.lead_in, rough.moves, rough.lead_out, levels, "roughing pass",
+                                             entry=way_down), spec))
+        body.append(outline_passes(Operation(plunge, fin.lead_in, contour_moves, fin.lead_out, levels[-1:], "finishing pass",
+                                             approach=rough.plunge), spec))
     if spec.dialect == "fanuc":  # % O-number ... M05 M30 %, comments Fanuc-safe (camgen.export.gcode_fanuc)
         from camgen.export.gcode_fanuc import fanuc_end
 

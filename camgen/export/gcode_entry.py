@@ -61,7 +61,8 @@ def plan_entry(kind: str, angle: float, point: np.ndarray, travel: np.ndarray, o
     radius = HELIX_SHARE * tool_radius
     centre = point + radius * outward
     # the sense in which the circle through P0 about the centre runs along the travel at P0
-    ccw = bool(np.cross(point - centre, travel) > 0.0)
+    rel = point - centre
+    ccw = bool(rel[0] * travel[1] - rel[1] * travel[0] > 0.0)
     along = np.array([-outward[1], outward[0]])  # parallel to the tangent line
     back = -along if float(along @ travel) > 0.0 else along
     length = 2.0 * math.pi * radius if kind == "helix" else ramp_length(tool_radius, lead)

@@ -17,10 +17,34 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from camgen.contour import Contour
+from camgen.errors import GeometryError, ParameterError
 from camgen.export.gcode_entry import Entry, entry_moves
 from camgen.export.gcode_spec import MachiningSpec
 
-__all__ = ["Operation", "outline_passes"]
+__all__ = ["Operation", "grown_paths", "outline_passes", "passes_text"]
+
+
+def grown_paths(contour: Contour, spec: MachiningSpec) -> tuple[Contour, Contour]:
+    """The roughing paths for ``stock_allowance``: (the profile grown by the allowance, the
+    programmed path under cutter compensation; its offset by the tool radius on top, the
+    tool-centre path).  An allowance that makes a concave radius of the profile vanish, or leaves
+    it below the tool radius, is a :class:`ParameterError` naming ``stock_allowance_mm``."""
+    a, r = spec.stock_allowance, spec.tool_radius
+    tol = min(1e-6, 0.05 * spec.chord_tol)
+    try:
+        return contour.offset(a, spline_tol=tol), contour.offset(a + r, spline_tol=tol)
+    except GeometryError as exc:
+        raise ParameterError("stock_allowance_mm", a, "a smaller allowance: every concave radius of the profile must stay above "
+                             f"the tool radius {r:g} mm plus the allowance", str(exc)) from None
+
+
+def passes_text(spec: MachiningSpec, levels: tuple[float, ...]) -> str:
+    """The header's words on the roughing and finishing passes (empty without an allowance)."""
+    if spec.stock_allowance <= 0.0:
+        return ""
+    return (f"; stock allowance {spec.stock_allowance:g}: the {len(levels)} passes rough the profile grown by it, "
+            f"then one finishing pass at Z{levels[-1]:g} on the profile")
 
 
 @dataclass(frozen=True)

@@ -78,6 +78,7 @@ class MachiningSpec:
     # --- outline passes (camgen.export.gcode_entry, camgen.export.gcode_passes) ---
     entry: str = "helix"
     ramp_angle: float = math.radians(3.0)
+    stock_allowance: float = 0.0
 
     def __post_init__(self) -> None:
         for name in ("tool_diameter", "thickness", "step_down", "safe_z", "feed", "plunge_feed", "spindle_rpm", "chord_tol"):
@@ -95,6 +96,8 @@ class MachiningSpec:
 
             object.__setattr__(self, "wire_edm", WireEdmSpec())
         check_fanuc_settings(self.dialect, self.program_number, self.tool_number, self.radius_register)  # fanuc dialect
+        if require_finite("stock_allowance", self.stock_allowance) < 0.0:
+            raise ParameterError("stock_allowance", self.stock_allowance, "stock_allowance >= 0 mm")
         if self.wire_edm is None:  # the way down to each pass (camgen.export.gcode_entry)
             check_entry_settings(self.entry, self.ramp_angle, self.tool_radius, self.step_down, self.lead_length)
         if self.spline_mode not in SPLINE_MODES:

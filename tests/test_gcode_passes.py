@@ -1,0 +1,200 @@
+"""The outline's passes (issue 27 item 3): helix or ramp entry instead of a plunge, roughing with a
+stock allowance then a finishing pass, holding tabs; run through LinuxCNC's rs274 and cut in
+the simulation of tests/cutting.py.
+
+The numbers the programs are judged by come from outside camgen.export: the lobed profile and
+its growth by the allowance are circle geometry (concentric arcs, :func:`lobes`), the tool
+path and its Z are rs274's canonical moves, the ramp angle and the allowance are the scene's.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from camgen.contour import Arc, Contour
+from camgen.errors import ParameterError
+from camgen.export.gcode import MachiningSpec, gcode_program
+from cutting import CUT_TOL, ExactProfile, sample_moves, simulate
+from helpers import arc_sweep, require_tool, rs274_canon
+from test_gcode_fanuc import masked, tool_table
+
+MODES = [(comp, direction) for comp in (False, True) for direction in ("climb", "conventional")]
+DIALECTS = ("linuxcnc", "fanuc")
+#: Rounding of the canonical moves (rs274 prints 4 decimals) in a measured angle, rad.
+ANGLE_SLACK = 2e-3
+
+
+@pytest.fixture
+def needs_rs274():
+    return require_tool("rs274")
+
+
+def lobes(lobe: float = 15.0, valley: float = 10.0, distance: float = 30.0, n: int = 4) -> Contour:
+    """n convex arcs (radius ``lobe``, centres ``distance`` from the axis) joined by concave arcs
+    of radius ``valley`` tangent to both (circle geometry only).  ``lobes(15 + a, 10 - a)`` is
+    the same profile grown by ``a``: the valleys' centres stay where they are (their distance
+    from the lobes' centres is lobe + valley), every arc is concentric with the one it grows."""
+    centres = [distance * np.array([math.cos(2 * math.pi * k / n), math.sin(2 * math.pi * k / n)]) for k in range(n)]
+    valleys = []
+    for k in range(n):
+        u = np.array([math.cos(2 * math.pi * (k + 0.5) / n), math.sin(2 * math.pi * (k + 0.5) / n)])
+        b, c = -2 * u @ centres[k], centres[k] @ centres[k] - (valley + lobe) ** 2
+        valleys.append((-b + math.sqrt(b * b - 4 * c)) / 2 * u)
+    segments = []
+    for k in range(n):
+        c, before, after = centres[k], valleys[k - 1], valleys[k]
+        a0, a1 = (math.atan2(*(v - c)[::-1]) for v in (before, after))
+        segments.append(Arc(tuple(c), lobe, a0, (a1 - a0) % (2 * math.pi)))
+        b0, b1 = (math.atan2(*(w - after)[::-1]) for w in (c, centres[(k + 1) % n]))
+        segments.append(Arc(tuple(after), valley, b0, -((b0 - b1) % (2 * math.pi))))
+    return Contour(segments, closure_tol=1e-9)
+
+
+def spec_for(dialect: str, comp: bool, direction: str, **kw) -> MachiningSpec:
+    return MachiningSpec(tool_diameter=6.0, thickness=5.0, step_down=2.0, breakthrough=0.2, dialect=dialect,
+                         cutter_compensation=comp, direction=direction, **kw)
+
+
+def run(program: str, spec: MachiningSpec, contour: Contour, workdir, profile: ExactProfile | None = None):
+    """simulate() of the program as rs274 reads it (a Fanuc one masked, with its tool table)."""
+    if spec.dialect == "fanuc":
+        return simulate(masked(program), contour, spec.tool_radius, workdir, profile=profile, tool_table=tool_table(program))
+    return simulate(program, contour, spec.tool_radius, workdir, profile=profile)
+
+
+def assert_cut(report, label: str, bottom: float) -> None:
+    assert report.status == 0, (label, report.message)
+    assert report.gouge <= CUT_TOL, (label, "gouge", report.gouge)
+    assert report.proud <= CUT_TOL, (label, "proud", report.proud)
+    assert all(p.outside for p in report.passes), label
+    assert abs(report.deepest - bottom) < 1e-9, (label, report.deepest)
+    assert report.rapid_clearance >= 0.0, (label, report.rapid_clearance)
+
+
+def horizontal_length(move: dict) -> float:
+    """Length of a canonical move's projection on XY, mm (an arc: radius x sweep)."""
+    if move["kind"] == "arc":
+        return float(np.hypot(*(move["start"][:2] - move["centre"])) * abs(arc_sweep(move["start"], move["end"], move["centre"], move["turn"])))
+    return float(np.hypot(*(move["end"][:2] - move["start"][:2])))
+
+
+def descents(canon: list[dict]) -> tuple[list[dict], list[tuple[float, float]]]:
+    """The feed moves that go down while moving in XY, and every straight feed down (no XY) as
+    (its end Z, the deepest Z any feed move reached before it)."""
+    sloped, straight = [], []
+    floor = 0.0
+    for move in canon:
+        if move["kind"] == "traverse":
+            continue
+        dz = move["end"][2] - move["start"][2]
+        if dz < 0.0 and horizontal_length(move) > 1e-9:
+            sloped.append(move)
+        elif dz < 0.0:
+            straight.append((float(move["end"][2]), floor))
+        floor = min(floor, float(move["end"][2]))
+    return sloped, straight
+
+
+# ---------------------------------------------------------------------------------------------
+# entry: helix or ramp from the floor reached before, clear of the part, at most the ramp angle
+# ---------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("entry", ["helix", "ramp"])
+@pytest.mark.parametrize("dialect", DIALECTS)
+@pytest.mark.usefixtures("needs_rs274")
+def test_entry_descends_clear_of_the_part_within_the_ramp_angle(entry, dialect, tmp_path):
+    contour = lobes()
+    profile = ExactProfile(contour)
+    angle = 4.0
+    for comp, direction in MODES:
+        spec = spec_for(dialect, comp, direction, entry=entry, ramp_angle=math.radians(angle))
+        label = f"{entry} {dialect} comp={comp} {direction}"
+        program = gcode_program(contour, spec)
+        report = run(program, spec, contour, tmp_path, profile)
+        assert_cut(report, label, -5.2)
+        sloped, straight = descents(report.canon)
+        # the descent: every pass's, down to its depth, on moves that go sideways
+        assert {round(m["end"][2], 4) for m in sloped} >= {-2.0, -4.0, -5.2}, label
+        steepest = max(math.atan2(m["start"][2] - m["end"][2], horizontal_length(m)) for m in sloped)
+        assert steepest <= math.radians(angle) + ANGLE_SLACK, (label, math.degrees(steepest))
+        # straight feeds down only through stock cut before (the first pass's to Z0, the top)
+        assert all(z >= floor - 1e-9 for z, floor in straight), (label, straight)
+        # every tool-centre point of the descent (between samples too: cutting.py's bound) r clear of the profile
+        pts = sample_moves(sloped, 0.01)[0]
+        assert float(np.min(profile.distance_lower_bound(pts))) >= spec.tool_radius - 1e-6, label
+        # brute force on a dense polygon of the profile (vertices on the arcs)
+        vertices = contour.flatten(1e-5)
+        least = min(float(np.min(np.hypot(*(vertices[None] - p[:, None]).transpose(2, 0, 1)))) for p in np.array_split(pts, 20))
+        assert least >= spec.tool_radius - 1e-6, (label, least)
+
+
+@pytest.mark.usefixtures("needs_rs274")
+def test_the_straight_plunge_is_what_the_entry_check_catches(tmp_path):
+    """entry = "plunge" (the program before): the check above finds the straight feeds below the
+    floor, and no sloped descent (so the check can fail)."""
+    spec = spec_for("linuxcnc", False, "climb", entry="plunge")
+    status, message, canon = rs274_canon(gcode_program(lobes(), spec), tmp_path)
+    assert status == 0, message
+    sloped, straight = descents(canon)
+    assert not sloped and [z for z, floor in straight if z < floor - 1e-9] == pytest.approx([-2.0, -4.0, -5.2])
+
+
+def test_entry_settings_are_checked():
+    with pytest.raises(ParameterError, match="entry"):
+        spec_for("linuxcnc", False, "climb", entry="spiral")
+    with pytest.raises(ParameterError, match="ramp_angle_deg"):
+        spec_for("linuxcnc", False, "climb", ramp_angle=math.radians(45.0))
+    # a helix of radius 1.5 mm (half the tool radius) descends 2 mm in 200 turns at atan(2 / (200 * 3 pi)) = 0.061 deg
+    with pytest.raises(ParameterError, match=r"ramp_angle_deg.*>= 0\.061"):
+        spec_for("linuxcnc", False, "climb", ramp_angle=math.radians(0.05))
+    spec_for("linuxcnc", False, "climb", ramp_angle=math.radians(0.062))
+
+
+# ---------------------------------------------------------------------------------------------
+# roughing with a stock allowance, then one finishing pass
+# ---------------------------------------------------------------------------------------------
+ALLOWANCE = 0.5
+
+
+def roughing_only(program: str) -> str:
+    """The program up to its finishing pass (the passes before it), then the end."""
+    head = program.split("(finishing pass", 1)[0].split("(FINISHING PASS", 1)[0]
+    return head + ("M30\n%\n" if program.startswith("%") else "M2\n")
+
+
+@pytest.mark.parametrize("dialect", DIALECTS)
+@pytest.mark.usefixtures("needs_rs274")
+def test_roughing_leaves_the_allowance_and_the_finishing_pass_the_profile(dialect, tmp_path):
+    contour = lobes()
+    grown = lobes(15.0 + ALLOWANCE, 10.0 - ALLOWANCE)  # closed form: concentric arcs
+    exact, rough = ExactProfile(contour), ExactProfile(grown)
+    for comp, direction in MODES:
+        spec = spec_for(dialect, comp, direction, stock_allowance=ALLOWANCE)
+        label = f"{dialect} comp={comp} {direction}"
+        program = gcode_program(contour, spec)
+        # the roughing passes alone leave the profile grown by the allowance
+        report = run(roughing_only(program), spec, grown, tmp_path, rough)
+        assert_cut(report, label + " roughing", -5.2)
+        assert [round(z, 4) for z in report.z_levels] == [-2.0, -4.0, -5.2], label
+        # with the finishing pass: the exact profile, that pass at the full depth
+        report = run(program, spec, contour, tmp_path, exact)
+        assert report.status == 0, (label, report.message)
+        finishing = report.passes[-1]
+        assert round(finishing.z, 4) == -5.2 and len(report.passes) == 4, (label, report.z_levels)
+        assert finishing.gouge <= CUT_TOL and finishing.proud <= CUT_TOL, (label, finishing)
+        assert report.gouge <= CUT_TOL and report.rapid_clearance >= 0.0, label
+        # the roughing passes stood the allowance off the profile (proud by it, within the rounding)
+        assert all(abs(p.proud - ALLOWANCE) <= 1e-3 for p in report.passes[:-1]), (label, [p.proud for p in report.passes])
+        _, straight = descents(report.canon)
+        assert all(z >= floor - 1e-9 for z, floor in straight), (label, straight)
+
+
+def test_an_allowance_that_closes_a_concave_radius_is_refused():
+    # valleys of radius 10 with a tool of radius 3: the allowance must stay below 7
+    with pytest.raises(ParameterError, match="stock_allowance_mm"):
+        gcode_program(lobes(), spec_for("linuxcnc", False, "climb", stock_allowance=7.5))
+    with pytest.raises(ParameterError, match="stock_allowance"):
+        spec_for("linuxcnc", False, "climb", stock_allowance=-0.1)
+    assert "finishing pass" in gcode_program(lobes(), spec_for("linuxcnc", False, "climb", stock_allowance=6.5))
