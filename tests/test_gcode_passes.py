@@ -198,3 +198,92 @@ def test_an_allowance_that_closes_a_concave_radius_is_refused():
     with pytest.raises(ParameterError, match="stock_allowance"):
         spec_for("linuxcnc", False, "climb", stock_allowance=-0.1)
     assert "finishing pass" in gcode_program(lobes(), spec_for("linuxcnc", False, "climb", stock_allowance=6.5))
+
+
+# ---------------------------------------------------------------------------------------------
+# holding tabs
+# ---------------------------------------------------------------------------------------------
+TAB_RADIUS, TAB_WIDTH, TAB_HEIGHT, TABS = 30.0, 4.0, 1.5, 3
+
+
+def circle(radius: float = TAB_RADIUS) -> Contour:
+    return Contour([Arc((0.0, 0.0), radius, 0.0, 2 * math.pi)])
+
+
+def covered(points: np.ndarray, tool: np.ndarray, radius: float, slack: float) -> np.ndarray:
+    """Points (n, 2) within ``radius + slack`` of a tool-centre sample (m, 2)."""
+    from scipy.spatial import cKDTree
+
+    return cKDTree(tool).query(points)[0] <= radius + slack
+
+
+def runs(mask: np.ndarray) -> list[int]:
+    """Lengths (in samples) of the runs of True in a closed loop of booleans."""
+    if mask.all():
+        return [mask.size]
+    roll = np.roll(mask, -int(np.argmin(mask)))  # start on a False
+    edges = np.diff(np.concatenate([[0], roll.astype(int), [0]]))
+    return list(np.flatnonzero(edges == -1) - np.flatnonzero(edges == 1))
+
+
+@pytest.mark.parametrize("dialect", DIALECTS)
+@pytest.mark.usefixtures("needs_rs274")
+def test_tabs_hold_the_part_at_their_width_and_height(dialect, tmp_path):
+    """A 30 mm disc, tool radius 3 (tool-centre circle rho = 33), 3 tabs 4 mm wide and 1.5 mm high in
+    5 mm stock: over each the passes below Z-3.5 rise along w + 2r = 10 mm of the tool-centre
+    circle (measured between rs274's Z-only moves); at full depth the tool-centre circle is left
+    uncut along w + 2r - 4 rho asin(r / (2 rho)) per tab and the profile along (w + 2r) R / rho
+    (circle geometry; less the stretch where a profile point is within 1 um of the tool's reach),
+    everywhere else the profile is cut to within 1 um, and over every tab the
+    tool never went below Z-3.5: the tab stands 1.5 mm from the stock bottom."""
+    contour, r, rho = circle(), 3.0, TAB_RADIUS + 3.0
+    top = -(5.0 - TAB_HEIGHT)
+    profile_pts = contour.flatten(1e-6)
+    centre_line = circle(rho).flatten(1e-6)
+    for comp, direction in MODES:
+        spec = spec_for(dialect, comp, direction, holding_tabs=TABS, holding_tab_width=TAB_WIDTH, holding_tab_height=TAB_HEIGHT)
+        label = f"{dialect} comp={comp} {direction}"
+        program = gcode_program(contour, spec)
+        report = run(program, spec, contour, tmp_path)
+        assert report.status == 0 and report.gouge <= CUT_TOL and report.rapid_clearance >= 0.0, (label, report.message, report.gouge)
+        feeds = [m for m in report.canon if m["kind"] != "traverse"]
+        # the rises and descents: Z-only moves between the pass depth and the tabs' top
+        z_only = [m for m in feeds if horizontal_length(m) == 0.0 and abs(m["end"][2] - m["start"][2]) > 0.0
+                  and top in (round(m["start"][2], 4), round(m["end"][2], 4))]
+        assert len(z_only) == 2 * TABS * 2, (label, len(z_only))  # the passes at Z-4 and Z-5.2
+        ends = np.array([m["end"][:2] for m in z_only[-2 * TABS:]])  # the last pass: rise, descend, ...
+        angle = np.arctan2(ends[:, 1], ends[:, 0])
+        stretch = rho * np.abs((angle[1::2] - angle[0::2] + math.pi) % (2 * math.pi) - math.pi)
+        assert np.allclose(stretch, TAB_WIDTH + 2 * r, atol=1e-3), (label, stretch)
+        assert np.allclose(np.hypot(*ends.T), rho, atol=1e-4), label  # on the tool-centre circle (compensation applied)
+        # the part at full depth
+        pts, _, _, _, z = sample_moves(feeds, 0.005, with_z=True)
+        deep = pts[z <= -5.2 + 1e-9]
+        kerf = runs(~covered(centre_line, deep, r, 0.0))
+        step = 2 * math.pi * rho / len(centre_line)
+        expected = TAB_WIDTH + 2 * r - 4 * rho * math.asin(r / (2 * rho))
+        assert len(kerf) == TABS and np.allclose(np.array(kerf) * step, expected, atol=0.02), (label, kerf, expected)
+        left = ~covered(profile_pts, deep, r, CUT_TOL)  # (the rest of the profile: cut to within 1 um)
+        face = np.array(runs(left)) * 2 * math.pi * TAB_RADIUS / len(profile_pts)
+        # a profile point at angle d beyond a stretch's end is r + rho R d^2 / (2 r) from its tool centre:
+        # within r + CUT_TOL for d <= sqrt(2 r CUT_TOL / (rho R))
+        blur = 2 * TAB_RADIUS * math.sqrt(2 * r * CUT_TOL / (rho * TAB_RADIUS))
+        assert len(face) == TABS and np.allclose(face, (TAB_WIDTH + 2 * r) * TAB_RADIUS / rho - blur, atol=0.02), (label, face)
+        # over each tab (the tool discs that reach its middle on the centre line) the lowest Z is its top
+        middles = centre_line[~covered(centre_line, deep, r, 0.0)]
+        near = covered(pts, middles, r, 0.0)
+        assert abs(float(np.min(z[near])) - top) < 1e-9, (label, float(np.min(z[near])))
+        assert float(np.min(z)) == pytest.approx(-5.2), label
+
+
+def test_tabs_settings_are_checked():
+    with pytest.raises(ParameterError, match="holding_tab_width"):
+        spec_for("linuxcnc", False, "climb", holding_tab_width=4.0)  # no tabs
+    with pytest.raises(ParameterError, match="holding_tabs"):
+        spec_for("linuxcnc", False, "climb", holding_tabs=-1)
+    # the tool-centre circle of 2 pi 33 = 207.3 mm holds 207.3 // (4 + 4 r) = 12 tabs of 4 mm
+    with pytest.raises(ParameterError, match=r"holding_tabs.*<= 12"):
+        gcode_program(circle(), spec_for("linuxcnc", False, "climb", holding_tabs=13, holding_tab_width=4.0))
+    assert gcode_program(circle(), spec_for("linuxcnc", False, "climb", holding_tabs=12, holding_tab_width=4.0))
+    with pytest.raises(ParameterError, match="holding_tab_height"):
+        gcode_program(circle(), spec_for("linuxcnc", False, "climb", holding_tabs=2, holding_tab_height=5.0))

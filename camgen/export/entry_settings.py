@@ -1,13 +1,15 @@
-"""The settings of the way down to each pass depth (``machining.entry``, ``ramp_angle_deg``):
-their names, limits and the check of a tool and angle that cannot work
-(:mod:`camgen.export.gcode_entry` writes the moves)."""
+"""Settings of the outline's passes: the way down to each pass depth (``machining.entry``,
+``ramp_angle_deg``: their names, limits and the check of a tool and angle that cannot work;
+:mod:`camgen.export.gcode_entry` writes the moves) and the holding tabs' (``holding_tabs``,
+``holding_tab_width_mm``, ``holding_tab_height_mm``; :mod:`camgen.export.gcode_tabs`)."""
 from __future__ import annotations
 
 import math
 
 from camgen.errors import ParameterError
 
-__all__ = ["ENTRIES", "HELIX_SHARE", "MAX_ENTRY_TURNS", "MAX_RAMP_ANGLE_DEG", "check_entry_settings", "ramp_length", "turn_length"]
+__all__ = ["DEFAULT_TAB_HEIGHT", "ENTRIES", "HELIX_SHARE", "MAX_ENTRY_TURNS", "MAX_RAMP_ANGLE_DEG", "check_entry_settings",
+           "check_tab_settings", "ramp_length", "tab_size", "turn_length"]
 
 #: The ways down to a pass depth (``machining.entry``).
 ENTRIES = ("helix", "ramp", "plunge")
@@ -17,6 +19,8 @@ HELIX_SHARE = 0.5
 MAX_RAMP_ANGLE_DEG = 30.0
 #: Most helix turns (ramp round trips) of one pass's entry: more is a ramp angle too shallow for the tool.
 MAX_ENTRY_TURNS = 200
+#: Height of a tab (mm) when none is given, at most half the stock.
+DEFAULT_TAB_HEIGHT = 1.0
 
 
 def turn_length(entry: str, tool_radius: float, lead: float) -> float:
@@ -44,3 +48,22 @@ def check_entry_settings(entry: str, ramp_angle: float, tool_radius: float, step
         raise ParameterError("ramp_angle_deg", math.degrees(ramp_angle), f">= {math.ceil(least * 1000) / 1000:g} deg",
                              f"the {entry} of a tool of radius {tool_radius:g} mm would need more than {MAX_ENTRY_TURNS} "
                              f"{'turns' if entry == 'helix' else 'ramps'} to descend step_down_mm = {step_down:g}")
+
+
+def check_tab_settings(tabs: int, width: float | None, height: float | None) -> None:
+    """Refuse a tab count below 0, a width or height <= 0, or either given without tabs."""
+    if isinstance(tabs, bool) or not isinstance(tabs, int) or tabs < 0:
+        raise ParameterError("holding_tabs", tabs, "an integer >= 0")
+    for name, value in (("holding_tab_width", width), ("holding_tab_height", height)):
+        if value is None:
+            continue
+        if tabs == 0:
+            raise ParameterError(name, value, "left out with holding_tabs = 0", "there are no tabs")
+        if not (math.isfinite(value) and value > 0.0):
+            raise ParameterError(name, value, "> 0 mm")
+
+
+def tab_size(width: float | None, height: float | None, tool_diameter: float, stock: float) -> tuple[float, float]:
+    """Width and height of the tabs (mm): as given, else the tool diameter and
+    min(:data:`DEFAULT_TAB_HEIGHT`, half the stock)."""
+    return (tool_diameter if width is None else width, min(DEFAULT_TAB_HEIGHT, 0.5 * stock) if height is None else height)

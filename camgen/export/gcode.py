@@ -63,7 +63,8 @@ from camgen.contour import Contour
 from camgen.errors import CornerError, GeometryError, ParameterError, ceil_significant, require_positive
 # the settings, their error budget and the moves live in their own modules (the pockets' passes
 # share them); their names stay importable from here
-from camgen.export.entry_settings import turn_length
+from camgen.export.entry_settings import tab_size, turn_length
+from camgen.export.gcode_tabs import path_tabs, plan_tabs, tabs_text
 from camgen.export.gcode_entry import entry_text, plan_entry
 from camgen.export.gcode_passes import Operation, grown_paths, outline_passes, passes_text
 from camgen.export.gcode_moves import START_SAMPLING, comment, loop_moves, primitives, reverse_primitives, rotate, split_segment
@@ -210,6 +211,8 @@ class _Outline:
     moves: str
     lead_out: str
     mode: str
+    prims: list[tuple]
+    start: np.ndarray
 
 
 def _outline(contour: Contour, offset: Contour, spec: MachiningSpec, t_start: float) -> _Outline:
@@ -258,7 +261,7 @@ def _outline(contour: Contour, offset: Contour, spec: MachiningSpec, t_start: fl
         from camgen.export.gcode_fanuc import fanuc_leads
 
         lead_in, lead_out, mode = fanuc_leads(spec, climb, xy, start, leave, *((a_point, b_point) if comp else ()))
-    return _Outline(plunge, travel, normal, centre_start, lead_in, contour_moves, lead_out, mode)
+    return _Outline(plunge, travel, normal, centre_start, lead_in, contour_moves, lead_out, mode, prims, start)
 
 
 def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene: str = "", thickness: float | None = None,
@@ -287,9 +290,10 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     fin = _outline(contour, offset, spec, t_start)
     plunge, travel, normal, centre_start, contour_moves, mode = fin.plunge, fin.travel, fin.normal, fin.centre_start, fin.moves, fin.mode
     r, lead = spec.tool_radius, spec.lead_length
-    rough = None
+    rough = grown = None
     if spec.stock_allowance > 0.0:  # roughing passes on the profile grown by the allowance (camgen.export.gcode_passes)
-        rough = _outline(*grown_paths(contour, spec), spec, t_start)
+        grown = grown_paths(contour, spec)
+        rough = _outline(*grown, spec, t_start)
     # the way down to each pass at P0, clear of the part on the outward side (camgen.export.gcode_entry)
     first = rough or fin
     way_down = plan_entry(spec.entry, spec.ramp_angle, first.plunge, first.travel, first.normal, r, lead)
@@ -305,11 +309,21 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     moves = contour_moves.count("\n") + 6  # + plunge, feed down, lead-in (2), lead-out (2)
     if spec.entry != "plunge":  # + the helix's half turns or the ramps (camgen.export.gcode_entry)
         moves += 2 * math.ceil(spec.step_down / (turn_length(spec.entry, r, lead) * math.tan(spec.ramp_angle)))
+    moves += 2 * spec.holding_tabs  # + up and down at each tab
     if pocketed is not None:  # the pockets' levels count as passes of the same length on average
         moves += -(-pocketed.count // n_passes)
     if (n_passes + (rough is not None)) * moves > MAX_PROGRAM_MOVES:  # (+ the finishing pass)
         _refuse_long_program(spec, depth, n_passes + (rough is not None), moves)
     depths = -np.minimum(spec.step_down * np.arange(1, n_passes + 1), depth)
+    fin_tabs = rough_tabs = None
+    tab_line: list[str] = []
+    if spec.holding_tabs:  # holding tabs: the passes below their top rise over them (camgen.export.gcode_tabs)
+        width, height = tab_size(spec.holding_tab_width, spec.holding_tab_height, spec.tool_diameter, stock)
+        t_ends, angles, top = plan_tabs(spec.holding_tabs, width, height, stock, contour, offset, t_start, r)
+        fin_tabs = path_tabs(t_ends, angles, top, contour if comp else offset, fin.prims, fin.start, d)
+        if rough is not None and grown is not None:
+            rough_tabs = path_tabs(t_ends, angles, top, grown[0] if comp else grown[1], rough.prims, rough.start, d)
+        tab_line = [comment(tabs_text(fin_tabs, width, height))]
     chord_tol = spec.chord_tol
     blend = blend_word(BLEND_SHARE * chord_tol, d)
     fit_what = "biarc" if spec.spline_mode == "biarcs" else "chord"
@@ -324,7 +338,7 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
                  + (f" + G64 blending {blend}" if spec.dialect == "linuxcnc" else "")),
         comment(f"tangent lead-in and lead-out of {lead:g} at tool-centre point {xy(centre_start)}, plunge at {xy(plunge)}"),
         comment(entry_text(way_down)),
-    ]
+    ] + tab_line
     if pocketed is not None:
         lines += list(pocketed.header)
     if spec.dialect == "fanuc":  # Fanuc/Haas: register line, units, safe start, tool call, G43 (camgen.export.gcode_fanuc)
@@ -341,12 +355,13 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
         body.append(pocketed.moves)
     levels = tuple(float(z) for z in depths)
     if rough is None:
-        body.append(outline_passes(Operation(plunge, fin.lead_in, contour_moves, fin.lead_out, levels, entry=way_down), spec))
+        body.append(outline_passes(Operation(plunge, fin.lead_in, contour_moves, fin.lead_out, levels, entry=way_down,
+                                             tabs=fin_tabs), spec))
     else:  # roughing to the full depth, then one finishing pass there, gone down at the roughing's entry
         body.append(outline_passes(Operation(rough.plunge, rough.lead_in, rough.moves, rough.lead_out, levels, "roughing pass",
-                                             entry=way_down), spec))
+                                             entry=way_down, tabs=rough_tabs), spec))
         body.append(outline_passes(Operation(plunge, fin.lead_in, contour_moves, fin.lead_out, levels[-1:], "finishing pass",
-                                             approach=rough.plunge), spec))
+                                             approach=rough.plunge, tabs=fin_tabs), spec))
     if spec.dialect == "fanuc":  # % O-number ... M05 M30 %, comments Fanuc-safe (camgen.export.gcode_fanuc)
         from camgen.export.gcode_fanuc import fanuc_end
 

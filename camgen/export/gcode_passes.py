@@ -21,6 +21,7 @@ from camgen.contour import Contour
 from camgen.errors import GeometryError, ParameterError
 from camgen.export.gcode_entry import Entry, entry_moves
 from camgen.export.gcode_spec import MachiningSpec
+from camgen.export.gcode_tabs import Tabs
 
 __all__ = ["Operation", "grown_paths", "outline_passes", "passes_text"]
 
@@ -57,7 +58,7 @@ class Operation:
     its passes, falling, < 0; ``name``: how the pass comments call it; ``entry``: the way down
 (None: a plunge); ``floor``: the Z the first pass descends from (the stock top, 0, or the depth
 an earlier operation reached at ``P0``); ``approach``: where the tool goes down instead of ``P0``
-(module docstring).
+(module docstring); ``tabs``: the holding tabs the passes below their top rise over.
     """
 
     plunge: np.ndarray
@@ -69,6 +70,7 @@ an earlier operation reached at ``P0``); ``approach``: where the tool goes down 
     entry: Entry | None = None
     floor: float = 0.0
     approach: np.ndarray | None = None
+    tabs: Tabs | None = None
 
 
 def outline_passes(op: Operation, spec: MachiningSpec) -> str:
@@ -90,6 +92,7 @@ def outline_passes(op: Operation, spec: MachiningSpec) -> str:
                 out.append(f"G1 Z{z:.{d}f} F{spec.plunge_feed:.0f}\n")
             else:  # straight down to the floor reached before, then the helix or ramp
                 out.append(f"G1 Z{floor:.{d}f} F{spec.plunge_feed:.0f}\n" + entry_moves(op.entry, floor, z, d, spec.plunge_feed))
-        out.append(f"{op.lead_in}{op.moves}{op.lead_out}G0 Z{spec.safe_z:.{d}f}\n")
+        moves = op.tabs.moves(z) if op.tabs is not None and z < op.tabs.top - 1e-9 else op.moves
+        out.append(f"{op.lead_in}{moves}{op.lead_out}G0 Z{spec.safe_z:.{d}f}\n")
         floor = z
     return "".join(out)

@@ -34,7 +34,8 @@ ALLOWANCE_RATIO = 0.2
 #: (scene key -> the machining spec's field)
 MILLING_KEYS = {"tool_diameter_mm": "tool_diameter", "step_down_mm": "step_down", "safe_z_mm": "safe_z", "feed_mm_per_min": "feed",
                 "plunge_feed_mm_per_min": "plunge_feed", "spindle_rpm": "spindle_rpm", "direction": "direction",
-                "cutter_compensation": "cutter_compensation", "lead_mm": "lead", "breakthrough_mm": "breakthrough"}
+                "cutter_compensation": "cutter_compensation", "lead_mm": "lead", "breakthrough_mm": "breakthrough",
+                "entry": "entry", "ramp_angle_deg": "ramp_angle", "stock_allowance_mm": "stock_allowance"}
 
 
 def default_allowances(skim_cuts: int) -> tuple[float, ...]:
