@@ -254,6 +254,16 @@ def machining_keys() -> tuple[Key, ...]:
         Key("stock_allowance_mm", Number("mm", 0.0, 100.0), "Roughing allowance: the step-down passes cut the profile grown by "
             "it, then one finishing pass at full depth cuts the profile (0: no finishing pass); refused where a concave radius "
             "would close up.", ("gcode",), default=d("stock_allowance"), attr="stock_allowance"),
+        Key("holding_tabs", Count(0, 100), "Holding tabs left by the outline's passes below their top (0: none; not with "
+            "wire_edm, which has its own tab): evenly spaced along the tool path, the lead midway between two, the tool rising "
+            "over each by Z moves only (the XY path unchanged, so with cutter compensation too); the header lists them (cam "
+            "angle, width, height) and says to cut them free.", ("gcode",), default=d("holding_tabs")),
+        Key("holding_tab_width_mm", Number("mm", 0.0, 1000.0, low_open=True), "Narrowest width of each holding tab: the tool "
+            "stays at the tab's top along this plus the tool diameter of its path (default: the tool diameter; only with "
+            "holding_tabs > 0).", ("gcode",), attr="holding_tab_width"),
+        Key("holding_tab_height_mm", Number("mm", 0.0, 1000.0, low_open=True), "Height of the holding tabs above the stock "
+            "bottom, below the stock thickness (default: 1 mm, at most half the stock; only with holding_tabs > 0).", ("gcode",),
+            attr="holding_tab_height"),
         Key("spindle_rpm", Number("rev/min", 0.0, 2e5, low_open=True), "Spindle speed.", ("gcode",), default=d("spindle_rpm")),
         Key("direction", Choice(DIRECTIONS), "Climb (clockwise round the outside, spindle M3) or conventional milling; in a groove climb "
             "runs the outer wall counter-clockwise and the inner wall clockwise.", ("gcode",),

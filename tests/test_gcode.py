@@ -306,7 +306,8 @@ def test_leads_are_tangent_to_the_tool_path_and_end_at_its_start(comp, lead, dir
     flatter than 0.05 rad straight on, so the entry move must still meet the tangent line at a
     steeper angle."""
     contour = contours["stride"]
-    spec = MachiningSpec(tool_diameter=8.0, thickness=1.0, step_down=2.0, direction=direction, cutter_compensation=comp, lead=lead)
+    spec = MachiningSpec(tool_diameter=8.0, thickness=1.0, step_down=2.0, direction=direction, cutter_compensation=comp, lead=lead,
+                         entry="plunge")  # (the helix and ramp entries: tests/test_gcode_passes.py)
     status, message, canon = rs274_canon(gcode_program(contour, spec), tmp_path)
     assert status == 0, message
     chain = _passes(canon)[0]
@@ -407,7 +408,8 @@ def test_breakthrough_is_checked():
 def test_breakthrough_sets_the_last_pass(breakthrough, contours, tmp_path):
     """Three-arc stride cam: passes of <= 2.5 mm down to 6 mm + breakthrough, cut exactly, with a
     finer tolerance (0.5 um, 5 decimals) than the templates."""
-    spec = MachiningSpec(thickness=6.0, step_down=2.5, tool_diameter=8.0, breakthrough=breakthrough, chord_tol=5e-4, decimals=5)
+    spec = MachiningSpec(thickness=6.0, step_down=2.5, tool_diameter=8.0, breakthrough=breakthrough, chord_tol=5e-4, decimals=5,
+                         entry="plunge")  # (the helix's arcs: tests/test_gcode_passes.py)
     program = gcode_program(contours["stride"], spec)
     report = simulate(program, contours["stride"], 4.0, tmp_path)
     _assert_cut(report, spec, f"breakthrough {breakthrough}", tol=5e-4)

@@ -287,3 +287,25 @@ def test_tabs_settings_are_checked():
     assert gcode_program(circle(), spec_for("linuxcnc", False, "climb", holding_tabs=12, holding_tab_width=4.0))
     with pytest.raises(ParameterError, match="holding_tab_height"):
         gcode_program(circle(), spec_for("linuxcnc", False, "climb", holding_tabs=2, holding_tab_height=5.0))
+
+
+# ---------------------------------------------------------------------------------------------
+# the scene keys: bad values exit 2 naming the key
+# ---------------------------------------------------------------------------------------------
+@pytest.mark.parametrize(("template", "add", "key", "valid"), [
+    ("default", 'entry = "spiral"', "machining.entry", "helix"),
+    ("default", "ramp_angle_deg = 0.0", "machining.ramp_angle_deg", "0 < x <= 30"),
+    ("default", "ramp_angle_deg = 0.001", "machining.ramp_angle_deg", ">= "),
+    ("default", "stock_allowance_mm = -1.0", "machining.stock_allowance_mm", "0 <= x"),
+    ("default", "holding_tab_width_mm = 3.0", "machining.holding_tab_width_mm", "holding_tabs = 0"),
+    ("default", "holding_tabs = 2\nholding_tab_height_mm = 50.0", "machining.holding_tab_height_mm", "< the stock thickness"),
+    ("wire_edm_cam", "holding_tabs = 2", "machining.holding_tabs", 'left out with dialect = "wire_edm"'),
+    ("wire_edm_cam", 'entry = "ramp"', "machining.entry", 'left out with dialect = "wire_edm"'),
+])
+def test_bad_input_exits_2_naming_the_key(template, add, key, valid, tmp_path):
+    from test_gcode_fanuc import _machining, _run
+
+    run_ = _run(tmp_path, template, lambda text: _machining(text, add))
+    assert run_.returncode == 2, (run_.returncode, run_.stderr)
+    assert run_.stderr.startswith("camgen: error: ") and run_.stderr.count("\n") == 1, run_.stderr
+    assert key in run_.stderr and valid in run_.stderr, run_.stderr
