@@ -226,22 +226,25 @@ def runs(mask: np.ndarray) -> list[int]:
     return list(np.flatnonzero(edges == -1) - np.flatnonzero(edges == 1))
 
 
-@pytest.mark.parametrize("dialect", DIALECTS)
+@pytest.mark.parametrize(("dialect", "allowance"), [("linuxcnc", 0.0), ("fanuc", 0.0), ("linuxcnc", ALLOWANCE)])
 @pytest.mark.usefixtures("needs_rs274")
-def test_tabs_hold_the_part_at_their_width_and_height(dialect, tmp_path):
+def test_tabs_hold_the_part_at_their_width_and_height(dialect, allowance, tmp_path):
     """A 30 mm disc, tool radius 3 (tool-centre circle rho = 33), 3 tabs 4 mm wide and 1.5 mm high in
     5 mm stock: over each the passes below Z-3.5 rise along w + 2r = 10 mm of the tool-centre
     circle (measured between rs274's Z-only moves); at full depth the tool-centre circle is left
     uncut along w + 2r - 4 rho asin(r / (2 rho)) per tab and the profile along (w + 2r) R / rho
     (circle geometry; less the stretch where a profile point is within 1 um of the tool's reach),
     everywhere else the profile is cut to within 1 um, and over every tab the
-    tool never went below Z-3.5: the tab stands 1.5 mm from the stock bottom."""
+    tool never went below Z-3.5: the tab stands 1.5 mm from the stock bottom.  With a stock allowance
+    the roughing passes leave the tabs at the same cam angles (the finishing pass is measured: the
+    roughing tool reaches less far into the tab along the centre line and never to the profile)."""
     contour, r, rho = circle(), 3.0, TAB_RADIUS + 3.0
     top = -(5.0 - TAB_HEIGHT)
     profile_pts = contour.flatten(1e-6)
     centre_line = circle(rho).flatten(1e-6)
     for comp, direction in MODES:
-        spec = spec_for(dialect, comp, direction, holding_tabs=TABS, holding_tab_width=TAB_WIDTH, holding_tab_height=TAB_HEIGHT)
+        spec = spec_for(dialect, comp, direction, holding_tabs=TABS, holding_tab_width=TAB_WIDTH, holding_tab_height=TAB_HEIGHT,
+                        stock_allowance=allowance)
         label = f"{dialect} comp={comp} {direction}"
         program = gcode_program(contour, spec)
         report = run(program, spec, contour, tmp_path)
@@ -250,7 +253,8 @@ def test_tabs_hold_the_part_at_their_width_and_height(dialect, tmp_path):
         # the rises and descents: Z-only moves between the pass depth and the tabs' top
         z_only = [m for m in feeds if horizontal_length(m) == 0.0 and abs(m["end"][2] - m["start"][2]) > 0.0
                   and top in (round(m["start"][2], 4), round(m["end"][2], 4))]
-        assert len(z_only) == 2 * TABS * 2, (label, len(z_only))  # the passes at Z-4 and Z-5.2
+        deep_passes = 2 + (allowance > 0)  # the passes at Z-4 and Z-5.2 (and the finishing pass)
+        assert len(z_only) == 2 * TABS * deep_passes, (label, len(z_only))
         ends = np.array([m["end"][:2] for m in z_only[-2 * TABS:]])  # the last pass: rise, descend, ...
         angle = np.arctan2(ends[:, 1], ends[:, 0])
         stretch = rho * np.abs((angle[1::2] - angle[0::2] + math.pi) % (2 * math.pi) - math.pi)

@@ -19,6 +19,8 @@ and located on the printed primitives exactly (arcs by angle, chords by projecti
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
+
 import numpy as np
 
 from camgen.contour import Arc, Contour
@@ -31,18 +33,24 @@ __all__ = ["ARC_LENGTH_TOL", "Tabs", "path_tabs", "plan_tabs", "tabs_text"]
 ARC_LENGTH_TOL = 1e-6
 
 
+@dataclass(frozen=True)
 class Tabs:
-    """The tabs of one programmed path: ``moves(z)`` the closed path's moves of a pass at ``z``
-    rising over them; ``angles`` the cam angles (deg) of their centres on the profile."""
+    """The tabs of one programmed path (mm): ``splits`` the stretch ends on its primitives
+    ``prims`` (travel order from ``start``) as (primitive index, fraction, point), sorted;
+    ``top`` the tabs' top Z; ``angles`` the cam angles (deg) of their centres on the profile;
+    ``decimals`` of the program.  :meth:`moves` writes a pass rising over them."""
 
-    def __init__(self, splits: list[tuple[int, float, np.ndarray]], top: float, angles: np.ndarray, decimals: int,
-                 prims: list[tuple], start: np.ndarray) -> None:
-        self.splits, self.top, self.angles, self.d, self.prims, self.start = splits, top, angles, decimals, prims, start
+    splits: list[tuple[int, float, np.ndarray]]
+    top: float
+    angles: np.ndarray
+    decimals: int
+    prims: list[tuple]
+    start: np.ndarray
 
     def moves(self, z: float) -> str:
         """The closed path from its start back to it at depth ``z`` (below the tabs' top), rising
         to the top at the first end of each stretch and back down to ``z`` at its other end."""
-        writer = MoveWriter(self.d, self.start)
+        writer = MoveWriter(self.decimals, self.start)
         by_prim: dict[int, list[tuple[float, np.ndarray]]] = {}
         for index, fraction, point in self.splits:
             by_prim.setdefault(index, []).append((fraction, point))
@@ -53,7 +61,7 @@ class Tabs:
             for fraction, point in sorted(by_prim.get(i, []), key=lambda fp: fp[0]):
                 _write_part(writer, kind, item, begin, done, fraction)
                 writer.line(point)  # (the printed point, if the part ended short of it)
-                writer.out.write(f"G1 Z{self.top if up else z:.{self.d}f}\n")  # Z alone: the XY path is unchanged
+                writer.out.write(f"G1 Z{self.top if up else z:.{self.decimals}f}\n")  # Z alone: the XY path is unchanged
                 up, done = not up, fraction
             _write_part(writer, kind, item, begin, done, 1.0)
             begin = np.asarray(item.end_point if kind == "arc" else item[-1], dtype=float)
