@@ -43,6 +43,14 @@ within ``sqrt(2)/2 * 10^-decimals`` of its value; an arc, whose centre and both 
 printed, within three times that) and ``BLEND_SHARE`` for LinuxCNC's path blending
 (``G64 P``).  ``decimals`` too coarse for ``chord_tol`` is a :class:`ParameterError`.
 
+Passes (:mod:`camgen.export.gcode_passes`).  Each pass goes down at ``P0`` from the floor of
+the pass before (Z0 for the first) by a helix (default) or a zig-zag ramp outward of ``P0`` at
+most ``ramp_angle`` steep, or a plunge (:mod:`camgen.export.gcode_entry`).  With a
+``stock_allowance`` the passes cut the profile grown by it (programmed, or offset by ``r`` more
+for the tool centre), then one finishing pass at full depth cuts the profile, gone down where
+the roughing entry cleared the stock.  ``holding_tabs``: the passes below the tabs' top rise
+over them by Z moves (:mod:`camgen.export.gcode_tabs`).
+
 Pockets.  A cam with pockets (a groove cam's groove, :class:`camgen.kinds.base.Pocket`) has them
 milled first, to their depth, while the stock still holds the part; then its outline as above
 (:mod:`camgen.export.gcode_pockets`: one pass along the pitch curve with a tool of the groove's
