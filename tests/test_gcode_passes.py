@@ -204,6 +204,11 @@ def test_an_allowance_that_closes_a_concave_radius_is_refused():
 # holding tabs
 # ---------------------------------------------------------------------------------------------
 TAB_RADIUS, TAB_WIDTH, TAB_HEIGHT, TABS = 30.0, 4.0, 1.5, 3
+#: How closely the raised stretch of a spline cam's tool path is held, mm: the stretch is measured
+#: on the exact tool-centre path, the control runs biarcs or chords; under compensation LinuxCNC
+#: runs chord corners below 0.05 rad straight on (camgen.export.gcode_moves), so its tool path
+#: over G1 chords is up to 15 um longer or shorter than the exact one over the plate cam's 11 mm.
+TAB_STRETCH_TOL = 0.02
 
 
 def circle(radius: float = TAB_RADIUS) -> Contour:
@@ -313,3 +318,36 @@ def test_bad_input_exits_2_naming_the_key(template, add, key, valid, tmp_path):
     assert run_.returncode == 2, (run_.returncode, run_.stderr)
     assert run_.stderr.startswith("camgen: error: ") and run_.stderr.count("\n") == 1, run_.stderr
     assert key in run_.stderr and valid in run_.stderr, run_.stderr
+
+
+@pytest.mark.parametrize("spline_mode", ["biarcs", "lines"])
+@pytest.mark.usefixtures("needs_rs274")
+def test_tabs_on_a_spline_cam_rise_over_the_stated_stretch(spline_mode, tmp_path):
+    """The plate_cam template's cam (spline profile), in biarcs and in G1 chords, compensation on and
+    off, both directions: rs274's tool path between each rise and the next descent is w + 2r long
+    (summed along the canonical moves), the rises lie on the tool-centre path (r from the exact
+    profile), and the program cuts the profile with no gouge."""
+    from camgen.pipeline import Plan, compute
+    from camgen.scene import load_template
+
+    scene = load_template("plate_cam")
+    cam = compute(scene, Plan((), frozenset())).cams[0]
+    profile = ExactProfile(cam.contour)
+    width = 5.0
+    for comp, direction in MODES:
+        spec = dataclasses.replace(scene.machining, thickness=cam.body.thickness, chord_tol=scene.output.chord_tol, spline_mode=spline_mode,
+                                   cutter_compensation=comp, direction=direction, holding_tabs=4, holding_tab_width=width)
+        label = f"{spline_mode} comp={comp} {direction}"
+        program = gcode_program(cam.contour, spec, cam.name)
+        report = run(program, spec, cam.contour, tmp_path, profile)
+        assert report.status == 0 and report.gouge <= CUT_TOL, (label, report.message, report.gouge)
+        feeds = [m for m in report.canon if m["kind"] != "traverse"]
+        top = -(spec.thickness - 1.0)  # the default height: 1 mm
+        last = max(i for i, m in enumerate(feeds) if horizontal_length(m) == 0.0 and round(m["end"][2], 4) == top)
+        z_only = [i for i, m in enumerate(feeds) if horizontal_length(m) == 0.0 and top in (round(m["start"][2], 4), round(m["end"][2], 4))]
+        pairs = [i for i in z_only if i > last - 2 * 4 * 1][-8:]  # the last pass's rises and descents
+        for rise, descent in zip(pairs[0::2], pairs[1::2]):
+            stretch = sum(horizontal_length(m) for m in feeds[rise + 1:descent])
+            assert abs(stretch - (width + spec.tool_diameter)) <= TAB_STRETCH_TOL, (label, stretch)
+            at = feeds[rise]["end"][:2]
+            assert abs(float(profile.tree.query(at)[0]) - spec.tool_radius) <= 1e-3, label

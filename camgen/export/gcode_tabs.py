@@ -58,9 +58,8 @@ class Tabs:
         begin = np.asarray(self.start, dtype=float)
         for i, (kind, item) in enumerate(self.prims):
             done = 0.0
-            for fraction, point in sorted(by_prim.get(i, []), key=lambda fp: fp[0]):
+            for fraction, _ in sorted(by_prim.get(i, []), key=lambda fp: fp[0]):
                 _write_part(writer, kind, item, begin, done, fraction)
-                writer.line(point)  # (the printed point, if the part ended short of it)
                 writer.out.write(f"G1 Z{self.top if up else z:.{self.decimals}f}\n")  # Z alone: the XY path is unchanged
                 up, done = not up, fraction
             _write_part(writer, kind, item, begin, done, 1.0)
