@@ -91,7 +91,8 @@ def _locate(prims: list[tuple], start: np.ndarray, points: np.ndarray) -> list[t
     nearest each of ``points`` (k, 2): arcs by angle, chords by projection (a polyline's fraction
     is ``(chord index + u) / chords``)."""
     best = np.full(len(points), np.inf)
-    where: list[tuple[int, float]] = [(0, 0.0)] * len(points)
+    index = np.zeros(len(points), dtype=int)
+    fraction = np.zeros(len(points))
     begin = np.asarray(start, dtype=float)
     for i, (kind, item) in enumerate(prims):
         if kind == "arc":
@@ -115,11 +116,11 @@ def _locate(prims: list[tuple], start: np.ndarray, points: np.ndarray) -> list[t
             frac = (j + u[np.arange(len(points)), j]) / len(item)
             end = item[-1]
         better = dist < best
-        for k in np.flatnonzero(better):
-            where[k] = (i, float(frac[k]))
+        index = np.where(better, i, index)
+        fraction = np.where(better, frac, fraction)
         best = np.where(better, dist, best)
         begin = np.asarray(end, dtype=float)
-    return where
+    return [(int(i), float(f)) for i, f in zip(index, fraction)]
 
 
 def plan_tabs(count: int, width: float, height: float, stock: float, contour: Contour, offset: Contour, t_start: float,
