@@ -224,6 +224,7 @@ def output_keys() -> tuple[Key, ...]:
 
 def machining_keys() -> tuple[Key, ...]:
     """Keys of the ``[machining]`` table (defaults owned by :class:`camgen.export.gcode.MachiningSpec`)."""
+    from camgen.export.entry_settings import ENTRIES, MAX_RAMP_ANGLE_DEG
     from camgen.export.gcode import DIALECTS, DIRECTIONS, SPLINE_MODES, MachiningSpec
     from camgen.export.gcode_spec import LEAD_STYLES, MIN_LEAD_RADIUS, UNITS
     from camgen.export.wire_edm_spec import wire_edm_keys
@@ -244,8 +245,29 @@ def machining_keys() -> tuple[Key, ...]:
         Key("safe_z_mm", Number("mm", 0.0, 1000.0, low_open=True), "Clearance height above the stock top (Z0) for rapid moves.",
             ("gcode",), default=d("safe_z")),
         Key("feed_mm_per_min", Number("mm/min", 0.0, 1e6, low_open=True), "Cutting feed.", ("gcode",), default=d("feed"), attr="feed"),
-        Key("plunge_feed_mm_per_min", Number("mm/min", 0.0, 1e6, low_open=True), "Feed of the plunge to each pass depth.", ("gcode",),
-            default=d("plunge_feed"), attr="plunge_feed"),
+        Key("plunge_feed_mm_per_min", Number("mm/min", 0.0, 1e6, low_open=True), "Feed of the way down to each pass depth (the "
+            "helix or ramp of entry, or the plunge).", ("gcode",), default=d("plunge_feed"), attr="plunge_feed"),
+        # --- the outline's passes (camgen.export.gcode_entry, camgen.export.gcode_passes) ---
+        Key("entry", Choice(ENTRIES), "How the tool goes down to each pass depth of the outline, from the floor of the pass "
+            "before (Z0 for the first), outside the part: helix (whole turns of radius half the tool radius, its axis outward of the "
+            "lead-in's start), ramp (straight ramps to and fro along the lead line, lead_mm long, at least the tool diameter) or "
+            "plunge (a straight feed down); the header states it.", ("gcode",), default=d("entry")),
+        Key("ramp_angle_deg", Angle(0.0, MAX_RAMP_ANGLE_DEG, low_open=True), "Steepest descent of the helix or ramp entry "
+            "(at the tool centre); refused where the tool would need more than 200 turns (ramps) for one step_down_mm.",
+            ("gcode",), default=math.degrees(d("ramp_angle")), attr="ramp_angle"),
+        Key("stock_allowance_mm", Number("mm", 0.0, 100.0), "Roughing allowance: the step-down passes cut the profile grown by "
+            "it, then one finishing pass at full depth cuts the profile (0: no finishing pass); refused where a concave radius "
+            "would close up.", ("gcode",), default=d("stock_allowance"), attr="stock_allowance"),
+        Key("holding_tabs", Count(0, 100), "Holding tabs left by the outline's passes below their top (0: none; not with "
+            "wire_edm, which has its own tab): evenly spaced along the tool path, the lead midway between two, the tool rising "
+            "over each by Z moves only (the XY path unchanged, so with cutter compensation too); the header lists them (cam "
+            "angle, width, height) and says to cut them free.", ("gcode",), default=d("holding_tabs")),
+        Key("holding_tab_width_mm", Number("mm", 0.0, 1000.0, low_open=True), "Narrowest width of each holding tab: the tool "
+            "stays at the tab's top along this plus the tool diameter of its path (default: the tool diameter; only with "
+            "holding_tabs > 0).", ("gcode",), attr="holding_tab_width"),
+        Key("holding_tab_height_mm", Number("mm", 0.0, 1000.0, low_open=True), "Height of the holding tabs above the stock "
+            "bottom, below the stock thickness (default: 1 mm, at most half the stock; only with holding_tabs > 0).", ("gcode",),
+            attr="holding_tab_height"),
         Key("spindle_rpm", Number("rev/min", 0.0, 2e5, low_open=True), "Spindle speed.", ("gcode",), default=d("spindle_rpm")),
         Key("direction", Choice(DIRECTIONS), "Climb (clockwise round the outside, spindle M3) or conventional milling; in a groove climb "
             "runs the outer wall counter-clockwise and the inner wall clockwise.", ("gcode",),

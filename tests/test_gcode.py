@@ -138,8 +138,10 @@ def test_spline_cam_in_lines_mode_cuts_its_exact_profile(comp, template_cams, tm
     for direction, tol, decimals in (("climb", 1e-3, 4), ("conventional", 5e-4, 5)):
         spec = dataclasses.replace(base, spline_mode="lines", cutter_compensation=comp, direction=direction, chord_tol=tol, decimals=decimals)
         program = gcode_program(cam.contour, spec, cam.name)
-        # a spline cam in chords only: the arcs are the two lead arcs of each pass
-        assert program.count("G2 ") + program.count("G3 ") == 2 * program.count("(pass ")
+        # a spline cam in chords only: the arcs in the plane are the two lead arcs of each pass
+        # (the helix entry's arcs go down in Z)
+        arcs = [line for line in program.splitlines() if line.startswith(("G2 ", "G3 ")) and " Z" not in line]
+        assert len(arcs) == 2 * program.count("(pass ")
         _assert_cut(simulate(program, cam.contour, spec.tool_radius, tmp_path, profile=profile), spec, f"lines comp={comp} {direction}", tol)
 
 
@@ -307,7 +309,7 @@ def test_leads_are_tangent_to_the_tool_path_and_end_at_its_start(comp, lead, dir
     steeper angle.  (``lead_style = "line"``; the arc leads: tests/test_gcode_leads.py.)"""
     contour = contours["stride"]
     spec = MachiningSpec(tool_diameter=8.0, thickness=1.0, step_down=2.0, direction=direction, cutter_compensation=comp, lead=lead,
-                         lead_style="line")
+                         lead_style="line", entry="plunge")  # (the helix and ramp entries: tests/test_gcode_passes.py)
     status, message, canon = rs274_canon(gcode_program(contour, spec), tmp_path)
     assert status == 0, message
     chain = _passes(canon)[0]
@@ -408,7 +410,8 @@ def test_breakthrough_is_checked():
 def test_breakthrough_sets_the_last_pass(breakthrough, contours, tmp_path):
     """Three-arc stride cam: passes of <= 2.5 mm down to 6 mm + breakthrough, cut exactly, with a
     finer tolerance (0.5 um, 5 decimals) than the templates."""
-    spec = MachiningSpec(thickness=6.0, step_down=2.5, tool_diameter=8.0, breakthrough=breakthrough, chord_tol=5e-4, decimals=5)
+    spec = MachiningSpec(thickness=6.0, step_down=2.5, tool_diameter=8.0, breakthrough=breakthrough, chord_tol=5e-4, decimals=5,
+                         entry="plunge")  # (the helix's arcs: tests/test_gcode_passes.py)
     program = gcode_program(contours["stride"], spec)
     report = simulate(program, contours["stride"], 4.0, tmp_path)
     _assert_cut(report, spec, f"breakthrough {breakthrough}", tol=5e-4)

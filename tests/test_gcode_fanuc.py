@@ -147,7 +147,7 @@ def test_program_frame_and_words(template_cams):
                           f"G0 G43 H07 Z{base.safe_z:.4f}"]
     assert "H07" in program and "D07" in program  # the radius register defaults to the tool number
     arcs = [b for b in blocks if re.match(r"G[23] ", b)]
-    assert arcs and all(re.fullmatch(r"G[23] X-?[\d.]+ Y-?[\d.]+ I-?[\d.]+ J-?[\d.]+", b) for b in arcs)
+    assert arcs and all(re.fullmatch(r"G[23] X-?[\d.]+ Y-?[\d.]+( Z-?[\d.]+)? I-?[\d.]+ J-?[\d.]+( F\d+)?", b) for b in arcs)  # Z: the helix
     assert not re.search(r"\bR-?[\d.]", program) and "M2\n" not in program and "G64" not in program
     assert all(line == line.upper() for line in lines)
 

@@ -284,7 +284,8 @@ def test_every_output_key_changes_what_it_documents(key_name, tmp_path):
 def test_every_machining_key_changes_what_it_documents(key_name, tmp_path):
     key = next(k for k in machining_keys() if k.name == key_name)
     fanuc = {"program_number": 2, "tool_number": 2, "radius_register": 2}  # keys of the fanuc dialect only (none given: their defaults)
-    machining = {"tool_diameter_mm": 6.0, **({"dialect": "fanuc"} if key_name in fanuc else {})}
+    machining = {"tool_diameter_mm": 6.0, **({"dialect": "fanuc"} if key_name in fanuc else {}),
+                 **({"holding_tabs": 2} if key_name.startswith("holding_tab_") else {})}  # a tab's size: with tabs
     if key.requires.get("dialect") == ("wire_edm",):  # a wire-EDM key: with its dialect, which refuses the milling keys
         machining = {"dialect": "wire_edm"}
     if key_name == "bore_tool_number":  # the bore tool's number: with a bore tool (else no tool change)
@@ -292,7 +293,7 @@ def test_every_machining_key_changes_what_it_documents(key_name, tmp_path):
     base = scene(SPLINE_CAM, ("dxf", "points", "ngc"), machining)
     alt = copy.deepcopy(base)
     value = alt["machining"].get(key_name, key.default)
-    overrides = {"lead_mm": 5.0, "cutter_compensation": True, "cut_allowances_mm": [0.12, 0.03], "decimals": 5, "bore_tool_number": 3, **fanuc}
+    overrides = {"lead_mm": 5.0, "cutter_compensation": True, "cut_allowances_mm": [0.12, 0.03], "decimals": 5, "bore_tool_number": 3, "holding_tab_height_mm": 2.0, **fanuc}
     alt["machining"][key_name] = overrides[key_name] if key_name in overrides else _changed(value, key)
     _assert_effect(key, run(base, tmp_path), run(alt, tmp_path))
 

@@ -49,6 +49,18 @@ within ``sqrt(2)/2 * 10^-decimals`` of its value; an arc, whose centre and both 
 printed, within three times that) and ``BLEND_SHARE`` for LinuxCNC's path blending
 (``G64 P``).  ``decimals`` too coarse for ``chord_tol`` is a :class:`ParameterError`.
 
+Passes (:mod:`camgen.export.gcode_passes`).  Each pass goes down at ``P0`` (where the lead-in
+starts) from the floor of the pass before (Z0 for the first) by a helix (default) or a zig-zag
+ramp at most ``ramp_angle`` steep, or a plunge (:mod:`camgen.export.gcode_entry`), on the side of
+``P0`` away from the part: with arc leads the helix is centred beside ``P0`` along the tangent
+line at ``S`` (every point of it at least ``r + rho + L - r/2 > r`` from that line) and touches
+the lead-in's straight move, the ramp runs out along ``n`` and back; with straight leads the
+helix is centred outward of ``P0`` and the ramp runs back along the lead line.  With a
+``stock_allowance`` the passes cut the profile grown by it (programmed, or offset by ``r`` more
+for the tool centre), then one finishing pass at full depth cuts the profile, gone down where
+the roughing entry cleared the stock.  ``holding_tabs``: the passes below the tabs' top rise
+over them by Z moves (:mod:`camgen.export.gcode_tabs`).
+
 Pockets.  A cam with pockets (a groove cam's groove, :class:`camgen.kinds.base.Pocket`) has them
 milled first, to their depth, while the stock still holds the part; then its outline as above
 (:mod:`camgen.export.gcode_pockets`: one pass along the pitch curve with a tool of the groove's
@@ -63,6 +75,7 @@ A concave radius of the profile smaller than the tool radius would be gouged: th
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
@@ -71,10 +84,14 @@ from camgen.contour import Contour
 from camgen.errors import CornerError, GeometryError, ParameterError, ceil_significant, require_positive
 # the settings, their error budget and the moves live in their own modules (the pockets' passes
 # share them); their names stay importable from here
-from camgen.export.gcode_leads import COMP_ENTRY_ANGLE, COMP_STRAIGHT, lead_blocks, lead_moves
+from camgen.export.entry_settings import tab_size, turn_length
+from camgen.export.gcode_entry import entry_text, plan_entry
+from camgen.export.gcode_leads import COMP_ENTRY_ANGLE, COMP_STRAIGHT, Leads, lead_blocks, lead_moves
+from camgen.export.gcode_passes import Operation, grown_paths, outline_passes, passes_text
+from camgen.export.gcode_tabs import path_tabs, plan_tabs, tabs_text
 from camgen.export.gcode_moves import START_SAMPLING, comment, loop_moves, primitives, reverse_primitives, rotate, split_segment
 from camgen.export.gcode_spec import (BLEND_SHARE, DIALECTS, DIRECTIONS, FIT_SHARE, MIN_GCODE_CHORD_TOL, REFIT_SHARE, ROUNDING_SHARE,
-                                      SPLINE_MODES, MachiningSpec, depth_passes, rounding_error)
+                                      SPLINE_MODES, MM_PER_INCH, MachiningSpec, depth_passes, rounding_error)
 
 if TYPE_CHECKING:
     from camgen.body import BodySpec
@@ -197,6 +214,72 @@ def _refuse_long_program(spec: MachiningSpec, depth: float, n_passes: int, moves
                          coarser, why)
 
 
+@dataclass(frozen=True)
+class _Outline:
+    """One programmed closed path with its leads (mm): ``leads`` (their tool-centre geometry: the
+    plunge point P0, S', the lead arc), ``travel`` and ``normal`` (outward) unit vectors at the
+    start, program text of the leads and of the closed path (``moves``), the header's ``mode``,
+    the path's printable primitives and its first point (the tabs split them)."""
+
+    leads: Leads
+    travel: np.ndarray
+    normal: np.ndarray
+    lead_in: str
+    moves: str
+    lead_out: str
+    mode: str
+    prims: list[tuple]
+    start: np.ndarray
+    count: int  # blocks of the leads and the closed path
+
+
+def _outline(contour: Contour, offset: Contour, spec: MachiningSpec, t_start: float) -> _Outline:
+    """The closed path (``contour`` programmed under cutter compensation, else its tool-centre
+    ``offset``) started at global parameter ``t_start``, its moves and its leads (module docstring)."""
+    comp = spec.cutter_compensation
+    path = rotate(contour if comp else offset, t_start)
+    prims = primitives(path, spec)
+    if comp:
+        _check_compensated_arcs(prims, spec)
+    start = path.segments[0].start_point
+    tangent = path.tangent(np.array([0.0]))[0]  # counter-clockwise
+    normal = np.array([tangent[1], -tangent[0]])  # outward
+    climb = spec.direction == "climb"
+    if climb:
+        prims = reverse_primitives(prims, start)
+    travel = -tangent if climb else tangent
+    # the lead-in and lead-out (camgen.export.gcode_leads): straight moves and tangent arcs;
+    # plunge: the tool-centre point where the lead-in starts (leads.away: away from the part)
+    leads = lead_moves(start, travel, normal, spec)
+    entry_blocks = lead_blocks(leads.entry, spec.decimals, leads.plunge)
+    exit_blocks = lead_blocks(leads.exit, spec.decimals, start)
+    contour_moves = loop_moves(prims, start, spec.decimals)
+    d = spec.decimals
+    feed = f"F{spec.feed:.{spec.feed_decimals}f}"
+
+    def blocks(moves: list[tuple[str, str]]) -> str:
+        return "".join(f"{word} {words}\n" for word, words in moves)
+
+    if comp:
+        # G41: tool left of the travel direction = outside of a clockwise (climb) path
+        side = "G41.1" if climb else "G42.1"
+        (word, words), *rest = entry_blocks
+        lead_in = f"{side} D{spec.tool_diameter:.{d}f} {word} {words} {feed}\n" + blocks(rest)
+        lead_out = blocks(exit_blocks[:-1]) + "G40 " + blocks(exit_blocks[-1:])
+        mode = f"cutter compensation {side} on the profile"
+    else:
+        (word, words), *rest = entry_blocks
+        lead_in = f"{word} {words} {feed}\n" + blocks(rest)
+        lead_out = blocks(exit_blocks)
+        mode = "tool-centre path = profile offset by the tool radius"
+    if spec.dialect == "fanuc":  # Fanuc/Haas: G41/G42 D<register> on the leads' G1 blocks (camgen.export.gcode_fanuc)
+        from camgen.export.gcode_fanuc import fanuc_leads
+
+        lead_in, lead_out, mode = fanuc_leads(spec, climb, entry_blocks, exit_blocks)
+    count = contour_moves.count("\n") + len(entry_blocks) + len(exit_blocks)
+    return _Outline(leads, travel, normal, lead_in, contour_moves, lead_out, mode, prims, start, count)
+
+
 def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene: str = "", thickness: float | None = None,
                   pockets: "Sequence[Pocket]" = (), cam_body: "BodySpec | None" = None) -> str:
     """RS274/NGC program text that mills ``contour`` (the cam profile) to ``thickness`` (mm; the
@@ -227,25 +310,21 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     # splines: refitted at the same parameter values), so it starts at the same global parameter
     t_start = start_parameter(contour, "cutter_compensation" if comp else "lead")
     offset = tool_path(contour, spec)  # in compensation mode still refuses a gouging tool
-    path = rotate(contour if comp else offset, t_start)
-    prims = primitives(path, spec)
-    if comp:
-        _check_compensated_arcs(prims, spec)
-    start = path.segments[0].start_point
-    tangent = path.tangent(np.array([0.0]))[0]  # counter-clockwise
-    normal = np.array([tangent[1], -tangent[0]])  # outward
-    climb = spec.direction == "climb"
-    if climb:
-        prims = reverse_primitives(prims, start)
-    travel = -tangent if climb else tangent
-    # the lead-in and lead-out (camgen.export.gcode_leads): straight moves and tangent arcs;
-    # plunge: the tool-centre point where the lead-in starts (leads.away: away from the part)
-    leads = lead_moves(start, travel, normal, spec)
-    lead, centre_start, plunge = spec.lead_length, leads.centre_start, leads.plunge
-    entry_blocks = lead_blocks(leads.entry, spec.decimals, plunge)
-    exit_blocks = lead_blocks(leads.exit, spec.decimals, start)
-
-    contour_moves = loop_moves(prims, start, spec.decimals)
+    fin = _outline(contour, offset, spec, t_start)
+    leads, mode = fin.leads, fin.mode
+    centre_start, plunge = leads.centre_start, leads.plunge
+    r, lead = spec.tool_radius, spec.lead_length
+    rough = grown = None
+    if spec.stock_allowance > 0.0:  # roughing passes on the profile grown by the allowance (camgen.export.gcode_passes)
+        grown = grown_paths(contour, spec)
+        rough = _outline(*grown, spec, t_start)
+    # the way down to each pass at P0, clear of the part (camgen.export.gcode_entry, module docstring):
+    # arc leads leave P0 along -n, the helix beside it along the tangent line; straight leads along the travel
+    first = rough or fin
+    if leads.arc_centre is None:
+        way_down = plan_entry(spec.entry, spec.ramp_angle, first.leads.plunge, first.travel, first.normal, r, lead)
+    else:
+        way_down = plan_entry(spec.entry, spec.ramp_angle, first.leads.plunge, -first.normal, -first.travel, r, lead)
 
     d = spec.decimals
 
@@ -255,7 +334,10 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     stock = spec.thickness if thickness is None else require_positive("thickness", thickness, "mm")
     depth = stock + spec.breakthrough
     n_passes = max(1, math.ceil(depth / spec.step_down - 1e-9))
-    moves = contour_moves.count("\n") + 2 + len(entry_blocks) + len(exit_blocks)  # + plunge, feed down, leads
+    moves = fin.count + 2  # + the rapid to P0 and the way down
+    if spec.entry != "plunge":  # + the helix's half turns or the ramps (camgen.export.gcode_entry)
+        moves += 2 * math.ceil(spec.step_down / (turn_length(spec.entry, r, lead) * math.tan(spec.ramp_angle)))
+    moves += 2 * spec.holding_tabs  # + up and down at each tab
     if pocketed is not None:  # the pockets' levels count as passes of the same length on average
         moves += -(-pocketed.count // n_passes)
     from camgen.export.gcode_bore import bore_program, with_bore  # the bore and keyway, first
@@ -263,38 +345,27 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     bored = bore_program(cam_body, spec, depth)
     if bored is not None:
         moves += -(-bored.count // n_passes)
-    if n_passes * moves > MAX_PROGRAM_MOVES:
-        _refuse_long_program(spec, depth, n_passes, moves)
+    if (n_passes + (rough is not None)) * moves > MAX_PROGRAM_MOVES:  # (+ the finishing pass)
+        _refuse_long_program(spec, depth, n_passes + (rough is not None), moves)
     depths = -np.minimum(spec.step_down * np.arange(1, n_passes + 1), depth)
+    fin_tabs = rough_tabs = None
+    tab_line: list[str] = []
+    if spec.holding_tabs:  # holding tabs: the passes below their top rise over them (camgen.export.gcode_tabs)
+        width, height = tab_size(spec.holding_tab_width, spec.holding_tab_height, spec.tool_diameter, stock,
+                                 1.0 / MM_PER_INCH if spec.converted and spec.units == "inch" else 1.0)
+        t_ends, angles, top = plan_tabs(spec.holding_tabs, width, height, stock, contour, offset, t_start, r)
+        fin_tabs = path_tabs(t_ends, angles, top, contour if comp else offset, fin.prims, fin.start, d)
+        if rough is not None and grown is not None:
+            rough_tabs = path_tabs(t_ends, angles, top, grown[0] if comp else grown[1], rough.prims, rough.start, d)
+        tab_line = [comment(tabs_text(fin_tabs, width, height))]
     chord_tol = spec.chord_tol
     blend = blend_word(BLEND_SHARE * chord_tol, d)
-    feed = f"F{spec.feed:.{spec.feed_decimals}f}"
-
-    def blocks(moves: list[tuple[str, str]]) -> str:
-        return "".join(f"{word} {words}\n" for word, words in moves)
-
-    if comp:
-        # G41: tool left of the travel direction = outside of a clockwise (climb) path
-        side = "G41.1" if climb else "G42.1"
-        (word, words), *rest = entry_blocks
-        lead_in = f"{side} D{spec.tool_diameter:.{d}f} {word} {words} {feed}\n" + blocks(rest)
-        lead_out = blocks(exit_blocks[:-1]) + "G40 " + blocks(exit_blocks[-1:])
-        mode = f"cutter compensation {side} on the profile"
-    else:
-        (word, words), *rest = entry_blocks
-        lead_in = f"{word} {words} {feed}\n" + blocks(rest)
-        lead_out = blocks(exit_blocks)
-        mode = "tool-centre path = profile offset by the tool radius"
-    if spec.dialect == "fanuc":  # Fanuc/Haas: G41/G42 D<register> on the leads' G1 blocks (camgen.export.gcode_fanuc)
-        from camgen.export.gcode_fanuc import fanuc_leads
-
-        lead_in, lead_out, mode = fanuc_leads(spec, climb, entry_blocks, exit_blocks)
     fit_what = "biarc" if spec.spline_mode == "biarcs" else "chord"
     lines = [
         comment(f"camgen {__version__}: cam '{cam}'" + (f", scene '{scene}'" if scene else "")),
         comment(f"{units_note(spec)}; tool diameter {spec.tool_diameter:g}; {mode}; {spec.direction} milling, outside contour"),
         comment(f"stock top Z0, bottom Z{-stock:g}; last pass Z{-depth:g} = {spec.breakthrough:g} below the stock bottom "
-                 f"(breakthrough); {n_passes} passes of <= {spec.step_down:g}"),
+                 f"(breakthrough); {n_passes} passes of <= {spec.step_down:g}" + passes_text(spec, tuple(float(z) for z in depths))),
         comment(f"path tolerance {chord_tol:g} = {fit_what} fit {FIT_SHARE * chord_tol:.3g} + offset refit "
                  f"{min(1e-6, REFIT_SHARE * chord_tol):.3g} "
                  f"+ {d} printed decimals {rounding_error(d):.3g}"
@@ -303,7 +374,8 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
                 if leads.arc_centre is None else
                 f"lead-in and lead-out: straight {lead:g} and a tangent quarter arc of tool-centre radius {leads.radius:g} about "
                 f"{xy(leads.arc_centre)}, into and out of tool-centre point {xy(centre_start)}; plunge at {xy(plunge)}"),
-    ]
+        comment(entry_text(way_down)),
+    ] + tab_line
     if pocketed is not None:
         lines += list(pocketed.header)
     if bored is not None:
@@ -319,16 +391,15 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     body = ["\n".join(lines) + "\n"]
     if pocketed is not None:
         body.append(pocketed.moves)
-    for k, z in enumerate(depths, 1):
-        body.append(
-            f"(pass {k} of {n_passes}: Z{z:.{d}f})\n"
-            f"G0 {xy(plunge)}\n"
-            f"G1 Z{z:.{d}f} F{spec.plunge_feed:.{spec.feed_decimals}f}\n"
-            f"{lead_in}"
-            f"{contour_moves}"
-            f"{lead_out}"
-            f"G0 Z{spec.safe_z:.{d}f}\n"
-        )
+    levels = tuple(float(z) for z in depths)
+    if rough is None:
+        body.append(outline_passes(Operation(plunge, fin.lead_in, fin.moves, fin.lead_out, levels, entry=way_down,
+                                             tabs=fin_tabs), spec))
+    else:  # roughing to the full depth, then one finishing pass there, gone down at the roughing's entry
+        body.append(outline_passes(Operation(rough.leads.plunge, rough.lead_in, rough.moves, rough.lead_out, levels, "roughing pass",
+                                             entry=way_down, tabs=rough_tabs), spec))
+        body.append(outline_passes(Operation(plunge, fin.lead_in, fin.moves, fin.lead_out, levels[-1:], "finishing pass",
+                                             approach=rough.leads.plunge, tabs=fin_tabs), spec))
     if spec.dialect == "fanuc":  # % O-number ... M05 M30 %, comments Fanuc-safe (camgen.export.gcode_fanuc)
         from camgen.export.gcode_fanuc import fanuc_end
 

@@ -322,7 +322,7 @@ def barrel_program(groove: Any, spec: MachiningSpec, cam: str = "cam", scene: st
         comment(f"path tolerance {chord_tol:g} = stations {FIT_SHARE * chord_tol:.3g} [{path.a.size - 1} a turn, A step <= {step_deg:.4g} deg, "
                 f"X Y Z between stations and the rim chord] + {d} and {da} printed decimals {rounding:.3g} + G64 blending {blend} "
                 f"+ tool width mismatch {0.5 * width_tol(spec):.3g}"),
-        comment("not used by this program: machining.lead_mm, lead_style, lead_radius_mm, breakthrough_mm, spline_mode"),
+        comment("not used by this program: machining.lead_mm, lead_style, lead_radius_mm, breakthrough_mm, spline_mode, entry, ramp_angle_deg, stock_allowance_mm, holding_tabs"),
     ]
     assert rounding <= rounding_error(d) <= ROUNDING_SHARE * chord_tol * (1 + 1e-12)  # the spec's decimals check covers the barrel's
     safe = rim + spec.safe_z

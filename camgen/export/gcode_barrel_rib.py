@@ -325,7 +325,7 @@ def rib_program(rib: Any, spec: MachiningSpec, cam: str = "cam", scene: str = ""
         (f"path tolerance {chord_tol:g} = stations {FIT_SHARE * chord_tol:.3g} [up to {stations} a turn, A step <= {step_deg:.4g} "
                 f"deg, X {'Y ' if arm else ''}Z between stations and the rim chord] + {d} and {da} printed decimals {rounding:.3g} + G64 blending {blend} "
                 f"+ tool width mismatch {0.5 * width_tol(spec):.3g}"),
-        ("not used by this program: machining.lead_mm, lead_style, lead_radius_mm, breakthrough_mm, spline_mode"),
+        ("not used by this program: machining.lead_mm, lead_style, lead_radius_mm, breakthrough_mm, spline_mode, entry, ramp_angle_deg, stock_allowance_mm, holding_tabs"),
     ]
     header = "\n".join(line for text in lines for line in _comment_lines(text))
     return framed(header, body, spec, blend, safe, rim, (float(first_x), float(first_y)), d, da)

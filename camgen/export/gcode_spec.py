@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 from camgen.errors import ParameterError, require_finite, require_positive
 from camgen.export.bore_settings import check_bore_settings
 from camgen.export.fanuc_settings import check_fanuc_settings
+from camgen.export.entry_settings import check_entry_settings, check_tab_settings
 
 if TYPE_CHECKING:  # wire EDM (camgen.export.wire_edm_spec)
     from camgen.export.wire_edm_spec import WireEdmSpec
@@ -118,6 +119,13 @@ class MachiningSpec:
     #: True: the lengths and feeds are already in the program's units (a copy made by
     #: camgen.export.gcode_units.program_spec for the writers; not a scene key)
     converted: bool = False
+    # --- outline passes (camgen.export.gcode_entry, camgen.export.gcode_passes) ---
+    entry: str = "helix"
+    ramp_angle: float = math.radians(3.0)
+    stock_allowance: float = 0.0
+    holding_tabs: int = 0
+    holding_tab_width: float | None = None
+    holding_tab_height: float | None = None
 
     def __post_init__(self) -> None:
         for name in ("tool_diameter", "thickness", "step_down", "safe_z", "feed", "plunge_feed", "spindle_rpm", "chord_tol"):
@@ -137,6 +145,11 @@ class MachiningSpec:
         check_fanuc_settings(self.dialect, self.program_number, self.tool_number, self.radius_register)  # fanuc dialect
         check_bore_settings(self.dialect, self.tool_number, self.bore_operation, self.bore_tool_diameter,
                             self.bore_tool_number, self.wire_edm is None or self.wire_edm.wire_compensation)  # the bore and keyway (camgen.export.bore_settings)
+        if require_finite("stock_allowance", self.stock_allowance) < 0.0:
+            raise ParameterError("stock_allowance", self.stock_allowance, "stock_allowance >= 0 mm")
+        check_tab_settings(self.holding_tabs, self.holding_tab_width, self.holding_tab_height)  # camgen.export.gcode_tabs
+        if self.wire_edm is None:  # the way down to each pass (camgen.export.gcode_entry)
+            check_entry_settings(self.entry, self.ramp_angle, self.tool_radius, self.step_down, self.lead_length)
         if self.spline_mode not in SPLINE_MODES:
             raise ParameterError("spline_mode", self.spline_mode, f"one of {SPLINE_MODES}")
         if self.cutter_compensation and self.dialect == "grbl":

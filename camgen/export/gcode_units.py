@@ -44,7 +44,9 @@ __all__ = ["ScaledGroove", "Writer", "groove_in_program_units", "in_program_unit
 Writer = Callable[[Contour, MachiningSpec, str, str, "float | None", "Sequence[Pocket]", "BodySpec | None"], str]
 
 #: The spec's lengths (mm) and feeds (mm/min) that an inch program has in inches (and in/min).
-_LENGTHS = ("tool_diameter", "thickness", "step_down", "safe_z", "feed", "plunge_feed", "chord_tol", "breakthrough")
+_LENGTHS = ("tool_diameter", "thickness", "step_down", "safe_z", "feed", "plunge_feed", "chord_tol", "breakthrough", "stock_allowance")
+#: Lengths (mm) that may be left out (None: a default the writers derive from the converted ones).
+_OPTIONAL_LENGTHS = ("bore_tool_diameter", "holding_tab_width", "holding_tab_height")
 _WIRE_LENGTHS = ("wire_diameter", "spark_gap", "start_hole_diameter", "start_hole_offset", "tab_width", "wire_feed")
 
 
@@ -62,8 +64,8 @@ def program_spec(spec: MachiningSpec) -> MachiningSpec:
                                                   **{name: getattr(wire, name) * s for name in _WIRE_LENGTHS})
     else:
         changes["lead"] = spec.lead_length * s
-        if spec.bore_tool_diameter is not None:  # the bore's own tool (camgen.export.gcode_bore)
-            changes["bore_tool_diameter"] = spec.bore_tool_diameter * s
+        # the bore's own tool (camgen.export.gcode_bore), the holding tabs' size (camgen.export.gcode_tabs)
+        changes.update({name: getattr(spec, name) * s for name in _OPTIONAL_LENGTHS if getattr(spec, name) is not None})
         changes["lead_radius"] = spec.lead_arc_radius * s  # the lead arcs' radius (camgen.export.gcode_leads), default in mm too
     return dataclasses.replace(spec, converted=True, **changes)
 

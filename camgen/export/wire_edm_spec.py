@@ -35,7 +35,10 @@ ALLOWANCE_RATIO = 0.2
 MILLING_KEYS = {"tool_diameter_mm": "tool_diameter", "step_down_mm": "step_down", "safe_z_mm": "safe_z", "feed_mm_per_min": "feed",
                 "plunge_feed_mm_per_min": "plunge_feed", "spindle_rpm": "spindle_rpm", "direction": "direction",
                 "cutter_compensation": "cutter_compensation", "lead_mm": "lead", "breakthrough_mm": "breakthrough",
-                "lead_style": "lead_style", "lead_radius_mm": "lead_radius"}
+                "lead_style": "lead_style", "lead_radius_mm": "lead_radius",
+
+                "entry": "entry", "ramp_angle_deg": "ramp_angle", "stock_allowance_mm": "stock_allowance", "holding_tabs": "holding_tabs",
+                "holding_tab_width_mm": "holding_tab_width", "holding_tab_height_mm": "holding_tab_height"}
 
 
 def default_allowances(skim_cuts: int) -> tuple[float, ...]:
