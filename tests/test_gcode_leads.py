@@ -93,7 +93,7 @@ def test_the_lead_arcs_are_tangent_arcs_in_rs274s_moves(dialect, comp, direction
     profile and from the tangent line at the start point."""
     contour = contours["stride"]
     spec = MachiningSpec(tool_diameter=8.0, thickness=1.0, step_down=2.0, direction=direction, cutter_compensation=comp, dialect=dialect,
-                         lead_radius=radius)
+                         lead_radius=radius, entry="plunge")  # the leads alone (the helix and ramp: tests/test_gcode_passes.py)
     rho, r = spec.lead_arc_radius, spec.tool_radius
     program, table = _program(contour, spec, dialect)
     status, message, canon = rs274_canon(program, tmp_path, table)
@@ -181,7 +181,7 @@ def test_the_lead_arcs_are_tangent_within_1e_6_rad_in_the_program(comp, directio
     to the profile itself (LinuxCNC runs such tangent joins straight on: the tool path is tangent too)."""
     contour = contours["stride"]
     spec = MachiningSpec(tool_diameter=8.0, thickness=1.0, step_down=2.0, direction=direction, decimals=6, chord_tol=1e-4,
-                         cutter_compensation=comp)
+                         cutter_compensation=comp, entry="plunge")
     moves = _text_moves(gcode_program(contour, spec))
     if comp:  # the entry move (compensation on) and the move to the tool-centre end (off) are not on the programmed path
         moves = moves[1:-1]
