@@ -204,7 +204,8 @@ class ChoiceList(ValueType):
     min_items: int = 1
 
     def describe(self) -> str:
-        return f"a list of {self.min_items} or more distinct values from " + ", ".join(f'"{v}"' for v in self.values)
+        # the names bare (no quotes): the refusal of a list stays one short line as the values grow
+        return f"a list of {self.min_items} or more distinct values from " + ", ".join(self.values)
 
     def parse(self, path: str, value: object) -> tuple[str, ...]:
         if not isinstance(value, list) or not self.min_items <= len(value) <= len(self.values):

@@ -128,7 +128,7 @@ TEMPLATE_CAMS = [("default", "stride_length"), ("default", "stride_height"), ("d
                  ("horse_leg", "stride_height"), ("motion_law", "rise_return"), ("tricycle", "steering"), ("plate_cam", "plate"),
                  ("flat_follower", "flat"), ("knife_follower", "knife"), ("oscillating_roller", "rocker"), ("oscillating_flat", "rocker"),
                  ("lift_table", "table"), ("conjugate_cam", "pair_a"), ("conjugate_cam", "pair_b"), ("constant_breadth", "yoke_cam"),
-                 ("linear_cam", "lifter"), ("groove_cam", "track")]
+                 ("linear_cam", "lifter"), ("groove_cam", "track"), ("wire_edm_cam", "plate")]
 
 
 def test_every_template_cam_has_fea_files(template_runs):
