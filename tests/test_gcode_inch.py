@@ -12,7 +12,8 @@ Judged from outside camgen.export.gcode_units:
   conversion; that rs274 reads the inch program as the converted one is checked by comparing
   the two canonical outputs within their printed precision (0.5e-4 in + 0.5e-4 mm);
 * the wire-EDM program's moves, converted back, match the mm program's within the two
-  programs' rounding; a barrel cam's program is refused in inches (not built);
+  programs' rounding; a barrel cam's programs (its groove's, a rib's translating or oscillating)
+  likewise, every number of them (A in degrees and the inverse-time F unchanged);
 * the decimals rule: the least decimals whose printed rounding (an arc's centre and both ends
   each rounded by half a unit in x and y: up to 3 x sqrt(2)/2 x 10^-d in, times 25.4 mm) is
   within a quarter of chord_tol, computed here, is the default, and one fewer is refused;
@@ -294,17 +295,88 @@ def test_the_readme_quotes_the_inch_tolerance_bound(tree):
     assert f"`chord_tol_mm >= {bound:.1e} mm`".replace("e-04", "e-4") in text
 
 
-def test_a_barrel_rib_program_in_inches_is_refused():
-    """A rib's 4th-axis program is mm only: units = "inch" is refused naming the key, nothing silent."""
+def _rib_and_spec(motion: str):
+    """A translating rib (tests/test_gcode_barrel_rib.py) or an oscillating one
+    (tests/test_barrel_rib_oscillating_files.py), each with its spec in mm."""
+    if motion == "translating":
+        from test_gcode_barrel_rib import rib, spec
+
+        return rib(1), spec()
+    from test_barrel_rib_oscillating_files import camgen_rib
+    from test_barrel_rib_oscillating_files import spec as arm_spec
+
+    return camgen_rib(), arm_spec()
+
+
+_OTHER = re.compile(r"\b([XYZAF])(-?\d+(?:\.\d+)?)")
+
+
+@pytest.mark.usefixtures("needs_rs274")
+@pytest.mark.parametrize("motion", ["translating", "oscillating"])
+def test_barrel_rib_inch_program_matches_the_mm_program(motion, tmp_path):
+    """A rib's program on the A axis in inches: accepted by rs274 (read in inches), and every
+    number of it converted back is the mm program's within the two programs' rounding: the
+    cutting moves' X, Y, Z within half a unit of each last decimal, A within half a unit of each
+    A decimal (degrees, not converted), the inverse-time F (1/min) the same within the rounding
+    of the move lengths; the moves between the passes (up to the safe height, over to the next
+    pass's X and Y, down to the rim) likewise, their plunge feed in in/min.  The rib's nested mm
+    values (its rollers' axes, their offset, the pitch line's extremes, the cylinder) would show
+    here as a number 25.4 times off."""
+    from camgen.export.gcode_barrel_rib import rib_program
+
+    rib, spec = _rib_and_spec(motion)
+    mm = rib_program(rib, spec, "rib")
+    inch = rib_program(rib, dataclasses.replace(spec, units="inch", decimals=0), "rib")
+    assert "G20 G90" in inch and "G21" not in inch and "G21 G90" in mm and "units inch" in inch
+    status, message, canon = rs274_canon(inch, tmp_path)
+    assert status == 0, message
+    a = np.array([[float(v or 0.0) for v in row] for row in _ROW.findall(mm)])
+    b = np.array([[float(v or 0.0) for v in row] for row in _ROW.findall(inch)])
+    assert a.shape == b.shape and len(a) > 1000
+    if motion == "oscillating":
+        assert np.max(np.abs(a[:, 1])) > 1.0  # Y is there: the rollers ride off the radial line
+    d_mm = len(re.search(r"^G1 X-?\d+\.(\d+)", mm, re.M).group(1))
+    da_mm = len(re.search(r" A-?\d+\.(\d+)", mm).group(1))
+    da_in = len(re.search(r" A-?\d+\.(\d+)", inch).group(1))
+    xyz = 0.5 * 10.0 ** -d_mm + 0.5e-6 * INCH + 1e-12
+    angle = 0.5 * 10.0 ** -da_mm + 0.5 * 10.0 ** -da_in + 1e-12
+    assert np.max(np.abs(b[:, [0, 1, 2]] * INCH - a[:, [0, 1, 2]])) <= xyz
+    assert np.max(np.abs(b[:, 3] - a[:, 3])) <= angle
+    assert np.allclose(b[:, 4], a[:, 4], rtol=2e-3)  # feed / length: the same ratio in either unit
+    # every other move (start, between the passes, end), word by word
+    others = [[line for line in text.splitlines() if line[:1] in "GM" and not _ROW.match(line) and not line.startswith("G64")]
+              for text in (mm, inch)]
+    assert len(others[0]) == len(others[1]) > 10
+    plunges = 0
+    for line_mm, line_in in zip(*others):
+        words_mm, words_in = _OTHER.findall(line_mm), _OTHER.findall(line_in)
+        assert [w[0] for w in words_mm] == [w[0] for w in words_in], (line_mm, line_in)
+        for (letter, v_mm), (_, v_in) in zip(words_mm, words_in):
+            if letter == "A":
+                assert abs(float(v_in) - float(v_mm)) <= angle, (line_mm, line_in)
+            elif letter == "F":  # G94 feeds: mm/min and in/min
+                plunges += 1
+                assert float(v_mm) == spec.plunge_feed and float(v_in) == pytest.approx(spec.plunge_feed / INCH, abs=0.005)
+            else:
+                assert abs(float(v_in) * INCH - float(v_mm)) <= xyz, (line_mm, line_in)
+    assert plunges > 2  # the start's and one a pass after the first
+    assert max(m["end"][2] for m in canon if m["kind"] != "traverse") * INCH == pytest.approx(rib.rim_radius, abs=0.5e-4 * INCH)
+
+
+def test_a_rib_scene_in_inches_writes_its_program_in_inches():
+    """`units = "inch"` on a rib scene (no longer refused): its ngc is the inch program (G20, the
+    rim radius and the stock length in the header in inches)."""
     from camgen.pipeline import execute, plan_run
     from camgen.scene import parse_scene
-    from test_barrel_rib_files import CLEARANCE, RR, rib_table
+    from test_barrel_rib_files import CLEARANCE, LENGTH, RIM, RR, rib_table
 
     scene = parse_scene({"output": {"formats": ["ngc"]}, "machining": {"units": "inch", "tool_diameter_mm": 2 * RR + CLEARANCE},
                          "cams": {"b": rib_table()}}, "t")
-    with pytest.raises(ParameterError) as info:
-        execute(scene, plan_run(scene))
-    assert info.value.name == "machining.units" and '"mm"' in info.value.valid
+    files = execute(scene, plan_run(scene)).files
+    (text,) = [v for k, v in files.items() if str(k).endswith(".ngc")]
+    text = text if isinstance(text, str) else text.decode()
+    assert "\nG20 G90" in text and "with a rib" in text and text.endswith("M2\n")
+    assert f"rim radius {RIM / INCH:g}, length {LENGTH / INCH:g};" in " ".join(text.split())
 
 
 def test_a_refusal_of_an_inch_program_quotes_the_scene_mm():

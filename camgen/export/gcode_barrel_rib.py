@@ -244,9 +244,11 @@ def rib_program(rib: Any, spec: MachiningSpec, cam: str = "cam", scene: str = ""
     from camgen import __version__
     from camgen.export.gcode import blend_word
 
+    if spec.program_unit != 1.0:  # inch: the same program of the scaled rib and spec (camgen.export.gcode_units)
+        from camgen.export.gcode_units import groove_in_program_units, scaled_rib
+
+        return groove_in_program_units(rib_program, rib, spec, cam, scene, scaled_rib)
     check_tool(rib.groove, spec, cam, ROLLER_WIDTH, RIB_ONE_PASS)
-    if spec.units != "mm":  # inch programs (camgen.export.gcode_units): plate cams and a barrel cam's groove
-        raise ParameterError("units", spec.units, '"mm" for a barrel cam with a rib', "its 4th-axis program is written in mm only; an inch one is not built")
     passes = rib_passes(rib, spec, cam)
     _refuse_long(passes, spec)
     arm = rib.layout.motion == "oscillating"
@@ -264,7 +266,7 @@ def rib_program(rib: Any, spec: MachiningSpec, cam: str = "cam", scene: str = ""
             first_x, first_y = float(xs[0]), float(ys[0])
         else:  # up, over to the next pass's start (A where the last pass ended), down to the rim
             over = f"G0 X{xs[0]:.{d}f} Y{ys[0]:.{d}f}" if arm else f"G0 X{xs[0]:.{d}f}"
-            body.append(f"G94\nG0 Z{safe:.{d}f}\n{over}\nG1 Z{rim:.{d}f} F{spec.plunge_feed:.0f}\nG93\n")
+            body.append(f"G94\nG0 Z{safe:.{d}f}\n{over}\nG1 Z{rim:.{d}f} F{spec.plunge_feed:.{spec.feed_decimals}f}\nG93\n")
         body.extend(turn_blocks(q.path, xs, ys, d, da, spec.feed, rim, a_start, oscillating=True if arm else None, label=q.label,
                                 floor_what=q.floor_what))
         a_start += float(np.sign(q.path.a[-1])) * 360.0 * (q.path.turns + 1)
@@ -307,9 +309,10 @@ def rib_program(rib: Any, spec: MachiningSpec, cam: str = "cam", scene: str = ""
         ("machine: the cam's axis on the A axis along X; X0 at the cam's bottom face [cam z = 0], +X to its top face; "
                 "Z radial: the tool tip's distance from the A axis; Y0 through the axis"
                 + ("; the tool's axis at Y = -e_k, the roller's tangential offset" if arm else "")),
-        (f"units mm, A in degrees: the cam turned by A counter-clockwise seen from +X [right-hand rule]; at A the tool is over cam "
-                f"polar angle -A, cam angle theta = {'+' if sigma > 0 else '-'}A [rotation {'ccw' if sigma > 0 else 'cw'}]; A runs on "
-                "from pass to pass, not unwound"),
+        (f"units {spec.units}, A in degrees: the cam turned by A counter-clockwise seen from +X [right-hand rule]; at A the tool is over cam "
+                f"polar angle -A, cam angle theta = {'+' if sigma > 0 else '-'}A [rotation {'ccw' if sigma > 0 else 'cw'}]"),
+        # one line (< COMMENT_WIDTH): an inch program's units line follows it (camgen.export.gcode_units)
+        "A runs on from pass to pass, not unwound",
         (f"tool: end mill diameter {spec.tool_diameter:g} = the rollers' diameter + clearance {2.0 * rib.half_width:.10g} within "
                 f"{width_tol(spec):.3g}, axis radial; {axes}"),
         (f"stock: cylinder turned to the rim radius {rim:g}, length {rib.length:g}; the body: the root cylinder radius {root:g} "

@@ -13,7 +13,12 @@ blend, all in inches), so only the units word (``G20``), the feed decimals
 
 A barrel cam's groove (:func:`camgen.export.gcode_barrel.barrel_program`) is scaled the same
 way (:class:`ScaledGroove`: its roller axis' height and offset, radii and half width); A stays
-in degrees and the inverse-time feeds (feed over a move's length, 1/min) do not change.
+in degrees and the inverse-time feeds (feed over a move's length, 1/min) do not change.  A
+barrel cam's rib (:func:`camgen.export.gcode_barrel_rib.rib_program`) is scaled as a whole
+(:func:`scaled_rib`: a real :class:`~camgen.synthesis.barrel.BarrelRib` whose every length is
+times ``s``, a translating follower's lift too, :class:`ScaledLift`), so whatever the rib writer
+reads of it, nested or derived (the rollers' grooves and offset, the pitch line's extremes), is
+in inches.
 
 Decimals count inches: ``decimals`` rounds each printed value by up to ``0.5 10^-decimals`` in,
 so the spec (in mm) checks ``rounding_error(decimals) x 25.4 <= ROUNDING_SHARE x chord_tol``
@@ -37,8 +42,8 @@ if TYPE_CHECKING:
     from camgen.body import BodySpec
     from camgen.kinds.base import Pocket
 
-__all__ = ["ScaledGroove", "Writer", "groove_in_program_units", "in_program_units", "program_spec", "scaled_body", "scaled_contour", "scaled_pocket",
-           "units_line", "units_note"]
+__all__ = ["ScaledGroove", "ScaledLift", "Writer", "groove_in_program_units", "in_program_units", "program_spec", "scaled_body", "scaled_contour",
+           "scaled_pocket", "scaled_rib", "units_line", "units_note"]
 
 #: A program writer: (contour, spec, cam, scene, thickness, pockets, cam body) -> program text.
 Writer = Callable[[Contour, MachiningSpec, str, str, "float | None", "Sequence[Pocket]", "BodySpec | None"], str]
@@ -175,14 +180,56 @@ class ScaledGroove:
         return np.asarray(z_c) * self.s, np.asarray(e) * self.s
 
 
+class ScaledLift:
+    """A translating barrel follower's law (:class:`camgen.synthesis.laws.Displacement`, the lift
+    in mm) at scale ``s``: the lift and its derivatives by the cam angle times ``s``, its bounds
+    (``s_bounds``) too; the breaks (cam angles) unchanged."""
+
+    def __init__(self, law: Any, s: float) -> None:
+        self.law, self.s = law, s
+        self.breaks: np.ndarray = law.breaks
+        self.break_continuity: np.ndarray = law.break_continuity
+
+    def __call__(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """s, s', s'', s''' at cam angles ``theta`` (rad), times ``s``."""
+        s0, s1, s2, s3 = self.law(theta)
+        return s0 * self.s, s1 * self.s, s2 * self.s, s3 * self.s
+
+    @property
+    def s_bounds(self) -> tuple[float, float]:
+        """The least and the greatest lift, times ``s``."""
+        lo, hi = self.law.s_bounds
+        return lo * self.s, hi * self.s
+
+
+def scaled_rib(rib: Any, s: float) -> Any:
+    """``rib`` (a :class:`camgen.synthesis.barrel.BarrelRib`) scaled by ``s`` about the cam's
+    axis: the same classes rebuilt from scaled lengths (the layout's roller and mean radii, ``z0``
+    and arm length; the groove's rim, root and bore radii, length, clearance, fit tolerance and
+    axis offset; the rib's width; a translating follower's lift, :class:`ScaledLift`), so every
+    length they derive is scaled; angles (the sense, the rest angle, an oscillating follower's
+    swing in rad) unchanged."""
+    from camgen.synthesis.barrel import BarrelRib
+
+    groove, lay = rib.groove, rib.groove.layout
+    layout = dataclasses.replace(lay, roller_radius=lay.roller_radius * s, mean_radius=lay.mean_radius * s, z0=lay.z0 * s,
+                                 arm_length=lay.arm_length * s)
+    law = ScaledLift(groove.law, s) if lay.motion == "translating" else groove.law  # oscillating: the swing, rad
+    scaled = dataclasses.replace(groove, layout=layout, law=law, rim_radius=groove.rim_radius * s, root_radius=groove.root_radius * s,
+                                 length=groove.length * s, bore_radius=groove.bore_radius * s, clearance=groove.clearance * s,
+                                 fit_tol=groove.fit_tol * s, axis_offset=groove.axis_offset * s)
+    return BarrelRib(scaled, rib.width * s)
+
+
 def groove_in_program_units(write: Callable[[Any, MachiningSpec, str, str], str], groove: Any, spec: MachiningSpec, cam: str,
-                            scene: str) -> str:
+                            scene: str, scale: Callable[[Any, float], Any] = ScaledGroove) -> str:
     """The barrel program ``write`` makes of ``groove`` for ``spec`` (in mm, ``units = "inch"``),
-    written in inches (:class:`ScaledGroove`, :func:`program_spec`); a refusal is the mm program's."""
+    written in inches (``groove`` seen through ``scale``: :class:`ScaledGroove`, or a rib's
+    :func:`scaled_rib`; :func:`program_spec`); a refusal is the mm program's."""
     s = 1.0 / spec.program_unit
     inch = program_spec(spec)
     try:
-        program = write(ScaledGroove(groove, s), inch, cam, scene)
+        program = write(scale(groove, s), inch, cam, scene)
     except (ParameterError, GeometryError) as exc:
         _refuse_in_mm(lambda: write(groove, _in_mm(spec), cam, scene), exc)
     return _with_units_line(program, inch)
