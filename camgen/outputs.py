@@ -299,8 +299,8 @@ def machining_keys() -> tuple[Key, ...]:
             "in inches the least that keeps that budget (6 with the default chord_tol_mm).", ("gcode",)),
         Key("units", Choice(UNITS), 'Units of the program: "mm" (G21) or "inch" (G20: every coordinate, I/J, Z, safe Z and '
             'register value in inches, feeds in in/min with 2 decimals; the header gives the tolerance in both units). The scene '
-            'keys stay in mm. Plate cams (milling and wire EDM) and a barrel cam\'s groove (X, Y, Z in inches, A in degrees); a '
-            'barrel cam\'s rib is mm only.', ("gcode",), default=d("units")),
+            'keys stay in mm. Plate cams (milling and wire EDM) and a barrel cam\'s groove or rib (X, Y, Z in inches, A in '
+            'degrees, the inverse-time feeds unchanged).', ("gcode",), default=d("units")),
         # --- fanuc dialect (camgen.export.fanuc_settings) ---
         Key("program_number", Count(1, MAX_PROGRAM_NUMBER), f"The Fanuc program's O number (default {DEFAULT_PROGRAM_NUMBER}).",
             ("gcode",), requires={"dialect": ("fanuc",)}),
