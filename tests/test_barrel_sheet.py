@@ -15,8 +15,10 @@ dwell; the roller axis at lift 0 at z0 = (length - 40) / 2, the scene's default)
 * the PDF rendered by pdftoppm: a row through the side view crosses the cylinder's outline
   k 2 R_o (+ one wide line) apart, a row through the developed view its outline k 2 pi R_m (+ one
   thin line) apart, within 0.2 mm;
-* a rib's drawing and table are refused naming output.formats; a checking roller other than the
-  groove's half width is refused naming output.inspection_roller_radius_mm; at 1:1 the drawing
+* a rib (12 mm wide, cylinder 90 mm long: z0 = (90 - 40) / 2): the same table (the pitch line's
+  height); its faces in the dwells at ``z_c +- rib_width / 2`` (each roller's axis ``rib_width / 2
+  + w`` from the pitch line, its section a circle of radius w), the width dimensioned 12 mm;
+* a checking roller other than w is refused naming output.inspection_roller_radius_mm; at 1:1 the drawing
   does not fit A3 (side view 110 mm + developed 314 mm at scale) and is refused naming
   output.drawing_scale and 1:2.
 """
@@ -106,7 +108,7 @@ def test_svg_developed_pitch_curve_and_walls_are_the_closed_form_at_scale(files,
         for lo, hi, z_c in ((125.0, 175.0, Z0 + H), (305.0, 355.0, Z0)):
             inside = (theta > math.radians(lo)) & (theta < math.radians(hi))
             assert inside.sum() > 10 and np.max(np.abs(wall[inside, 1] - (z_c + side * W))) <= slack, name
-    assert float(np.ptp(paths["groove_width"][:, 1])) / K == pytest.approx(2 * W, abs=1e-4)  # dimensioned in the upper dwell
+    assert float(np.ptp(paths["track_width"][:, 1])) / K == pytest.approx(2 * W, abs=1e-4)  # dimensioned in the upper dwell
 
 
 def test_svg_side_view_cylinder_and_bore_at_scale(files, tmp_path):
@@ -162,8 +164,33 @@ def test_refusals_name_their_keys(tmp_path):
     with pytest.raises(ParameterError) as caught:
         _run(cam(), tmp_path, formats=["inspection"], inspection_roller_radius_mm=RR)
     assert caught.value.name == "output.inspection_roller_radius_mm" and f"{W:g}" in str(caught.value)
-    for fmt in ("drawing", "drawing_pdf", "inspection"):
-        with pytest.raises(ParameterError) as caught:
-            _run(cam(track="rib", rib_width_mm=12.0, cylinder_length_mm=90.0), tmp_path, formats=[fmt])
-        assert caught.value.name == "output.formats" and fmt in str(caught.value) and "rib" in str(caught.value)
-        assert "not built yet" in str(caught.value)
+
+
+RIB_W, RIB_LENGTH = 12.0, 90.0
+
+
+def test_rib_table_faces_and_width(tmp_path):
+    from scipy.spatial import cKDTree
+
+    z0 = (RIB_LENGTH - H) / 2
+    files = _run(cam(track="rib", rib_width_mm=RIB_W, cylinder_length_mm=RIB_LENGTH, min_wall_mm=2.0), tmp_path)
+    table = read_csv(files["c_inspection.csv"])
+    theta = np.radians(table["cam_angle_deg"])
+    assert np.max(np.abs(table["axial_position_mm"] - (z0 + cycloidal(theta)))) <= 1e-8
+    assert np.max(np.abs(table["lift_mm"] - cycloidal(theta))) <= 1e-8
+    meta = json.loads(files["report.json"])["tables"]["c_inspection.csv"]
+    assert meta["fork_spacing_mm"] == pytest.approx(RIB_W + 2 * W, abs=1e-12)
+    svg = files["c_drawing.svg"]
+    assert f"RIB DEVELOPED AT MEAN RADIUS R = {R_M:.3f}" in svg and f"RIB {RIB_W:.3f} WIDE" in svg
+    paths = _page_paths(svg, tmp_path)
+    slack = TOL + 2e-5 / K + 1e-4
+    phi = np.linspace(0.0, 2 * math.pi, 400_001)
+    gap, _ = cKDTree(np.column_stack([R_M * phi, z0 + cycloidal(-phi)])).query(_developed(paths, "pitch_curve"))
+    assert gap.max() <= slack
+    for name, side in (("rib_upper", 1), ("rib_lower", -1)):
+        face = _developed(paths, name)
+        theta = np.mod(-face[:, 0] / R_M, 2 * math.pi)
+        for lo, hi, z_c in ((125.0, 175.0, z0 + H), (305.0, 355.0, z0)):
+            inside = (theta > math.radians(lo)) & (theta < math.radians(hi))
+            assert inside.sum() > 10 and np.max(np.abs(face[inside, 1] - (z_c + side * RIB_W / 2))) <= slack, name
+    assert float(np.ptp(paths["track_width"][:, 1])) / K == pytest.approx(RIB_W, abs=1e-4)

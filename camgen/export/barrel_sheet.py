@@ -1,6 +1,5 @@
-"""The manufacturing drawing (SVG, PDF) and inspection table (CSV) of a barrel cam's groove
-(``form = "barrel"``, ``track = "groove"``; the form's writers for ``drawing``, ``drawing_pdf``
-and ``inspection``; a rib's are refused, :data:`camgen.kinds.barrel.RIB_FORMATS_REFUSED`).
+"""The manufacturing drawing (SVG, PDF) and inspection table (CSV) of a barrel cam's groove or rib
+(``form = "barrel"``; the form's writers for ``drawing``, ``drawing_pdf`` and ``inspection``).
 
 The sheet, border, text sizes, scale bar and title block are the disk cam drawing's
 (:mod:`camgen.export.drawing`).  Two views share the page's vertical (the cam axis ``z``, up; ``z = 0``
@@ -14,7 +13,9 @@ the bottom face):
   length ``2 pi R_m`` dimensioned below it), both walls' sections at ``R_m`` (full lines) and the
   pitch curve (dash-dot), each within ``chord_tol_mm`` of the exact curve (so within scale x
   ``chord_tol_mm`` on the page); the groove's width dimensioned across the walls where the pitch
-  curve is highest (a dwell of a translating follower: ``2 w``, ``w = Rr + c / 2``); the zero mark
+  curve is highest (a dwell of a translating follower: ``2 w``, ``w = Rr + c / 2``; a rib
+  (``track = "rib"``): its two faces instead of the walls, the pitch line between them, the rib's
+  width dimensioned there: ``rib_width_mm`` where a translating follower dwells); the zero mark
   (``x = 0``, cam angle 0) and ticks at cam angles 90, 180 and 270 deg at ``x = R_m (-sigma theta mod
   2 pi)`` (the cam turned by ``theta`` brings the polar angle ``-sigma theta`` to the follower), and
   an arrow the way the surface passes the follower.
@@ -25,6 +26,9 @@ both walls: its axis' height above the bottom face is the roller axis' ``z_c(the
 s(theta)`` (``z0`` the axis' height at lift 0), so the table gives ``axial_position_mm = z_c`` and
 ``lift_mm = s``.  An oscillating follower's table gives the arm's angle ``psi = psi0 + s(theta)``
 (deg, in the plane through the cam axis, from the plane perpendicular to it) and its swing ``s``.
+A rib is read by a fork of two rollers of radius ``w`` straddling it, their axes ``rib_width + 2 w``
+apart along the follower's normal (the follower's own pair): the midpoint of their axes is the
+pitch line's ``z_c``, so the columns are the same.
 The rows: the whole turn in equal steps (:func:`camgen.export.inspection.inspection_angles`).
 """
 from __future__ import annotations
@@ -54,7 +58,8 @@ __all__ = ["BarrelTable", "HIDDEN", "SLIDE_COLUMNS", "SWING_COLUMNS", "barrel_in
 SLIDE_COLUMNS = {
     "cam_angle_deg": "cam angle: the cam turned from its zero mark in its sense of rotation, deg",
     "axial_position_mm": "height above the bottom face (z = 0) of the axis of a plug of the groove's width resting on both walls, "
-                         "its axis radial at the follower's station: the roller axis' z_c, mm",
+                         "its axis radial at the follower's station (a rib: the midpoint of the axes of a fork of two rollers "
+                         "straddling it): the roller axis' (the pitch line's) z_c, mm",
     "lift_mm": "axial_position_mm minus the axis' height at lift 0 (z0): the law's lift s, mm",
 }
 #: ... and with an oscillating follower.
@@ -91,25 +96,28 @@ class BarrelTable:
         return SWING_COLUMNS if self.swing else SLIDE_COLUMNS
 
 
-def _groove(cam: "CamResult", fmt: str) -> Any:
+def _groove(cam: "CamResult") -> Any:
+    """What the drawing shows: the rib (:class:`camgen.synthesis.barrel.BarrelRib`) or the groove."""
     groove = getattr(cam.built, "groove", None)
     assert groove is not None, f"cam {cam.name!r} is not a barrel cam"
-    if getattr(cam.built, "rib", None) is not None:  # planning refuses it first (RIB_FORMATS_REFUSED)
-        raise ParameterError("output.formats", fmt, f"formats without {fmt} for cam '{cam.name}'",
-                             "the drawing and inspection table of a barrel cam's rib are not built yet")
-    return groove
+    rib = getattr(cam.built, "rib", None)
+    return rib if rib is not None else groove
+
+
+def _is_rib(surfaces: Any) -> bool:
+    return hasattr(surfaces, "roller_offset")
 
 
 def barrel_table(cam: "CamResult", spec: DrawingSpec, fmt: str) -> BarrelTable:
     """The inspection table of the barrel cam ``cam`` (module notes)."""
-    groove = _groove(cam, fmt)
+    groove = _groove(cam)
     w = groove.half_width
     if spec.inspection_roller_radius is not None and spec.inspection_roller_radius != w:
         raise ParameterError("output.inspection_roller_radius_mm", spec.inspection_roller_radius,
-                             f"{w:g} (half the groove's width) for barrel cam '{cam.name}', or left out",
-                             "a plug in a groove rests on both walls only at the groove's width")
+                             f"{w:g} (the follower's roller widened by half the clearance) for barrel cam '{cam.name}', or left out",
+                             "a plug in a groove rests on both walls (a fork straddling a rib on both faces) only at that radius")
     theta = inspection_angles(spec.inspection_step)
-    s = groove.law(theta)[0]
+    s = getattr(groove, "groove", groove).law(theta)[0]  # a rib's law: its pitch line's groove's
     lay = groove.layout
     if lay.motion == "oscillating":
         return BarrelTable(theta, np.degrees(lay.rest_angle + s), np.degrees(s), float(w), float(groove.fit_tol), float(lay.z0), True)
@@ -126,11 +134,16 @@ def inspection(cam: "CamResult", run: "RunSettings", fmt: str) -> str:
 def barrel_inspection_metadata(cam: "CamResult", spec: DrawingSpec) -> dict[str, Any]:
     """What a barrel cam's ``<cam>_inspection.csv`` holds (report.json ``tables``)."""
     t = barrel_table(cam, spec, "inspection")
-    sigma = _groove(cam, "inspection").layout.sigma
-    return {"content": "inspection table of a barrel cam's groove: the cam turned from its zero mark in its sense of rotation; a "
-                       "plug of the groove's width, its axis radial at the follower's station, rests on both walls"
+    surfaces = _groove(cam)
+    sigma = surfaces.layout.sigma
+    gauge = ("a fork of two rollers of radius plug_radius_mm, their axes fork_spacing_mm apart, straddles the rib on both faces "
+             "at the follower's station (the midpoint of their axes)" if _is_rib(surfaces) else
+             "a plug of the groove's width, its axis radial at the follower's station, rests on both walls")
+    extra = {"fork_spacing_mm": 2.0 * surfaces.roller_offset} if _is_rib(surfaces) else {}
+    return {"content": f"inspection table of a barrel cam's {'rib' if _is_rib(surfaces) else 'groove'}: the cam turned from its zero "
+                       f"mark in its sense of rotation; {gauge}"
                        + ("; the arm's angle carrying it" if t.swing else "; its axis' height above the bottom face"),
-            "columns": dict(t.columns), "angle_step_deg": 360.0 / t.cam_angle.size, "plug_radius_mm": t.plug_radius,
+            "columns": dict(t.columns), "angle_step_deg": 360.0 / t.cam_angle.size, "plug_radius_mm": t.plug_radius, **extra,
             "datum": "z = 0: the cylinder's bottom face" if not t.swing else "psi = 0: the plane perpendicular to the cam axis",
             "lift_zero_axis_height_mm" if not t.swing else "pivot_height_mm": t.z0,
             "rotation": "ccw" if sigma > 0 else "cw", "fit_tol_mm": t.tolerance}
@@ -174,7 +187,8 @@ def _dimension(a: np.ndarray, b: np.ndarray, text: str, name: str, strokes: list
 def _sheet(cam: "CamResult", run: "RunSettings", fmt: str) -> Sheet:
     from camgen.export.barrel_drawing import developed_curves
 
-    groove = _groove(cam, fmt)
+    groove = _groove(cam)
+    rib = _is_rib(groove)
     spec, tol = run.output.drawing, run.output.chord_tol
     table = barrel_table(cam, spec, fmt)
     lay = groove.layout
@@ -239,22 +253,29 @@ def _sheet(cam: "CamResult", run: "RunSettings", fmt: str) -> Sheet:
     strokes.append(Stroke(developed(np.array([[0.0, 0.0], [span, 0.0], [span, length], [0.0, length]])), THIN, closed=True,
                           name="developed_outline"))
     strokes.append(Stroke(developed(curves["PITCH_DEVELOPED"]), THIN, DASH_DOT, name="pitch_curve"))
-    strokes.append(Stroke(developed(curves["WALL_UPPER_DEVELOPED"]), WIDE, name="wall_upper"))
-    strokes.append(Stroke(developed(curves["WALL_LOWER_DEVELOPED"]), WIDE, name="wall_lower"))
+    for face in ("UPPER", "LOWER"):
+        layer = f"RIB_{face}_DEVELOPED" if rib else f"WALL_{face}_DEVELOPED"
+        strokes.append(Stroke(developed(curves[layer]), WIDE, name=("rib_" if rib else "wall_") + face.lower()))
     d0, d1 = developed(np.array([[0.0, 0.0], [span, length]]))
-    labels.append(Label(float(d0[0]), float(top - 26.0), f"GROOVE DEVELOPED AT MEAN RADIUS R = {mm_text(rm)} (x = R \u00d7 POLAR "
+    track = "RIB" if rib else "GROOVE"
+    labels.append(Label(float(d0[0]), float(top - 26.0), f"{track} DEVELOPED AT MEAN RADIUS R = {mm_text(rm)} (x = R \u00d7 POLAR "
                         "ANGLE OF THE CAM)", 2.2))
-    labels.append(Label(float(d0[0]), float(top - 22.0), f"GROOVE {mm_text(2 * groove.half_width)} WIDE ACROSS THE ROLLER, "
-                        f"{mm_text(groove.rim_radius - groove.root_radius)} DEEP (ROOT \u00d8{mm_text(2 * groove.root_radius)}); "
-                        "WALLS: FULL LINES, PITCH CURVE: DASH-DOT", 2.2))
-    # the groove's width across the walls where the pitch curve is highest
+    if rib:
+        labels.append(Label(float(d0[0]), float(top - 22.0), f"RIB {mm_text(groove.width)} WIDE ALONG z IN A DWELL, "
+                            f"{mm_text(groove.rim_radius - groove.root_radius)} HIGH ON ROOT \u00d8{mm_text(2 * groove.root_radius)}; "
+                            f"ROLLERS \u00d8{mm_text(2 * groove.half_width)}; FACES FULL, PITCH LINE DASH-DOT", 2.2))
+    else:
+        labels.append(Label(float(d0[0]), float(top - 22.0), f"GROOVE {mm_text(2 * groove.half_width)} WIDE ACROSS THE ROLLER, "
+                            f"{mm_text(groove.rim_radius - groove.root_radius)} DEEP (ROOT \u00d8{mm_text(2 * groove.root_radius)}); "
+                            "WALLS: FULL LINES, PITCH CURVE: DASH-DOT", 2.2))
+    # the groove's (rib's) width across the walls (faces) where the pitch curve is highest
     pitch = curves["PITCH_DEVELOPED"]
     i = int(np.argmax(pitch[:, 1]))
     xw = float(np.mod(pitch[i, 0], span))
     phi = np.array([xw / rm])
     zu, zl = (float(groove.wall_height(s, np.asarray(rm), phi)[0]) for s in (1, -1))
     a, b = developed(np.array([[xw, zu], [xw, zl]]))
-    _dimension(a, b, f"{mm_text(zu - zl)}", "groove_width", strokes, fills, labels)
+    _dimension(a, b, f"{mm_text(zu - zl)}", "track_width", strokes, fills, labels)
     # the developed length below, the zero mark and the cam-angle ticks
     for x, name in ((d0[0], "span_left"), (d1[0], "span_right")):
         strokes.append(Stroke(np.array([[x, d0[1] + 1.0], [x, d0[1] + 17.0]]), THIN, name=name))
@@ -276,18 +297,22 @@ def _sheet(cam: "CamResult", run: "RunSettings", fmt: str) -> Sheet:
                         + ("CCW" if sigma > 0 else "CW") + " SEEN FROM THE TOP FACE (z UP)", 2.2, "middle"))
     labels.append(Label(float(d0[0]), float(ya + 8.0), f"THE FOLLOWER READS CAM ANGLE T AT THE CAM'S POLAR ANGLE {'-' if sigma > 0 else '+'}T "
                         "(x = R \u00d7 POLAR ANGLE IN rad, MOD 2 PI R); z FROM THE BOTTOM FACE", 2.2))
-    _table(table, spec, x1 - right_w, y0, per_block, labels, strokes)
+    _table(table, spec, x1 - right_w, y0, per_block, labels, strokes, 2.0 * groove.roller_offset if rib else 0.0)
     _scale_bar_and_title(cam, run, spec, sheet, table, x1, y1, right_w, length, sigma, fills, labels, strokes)
     numbers = [s.points for s in strokes] + [f.points for f in fills] + [table.position, table.lift]
-    if not all(bool(np.all(np.isfinite(q))) for q in numbers):
+    if not all(bool(np.all(np.isfinite(q))) for q in numbers):  # the PDF's streams are compressed: the run's text guard cannot read them
         raise ExportError(f"drawing of cam '{cam.name}': a non-finite coordinate or number")
     return Sheet(width, height, tuple(strokes), tuple(fills), tuple(labels), cam.name)
 
 
-def _table(table: BarrelTable, spec: DrawingSpec, tx: float, y0: float, per_block: int, labels: list, strokes: list) -> None:
+def _table(table: BarrelTable, spec: DrawingSpec, tx: float, y0: float, per_block: int, labels: list, strokes: list,
+           fork: float) -> None:
+    """The table's caption and column blocks; ``fork``: a rib's fork of two rollers, their axes ``fork`` mm apart (0: a groove's plug)."""
     rows = table.cam_angle.size
     what = ("ARM ANGLE FROM THE PLANE NORMAL TO THE AXIS" if table.swing else "AXIAL POSITION z FROM THE BOTTOM FACE")
-    labels.append(Label(tx, y0 + ROW, f"INSPECTION: PLUG \u00d8{mm_text(2 * table.plug_radius)} IN THE GROOVE AT THE FOLLOWER", 2.2))
+    gauge = (f"FORK OF ROLLERS \u00d8{mm_text(2 * table.plug_radius)}, AXES {mm_text(fork)} APART, ON THE RIB" if fork > 0 else
+             f"PLUG \u00d8{mm_text(2 * table.plug_radius)} IN THE GROOVE")
+    labels.append(Label(tx, y0 + ROW, f"INSPECTION: {gauge} AT THE FOLLOWER", 2.2))
     labels.append(Label(tx, y0 + 2 * ROW, f"{what}, TOLERANCE \u00b1{spec.tolerance:g}", 2.2))
     heads = ("ANGLE \u00b0", "ARM \u00b0", "SWING \u00b0") if table.swing else ("ANGLE \u00b0", "z", "LIFT")
     theta = np.degrees(table.cam_angle)

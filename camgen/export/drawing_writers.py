@@ -7,7 +7,7 @@ and the groove cam, whose groove (one pocket of two walls about its pitch curve)
 and whose inspection table is read by a checking roller of the groove's width resting on both
 walls (its centre on the pitch curve); a cam with other pockets is refused naming
 ``output.formats``.  A linear cam's drawing and table are its form's writers
-(:mod:`camgen.export.drawing_linear`), a barrel cam's groove its form's too (:mod:`camgen.export.barrel_sheet`; a rib's refused).  The drawing
+(:mod:`camgen.export.drawing_linear`), a barrel cam's (groove or rib) its form's too (:mod:`camgen.export.barrel_sheet`).  The drawing
 that does not fit its sheet at its scale is refused naming ``output.drawing_scale`` (and the
 largest scale that fits) or ``output.drawing_sheet``.
 """

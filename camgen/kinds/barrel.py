@@ -68,9 +68,7 @@ _RIB = {"track": ("rib",)}
 #: The tracks a barrel cam carries.
 TRACKS = ("groove", "rib")
 #: Outputs a rib cam does not have yet (refused naming output.formats, :attr:`BarrelParams.formats_refused`).
-RIB_FORMATS_REFUSED: dict[str, str] = dict.fromkeys(
-    ("drawing", "drawing_pdf", "inspection"), "the dimensioned drawing and inspection table of a barrel cam's rib are not built yet "
-    "(a groove's are; the rib's developed drawing is the dxf, its faces' points the point list)")
+RIB_FORMATS_REFUSED: dict[str, str] = {}
 #: Outputs an oscillating follower's rib does not have yet (none: its STEP and its program are built, ORIB).
 OSCILLATING_RIB_FORMATS_REFUSED: dict[str, str] = {}
 
