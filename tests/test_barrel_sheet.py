@@ -18,6 +18,10 @@ dwell; the roller axis at lift 0 at z0 = (length - 40) / 2, the scene's default)
 * a rib (12 mm wide, cylinder 90 mm long: z0 = (90 - 40) / 2): the same table (the pitch line's
   height); its faces in the dwells at ``z_c +- rib_width / 2`` (each roller's axis ``rib_width / 2
   + w`` from the pitch line, its section a circle of radius w), the width dimensioned 12 mm;
+* an oscillating follower's rib (tests/test_barrel_rib_oscillating.py's: arm 60 mm, 20 deg swing,
+  rib 10 mm): the arm angle in the table; the width dimensioned in the upper dwell, where the arm
+  stands at psi = +10 deg, is the two rollers' gap along z: ``(rib_width + 2 w) cos(psi) - 2 w``
+  (their axes ``rib_width + 2 w`` apart along the arm's normal);
 * a checking roller other than w is refused naming output.inspection_roller_radius_mm; at 1:1 the drawing
   does not fit A3 (side view 110 mm + developed 314 mm at scale) and is refused naming
   output.drawing_scale and 1:2.
@@ -194,3 +198,16 @@ def test_rib_table_faces_and_width(tmp_path):
             inside = (theta > math.radians(lo)) & (theta < math.radians(hi))
             assert inside.sum() > 10 and np.max(np.abs(face[inside, 1] - (z_c + side * RIB_W / 2))) <= slack, name
     assert float(np.ptp(paths["track_width"][:, 1])) / K == pytest.approx(RIB_W, abs=1e-4)
+
+
+def test_oscillating_rib_width_in_the_dwell_is_the_rollers_gap(tmp_path):
+    from test_barrel_rib_oscillating import OSC_SWING, SCENE_W, osc_rib
+
+    files = _run(osc_rib(), tmp_path, formats=["inspection", "drawing"])
+    table = read_csv(files["c_inspection.csv"])
+    swing = np.degrees(cycloidal(np.radians(table["cam_angle_deg"]), OSC_SWING))
+    assert np.max(np.abs(table["arm_angle_deg"] - (-math.degrees(OSC_SWING) / 2 + swing))) <= 1e-8
+    paths = _page_paths(files["c_drawing.svg"], tmp_path)
+    psi = OSC_SWING / 2
+    gap = (10.0 + 2 * SCENE_W) * math.cos(psi) - 2 * SCENE_W
+    assert float(np.ptp(paths["track_width"][:, 1])) / K == pytest.approx(gap, abs=1e-4)

@@ -270,7 +270,8 @@ def _sheet(cam: "CamResult", run: "RunSettings", fmt: str) -> Sheet:
                             "WALLS: FULL LINES, PITCH CURVE: DASH-DOT", 2.2))
     # the groove's (rib's) width across the walls (faces) where the pitch curve is highest
     pitch = curves["PITCH_DEVELOPED"]
-    i = int(np.argmax(pitch[:, 1]))
+    top_run = np.flatnonzero(pitch[:, 1] >= float(pitch[:, 1].max()) - 1e-9)  # the highest dwell: its middle point
+    i = int(top_run[top_run.size // 2])
     xw = float(np.mod(pitch[i, 0], span))
     phi = np.array([xw / rm])
     zu, zl = (float(groove.wall_height(s, np.asarray(rm), phi)[0]) for s in (1, -1))
