@@ -109,13 +109,13 @@ _FORMATS = (
                  scope="job", implied=True),
     # -- the manufacturing drawing and its inspection table (issue 27 item 4: camgen/export/drawing*.py) --
     OutputFormat("drawing", "{cam}_drawing.svg", "dimensioned manufacturing drawing of a disk cam (plate, groove: both walls, "
-                 "conjugate, constant breadth: its breadth) or a linear cam's plate at output.drawing_scale: profile, base circle, bore, keyway, zero mark, "
+                 "conjugate, constant breadth: its breadth), a linear cam's plate or a barrel cam (side view, groove or rib developed at the mean radius) at output.drawing_scale: profile, base circle, bore, keyway, zero mark, "
                  "rotation arrow, inspection table, scale bar, title block; SVG in mm",
                  "camgen.export.drawing_writers:drawing_svg", keys=_DRAWING_KEYS),
     OutputFormat("drawing_pdf", "{cam}_drawing.pdf", "the manufacturing drawing as PDF, one page printing at the stated scale; needs "
                  "the drawing extra (fpdf2)", "camgen.export.drawing_writers:drawing_pdf", keys=_DRAWING_KEYS),
     OutputFormat("inspection", "{cam}_inspection.csv", "inspection table of a disk cam (a groove cam's: a plug of the groove's "
-                 "width; a linear cam's: lift against x): per cam-angle step, the distance from the axis of a checking roller's centre resting on the profile", "camgen.export.drawing_writers:inspection",
+                 "width; a linear cam's: lift against x; a barrel cam's: the groove's or rib's axial position against cam angle): per cam-angle step, the distance from the axis of a checking roller's centre resting on the profile", "camgen.export.drawing_writers:inspection",
                  keys=_INSPECTION_KEYS),
     # --- issue 27 item 5 (formats): SVG for laser cutters, IGES ---
     OutputFormat("svg", "{cam}.svg", "what is cut for laser cutters: profile, bore and keyway, pocket walls as stroked paths of exact "

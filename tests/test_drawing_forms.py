@@ -20,7 +20,7 @@ in-line translating roller follower, cycloidal rise and return: its pitch curve 
   (margins + travel; below the pitch line + the dwell's lift less the roller) and its edge the
   roller's exact envelope within the chord tolerance; the PDF's plate is its length at scale;
   an oscillating follower's table is its swing against x;
-* barrel cams: the drawing and the table are refused naming output.formats.
+* barrel cams: tests/test_barrel_sheet.py (a rib's drawing and table refused naming output.formats).
 """
 from __future__ import annotations
 
@@ -196,21 +196,6 @@ def test_constant_breadth_dimension_at_scale_in_svg_and_pdf(tmp_path):
         dark = np.flatnonzero(row[int(ext[0]):int(ext[1])])
         outer = (dark.max() - dark.min() + 1) / dpi * 25.4
         assert outer == pytest.approx(k * BREADTH + 0.25, abs=0.2)  # the lines' outer edges: k B + one thin line's width
-
-
-def test_barrel_cams_refuse_the_drawing_naming_output_formats(tmp_path):
-    import dataclasses
-
-    from camgen.errors import ParameterError
-    from camgen.pipeline import plan_run
-    from camgen.scene import load_template
-
-    scene = load_template("barrel_cam")
-    for fmt in ("drawing", "drawing_pdf", "inspection"):
-        run = dataclasses.replace(scene, output=dataclasses.replace(scene.output, formats=(fmt,)))
-        with pytest.raises(ParameterError) as caught:
-            plan_run(run)
-        assert caught.value.name == "output.formats" and fmt in str(caught.value) and "not built yet" in str(caught.value)
 
 
 # ----------------------------------------------------------------------------------- linear cam

@@ -61,7 +61,9 @@ def drawing_keys() -> tuple[Key, ...]:
             default=math.degrees(d.inspection_step), example=5.0),
         Key("inspection_roller_radius_mm", Number("mm", 0.0, 1000.0), "Radius of the checking roller of the inspection table, "
             "moving along the ray through the axis and the zero mark: the table gives its centre's distance from the axis "
-            "(default: the follower's roller radius, 0 for other followers: a probe point, the profile's own radius).",
+            "(default: the follower's roller radius, 0 for other followers: a probe point, the profile's own radius; a groove cam and "
+            "a barrel cam: only the roller widened by half the clearance, a plug resting on both walls or, a barrel's rib, a fork "
+            "of two rollers straddling it, whose axis' height along the cam axis the table gives).",
             ("drawing",), example=5.0),
         Key("drawing_material", Text(40), "Material of the cam, printed in the drawing's title block.", ("drawing",),
             default=d.material, example="C45E, hardened 55 HRC"),

@@ -7,7 +7,7 @@ and the groove cam, whose groove (one pocket of two walls about its pitch curve)
 and whose inspection table is read by a checking roller of the groove's width resting on both
 walls (its centre on the pitch curve); a cam with other pockets is refused naming
 ``output.formats``.  A linear cam's drawing and table are its form's writers
-(:mod:`camgen.export.drawing_linear`); the barrel form refuses these formats (its ``formats_refused``).  The drawing
+(:mod:`camgen.export.drawing_linear`), a barrel cam's (groove or rib) its form's too (:mod:`camgen.export.barrel_sheet`).  The drawing
 that does not fit its sheet at its scale is refused naming ``output.drawing_scale`` (and the
 largest scale that fits) or ``output.drawing_sheet``.
 """
@@ -107,6 +107,10 @@ def inspection_description(cam: "CamResult", spec: "DrawingSpec") -> dict[str, A
         from camgen.export.drawing_linear import linear_inspection_metadata
 
         return linear_inspection_metadata(cam, spec)
+    if getattr(cam.built, "groove", None) is not None:  # a barrel cam's table: the groove's axial position (camgen.export.barrel_sheet)
+        from camgen.export.barrel_sheet import barrel_inspection_metadata
+
+        return barrel_inspection_metadata(cam, spec)
     table = plate_inspection(cam, spec, "inspection")
     assert cam.zero_mark is not None
     return inspection_metadata(table, cam.zero_mark)

@@ -6,7 +6,8 @@ Realises every displacement law (:attr:`camgen.motions.base.Motion.read_law`): t
 are the exact envelopes of the roller at every radius from root to rim
 (:mod:`camgen.synthesis.barrel`); keys, build and checks: :mod:`camgen.kinds.barrel`.  The body
 is no plate, so the form writes its own files: the developed drawing and the walls' point list
-(:mod:`camgen.export.barrel_drawing`), the solid (:mod:`camgen.export.barrel_solid`, the mesh
+(:mod:`camgen.export.barrel_drawing`), the groove's dimensioned drawing and inspection table
+(:mod:`camgen.export.barrel_sheet`, a rib's too), the solid (:mod:`camgen.export.barrel_solid`, the mesh
 stage; STEP :mod:`camgen.export.barrel_step`, a rib's :mod:`camgen.export.barrel_rib_step`, the same solid as IGES
 :mod:`camgen.export.barrel_iges`) and the 4th-axis program
 (:mod:`camgen.export.gcode_barrel`).  The groove is form-closed: its dynamics (both walls' forces,
@@ -36,11 +37,12 @@ FORM = CamForm(
     report_section="camgen.report.barrel:barrel_section",
     formats_refused={"lift": "a cylinder has no polar lift table (the point list holds the walls at root, mean and rim radius)",
                      "vtu": _FEA, "msh": _FEA, "inp": _FEA,
-                     "svg": "a cylinder has no flat profile to cut (the developed drawing is the dxf)",
-                     **dict.fromkeys(("drawing", "drawing_pdf", "inspection"), "a dimensioned drawing and inspection table of a "
-                                     "barrel cam are not built yet (its developed drawing is the dxf)")},
+                     "svg": "a cylinder has no flat profile to cut (the developed drawing is the dxf)"},
     writers={"dxf": "camgen.export.barrel_drawing:dxf", "points": "camgen.export.barrel_drawing:points",
              "step": "camgen.export.barrel_rib_step:writer", "ngc": "camgen.export.gcode_barrel_rib:writer",
-             "iges": "camgen.export.barrel_iges:writer"},
+             "iges": "camgen.export.barrel_iges:writer",
+             # the groove's (a rib's) drawing: side view, developed track; its inspection table (camgen.export.barrel_sheet)
+             "drawing": "camgen.export.barrel_sheet:drawing_svg", "drawing_pdf": "camgen.export.barrel_sheet:drawing_pdf",
+             "inspection": "camgen.export.barrel_sheet:inspection"},
     stages={"mesh": "camgen.export.barrel_mesh:mesh_stage"},
 )
