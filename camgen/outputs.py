@@ -251,7 +251,9 @@ def machining_keys() -> tuple[Key, ...]:
         Key("entry", Choice(ENTRIES), "How the tool goes down to each pass depth of the outline, from the floor of the pass "
             "before (Z0 for the first), outside the part: helix (whole turns of radius half the tool radius, its axis outward of the "
             "lead-in's start), ramp (straight ramps to and fro along the lead line, lead_mm long, at least the tool diameter) or "
-            "plunge (a straight feed down); the header states it.", ("gcode",), default=d("entry")),
+            "plunge (a straight feed down); the header states it. Default: the helix, or a ramp where the helix of this tool would "
+            "need more than 200 turns to descend step_down_mm at ramp_angle_deg (a very small tool), or the plunge where the ramp "
+            "would too; a helix or ramp given that needs more is refused.", ("gcode",)),
         Key("ramp_angle_deg", Angle(0.0, MAX_RAMP_ANGLE_DEG, low_open=True), "Steepest descent of the helix or ramp entry "
             "(at the tool centre); refused where the tool would need more than 200 turns (ramps) for one step_down_mm.",
             ("gcode",), default=math.degrees(d("ramp_angle")), attr="ramp_angle"),
@@ -261,7 +263,8 @@ def machining_keys() -> tuple[Key, ...]:
         Key("holding_tabs", Count(0, 100), "Holding tabs left by the outline's passes below their top (0: none; not with "
             "wire_edm, which has its own tab): evenly spaced along the tool path, the lead midway between two, the tool rising "
             "over each by Z moves only (the XY path unchanged, so with cutter compensation too); the header lists them (cam "
-            "angle, width, height) and says to cut them free.", ("gcode",), default=d("holding_tabs")),
+            "angle, width, height) and says to cut them free. As many as fit: each tab's width, a tool radius on both sides and a "
+            "tool diameter of full cut between two tabs along the tool path.", ("gcode",), default=d("holding_tabs")),
         Key("holding_tab_width_mm", Number("mm", 0.0, 1000.0, low_open=True), "Narrowest width of each holding tab: the tool "
             "stays at the tab's top along this plus the tool diameter of its path (default: the tool diameter; only with "
             "holding_tabs > 0).", ("gcode",), attr="holding_tab_width"),

@@ -872,6 +872,8 @@ def _edge_scene(where: str, kind: str | None, key: Key, value: float) -> tuple[d
         machining.update(start_hole_offset_mm=50.0, start_hole_diameter_mm=1.0)  # room for any hole and allowance
         if name == "cut_allowances_mm" and isinstance(value, list):
             machining["skim_cuts"] = len(value)
+    if where == "machining" and name.startswith("holding_tab_"):  # a tab's size needs a tab
+        machining["holding_tabs"] = 1
     if where in ("machining",) and "ngc" not in formats:
         formats.append("ngc")
     if where == "output" and "fea" in key.affects:  # an FEA key needs an FEA mesh; a coarse tolerance keeps it small
@@ -928,6 +930,14 @@ EDGE_DOCUMENTED: dict[str, str] = {
     "machining.bore_tool_diameter_mm=1000": "bore diameter - 0.2",
     # bore_tool_number: "needs bore_tool_diameter_mm or bore_operation = "drill""
     **{f"machining.bore_tool_number={n}": "only with bore_tool_diameter_mm" for n in (1, 99)},
+    # holding_tabs: "as many as fit: each tab's width, a tool radius on both sides and a tool diameter of full cut between two"
+    "machining.holding_tabs=100": "do not fit on the",
+    # the wire-EDM bore (cut by the wire in the edge scenes' 20 mm bore): start_hole_diameter_mm "below the bore radius",
+    # tab_width_mm "shorter than the bore wall from the keyway to the start point"
+    "machining.start_hole_diameter_mm=20": "< bore diameter / 2",
+    "machining.tab_width_mm=100": "for the bore",
+    # holding_tab_height_mm: "below the stock thickness"
+    "machining.holding_tab_height_mm=1000": "< the stock thickness",
 }
 
 

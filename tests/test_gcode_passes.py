@@ -148,8 +148,32 @@ def test_entry_settings_are_checked():
         spec_for("linuxcnc", False, "climb", ramp_angle=math.radians(45.0))
     # a helix of radius 1.5 mm (half the tool radius) descends 2 mm in 200 turns at atan(2 / (200 * 3 pi)) = 0.061 deg
     with pytest.raises(ParameterError, match=r"ramp_angle_deg.*>= 0\.061"):
-        spec_for("linuxcnc", False, "climb", ramp_angle=math.radians(0.05))
-    spec_for("linuxcnc", False, "climb", ramp_angle=math.radians(0.062))
+        spec_for("linuxcnc", False, "climb", entry="helix", ramp_angle=math.radians(0.05))
+    assert spec_for("linuxcnc", False, "climb", entry="helix", ramp_angle=math.radians(0.062)).entry == "helix"
+
+
+def _descends(step_down: float, turn: float, angle_deg: float, turns: int = 200) -> bool:
+    """Whether ``turns`` turns (or ramp round trips) of horizontal length ``turn`` mm descend
+    ``step_down`` mm at ``angle_deg``: each rises turn x tan(angle)."""
+    return step_down <= turns * turn * math.tan(math.radians(angle_deg))
+
+
+@pytest.mark.parametrize("tool", [0.01, 5e-324])
+def test_the_default_entry_of_a_tiny_tool_is_a_ramp_and_a_given_helix_is_refused_with_a_working_hint(tool):
+    """entry left out: the helix (radius r/2, a turn 2 pi r/2 long) where it descends step_down
+    in <= 200 turns, else the ramp (to and fro along max(lead, 2 r), lead = r + 3 mm by default).
+    A 0.01 mm tool at 3 deg: the helix needs 2 / (pi 0.005 tan 3 deg) = 2,430 turns, the ramp
+    2 / (2 x 3.005 x tan 3 deg) = 6.4; the vanishing tool's helix never gets down at all.  The
+    helix given anyway is refused naming entry (its least angle, atan(2 / (200 pi 0.005)) = 32.5
+    deg, is beyond the 30 deg limit), and the value the refusal names works."""
+    r = tool / 2.0
+    assert not _descends(2.0, 2.0 * math.pi * r / 2.0, 3.0) and _descends(2.0, 2.0 * (r + 3.0), 3.0)
+    spec = MachiningSpec(tool_diameter=tool, step_down=2.0, ramp_angle=math.radians(3.0))
+    assert spec.entry == "ramp"
+    with pytest.raises(ParameterError) as err:
+        MachiningSpec(tool_diameter=tool, step_down=2.0, ramp_angle=math.radians(3.0), entry="helix")
+    assert err.value.name == "entry" and '"ramp"' in err.value.valid, err.value
+    assert MachiningSpec(tool_diameter=tool, step_down=2.0, ramp_angle=math.radians(3.0), entry="ramp").entry == "ramp"
 
 
 # ---------------------------------------------------------------------------------------------

@@ -293,7 +293,7 @@ def test_every_machining_key_changes_what_it_documents(key_name, tmp_path):
     base = scene(SPLINE_CAM, ("dxf", "points", "ngc"), machining)
     alt = copy.deepcopy(base)
     value = alt["machining"].get(key_name, key.default)
-    overrides = {"lead_mm": 5.0, "cutter_compensation": True, "cut_allowances_mm": [0.12, 0.03], "decimals": 5, "bore_tool_number": 3, "holding_tab_height_mm": 2.0, **fanuc}
+    overrides = {"lead_mm": 5.0, "cutter_compensation": True, "cut_allowances_mm": [0.12, 0.03], "decimals": 5, "bore_tool_number": 3, "holding_tab_height_mm": 2.0, "entry": "ramp", **fanuc}
     alt["machining"][key_name] = overrides[key_name] if key_name in overrides else _changed(value, key)
     _assert_effect(key, run(base, tmp_path), run(alt, tmp_path))
 

@@ -33,21 +33,36 @@ def ramp_length(tool_radius: float, lead: float) -> float:
     return max(lead, 2.0 * tool_radius)
 
 
-def check_entry_settings(entry: str, ramp_angle: float, tool_radius: float, step_down: float, lead: float) -> None:
-    """Refuse an unknown ``entry``, or a ``ramp_angle`` (rad) that needs more than
-    :data:`MAX_ENTRY_TURNS` turns to descend one ``step_down`` with this tool (radius, mm) and lead (mm)."""
-    if entry not in ENTRIES:
-        raise ParameterError("entry", entry, f"one of {ENTRIES}")
-    if not 0.0 < ramp_angle <= math.radians(MAX_RAMP_ANGLE_DEG):
-        raise ParameterError("ramp_angle_deg", math.degrees(ramp_angle), f"0 < x <= {MAX_RAMP_ANGLE_DEG:g} deg")
+def _fits(entry: str, ramp_angle: float, tool_radius: float, step_down: float, lead: float) -> bool:
+    """Whether ``entry`` descends one ``step_down`` in at most :data:`MAX_ENTRY_TURNS` turns (no
+    division: a vanishing tool gives a turn of length 0, which never fits)."""
     if entry == "plunge":
-        return
+        return True
+    return step_down <= MAX_ENTRY_TURNS * turn_length(entry, tool_radius, lead) * math.tan(ramp_angle)
+
+
+def check_entry_settings(entry: str | None, ramp_angle: float, tool_radius: float, step_down: float, lead: float) -> str:
+    """The way down, resolved: ``entry`` as given, or (None, the default) the helix, else a ramp
+    where the helix of this tool (radius, mm) would need more than :data:`MAX_ENTRY_TURNS` turns
+    to descend one ``step_down`` at ``ramp_angle`` (rad), else the plunge.  Refuse an unknown
+    ``entry`` or angle, and a given helix or ramp that needs more turns: naming ``ramp_angle_deg``
+    with the least angle that works where it is within the limit, else ``entry``."""
+    if entry is not None and entry not in ENTRIES:
+        raise ParameterError("entry", entry, f"one of {ENTRIES}")
+    if not 0.0 <= ramp_angle <= math.radians(MAX_RAMP_ANGLE_DEG):  # (0: a positive angle in deg lost below rad's least float)
+        raise ParameterError("ramp_angle_deg", math.degrees(ramp_angle), f"0 < x <= {MAX_RAMP_ANGLE_DEG:g} deg")
+    if entry is None:  # the default: the first that fits
+        return next(kind for kind in ENTRIES if _fits(kind, ramp_angle, tool_radius, step_down, lead))
+    if _fits(entry, ramp_angle, tool_radius, step_down, lead):
+        return entry
     per_turn = turn_length(entry, tool_radius, lead)
-    if step_down / (per_turn * math.tan(ramp_angle)) > MAX_ENTRY_TURNS:
-        least = math.degrees(math.atan(step_down / (MAX_ENTRY_TURNS * per_turn)))
-        raise ParameterError("ramp_angle_deg", math.degrees(ramp_angle), f">= {math.ceil(least * 1000) / 1000:g} deg",
-                             f"the {entry} of a tool of radius {tool_radius:g} mm would need more than {MAX_ENTRY_TURNS} "
-                             f"{'turns' if entry == 'helix' else 'ramps'} to descend step_down_mm = {step_down:g}")
+    why = (f"the {entry} of a tool of radius {tool_radius:g} mm would need more than {MAX_ENTRY_TURNS} "
+           f"{'turns' if entry == 'helix' else 'ramps'} to descend step_down_mm = {step_down:g}")
+    least = math.degrees(math.atan2(step_down, MAX_ENTRY_TURNS * per_turn))
+    if least <= MAX_RAMP_ANGLE_DEG - 1e-3:
+        raise ParameterError("ramp_angle_deg", math.degrees(ramp_angle), f">= {math.ceil(least * 1000) / 1000:g} deg", why)
+    other = [kind for kind in ENTRIES if kind != entry and _fits(kind, ramp_angle, tool_radius, step_down, lead)]
+    raise ParameterError("entry", entry, " or ".join(f'"{kind}"' for kind in other), why)
 
 
 def check_tab_settings(tabs: int, width: float | None, height: float | None) -> None:

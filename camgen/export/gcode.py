@@ -321,10 +321,11 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     # the way down to each pass at P0, clear of the part (camgen.export.gcode_entry, module docstring):
     # arc leads leave P0 along -n, the helix beside it along the tangent line; straight leads along the travel
     first = rough or fin
+    entry = spec.entry or "plunge"  # resolved by MachiningSpec (camgen.export.entry_settings); None only for wire EDM
     if leads.arc_centre is None:
-        way_down = plan_entry(spec.entry, spec.ramp_angle, first.leads.plunge, first.travel, first.normal, r, lead)
+        way_down = plan_entry(entry, spec.ramp_angle, first.leads.plunge, first.travel, first.normal, r, lead)
     else:
-        way_down = plan_entry(spec.entry, spec.ramp_angle, first.leads.plunge, -first.normal, -first.travel, r, lead)
+        way_down = plan_entry(entry, spec.ramp_angle, first.leads.plunge, -first.normal, -first.travel, r, lead)
 
     d = spec.decimals
 
@@ -335,8 +336,8 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     depth = stock + spec.breakthrough
     n_passes = max(1, math.ceil(depth / spec.step_down - 1e-9))
     moves = fin.count + 2  # + the rapid to P0 and the way down
-    if spec.entry != "plunge":  # + the helix's half turns or the ramps (camgen.export.gcode_entry)
-        moves += 2 * math.ceil(spec.step_down / (turn_length(spec.entry, r, lead) * math.tan(spec.ramp_angle)))
+    if entry != "plunge":  # + the helix's half turns or the ramps (camgen.export.gcode_entry; at most MAX_ENTRY_TURNS)
+        moves += 2 * math.ceil(spec.step_down / (turn_length(entry, r, lead) * math.tan(spec.ramp_angle)))
     moves += 2 * spec.holding_tabs  # + up and down at each tab
     if pocketed is not None:  # the pockets' levels count as passes of the same length on average
         moves += -(-pocketed.count // n_passes)

@@ -120,7 +120,7 @@ class MachiningSpec:
     #: camgen.export.gcode_units.program_spec for the writers; not a scene key)
     converted: bool = False
     # --- outline passes (camgen.export.gcode_entry, camgen.export.gcode_passes) ---
-    entry: str = "helix"
+    entry: str | None = None  # None: the helix, else a ramp, else the plunge (camgen.export.entry_settings)
     ramp_angle: float = math.radians(3.0)
     stock_allowance: float = 0.0
     holding_tabs: int = 0
@@ -149,7 +149,8 @@ class MachiningSpec:
             raise ParameterError("stock_allowance", self.stock_allowance, "stock_allowance >= 0 mm")
         check_tab_settings(self.holding_tabs, self.holding_tab_width, self.holding_tab_height)  # camgen.export.gcode_tabs
         if self.wire_edm is None:  # the way down to each pass (camgen.export.gcode_entry)
-            check_entry_settings(self.entry, self.ramp_angle, self.tool_radius, self.step_down, self.lead_length)
+            object.__setattr__(self, "entry", check_entry_settings(self.entry, self.ramp_angle, self.tool_radius, self.step_down,
+                                                                   self.lead_length))
         if self.spline_mode not in SPLINE_MODES:
             raise ParameterError("spline_mode", self.spline_mode, f"one of {SPLINE_MODES}")
         if self.cutter_compensation and self.dialect == "grbl":

@@ -126,12 +126,14 @@ def wire_edm_keys() -> tuple[Key, ...]:
             f"default {FIRST_ALLOWANCE:g} mm for the first cut and {ALLOWANCE_RATIO:g} of the one before for each next).", ("gcode",),
             requires=only),
         Key("start_hole_diameter_mm", Number("mm", 0.1, 20.0), "Wire-EDM: diameter of the start hole the wire is "
-            "threaded in (drilled before; its centre is in the header).", ("gcode",), default=_d("start_hole_diameter"), requires=only),
+            "threaded in (drilled before; its centre is in the header); with the bore cut by the wire, its start hole at the axis too, "
+            "so below the bore radius.", ("gcode",), default=_d("start_hole_diameter"), requires=only),
         Key("start_hole_offset_mm", Number("mm", 1.0, 1000.0), "Wire-EDM: the start hole's centre lies this far "
             "outside the profile's tangent line at the start point and this far back along it; the wire enters along the normal, "
             "then along the tangent (> hole radius + first cut's offset).", ("gcode",), default=_d("start_hole_offset"), requires=only),
         Key("tab_width_mm", Number("mm", 0.1, 100.0), "Wire-EDM: length of the profile (measured along it, ending at "
-            "the start point) every cut leaves uncut; the last cut stops before it (M00) and then cuts it off: the part drops.",
+            "the start point) every cut leaves uncut; the last cut stops before it (M00) and then cuts it off: the part drops. With "
+            "the bore cut by the wire, its slug's tab too: shorter than the bore wall from the keyway to the start point.",
             ("gcode",), default=_d("tab_width"), requires=only),
         Key("wire_feed_mm_per_min", Number("mm/min", 0.01, 1e4), "Wire-EDM: feed of the cuts (the control's servo "
             "may cut slower).", ("gcode",), default=_d("wire_feed"), attr="wire_feed", requires=only),
