@@ -23,6 +23,7 @@ VALIDATOR_PACKAGES = {
     "prusa-slicer": "prusa-slicer",
     "freecadcmd": "freecad-python3",
     "pdftoppm": "poppler-utils",
+    "soffice": "libreoffice-calc",
 }
 
 
@@ -134,12 +135,13 @@ def rs274_command(path, workdir, tool_table: str | None = None) -> list[str]:
     return ["rs274", "-t", str(table), "-g", str(path)]
 
 
-def rs274_env(workdir, tool_table: str | None = None) -> dict[str, str] | None:
-    """rs274's environment: with a tool table of its own, HOME is ``workdir``: LinuxCNC keeps the
-    loaded tool table in ``$HOME/.tool.mmap``, shared by every rs274 running at the same time."""
+def rs274_env(workdir, tool_table: str | None = None) -> dict[str, str]:
+    """rs274's environment: HOME is ``workdir``.  LinuxCNC keeps the loaded tool table (its
+    default one too) in ``$HOME/.tool.mmap``, shared by every rs274 running at the same time: one
+    truncating it under another's mapping ends that one by SIGBUS (seen under xdist: status -7)."""
     import os
 
-    return None if tool_table is None else {**os.environ, "HOME": str(workdir)}
+    return {**os.environ, "HOME": str(workdir)}
 
 
 def rs274_canon(program: str, workdir, tool_table: str | None = None) -> tuple[int, str, list[dict]]:

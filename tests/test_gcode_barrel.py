@@ -21,7 +21,7 @@ import pytest
 
 from camgen.errors import ParameterError
 from camgen.export.gcode_spec import MachiningSpec
-from helpers import require_tool
+from helpers import require_tool, rs274_env
 
 D = math.radians
 RIM, ROOT, LENGTH = 55.0, 45.0, 80.0  # the example: mean radius 50, depth 10
@@ -96,7 +96,8 @@ def canon_moves(program: str, workdir) -> np.ndarray:
 
     path = workdir / "barrel.ngc"
     path.write_text(program)
-    proc = subprocess.run(["rs274", "-g", str(path)], stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=300)
+    proc = subprocess.run(["rs274", "-g", str(path)], stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=300,
+                          env=rs274_env(path.parent))  # a tool table file of its own (helpers.rs274_env)
     assert proc.returncode == 0, proc.stderr + proc.stdout[-2000:]
     assert "error" not in proc.stderr.lower(), proc.stderr
     rows = [[float(m.group(i)) for i in (1, 2, 3, 4)] for m in map(_FEED.search, proc.stdout.splitlines()) if m]

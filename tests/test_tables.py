@@ -11,14 +11,13 @@ default CSV filter into one column per field.
 from __future__ import annotations
 
 import math
-import shutil
 import subprocess
 import tomllib
 
 import numpy as np
 import pytest
 
-from helpers import distance_to_arcs
+from helpers import distance_to_arcs, require_tool
 
 TWO_PI = 2.0 * math.pi
 #: The paper-000 three-arc cams of the default template: (a, b, c) mm (c: the base radius).
@@ -272,9 +271,7 @@ def _ods_rows(path) -> list[list]:
 
 
 def test_libreoffice_opens_every_kind_of_csv_in_columns(default_run, follower_runs, tmp_path):
-    soffice = shutil.which("soffice") or shutil.which("libreoffice")
-    if soffice is None:
-        pytest.skip("LibreOffice is not installed (optional: apt-get install libreoffice-calc)")
+    soffice = require_tool("soffice")  # LibreOffice Calc (.ci/run installs it)
     paths = [default_run / n for n in ("stride_length_points.csv", "stride_length_lift.csv", "steering_ride.csv",
                                        "leg_path_alpha_12.5.csv")]
     paths += [follower_runs["plate_cam"] / "plate_follower.csv"]

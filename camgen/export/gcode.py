@@ -202,11 +202,14 @@ MAX_PROGRAM_MOVES = 2_000_000
 MAX_PASSES = 1000
 
 
-def _refuse_long_program(spec: MachiningSpec, depth: float, n_passes: int, moves: int) -> None:
+def _refuse_long_program(spec: MachiningSpec, depth: float, n_passes: int, per_pass: int, fixed: int) -> None:
     """Raise the :class:`ParameterError` for a program of more than :data:`MAX_PROGRAM_MOVES`
-    moves: fewer passes (``step_down_mm``) where one pass fits, else a coarser path."""
-    why = f"{n_passes} passes of {moves} moves would make {n_passes * moves} lines, more than the {MAX_PROGRAM_MOVES} a program may hold"
-    passes = MAX_PROGRAM_MOVES // moves
+    moves (``n_passes`` passes of at most ``per_pass`` moves and ``fixed`` moves that do not
+    depend on the passes: the entries' descent, pockets, bore, finishing pass): fewer passes
+    (``step_down_mm``) where one pass fits, else a coarser path."""
+    why = (f"{n_passes} passes of {per_pass} moves and {fixed} more would make {n_passes * per_pass + fixed} lines, more than the "
+           f"{MAX_PROGRAM_MOVES} a program may hold")
+    passes = (MAX_PROGRAM_MOVES - fixed) // per_pass
     if passes >= 1:
         raise ParameterError("step_down_mm", spec.step_down, f">= {ceil_significant(depth / passes, 3):.3g} mm", why)
     coarser = '"biarcs" or a larger chord_tol' if spec.spline_mode == "lines" else "a larger chord_tol"
@@ -335,19 +338,19 @@ def gcode_program(contour: Contour, spec: MachiningSpec, cam: str = "cam", scene
     stock = spec.thickness if thickness is None else require_positive("thickness", thickness, "mm")
     depth = stock + spec.breakthrough
     n_passes = max(1, math.ceil(depth / spec.step_down - 1e-9))
-    moves = fin.count + 2  # + the rapid to P0 and the way down
-    if entry != "plunge":  # + the helix's half turns or the ramps (camgen.export.gcode_entry; at most MAX_ENTRY_TURNS)
-        moves += 2 * math.ceil(spec.step_down / (turn_length(entry, r, lead) * math.tan(spec.ramp_angle)))
-    moves += 2 * spec.holding_tabs  # + up and down at each tab
-    if pocketed is not None:  # the pockets' levels count as passes of the same length on average
-        moves += -(-pocketed.count // n_passes)
+    # the program's moves: per pass the leads and the path, the rapid to P0, the way down, the
+    # rapid up, a rise and a drop at each tab (and 2 for the rounding up of the entry's turns);
+    # besides, the entries' turns (2 blocks a turn, at most 2 / (turn x tan(angle)) per mm down),
+    # the pockets, the bore and the finishing pass
+    per_pass = max(fin.count, rough.count if rough is not None else 0) + 3 + 2 * spec.holding_tabs + (2 if entry != "plunge" else 0)
+    descent = 0.0 if entry == "plunge" else 2.0 / (turn_length(entry, r, lead) * math.tan(spec.ramp_angle))
     from camgen.export.gcode_bore import bore_program, with_bore  # the bore and keyway, first
 
     bored = bore_program(cam_body, spec, depth)
-    if bored is not None:
-        moves += -(-bored.count // n_passes)
-    if (n_passes + (rough is not None)) * moves > MAX_PROGRAM_MOVES:  # (+ the finishing pass)
-        _refuse_long_program(spec, depth, n_passes + (rough is not None), moves)
+    fixed = (math.ceil(descent * depth) + (pocketed.count if pocketed is not None else 0) + (bored.count if bored is not None else 0)
+             + (per_pass + 2 if rough is not None else 0))
+    if n_passes * per_pass + fixed > MAX_PROGRAM_MOVES:
+        _refuse_long_program(spec, depth, n_passes, per_pass, fixed)
     depths = -np.minimum(spec.step_down * np.arange(1, n_passes + 1), depth)
     fin_tabs = rough_tabs = None
     tab_line: list[str] = []
