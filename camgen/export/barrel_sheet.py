@@ -43,7 +43,8 @@ from camgen.errors import ExportError, ParameterError
 from camgen.export.drawing import (BORDER, DASH_DOT, ROW, SCALE_BAR, TEXT, THIN, TITLE_ROW, TITLE_ROWS, TITLE_WIDTH, WIDE, Fill, Label, Sheet,
                                    Stroke)
 from camgen.export.drawing_forms import mm_text
-from camgen.export.drawing_spec import DRAWING_SCALES, SHEETS, DrawingSpec, scale_factor
+from camgen.export.drawing_sheets import choose_sheet, frame, right_width
+from camgen.export.drawing_spec import SHEETS, DrawingSpec, scale_factor
 from camgen.export.inspection import inspection_angles
 from camgen.export.tables import csv_table
 
@@ -150,16 +151,10 @@ def barrel_inspection_metadata(cam: "CamResult", spec: DrawingSpec) -> dict[str,
 
 
 # -- the sheet -----------------------------------------------------------------------------
-def _right_width(rows: int, height: float) -> tuple[float, int]:
-    per_block = int((height - 2 * BORDER - TITLE_ROWS * TITLE_ROW - 16.0 - 3 * ROW) // ROW)
-    blocks = -(-rows // per_block) if per_block > 0 else 10**6
-    return max(TITLE_WIDTH, blocks * BLOCK), per_block
-
-
 def _fits(size: tuple[float, float, float], rows: int, k: float, sheet: str) -> bool:
     """``size``: the side view's width, the developed view's width and the views' height (part mm)."""
     w, h = SHEETS[sheet]
-    right, _ = _right_width(rows, h)
+    right, _ = right_width(rows, h, BLOCK)
     width = ROOM_LEFT + k * size[0] + ROOM_GAP + k * size[1] + ROOM_RIGHT + right + 5.0
     return width <= w - 2 * BORDER and k * size[2] + ROOM_TOP + ROOM_BOTTOM <= h - 2 * BORDER
 
@@ -200,22 +195,14 @@ def _sheet(cam: "CamResult", run: "RunSettings", fmt: str) -> Sheet:
     size = (2.0 * ro, span, z_hi - z_lo)
     rows = table.cam_angle.size
     k = scale_factor(spec.scale)
-    sheet = next((s for s in (SHEETS if spec.sheet == "auto" else (spec.sheet,)) if _fits(size, rows, k, s)), None)
-    where = "A3" if spec.sheet == "auto" else spec.sheet
-    if sheet is None:
-        fits = [s for s in DRAWING_SCALES if _fits(size, rows, scale_factor(s), where)]
-        if fits:
-            raise ParameterError("output.drawing_scale", spec.scale, f"{fits[0]} or smaller for cam '{cam.name}' on the {where} sheet",
-                                 f"its side view and developed groove are {2 * ro + span:.1f} x {size[2]:.1f} mm")
-        raise ParameterError("output.formats", fmt, f"formats without {fmt} for cam '{cam.name}'",
-                             f"its views ({2 * ro + span:.1f} x {size[2]:.1f} mm) do not fit the {where} sheet at any scale")
+    sheet = choose_sheet(lambda scale, s: _fits(size, rows, scale, s), spec, cam.name, fmt,
+                         f"its side view and developed groove are {2 * ro + span:.1f} x {size[2]:.1f} mm")
     width, height = SHEETS[sheet]
-    right_w, per_block = _right_width(rows, height)
-    strokes: list[Stroke] = []
+    right_w, per_block = right_width(rows, height, BLOCK)
     fills: list[Fill] = []
     labels: list[Label] = []
-    x0, y0, x1, y1 = BORDER, BORDER, width - BORDER, height - BORDER
-    strokes.append(Stroke(np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]]), WIDE, closed=True, name="frame"))
+    border, (x0, y0, x1, y1) = frame(width, height)
+    strokes: list[Stroke] = [border]
     # the views' origin: z = 0 at page y = base; the side view's axis at page x = axis_x; x = 0 of the developed view at dev_x
     view_w = ROOM_LEFT + k * size[0] + ROOM_GAP + k * span + ROOM_RIGHT
     left = x0 + max(0.0, (x1 - right_w - 5.0 - x0 - view_w) / 2.0)

@@ -29,7 +29,8 @@ from camgen.errors import ParameterError
 from camgen.export.drawing import (BORDER, DASH_DOT, ROW, SCALE_BAR, TEXT, THIN, TITLE_ROW, TITLE_ROWS, TITLE_WIDTH, WIDE, Fill, Label, Sheet,
                                    Stroke)
 from camgen.export.drawing_forms import mm_text
-from camgen.export.drawing_spec import DRAWING_SCALES, SHEETS, DrawingSpec, scale_factor
+from camgen.export.drawing_sheets import choose_sheet, frame, right_width
+from camgen.export.drawing_spec import SHEETS, DrawingSpec, scale_factor
 from camgen.export.inspection import inspection_angles
 from camgen.export.tables import csv_table
 
@@ -114,15 +115,9 @@ def linear_inspection_metadata(cam: "CamResult", spec: DrawingSpec) -> dict[str,
             "profile_fit_tol_mm": t.tolerance}
 
 
-def _right_width(rows: int, height: float) -> tuple[float, int]:
-    per_block = int((height - 2 * BORDER - TITLE_ROWS * TITLE_ROW - 16.0 - 3 * ROW) // ROW)
-    blocks = -(-rows // per_block) if per_block > 0 else 10**6
-    return max(TITLE_WIDTH, blocks * BLOCK), per_block
-
-
 def _fits(size: tuple[float, float], rows: int, k: float, sheet: str) -> bool:
     w, h = SHEETS[sheet]
-    right, _ = _right_width(rows, h)
+    right, _ = right_width(rows, h, BLOCK)
     return k * size[0] + ROOM_X + right + 5.0 <= w - 2 * BORDER and k * size[1] + ROOM_Y <= h - 2 * BORDER
 
 
@@ -151,22 +146,13 @@ def _sheet(cam: "CamResult", run: "RunSettings", fmt: str) -> Sheet:
     size = (float(hi[0] - lo[0]), float(hi[1] - lo[1]))
     rows = table.x.size
     k = scale_factor(spec.scale)
-    sheet = next((s for s in (SHEETS if spec.sheet == "auto" else (spec.sheet,)) if _fits(size, rows, k, s)), None)
-    where = "A3" if spec.sheet == "auto" else spec.sheet
-    if sheet is None:
-        fits = [s for s in DRAWING_SCALES if _fits(size, rows, scale_factor(s), where)]
-        if fits:
-            raise ParameterError("output.drawing_scale", spec.scale, f"{fits[0]} or smaller for cam '{cam.name}' on the {where} sheet",
-                                 f"its plate is {size[0]:.1f} x {size[1]:.1f} mm")
-        raise ParameterError("output.formats", fmt, f"formats without {fmt} for cam '{cam.name}'",
-                             f"its plate {size[0]:.1f} x {size[1]:.1f} mm does not fit the {where} sheet at any scale")
+    sheet = choose_sheet(lambda scale, s: _fits(size, rows, scale, s), spec, cam.name, fmt, f"its plate is {size[0]:.1f} x {size[1]:.1f} mm")
     width, height = SHEETS[sheet]
-    right_w, per_block = _right_width(rows, height)
-    strokes: list[Stroke] = []
+    right_w, per_block = right_width(rows, height, BLOCK)
     fills: list[Fill] = []
     labels: list[Label] = []
-    x0, y0, x1, y1 = BORDER, BORDER, width - BORDER, height - BORDER
-    strokes.append(Stroke(np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]]), WIDE, closed=True, name="frame"))
+    border, (x0, y0, x1, y1) = frame(width, height)
+    strokes: list[Stroke] = [border]
     view_right = x1 - right_w - 5.0
     # the plate centred in the view, its dimensions' room below and right
     left = x0 + (view_right - x0 - ROOM_X - k * size[0]) / 2.0 + 10.0
