@@ -30,6 +30,7 @@ from camgen.errors import ParameterError
 from camgen.export.gcode import MachiningSpec, gcode_program
 from cutting import CUT_TOL, simulate_pockets
 from helpers import arc_sweep, require_tool, rs274_canon
+from test_wire_edm import run_rs274
 
 #: rs274 prints 4 decimals: a printed point is within sqrt(2)/2 * 1e-4 mm of the interpreter's.
 PRINTED = math.sqrt(2.0) / 2.0 * 1e-4
@@ -329,43 +330,6 @@ def wire_cam():
     return cam, dataclasses.replace(scene.machining, thickness=cam.body.thickness, chord_tol=scene.output.chord_tol)
 
 
-def _wire_rs274(program: str, offsets, workdir) -> tuple[int, str, list[list[dict]]]:
-    """rs274 with tools 1..n of radius offsets[k - 1] (mm; the table in inches), its tool table in
-    ``workdir`` (HOME there: rs274s running at once do not share one); the canonical feed moves in
-    chains split at every program stop and traverse (as tests/test_wire_edm.py splits them)."""
-    from helpers import rs274_command, rs274_env
-
-    table = "".join(f"T{k} P{k} D{2.0 * o / INCH:.12f}\n" for k, o in enumerate(offsets, 1))
-    path = workdir / "wire.ngc"
-    path.write_text(program)
-    proc = subprocess.run(rs274_command(path, workdir, table), stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120,
-                          env=rs274_env(workdir, table))
-    number = r"(-?\d+(?:\.\d+)?)"
-    straight = re.compile(rf"STRAIGHT_(FEED|TRAVERSE)\({number}, {number}, {number}")
-    arc = re.compile(rf"ARC_FEED\({number}, {number}, {number}, {number}, (-?\d+), {number}")
-    chains: list[list[dict]] = [[]]
-    current = np.zeros(3)
-    for line in proc.stdout.splitlines():
-        m = straight.search(line)
-        if m:
-            end = np.array([float(m.group(i)) for i in (2, 3, 4)])
-            if m.group(1) == "FEED":
-                chains[-1].append({"kind": "line", "start": current, "end": end})
-            else:
-                chains.append([])
-            current = end
-            continue
-        m = arc.search(line)
-        if m:
-            end = np.array([float(m.group(1)), float(m.group(2)), float(m.group(6))])
-            chains[-1].append({"kind": "arc", "start": current, "end": end, "centre": np.array([float(m.group(3)), float(m.group(4))]),
-                               "turn": int(m.group(5))})
-            current = end
-        elif "PROGRAM_STOP" in line:
-            chains.append([])
-    return proc.returncode, proc.stderr + (proc.stdout[-2000:] if proc.returncode else ""), [c for c in chains if c]
-
-
 def _wire_cut(chain: list[dict], wall, offset: float) -> tuple[float, np.ndarray, bool]:
     """(gouge, distance of every wall vertex to the wire path minus ``offset``, every sample inside
     the hole) of one cut: gouge = offset - the least distance (rigorous lower bound) of the wire
@@ -405,7 +369,7 @@ def test_wire_bore_is_the_hole_offset_by_each_cut(wire_cam, keyway, skims, tmp_p
     program = wire_edm_program(cam.contour, spec, cam.name, "edm", body.thickness, cam_body=body)
     kerf = 0.125 + 0.03
     offsets = [kerf + a for a in (0.1 * 0.2**k for k in range(skims))] + [kerf]  # the rule of the header and README
-    status, message, chains = _wire_rs274(program, offsets, tmp_path)
+    status, message, chains = run_rs274(program, offsets, tmp_path)  # tests/test_wire_edm.py's runner
     assert status == 0, message
     n = skims + 1
     assert len(chains) == 2 * (n + 1)  # bore cuts and cut-off, then the outline's
