@@ -328,7 +328,7 @@ def test_tabs_settings_are_checked():
 @pytest.mark.parametrize(("template", "add", "key", "valid"), [
     ("default", 'entry = "spiral"', "machining.entry", "helix"),
     ("default", "ramp_angle_deg = 0.0", "machining.ramp_angle_deg", "0 < x <= 30"),
-    ("default", "ramp_angle_deg = 0.001", "machining.ramp_angle_deg", ">= "),
+    ("default", 'entry = "helix"\nramp_angle_deg = 0.001', "machining.ramp_angle_deg", ">= "),  # (left out, entry falls back to a ramp)
     ("default", "stock_allowance_mm = -1.0", "machining.stock_allowance_mm", "0 <= x"),
     ("default", "holding_tab_width_mm = 3.0", "machining.holding_tab_width_mm", "holding_tabs = 0"),
     ("default", "holding_tabs = 2\nholding_tab_height_mm = 50.0", "machining.holding_tab_height_mm", "< the stock thickness"),
