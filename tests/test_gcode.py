@@ -145,14 +145,19 @@ def test_spline_cam_in_lines_mode_cuts_its_exact_profile(comp, template_cams, tm
         _assert_cut(simulate(program, cam.contour, spec.tool_radius, tmp_path, profile=profile), spec, f"lines comp={comp} {direction}", tol)
 
 
+@pytest.mark.parametrize("template", TEMPLATES)
 @pytest.mark.usefixtures("needs_rs274")
-def test_grbl_program_cuts_the_profile(template_cams, tmp_path):
-    """The GRBL dialect writes the same tool-centre path (no G41/G42, no G64): cut it too."""
-    cam, base = template_cams["motion_law"][0]
-    spec = dataclasses.replace(base, dialect="grbl")
-    program = gcode_program(cam.contour, spec)
-    assert "G41" not in program and "G42" not in program and "G64" not in program
-    _assert_cut(simulate(program, cam.contour, spec.tool_radius, tmp_path), spec, "grbl")
+def test_grbl_program_cuts_the_profile(template, template_cams, tmp_path):
+    """The GRBL dialect writes the same tool-centre path (no G41/G42, no G64): every template's
+    cams cut by it, both directions."""
+    for cam, base in template_cams[template]:
+        profile = ExactProfile(cam.contour)
+        for direction in ("climb", "conventional"):
+            spec = dataclasses.replace(base, dialect="grbl", direction=direction)
+            program = gcode_program(cam.contour, spec, cam.name, template)
+            assert "G41" not in program and "G42" not in program and "G64" not in program
+            _assert_cut(simulate(program, cam.contour, spec.tool_radius, tmp_path, profile=profile), spec,
+                        f"grbl {template}/{cam.name} {direction}")
 
 
 @pytest.mark.usefixtures("needs_rs274")

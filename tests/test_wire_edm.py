@@ -24,11 +24,13 @@ import sys
 import numpy as np
 import pytest
 
+from camgen.errors import ParameterError
 from camgen.export.gcode import MachiningSpec
 from camgen.export.wire_edm import wire_edm_program
 from camgen.export.wire_edm_spec import WireEdmSpec
 from cutting import CUT_TOL, ExactProfile, sample_moves
 from helpers import require_tool, rs274_env
+from test_gcode import TEMPLATES as GCODE_TEMPLATES, template_cams  # noqa: F401 (template_cams: a fixture)
 
 #: Lines of the programs LinuxCNC does not know, masked before rs274 reads them: none (%, M00,
 #: G41 D<k>, G54 and M30 are all LinuxCNC's).
@@ -183,6 +185,38 @@ def test_each_cut_leaves_its_allowance_and_the_tab_its_width(cams, skims, allowa
         gouge, proud = cut_report(cut_off, profile, expected[-1], skip=~tab)
         assert gouge <= CUT_TOL and proud <= CUT_TOL, (name, "cut-off", gouge, proud)
         assert all(abs(mv["end"][2]) == 0.0 and abs(mv["start"][2]) == 0.0 for c in chains for mv in c), name  # no Z
+
+
+@pytest.mark.parametrize("template", GCODE_TEMPLATES)
+@pytest.mark.usefixtures("needs_rs274")
+def test_every_templates_wire_program_cuts_its_profile(template, template_cams, tmp_path):
+    """Every cam of every plate template (tests/test_gcode.py's list) cut by the wire, a first cut
+    and a skim: each leaves the profile at its wire offset within 1 um (rs274's moves, the wire
+    swept over the stock) but for the tab, which the cut-off then cuts at the last offset; a cam
+    with pockets (the groove cam) is refused, naming a key."""
+    for cam, base in template_cams[template]:
+        spec = MachiningSpec(dialect="wire_edm", chord_tol=base.chord_tol, wire_edm=WireEdmSpec(skim_cuts=1))
+        if cam.pockets:
+            with pytest.raises(ParameterError):
+                wire_edm_program(cam.contour, spec, cam.name, template, cam.body.thickness, cam.pockets)
+            continue
+        program = wire_edm_program(cam.contour, spec, cam.name, template, cam.body.thickness)
+        assert spec.wire_edm is not None
+        offsets = list(spec.wire_edm.offsets)
+        status, message, chains = run_rs274(program, offsets, tmp_path)
+        assert status == 0, message
+        profile = ExactProfile(cam.contour)
+        s = _arc_lengths(profile.vertices)[:-1]
+        total = float(_arc_lengths(profile.vertices)[-1])
+        n = len(offsets)
+        assert len(chains) == n + 1, (template, cam.name, len(chains))
+        for k, (chain, offset) in enumerate(zip(chains[:n], offsets), 1):
+            s_start, s_stop = tab_stretch(chain, profile)
+            tab = _in_stretch(s, s_start, s_stop, total)
+            gouge, proud = cut_report(chain, profile, offset, skip=tab)
+            assert gouge <= CUT_TOL and proud <= CUT_TOL, (template, cam.name, k, gouge, proud)
+        gouge, proud = cut_report(chains[n], profile, offsets[-1], skip=~tab)
+        assert gouge <= CUT_TOL and proud <= CUT_TOL, (template, cam.name, "cut-off", gouge, proud)
 
 
 @pytest.mark.usefixtures("needs_rs274")
