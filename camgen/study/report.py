@@ -295,7 +295,7 @@ def _cells_map(variables: "Sequence[Variable]", rows: Sequence[Mapping[str, obje
         title = (f"{variables[0].name} {xl[i]}" + (f", {variables[1].name} {yl[j]}" if len(variables) > 1 else "")
                  + f": {passed} of {total} pass" + (f"; first failing: {failing}" if failing else ""))
         cells.append(Cell(x0, x1, y0, y1, _share_color(share), title, f"{round(100 * share)}%",
-                          (("data-count", str(total)), ("data-pass", str(passed)))))
+                          (("data-x", xl[i]), ("data-y", yl[j]), ("data-count", str(total)), ("data-pass", str(passed)))))
     return plot_svg(xaxis, yaxis, cells=cells, svg_id="feasibility")
 
 
