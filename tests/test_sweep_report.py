@@ -309,3 +309,78 @@ def test_keep_files_count_refused(study, sizes, tmp_path):
     with pytest.raises(ParameterError) as caught:
         keep_files(study, variables, rows, -2, None, tmp_path)
     assert caught.value.name == "--keep-files" and not any(tmp_path.iterdir())
+
+
+def test_header_counts_the_statuses(study, mixed):
+    variables, rows = mixed
+    page = _page(sweep_report_files(study, variables, rows, method="grid", best=0))
+    header = {tr.xpath("./th")[0].text: tr.xpath("./td")[0].text for tr in page.xpath("//table[@class='header']//tr")}
+    counts = Counter(r["status"] for r in rows)
+    assert {s: int(header[s]) for s in ("pass", "fail", "error", "crashed")} == {s: counts[s] for s in ("pass", "fail", "error", "crashed")}
+    assert header["points"] == str(len(rows)) and header["method"] == "grid"
+    assert header["scene hash"] == study.scene_hash and header["camgen version"] == rows[0]["camgen_version"]
+
+
+def test_a_word_valued_key_has_a_column_per_word(study):
+    variables, rows = _rows(study, ["cams.plate.segments[0].law=cycloidal,poly345,harmonic", "base_radius_mm=20,40"])
+    page = _page(sweep_report_files(study, variables, rows, best=0))
+    ticks = [t.text for t in page.xpath("//svg[@id='feasibility']/g[@class='xticks']/text")]
+    assert sorted(ticks) == ["cycloidal", "harmonic", "poly345"]
+    cx = {c.get("data-key"): c.get("cx") for c in page.xpath("//svg[@id='feasibility']//circle")}
+    columns = {law: {cx[r["key"]] for r in rows if r["cams.plate.segments[0].law"] == law} for law in ticks}
+    assert all(len(c) == 1 for c in columns.values()) and len({c.pop() for c in columns.values()}) == 3
+
+
+def _synthetic(study, specs: list[str], count: int, method: str) -> tuple[tuple, list[dict]]:
+    """Rows as a sweep of ``count`` sampled designs records them, with a made-up outcome (the map
+    reads only the inputs and statuses): pass when the base radius is above 35 mm."""
+    variables = parse_vary(study.data, specs)
+    rows = []
+    for i, point in enumerate(design_points(variables, method, count, seed=3)):
+        row = dict(zip([v.name for v in variables], point))
+        ok = row["cams.plate.base_radius_mm"] > 35.0
+        row.update(key=f"{i:016x}", status="pass" if ok else "fail", error="", camgen_version="0", scene_hash=study.scene_hash)
+        row["check.plate.pressure_angle.status"] = "pass" if ok else "fail"
+        rows.append(row)
+    return variables, rows
+
+
+def test_many_values_are_binned(study):
+    from camgen.study.report import MAP_BINS, MAP_CATEGORIES
+
+    variables, rows = _synthetic(study, ["base_radius_mm=20:50", "roller_radius_mm=4:14", "spring_preload_n=5:40"], 400, "lhs")
+    assert len({r["cams.plate.base_radius_mm"] for r in rows}) > MAP_CATEGORIES
+    page = _page(sweep_report_files(study, variables, rows, best=0))
+    cells = page.xpath("//svg[@id='feasibility']//rect[@class='cell']")
+    x = np.array([r["cams.plate.base_radius_mm"] for r in rows])
+    y = np.array([r["cams.plate.roller_radius_mm"] for r in rows])
+    passed = np.array([r["status"] == "pass" for r in rows], dtype=float)
+    count, xe, ye = np.histogram2d(x, y, bins=MAP_BINS)
+    npass, _, _ = np.histogram2d(x, y, bins=[xe, ye], weights=passed)
+    assert len(cells) == int((count > 0).sum())
+    assert sorted(int(c.get("data-count")) for c in cells) == sorted(int(n) for n in count[count > 0])
+    assert sum(int(c.get("data-pass")) for c in cells) == int(passed.sum())
+    assert sorted((int(c.get("data-count")), int(c.get("data-pass"))) for c in cells) == sorted(
+        (int(n), int(p)) for n, p in zip(count[count > 0], npass[count > 0]))
+
+
+def test_too_many_designs_for_discs_become_cells(study):
+    from camgen.study.report import MAP_POINTS
+
+    variables, rows = _synthetic(study, ["base_radius_mm=20:50", "roller_radius_mm=4:14"], MAP_POINTS + 1, "lhs")
+    page = _page(sweep_report_files(study, variables, rows, best=0))
+    assert not page.xpath("//svg[@id='feasibility']//circle")
+    assert sum(int(c.get("data-count")) for c in page.xpath("//svg[@id='feasibility']//rect[@class='cell']")) == len(rows)
+
+
+def test_written_files_are_the_report_files(study, sizes, tmp_path):
+    from camgen.study.report import write_report_files
+
+    variables, rows = sizes
+    files = sweep_report_files(study, variables, rows, best=2)
+    write_report_files(tmp_path, files)
+    written = {p.relative_to(tmp_path).as_posix(): p.read_text(encoding="utf-8") for p in tmp_path.rglob("*") if p.is_file()}
+    assert written == files  # and no temporary file left
+    with pytest.raises(ParameterError):
+        write_report_files(tmp_path, {"../x.toml": "a = 1\n"})
+    assert not (tmp_path.parent / "x.toml").exists()

@@ -32,15 +32,19 @@ from camgen.study.columns import FigureColumn, cam_names, check_label, number, r
 from camgen.study.mapplot import Axis, Cell, Mark, category_axis, numeric_axis, plot_svg
 
 if TYPE_CHECKING:
+    from pathlib import Path
+
     from camgen.study.design import StudyScene
     from camgen.study.space import Variable
 
 __all__ = ["CHECK_COLORS", "MAP_BINS", "MAP_CATEGORIES", "MAP_POINTS", "PARETO_DRAWN", "PARETO_LISTED", "ReportOptions",
-           "STATUS_COLORS", "report_options", "sweep_report_files"]
+           "STATUS_COLORS", "report_options", "sweep_report_files", "write_report_files"]
 
 #: Most designs a feasibility map draws one by one (more: the map shows cells, as for more than
 #: two varied keys).
-MAP_POINTS = 20_000
+MAP_POINTS = 5_000
+#: Radius of a design's disc in a map, px: up to MAP_SMALL designs, and more.
+MAP_RADIUS, MAP_RADIUS_MANY, MAP_SMALL = 4.0, 2.5, 1_000
 #: A key with at most this many distinct values has a map cell per value; more are binned.
 MAP_CATEGORIES = 40
 #: Equal bins of a key's range in a map of cells (keys with more than MAP_CATEGORIES values).
@@ -157,6 +161,22 @@ def sweep_report_files(study: "StudyScene", variables: "Sequence[Variable]", row
     return files
 
 
+def write_report_files(folder: "str | Path", files: Mapping[str, str]) -> list["Path"]:
+    """Write ``files`` (name relative to ``folder`` -> text, as :func:`sweep_report_files` gives
+    them) into ``folder``, each atomically (:func:`camgen.export.atomic.write_atomic`); the paths."""
+    from pathlib import Path
+
+    from camgen.export.atomic import write_atomic
+
+    base = Path(folder)
+    out = []
+    for name, text in files.items():
+        if Path(name).is_absolute() or ".." in Path(name).parts:
+            raise ParameterError("report file", name, "a name inside the sweep's folder")
+        out.append(write_atomic(base / name, text))
+    return out
+
+
 # --------------------------------------------------------------------------------------- text
 
 def _text(value: object) -> str:
@@ -242,11 +262,13 @@ def _points_map(variables: "Sequence[Variable]", rows: Sequence[Mapping[str, obj
         axes.append(category_axis("", [""]))
         positions.append([0.0] * len(rows))
     marks = []
+    radius = MAP_RADIUS if len(rows) <= MAP_SMALL else MAP_RADIUS_MANY
     for i, (row, cat) in enumerate(zip(rows, cats)):
         inputs = ", ".join(f"{v.name} = {_text(row.get(v.name))}" for v in variables)
         why = f": {row.get('error')}" if cat in ("error", "crashed") and row.get("error") else ""
         marks.append(Mark(positions[0][i], positions[1][i], colors[cat], f"{row.get('key')}: {inputs}; {cat}{why}",
-                          (("data-key", str(row.get("key"))), ("data-status", str(row.get("status"))), ("data-category", cat))))
+                          (("data-key", str(row.get("key"))), ("data-status", str(row.get("status"))), ("data-category", cat)),
+                          radius))
     return plot_svg(axes[0], axes[1], marks=marks, svg_id="feasibility")
 
 
