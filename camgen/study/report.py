@@ -390,6 +390,9 @@ def _best(study: "StudyScene", variables: "Sequence[Variable]", rows: Sequence[M
             f"{html.escape(options.rank.label)} (of {passing} passing); each one's scene is <code>best/&lt;key&gt;.toml</code> "
             "(the base scene with the design's values, comments kept): <code>camgen run</code> it for its files.</p>")
     if not chosen:
+        if options.best and passing:
+            return (f"<p class='note'>No passing design has a value of {html.escape(options.rank.label)} "
+                    "(rank them by another figure).</p>")
         return note
     figures = list(dict.fromkeys(c for r in chosen for c in r if c.startswith("fig.")))
     labels = [check_label(c[4:], cams) for c in figures]
