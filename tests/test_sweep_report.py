@@ -384,3 +384,14 @@ def test_written_files_are_the_report_files(study, sizes, tmp_path):
     with pytest.raises(ParameterError):
         write_report_files(tmp_path, {"../x.toml": "a = 1\n"})
     assert not (tmp_path.parent / "x.toml").exists()
+
+
+def test_rows_read_back_from_parquet_give_the_same_report(study, mixed, tmp_path):
+    pa = pytest.importorskip("pyarrow")
+    pq = pytest.importorskip("pyarrow.parquet")
+    variables, rows = mixed
+    columns = list(dict.fromkeys(c for r in rows for c in r))
+    pq.write_table(pa.table({c: [r.get(c) for r in rows] for c in columns}), tmp_path / "part.parquet")
+    back = pq.read_table(tmp_path / "part.parquet").to_pylist()
+    assert [r["key"] for r in back] == [r["key"] for r in rows]
+    assert sweep_report_files(study, variables, back, best=3) == sweep_report_files(study, variables, rows, best=3)

@@ -274,8 +274,9 @@ def _points_map(variables: "Sequence[Variable]", rows: Sequence[Mapping[str, obj
 
 def _cell_axis(v: "Variable", values: Sequence[object]) -> tuple[Axis, list[int], list[str]]:
     """A map axis of cells: per design its cell index, per cell its label."""
-    names = _categories(values)
-    if len(names) <= MAP_CATEGORIES or not _is_numeric(values):
+    numeric = _is_numeric(values)
+    if not numeric or len(set(values)) <= MAP_CATEGORIES:
+        names = _categories(values)
         index = {n: i for i, n in enumerate(names)}
         return category_axis(v.name, names), [index[_text(x)] for x in values], names
     import numpy as np
