@@ -255,6 +255,10 @@ def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", ba
     tool_limit = machining.tool_radius if "machining" in data or machined else None
     cams = _bodies(tuple(_cam(k, v, base_dir, tool_limit) for k, v in cams_table.items()))
     mechanisms = _mechanisms(data.get("mechanisms", {}), cams)
+    if "sweep" in data:  # camgen sweep's table: checked here too, so that check and run refuse what sweep would
+        from camgen.study.space import sweep_table
+
+        sweep_table(data)
     if machined:
         _check_passes(machining, cams)
     return Scene(scene_name, source, output, machining, cams, mechanisms, "machining" in data, machined)

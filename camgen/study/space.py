@@ -18,7 +18,8 @@ from typing import Any, Mapping, Sequence
 from camgen.errors import ParameterError
 from camgen.study.keys import KeyPath, resolve_key
 
-__all__ = ["MAX_POINTS", "METHODS", "Value", "Variable", "design_points", "parse_vary", "read_points", "sweep_table"]
+__all__ = ["MAX_POINTS", "METHODS", "SWEEP_REFERENCE", "SweepTable", "Value", "Variable", "design_points", "parse_vary", "read_points",
+           "sweep_table"]
 
 #: A scalar a study gives a key.
 Value = float | int | str | bool
@@ -155,6 +156,25 @@ def _unique(variables: Sequence[Variable]) -> tuple[Variable, ...]:
             raise ParameterError("--vary", v.name, "each key once")
         seen.add(v.name)
     return tuple(variables)
+
+
+#: The ``[sweep]`` table in the key reference (``camgen keys sweep``).
+SWEEP_REFERENCE = """## [sweep]
+
+Read by `camgen sweep` only (`camgen run` and `camgen check` check it and change nothing for it);
+the command line's `--vary`, `--method`, `--samples`, `--seed` take precedence.
+
+| key | value | default | changes | what it is |
+| --- | --- | --- | --- | --- |
+| `method` | one of grid, lhs, sobol | grid when every varied key has a step or values | sweep | how the points are chosen: the full grid, a Latin hypercube, a scrambled Sobol sequence |
+| `samples` | integer >= 1 | required for lhs, sobol | sweep | the points of a sampled design |
+| `seed` | integer >= 0 | none (fresh entropy) | sweep | the sampler's seed: the same seed, the same points |
+
+Each key of the `[sweep.vary]` table is a scene key's path (`"cams.plate.base_radius_mm"`,
+`"cams.plate.segments[0].lift_mm"`, or a bare key of the scene's only cam) and its value one of:
+`"low:high:step"` (a grid from low to high, both in), `"low:high"` (a range to sample), a list of
+values (`[5.0, 10.0]`, `["cycloidal", "poly345"]`), or a table `{low = 30.0, high = 60.0, step = 5.0}`.
+"""
 
 
 @dataclass(frozen=True)
