@@ -32,7 +32,7 @@ if TYPE_CHECKING:
     from camgen.study.design import StudyScene
     from camgen.study.space import Variable
 
-__all__ = ["DEFAULT_EVALUATIONS", "DE_SHARE", "MAX_EVALUATIONS", "METHODS", "OptimizeResult", "X_TOL", "best_trial",
+__all__ = ["DEFAULT_EVALUATIONS", "DE_SHARE", "INSIDE_MARGIN", "MAX_EVALUATIONS", "METHODS", "OptimizeResult", "X_TOL", "best_trial",
            "history", "optimize", "optimize_command", "parse_variables"]
 
 METHODS = ("de", "cobyla")
@@ -44,6 +44,10 @@ DE_SHARE = 0.75
 X_TOL = 1e-4
 #: COBYLA's first trust-region radius, a fraction of each key's range.
 COBYLA_START = 0.1
+#: The optimiser is asked for margins of at least this (normalised, :func:`check_margin`), not 0:
+#: COBYLA converges to a constraint's boundary from either side and accepts a tiny violation, so
+#: the design it ends on is still inside every check's limit (a pressure angle of 30 deg: 3e-5 deg).
+INSIDE_MARGIN = 1e-6
 
 
 @dataclass(frozen=True)
@@ -59,6 +63,19 @@ class OptimizeResult:
     seed: int
 
 
+def _base_value(data: Any, path: tuple[str | int, ...]) -> Any:
+    """The base scene's value at ``path`` (None when absent: the key is at its default)."""
+    node: Any = data
+    for step in path:
+        if isinstance(node, dict) and isinstance(step, str):
+            node = node.get(step)
+        elif isinstance(node, list) and isinstance(step, int) and 0 <= step < len(node):
+            node = node[step]
+        else:
+            return None
+    return node
+
+
 def parse_variables(data: Any, items: Sequence[str] | None) -> tuple["Variable", ...]:
     """The ``--vary KEY=low:high`` ranges: continuous keys of numbers (listed values and grid steps
     are a sweep's, refused here)."""
@@ -72,9 +89,7 @@ def parse_variables(data: Any, items: Sequence[str] | None) -> tuple["Variable",
         if v.values or v.step is not None:
             raise ParameterError(f"--vary {v.name}", spec, "low:high, a continuous range (listed values and grid steps "
                                  "are for camgen sweep)")
-        node: Any = data
-        for step in v.key.path:
-            node = node.get(step) if isinstance(node, dict) else node[step] if isinstance(node, list) else None
+        node = _base_value(data, v.key.path)
         if node is not None and (isinstance(node, bool) or not isinstance(node, (int, float))):
             raise ParameterError(f"--vary {v.name}", f"{v.low}:{v.high}", "a key whose value is a number",
                                  f"the scene gives it {node!r}")
@@ -101,9 +116,7 @@ def _start(study: "StudyScene", variables: Sequence["Variable"]) -> list[float] 
     """The base scene's values in the unit cube (None when one is absent or out of the bounds)."""
     values = []
     for v in variables:
-        node: Any = study.data
-        for step in v.key.path:
-            node = node.get(step) if isinstance(node, dict) else node[step] if isinstance(node, list) else None
+        node = _base_value(study.data, v.key.path)
         if not isinstance(node, (int, float)) or isinstance(node, bool):
             return None
         values.append(node)
@@ -129,7 +142,7 @@ def _cobyla(evaluator: Evaluator, start: Sequence[float]) -> None:
     def trial(x: Any) -> Trial:
         return evaluator(trial_values(evaluator.variables, x))
 
-    constraint = NonlinearConstraint(lambda x: np.array(trial(x).margins), 0.0, np.inf)
+    constraint = NonlinearConstraint(lambda x: np.array(trial(x).margins), INSIDE_MARGIN, np.inf)
     minimize(lambda x: _objective_value(evaluator, trial(x)), np.asarray(start, dtype=float), method="COBYLA",
              bounds=[(0.0, 1.0)] * d, constraints=[constraint],
              options={"rhobeg": COBYLA_START, "tol": X_TOL, "maxiter": max(evaluator.budget, 1)})
@@ -144,7 +157,7 @@ def _differential_evolution(evaluator: Evaluator, start: Sequence[float] | None,
     def trial(x: Any) -> Trial:
         return evaluator(trial_values(evaluator.variables, x))
 
-    constraint = NonlinearConstraint(lambda x: np.array(trial(x).margins), 0.0, np.inf)
+    constraint = NonlinearConstraint(lambda x: np.array(trial(x).margins), INSIDE_MARGIN, np.inf)
     differential_evolution(lambda x: _objective_value(evaluator, trial(x)), [(0.0, 1.0)] * d, constraints=constraint,
                            rng=np.random.default_rng(seed), polish=False, x0=None if start is None else np.asarray(start),
                            maxiter=evaluator.budget, updating="immediate")
