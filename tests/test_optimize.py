@@ -163,3 +163,14 @@ def test_the_evaluator_agrees_with_a_sweep_row():
         trial = evaluator((radius,))
         row = evaluate_point(study, [key], [radius])
         assert trial.status == row["status"] and trial.objective == row["fig.plate.outer_radius_mm"]
+
+
+def test_the_same_seed_gives_the_same_designs():
+    from camgen.study.optimize import optimize, parse_variables
+
+    study = StudyScene.load(str(TEMPLATE))
+    variables = parse_variables(study.data, ["base_radius_mm=25:45", "follower_offset_mm=0:10"])
+    objective = parse_objective(study.data, "outer_radius_mm", "minimize")
+    runs = [optimize(study, variables, objective, "de", seed, 10) for seed in (5, 5, 6)]
+    designs = [[(t.values, t.status, t.objective, t.margins) for t in r.trials] for r in runs]
+    assert len(designs[0]) == 10 and designs[0] == designs[1] and designs[0] != designs[2]

@@ -23,7 +23,7 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Sequence
 
 from camgen.errors import ParameterError
 from camgen.study.optimize_problem import BudgetSpent, Evaluator, Objective, Trial, parse_objective, trial_values
@@ -164,18 +164,32 @@ def _differential_evolution(evaluator: Evaluator, start: Sequence[float] | None,
 
 
 def optimize(study: "StudyScene", variables: Sequence["Variable"], objective: Objective, method: str = "de",
-             seed: int = 0, max_evaluations: int = DEFAULT_EVALUATIONS) -> OptimizeResult:
+             seed: int = 0, max_evaluations: int = DEFAULT_EVALUATIONS,
+             progress: Callable[[str], None] | None = None) -> OptimizeResult:
     """Optimise ``objective`` over ``variables`` of ``study`` subject to every check passing.
 
     Evaluates at most ``max_evaluations`` designs (the base scene's own evaluation not counted);
-    the same seed gives the same trials.
+    the same seed gives the same trials.  ``progress`` is called after each design with a line
+    (designs done, feasible, the best figure so far).
     """
+    best: list[float] = []
+    feasible = [0]
+
+    def report(trial: Trial) -> None:
+        if trial.feasible and trial.objective is not None:
+            feasible[0] += 1
+            if not best or objective.signed(trial.objective) < objective.signed(best[0]):
+                best[:] = [trial.objective]
+        if progress is not None:
+            shown = f", best {best[0]:.6g}" if best else ""
+            progress(f"optimising: {trial.number + 1}/{max_evaluations} designs, {feasible[0]} feasible{shown}")
+
     if method not in METHODS:
         raise ParameterError("--method", method, "one of " + ", ".join(METHODS))
     if not 1 <= max_evaluations <= MAX_EVALUATIONS:
         raise ParameterError("--max-evaluations", max_evaluations, f"an integer from 1 to {MAX_EVALUATIONS}")
     evaluator = Evaluator(study, variables, objective, max_evaluations if method == "cobyla"
-                          else max(1, int(max_evaluations * DE_SHARE)))
+                          else max(1, int(max_evaluations * DE_SHARE)), report)
     start = _start(study, variables)
     try:
         if method == "de":
@@ -186,10 +200,10 @@ def optimize(study: "StudyScene", variables: Sequence["Variable"], objective: Ob
         pass
     if method == "de":  # a local refinement of the best design with the evaluations left
         evaluator.budget = max_evaluations
-        best = best_trial(evaluator.trials, objective)
-        if best is not None and len(evaluator.trials) < max_evaluations:
+        found = best_trial(evaluator.trials, objective)
+        if found is not None and len(evaluator.trials) < max_evaluations:
             try:
-                _cobyla(evaluator, _unit(variables, best.values))
+                _cobyla(evaluator, _unit(variables, found.values))
             except BudgetSpent:
                 pass
     trials = tuple(evaluator.trials)
@@ -262,7 +276,13 @@ def optimize_command(scene: str | None, vary: Sequence[str] | None, minimize: st
     from camgen.staging import preflight
 
     preflight(target)
-    result = optimize(study, variables, objective, method, seed, max_evaluations)
+    from camgen.progress import TerminalProgress
+
+    display = TerminalProgress(enabled=not quiet)
+    try:
+        result = optimize(study, variables, objective, method, seed, max_evaluations, display)
+    finally:
+        display.close()
     if result.best is None:
         print(f"camgen: no feasible design in {len(result.trials)} evaluations: {_never_passed(result)}", file=sys.stderr)
         return 1

@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Mapping, Sequence
 
 from camgen.errors import CamgenError, ParameterError
 from camgen.study.design import FIGURES, OUTER_RADIUS_TOL
@@ -184,10 +184,13 @@ class Evaluator:
     of the base scene, then :data:`OTHER_CHECKS` and :data:`FIGURE_DEFINED`.  Building the
     evaluator evaluates the base scene as it is (not counted): a base scene that cannot be built,
     a check objective the scene has not, or a figure with no value there, is refused.
+    ``on_trial`` is called with each new trial (a progress display).
     """
 
-    def __init__(self, study: "StudyScene", variables: "Sequence[Variable]", objective: Objective, budget: int) -> None:
+    def __init__(self, study: "StudyScene", variables: "Sequence[Variable]", objective: Objective, budget: int,
+                 on_trial: "Callable[[Trial], None] | None" = None) -> None:
         self.study = study
+        self.on_trial = on_trial
         self.variables = tuple(variables)
         self.objective = objective
         self.budget = budget
@@ -257,4 +260,6 @@ class Evaluator:
         trial = Trial(len(self.trials), values, status, error, objective, tuple(margins), (time.perf_counter() - started) * 1e3)
         self.trials.append(trial)
         self._seen[values] = trial
+        if self.on_trial is not None:
+            self.on_trial(trial)
         return trial
