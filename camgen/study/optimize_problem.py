@@ -209,8 +209,10 @@ class Evaluator:
             raise ParameterError(option, objective.column, f"a check of cam '{objective.cam}': "
                                  + ", ".join(f"check.{cam.name}.{c.name}" for c in cam.checks))
         if cam is None or self._value(base) is None:
-            raise ParameterError(option, objective.column, "a figure with a number for this scene",
-                                 "the base scene has none (e.g. no dynamics: no torque, stress or jump speed)")
+            check = next((c for c in (cam.checks if cam is not None else ()) if c.name == objective.name), None)
+            why = (f"the base scene's {objective.name} is {check.value!r}, not a number" if check is not None
+                   else "the base scene has none (no dynamics: no torque, stress or jump speed)")
+            raise ParameterError(option, objective.column, "a figure with a number for this scene", why)
 
     def _compute(self, values: Mapping[tuple[str | int, ...], float | int]) -> "RunResult":
         from camgen.pipeline import compute
