@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 
-from camgen.checks import limited
+from camgen.checks import CheckResult, limited
 from camgen.cli import main
 from camgen.pipeline import compute
 from camgen.planning import plan_run
@@ -34,12 +34,16 @@ LOW, HIGH = 25.0, 45.0
 BISECTION_TOL = 1e-7
 
 
-def _checks(base_radius: float) -> dict[str, bool | None]:
+def _check_results(base_radius: float) -> dict[str, CheckResult]:
     data = tomllib.loads(TEMPLATE.read_text(encoding="utf-8"))
     data["cams"]["plate"]["base_radius_mm"] = base_radius
     scene = parse_scene(data, "plate_cam", str(TEMPLATE), TEMPLATE.parent)
     result = compute(scene, plan_run(scene, ["json"]))
-    return {c.name: c.passed for c in result.cams[0].checks}
+    return {c.name: c for c in result.cams[0].checks}
+
+
+def _checks(base_radius: float) -> dict[str, bool | None]:
+    return {name: c.passed for name, c in _check_results(base_radius).items()}
 
 
 @pytest.fixture(scope="module")
@@ -55,9 +59,8 @@ def least_base_radius() -> float:
     return high
 
 
-def _optimize(tmp: Path, *extra: str) -> tuple[int, Path]:
-    status = main(["optimize", str(TEMPLATE), "--vary", f"base_radius_mm={LOW:g}:{HIGH:g}", "--minimize", "outer_radius_mm",
-                   "-o", str(tmp), "-q", *extra])
+def _optimize(tmp: Path, *extra: str, goal: tuple[str, str] = ("--minimize", "outer_radius_mm")) -> tuple[int, Path]:
+    status = main(["optimize", str(TEMPLATE), "--vary", f"base_radius_mm={LOW:g}:{HIGH:g}", *goal, "-o", str(tmp), "-q", *extra])
     return status, tmp / "plate_cam-optimum"
 
 
@@ -68,9 +71,16 @@ def optimum(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return folder
 
 
-@pytest.mark.parametrize("method", ["de", "cobyla"])
-def test_the_smallest_cam_is_at_the_pressure_angle_limit(method, optimum, least_base_radius, tmp_path):
-    folder = optimum if method == "de" else _optimize(tmp_path, "--method", "cobyla", "--max-evaluations", "60")[1]
+@pytest.mark.parametrize("method, goal", [("de", "--minimize"), ("cobyla", "--minimize"), ("cobyla", "--maximize")])
+def test_the_smallest_cam_is_at_the_pressure_angle_limit(method, goal, optimum, least_base_radius, tmp_path):
+    """Minimising the outer radius, or maximising the pressure angle (the largest that passes is
+    the limit's), both end at the least base radius that passes."""
+    if method == "de":
+        folder = optimum
+    else:
+        figure = "outer_radius_mm" if goal == "--minimize" else "pressure_angle_deg"
+        status, folder = _optimize(tmp_path, "--method", "cobyla", "--max-evaluations", "60", goal=(goal, figure))
+        assert status == 0
     history = json.loads((folder / "optimize.json").read_text(encoding="utf-8"))
     best = history["best"]["values"]["cams.plate.base_radius_mm"]
     # feasible (at or above the limit), and within the optimiser's stated tolerance of it
@@ -81,6 +91,13 @@ def test_the_smallest_cam_is_at_the_pressure_angle_limit(method, optimum, least_
     assert report["status"] == "pass"
     assert [c["name"] for c in report["cams"]["plate"]["checks"] if c["status"] == "fail"] == []
     assert report["cams"]["plate"]["figures"]["base_radius_mm"] == best
+    if goal == "--maximize":
+        limit = next(c["limit"] for c in report["cams"]["plate"]["checks"] if c["name"] == "pressure_angle")
+        assert history["objective"] == {"figure": "fig.plate.pressure_angle_deg", "sense": "maximize"}
+        # the pressure angle falls as the base radius grows: at most the limit, at least its value
+        # at the far end of the optimiser's tolerance
+        far = _check_results(least_base_radius + X_TOL * (HIGH - LOW))["pressure_angle"].value
+        assert far <= history["best"]["objective"] <= limit
 
 
 def test_the_figure_is_the_outline_s_largest_radius(optimum):

@@ -104,6 +104,12 @@ def best_trial(trials: Sequence[Trial], objective: Objective) -> Trial | None:
     return min(feasible, key=lambda t: (objective.signed(t.objective or 0.0), t.number))
 
 
+def _closest(trials: Sequence[Trial]) -> Trial | None:
+    """The built design nearest to passing (the largest least margin), None when none was built."""
+    built = [t for t in trials if t.status != "error"]
+    return max(built, key=lambda t: (min(t.margins), -t.number)) if built else None
+
+
 def _unit(variables: Sequence["Variable"], values: Sequence[float | int]) -> list[float]:
     out = []
     for v, x in zip(variables, values):
@@ -200,7 +206,7 @@ def optimize(study: "StudyScene", variables: Sequence["Variable"], objective: Ob
         pass
     if method == "de":  # a local refinement of the best design with the evaluations left
         evaluator.budget = max_evaluations
-        found = best_trial(evaluator.trials, objective)
+        found = best_trial(evaluator.trials, objective) or _closest(evaluator.trials)
         if found is not None and len(evaluator.trials) < max_evaluations:
             try:
                 _cobyla(evaluator, _unit(variables, found.values))
