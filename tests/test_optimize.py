@@ -175,11 +175,18 @@ def test_the_evaluator_agrees_with_a_sweep_row():
 
     variables = parse_variables(study.data, ["base_radius_mm=20:45"])
     evaluator = Evaluator(study, variables, parse_objective(study.data, "outer_radius_mm", "minimize"), budget=2)
+    by_check = Evaluator(study, variables, parse_objective(study.data, "check.plate.pressure_angle", "maximize"), budget=2)
+    assert by_check.objective.column == "check.plate.pressure_angle"
     key = resolve_key(study.data, "base_radius_mm")
     for radius in (22.0, 36.0):
-        trial = evaluator((radius,))
+        trial, checked = evaluator((radius,)), by_check((radius,))
         row = evaluate_point(study, [key], [radius])
         assert trial.status == row["status"] and trial.objective == row["fig.plate.outer_radius_mm"]
+        assert checked.objective == row["check.plate.pressure_angle"]
+        failed = {n for n, m in zip(evaluator.names, trial.margins) if m < 0}
+        assert failed == {"cams." + column.removeprefix("check.").removesuffix(".status") for column, value in row.items()
+                          if column.endswith(".status") and value == "fail"}
+    assert [t.status for t in evaluator.trials] == ["fail", "pass"]  # 22 mm fails the pressure angle, 36 mm passes
 
 
 def test_the_same_seed_gives_the_same_designs():
