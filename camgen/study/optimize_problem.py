@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable, Mapping, Sequence
 
 from camgen.errors import CamgenError, ParameterError
-from camgen.study.design import FIGURES, OUTER_RADIUS_TOL
+from camgen.study.design import FIGURES, design_plan, finite_number, main_figures
 
 if TYPE_CHECKING:
     from camgen.checks import CheckResult
@@ -138,31 +138,9 @@ class BudgetSpent(Exception):
     """The evaluator's budget of evaluations is spent: the optimiser is stopped."""
 
 
-def _finite(value: object) -> float | None:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        return None
-    return float(value) if math.isfinite(value) else None
-
-
 def _figure(cam: "CamResult", name: str) -> float | None:
     """The main figure ``name`` (:data:`FIGURES`) of a built and checked cam."""
-    checks = {c.name: c for c in cam.checks}
-    if name == "outer_radius_mm":
-        if cam.contour is None:
-            return None
-        import numpy as np
-
-        points = cam.contour.flatten(OUTER_RADIUS_TOL)
-        return float(np.sqrt((points * points).sum(axis=1)).max())
-    if name == "pressure_angle_deg":
-        return _finite(checks["pressure_angle"].value) if "pressure_angle" in checks else None
-    if name == "least_radius_mm":
-        radii = [v for v in (_finite(checks[n].value) for n in ("min_convex_radius", "min_concave_radius") if n in checks)
-                 if v is not None]
-        return min(radii) if radii else None
-    dynamics = cam.figures.get("dynamics") or {}
-    field = {"torque_peak_n_m": "torque_peak_Nm", "contact_stress_mpa": "hertz_stress_peak_MPa", "jump_rpm": "jump_rpm"}[name]
-    return _finite(dynamics.get(field))
+    return main_figures(cam)[name]
 
 
 def trial_values(variables: "Sequence[Variable]", unit: Sequence[float]) -> tuple[float | int, ...]:
@@ -216,10 +194,9 @@ class Evaluator:
 
     def _compute(self, values: Mapping[tuple[str | int, ...], float | int]) -> "RunResult":
         from camgen.pipeline import compute
-        from camgen.planning import plan_run
 
         scene = self.study.scene(values)
-        return compute(scene, plan_run(scene, ["json"]))
+        return compute(scene, design_plan(scene))
 
     def _value(self, result: "RunResult") -> float | None:
         cam = next((c for c in result.cams if c.name == self.objective.cam), None)
@@ -228,7 +205,7 @@ class Evaluator:
         if self.objective.kind == "fig":
             return _figure(cam, self.objective.name)
         check = next((c for c in cam.checks if c.name == self.objective.name), None)
-        return None if check is None else _finite(check.value)
+        return None if check is None else finite_number(check.value)
 
     def __call__(self, values: tuple[float | int, ...]) -> Trial:
         """The trial of the design with ``values`` (evaluated now, or remembered)."""
