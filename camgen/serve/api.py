@@ -129,7 +129,7 @@ def _scene(source: SceneSource, data: Mapping[str, Any], only: tuple[str, ...] |
 
 def evaluate(source: SceneSource, body: object) -> dict[str, Any]:
     """``POST /api/evaluate``: ``{"seq": int, "data": scene}`` -> the scene's checks, figures and
-    curves per cam (:func:`camgen.serve.payload.cam_payload`), computed as ``camgen check``
+    curves per cam (:func:`camgen.serve.payload.cam_payload`) and report.json's ``mechanisms``, computed as ``camgen check``
     computes them (:func:`camgen.scene.parse_scene`, :func:`camgen.pipeline.compute`), with the
     analysis report.json's figures need; bad input: ``ok`` false and ``error``
     (:func:`error_json`), ``verdict`` None."""
@@ -137,7 +137,7 @@ def evaluate(source: SceneSource, body: object) -> dict[str, Any]:
     from camgen.pipeline import compute, plan_run
     from camgen.report import report_dict
     from camgen.report_data import report_input
-    from camgen.serve.payload import cam_payload
+    from camgen.serve.payload import cam_payload, json_safe
 
     seq = _field(body, "seq", int, "an integer")
     data = _field(body, "data", dict, "a scene table (a JSON object)")
@@ -161,7 +161,7 @@ def evaluate(source: SceneSource, body: object) -> dict[str, Any]:
         assert isinstance(entry, Mapping)
         cams.append(cam_payload(cam, entry, keys))
     return {"seq": seq, "ok": True, "error": None, "verdict": "fail" if tree["status"] == "fail" else "pass", "cams": cams,
-            "elapsed_ms": (time.perf_counter() - start) * 1e3}
+            "mechanisms": json_safe(tree["mechanisms"]), "elapsed_ms": (time.perf_counter() - start) * 1e3}
 
 
 def _editor() -> Callable[[str, Mapping[str, Any]], str] | None:

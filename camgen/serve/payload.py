@@ -9,6 +9,7 @@ a value JSON cannot hold (NaN, an infinite radius of curvature) goes out as null
 from __future__ import annotations
 
 import math
+from collections import abc
 from typing import TYPE_CHECKING, Any, Collection, Mapping
 
 import numpy as np
@@ -31,16 +32,25 @@ MAX_PATH_SAMPLES = 360
 def json_safe(value: Any) -> Any:
     """``value`` with numpy values as Python's, tuples as lists, and every non-finite float as
     None (JSON has no NaN or infinity)."""
+    if isinstance(value, float):
+        return float(value) if math.isfinite(value) else None
+    if value is None or isinstance(value, (str, int)):
+        return value
     if isinstance(value, np.ndarray):
+        if value.dtype.kind == "f":
+            finite = np.isfinite(value)
+            if bool(finite.all()):
+                return value.tolist()
+            out = value.astype(object)
+            out[~finite] = None
+            return out.tolist()
         return json_safe(value.tolist())
-    if isinstance(value, Mapping):
-        return {str(k): json_safe(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
         return [json_safe(v) for v in value]
+    if isinstance(value, (dict, abc.Mapping)):
+        return {str(k): json_safe(v) for k, v in value.items()}
     if isinstance(value, np.generic):
         return json_safe(value.item())
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
     return value
 
 

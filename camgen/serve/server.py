@@ -24,6 +24,7 @@ import ipaddress
 import json
 import socket
 import sys
+import threading
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from typing import Any, Callable
 from urllib.parse import unquote, urlsplit
@@ -292,12 +293,25 @@ def make_server(scene: str | None, host: str = "127.0.0.1", port: int = DEFAULT_
                              " ".join(str(exc.strerror or exc).split())) from None
 
 
+def _warm_up(source: SceneSource) -> None:
+    """Evaluate the scene once while the user opens the page: the first edit then finds every
+    module imported (the first evaluation takes several times longer than the next).  Its answer is
+    dropped; an error it meets is met again, and shown, by the page's own first request."""
+    from camgen.serve.api import evaluate
+
+    try:
+        evaluate(source, {"seq": 0, "data": dict(source.data)})
+    except Exception:  # noqa: BLE001 - shown by the page's own request
+        return
+
+
 def serve(scene: str | None, host: str = "127.0.0.1", port: int = DEFAULT_PORT, allow_remote: bool = False) -> int:
     """``camgen serve``: serve the live page of ``scene`` until SIGINT/SIGTERM (which end the
     command as every other: :class:`camgen.interrupt.Interrupted`, exit 130/143)."""
     from camgen.interrupt import checkpoint
 
     server = make_server(scene, host, port, allow_remote, checkpoint)
+    threading.Thread(target=_warm_up, args=(server.source,), name="camgen-serve-warm-up", daemon=True).start()
     try:
         if not is_loopback(host):
             print(f"camgen: warning: serving on {host}, not only this machine: the server has no authentication, anyone who "
