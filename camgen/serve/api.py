@@ -26,7 +26,8 @@ __all__ = ["PAGE_FORMATS", "RequestError", "SceneSource", "error_json", "evaluat
            "scene_json", "schema"]
 
 #: The outputs an evaluation plans (report.json, and report.html's plot data): the same analysis
-#: as ``camgen run`` (report.json's figures), no file rendered.
+#: as ``camgen run`` (report.json's figures, but those of the meshes, ``solid_*``: the cam is not
+#: meshed), no file rendered.
 PAGE_FORMATS = ("json", "html")
 #: Most formats one files request may ask for.
 MAX_FORMATS = 40
