@@ -207,7 +207,8 @@ def make_files(source: SceneSource, body: object, store: "FileStore") -> dict[st
     only = tuple(formats)
     try:
         scene = _scene(source, data, only)
-        result = execute(scene, plan_run(scene, only))
+        with store.making:  # one run's files at a time (the mesher and the STEP kernel are not thread-safe)
+            result = execute(scene, plan_run(scene, only))
     except CamgenError as exc:
         return {"files": [], "error": error_json(exc)}
     made = store.add(result.files)

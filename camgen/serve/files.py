@@ -3,7 +3,10 @@
 Each run's files are kept under a random token (:func:`secrets.token_urlsafe`); at most
 :data:`MAX_RUNS` runs are kept, the oldest dropped first.  A download names a token and a file
 name: only a pair this store made is found (anything else: None, the server's 404).  The store
-is the one mutable object the server's request threads share: a lock guards it.
+is the one mutable object the server's request threads share: a lock guards it.  A second lock,
+:attr:`FileStore.making`, is held while a run's files are made: one run at a time, since the
+libraries some formats call (gmsh for the FEA meshes, OpenCASCADE for STEP) keep global state and
+are not safe to call from two threads at once.
 """
 from __future__ import annotations
 
@@ -38,6 +41,8 @@ class FileStore:
         self._runs: OrderedDict[str, dict[str, bytes]] = OrderedDict()
         self._max_runs = max_runs
         self._lock = threading.Lock()
+        #: Held while a run's files are made (one at a time: see the module's docstring).
+        self.making = threading.Lock()
 
     def add(self, files: Mapping[str, str | bytes]) -> tuple[MadeFile, ...]:
         """Keep ``files`` (text is stored as its UTF-8 bytes, as ``camgen run`` writes it) under a

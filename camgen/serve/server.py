@@ -171,6 +171,8 @@ class _Handler(BaseHTTPRequestHandler):
         if self.command not in allowed:
             self._refuse(405, f"{path} takes {', '.join(allowed)} only", {"Allow": ", ".join(allowed)})
             return
+        if self.command == "GET" and self.headers.get("Content-Length", "0").strip() not in ("", "0"):
+            self.close_connection = True  # a GET's body is never read: the connection cannot carry another request
         try:
             if self.command == "GET":
                 self._get(path)
