@@ -168,6 +168,13 @@ def test_files_dxf_equal_camgen_run_only_dxf(server, tmp_path):
         assert status == 200 and len(data) == made["bytes"]
         assert data == written[made["name"]], made["name"]
         assert headers["content-disposition"] == f'attachment; filename="{made["name"]}"'
+        assert "sandbox" in headers["content-security-policy"]
+
+
+def test_save_of_an_unchanged_scene_keeps_its_text(server):
+    text = template_path("plate_cam").read_text(encoding="utf-8")
+    answer = post(server.port, "/api/save", {"text": text, "data": tomllib.loads(text)})
+    assert answer == {"text": text, "error": None}
 
 
 def test_save_gives_toml_camgen_run_accepts(server, tmp_path):
@@ -230,6 +237,15 @@ def test_page_is_served_with_its_policy(server):
 def test_wrong_host_is_403(server, host):
     status, _, _ = request(server.port, "GET", "/api/scene", headers={"Host": host.format(port=server.port)})
     assert status == 403
+
+
+@pytest.mark.parametrize("origin", ["http://evil.example", "http://127.0.0.1:1", "null", "https://127.0.0.1:{port}"])
+def test_another_sites_page_is_403(server, origin):
+    data = tomllib.loads(template_path("plate_cam").read_text(encoding="utf-8"))
+    headers = {"Origin": origin.format(port=server.port)}
+    assert request(server.port, "POST", "/api/evaluate", {"seq": 1, "data": data}, headers)[0] == 403
+    assert request(server.port, "POST", "/api/evaluate", {"seq": 1, "data": data},
+                   {"Origin": f"http://localhost:{server.port}", "Host": f"localhost:{server.port}"})[0] == 200
 
 
 @pytest.mark.parametrize("host", ["localhost:{port}", "LOCALHOST:{port}", "[::1]:{port}"])

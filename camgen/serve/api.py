@@ -175,21 +175,38 @@ def _editor() -> Callable[[str, Mapping[str, Any]], str] | None:
     return function
 
 
+def _decoded(text: str) -> object:
+    try:
+        return tomllib.loads(text)
+    except (tomllib.TOMLDecodeError, ValueError, RecursionError):
+        return None
+
+
 def save(source: SceneSource, body: object) -> dict[str, Any]:
     """``POST /api/save``: ``{"text": original TOML, "data": scene}`` -> ``{"text": the edited
     scene's TOML, "error": null or the error a run of it would stop on}``: the original's
-    comments kept where the editor is installed (``camgen.scene_edit``), else the scene written
-    plainly (:func:`camgen.serve.toml_text.scene_toml`)."""
+    comments kept where the editor is installed (``camgen.scene_edit``), else the original text
+    itself when nothing was changed, or the scene written plainly
+    (:func:`camgen.serve.toml_text.scene_toml`)."""
     from camgen.serve.toml_text import scene_toml
 
     text = _field(body, "text", str, "the original scene text")
     data = _field(body, "data", dict, "a scene table (a JSON object)")
+    from camgen.pipeline import plan_run
+
     edit = _editor()
+    new: str | None = None
     try:
-        new = edit(text, data) if edit is not None else scene_toml(data)
-        _scene(source, tomllib.loads(new))
+        if edit is not None:
+            new = edit(text, data)
+        else:  # unchanged: the original, comments and all; else written plainly
+            new = text if _decoded(text) == data else scene_toml(data)
+        decoded = _decoded(new)
+        if not isinstance(decoded, dict):  # a writer's bug, said as such
+            raise SceneError("the saved scene is not valid TOML (a bug in camgen's scene writer)")
+        plan_run(_scene(source, decoded))  # what `camgen run` refuses before it computes
     except CamgenError as exc:
-        return {"text": new if "new" in locals() else None, "error": error_json(exc)}
+        return {"text": new, "error": error_json(exc)}
     return {"text": new, "error": None}
 
 
