@@ -90,15 +90,17 @@ def test_scene_is_the_file_as_read(server):
     assert scene["name"] == "default"
 
 
-def test_evaluate_equals_report_json_of_camgen_run(server, tmp_path):
+@pytest.mark.parametrize("template", ["default", "plate_cam"])
+def test_evaluate_equals_report_json_of_camgen_run(server, tmp_path, template):
     """The page's figures and checks of every cam are report.json's of ``camgen run`` (another
     process) on the same scene, value for value (but the figures of the mesh, which the page does
-    not make)."""
-    answer = post(server.port, "/api/evaluate", {"seq": 7, "data": default_data()})
+    not make): the default scene (three cams of two kinds, a mechanism) and the plate cam (dynamics)."""
+    path = template_path(template)
+    answer = post(server.port, "/api/evaluate", {"seq": 7, "data": tomllib.loads(path.read_text(encoding="utf-8"))})
     assert answer["seq"] == 7 and answer["ok"] is True and answer["error"] is None
-    run = camgen("run", "-o", str(tmp_path), "-q")
+    run = camgen("run", str(path), "-o", str(tmp_path), "-q")
     assert run.returncode == 0, run.stderr
-    report = json.loads((tmp_path / "default" / "report.json").read_text(encoding="utf-8"))
+    report = json.loads((tmp_path / template / "report.json").read_text(encoding="utf-8"))
     assert answer["verdict"] == report["status"] == "pass"
     assert [c["name"] for c in answer["cams"]] == list(report["cams"])
     for cam in answer["cams"]:
@@ -193,6 +195,18 @@ def test_save_gives_toml_camgen_run_accepts(server, tmp_path):
     report = json.loads((tmp_path / "out" / "plate_cam" / "report.json").read_text(encoding="utf-8"))
     assert report["cams"]["plate"]["figures"]["base_radius_mm"] == 45.0
     assert len(report["cams"]["plate"]["figures"]["segments"]) == 5
+
+
+def test_save_of_a_bad_scene_gives_the_line_camgen_check_prints(server, tmp_path):
+    text = template_path("plate_cam").read_text(encoding="utf-8")
+    data = tomllib.loads(text)
+    data["cams"]["plate"]["roller_radius_mm"] = 0.0
+    answer = post(server.port, "/api/save", {"text": text, "data": data})
+    saved = tmp_path / "plate_cam.toml"
+    saved.write_text(answer["text"], encoding="utf-8")
+    check = camgen("check", str(saved))
+    assert check.returncode == 2 and answer["error"]["message"] == check.stderr.strip()
+    assert answer["error"]["key"] == "cams.plate.roller_radius_mm"
 
 
 @pytest.mark.parametrize("name", sorted(p.stem for p in template_path("default").parent.glob("*.toml")))
