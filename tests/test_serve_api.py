@@ -111,6 +111,27 @@ def test_evaluate_equals_report_json_of_camgen_run(server, tmp_path, template):
     assert answer["mechanisms"] == report["mechanisms"]
 
 
+@pytest.mark.parametrize("template", sorted(p.stem for p in template_path("default").parent.glob("*.toml")))
+def test_every_template_evaluates_to_strict_json_as_run_only_json(template):
+    """Every bundled scene: the answer is strict JSON (no NaN, no infinity), and its figures and
+    checks are report.json's of ``camgen run --only json`` on the scene (the writer's file read
+    back), so the plot data the page adds changes no figure."""
+    from camgen.pipeline import execute, plan_run
+    from camgen.scene import load_template
+    from camgen.serve.api import evaluate, load_source
+
+    answer = evaluate(load_source(str(template_path(template))), {"seq": 1, "data": tomllib.loads(template_path(template).read_text(encoding="utf-8"))})
+    answer = json.loads(json.dumps(answer, allow_nan=False))
+    scene = load_template(template, ["json"])
+    report = json.loads(execute(scene, plan_run(scene, ["json"])).files["report.json"])
+    assert answer["ok"] and answer["verdict"] == report["status"]
+    for cam in answer["cams"]:
+        assert cam["figures"] == report["cams"][cam["name"]]["figures"]
+        assert [{k: v for k, v in c.items() if k not in ("where", "keys")} for c in cam["checks"]] == report["cams"][cam["name"]]["checks"]
+        for check in cam["checks"]:
+            assert all(key.startswith(("cams.", "machining.", "mechanisms.")) for key in check["keys"])
+
+
 def test_evaluate_draws_the_plate_cam(server):
     """A plate cam's outline, follower path and curves: the outline within the radii report.json
     gives (base radius; bounds), the follower's path lifted by the stroke, angles over one turn."""
