@@ -1,4 +1,4 @@
-"""Command line: ``camgen run | check | templates | new | keys | optimize``.
+"""Command line: ``camgen run | check | templates | new | keys | optimize | serve``.
 
 Only argparse is imported at start-up; each command imports what it needs.  Exit status
 (:data:`EXIT_STATUS`): 0 every check passed; 1 a design check failed (``run`` writes the report
@@ -62,6 +62,9 @@ EXAMPLES = {
                                               the smallest plate cam whose every check passes
   camgen optimize my_cam.toml --vary cams.a.base_radius_mm=30:60 --vary cams.a.follower_offset_mm=0:10 \\
       --minimize fig.a.torque_peak_n_m --method de --seed 1 --max-evaluations 200 -o build""",
+    "serve": """examples:
+  camgen serve                                the bundled default scene at http://127.0.0.1:8765/
+  camgen serve my_cam.toml --port 8800        edit my_cam.toml in the browser (Save gives the edited TOML)""",
 }
 
 
@@ -234,6 +237,10 @@ def _cmd_optimize(args: argparse.Namespace) -> int:
 
     return optimize_command(args.scene, args.vary, args.minimize, args.maximize, args.method, args.seed,
                             args.max_evaluations, args.outdir, args.quiet)
+def _cmd_serve(args: argparse.Namespace) -> int:
+    from camgen.serve.server import serve
+
+    return serve(args.scene, args.host, args.port, args.allow_remote)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -290,6 +297,13 @@ def build_parser() -> argparse.ArgumentParser:
     opt.add_argument("-o", "--outdir", default="outputs", help="output folder (default: outputs); files go to OUTDIR/<scene name>-optimum/")
     opt.add_argument("-q", "--quiet", action="store_true", help="print no file list and no optimum line")
     opt.set_defaults(func=_cmd_optimize)
+    serve = command("serve", "the live design page: edit a scene in the browser, see its checks and plots (a local server)")
+    serve.add_argument("scene", nargs="?", help="scene file (TOML); default: the bundled default scene")
+    serve.add_argument("--port", type=int, default=8765, help="TCP port (default 8765; 0: any free port)")
+    serve.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1; others need --allow-remote)")
+    serve.add_argument("--allow-remote", action="store_true", help="allow a --host that is not loopback (no authentication: "
+                       "anyone who reaches the port can use the server)")
+    serve.set_defaults(func=_cmd_serve)
     return parser
 
 

@@ -18,7 +18,23 @@ if TYPE_CHECKING:
     from tomlkit.container import Container
     from tomlkit.items import AoT, Table
 
-__all__ = ["edit_scene_text", "scene_text", "set_value"]
+__all__ = ["check_toml_values", "edit_scene_text", "scene_text", "set_value"]
+
+
+def check_toml_values(value: Any, path: str = "scene") -> None:
+    """Refuse a value TOML cannot hold (a JSON null, an object that is no table, list, string,
+    number or boolean), naming its path: :class:`~camgen.errors.SceneError`."""
+    from camgen.errors import SceneError
+
+    todo: list[tuple[str, Any]] = [(path, value)]
+    while todo:
+        where, item = todo.pop()
+        if isinstance(item, Mapping):
+            todo.extend((f"{where}.{k}" if where != "scene" else str(k), v) for k, v in item.items())
+        elif isinstance(item, (list, tuple)):
+            todo.extend((f"{where}[{i}]", v) for i, v in enumerate(item))
+        elif not isinstance(item, (str, int, float, bool)):
+            raise SceneError(f"{where}: a value TOML cannot hold ({type(item).__name__})")
 
 
 def scene_text(data: Mapping[str, Any]) -> str:
