@@ -1,0 +1,132 @@
+"""What a ``camgen tolerance`` study is asked: the scene's ``[tolerance]`` table and the command line.
+
+The ``[tolerance]`` table (``camgen run`` and ``camgen check`` ignore it)::
+
+    [tolerance]
+    cam = "plate"            # the cam to study (needed when the scene has more than one)
+    samples = 2000           # Monte Carlo samples (default 1000)
+    seed = 1                 # numpy PCG64 seed (default 0)
+    percentile = 95.0        # the checks must pass at this percentile (default 95)
+
+    [tolerance.errors]       # error name = distribution (camgen.study.tolerance_errors)
+    roller_radius_mm = "normal:0.01"
+    phase_deg = "uniform:-0.2:0.2"
+
+The command line's ``--cam``, ``--samples``, ``--seed`` and ``--percentile`` replace the
+table's; every ``--error NAME=DIST`` replaces the table's distribution of NAME or adds one.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Mapping, Sequence
+
+from camgen.errors import ParameterError
+from camgen.schema import Count, Key, Number, Text, parse_table
+from camgen.study.tolerance_errors import Distribution, ErrorName, check_name, parse_distribution, parse_error_option
+
+__all__ = ["DEFAULT_PERCENTILE", "DEFAULT_SAMPLES", "MAX_SAMPLES", "TABLE_KEYS", "ToleranceOptions", "ToleranceSettings",
+           "read_settings", "scene_table"]
+
+#: Monte Carlo samples when none are asked.
+DEFAULT_SAMPLES = 1000
+#: Most samples a study takes (memory: the samples' error curves are kept, 3600 floats each).
+MAX_SAMPLES = 100_000
+#: The percentile at which the checks must pass when none is asked.
+DEFAULT_PERCENTILE = 95.0
+
+TABLE_KEYS = (
+    Key("cam", Text(64), "The cam to study (needed when the scene has more than one).", ()),
+    Key("samples", Count(10, MAX_SAMPLES), "Monte Carlo samples.", (), default=DEFAULT_SAMPLES),
+    Key("seed", Count(0, 2**63 - 1), "Seed of numpy's PCG64 generator.", (), default=0),
+    Key("percentile", Number("", 50.0, 100.0, high_open=True), "The checks must pass at this percentile of the samples.", (),
+        default=DEFAULT_PERCENTILE),
+)
+
+
+@dataclass(frozen=True)
+class ToleranceOptions:
+    """The command line's settings (None: not given): ``errors`` the ``--error NAME=DIST`` texts."""
+
+    cam: str | None = None
+    samples: int | None = None
+    seed: int | None = None
+    percentile: float | None = None
+    errors: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class ToleranceSettings:
+    """A study, validated: the cam's name, the errors (name, distribution) in the order given,
+    the number of samples, the seed and the percentile (50 <= p < 100) the checks must pass at."""
+
+    cam: str
+    errors: tuple[tuple[str, Distribution], ...]
+    samples: int
+    seed: int
+    percentile: float
+
+
+def scene_table(path: str | Path) -> Mapping[str, Any]:
+    """The ``[tolerance]`` table of the scene file at ``path`` ({} when it has none); the scene
+    itself is read and validated by :func:`camgen.scene.load_scene` first."""
+    import tomllib
+
+    from camgen.scene import read_text_bounded
+
+    data = tomllib.loads(read_text_bounded(Path(path), "scene file"))
+    table = data.get("tolerance", {})
+    if not isinstance(table, dict):
+        raise ParameterError("tolerance", table, "a table [tolerance]")
+    return table
+
+
+def _count(name: str, value: int | None, key: Key) -> int | None:
+    return None if value is None else int(key.type.parse(name, value))
+
+
+def read_settings(table: Mapping[str, Any], options: ToleranceOptions, cams: Sequence[str],
+                  names_of: "Mapping[str, tuple[ErrorName, ...]]") -> ToleranceSettings:
+    """The study from the scene's ``[tolerance]`` table and the command line.
+
+    ``cams``: the scene's cam names; ``names_of``: the errors each cam that can be studied has
+    (a cam not in it cannot be studied).  Every refusal is a ParameterError naming the key.
+    """
+    table = dict(table)
+    errors_table = table.pop("errors", {})
+    parsed = parse_table("tolerance", table, TABLE_KEYS)
+    keys = {k.name: k for k in TABLE_KEYS}
+    cam = options.cam if options.cam is not None else parsed.get("cam")
+    where = "--cam" if options.cam is not None else "tolerance.cam"
+    if cam is None:
+        studied = [c for c in cams if c in names_of]
+        if len(studied) != 1:
+            valid = "the name of one cam: " + ", ".join(studied) if studied else "a cam that camgen tolerance can study"
+            raise ParameterError("--cam", None, valid, f"the scene has {len(studied)} cams camgen tolerance can study")
+        cam = studied[0]
+    if cam not in cams:
+        raise ParameterError(where, cam, "one of the scene's cams: " + ", ".join(cams))
+    if cam not in names_of:
+        raise ParameterError(where, cam, "a plate cam with a translating follower or a tricycle steering cam (kind trajectory)",
+                             "camgen tolerance cannot study this cam")
+    names = names_of[cam]
+    errors: dict[str, Distribution] = {}
+    if not isinstance(errors_table, dict):
+        raise ParameterError("tolerance.errors", errors_table, "a table of error name = \"distribution\"")
+    for name, text in errors_table.items():
+        check_name(f"tolerance.errors.{name}", str(name), names)
+        errors[str(name)] = parse_distribution(f"tolerance.errors.{name}", text)
+    for option in options.errors:
+        name, dist = parse_error_option(option, names)
+        errors[name] = dist
+    if not errors:
+        raise ParameterError("--error", None, "at least one error, NAME=DISTRIBUTION (or a [tolerance.errors] table); names: "
+                             + ", ".join(e.name for e in names))
+    samples = _count("--samples", options.samples, keys["samples"])
+    seed = _count("--seed", options.seed, keys["seed"])
+    percentile = parsed["percentile"] if options.percentile is None else keys["percentile"].type.parse("--percentile", options.percentile)
+    if not math.isfinite(percentile):  # pragma: no cover - Number refuses it
+        raise ParameterError("--percentile", percentile, "50 <= p < 100")
+    return ToleranceSettings(cam, tuple(errors.items()), parsed["samples"] if samples is None else samples,
+                             parsed["seed"] if seed is None else seed, float(percentile))
