@@ -1,0 +1,271 @@
+"""camgen tolerance (issue 28 item 4): the made cam re-ridden against closed forms and a brute-force
+contact, the tricycle's type I/II errors against its own ride simulation, the statistics against
+closed forms, the files read back by independent readers, and bad input refused."""
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+from scipy.stats import norm
+
+from camgen.cli import main
+from camgen.kinds import get_kind
+from camgen.scene import load_scene, template_path
+from camgen.study.tolerance_plate import plate_nominal, ride_plate
+from camgen.study.tolerance_stats import first_order_indices, noise_floor, percentile
+
+#: The contact's interpolation floor (tolerance_plate: h^2 max|y''| / 8 with h = 2 pi / 8192, 2.1e-6 mm
+#: for these laws), with room for rounding, mm.
+FLOOR_MM = 5e-6
+#: The brute-force contact's own error: profile points 1.5 um apart, the touching height's maximum
+#: found to second order in the spacing, mm.
+BRUTE_MM = 2e-5
+
+RISE, HOLD, FALL = 120.0, 60.0, 120.0
+
+
+def _scene(offset: float = 0.0, follower: str = "roller", extra: str = "", tolerance: str = "") -> str:
+    roller = "roller_radius_mm = 10.0\n" if follower == "roller" else ""
+    return f"""
+[output]
+formats = ["dxf"]
+[cams.plate]
+kind = "motion_law"
+base_radius_mm = 40.0
+follower = "{follower}"
+{roller}follower_offset_mm = {offset}
+rotation = "ccw"
+{extra}
+[[cams.plate.segments]]
+law = "cycloidal"
+span_deg = {RISE}
+lift_mm = 20.0
+[[cams.plate.segments]]
+law = "dwell"
+span_deg = {HOLD}
+[[cams.plate.segments]]
+law = "poly345"
+span_deg = {FALL}
+lift_mm = -20.0
+[[cams.plate.segments]]
+law = "dwell"
+span_deg = 60.0
+{tolerance}"""
+
+
+def _lift(theta: np.ndarray) -> np.ndarray:
+    """The law of _scene written out (Norton, Design of Machinery, ch. 8: cycloidal and 3-4-5), mm."""
+    deg = np.degrees(np.mod(theta, 2 * math.pi))
+    x = np.clip(deg / RISE, 0, 1)
+    rise = 20.0 * (x - np.sin(2 * math.pi * x) / (2 * math.pi))
+    u = np.clip((deg - RISE - HOLD) / FALL, 0, 1)
+    fall = 20.0 * (1 - (10 * u**3 - 15 * u**4 + 6 * u**5))
+    return np.where(deg < RISE, rise, np.where(deg < RISE + HOLD, 20.0, np.where(deg < RISE + HOLD + FALL, fall, 0.0)))
+
+
+def _built(tmp_path, text: str):
+    path = tmp_path / "cam.toml"
+    path.write_text(text, encoding="utf-8")
+    spec = load_scene(path).cams[0]
+    return get_kind(spec.kind, spec.form).build(spec, frozenset())
+
+
+def _dwell(theta: np.ndarray) -> np.ndarray:
+    """Cam angles well inside the two dwells (the cam there is an arc about the axis)."""
+    deg = np.degrees(theta)
+    return ((deg > RISE + 2) & (deg < RISE + HOLD - 2)) | (deg > RISE + HOLD + FALL + 2)
+
+
+@pytest.mark.parametrize("offset", [0.0, 8.0])
+def test_a_roller_radius_error_on_a_dwell_is_the_closed_form(tmp_path, offset):
+    """On a dwell the cam is a circle about the axis: the roller centre is at sqrt((Rp + dr)^2 - e^2),
+    so the error is sqrt((Rp + dr)^2 - e^2) - sqrt(Rp^2 - e^2) (= dr exactly for e = 0)."""
+    built = _built(tmp_path, _scene(offset))
+    dr = np.array([-0.05, -0.01, 0.0, 0.003, 0.05])
+    ride = ride_plate(plate_nominal(built.spec_follower, built.law), {"roller_radius_mm": dr}, dr.size)
+    keep = _dwell(ride.theta)
+    # bottom dwell: the prime radius 50 mm; top dwell: the radius of the centre lifted 20 mm on x = e
+    top = math.hypot(math.sqrt(50.0**2 - offset**2) + 20.0, offset)
+    rp = np.where(np.degrees(ride.theta[keep]) < 300, top, 50.0)
+    expected = np.sqrt((rp[None] + dr[:, None]) ** 2 - offset**2) - np.sqrt(rp[None] ** 2 - offset**2)
+    assert np.max(np.abs(ride.error[:, keep] - expected)) < 1e-9
+    if offset == 0.0:
+        assert np.max(np.abs(ride.error[:, keep] - dr[:, None])) < 1e-9
+
+
+def test_the_percentiles_of_a_normal_roller_error_are_mu_plus_z_sigma(tmp_path):
+    """Through the command: at a dwell angle of a centred roller the error is dr, so the envelope's
+    percentiles are the samples' (numpy's PCG64 drawn again here) and the closed form mu + z_p sigma
+    lies within the stated order-statistic interval."""
+    mu, sigma, n, seed = 0.002, 0.01, 1000, 11
+    path = tmp_path / "cam.toml"
+    path.write_text(_scene(0.0), encoding="utf-8")
+    status = main(["tolerance", str(path), "-o", str(tmp_path / "out"), "-q", "--error", f"roller_radius_mm=normal:{mu}:{sigma}",
+                   "--samples", str(n), "--seed", str(seed)])
+    assert status == 0
+    data = json.loads((tmp_path / "out" / "cam-tolerance" / "tolerance.json").read_text())
+    drawn = mu + sigma * np.random.default_rng(seed).standard_normal(n)
+    env = data["envelope"]
+    theta = np.radians(env["theta_deg"])
+    keep = _dwell(theta)
+    for p in (1, 5, 50, 95, 99):
+        values = np.array(env[f"p{p}"])[keep]
+        assert np.max(np.abs(values - np.percentile(drawn, p))) < 1e-9
+        stated = percentile(drawn, p)  # the interval tolerance.json states for a sample like this one
+        assert stated.low <= mu + norm.ppf(p / 100) * sigma <= stated.high
+    import pandas
+
+    csv = pandas.read_csv(tmp_path / "out" / "cam-tolerance" / "tolerance.csv")
+    assert np.allclose(csv["roller_radius_mm"].to_numpy(), drawn, rtol=0, atol=1e-13)
+    assert list(csv.columns) == ["sample", "roller_radius_mm", "max_abs_error_mm", "pressure_angle_deg"]
+    assert data["samples"] == n and data["seed"] == seed and data["passed"] is True
+
+
+def test_a_phase_error_is_the_law_shifted(tmp_path):
+    """The cam keyed turned back by dphi: the follower moves as s(theta - dphi), the law written out here."""
+    built = _built(tmp_path, _scene(8.0))
+    dphi = np.array([-1.5, -0.2, 0.4, 2.0])
+    ride = ride_plate(plate_nominal(built.spec_follower, built.law), {"phase_deg": dphi}, dphi.size)
+    expected = _lift(ride.theta[None] - np.radians(dphi)[:, None]) - _lift(ride.theta)[None]
+    assert np.max(np.abs(ride.error - expected)) < FLOOR_MM
+
+
+def test_a_follower_offset_error_against_a_brute_force_contact(tmp_path):
+    """The roller's touching height found by brute force over 200000 points of the built profile
+    (its spline, not the law), for the follower moved sideways, profile offset and scale errors."""
+    built = _built(tmp_path, _scene(8.0))
+    f = built.spec_follower
+    errors = {"follower_offset_mm": np.array([-0.5, 0.3, 1.0]), "profile_offset_mm": np.array([0.0, 0.02, -0.01]),
+              "profile_scale": np.array([0.0, 0.0, 0.002])}
+    ride = ride_plate(plate_nominal(f, built.law), errors, 3)
+    contour = built.contour
+    points = contour.evaluate(np.linspace(0.0, contour.n_segments, 200_000, endpoint=False))
+    normals = contour.normal(np.linspace(0.0, contour.n_segments, 200_000, endpoint=False))
+    r = f.roller_radius
+    angles = np.arange(0, ride.theta.size, 50)
+    for i in range(3):
+        made = (1 + errors["profile_scale"][i]) * points + errors["profile_offset_mm"][i] * normals
+        e = f.offset + errors["follower_offset_mm"][i]
+        for j in angles:
+            th = ride.theta[j]
+            c, s = math.cos(th), math.sin(th)  # ccw: a cam point q is at R(theta) q
+            x, y = c * made[:, 0] - s * made[:, 1], s * made[:, 0] + c * made[:, 1]
+            near = np.abs(x - e) <= r
+            centre = np.max(y[near] + np.sqrt(r * r - (x[near] - e) ** 2))
+            nominal = math.sqrt(f.prime_radius**2 - f.offset**2) + _lift(np.array([th]))[0]
+            assert abs((centre - nominal) - ride.error[i, j]) < BRUTE_MM, (i, math.degrees(th))
+
+
+def test_the_nominal_pressure_angle_is_camgen_checks(tmp_path, capsys):
+    """No error: the made cam's peak pressure angle is the one `camgen check` reports (its closed form)."""
+    path = tmp_path / "cam.toml"
+    path.write_text(_scene(8.0), encoding="utf-8")
+    assert main(["check", str(path)]) == 0
+    row = next(line for line in capsys.readouterr().out.splitlines() if " pressure_angle " in f" {line} ")
+    checked = float(row.split()[3])
+    assert main(["tolerance", str(path), "-o", str(tmp_path / "out"), "-q", "--error", "phase_deg=normal:0"]) == 0
+    data = json.loads((tmp_path / "out" / "cam-tolerance" / "tolerance.json").read_text())
+    (check,) = data["checks"]
+    assert abs(check["nominal"] - checked) < 1e-3
+    assert abs(check["at_percentile"]["value"] - checked) < 1e-3  # zero spread: every sample is nominal
+    assert data["motion_error"]["percentiles"][-1]["value"] < FLOOR_MM
+
+
+def test_a_pressure_angle_failing_at_the_percentile_exits_1(tmp_path, capsys):
+    """The limit set 0.05 deg above the nominal peak: a 0.5 mm sideways error of the follower (which
+    moves the peak by about 0.3 deg per mm) fails the 95th percentile; written, exit 1, one line."""
+    path = tmp_path / "cam.toml"
+    path.write_text(_scene(8.0), encoding="utf-8")
+    main(["check", str(path)])
+    row = next(line for line in capsys.readouterr().out.splitlines() if " pressure_angle " in f" {line} ")
+    limit = round(float(row.split()[3]) + 0.05, 3)
+    path.write_text(_scene(8.0, extra=f"pressure_angle_limit_deg = {limit}"), encoding="utf-8")
+    args = ["tolerance", str(path), "-o", str(tmp_path / "out"), "-q", "--error", "follower_offset_mm=normal:0.5", "--samples", "200"]
+    assert main(args) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("camgen: check failed: cams.plate: pressure_angle at the 95th percentile")
+    data = json.loads((tmp_path / "out" / "cam-tolerance" / "tolerance.json").read_text())
+    assert data["passed"] is False and data["checks"][0]["at_percentile"]["value"] > limit
+    assert main(args + ["--percentile", "50"]) in (0, 1)  # the folder of a previous study is replaced
+
+
+def test_the_tricycle_errors_are_its_ride_simulation(tmp_path):
+    """Type I and II errors: every sample's largest lateral error is that of the tricycle's own
+    one-shot ride (simulate_cam + lateral_error) on the cam as made with that ErrorModel."""
+    from camgen.mechanisms.tricycle import ErrorModel, lateral_error, simulate_cam
+
+    text = template_path("tricycle").read_text(encoding="utf-8").replace("ride_periods = 10", "ride_periods = 2")
+    path = tmp_path / "tri.toml"
+    path.write_text(text + '\n[tolerance]\nsamples = 10\nseed = 5\n[tolerance.errors]\nsteering_offset_deg = "normal:0.05"\n'
+                    'steering_gain = "uniform:-0.05:0.05"\n', encoding="utf-8")
+    assert main(["tolerance", str(path), "-o", str(tmp_path / "out"), "-q"]) == 0
+    import pandas
+
+    csv = pandas.read_csv(tmp_path / "out" / "tri-tolerance" / "tolerance.csv")
+    spec = load_scene(path).cams[0]
+    cam = get_kind(spec.kind, spec.form).build(spec, frozenset()).tricycle
+    for _, row in csv.iterrows():
+        model = ErrorModel(steering_offset=math.radians(row["steering_offset_deg"]), steering_gain=1 + row["steering_gain"])
+        ride = simulate_cam(cam, model, periods=2)
+        expected = float(np.max(np.abs(lateral_error(cam.trajectory, ride.x, ride.y))))
+        assert abs(row["max_abs_error_mm"] - expected) <= 1e-9 * max(1.0, expected)
+    data = json.loads((tmp_path / "out" / "tri-tolerance" / "tolerance.json").read_text())
+    assert data["envelope"] is None and data["checks"] == []
+    assert {r["error"] for r in data["sensitivity"]["rankings"]["max_abs_error_mm"]} == {"steering_offset_deg", "steering_gain"}
+
+
+def test_first_order_indices_of_a_linear_model():
+    """Y = X1 + 2 X2 + 0 X3 with independent standard normals: S = 1/5, 4/5, 0 (Saltelli et al.,
+    Global Sensitivity Analysis: The Primer, 2008, ch. 1: S_i = a_i^2 / sum a_j^2 for a linear model)."""
+    x = np.random.default_rng(3).standard_normal((10_000, 3))
+    s = first_order_indices(x, x[:, 0] + 2 * x[:, 1])
+    assert abs(s[0] - 0.2) < 0.03 and abs(s[1] - 0.8) < 0.03 and s[2] < 3 * noise_floor(10_000)
+
+
+def test_the_order_statistic_interval_covers_as_stated():
+    """Over 400 samples of 500 normals the 95 % interval of the 90th percentile holds z_0.9 in about
+    95 % of them (binomial count: 380 expected, standard deviation 4.4; 360 is 4.5 below)."""
+    rng = np.random.default_rng(8)
+    z = norm.ppf(0.9)
+    hits = 0
+    for _ in range(400):
+        p = percentile(rng.standard_normal(500), 90)
+        hits += p.low <= z <= p.high
+    assert 360 <= hits <= 400
+
+
+@pytest.mark.parametrize("args, named", [
+    (["--error", "wobble_mm=normal:0.1"], "wobble_mm"),
+    (["--error", "roller_radius_mm=normal:-0.1"], "roller_radius_mm"),
+    (["--error", "roller_radius_mm=gauss:0.1"], "roller_radius_mm"),
+    (["--error", "roller_radius_mm=uniform:0.2:0.1"], "roller_radius_mm"),
+    (["--error", "roller_radius_mm"], "--error"),
+    ([], "--error"),
+    (["--error", "phase_deg=normal:0.1", "--samples", "3"], "--samples"),
+    (["--error", "phase_deg=normal:0.1", "--percentile", "100"], "--percentile"),
+    (["--error", "phase_deg=normal:0.1", "--cam", "nope"], "--cam"),
+])
+def test_bad_input_is_refused_with_exit_2(tmp_path, capsys, args, named):
+    path = tmp_path / "cam.toml"
+    path.write_text(_scene(8.0), encoding="utf-8")
+    assert main(["tolerance", str(path), "-o", str(tmp_path / "out"), *args]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("camgen: error:") and named in err[0]
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("follower, table, named", [
+    ("knife", '[tolerance.errors]\nroller_radius_mm = "normal:0.01"\n', "roller_radius_mm"),
+    ("roller", '[tolerance]\nsampels = 100\n', "sampels"),
+    ("roller", '[tolerance.errors]\nphase_deg = 0.1\n', "phase_deg"),
+])
+def test_a_bad_tolerance_table_is_refused_and_run_ignores_a_good_one(tmp_path, capsys, follower, table, named):
+    path = tmp_path / "cam.toml"
+    path.write_text(_scene(8.0, follower=follower, tolerance=table), encoding="utf-8")
+    assert main(["tolerance", str(path), "-o", str(tmp_path / "out")]) == 2
+    assert named in capsys.readouterr().err
+    good = _scene(8.0, tolerance='[tolerance]\nsamples = 100\n[tolerance.errors]\nphase_deg = "normal:0.1"\n')
+    path.write_text(good, encoding="utf-8")
+    assert main(["check", str(path)]) == 0
