@@ -165,7 +165,7 @@ def test_the_nominal_pressure_angle_is_camgen_checks(tmp_path, capsys):
     assert main(["check", str(path)]) == 0
     row = next(line for line in capsys.readouterr().out.splitlines() if " pressure_angle " in f" {line} ")
     checked = float(row.split()[3])
-    assert main(["tolerance", str(path), "-o", str(tmp_path / "out"), "-q", "--error", "phase_deg=normal:0"]) == 0
+    assert main(["tolerance", str(path), "-o", str(tmp_path / "out"), "-q", "--error", "phase_deg=normal:0", "--samples", "10"]) == 0
     data = json.loads((tmp_path / "out" / "cam-tolerance" / "tolerance.json").read_text())
     (check,) = data["checks"]
     assert abs(check["nominal"] - checked) < 1e-3

@@ -96,7 +96,7 @@ def errors_of(spec: "CamSpec") -> tuple[ErrorName, ...] | None:
     if spec.kind == "trajectory" and spec.form == "plate":
         return TRICYCLE_ERRORS
     follower = getattr(spec.params, "follower", None)
-    if spec.form != "plate" or getattr(follower, "motion", None) != "translating" or not hasattr(spec.params, "law"):
+    if follower is None or spec.form != "plate" or getattr(follower, "motion", None) != "translating" or not hasattr(spec.params, "law"):
         return None
     drop = set()
     if follower.contact == "face":  # a face's lift does not depend on where along it the axis is

@@ -91,10 +91,11 @@ def plate_nominal(follower: Any, law: Any, points: int = PROFILE_POINTS) -> Plat
     theta = 2.0 * math.pi * np.arange(points) / points
     k = kinematics(follower, law, theta)
     profile = k.contact_point[:, 0] + 1j * k.contact_point[:, 1]
-    if follower.contact == "point" and follower.has_radius:
+    if follower.contact == "point" and follower.has_radius and k.pitch_point is not None:
         pitch = k.pitch_point[:, 0] + 1j * k.pitch_point[:, 1]
         normal = (pitch - profile) / follower.roller_radius
     else:  # the tangent along the contour (t = -sigma theta runs counter-clockwise), turned clockwise
+        assert k.contact_d1 is not None  # kinematics() gives the exact derivative of the contact
         tangent = -follower.sigma * (k.contact_d1[:, 0] + 1j * k.contact_d1[:, 1])
         normal = -1j * tangent / np.abs(tangent)
     rest = follower.base_radius if follower.contact == "face" else follower.rest_height
@@ -102,8 +103,8 @@ def plate_nominal(follower: Any, law: Any, points: int = PROFILE_POINTS) -> Plat
 
 
 def _wrap(angle: np.ndarray) -> np.ndarray:
-    """Angles (rad) wrapped into [-pi, pi)."""
-    return (angle + math.pi) % (2.0 * math.pi) - math.pi
+    """Angles (rad) wrapped into [-pi, pi] (the nearest multiple of 2 pi taken off)."""
+    return angle - (2.0 * math.pi) * np.round(angle / (2.0 * math.pi))
 
 
 def ride_plate(nominal: PlateNominal, errors: dict[str, np.ndarray], samples: int, angles: int = OUTPUT_ANGLES) -> PlateRide:
@@ -146,8 +147,10 @@ def ride_plate(nominal: PlateNominal, errors: dict[str, np.ndarray], samples: in
         theta = nominal.theta[None, :] + _wrap(theta - nominal.theta[None, :])
         if np.any(np.diff(theta, axis=1) <= 0):
             raise GeometryError("a made cam's contact runs back along the profile (an undercut of the made cam): the errors are too large")
+        turn_theta = np.concatenate([theta - 2.0 * math.pi, theta, theta + 2.0 * math.pi], axis=1)  # periodic, still sorted
+        turn_y = np.concatenate([y, y, y], axis=1)
         for row in range(theta.shape[0]):
-            error[lo + row] = np.interp(out_theta, theta[row], y[row], period=2.0 * math.pi) - nominal_out
+            error[lo + row] = np.interp(out_theta, turn_theta[row], turn_y[row]) - nominal_out
         if peak is not None:  # the made normal at the contact against the follower's direction +y
             fixed = np.angle(normal) + sigma * theta
             peak[sl] = np.max(np.abs(_wrap(fixed - 0.5 * math.pi)), axis=1)
