@@ -280,7 +280,7 @@ def build_parser() -> argparse.ArgumentParser:
     tol.add_argument("--cam", help="the cam to study (needed when the scene has more than one it can study)")
     tol.add_argument("--error", action="append", default=[], metavar="NAME=DIST",
                      help="an error and its distribution: normal:SIGMA, normal:MEAN:SIGMA or uniform:A:B (repeatable)")
-    tol.add_argument("--samples", type=int, help="Monte Carlo samples, 10 to 100000 (default 1000)")
+    tol.add_argument("--samples", type=int, help="Monte Carlo samples, 10 to 20000 (default 1000)")
     tol.add_argument("--seed", type=int, help="random seed (default 0)")
     tol.add_argument("--percentile", type=float, help="the checks must pass at this percentile, 50 <= p < 100 (default 95)")
     tol.add_argument("-o", "--outdir", default="outputs", help="output folder; files go to OUTDIR/<scene name>-tolerance/")

@@ -99,7 +99,7 @@ def test_the_percentiles_of_a_normal_roller_error_are_mu_plus_z_sigma(tmp_path):
     """Through the command: at a dwell angle of a centred roller the error is dr, so the envelope's
     percentiles are the samples' (numpy's PCG64 drawn again here) and the closed form mu + z_p sigma
     lies within the stated order-statistic interval."""
-    mu, sigma, n, seed = 0.002, 0.01, 1000, 11
+    mu, sigma, n, seed = 0.002, 0.01, 500, 11
     path = tmp_path / "cam.toml"
     path.write_text(_scene(0.0), encoding="utf-8")
     status = main(["tolerance", str(path), "-o", str(tmp_path / "out"), "-q", "--error", f"roller_radius_mm=normal:{mu}:{sigma}",
@@ -244,6 +244,7 @@ def test_the_order_statistic_interval_covers_as_stated():
     (["--error", "roller_radius_mm"], "--error"),
     ([], "--error"),
     (["--error", "phase_deg=normal:0.1", "--samples", "3"], "--samples"),
+    (["--error", "phase_deg=normal:0.1", "--samples", "20001"], "--samples"),
     (["--error", "phase_deg=normal:0.1", "--percentile", "100"], "--percentile"),
     (["--error", "phase_deg=normal:0.1", "--cam", "nope"], "--cam"),
 ])
@@ -269,3 +270,18 @@ def test_a_bad_tolerance_table_is_refused_and_run_ignores_a_good_one(tmp_path, c
     good = _scene(8.0, tolerance='[tolerance]\nsamples = 100\n[tolerance.errors]\nphase_deg = "normal:0.1"\n')
     path.write_text(good, encoding="utf-8")
     assert main(["check", str(path)]) == 0
+
+
+def test_a_cam_it_cannot_study_and_an_unnamed_one_of_two_are_refused(tmp_path, capsys):
+    groove = template_path("groove_cam")
+    assert main(["tolerance", str(groove), "-o", str(tmp_path / "out"), "--error", "phase_deg=normal:0.1"]) == 2
+    assert "camgen tolerance can study none of this scene's cams" in capsys.readouterr().err
+    one = _scene(8.0).replace("[cams.plate]", "[cams.CAM]").replace("[[cams.plate.", "[[cams.CAM.")
+    path = tmp_path / "two.toml"
+    path.write_text(one.replace("CAM", "a") + one.replace("CAM", "b").replace('[output]\nformats = ["dxf"]\n', ""), encoding="utf-8")
+    assert main(["tolerance", str(path), "-o", str(tmp_path / "out"), "--error", "phase_deg=normal:0.1"]) == 2
+    assert "'--cam'" in capsys.readouterr().err
+    assert main(["tolerance", str(path), "-o", str(tmp_path / "out"), "-q", "--cam", "b", "--samples", "10",
+                 "--error", "phase_deg=normal:0.1"]) == 0
+    assert json.loads((tmp_path / "out" / "two-tolerance" / "tolerance.json").read_text())["cam"] == "b"
+    assert not (tmp_path / "out" / "two").exists()

@@ -161,19 +161,28 @@ def study(scene_path: str, options: ToleranceOptions) -> ToleranceResult:
 def _plate(spec: "CamSpec", built: Any, columns: dict[str, np.ndarray], settings: ToleranceSettings) -> tuple[
         np.ndarray, float, tuple[np.ndarray, tuple[np.ndarray, ...]], tuple[CheckSpread, ...], tuple[np.ndarray, ...]]:
     from camgen.kinds.disk import pressure_limit
-    from camgen.study.tolerance_plate import plate_nominal, ride_plate
+    from camgen.study.tolerance_plate import CHUNK, OUTPUT_ANGLES, plate_nominal, ride_plate
 
     nominal = plate_nominal(built.spec_follower, built.law)
-    ride = ride_plate(nominal, columns, settings.samples)
+    n = settings.samples
+    max_error, coarse = np.empty(n), np.empty((n, OUTPUT_ANGLES // ENVELOPE_STEP))
+    peaks: list[np.ndarray] = []
+    theta = np.empty(0)
+    for lo in range(0, n, CHUNK):  # memory: one chunk's error curves at a time
+        hi = min(lo + CHUNK, n)
+        ride = ride_plate(nominal, {k: v[lo:hi] for k, v in columns.items()}, hi - lo)
+        max_error[lo:hi] = np.max(np.abs(ride.error), axis=1)
+        coarse[lo:hi] = ride.error[:, ::ENVELOPE_STEP]
+        theta = ride.theta
+        if ride.pressure_peak is not None:
+            peaks.append(ride.pressure_peak)
     base = ride_plate(nominal, {}, 1)
-    max_error = np.max(np.abs(ride.error), axis=1)
     nominal_error = float(np.max(np.abs(base.error)))
-    coarse = ride.error[:, ::ENVELOPE_STEP]
-    envelope = (np.degrees(ride.theta[::ENVELOPE_STEP]), tuple(np.percentile(coarse, p, axis=0) for p in ENVELOPE_PERCENTILES))
+    envelope = (np.degrees(theta[::ENVELOPE_STEP]), tuple(np.percentile(coarse, p, axis=0) for p in ENVELOPE_PERCENTILES))
     checks: list[CheckSpread] = []
     values: list[np.ndarray] = []
-    if ride.pressure_peak is not None and base.pressure_peak is not None:
-        peak = np.degrees(ride.pressure_peak)
+    if peaks and base.pressure_peak is not None:
+        peak = np.degrees(np.concatenate(peaks))
         limit = round(math.degrees(pressure_limit(spec)), 9)  # the scene gave degrees
         at = percentile(peak, settings.percentile)
         checks.append(CheckSpread("pressure_angle", "deg", limit, float(np.degrees(base.pressure_peak[0])),
