@@ -59,7 +59,7 @@ def index() -> str:
 
     lines = ["Every table and its keys (each is explained in its section below; `camgen keys SECTION` prints one section):",
              "",
-             "- top level: `name`, `[output]`, `[machining]`, `[cams.<name>]` (one or more), `[mechanisms.<name>]`",
+             "- top level: `name`, `[output]`, `[machining]`, `[cams.<name>]` (one or more), `[mechanisms.<name>]`, `[sweep]`",
              f"- `[output]` (section output): {_names(output_keys())}",
              f"- `[machining]` (section machining): {_names(machining_keys())}"]
     for name, form, section in _kind_sections():
@@ -75,7 +75,7 @@ def index() -> str:
 
 
 def sections() -> dict[str, str]:
-    """Section name -> its Markdown text: "output", "machining", every kind, every mechanism."""
+    """Section name -> its Markdown text: "output", "machining", every kind, every mechanism, "sweep"."""
     from camgen.forms import get_form
     from camgen.jobs import get_job, job_names
     from camgen.kinds import get_kind
@@ -101,6 +101,9 @@ def sections() -> dict[str, str]:
             sub = getattr(key.type, "keys", None)
             if sub:
                 out[name] += f"\nEach `[[mechanisms.{name}.{key.name}]]` table:\n\n{_table(sub)}"
+    from camgen.study.space import SWEEP_REFERENCE
+
+    out["sweep"] = SWEEP_REFERENCE
     return out
 
 
@@ -113,5 +116,6 @@ def reference(section: str | None = None) -> str:
     if section is not None:
         return parts[section]
     scene = ("## The scene file\n\nTop-level keys: `name` (the output folder's name; default: the scene file's name), "
-             "`[output]`, `[machining]`, `[cams.<name>]` (one or more), `[mechanisms.<name>]`.\n")
+             "`[output]`, `[machining]`, `[cams.<name>]` (one or more), `[mechanisms.<name>]`, `[sweep]` (read by "
+             "`camgen sweep`).\n")
     return TITLE + "\n" + index() + "\n" + HEADER + "\n" + scene + "\n" + "\n".join(parts.values())

@@ -40,7 +40,7 @@ MAX_NESTING = 8
 NAME_RULE = "1 to 64 characters: letters, digits, '_', '.', '-', starting with a letter or digit"
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$")
 
-TOP_KEYS = ("name", "output", "machining", "cams", "mechanisms", "tolerance")
+TOP_KEYS = ("name", "output", "machining", "cams", "mechanisms", "sweep", "tolerance")
 
 
 @dataclass(frozen=True)
@@ -235,7 +235,7 @@ def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", ba
     if deep is not None:
         raise SceneError(f"{deep}: tables and lists nest more than {MAX_NESTING} levels deep (the limit of a scene)")
     top = [Key("name", Text(64), "", ()), Key("output", Text(), "", ()), Key("machining", Text(), "", ()),
-           Key("cams", Text(), "", ()), Key("mechanisms", Text(), "", ()),
+           Key("cams", Text(), "", ()), Key("mechanisms", Text(), "", ()), Key("sweep", Text(), "", ()),
            Key("tolerance", Text(), "", ())]  # camgen tolerance's table (camgen.study.tolerance_settings): a run ignores it
     check_keys("scene", data, top)
     if "cams" not in data:
@@ -256,6 +256,10 @@ def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", ba
     tool_limit = machining.tool_radius if "machining" in data or machined else None
     cams = _bodies(tuple(_cam(k, v, base_dir, tool_limit) for k, v in cams_table.items()))
     mechanisms = _mechanisms(data.get("mechanisms", {}), cams)
+    if "sweep" in data:  # camgen sweep's table: checked here too, so that check and run refuse what sweep would
+        from camgen.study.space import sweep_table
+
+        sweep_table(data)
     if machined:
         _check_passes(machining, cams)
     return Scene(scene_name, source, output, machining, cams, mechanisms, "machining" in data, machined)
@@ -272,19 +276,17 @@ def read_text_bounded(path: Path, what: str, limit: int = MAX_SCENE_BYTES) -> st
         raise SceneError(f"cannot read {what} '{path}': {exc}") from None
 
 
-def load_scene(path: str | Path, display: str | None = None, only: Sequence[str] | None = None) -> Scene:
-    """Read and validate a scene file; ``display`` is how reports name it (default: ``path``);
-    ``only``: the run's ``--only`` formats (:func:`parse_scene`).
+def decode_scene_file(path: Path) -> tuple[str, dict[str, Any]]:
+    """The text of the scene file at ``path`` and its decoded TOML table (not yet validated):
+    read within the scene's limits (:data:`MAX_SCENE_BYTES`, :data:`MAX_NESTING`).
 
     Raises
     ------
-    SceneError, ParameterError
-        If the file cannot be read, is not valid TOML within the limits, or does not follow
-        the schema.
+    SceneError
+        If the file cannot be read or is not valid TOML within the limits.
     """
     from camgen.scenetext import restore_integers, scan_scene_text
 
-    path = Path(path)
     text = read_text_bounded(path, "scene file")
     scanned = scan_scene_text(text, MAX_NESTING)  # what the parser cannot take in bounded time and memory
     try:
@@ -295,7 +297,22 @@ def load_scene(path: str | Path, display: str | None = None, only: Sequence[str]
         raise SceneError(f"scene file '{path}' nests tables or lists more than {MAX_NESTING} levels deep") from None
     except ValueError as exc:  # a number Python cannot convert (the scan leaves none: a last guard)
         raise SceneError(f"scene file '{path}' is not valid TOML: {exc}") from None
-    return parse_scene(restore_integers(data, scanned.integers), path.stem, display or str(path), path.parent, only)
+    return text, restore_integers(data, scanned.integers)
+
+
+def load_scene(path: str | Path, display: str | None = None, only: Sequence[str] | None = None) -> Scene:
+    """Read and validate a scene file; ``display`` is how reports name it (default: ``path``);
+    ``only``: the run's ``--only`` formats (:func:`parse_scene`).
+
+    Raises
+    ------
+    SceneError, ParameterError
+        If the file cannot be read, is not valid TOML within the limits, or does not follow
+        the schema.
+    """
+    path = Path(path)
+    _, data = decode_scene_file(path)
+    return parse_scene(data, path.stem, display or str(path), path.parent, only)
 
 
 def template_dir() -> Path:

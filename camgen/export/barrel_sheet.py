@@ -40,10 +40,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from camgen.errors import ExportError, ParameterError
-from camgen.export.drawing import (BORDER, DASH_DOT, ROW, SCALE_BAR, TEXT, THIN, TITLE_ROW, TITLE_ROWS, TITLE_WIDTH, WIDE, Fill, Label, Sheet,
-                                   Stroke)
+from camgen.export.drawing import BORDER, DASH_DOT, ROW, TEXT, THIN, WIDE, Fill, Label, Sheet, Stroke
 from camgen.export.drawing_forms import mm_text
-from camgen.export.drawing_sheets import choose_sheet, frame, right_width
+from camgen.export.drawing_sheets import choose_sheet, frame, right_width, scale_bar_and_title
 from camgen.export.drawing_spec import SHEETS, DrawingSpec, scale_factor
 from camgen.export.inspection import inspection_angles
 from camgen.export.tables import csv_table
@@ -316,27 +315,13 @@ def _table(table: BarrelTable, spec: DrawingSpec, tx: float, y0: float, per_bloc
 
 def _scale_bar_and_title(cam: "CamResult", run: "RunSettings", spec: DrawingSpec, sheet: str, table: BarrelTable, x1: float, y1: float,
                          right_w: float, length: float, sigma: int, fills: list, labels: list, strokes: list) -> None:
-    k = scale_factor(spec.scale)
-    base = y1 - TITLE_ROWS * TITLE_ROW - 6.0
-    bar_x = x1 - right_w + 2.0
-    fills.append(Fill(np.array([[bar_x, base - 3.0], [bar_x + SCALE_BAR, base - 3.0], [bar_x + SCALE_BAR, base], [bar_x, base]]),
-                      "scale_bar"))
-    labels.append(Label(bar_x, base - 4.0, f"SCALE BAR: {SCALE_BAR:g} mm ON THE PAGE = {SCALE_BAR / k:g} mm ON THE PART "
-                        f"(SCALE {spec.scale})", 2.2))
-    tl, tt = x1 - TITLE_WIDTH, y1 - TITLE_ROWS * TITLE_ROW
-    strokes.append(Stroke(np.array([[tl, tt], [x1, tt], [x1, y1], [tl, y1]]), WIDE, closed=True, name="title"))
     words = ((f"CAM {cam.name}", f"SCENE {run.scene_name}"),
              (f"MATERIAL {spec.material}", f"LENGTH {mm_text(length)} mm"),
              (f"PROFILE TOLERANCE \u00b1{spec.tolerance:g} mm", f"DRAWN WITHIN {run.output.chord_tol:g} mm"),
              (f"SCALE {spec.scale}", f"SHEET {sheet} LANDSCAPE"),
              ("UNITS mm, ANGLES deg", "ROTATION " + ("COUNTER-CLOCKWISE" if sigma > 0 else "CLOCKWISE")),
              ("DRAWN BY camgen", f"BARREL CAM {cam.name}"))
-    for i, (a, b) in enumerate(words):
-        y = tt + (i + 1) * TITLE_ROW
-        if i + 1 < TITLE_ROWS:
-            strokes.append(Stroke(np.array([[tl, y], [x1, y]]), THIN))
-        labels += [Label(tl + 1.5, y - 1.8, a, 2.5), Label(tl + 66.5, y - 1.8, b, 2.5)]
-    strokes.append(Stroke(np.array([[tl + 65.0, tt], [tl + 65.0, y1]]), THIN))
+    scale_bar_and_title(spec, x1 - right_w + 2.0, x1, y1, words, fills, labels, strokes)
 
 
 def drawing_svg(cam: "CamResult", run: "RunSettings", fmt: str) -> str:

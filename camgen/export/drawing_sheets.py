@@ -9,10 +9,10 @@ from typing import Callable
 import numpy as np
 
 from camgen.errors import ParameterError
-from camgen.export.drawing import BORDER, ROW, TITLE_ROW, TITLE_ROWS, TITLE_WIDTH, WIDE, Stroke
+from camgen.export.drawing import BORDER, ROW, SCALE_BAR, THIN, TITLE_ROW, TITLE_ROWS, TITLE_WIDTH, WIDE, Fill, Label, Stroke
 from camgen.export.drawing_spec import DRAWING_SCALES, SHEETS, DrawingSpec, scale_factor
 
-__all__ = ["choose_sheet", "frame", "right_width"]
+__all__ = ["choose_sheet", "frame", "right_width", "scale_bar_and_title"]
 
 
 def right_width(rows: int, height: float, block: float) -> tuple[float, int]:
@@ -44,3 +44,24 @@ def frame(width: float, height: float) -> tuple[Stroke, tuple[float, float, floa
     """The frame of a ``width`` x ``height`` mm sheet, ``BORDER`` in, and its bounds (x0, y0, x1, y1)."""
     x0, y0, x1, y1 = BORDER, BORDER, width - BORDER, height - BORDER
     return Stroke(np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]]), WIDE, closed=True, name="frame"), (x0, y0, x1, y1)
+
+
+def scale_bar_and_title(spec: DrawingSpec, bar_x: float, x1: float, y1: float, words: tuple[tuple[str, str], ...],
+                        fills: list[Fill], labels: list[Label], strokes: list[Stroke]) -> None:
+    """The scale bar (``SCALE_BAR`` mm on the page, left end at ``bar_x``) above the title block,
+    and the title block in the frame's lower right corner (``x1``, ``y1``): ``TITLE_ROWS`` rows of
+    two cells, ``words`` (left, right) in each; appended to ``fills``, ``labels``, ``strokes``."""
+    k = scale_factor(spec.scale)
+    base = y1 - TITLE_ROWS * TITLE_ROW - 6.0
+    fills.append(Fill(np.array([[bar_x, base - 3.0], [bar_x + SCALE_BAR, base - 3.0], [bar_x + SCALE_BAR, base], [bar_x, base]]),
+                      "scale_bar"))
+    labels.append(Label(bar_x, base - 4.0, f"SCALE BAR: {SCALE_BAR:g} mm ON THE PAGE = {SCALE_BAR / k:g} mm ON THE PART "
+                        f"(SCALE {spec.scale})", 2.2))
+    tl, tt = x1 - TITLE_WIDTH, y1 - TITLE_ROWS * TITLE_ROW
+    strokes.append(Stroke(np.array([[tl, tt], [x1, tt], [x1, y1], [tl, y1]]), WIDE, closed=True, name="title"))
+    for i, (left, right) in enumerate(words):
+        y = tt + (i + 1) * TITLE_ROW
+        if i + 1 < TITLE_ROWS:
+            strokes.append(Stroke(np.array([[tl, y], [x1, y]]), THIN))
+        labels += [Label(tl + 1.5, y - 1.8, left, 2.5), Label(tl + 66.5, y - 1.8, right, 2.5)]
+    strokes.append(Stroke(np.array([[tl + 65.0, tt], [tl + 65.0, y1]]), THIN))

@@ -73,13 +73,11 @@ class ToleranceSettings:
 
 
 def scene_table(path: str | Path) -> Mapping[str, Any]:
-    """The ``[tolerance]`` table of the scene file at ``path`` ({} when it has none); the scene
-    itself is read and validated by :func:`camgen.scene.load_scene` first."""
-    import tomllib
+    """The ``[tolerance]`` table of the scene file at ``path`` ({} when it has none), decoded as
+    :func:`camgen.scene.load_scene` decodes the scene (which reads and validates it first)."""
+    from camgen.scene import decode_scene_file
 
-    from camgen.scene import read_text_bounded
-
-    data = tomllib.loads(read_text_bounded(Path(path), "scene file"))
+    _, data = decode_scene_file(Path(path))
     table = data.get("tolerance", {})
     if not isinstance(table, dict):
         raise ParameterError("tolerance", table, "a table [tolerance]")
