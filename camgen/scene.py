@@ -236,7 +236,7 @@ def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", ba
         raise SceneError(f"{deep}: tables and lists nest more than {MAX_NESTING} levels deep (the limit of a scene)")
     top = [Key("name", Text(64), "", ()), Key("output", Text(), "", ()), Key("machining", Text(), "", ()),
            Key("cams", Text(), "", ()), Key("mechanisms", Text(), "", ()), Key("sweep", Text(), "", ()),
-           Key("tolerance", Text(), "", ())]  # camgen tolerance's table (camgen.study.tolerance_settings): a run ignores it
+           Key("tolerance", Text(), "", ())]
     check_keys("scene", data, top)
     if "cams" not in data:
         raise SceneError("scene: missing key(s) 'cams': add at least one [cams.<name>] table")
@@ -260,6 +260,10 @@ def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", ba
         from camgen.study.space import sweep_table
 
         sweep_table(data)
+    if "tolerance" in data:  # camgen tolerance's table: checked here too, so that check and run refuse what tolerance would
+        from camgen.study.tolerance_settings import check_scene_table
+
+        check_scene_table(data["tolerance"], cams)
     if machined:
         _check_passes(machining, cams)
     return Scene(scene_name, source, output, machining, cams, mechanisms, "machining" in data, machined)

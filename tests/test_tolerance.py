@@ -258,18 +258,29 @@ def test_bad_input_is_refused_with_exit_2(tmp_path, capsys, args, named):
 
 
 @pytest.mark.parametrize("follower, table, named", [
-    ("knife", '[tolerance.errors]\nroller_radius_mm = "normal:0.01"\n', "roller_radius_mm"),
+    ("knife", '[tolerance.errors]\nroller_radius_mm = "normal:0.01"\n', "tolerance.errors.roller_radius_mm"),
     ("roller", '[tolerance]\nsampels = 100\n', "sampels"),
-    ("roller", '[tolerance.errors]\nphase_deg = 0.1\n', "phase_deg"),
+    ("roller", '[tolerance.errors]\nphase_deg = 0.1\n', "tolerance.errors.phase_deg"),
+    ("roller", '[tolerance]\ncam = "other"\n', "tolerance.cam"),
+    ("roller", '[tolerance]\npercentile = 40.0\n', "tolerance.percentile"),
 ])
-def test_a_bad_tolerance_table_is_refused_and_run_ignores_a_good_one(tmp_path, capsys, follower, table, named):
+def test_a_bad_tolerance_table_is_refused_by_tolerance_and_check(tmp_path, capsys, follower, table, named):
     path = tmp_path / "cam.toml"
     path.write_text(_scene(8.0, follower=follower, tolerance=table), encoding="utf-8")
-    assert main(["tolerance", str(path), "-o", str(tmp_path / "out")]) == 2
-    assert named in capsys.readouterr().err
-    good = _scene(8.0, tolerance='[tolerance]\nsamples = 100\n[tolerance.errors]\nphase_deg = "normal:0.1"\n')
-    path.write_text(good, encoding="utf-8")
-    assert main(["check", str(path)]) == 0
+    for command in (["tolerance", str(path), "-o", str(tmp_path / "out"), "--error", "phase_deg=normal:0.1"], ["check", str(path)]):
+        assert main(command) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and err[0].startswith("camgen: error:") and named in err[0]
+
+
+def test_run_and_check_take_a_good_tolerance_table_and_change_nothing(tmp_path, capsys):
+    path = tmp_path / "cam.toml"
+    path.write_text(_scene(8.0), encoding="utf-8")
+    assert main(["run", str(path), "-o", str(tmp_path / "a"), "-q"]) == 0
+    path.write_text(_scene(8.0, tolerance='[tolerance]\nsamples = 100\n[tolerance.errors]\nphase_deg = "normal:0.1"\n'),
+                    encoding="utf-8")
+    assert main(["run", str(path), "-o", str(tmp_path / "b"), "-q"]) == 0
+    assert (tmp_path / "a" / "cam" / "plate.dxf").read_bytes() == (tmp_path / "b" / "cam" / "plate.dxf").read_bytes()
 
 
 def test_a_cam_it_cannot_study_and_an_unnamed_one_of_two_are_refused(tmp_path, capsys):

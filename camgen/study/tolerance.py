@@ -23,20 +23,20 @@ import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
 
 from camgen.errors import ParameterError
-from camgen.study.tolerance_errors import PLATE_ERRORS, TRICYCLE_ERRORS, ErrorName, draw
-from camgen.study.tolerance_settings import ToleranceOptions, ToleranceSettings, read_settings, scene_table
+from camgen.study.tolerance_errors import draw
+from camgen.study.tolerance_settings import ToleranceOptions, ToleranceSettings, errors_of, read_settings
 from camgen.study.tolerance_stats import CONFIDENCE, Percentile, first_order_indices, noise_floor, percentile
 
 if TYPE_CHECKING:
     from camgen.kinds.base import CamSpec
     from camgen.scene import Scene
 
-__all__ = ["ENVELOPE_PERCENTILES", "ENVELOPE_STEP", "REPORTED_PERCENTILES", "CheckSpread", "ToleranceResult", "errors_of",
+__all__ = ["ENVELOPE_PERCENTILES", "ENVELOPE_STEP", "REPORTED_PERCENTILES", "CheckSpread", "ToleranceResult", "scene_table",
            "study", "study_files"]
 
 #: Percentiles of every result in tolerance.json (the asked percentile is added).
@@ -91,19 +91,14 @@ class ToleranceResult:
         return tuple(c for c in self.checks if not c.passed)
 
 
-def errors_of(spec: "CamSpec") -> tuple[ErrorName, ...] | None:
-    """The errors a tolerance study of the cam ``spec`` can vary (None: it cannot be studied)."""
-    if spec.kind == "trajectory" and spec.form == "plate":
-        return TRICYCLE_ERRORS
-    follower = getattr(spec.params, "follower", None)
-    if follower is None or spec.form != "plate" or getattr(follower, "motion", None) != "translating" or not hasattr(spec.params, "law"):
-        return None
-    drop = set()
-    if follower.contact == "face":  # a face's lift does not depend on where along it the axis is
-        drop = {"roller_radius_mm", "follower_offset_mm"}
-    elif not follower.has_radius:
-        drop = {"roller_radius_mm"}
-    return tuple(e for e in PLATE_ERRORS if e.name not in drop)
+def scene_table(path: str | Path) -> Mapping[str, Any]:
+    """The ``[tolerance]`` table of the scene file at ``path`` ({} when it has none), decoded as
+    :func:`camgen.scene.load_scene` decodes the scene (which has read and checked it)."""
+    from camgen.scene import decode_scene_file
+
+    _, data = decode_scene_file(Path(path))
+    table = data.get("tolerance", {})
+    return table if isinstance(table, dict) else {}
 
 
 def _percentiles(values: np.ndarray, asked: float) -> tuple[Percentile, ...]:
