@@ -23,7 +23,7 @@ import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Mapping
+from typing import TYPE_CHECKING, Any, Callable, Mapping
 
 import numpy as np
 
@@ -106,8 +106,14 @@ def _percentiles(values: np.ndarray, asked: float) -> tuple[Percentile, ...]:
     return tuple(percentile(values, p) for p in ps)
 
 
-def study(scene_path: str, options: ToleranceOptions) -> ToleranceResult:
-    """Read the scene and the study, draw the samples and ride every made cam.
+def _quiet(step: str) -> None:
+    """No progress shown."""
+
+
+def study(scene_path: str, options: ToleranceOptions, progress: Callable[[str], None] = _quiet) -> ToleranceResult:
+    """Read the scene and the study, draw the samples and ride every made cam; ``progress`` is
+    called with a line at every chunk of samples (a signal stops the study there:
+    :func:`camgen.interrupt.checkpoint`).
 
     Raises ParameterError / SceneError (exit 2) for bad input before anything is computed.
     """
@@ -132,14 +138,14 @@ def study(scene_path: str, options: ToleranceOptions) -> ToleranceResult:
             from camgen.study.tolerance_tricycle import ride_tricycle
 
             periods = spec.params.ride_periods
-            max_error = ride_tricycle(built.tricycle, periods, columns, n)
+            max_error = ride_tricycle(built.tricycle, periods, columns, n, progress)
             nominal_error = float(ride_tricycle(built.tricycle, periods, {}, 1)[0])
             measure = f"the largest |lateral error| of the ride from the target path over {periods} cam turns (ride_periods), mm"
             envelope = None
             checks: tuple[CheckSpread, ...] = ()
             values: tuple[np.ndarray, ...] = ()
         else:
-            max_error, nominal_error, envelope, checks, values = _plate(spec, built, columns, settings)
+            max_error, nominal_error, envelope, checks, values = _plate(spec, built, columns, settings, progress)
             measure = ("the largest |follower position riding the made cam - nominal position rest + s(theta)| over the turn "
                        "(0.1 deg apart), mm")
     except GeometryError as exc:
@@ -153,8 +159,10 @@ def study(scene_path: str, options: ToleranceOptions) -> ToleranceResult:
                            checks, values, indices)
 
 
-def _plate(spec: "CamSpec", built: Any, columns: dict[str, np.ndarray], settings: ToleranceSettings) -> tuple[
+def _plate(spec: "CamSpec", built: Any, columns: dict[str, np.ndarray], settings: ToleranceSettings,
+           progress: Callable[[str], None]) -> tuple[
         np.ndarray, float, tuple[np.ndarray, tuple[np.ndarray, ...]], tuple[CheckSpread, ...], tuple[np.ndarray, ...]]:
+    from camgen.interrupt import checkpoint
     from camgen.kinds.disk import pressure_limit
     from camgen.study.tolerance_plate import CHUNK, OUTPUT_ANGLES, plate_nominal, ride_plate
 
@@ -164,6 +172,8 @@ def _plate(spec: "CamSpec", built: Any, columns: dict[str, np.ndarray], settings
     peaks: list[np.ndarray] = []
     theta = np.empty(0)
     for lo in range(0, n, CHUNK):  # memory: one chunk's error curves at a time
+        checkpoint()
+        progress(f"made cams ridden: {lo} of {n}")
         hi = min(lo + CHUNK, n)
         ride = ride_plate(nominal, {k: v[lo:hi] for k, v in columns.items()}, hi - lo)
         max_error[lo:hi] = np.max(np.abs(ride.error), axis=1)

@@ -25,8 +25,15 @@ def run(args: argparse.Namespace) -> int:
     target = Path(args.outdir) / f"{load_scene(args.scene).name}-tolerance"
     preflight(target)
     options = ToleranceOptions(args.cam, args.samples, args.seed, args.percentile, tuple(args.error))
-    result = study(args.scene, options)
-    written = write_run(target, study_files(result))
+    from camgen.progress import TerminalProgress
+
+    display = TerminalProgress(enabled=not args.quiet)
+    try:
+        result = study(args.scene, options, display)
+        display("writing files")
+        written = write_run(target, study_files(result))
+    finally:
+        display.close()
     if written.leftover is not None:
         print(f"camgen: warning: the previous study could not be removed from '{written.leftover}'", file=sys.stderr)
     p = result.settings.percentile

@@ -10,17 +10,27 @@ largest |lateral error| of its ride from the target path (mm;
 """
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
-__all__ = ["ride_tricycle"]
+__all__ = ["PROGRESS_EVERY", "ride_tricycle"]
+
+#: Samples between two progress lines (and signal checks).
+PROGRESS_EVERY = 16
 
 
-def ride_tricycle(cam: Any, periods: int, errors: dict[str, np.ndarray], samples: int) -> np.ndarray:
+def _quiet(step: str) -> None:
+    """No progress shown."""
+
+
+def ride_tricycle(cam: Any, periods: int, errors: dict[str, np.ndarray], samples: int,
+                  progress: Callable[[str], None] = _quiet) -> np.ndarray:
     """The largest |lateral error| (mm) of the ride of ``cam`` (a
     :class:`~camgen.mechanisms.tricycle.TricycleCam`) over ``periods`` turns for every sample
-    (``errors``: name -> (samples,) values; a missing name is no error)."""
+    (``errors``: name -> (samples,) values; a missing name is no error); ``progress`` is called
+    every :data:`PROGRESS_EVERY` samples, where a signal stops the study."""
+    from camgen.interrupt import checkpoint
     from camgen.mechanisms.tricycle import ErrorModel, ride_max_lateral_error
 
     zero = np.zeros(samples)
@@ -29,6 +39,9 @@ def ride_tricycle(cam: Any, periods: int, errors: dict[str, np.ndarray], samples
     drive = 1.0 + errors.get("drive_scale", zero)
     out = np.empty(samples)
     for i in range(samples):
+        if i % PROGRESS_EVERY == 0:
+            checkpoint()
+            progress(f"rides simulated: {i} of {samples}")
         model = ErrorModel(steering_offset=float(offset[i]), steering_gain=float(gain[i]), drive_scale=float(drive[i]))
         out[i] = ride_max_lateral_error(cam, periods, model)
     if not np.all(np.isfinite(out)):
