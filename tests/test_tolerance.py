@@ -95,6 +95,33 @@ def test_a_roller_radius_error_on_a_dwell_is_the_closed_form(tmp_path, offset):
         assert np.max(np.abs(ride.error[:, keep] - dr[:, None])) < 1e-9
 
 
+def test_a_flat_face_rides_the_support_function(tmp_path):
+    """A flat face rests on the cam's support function h: a normal offset delta adds delta at every
+    angle, a scale k multiplies h = base radius + s(theta) by 1 + k, a phase error shifts the law."""
+    built = _built(tmp_path, _scene(0.0, follower="flat", extra="face_half_length_mm = 30.0"))
+    errors = {"profile_offset_mm": np.array([0.02, -0.01, 0.0]), "profile_scale": np.array([0.0, 0.001, 0.0]),
+              "phase_deg": np.array([0.0, 0.0, 1.0])}
+    ride = ride_plate(plate_nominal(built.spec_follower, built.law), errors, 3)
+    assert ride.pressure_peak is None
+    h = 40.0 + _lift(ride.theta)
+    assert np.max(np.abs(ride.error[0] - 0.02)) < FLOOR_MM
+    assert np.max(np.abs(ride.error[1] - (0.001 * h - 0.01))) < FLOOR_MM
+    assert np.max(np.abs(ride.error[2] - (_lift(ride.theta - math.radians(1.0)) - _lift(ride.theta)))) < FLOOR_MM
+
+
+def test_a_knife_on_a_dwell_moves_by_the_profile_offset(tmp_path):
+    """A knife edge on a dwell (an arc about the axis, radius R): the profile offset delta moves the
+    tip to sqrt((R + delta)^2 - e^2)."""
+    built = _built(tmp_path, _scene(5.0, follower="knife"))
+    delta = np.array([-0.03, 0.01, 0.04])
+    ride = ride_plate(plate_nominal(built.spec_follower, built.law), {"profile_offset_mm": delta}, 3)
+    keep = _dwell(ride.theta)
+    top = math.hypot(math.sqrt(40.0**2 - 25.0) + 20.0, 5.0)
+    radius = np.where(np.degrees(ride.theta[keep]) < 300, top, 40.0)
+    expected = np.sqrt((radius[None] + delta[:, None]) ** 2 - 25.0) - np.sqrt(radius[None] ** 2 - 25.0)
+    assert np.max(np.abs(ride.error[:, keep] - expected)) < 1e-9
+
+
 def test_the_percentiles_of_a_normal_roller_error_are_mu_plus_z_sigma(tmp_path):
     """Through the command: at a dwell angle of a centred roller the error is dr, so the envelope's
     percentiles are the samples' (numpy's PCG64 drawn again here) and the closed form mu + z_p sigma
