@@ -257,7 +257,7 @@ def study_files(result: ToleranceResult) -> dict[str, str]:
     rows = [",".join(header)]
     table = np.column_stack([result.inputs, result.max_error, *result.check_values])
     for i, row in enumerate(table):
-        rows.append(",".join([str(i), *(f"{v:.12g}" for v in row)]))
+        rows.append(",".join([str(i), *(f"{v:.17g}" for v in row)]))  # 17 digits: the doubles themselves
     index = {"camgen_version": __version__, "command": "tolerance", "scene": result.scene.source, "cam": result.cam,
              "files": ["tolerance.json", "tolerance.csv"], "passed": not result.failed}
     return {"tolerance.json": json.dumps(data, indent=1, allow_nan=False) + "\n", "tolerance.csv": "\n".join(rows) + "\n",
