@@ -153,9 +153,10 @@ def test_the_percentiles_of_a_normal_roller_error_are_mu_plus_z_sigma(tmp_path):
 
 
 def test_a_phase_error_is_the_law_shifted(tmp_path):
-    """The cam keyed turned back by dphi: the follower moves as s(theta - dphi), the law written out here."""
+    """The cam keyed turned back by dphi (small, or about half a turn): the follower moves as s(theta - dphi), the law
+    written out here."""
     built = _built(tmp_path, _scene(8.0))
-    dphi = np.array([-1.5, -0.2, 0.4, 2.0])
+    dphi = np.array([-175.0, -1.5, -0.2, 0.4, 2.0, 179.9])
     ride = ride_plate(plate_nominal(built.spec_follower, built.law), {"phase_deg": dphi}, dphi.size)
     expected = _lift(ride.theta[None] - np.radians(dphi)[:, None]) - _lift(ride.theta)[None]
     assert np.max(np.abs(ride.error - expected)) < FLOOR_MM

@@ -125,6 +125,10 @@ def ride_plate(nominal: PlateNominal, errors: dict[str, np.ndarray], samples: in
         raise ParameterError("roller_radius_mm", "an error", "no roller-radius error: a flat face has no roller")
     if nominal.roller == 0.0 and nominal.contact == "point" and np.any(dr != 0):
         raise ParameterError("roller_radius_mm", "an error", "no roller-radius error: a knife edge has no roller")
+    if np.any(scale <= 0.0):
+        raise GeometryError("a profile scale error <= -1 leaves no cam")
+    if nominal.contact == "point" and np.any(nominal.roller + dr <= 0.0) and nominal.roller > 0.0:
+        raise GeometryError(f"a roller-radius error makes the roller radius <= 0 (nominal {nominal.roller:g} mm)")
     sigma = nominal.sigma
     error = np.empty((samples, angles))
     peak = None if nominal.contact == "face" else np.empty(samples)
@@ -144,7 +148,9 @@ def ride_plate(nominal: PlateNominal, errors: dict[str, np.ndarray], samples: in
                 raise GeometryError("a made cam does not reach the follower line (|offset| >= the pitch radius): the errors are too large")
             theta = sigma * (np.arccos(e / radius) - np.angle(pitch))
             y = np.sqrt(radius * radius - e * e)
-        theta = nominal.theta[None, :] + _wrap(theta - nominal.theta[None, :])
+        # every point reaches the follower about `phase` later than on the nominal cam: unwrapped about that
+        shift = phase[sl, None]
+        theta = nominal.theta[None, :] + shift + _wrap(theta - nominal.theta[None, :] - shift)
         if np.any(np.diff(theta, axis=1) <= 0):
             raise GeometryError("a made cam's contact runs back along the profile (an undercut of the made cam): the errors are too large")
         turn_theta = np.concatenate([theta - 2.0 * math.pi, theta, theta + 2.0 * math.pi], axis=1)  # periodic, still sorted
