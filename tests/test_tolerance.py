@@ -122,6 +122,78 @@ def test_a_knife_on_a_dwell_moves_by_the_profile_offset(tmp_path):
     assert np.max(np.abs(ride.error[:, keep] - expected)) < 1e-9
 
 
+ROCKER = """
+[output]
+formats = ["dxf"]
+[cams.rocker]
+kind = "motion_law"
+follower = "roller"
+follower_motion = "oscillating"
+base_radius_mm = 40.0
+roller_radius_mm = 8.0
+pivot_x_mm = 90.0
+pivot_y_mm = 50.0
+arm_length_mm = 80.0
+swing_turn = "ccw"
+rotation = "cw"
+[[cams.rocker.segments]]
+law = "cycloidal"
+span_deg = 100.0
+swing_deg = 18.0
+[[cams.rocker.segments]]
+law = "dwell"
+span_deg = 60.0
+[[cams.rocker.segments]]
+law = "poly345"
+span_deg = 120.0
+swing_deg = -18.0
+[[cams.rocker.segments]]
+law = "dwell"
+span_deg = 80.0
+"""
+
+
+def _swing(theta: np.ndarray) -> np.ndarray:
+    """ROCKER's swing written out (cycloidal rise, dwell, 3-4-5 return, dwell), deg."""
+    deg = np.degrees(np.mod(theta, 2 * math.pi))
+    x = np.clip(deg / 100.0, 0, 1)
+    u = np.clip((deg - 160.0) / 120.0, 0, 1)
+    rise = 18.0 * (x - np.sin(2 * math.pi * x) / (2 * math.pi))
+    fall = 18.0 * (1 - (10 * u**3 - 15 * u**4 + 6 * u**5))
+    return np.where(deg < 100, rise, np.where(deg < 160, 18.0, np.where(deg < 280, fall, 0.0)))
+
+
+def test_an_oscillating_roller_on_a_dwell_turns_by_the_law_of_cosines(tmp_path):
+    """On a dwell the roller centre is on a circle about the axis (radius R + dr) and on the arm's
+    circle (L about the pivot, d + dc from the axis): the arm's angle from the line pivot -> axis is
+    acos((d^2 + L^2 - R^2) / (2 d L)), so the swing error is the change of that angle (its side
+    and the swing's sense from the nominal rest)."""
+    built = _built(tmp_path, ROCKER)
+    f = built.spec_follower
+    dc, dr = np.array([-0.3, 0.0, 0.2, 0.5]), np.array([0.0, 0.02, -0.01, 0.01])
+    ride = ride_plate(plate_nominal(f, built.law), {"centre_distance_mm": dc, "roller_radius_mm": dr}, 4)
+    assert plate_nominal(f, built.law).unit == "deg"
+    d, arm, axis = math.hypot(90.0, 50.0), 80.0, math.atan2(-50.0, -90.0)  # the direction pivot -> axis
+    deg = np.degrees(ride.theta)
+    for lo, hi, swing in ((102.0, 158.0, 18.0), (282.0, 358.0, 0.0)):
+        keep = (deg > lo) & (deg < hi)
+        g = f.rest_arm_angle + math.radians(swing)  # ccw swing_turn: tau = +1
+        centre = complex(90.0, 50.0) + arm * complex(math.cos(g), math.sin(g))
+        side = math.copysign(1.0, math.remainder(g - axis, 2 * math.pi))
+        beta = math.acos((d * d + arm * arm - abs(centre) ** 2) / (2 * d * arm))
+        moved = np.arccos(((d + dc) ** 2 + arm * arm - (abs(centre) + dr) ** 2) / (2 * (d + dc) * arm))
+        expected = np.degrees(side * (moved - beta))
+        assert np.max(np.abs(ride.error[:, keep] - expected[:, None])) < 1e-9
+
+
+def test_an_oscillating_phase_error_is_the_swing_shifted(tmp_path):
+    built = _built(tmp_path, ROCKER)
+    dphi = np.array([-3.0, 0.5, 90.0])
+    ride = ride_plate(plate_nominal(built.spec_follower, built.law), {"phase_deg": dphi}, 3)
+    expected = _swing(ride.theta[None] - np.radians(dphi)[:, None]) - _swing(ride.theta)[None]
+    assert np.max(np.abs(ride.error - expected)) < 1e-4  # deg: the interpolation floor, 3e-6 deg here
+
+
 def test_the_percentiles_of_a_normal_roller_error_are_mu_plus_z_sigma(tmp_path):
     """Through the command: at a dwell angle of a centred roller the error is dr, so the envelope's
     percentiles are the samples' (numpy's PCG64 drawn again here) and the closed form mu + z_p sigma
@@ -268,6 +340,7 @@ def test_the_order_statistic_interval_covers_as_stated():
 
 @pytest.mark.parametrize("args, named", [
     (["--error", "wobble_mm=normal:0.1"], "wobble_mm"),
+    (["--error", "centre_distance_mm=normal:0.1"], "centre_distance_mm"),  # a translating follower has no pivot
     (["--error", "roller_radius_mm=normal:-0.1"], "roller_radius_mm"),
     (["--error", "roller_radius_mm=gauss:0.1"], "roller_radius_mm"),
     (["--error", "roller_radius_mm=uniform:0.2:0.1"], "roller_radius_mm"),

@@ -65,8 +65,8 @@ class CheckSpread:
 @dataclass(frozen=True)
 class ToleranceResult:
     """A finished study: the scene, its file's SHA-256, the cam and its kind, the settings, the
-    drawn ``inputs`` (samples, errors), ``measure`` (what the motion error is), ``max_error``
-    (samples,) mm and ``nominal_error`` (the nominal cam's, the computation's floor), the
+    drawn ``inputs`` (samples, errors), ``measure`` (what the motion error is) and its ``unit``
+    (mm, or deg of an oscillating follower's swing), ``max_error`` (samples,) and ``nominal_error`` (the nominal cam's, the computation's floor), the
     ``envelope`` (cam angles in deg and the signed error's percentiles there; None for the
     tricycle), the checks, and the first-order ``indices`` of every error for the largest
     motion error and for each check's value."""
@@ -78,6 +78,7 @@ class ToleranceResult:
     settings: ToleranceSettings
     inputs: np.ndarray
     measure: str
+    unit: str
     max_error: np.ndarray
     nominal_error: float
     envelope: tuple[np.ndarray, tuple[np.ndarray, ...]] | None
@@ -141,27 +142,28 @@ def study(scene_path: str, options: ToleranceOptions, progress: Callable[[str], 
             max_error = ride_tricycle(built.tricycle, periods, columns, n, progress)
             nominal_error = float(ride_tricycle(built.tricycle, periods, {}, 1)[0])
             measure = f"the largest |lateral error| of the ride from the target path over {periods} cam turns (ride_periods), mm"
+            unit = "mm"
             envelope = None
             checks: tuple[CheckSpread, ...] = ()
             values: tuple[np.ndarray, ...] = ()
         else:
-            max_error, nominal_error, envelope, checks, values = _plate(spec, built, columns, settings, progress)
-            measure = ("the largest |follower position riding the made cam - nominal position rest + s(theta)| over the turn "
-                       "(0.1 deg apart), mm")
+            max_error, nominal_error, envelope, checks, values, unit = _plate(spec, built, columns, settings, progress)
+            what = "position rest + s(theta)" if unit == "mm" else "swing s(theta)"
+            measure = f"the largest |follower riding the made cam - nominal {what}| over the turn (0.1 deg apart), {unit}"
     except GeometryError as exc:
         raise ParameterError("--error", ", ".join(f"{k}={d.describe()}" for k, d in settings.errors),
                              "errors small enough that every made cam can be ridden", str(exc)) from None
-    indices = {"max_abs_error_mm": first_order_indices(inputs, max_error)}
+    indices = {f"max_abs_error_{unit}": first_order_indices(inputs, max_error)}
     for check, v in zip(checks, values):
         indices[f"{check.name}_{check.unit}"] = first_order_indices(inputs, v)
     digest = hashlib.sha256(Path(scene_path).read_bytes()).hexdigest()
-    return ToleranceResult(scene, digest, spec.name, spec.kind, settings, inputs, measure, max_error, nominal_error, envelope,
+    return ToleranceResult(scene, digest, spec.name, spec.kind, settings, inputs, measure, unit, max_error, nominal_error, envelope,
                            checks, values, indices)
 
 
 def _plate(spec: "CamSpec", built: Any, columns: dict[str, np.ndarray], settings: ToleranceSettings,
            progress: Callable[[str], None]) -> tuple[
-        np.ndarray, float, tuple[np.ndarray, tuple[np.ndarray, ...]], tuple[CheckSpread, ...], tuple[np.ndarray, ...]]:
+        np.ndarray, float, tuple[np.ndarray, tuple[np.ndarray, ...]], tuple[CheckSpread, ...], tuple[np.ndarray, ...], str]:
     from camgen.interrupt import checkpoint
     from camgen.kinds.disk import pressure_limit
     from camgen.study.tolerance_plate import CHUNK, OUTPUT_ANGLES, plate_nominal, ride_plate
@@ -193,7 +195,7 @@ def _plate(spec: "CamSpec", built: Any, columns: dict[str, np.ndarray], settings
         checks.append(CheckSpread("pressure_angle", "deg", limit, float(np.degrees(base.pressure_peak[0])),
                                   _percentiles(peak, settings.percentile), at, at.value <= limit))
         values.append(peak)
-    return max_error, nominal_error, envelope, tuple(checks), tuple(values)
+    return max_error, nominal_error, envelope, tuple(checks), tuple(values), nominal.unit
 
 
 def _pct(p: Percentile) -> dict[str, Any]:
@@ -232,12 +234,13 @@ def study_files(result: ToleranceResult) -> dict[str, str]:
         "confidence": CONFIDENCE,
         "motion_error": {
             "measure": result.measure,
-            "nominal_mm": result.nominal_error,
+            "unit": result.unit,
+            "nominal": result.nominal_error,
             "percentiles": [_pct(p) for p in _percentiles(result.max_error, s.percentile)],
-            "max_mm": float(np.max(result.max_error)),
+            "max": float(np.max(result.max_error)),
         },
         "envelope": None if result.envelope is None else {
-            "what": "percentiles of the signed follower motion error (mm) over the samples at every cam angle",
+            "what": f"percentiles of the signed follower motion error ({result.unit}) over the samples at every cam angle",
             "theta_deg": [round(float(t), 9) for t in result.envelope[0]],
             **{f"p{p:g}": [float(v) for v in values] for p, values in zip(ENVELOPE_PERCENTILES, result.envelope[1])},
         },
@@ -253,7 +256,7 @@ def study_files(result: ToleranceResult) -> dict[str, str]:
         },
         "passed": not result.failed,
     }
-    header = ["sample", *names, "max_abs_error_mm", *(f"{c.name}_{c.unit}" for c in result.checks)]
+    header = ["sample", *names, f"max_abs_error_{result.unit}", *(f"{c.name}_{c.unit}" for c in result.checks)]
     rows = [",".join(header)]
     table = np.column_stack([result.inputs, result.max_error, *result.check_values])
     for i, row in enumerate(table):

@@ -46,7 +46,7 @@ def run(args: argparse.Namespace) -> int:
         worst = float(result.max_error.max())
         at = percentile_of(result.max_error, p)
         state = "FAILED" if result.failed else "passed"
-        print(f"camgen: {state}: {result.settings.samples} samples; motion error p{p:g} = {at:.4g} mm, max {worst:.4g} mm; "
+        print(f"camgen: {state}: {result.settings.samples} samples; motion error p{p:g} = {at:.4g} {result.unit}, max {worst:.4g} {result.unit}; "
               f"{len(result.checks) - len(result.failed)} of {len(result.checks)} checks pass at the {p:g}th percentile")
     return 1 if result.failed else 0
 

@@ -36,11 +36,12 @@ class ErrorName:
     help: str
 
 
-#: Errors of a plate cam with a translating follower (the cam as made, the follower as assembled).
+#: Errors of a plate cam (the cam as made, the follower as assembled).
 PLATE_ERRORS = (
     ErrorName("profile_offset_mm", "mm", "the cut profile offset along its outward normal (tool wear, cutter compensation)"),
     ErrorName("profile_scale", "1", "the cut profile scaled about the cam axis by (1 + error) (a relative error)"),
-    ErrorName("follower_offset_mm", "mm", "the follower axis moved sideways from x = offset (the guide displaced)"),
+    ErrorName("follower_offset_mm", "mm", "the follower axis moved sideways from x = offset (the guide displaced; translating)"),
+    ErrorName("centre_distance_mm", "mm", "the pivot moved away from the cam axis (the centre distance; oscillating)"),
     ErrorName("roller_radius_mm", "mm", "the roller radius made larger by the error (roller followers)"),
     ErrorName("phase_deg", "deg", "the cam keyed on the shaft turned back against the rotation: the motion is s(theta - phase)"),
 )

@@ -48,8 +48,8 @@ DEFAULT_SAMPLES = 1000
 #: the order-statistic interval of the 99th percentile is then about +-0.15 percentile points wide).
 MAX_SAMPLES = 20_000
 #: The cams a study can take.
-STUDIED = ("a plate cam (motion_law or lift_table) with a translating roller, knife or flat follower, or the tricycle's "
-           "steering cam (trajectory)")
+STUDIED = ("a plate cam (motion_law or lift_table) with a translating roller, knife or flat follower or an oscillating "
+           "roller or knife, or the tricycle's steering cam (trajectory)")
 #: The percentile at which the checks must pass when none is asked.
 DEFAULT_PERCENTILE = 95.0
 
@@ -80,9 +80,10 @@ the command line's `--cam`, `--samples`, `--seed`, `--percentile` take precedenc
 
 Each key of the `[tolerance.errors]` table is an error of the studied cam and its value a
 distribution: `"normal:SIGMA"`, `"normal:MEAN:SIGMA"` (SIGMA >= 0) or `"uniform:A:B"` (A <= B), in the
-error's unit.  Plate cams with a translating follower take the first five (a knife no
-`roller_radius_mm`, a flat face neither it nor `follower_offset_mm`); the tricycle's steering
-cam (`trajectory`) the last three.
+error's unit.  Plate cams take the first six: a translating follower all but
+`centre_distance_mm` (a knife no `roller_radius_mm`, a flat face neither it nor
+`follower_offset_mm`), an oscillating roller or knife all but `follower_offset_mm`; the
+tricycle's steering cam (`trajectory`) the last three.
 
 | error | unit | what it is |
 | --- | --- | --- |
@@ -126,13 +127,16 @@ def errors_of(spec: "CamSpec") -> tuple[ErrorName, ...] | None:
     if spec.kind == "trajectory" and spec.form == "plate":
         return TRICYCLE_ERRORS
     follower = getattr(spec.params, "follower", None)
-    if follower is None or spec.form != "plate" or getattr(follower, "motion", None) != "translating" or not hasattr(spec.params, "law"):
+    if follower is None or spec.form != "plate" or not hasattr(spec.params, "law"):
         return None
-    drop = set()
+    oscillating = follower.motion == "oscillating"
+    if oscillating and follower.contact == "face":
+        return None
+    drop = {"follower_offset_mm"} if oscillating else {"centre_distance_mm"}
     if follower.contact == "face":  # a face's lift does not depend on where along it the axis is
-        drop = {"roller_radius_mm", "follower_offset_mm"}
+        drop |= {"roller_radius_mm", "follower_offset_mm"}
     elif not follower.has_radius:
-        drop = {"roller_radius_mm"}
+        drop |= {"roller_radius_mm"}
     return tuple(e for e in PLATE_ERRORS if e.name not in drop)
 
 
