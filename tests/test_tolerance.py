@@ -260,10 +260,11 @@ def test_a_follower_offset_error_against_a_brute_force_contact(tmp_path):
             assert abs((centre - nominal) - ride.error[i, j]) < BRUTE_MM, (i, math.degrees(th))
 
 
-def test_the_nominal_pressure_angle_is_camgen_checks(tmp_path, capsys):
+@pytest.mark.parametrize("oscillating", [False, True])
+def test_the_nominal_pressure_angle_is_camgen_checks(tmp_path, capsys, oscillating):
     """No error: the made cam's peak pressure angle is the one `camgen check` reports (its closed form)."""
     path = tmp_path / "cam.toml"
-    path.write_text(_scene(8.0), encoding="utf-8")
+    path.write_text(ROCKER if oscillating else _scene(8.0), encoding="utf-8")
     assert main(["check", str(path)]) == 0
     row = next(line for line in capsys.readouterr().out.splitlines() if " pressure_angle " in f" {line} ")
     checked = float(row.split()[3])
@@ -272,7 +273,8 @@ def test_the_nominal_pressure_angle_is_camgen_checks(tmp_path, capsys):
     (check,) = data["checks"]
     assert abs(check["nominal"] - checked) < 1e-3
     assert abs(check["at_percentile"]["value"] - checked) < 1e-3  # zero spread: every sample is nominal
-    assert data["motion_error"]["percentiles"][-1]["value"] < FLOOR_MM
+    assert data["motion_error"]["percentiles"][-1]["value"] < FLOOR_MM  # mm, or deg of swing (3e-6 deg here)
+    assert data["motion_error"]["unit"] == ("deg" if oscillating else "mm")
 
 
 def test_a_pressure_angle_failing_at_the_percentile_exits_1(tmp_path, capsys):
