@@ -1,4 +1,4 @@
-"""Command line: ``camgen run | check | templates | new | keys | tolerance``.
+"""Command line: ``camgen run | check | templates | new | keys | tolerance | optimize``.
 
 Only argparse is imported at start-up; each command imports what it needs.  Exit status
 (:data:`EXIT_STATUS`): 0 every check passed; 1 a design check failed (``run`` writes the report
@@ -61,6 +61,11 @@ EXAMPLES = {
   camgen tolerance cam.toml --error roller_radius_mm=normal:0.01 --error phase_deg=uniform:-0.2:0.2
   camgen tolerance cam.toml --samples 5000 --seed 3       the errors of the scene's [tolerance.errors] table
 exit status: 0 the checks pass at the percentile; 1 one fails there; 2 bad input""",
+    "optimize": """examples:
+  camgen optimize plate_cam.toml --vary base_radius_mm=20:45 --minimize outer_radius_mm
+                                              the smallest plate cam whose every check passes
+  camgen optimize my_cam.toml --vary cams.a.base_radius_mm=30:60 --vary cams.a.follower_offset_mm=0:10 \\
+      --minimize fig.a.torque_peak_n_m --method de --seed 1 --max-evaluations 200 -o build""",
 }
 
 
@@ -234,6 +239,13 @@ def _cmd_tolerance(args: argparse.Namespace) -> int:
     return run(args)
 
 
+def _cmd_optimize(args: argparse.Namespace) -> int:
+    from camgen.study.optimize import optimize_command
+
+    return optimize_command(args.scene, args.vary, args.minimize, args.maximize, args.method, args.seed,
+                            args.max_evaluations, args.outdir, args.quiet)
+
+
 class _Parser(argparse.ArgumentParser):
     """argparse with camgen's one-line errors (argparse prints the usage and exits 2 itself)."""
 
@@ -286,6 +298,19 @@ def build_parser() -> argparse.ArgumentParser:
     tol.add_argument("-o", "--outdir", default="outputs", help="output folder; files go to OUTDIR/<scene name>-tolerance/")
     tol.add_argument("-q", "--quiet", action="store_true", help="print no file list and no verdict line")
     tol.set_defaults(func=_cmd_tolerance)
+    opt = command("optimize", "the design minimising a figure over scene-key ranges with every check passing; writes and runs it")
+    opt.add_argument("scene", nargs="?", help="scene file (TOML); default: the bundled default scene")
+    opt.add_argument("--vary", action="append", metavar="KEY=LOW:HIGH", help="a scene key and its bounds (repeat for more keys)")
+    goal = opt.add_mutually_exclusive_group()
+    goal.add_argument("--minimize", metavar="FIGURE", help="a main figure (outer_radius_mm, torque_peak_n_m, ...; "
+                      "fig.<cam>.<figure>) or a check's value (check.<cam>.<check>)")
+    goal.add_argument("--maximize", metavar="FIGURE", help="the same, maximised")
+    opt.add_argument("--method", default="de", help="de (differential evolution, then COBYLA; default) or cobyla (local)")
+    opt.add_argument("--seed", type=int, default=0, help="the optimiser's seed (default 0: the same seed, the same designs)")
+    opt.add_argument("--max-evaluations", type=int, default=400, help="designs evaluated at most (default 400)")
+    opt.add_argument("-o", "--outdir", default="outputs", help="output folder (default: outputs); files go to OUTDIR/<scene name>-optimum/")
+    opt.add_argument("-q", "--quiet", action="store_true", help="print no file list and no optimum line")
+    opt.set_defaults(func=_cmd_optimize)
     return parser
 
 

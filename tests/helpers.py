@@ -249,3 +249,23 @@ def scene_toml(scene: dict) -> str:
             lines.append(f"[[cams.{name}.segments]]")
             lines += [f"{k} = {value(v)}" for k, v in seg.items()]
     return "\n".join(lines) + "\n"
+
+
+def occt_shape(data: bytes, path: Path):
+    """OCCT's reading of the STEP or IGES file ``data`` (written to ``path``; its suffix .igs
+    picks the IGES reader): the transferred shape, OCCT's statistics kept off stdout."""
+    from OCP.IGESControl import IGESControl_Reader
+    from OCP.STEPControl import STEPControl_Reader
+
+    path.write_bytes(data)
+    reader = IGESControl_Reader() if path.suffix == ".igs" else STEPControl_Reader()
+    saved = os.dup(1)  # OCCT prints its statistics on stdout
+    with open(os.devnull, "w") as devnull:
+        os.dup2(devnull.fileno(), 1)
+        try:
+            assert int(reader.ReadFile(str(path))) == 1  # IFSelect_RetDone
+            reader.TransferRoots()
+        finally:
+            os.dup2(saved, 1)
+            os.close(saved)
+    return reader.OneShape()

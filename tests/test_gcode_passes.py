@@ -20,6 +20,7 @@ from camgen.export.gcode import MachiningSpec, gcode_program
 from cutting import CUT_TOL, ExactProfile, sample_moves, simulate
 from helpers import arc_sweep, require_tool, rs274_canon
 from test_gcode_fanuc import masked, tool_table
+from test_gcode import lobes as gcode_lobes
 
 MODES = [(comp, direction) for comp in (False, True) for direction in ("climb", "conventional")]
 DIALECTS = ("linuxcnc", "fanuc")
@@ -33,24 +34,11 @@ def needs_rs274():
 
 
 def lobes(lobe: float = 15.0, valley: float = 10.0, distance: float = 30.0, n: int = 4) -> Contour:
-    """n convex arcs (radius ``lobe``, centres ``distance`` from the axis) joined by concave arcs
-    of radius ``valley`` tangent to both (circle geometry only).  ``lobes(15 + a, 10 - a)`` is
-    the same profile grown by ``a``: the valleys' centres stay where they are (their distance
-    from the lobes' centres is lobe + valley), every arc is concentric with the one it grows."""
-    centres = [distance * np.array([math.cos(2 * math.pi * k / n), math.sin(2 * math.pi * k / n)]) for k in range(n)]
-    valleys = []
-    for k in range(n):
-        u = np.array([math.cos(2 * math.pi * (k + 0.5) / n), math.sin(2 * math.pi * (k + 0.5) / n)])
-        b, c = -2 * u @ centres[k], centres[k] @ centres[k] - (valley + lobe) ** 2
-        valleys.append((-b + math.sqrt(b * b - 4 * c)) / 2 * u)
-    segments = []
-    for k in range(n):
-        c, before, after = centres[k], valleys[k - 1], valleys[k]
-        a0, a1 = (math.atan2(*(v - c)[::-1]) for v in (before, after))
-        segments.append(Arc(tuple(c), lobe, a0, (a1 - a0) % (2 * math.pi)))
-        b0, b1 = (math.atan2(*(w - after)[::-1]) for w in (c, centres[(k + 1) % n]))
-        segments.append(Arc(tuple(after), valley, b0, -((b0 - b1) % (2 * math.pi))))
-    return Contour(segments, closure_tol=1e-9)
+    """test_gcode's n convex arcs (radius ``lobe``) joined by concave arcs of radius ``valley``.
+    ``lobes(15 + a, 10 - a)`` is the same profile grown by ``a``: the valleys' centres stay where
+    they are (their distance from the lobes' centres is lobe + valley), every arc is concentric
+    with the one it grows."""
+    return gcode_lobes(distance, lobe, valley, n)
 
 
 def spec_for(dialect: str, comp: bool, direction: str, **kw) -> MachiningSpec:

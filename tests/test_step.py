@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from cams import BODIES
+from helpers import occt_shape
 
 
 @pytest.mark.parametrize("name", ["stride", "steering"])
@@ -52,23 +53,7 @@ def test_bspline_form_has_the_fewest_knots_and_is_exact(steering):
 
 
 def _step_shape(data: bytes, tmp_path):
-    import os
-
-    from OCP.STEPControl import STEPControl_Reader
-
-    path = tmp_path / "cam.step"
-    path.write_bytes(data)
-    reader = STEPControl_Reader()
-    saved = os.dup(1)  # OCCT prints its statistics on stdout
-    with open(os.devnull, "w") as devnull:
-        os.dup2(devnull.fileno(), 1)
-        try:
-            assert int(reader.ReadFile(str(path))) == 1  # IFSelect_RetDone
-            reader.TransferRoots()
-        finally:
-            os.dup2(saved, 1)
-            os.close(saved)
-    return reader.OneShape()
+    return occt_shape(data, tmp_path / "cam.step")
 
 
 def _step_vertices_and_centroid(shape) -> tuple[np.ndarray, np.ndarray]:

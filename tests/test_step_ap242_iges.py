@@ -10,14 +10,13 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import os
 import re
 import subprocess
 
 import pytest
 
 from cams import BODIES
-from helpers import require_tool
+from helpers import occt_shape, require_tool
 
 pytest.importorskip("OCP")
 
@@ -27,24 +26,10 @@ def _read(data: bytes, suffix: str, tmp_path):
     from OCP.BRepCheck import BRepCheck_Analyzer
     from OCP.BRepGProp import BRepGProp
     from OCP.GProp import GProp_GProps
-    from OCP.IGESControl import IGESControl_Reader
-    from OCP.STEPControl import STEPControl_Reader
     from OCP.TopAbs import TopAbs_SOLID
     from OCP.TopExp import TopExp_Explorer
 
-    path = tmp_path / f"cam{suffix}"
-    path.write_bytes(data)
-    reader = IGESControl_Reader() if suffix == ".igs" else STEPControl_Reader()
-    saved = os.dup(1)  # OCCT prints its statistics on stdout
-    with open(os.devnull, "w") as devnull:
-        os.dup2(devnull.fileno(), 1)
-        try:
-            assert int(reader.ReadFile(str(path))) == 1  # IFSelect_RetDone
-            reader.TransferRoots()
-        finally:
-            os.dup2(saved, 1)
-            os.close(saved)
-    shape = reader.OneShape()
+    shape = occt_shape(data, tmp_path / f"cam{suffix}")
     solids, explorer = 0, TopExp_Explorer(shape, TopAbs_SOLID)
     while explorer.More():
         solids += 1

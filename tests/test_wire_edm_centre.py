@@ -19,27 +19,7 @@ from camgen.export.gcode import MachiningSpec
 from camgen.export.wire_edm import wire_edm_program
 from camgen.export.wire_edm_spec import WireEdmSpec
 from cutting import CUT_TOL, ExactProfile
-from helpers import require_tool
-from test_wire_edm import _arc_lengths, _in_stretch, cut_report, run_rs274, tab_stretch
-
-
-@pytest.fixture
-def needs_rs274():
-    return require_tool("rs274")
-
-
-@pytest.fixture(scope="module")
-def cams():
-    """The plate cam of two templates, built by the pipeline: [(name, contour, thickness)]."""
-    from camgen.pipeline import Plan, compute
-    from camgen.scene import load_template
-
-    out = []
-    for name in ("plate_cam", "oscillating_roller"):
-        scene = load_template(name)
-        cam = compute(scene, Plan((), frozenset())).cams[0]
-        out.append((name, cam.contour, cam.body.thickness))
-    return out
+from test_wire_edm import _arc_lengths, _in_stretch, cams, cut_report, needs_rs274, run_rs274, tab_stretch  # noqa: F401 (fixtures)
 
 
 def _program(contour, thickness, name, skims, allowances, spline_mode="biarcs", **wire_keys) -> str:

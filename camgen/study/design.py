@@ -25,13 +25,14 @@ from typing import TYPE_CHECKING, Any, Mapping, Sequence
 from camgen.errors import CamgenError
 
 if TYPE_CHECKING:
+    from camgen.planning import Plan
     from camgen.results import CamResult
     from camgen.scene import Scene
     from camgen.study.keys import KeyPath
     from camgen.study.space import Value
 
-__all__ = ["FIGURES", "OUTER_RADIUS_TOL", "Row", "STATUSES", "StudyScene", "evaluate_batch", "evaluate_point", "point_key",
-           "point_scene_data"]
+__all__ = ["FIGURES", "OUTER_RADIUS_TOL", "Row", "STATUSES", "StudyScene", "design_plan", "evaluate_batch", "evaluate_point", "finite_number",
+           "main_figures", "point_key", "point_scene_data"]
 
 #: A row of a study: column name -> a JSON scalar (str, int, float, bool or None; never NaN).
 Row = dict[str, "str | int | float | bool | None"]
@@ -105,7 +106,7 @@ def point_key(names: Sequence[str], values: "Sequence[Value]") -> str:
     return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
 
 
-def _finite(value: object) -> float | None:
+def finite_number(value: object) -> float | None:
     """A check's value as a float column (None: not a number, or not finite)."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         return None
@@ -121,22 +122,23 @@ def _outer_radius(cam: "CamResult") -> float | None:
     return float(np.sqrt((points * points).sum(axis=1)).max())
 
 
-def _figures(cam: "CamResult") -> dict[str, float | None]:
+def main_figures(cam: "CamResult") -> dict[str, float | None]:
+    """The :data:`FIGURES` of a built and checked cam (None where the cam has none)."""
     checks = {c.name: c for c in cam.checks}
-    radii = [v for v in (_finite(checks[n].value) for n in ("min_convex_radius", "min_concave_radius") if n in checks)
+    radii = [v for v in (finite_number(checks[n].value) for n in ("min_convex_radius", "min_concave_radius") if n in checks)
              if v is not None]
     dynamics = cam.figures.get("dynamics") or {}
     return {
         "outer_radius_mm": _outer_radius(cam),
-        "pressure_angle_deg": _finite(checks["pressure_angle"].value) if "pressure_angle" in checks else None,
+        "pressure_angle_deg": finite_number(checks["pressure_angle"].value) if "pressure_angle" in checks else None,
         "least_radius_mm": min(radii) if radii else None,
-        "torque_peak_n_m": _finite(dynamics.get("torque_peak_Nm")),
-        "contact_stress_mpa": _finite(dynamics.get("hertz_stress_peak_MPa")),
-        "jump_rpm": _finite(dynamics.get("jump_rpm")),
+        "torque_peak_n_m": finite_number(dynamics.get("torque_peak_Nm")),
+        "contact_stress_mpa": finite_number(dynamics.get("hertz_stress_peak_MPa")),
+        "jump_rpm": finite_number(dynamics.get("jump_rpm")),
     }
 
 
-def _plan(scene: "Scene") -> Any:
+def design_plan(scene: "Scene") -> "Plan":
     """The plan of a design's evaluation: synthesis, every design check and the dynamics, no files."""
     from camgen.planning import plan_run
 
@@ -162,14 +164,14 @@ def evaluate_point(study: StudyScene, keys: "Sequence[KeyPath]", values: "Sequen
         from camgen.pipeline import compute
 
         scene = study.scene({k.path: v for k, v in zip(keys, values)})
-        result = compute(scene, _plan(scene))
+        result = compute(scene, design_plan(scene))
         failed = False
         for cam in result.cams:
             for check in cam.checks:
-                row[f"check.{cam.name}.{check.name}"] = _finite(check.value)
+                row[f"check.{cam.name}.{check.name}"] = finite_number(check.value)
                 row[f"check.{cam.name}.{check.name}.status"] = check.status
                 failed = failed or check.failed
-            for figure, value in _figures(cam).items():
+            for figure, value in main_figures(cam).items():
                 row[f"fig.{cam.name}.{figure}"] = value
         row["status"] = "fail" if failed else "pass"
     except CamgenError as exc:
