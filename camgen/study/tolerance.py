@@ -116,7 +116,8 @@ def study(scene_path: str, options: ToleranceOptions, progress: Callable[[str], 
     called with a line at every chunk of samples (a signal stops the study there:
     :func:`camgen.interrupt.checkpoint`).
 
-    Raises ParameterError / SceneError (exit 2) for bad input before anything is computed.
+    Raises ParameterError / SceneError (exit 2) for bad input (the scene, the study, errors too
+    large for a made cam to be ridden); nothing is written then.
     """
     from camgen.errors import GeometryError, SceneError
     from camgen.kinds import get_kind
@@ -151,7 +152,7 @@ def study(scene_path: str, options: ToleranceOptions, progress: Callable[[str], 
             what = "position rest + s(theta)" if unit == "mm" else "swing s(theta)"
             measure = f"the largest |follower riding the made cam - nominal {what}| over the turn (0.1 deg apart), {unit}"
     except GeometryError as exc:
-        raise ParameterError("--error", ", ".join(f"{k}={d.describe()}" for k, d in settings.errors),
+        raise ParameterError("--error" if options.errors else "tolerance.errors", ", ".join(f"{k}={d.describe()}" for k, d in settings.errors),
                              "errors small enough that every made cam can be ridden", str(exc)) from None
     indices = {f"max_abs_error_{unit}": first_order_indices(inputs, max_error)}
     for check, v in zip(checks, values):

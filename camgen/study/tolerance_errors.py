@@ -65,7 +65,7 @@ class Distribution:
 
     def describe(self) -> str:
         """The distribution as it is written (``normal:0:0.01``)."""
-        return f"{self.family}:{self.a:g}:{self.b:g}"
+        return f"{self.family}:{self.a!r}:{self.b!r}"  # the shortest text giving back the doubles
 
     @property
     def mean(self) -> float:
