@@ -320,6 +320,19 @@ def test_the_tricycle_errors_are_its_ride_simulation(tmp_path):
     assert {r["error"] for r in data["sensitivity"]["rankings"]["max_abs_error_mm"]} == {"steering_offset_deg", "steering_gain"}
 
 
+def test_the_ranking_puts_the_error_that_moves_the_follower_first(tmp_path):
+    """A phase error of +-1 deg moves the follower by up to s' dphi = 0.3 mm a sample; a 0.1 um profile
+    offset by 1e-4 mm: the phase is ranked first, the offset scores at the estimator's noise floor."""
+    path = tmp_path / "cam.toml"
+    path.write_text(_scene(8.0), encoding="utf-8")
+    assert main(["tolerance", str(path), "-o", str(tmp_path / "out"), "-q", "--samples", "400", "--error", "phase_deg=uniform:-1:1",
+                 "--error", "profile_offset_mm=normal:0.0001"]) == 0
+    data = json.loads((tmp_path / "out" / "cam-tolerance" / "tolerance.json").read_text())
+    ranking = data["sensitivity"]["rankings"]["max_abs_error_mm"]
+    assert [r["error"] for r in ranking] == ["phase_deg", "profile_offset_mm"]
+    assert ranking[0]["first_order_index"] > 0.9 and ranking[1]["first_order_index"] < 3 * data["sensitivity"]["noise_floor"]
+
+
 def test_first_order_indices_of_a_linear_model():
     """Y = X1 + 2 X2 + 0 X3 with independent standard normals: S = 1/5, 4/5, 0 (Saltelli et al.,
     Global Sensitivity Analysis: The Primer, 2008, ch. 1: S_i = a_i^2 / sum a_j^2 for a linear model)."""
@@ -343,6 +356,7 @@ def test_the_order_statistic_interval_covers_as_stated():
 @pytest.mark.parametrize("args, named", [
     (["--error", "wobble_mm=normal:0.1"], "wobble_mm"),
     (["--error", "centre_distance_mm=normal:0.1"], "centre_distance_mm"),  # a translating follower has no pivot
+    (["--error", "roller_radius_mm=uniform:-20:-15"], "roller_radius_mm"),  # no roller left: no made cam to ride
     (["--error", "roller_radius_mm=normal:-0.1"], "roller_radius_mm"),
     (["--error", "roller_radius_mm=gauss:0.1"], "roller_radius_mm"),
     (["--error", "roller_radius_mm=uniform:0.2:0.1"], "roller_radius_mm"),
