@@ -1,4 +1,4 @@
-"""Command line: ``camgen run | check | templates | new | keys | optimize | serve``.
+"""Command line: ``camgen run | check | templates | new | keys | sweep | tolerance | optimize | serve``.
 
 Only argparse is imported at start-up; each command imports what it needs.  Exit status
 (:data:`EXIT_STATUS`): 0 every check passed; 1 a design check failed (``run`` writes the report
@@ -57,6 +57,10 @@ EXAMPLES = {
   camgen keys                                 every scene key: type, range, default, what it changes
   camgen keys motion_law                      the keys of one cam kind ([cams.<name>] with that kind)
   camgen keys machining                       the keys of one table (output, machining, a mechanism)""",
+    "tolerance": """examples:
+  camgen tolerance cam.toml --error roller_radius_mm=normal:0.01 --error phase_deg=uniform:-0.2:0.2
+  camgen tolerance cam.toml --samples 5000 --seed 3       the errors of the scene's [tolerance.errors] table
+exit status: 0 the checks pass at the percentile; 1 one fails there; 2 bad input""",
     "optimize": """examples:
   camgen optimize plate_cam.toml --vary base_radius_mm=20:45 --minimize outer_radius_mm
                                               the smallest plate cam whose every check passes
@@ -232,6 +236,12 @@ def _cmd_keys(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_tolerance(args: argparse.Namespace) -> int:
+    from camgen.study.tolerance_command import run
+
+    return run(args)
+
+
 def _cmd_optimize(args: argparse.Namespace) -> int:
     from camgen.study.optimize import optimize_command
 
@@ -284,6 +294,17 @@ def build_parser() -> argparse.ArgumentParser:
     keys = command("keys", "the scene-key reference: type, range, default and what each key changes")
     keys.add_argument("section", nargs="?", help="a cam kind, output, machining or a mechanism (default: all)")
     keys.set_defaults(func=_cmd_keys)
+    tol = command("tolerance", "Monte Carlo of manufacturing and assembly errors: the follower motion error and check margins")
+    tol.add_argument("scene", help="scene file (TOML)")
+    tol.add_argument("--cam", help="the cam to study (needed when the scene has more than one it can study)")
+    tol.add_argument("--error", action="append", default=[], metavar="NAME=DIST",
+                     help="an error and its distribution: normal:SIGMA, normal:MEAN:SIGMA or uniform:A:B (repeatable)")
+    tol.add_argument("--samples", type=int, help="Monte Carlo samples, 10 to 20000 (default 1000)")
+    tol.add_argument("--seed", type=int, help="random seed (default 0)")
+    tol.add_argument("--percentile", type=float, help="the checks must pass at this percentile, 50 <= p < 100 (default 95)")
+    tol.add_argument("-o", "--outdir", default="outputs", help="output folder; files go to OUTDIR/<scene name>-tolerance/")
+    tol.add_argument("-q", "--quiet", action="store_true", help="print no file list and no verdict line")
+    tol.set_defaults(func=_cmd_tolerance)
     opt = command("optimize", "the design minimising a figure over scene-key ranges with every check passing; writes and runs it")
     opt.add_argument("scene", nargs="?", help="scene file (TOML); default: the bundled default scene")
     opt.add_argument("--vary", action="append", metavar="KEY=LOW:HIGH", help="a scene key and its bounds (repeat for more keys)")

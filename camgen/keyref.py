@@ -59,7 +59,7 @@ def index() -> str:
 
     lines = ["Every table and its keys (each is explained in its section below; `camgen keys SECTION` prints one section):",
              "",
-             "- top level: `name`, `[output]`, `[machining]`, `[cams.<name>]` (one or more), `[mechanisms.<name>]`, `[sweep]`",
+             "- top level: `name`, `[output]`, `[machining]`, `[cams.<name>]` (one or more), `[mechanisms.<name>]`, `[sweep]`, `[tolerance]`",
              f"- `[output]` (section output): {_names(output_keys())}",
              f"- `[machining]` (section machining): {_names(machining_keys())}"]
     for name, form, section in _kind_sections():
@@ -75,7 +75,7 @@ def index() -> str:
 
 
 def sections() -> dict[str, str]:
-    """Section name -> its Markdown text: "output", "machining", every kind, every mechanism, "sweep"."""
+    """Section name -> its Markdown text: "output", "machining", every kind, every mechanism, "sweep", "tolerance"."""
     from camgen.forms import get_form
     from camgen.jobs import get_job, job_names
     from camgen.kinds import get_kind
@@ -104,6 +104,9 @@ def sections() -> dict[str, str]:
     from camgen.study.space import SWEEP_REFERENCE
 
     out["sweep"] = SWEEP_REFERENCE
+    from camgen.study.tolerance_settings import TOLERANCE_REFERENCE
+
+    out["tolerance"] = TOLERANCE_REFERENCE
     return out
 
 
@@ -117,5 +120,5 @@ def reference(section: str | None = None) -> str:
         return parts[section]
     scene = ("## The scene file\n\nTop-level keys: `name` (the output folder's name; default: the scene file's name), "
              "`[output]`, `[machining]`, `[cams.<name>]` (one or more), `[mechanisms.<name>]`, `[sweep]` (read by "
-             "`camgen sweep`).\n")
+             "`camgen sweep`), `[tolerance]` (read by `camgen tolerance`).\n")
     return TITLE + "\n" + index() + "\n" + HEADER + "\n" + scene + "\n" + "\n".join(parts.values())

@@ -40,7 +40,7 @@ MAX_NESTING = 8
 NAME_RULE = "1 to 64 characters: letters, digits, '_', '.', '-', starting with a letter or digit"
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$")
 
-TOP_KEYS = ("name", "output", "machining", "cams", "mechanisms", "sweep")
+TOP_KEYS = ("name", "output", "machining", "cams", "mechanisms", "sweep", "tolerance")
 
 
 @dataclass(frozen=True)
@@ -235,7 +235,8 @@ def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", ba
     if deep is not None:
         raise SceneError(f"{deep}: tables and lists nest more than {MAX_NESTING} levels deep (the limit of a scene)")
     top = [Key("name", Text(64), "", ()), Key("output", Text(), "", ()), Key("machining", Text(), "", ()),
-           Key("cams", Text(), "", ()), Key("mechanisms", Text(), "", ()), Key("sweep", Text(), "", ())]
+           Key("cams", Text(), "", ()), Key("mechanisms", Text(), "", ()), Key("sweep", Text(), "", ()),
+           Key("tolerance", Text(), "", ())]
     check_keys("scene", data, top)
     if "cams" not in data:
         raise SceneError("scene: missing key(s) 'cams': add at least one [cams.<name>] table")
@@ -259,6 +260,10 @@ def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", ba
         from camgen.study.space import sweep_table
 
         sweep_table(data)
+    if "tolerance" in data:  # camgen tolerance's table: checked here too, so that check and run refuse what tolerance would
+        from camgen.study.tolerance_settings import check_scene_table
+
+        check_scene_table(data["tolerance"], cams)
     if machined:
         _check_passes(machining, cams)
     return Scene(scene_name, source, output, machining, cams, mechanisms, "machining" in data, machined)
