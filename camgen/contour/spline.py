@@ -21,9 +21,9 @@ from camgen.numerics.bernstein import bernstein_max_norm, power_to_bezier
 from camgen.numerics.hermite import cubic_hermite_coefficients, quintic_hermite_coefficients
 from camgen.numerics.interpolate import clamped_cubic, periodic_spline
 from camgen.numerics.polynomial import derivative_factors, exponents, horner, scaled_ascending
-from camgen.numerics.roots import ROOT_TOL, roots_in_pieces, sign_change_roots
+from camgen.numerics.roots import ROOT_TOL, grouped_sign_change_roots, roots_in_pieces, sign_change_roots
 
-__all__ = ["SPLINE_DEGREES", "Spline", "piece_green_areas"]
+__all__ = ["SPLINE_DEGREES", "Spline", "extreme_points_of", "piece_green_areas"]
 
 #: Polynomial degrees a :class:`Spline` piece may have.
 SPLINE_DEGREES = (3, 5)
@@ -45,6 +45,15 @@ def _area_weights(degree: int) -> np.ndarray:
     w[i, m] = (m - i) / (i + m)
     w.flags.writeable = False
     return w
+
+
+@functools.lru_cache(maxsize=None)
+def _gauss_legendre(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The ``n``-point Gauss-Legendre nodes and weights on [-1, 1] (numpy's, computed once; read-only)."""
+    nodes, weights = np.polynomial.legendre.leggauss(n)
+    nodes.flags.writeable = False
+    weights.flags.writeable = False
+    return nodes, weights
 
 
 def piece_green_areas(q: np.ndarray) -> np.ndarray:
@@ -243,7 +252,7 @@ class Spline:
     @property
     def length(self) -> float:
         """Arc length, mm, by 16-point Gauss-Legendre quadrature on every piece (error < 1e-12 relative for smooth pieces)."""
-        nodes, weights = np.polynomial.legendre.leggauss(16)
+        nodes, weights = _gauss_legendre(16)
         h = np.diff(self.breaks)
         tau = 0.5 * (nodes[:, None] + 1.0) * h[None, :]  # (16, K)
         d1 = self.eval_piece(np.tile(np.arange(self.n_pieces), 16), tau.ravel(), 1).reshape(16, -1, 2)
@@ -344,12 +353,7 @@ class Spline:
         """Break points and axis-extreme points (k, 2): the exact bounding box of the spline."""
         if self.degree != 3:
             # x'(s) and y'(s) (degree 4 for a quintic): the extremes are at their sign changes
-            q = self._scaled()
-            pts = [self.eval_t(self.breaks)]
-            for axis in range(2):
-                piece, tau = roots_in_pieces(q[:, 1:, axis] * np.arange(1, self.degree + 1), np.diff(self.breaks))
-                pts.append(self.eval_piece(piece, tau))
-            return np.concatenate(pts)
+            return extreme_points_of([self])[0]
         c = self.coeffs
         pts = [self.eval_t(self.breaks)]
         for axis in range(2):
@@ -524,3 +528,31 @@ class Spline:
                 )
             # the Hermite error falls as (piece length)^4: jump to the subdivision that should do
             subdiv = min(256, max(subdiv + 1, math.ceil(1.1 * subdiv * (err / tol) ** 0.25)))
+
+
+def extreme_points_of(splines: "list[Spline]") -> list[np.ndarray]:
+    """:meth:`Spline.extreme_points` of every spline of ``splines``, bit for bit, the root finding
+    of all the non-cubic ones (their ``x'`` and ``y'``, one set of polynomials per spline and
+    axis) in one vectorised pass (:func:`camgen.numerics.roots.grouped_sign_change_roots`)."""
+    general = [i for i, spline in enumerate(splines) if spline.degree != 3]
+    out = [spline.extreme_points() if spline.degree == 3 else spline.eval_t(spline.breaks) for spline in splines]
+    if not general:
+        return out
+    for degree in sorted({splines[i].degree for i in general}):  # one pass per degree (the rows of a pass share their length)
+        members = [i for i in general if splines[i].degree == degree]
+        scaled = [splines[i]._scaled() for i in members]
+        rows = [q[:, 1:, axis] * np.arange(1, degree + 1) for q in scaled for axis in range(2)]
+        sizes = [r.shape[0] for r in rows]
+        group = np.repeat(np.arange(len(rows)), sizes)
+        s = grouped_sign_change_roots(np.concatenate(rows), -ROOT_TOL, 1.0 + ROOT_TOL, group, len(rows))
+        start = np.cumsum([0] + sizes)
+        for m, i in enumerate(members):
+            spline, h = splines[i], np.diff(splines[i].breaks)
+            pts = [out[i]]
+            for axis in range(2):  # as roots_in_pieces: the finite roots, clipped to the piece
+                block = s[start[2 * m + axis]:start[2 * m + axis + 1]]
+                piece, col = np.nonzero(np.isfinite(block))
+                pts.append(spline.eval_piece(piece, np.clip(block[piece, col], 0.0, 1.0) * h[piece]))
+            out[i] = np.concatenate(pts)
+    return out
+
