@@ -1,0 +1,168 @@
+"""The evaluation a sweep makes of one design (issue 28 item 6), and the faster pieces under it.
+
+* :func:`camgen.evaluation.evaluation_plan`: on a sample of plate-cam designs (base radii, offsets,
+  laws, rollers, a failing pressure angle, a failing torque) every check it makes has the name,
+  status and value ``camgen check`` prints for the same scene written to a file and checked in
+  a child process (the full plan: an independent path; its table parsed by column);
+* the exact extreme points of all of a contour's spline pieces in one grouped pass
+  (:func:`camgen.contour.spline.extreme_points_of`): bit for bit those of the per-spline,
+  per-axis root finding it replaced (kept here as the reference), and the bounding box against a
+  brute-force sampling of 10^6 points per spline; the arc length against the dense polyline.
+
+No clock: the time is measured in benchmarks/bench_evaluate.py.
+"""
+from __future__ import annotations
+
+import copy
+import subprocess
+import sys
+import tomllib
+
+import numpy as np
+import pytest
+
+from helpers import scene_toml
+
+#: The design of templates/plate_cam.toml, with its machining table, and the changes of the sample.
+DESIGNS = {
+    "template": {},
+    "small_base_radius": {"base_radius_mm": 20.0},  # the pressure angle fails (and the advice appears)
+    "no_offset_small_roller": {"follower_offset_mm": 0.0, "roller_radius_mm": 6.0},
+    "negative_offset_big_roller": {"follower_offset_mm": -6.0, "roller_radius_mm": 14.0, "base_radius_mm": 55.0},
+    "low_torque_limit": {"torque_limit_n_m": 0.5, "rpm": 600.0},  # the camshaft torque fails
+    "other_laws": {"segments": [{"law": "poly345", "span_deg": 100.0, "lift_mm": 15.0}, {"law": "dwell", "span_deg": 80.0},
+                                {"law": "cycloidal", "span_deg": 140.0, "lift_mm": -15.0}, {"law": "dwell", "span_deg": 40.0}]},
+}
+#: ``camgen check``'s result column -> CheckResult.status
+STATUS = {"pass": "pass", "FAIL": "fail", "info": "info"}
+
+
+def _scene(change: dict) -> dict:
+    from camgen.scene import template_path
+
+    data = tomllib.loads(template_path("plate_cam").read_text(encoding="utf-8"))
+    data["output"]["formats"] = ["dxf"]  # the same scene both ways; the check runs no mesh or G-code
+    data["cams"]["plate"].update(copy.deepcopy(change))
+    return data
+
+
+def _check_table(stdout: str) -> list[dict[str, str]]:
+    """The rows of ``camgen check``'s table, cut at the header's column starts."""
+    lines = stdout.splitlines()
+    header = next(i for i, line in enumerate(lines) if line.split()[:3] == ["cam", "check", "result"])
+    names = lines[header].split()
+    starts = [lines[header].index(name) for name in names]
+    rows = []
+    for line in lines[header + 1:]:
+        if line.startswith("camgen:") or not line.strip():
+            break
+        cells = [line[a:b].strip() for a, b in zip(starts, starts[1:] + [len(line) + 1])]
+        rows.append(dict(zip(names, cells)))
+    return rows
+
+
+def _same_value(printed: str, value: object) -> bool:
+    """``printed`` (6 significant digits for a float) is ``value``."""
+    if isinstance(value, float):
+        return abs(float(printed) - value) <= 5e-6 * abs(value) + 1e-300
+    if value is None:
+        return printed == "-"
+    return printed == str(value)
+
+
+@pytest.mark.parametrize("design", sorted(DESIGNS))
+def test_the_evaluation_plan_makes_the_checks_camgen_check_makes(design, tmp_path):
+    from camgen.evaluation import evaluation_plan
+    from camgen.pipeline import compute
+    from camgen.scene import parse_scene
+
+    data = _scene(DESIGNS[design])
+    scene = parse_scene(data, "plate")
+    (cam,) = compute(scene, evaluation_plan(scene)).cams
+    mine = list(cam.checks)
+    text = scene_toml(data) + "[machining]\n" + "".join(f"{k} = {v!r}\n" for k, v in data["machining"].items())
+    path = tmp_path / "plate.toml"
+    path.write_text(text, encoding="utf-8")
+    proc = subprocess.run([sys.executable, "-P", "-m", "camgen", "check", str(path)], capture_output=True, text=True, timeout=300)
+    assert proc.returncode in (0, 1), proc.stderr
+    table = _check_table(proc.stdout)
+    assert [r["check"] for r in table] == [c.name for c in mine]
+    for row, check in zip(table, mine):
+        assert STATUS[row["result"]] == check.status, (row, check)
+        assert _same_value(row["value"], check.value), (row, check.value)
+    # the sample has both verdicts, as camgen check's exit status says
+    assert proc.returncode == (1 if any(c.failed for c in mine) else 0)
+    if design in ("small_base_radius", "low_torque_limit"):
+        assert proc.returncode == 1
+    assert "acceleration_harmonics" not in cam.figures  # a report-only figure, not made
+    assert {"bounds_mm", "dynamics"} <= set(cam.figures)  # the size and the dynamics figures are
+
+
+def _random_spline(rng: np.random.Generator, degree: int, pieces: int):
+    from camgen.contour import Spline
+
+    breaks = np.cumsum(np.concatenate([[rng.uniform(-1.0, 1.0)], rng.uniform(0.05, 0.6, pieces)]))
+    coeffs = rng.normal(0.0, 3.0, (degree + 1, pieces, 2))
+    powers = np.arange(degree, -1, -1)[:, None]
+    for i in range(1, pieces):  # continuous (a contour's splines are): each piece starts where the one before ends
+        coeffs[-1, i] = np.sum(coeffs[:, i - 1] * (breaks[i] - breaks[i - 1]) ** powers, axis=0)
+    return Spline(breaks, coeffs)
+
+
+def _per_spline_reference(spline) -> np.ndarray:
+    """The extreme points as the code before the grouped pass found them: per axis, one root finding per spline."""
+    from camgen.numerics.roots import roots_in_pieces
+
+    q = spline._scaled()
+    pts = [spline.eval_t(spline.breaks)]
+    for axis in range(2):
+        piece, tau = roots_in_pieces(q[:, 1:, axis] * np.arange(1, spline.degree + 1), np.diff(spline.breaks))
+        pts.append(spline.eval_piece(piece, tau))
+    return np.concatenate(pts)
+
+
+def test_grouped_extreme_points_are_bit_for_bit_the_per_spline_ones():
+    from camgen.contour.spline import extreme_points_of
+
+    rng = np.random.default_rng(28)
+    for _ in range(20):
+        splines = [_random_spline(rng, 5, int(rng.integers(1, 40))) for _ in range(int(rng.integers(1, 6)))]
+        grouped = extreme_points_of(splines)
+        for spline, got in zip(splines, grouped):
+            assert np.array_equal(got, _per_spline_reference(spline))
+
+
+def test_the_bounding_box_against_a_dense_sampling():
+    from camgen.contour.spline import extreme_points_of
+
+    rng = np.random.default_rng(6)
+    for degree in (3, 5):
+        splines = [_random_spline(rng, degree, int(rng.integers(2, 30))) for _ in range(3)]
+        for spline, pts in zip(splines, extreme_points_of(splines)):
+            t = np.linspace(spline.breaks[0], spline.breaks[-1], 1_000_001)
+            dense = np.concatenate([spline.eval_t(t), spline.eval_t(spline.breaks)])  # a side may be at a kink (a break)
+            # every sample lies in the exact box; the box's sides are reached within the sampling's
+            # error, (dt / 2)^2 / 2 * max |P''| (a side off the breaks is an extreme: P' = 0 there)
+            d2 = np.max(np.abs(spline.eval_t(t[::100], 2)))
+            slack = 0.5 * (0.5 * (t[1] - t[0])) ** 2 * d2 * 2.0 + 1e-12
+            assert np.all(dense.min(axis=0) >= pts.min(axis=0) - 1e-12)
+            assert np.all(dense.max(axis=0) <= pts.max(axis=0) + 1e-12)
+            assert np.all(dense.min(axis=0) - pts.min(axis=0) <= slack)
+            assert np.all(pts.max(axis=0) - dense.max(axis=0) <= slack)
+
+
+def test_the_template_profile_length_against_its_dense_polyline():
+    """The perimeter (Gauss-Legendre, its nodes computed once) against the chords of 10^6 points:
+    the polyline is shorter, by at most (dt^2 / 24) max |P''|^2 / |P'| per unit length."""
+    from camgen.evaluation import evaluation_plan
+    from camgen.pipeline import compute
+    from camgen.scene import parse_scene
+
+    scene = parse_scene(_scene({}), "plate")
+    (cam,) = compute(scene, evaluation_plan(scene)).cams
+    polyline = 0.0
+    for spline in cam.contour.segments:
+        t = np.union1d(np.linspace(spline.breaks[0], spline.breaks[-1], 250_001), spline.breaks)
+        polyline += float(np.sum(np.hypot(*np.diff(spline.eval_t(t), axis=0).T)))
+    assert 0.0 <= cam.contour.length - polyline <= 1e-9 * cam.contour.length
+    assert cam.figures["perimeter_mm"] == cam.contour.length
