@@ -6,8 +6,10 @@
   a child process (the full plan: an independent path; its table parsed by column);
 * the exact extreme points of all of a contour's spline pieces in one grouped pass
   (:func:`camgen.contour.spline.extreme_points_of`): bit for bit those of the per-spline,
-  per-axis root finding it replaced (kept here as the reference), and the bounding box against a
-  brute-force sampling of 10^6 points per spline; the arc length against the dense polyline.
+  per-axis root finding it replaced (kept here as the reference); the bounding box from the
+  pieces that can reach out of the break points' box only (:func:`camgen.contour.spline.bounding_box_of`)
+  bit for bit the box of every extreme point, and against a brute-force sampling of 10^6 points
+  per spline; the perimeter against the dense polyline.
 
 No clock: the time is measured in benchmarks/bench_evaluate.py.
 """
@@ -132,13 +134,27 @@ def test_grouped_extreme_points_are_bit_for_bit_the_per_spline_ones():
             assert np.array_equal(got, _per_spline_reference(spline))
 
 
+def test_the_pruned_bounding_box_is_bit_for_bit_the_box_of_every_extreme_point():
+    """bounding_box_of looks for the extremes of only the pieces whose Bezier hull reaches out of
+    the box of the break points: the box is still the min and max of every extreme point."""
+    from camgen.contour.spline import bounding_box_of
+
+    rng = np.random.default_rng(29)
+    for _ in range(60):
+        splines = [_random_spline(rng, int(rng.choice([3, 5])), int(rng.integers(1, 40))) for _ in range(int(rng.integers(1, 5)))]
+        every = np.concatenate([_per_spline_reference(s) if s.degree != 3 else s.extreme_points() for s in splines])
+        lo, hi = bounding_box_of(splines)
+        assert np.array_equal(lo, every.min(axis=0)) and np.array_equal(hi, every.max(axis=0))
+
+
 def test_the_bounding_box_against_a_dense_sampling():
-    from camgen.contour.spline import extreme_points_of
+    from camgen.contour.spline import bounding_box_of, extreme_points_of
 
     rng = np.random.default_rng(6)
     for degree in (3, 5):
         splines = [_random_spline(rng, degree, int(rng.integers(2, 30))) for _ in range(3)]
         for spline, pts in zip(splines, extreme_points_of(splines)):
+            assert all(np.array_equal(a, b) for a, b in zip(bounding_box_of([spline]), (pts.min(axis=0), pts.max(axis=0))))
             t = np.linspace(spline.breaks[0], spline.breaks[-1], 1_000_001)
             dense = np.concatenate([spline.eval_t(t), spline.eval_t(spline.breaks)])  # a side may be at a kink (a break)
             # every sample lies in the exact box; the box's sides are reached within the sampling's

@@ -13,7 +13,7 @@ from typing import Iterable, Union
 import numpy as np
 
 from camgen.contour.arc import Arc
-from camgen.contour.spline import Spline, extreme_points_of
+from camgen.contour.spline import Spline, bounding_box_of
 from camgen.contour.tables import SegmentTables, StarTable
 from camgen.errors import CornerError, GeometryError, require_positive
 from camgen.geometry import cross, unit_vectors, wrap_pi
@@ -209,8 +209,10 @@ class Contour:
     def bounds(self) -> tuple[float, float, float, float]:
         """Exact bounding box ``(xmin, ymin, xmax, ymax)``, mm."""
         splines = [seg for seg in self.segments if isinstance(seg, Spline)]
-        pts = np.concatenate([seg.extreme_points() for seg in self.segments if not isinstance(seg, Spline)] + extreme_points_of(splines))
-        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        boxes = [(p.min(axis=0), p.max(axis=0)) for p in (seg.extreme_points() for seg in self.segments if not isinstance(seg, Spline))]
+        if splines:
+            boxes.append(bounding_box_of(splines))
+        lo, hi = np.min([b[0] for b in boxes], axis=0), np.max([b[1] for b in boxes], axis=0)
         return float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])
 
     @property

@@ -23,10 +23,14 @@ from camgen.numerics.interpolate import clamped_cubic, periodic_spline
 from camgen.numerics.polynomial import derivative_factors, exponents, horner, scaled_ascending
 from camgen.numerics.roots import ROOT_TOL, grouped_sign_change_roots, roots_in_pieces, sign_change_roots
 
-__all__ = ["SPLINE_DEGREES", "Spline", "extreme_points_of", "piece_green_areas"]
+__all__ = ["BOX_SLACK", "SPLINE_DEGREES", "Spline", "bounding_box_of", "extreme_points_of", "piece_green_areas"]
 
 #: Polynomial degrees a :class:`Spline` piece may have.
 SPLINE_DEGREES = (3, 5)
+#: Relative slack (of the largest coordinate) by which a piece's Bezier hull must reach beyond the
+#: box of the break points for :func:`bounding_box_of` to look for its extremes (rounding of the
+#: control points kept on the safe side: a piece kept in vain only costs its roots).
+BOX_SLACK = 1e-9
 
 
 def _as_array(values: object) -> np.ndarray:
@@ -45,6 +49,18 @@ def _area_weights(degree: int) -> np.ndarray:
     w[i, m] = (m - i) / (i + m)
     w.flags.writeable = False
     return w
+
+
+@functools.lru_cache(maxsize=None)
+def _bezier_matrix(degree: int) -> np.ndarray:
+    """``M[j, i] = C(j, i) / C(degree, i)`` (i <= j): the Bezier control values ``M a`` of ascending
+    power coefficients ``a`` on [0, 1] (:func:`camgen.numerics.bernstein.power_to_bezier`; read-only)."""
+    m = np.zeros((degree + 1, degree + 1))
+    for j in range(degree + 1):
+        for i in range(j + 1):
+            m[j, i] = math.comb(j, i) / math.comb(degree, i)
+    m.flags.writeable = False
+    return m
 
 
 @functools.lru_cache(maxsize=None)
@@ -555,4 +571,43 @@ def extreme_points_of(splines: "list[Spline]") -> list[np.ndarray]:
                 pts.append(spline.eval_piece(piece, np.clip(block[piece, col], 0.0, 1.0) * h[piece]))
             out[i] = np.concatenate(pts)
     return out
+
+
+def bounding_box_of(splines: "list[Spline]") -> tuple[np.ndarray, np.ndarray]:
+    """The exact bounding box ``(lo, hi)`` (each (2,), mm) of ``splines``: the min and max of
+    their :func:`extreme_points_of`, with the roots of only the pieces that can reach beyond the
+    box of the break points.  A piece lies in the convex hull of its Bezier control points (Farin,
+    *Curves and Surfaces for CAGD*, ch. 4): a piece whose control points in an axis stay within
+    that box (less :data:`BOX_SLACK`) has no extreme beyond it, and its roots are not needed."""
+    ends = np.concatenate([spline.eval_t(spline.breaks) for spline in splines])
+    lo, hi = ends.min(axis=0), ends.max(axis=0)
+    slack = BOX_SLACK * float(np.max(np.abs(ends)))
+    pts = [ends] + [spline.extreme_points() for spline in splines if spline.degree == 3]  # closed form: every extreme point
+    for degree in sorted({spline.degree for spline in splines} - {3}):
+        rows, which = [], []
+        for spline in splines:
+            if spline.degree != degree:
+                continue
+            q = spline._scaled()  # (K, degree + 1, 2)
+            ctrl = np.einsum("ji,kic->kjc", _bezier_matrix(degree), q)  # the Bezier control points (K, degree + 1, 2)
+            reach = (ctrl.max(axis=1) > hi - slack) | (ctrl.min(axis=1) < lo + slack)  # (K, 2): pieces that may reach out
+            for axis in range(2):
+                pieces = np.flatnonzero(reach[:, axis])
+                if pieces.size:
+                    rows.append(q[pieces, 1:, axis] * np.arange(1, degree + 1))
+                    which.append((spline, pieces))
+        if not rows:
+            continue
+        sizes = [r.shape[0] for r in rows]
+        s = grouped_sign_change_roots(np.concatenate(rows), -ROOT_TOL, 1.0 + ROOT_TOL, np.repeat(np.arange(len(rows)), sizes), len(rows))
+        start = np.cumsum([0] + sizes)
+        for g, (spline, pieces) in enumerate(which):
+            block = s[start[g]:start[g + 1]]
+            row, col = np.nonzero(np.isfinite(block))
+            if row.size:
+                piece = pieces[row]
+                h = spline.breaks[piece + 1] - spline.breaks[piece]
+                pts.append(spline.eval_piece(piece, np.clip(block[row, col], 0.0, 1.0) * h))
+    every = np.concatenate(pts)
+    return every.min(axis=0), every.max(axis=0)
 
