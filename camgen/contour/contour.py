@@ -476,16 +476,17 @@ class Contour:
         """
         out = []
         n = self.n_segments
+        ends = [self._end_values(seg) for seg in self.segments]  # (tangent, curvature) at u = 0 and u = 1
         for i, seg in enumerate(self.segments):
             nxt = self.segments[(i + 1) % n]
             end = seg.end_point
             gap = float(np.hypot(*(end - nxt.start_point)))
-            t_end = seg.derivative(np.array([1.0]))[0]
-            t_start = nxt.derivative(np.array([0.0]))[0]
+            t_end = ends[i][0][1]
+            t_start = ends[(i + 1) % n][0][0]
             cross = t_end[0] * t_start[1] - t_end[1] * t_start[0]
             dot = float(t_end @ t_start)
             angle = abs(math.atan2(cross, dot))
-            k_jump = float(nxt.curvature(np.array([0.0]))[0] - seg.curvature(np.array([1.0]))[0])
+            k_jump = float(ends[(i + 1) % n][1][0] - ends[i][1][1])
             if gap > position_tol:
                 level = "none"
             elif angle > angle_tol:
@@ -496,6 +497,18 @@ class Contour:
                 level = "G2"
             out.append(Joint(i, (float(end[0]), float(end[1])), gap, angle, k_jump, level))
         return tuple(out)
+
+    @staticmethod
+    def _end_values(seg: "Segment") -> tuple[np.ndarray, np.ndarray]:
+        """The tangents (2, 2) and curvatures (2,) of ``seg`` at its start and end (u = 0, 1): a
+        spline's in one evaluation each (elementwise arithmetic: the values of one evaluation per
+        end), an arc's one end at a time (its sine and cosine as before)."""
+        if isinstance(seg, Spline):
+            both = np.array([0.0, 1.0])
+            return seg.derivative(both), seg.curvature(both)
+        start, end = np.array([0.0]), np.array([1.0])
+        return (np.concatenate([seg.derivative(start), seg.derivative(end)]),
+                np.concatenate([seg.curvature(start), seg.curvature(end)]))
 
     def continuity(self) -> str:
         """The lowest continuity over all joints (``"G2"``, ``"G1"``, ``"G0"`` or ``"none"``)."""
