@@ -16,6 +16,7 @@ No clock: the time is measured in benchmarks/bench_evaluate.py.
 from __future__ import annotations
 
 import copy
+import math
 import subprocess
 import sys
 import tomllib
@@ -182,3 +183,56 @@ def test_the_template_profile_length_against_its_dense_polyline():
         polyline += float(np.sum(np.hypot(*np.diff(spline.eval_t(t), axis=0).T)))
     assert 0.0 <= cam.contour.length - polyline <= 1e-9 * cam.contour.length
     assert cam.figures["perimeter_mm"] == cam.contour.length
+
+
+@pytest.mark.parametrize("depth", [5.0, 20.0, 24.0, 30.0, 45.0])
+def test_the_wall_check_sees_a_keyway_through_the_profile(depth):
+    """A keyway cut deeper and deeper from a 12 mm bore: the wall check passes while its outer
+    corners stay inside the profile and says the keyway breaks through (a wall <= -1 mm) once one
+    lies beyond it; inside or beyond from the profile's polar radius at the corner's angle,
+    interpolated from 10^6 points of the profile (independent of the check's polygon and rays)."""
+    from camgen.checking import wall_check
+    from camgen.kinds import get_kind
+    from camgen.scene import parse_scene
+
+    scene = parse_scene(_scene({"keyway_depth_mm": depth, "keyway_width_mm": 8.0, "base_radius_mm": 30.0}), "plate")
+    (spec,) = scene.cams
+    built = get_kind(spec.kind, spec.form).build(spec, frozenset())
+    contour = built.contour
+    t = np.linspace(0.0, contour.n_segments, 1_000_000, endpoint=False)
+    pts = contour.evaluate(t)
+    angle, radius = np.arctan2(pts[:, 1], pts[:, 0]), np.hypot(pts[:, 0], pts[:, 1])
+    order = np.argsort(angle)
+    corners = spec.body.keyway_corners()[1:3]
+    reach = np.interp(np.arctan2(corners[:, 1], corners[:, 0]), angle[order], radius[order], period=2 * np.pi)
+    beyond = np.hypot(corners[:, 0], corners[:, 1]) - reach
+    assert np.all(np.abs(beyond) > 1e-3)  # no case on the edge
+    check = wall_check(built)
+    if np.any(beyond > 0):
+        assert check.value <= -1.0 and check.failed
+    else:
+        assert check.value > -1.0
+
+
+def test_a_narrow_keyway_poking_through_between_the_polygon_vertices_fails_the_wall_check():
+    """A keyway 0.02 mm wide whose end lies 0.01 mm beyond the profile: narrower than the wall
+    polygon's chords there (no vertex inside it), the rays through its outer corners find it (the
+    profile's polar radius there from 10^6 points, as above)."""
+    from camgen.checking import wall_check
+    from camgen.kinds import get_kind
+    from camgen.scene import parse_scene
+
+    change = {"keyway_width_mm": 0.02, "keyway_depth_mm": 1.0, "keyway_angle_deg": 270.0, "base_radius_mm": 30.0}
+    scene = parse_scene(_scene(change), "plate")
+    (spec,) = scene.cams
+    contour = get_kind(spec.kind, spec.form).build(spec, frozenset()).contour
+    pts = contour.evaluate(np.linspace(0.0, contour.n_segments, 1_000_000, endpoint=False))
+    angle = np.arctan2(pts[:, 1], pts[:, 0])
+    order = np.argsort(angle)
+    reach = float(np.interp(-0.5 * np.pi, angle[order], np.hypot(pts[:, 0], pts[:, 1])[order]))
+    for beyond, broken in ((0.01, True), (-0.01, False)):
+        depth = math.sqrt((reach + beyond) ** 2 - 0.01**2) - 6.0  # the corner (depth + bore radius, +-0.01) at reach + beyond
+        scene = parse_scene(_scene({**change, "keyway_depth_mm": depth}), "plate")
+        (spec,) = scene.cams
+        check = wall_check(get_kind(spec.kind, spec.form).build(spec, frozenset()))
+        assert (check.value <= -1.0) == broken, (beyond, check.value)
