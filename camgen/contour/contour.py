@@ -13,7 +13,7 @@ from typing import Iterable, Union
 import numpy as np
 
 from camgen.contour.arc import Arc
-from camgen.contour.spline import Spline, bounding_box_of
+from camgen.contour.spline import Spline, bounding_box_of, flatten_params_of
 from camgen.contour.tables import SegmentTables, StarTable
 from camgen.errors import CornerError, GeometryError, require_positive
 from camgen.geometry import cross, unit_vectors, wrap_pi
@@ -180,7 +180,8 @@ class Contour:
     def flatten_params(self, chord_tol: float = DEFAULT_CHORD_TOL) -> np.ndarray:
         """Global parameters of the vertices of :meth:`flatten` (start of the contour first)."""
         require_positive("chord_tol", chord_tol)
-        parts = [i + seg.flatten_params(chord_tol) for i, seg in enumerate(self.segments)]
+        splines = iter(flatten_params_of([seg for seg in self.segments if isinstance(seg, Spline)], chord_tol))
+        parts = [i + (next(splines) if isinstance(seg, Spline) else seg.flatten_params(chord_tol)) for i, seg in enumerate(self.segments)]
         params = np.concatenate(parts)
         if params.size < 3:  # a closed polygon needs 3 vertices
             params = np.linspace(0.0, self.n_segments, 4)[:-1]

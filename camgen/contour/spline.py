@@ -23,7 +23,7 @@ from camgen.numerics.interpolate import clamped_cubic, periodic_spline
 from camgen.numerics.polynomial import derivative_factors, exponents, horner, scaled_ascending
 from camgen.numerics.roots import ROOT_TOL, grouped_sign_change_roots, roots_in_pieces, sign_change_roots
 
-__all__ = ["BOX_SLACK", "SPLINE_DEGREES", "Spline", "bounding_box_of", "extreme_points_of", "piece_green_areas"]
+__all__ = ["BOX_SLACK", "SPLINE_DEGREES", "Spline", "bounding_box_of", "extreme_points_of", "flatten_params_of", "piece_green_areas"]
 
 #: Polynomial degrees a :class:`Spline` piece may have.
 SPLINE_DEGREES = (3, 5)
@@ -194,7 +194,7 @@ class Spline:
         return self.breaks.size - 1
 
     def _locate(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        idx = np.clip(np.searchsorted(self.breaks, t, side="right") - 1, 0, self.n_pieces - 1)
+        idx = np.minimum(np.maximum(np.searchsorted(self.breaks, t, side="right") - 1, 0), self.n_pieces - 1)  # np.clip, fewer calls
         return idx, t - self.breaks[idx]
 
     def eval_t(self, t: np.ndarray, order: int = 0) -> np.ndarray:
@@ -284,15 +284,11 @@ class Spline:
         piece, so its largest norm is at one of the piece's ends; on a quintic piece its largest
         norm is bounded by its Bezier control points (:func:`_bernstein_max_norm`).
         """
+        return flatten_params_of([self], chord_tol)[0]
+
+    def _chord_params(self, max_acc: np.ndarray, chord_tol: float) -> np.ndarray:
+        """:meth:`flatten_params` given the bound ``max_acc`` (K,) of ``|P''|`` on every piece."""
         h = np.diff(self.breaks)
-        c = self.coeffs
-        if self.degree == 3:
-            acc_start = np.hypot(*(2.0 * c[1]).T)
-            acc_end = np.hypot(*(6.0 * c[0] * h[:, None] + 2.0 * c[1]).T)
-            max_acc = np.maximum(acc_start, acc_end)
-        else:
-            second = c[:-2] * derivative_factors(self.degree, 2)[:, None, None]
-            max_acc = bernstein_max_norm(second, h)
         counts = np.maximum(1, np.ceil(h * np.sqrt(max_acc / (8.0 * chord_tol)) - 1e-12)).astype(int)
         piece = np.repeat(np.arange(self.n_pieces), counts)
         first = np.repeat(np.cumsum(counts) - counts, counts)
@@ -610,4 +606,24 @@ def bounding_box_of(splines: "list[Spline]") -> tuple[np.ndarray, np.ndarray]:
                 pts.append(spline.eval_piece(piece, np.clip(block[row, col], 0.0, 1.0) * h))
     every = np.concatenate(pts)
     return every.min(axis=0), every.max(axis=0)
+
+
+def flatten_params_of(splines: "list[Spline]", chord_tol: float) -> list[np.ndarray]:
+    """:meth:`Spline.flatten_params` of every spline of ``splines`` (bit for bit), the bounds of
+    ``|P''|`` of all the pieces of one degree in one vectorised pass (elementwise per piece)."""
+    bound: dict[int, np.ndarray] = {}
+    for degree in sorted({spline.degree for spline in splines}):
+        members = [spline for spline in splines if spline.degree == degree]
+        h = np.concatenate([np.diff(spline.breaks) for spline in members])
+        c = np.concatenate([spline.coeffs for spline in members], axis=1)
+        if degree == 3:
+            acc_start = np.hypot(*(2.0 * c[1]).T)
+            acc_end = np.hypot(*(6.0 * c[0] * h[:, None] + 2.0 * c[1]).T)
+            max_acc = np.maximum(acc_start, acc_end)
+        else:
+            max_acc = bernstein_max_norm(c[:-2] * derivative_factors(degree, 2)[:, None, None], h)
+        start = np.cumsum([0] + [spline.n_pieces for spline in members])
+        for k, spline in enumerate(members):
+            bound[id(spline)] = max_acc[start[k]:start[k + 1]]
+    return [spline._chord_params(bound[id(spline)], chord_tol) for spline in splines]
 
