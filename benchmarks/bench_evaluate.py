@@ -14,8 +14,9 @@ new one: no cache of a design's values is reused), split into its stages, each t
 * dynamics: the follower train's forces, jump, torque, contact stress and their checks.
 
 The "before" row is the same split measured on commit 634d245 (before this work) with the
-same scene and designs, in the same session on the same machine (its ``evaluate`` computed the
-report-only acceleration harmonics too: it had no evaluation plan).
+same scene and designs, on the same machine, alternating three runs of each with this script's
+"now" (the medians; load average about 5 on 2 cores: six other sessions ran); its ``evaluate``
+computed the report-only acceleration harmonics too (it had no evaluation plan).
 Run:  python benchmarks/bench_evaluate.py
 """
 from __future__ import annotations
@@ -31,8 +32,8 @@ from _common import machine, print_table
 TARGET_MS = 3.0
 #: Designs per round (base radii 36 .. 55.5 mm) and rounds.
 DESIGNS, ROUNDS = 40, 5
-#: The split measured on commit 634d245 (ms; validate, build, checks, dynamics), same script logic.
-BEFORE = {"validate": 1.62, "build": 9.6, "checks": 10.5, "dynamics": 2.4}
+#: The split measured on commit 634d245 (CPU ms; validate, build, checks, dynamics), same script logic.
+BEFORE = {"validate": 2.50, "build": 9.09, "checks": 12.92, "dynamics": 2.64}
 
 
 def _split() -> dict[str, list[float]]:
@@ -95,7 +96,7 @@ def main() -> None:
     now = {name: statistics.median(values) for name, values in times.items()}
     load = " ".join(f"{v:.2f}" for v in os.getloadavg())
     print(f"One plate-cam design (templates/plate_cam.toml, {DESIGNS} base radii x {ROUNDS} rounds), in process, no files; "
-          f"median ms per design; {machine()}; load average {load} at the end")
+          f"median CPU ms per design; {machine()}; load average {load} at the end")
     print()
     rows = []
     for label, split in (("before (634d245)", BEFORE), ("now", now)):
