@@ -626,4 +626,3 @@ def flatten_params_of(splines: "list[Spline]", chord_tol: float) -> list[np.ndar
         for k, spline in enumerate(members):
             bound[id(spline)] = max_acc[start[k]:start[k + 1]]
     return [spline._chord_params(bound[id(spline)], chord_tol) for spline in splines]
-
