@@ -23,7 +23,7 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 #: The order of the sections (the others follow alphabetically).
 ORDER = ("bench_cli", "bench_three_arc", "bench_tricycle", "bench_motion_laws", "bench_peers", "bench_horse_leg",
-         "bench_exports", "bench_scaling", "bench_report", "bench_step", "bench_refusals")
+         "bench_exports", "bench_scaling", "bench_report", "bench_step", "bench_refusals", "bench_evaluate")
 START, END = "<!-- benchmarks:summary:start -->", "<!-- benchmarks:summary:end -->"
 
 

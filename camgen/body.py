@@ -72,6 +72,17 @@ class BodySpec:
 WALL_TOL = 1e-4
 
 
+def _corner_may_reach_profile(corners: np.ndarray, poly: np.ndarray, radius: np.ndarray, chord_tol: float) -> bool:
+    """Whether a keyway corner may lie on or beyond the profile along its ray from the axis: False
+    when every corner is nearer the axis than any point of the profile can be.  Every point of a
+    chord of the polygon ``poly`` (vertex distances ``radius``) is at least the nearer vertex's
+    distance less half the chord from the axis, and the profile is within ``chord_tol`` of its
+    chords: the profile keeps ``min(radius) - max(chord) / 2 - chord_tol`` from the axis."""
+    chords = np.hypot(*(np.roll(poly, -1, axis=0) - poly).T)
+    nearest = float(np.min(radius)) - 0.5 * float(np.max(chords)) - chord_tol
+    return bool(np.max(np.hypot(corners[:, 0], corners[:, 1])) >= nearest)
+
+
 def wall_left(contour: Contour, body: BodySpec, chord_tol: float = WALL_TOL) -> tuple[float, float]:
     """Thinnest wall (mm) between bore/keyway and the profile, and the cam angle (deg) where it is.
 
@@ -98,7 +109,6 @@ def wall_left(contour: Contour, body: BodySpec, chord_tol: float = WALL_TOL) -> 
         dist = np.where(inside, -1.0, dist)
         # the rectangle's outer corners must lie inside the profile (star-shaped cams)
         corners = body.keyway_corners()[1:3]
-        reach = contour.polar_radius(np.arctan2(corners[:, 1], corners[:, 0]))
         j = int(np.argmin(dist))
         k_wall = float(dist[j])
         # two polygons are nearest at a vertex of one and an edge of the other: the profile's
@@ -112,8 +122,10 @@ def wall_left(contour: Contour, body: BodySpec, chord_tol: float = WALL_TOL) -> 
             i_edge = int(np.argmin(gaps))
             if gaps[i_edge] < k_wall:
                 k_wall, j = float(gaps[i_edge]), i_edge
-        if np.any(np.hypot(corners[:, 0], corners[:, 1]) >= reach):
-            k_wall = min(k_wall, -1.0)
+        if _corner_may_reach_profile(corners, poly, radius, chord_tol):  # else no ray from the axis meets the profile that near
+            reach = contour.polar_radius(np.arctan2(corners[:, 1], corners[:, 0]))
+            if np.any(np.hypot(corners[:, 0], corners[:, 1]) >= reach):
+                k_wall = min(k_wall, -1.0)
         if k_wall < wall:
             wall, where = k_wall, poly[j]
     return wall - chord_tol, math.degrees(math.atan2(where[1], where[0])) % 360.0

@@ -19,11 +19,14 @@ if TYPE_CHECKING:
 __all__ = ["evaluate", "wall_check"]
 
 
-def evaluate(cam: "BuiltCam", spec: "CamSpec", tool_radius: float, tool_is_limit: bool) -> "CamEvaluation":
+def evaluate(cam: "BuiltCam", spec: "CamSpec", tool_radius: float, tool_is_limit: bool,
+             report_figures: bool = True) -> "CamEvaluation":
     """The design checks of one built cam, its wall check and the figures they add.
 
     ``tool_radius``: the cutting tool's radius (mm); ``tool_is_limit``: the concave radii are held
-    to it (the scene names a tool or machines the cam), else it is information.
+    to it (the scene names a tool or machines the cam), else it is information; ``report_figures``
+    False leaves out the figures no check needs (the acceleration harmonics:
+    :attr:`camgen.planning.Plan.report_figures`).
     """
     from camgen.checks import CheckResult, evaluate_cam
     from camgen.kinds import get_kind
@@ -61,7 +64,7 @@ def evaluate(cam: "BuiltCam", spec: "CamSpec", tool_radius: float, tool_is_limit
     from camgen.synthesis.harmonics import harmonic_figures
 
     checks += jerk_limit_check(spec.checks.jerk_limit, spec.checks.rpm, evaluation.motion)
-    harmonics = harmonic_figures(evaluation.motion, rpm)
+    harmonics = harmonic_figures(evaluation.motion, rpm) if report_figures else {}
     if harmonics:
         figures["acceleration_harmonics"] = harmonics
     # ---- end VDI ----

@@ -76,7 +76,8 @@ def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> "RunResu
         progress(f"building cam '{spec.name}' ({spec.kind})")
         built = get_kind(spec.kind, spec.form).build(spec, plan.stages)
         progress(f"checking cam '{spec.name}'")
-        cam = CamResult(spec, built, with_cam(where, lambda: evaluate(built, spec, tool_radius, spec.checks.tool_is_limit)))
+        cam = CamResult(spec, built, with_cam(where, lambda: evaluate(built, spec, tool_radius, spec.checks.tool_is_limit,
+                                                                        plan.report_figures)))
         if spec.dynamics is not None:  # forces, jump, torque, contact stress: checks like the geometric ones
             from camgen.kinds.dynamics import run_dynamics
 

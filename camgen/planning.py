@@ -28,12 +28,15 @@ class Plan:
 
     ``formats``: the outputs written (registered names); ``stages``: the stages run besides
     synthesis and checks; ``full_report``: report.json carries the analysis figures (every run
-    but one restricted by ``--only`` without ``json``).
+    but one restricted by ``--only`` without ``json``); ``report_figures``: the report's figures
+    beyond the checks and the main figures (the law's acceleration harmonics) are computed: every
+    planned run; False in the evaluation of one design by a sweep (:mod:`camgen.evaluation`).
     """
 
     formats: tuple[str, ...]
     stages: frozenset[str]
     full_report: bool = True
+    report_figures: bool = True
 
 
 def _refuse_formats_of_forms(scene: "Scene", formats: Sequence[str]) -> None:

@@ -13,7 +13,7 @@ from typing import Iterable, Union
 import numpy as np
 
 from camgen.contour.arc import Arc
-from camgen.contour.spline import Spline
+from camgen.contour.spline import Spline, bounding_box_of, flatten_params_of
 from camgen.contour.tables import SegmentTables, StarTable
 from camgen.errors import CornerError, GeometryError, require_positive
 from camgen.geometry import cross, unit_vectors, wrap_pi
@@ -180,7 +180,8 @@ class Contour:
     def flatten_params(self, chord_tol: float = DEFAULT_CHORD_TOL) -> np.ndarray:
         """Global parameters of the vertices of :meth:`flatten` (start of the contour first)."""
         require_positive("chord_tol", chord_tol)
-        parts = [i + seg.flatten_params(chord_tol) for i, seg in enumerate(self.segments)]
+        splines = iter(flatten_params_of([seg for seg in self.segments if isinstance(seg, Spline)], chord_tol))
+        parts = [i + (next(splines) if isinstance(seg, Spline) else seg.flatten_params(chord_tol)) for i, seg in enumerate(self.segments)]
         params = np.concatenate(parts)
         if params.size < 3:  # a closed polygon needs 3 vertices
             params = np.linspace(0.0, self.n_segments, 4)[:-1]
@@ -208,8 +209,11 @@ class Contour:
     @property
     def bounds(self) -> tuple[float, float, float, float]:
         """Exact bounding box ``(xmin, ymin, xmax, ymax)``, mm."""
-        pts = np.concatenate([seg.extreme_points() for seg in self.segments])
-        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        splines = [seg for seg in self.segments if isinstance(seg, Spline)]
+        boxes = [(p.min(axis=0), p.max(axis=0)) for p in (seg.extreme_points() for seg in self.segments if not isinstance(seg, Spline))]
+        if splines:
+            boxes.append(bounding_box_of(splines))
+        lo, hi = np.min([b[0] for b in boxes], axis=0), np.max([b[1] for b in boxes], axis=0)
         return float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])
 
     @property
@@ -473,16 +477,17 @@ class Contour:
         """
         out = []
         n = self.n_segments
+        ends = [self._end_values(seg) for seg in self.segments]  # (tangent, curvature) at u = 0 and u = 1
         for i, seg in enumerate(self.segments):
             nxt = self.segments[(i + 1) % n]
             end = seg.end_point
             gap = float(np.hypot(*(end - nxt.start_point)))
-            t_end = seg.derivative(np.array([1.0]))[0]
-            t_start = nxt.derivative(np.array([0.0]))[0]
+            t_end = ends[i][0][1]
+            t_start = ends[(i + 1) % n][0][0]
             cross = t_end[0] * t_start[1] - t_end[1] * t_start[0]
             dot = float(t_end @ t_start)
             angle = abs(math.atan2(cross, dot))
-            k_jump = float(nxt.curvature(np.array([0.0]))[0] - seg.curvature(np.array([1.0]))[0])
+            k_jump = float(ends[(i + 1) % n][1][0] - ends[i][1][1])
             if gap > position_tol:
                 level = "none"
             elif angle > angle_tol:
@@ -493,6 +498,18 @@ class Contour:
                 level = "G2"
             out.append(Joint(i, (float(end[0]), float(end[1])), gap, angle, k_jump, level))
         return tuple(out)
+
+    @staticmethod
+    def _end_values(seg: "Segment") -> tuple[np.ndarray, np.ndarray]:
+        """The tangents (2, 2) and curvatures (2,) of ``seg`` at its start and end (u = 0, 1): a
+        spline's in one evaluation each (elementwise arithmetic: the values of one evaluation per
+        end), an arc's one end at a time (its sine and cosine as before)."""
+        if isinstance(seg, Spline):
+            both = np.array([0.0, 1.0])
+            return seg.derivative(both), seg.curvature(both)
+        start, end = np.array([0.0]), np.array([1.0])
+        return (np.concatenate([seg.derivative(start), seg.derivative(end)]),
+                np.concatenate([seg.curvature(start), seg.curvature(end)]))
 
     def continuity(self) -> str:
         """The lowest continuity over all joints (``"G2"``, ``"G1"``, ``"G0"`` or ``"none"``)."""

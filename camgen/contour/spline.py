@@ -21,12 +21,16 @@ from camgen.numerics.bernstein import bernstein_max_norm, power_to_bezier
 from camgen.numerics.hermite import cubic_hermite_coefficients, quintic_hermite_coefficients
 from camgen.numerics.interpolate import clamped_cubic, periodic_spline
 from camgen.numerics.polynomial import derivative_factors, exponents, horner, scaled_ascending
-from camgen.numerics.roots import ROOT_TOL, roots_in_pieces, sign_change_roots
+from camgen.numerics.roots import ROOT_TOL, grouped_sign_change_roots, roots_in_pieces, sign_change_roots
 
-__all__ = ["SPLINE_DEGREES", "Spline", "piece_green_areas"]
+__all__ = ["BOX_SLACK", "SPLINE_DEGREES", "Spline", "bounding_box_of", "extreme_points_of", "flatten_params_of", "piece_green_areas"]
 
 #: Polynomial degrees a :class:`Spline` piece may have.
 SPLINE_DEGREES = (3, 5)
+#: Relative slack (of the largest coordinate) by which a piece's Bezier hull must reach beyond the
+#: box of the break points for :func:`bounding_box_of` to look for its extremes (rounding of the
+#: control points kept on the safe side: a piece kept in vain only costs its roots).
+BOX_SLACK = 1e-9
 
 
 def _as_array(values: object) -> np.ndarray:
@@ -45,6 +49,27 @@ def _area_weights(degree: int) -> np.ndarray:
     w[i, m] = (m - i) / (i + m)
     w.flags.writeable = False
     return w
+
+
+@functools.lru_cache(maxsize=None)
+def _bezier_matrix(degree: int) -> np.ndarray:
+    """``M[j, i] = C(j, i) / C(degree, i)`` (i <= j): the Bezier control values ``M a`` of ascending
+    power coefficients ``a`` on [0, 1] (:func:`camgen.numerics.bernstein.power_to_bezier`; read-only)."""
+    m = np.zeros((degree + 1, degree + 1))
+    for j in range(degree + 1):
+        for i in range(j + 1):
+            m[j, i] = math.comb(j, i) / math.comb(degree, i)
+    m.flags.writeable = False
+    return m
+
+
+@functools.lru_cache(maxsize=None)
+def _gauss_legendre(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The ``n``-point Gauss-Legendre nodes and weights on [-1, 1] (numpy's, computed once; read-only)."""
+    nodes, weights = np.polynomial.legendre.leggauss(n)
+    nodes.flags.writeable = False
+    weights.flags.writeable = False
+    return nodes, weights
 
 
 def piece_green_areas(q: np.ndarray) -> np.ndarray:
@@ -169,7 +194,7 @@ class Spline:
         return self.breaks.size - 1
 
     def _locate(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        idx = np.clip(np.searchsorted(self.breaks, t, side="right") - 1, 0, self.n_pieces - 1)
+        idx = np.minimum(np.maximum(np.searchsorted(self.breaks, t, side="right") - 1, 0), self.n_pieces - 1)  # np.clip, fewer calls
         return idx, t - self.breaks[idx]
 
     def eval_t(self, t: np.ndarray, order: int = 0) -> np.ndarray:
@@ -243,7 +268,7 @@ class Spline:
     @property
     def length(self) -> float:
         """Arc length, mm, by 16-point Gauss-Legendre quadrature on every piece (error < 1e-12 relative for smooth pieces)."""
-        nodes, weights = np.polynomial.legendre.leggauss(16)
+        nodes, weights = _gauss_legendre(16)
         h = np.diff(self.breaks)
         tau = 0.5 * (nodes[:, None] + 1.0) * h[None, :]  # (16, K)
         d1 = self.eval_piece(np.tile(np.arange(self.n_pieces), 16), tau.ravel(), 1).reshape(16, -1, 2)
@@ -259,15 +284,11 @@ class Spline:
         piece, so its largest norm is at one of the piece's ends; on a quintic piece its largest
         norm is bounded by its Bezier control points (:func:`_bernstein_max_norm`).
         """
+        return flatten_params_of([self], chord_tol)[0]
+
+    def _chord_params(self, max_acc: np.ndarray, chord_tol: float) -> np.ndarray:
+        """:meth:`flatten_params` given the bound ``max_acc`` (K,) of ``|P''|`` on every piece."""
         h = np.diff(self.breaks)
-        c = self.coeffs
-        if self.degree == 3:
-            acc_start = np.hypot(*(2.0 * c[1]).T)
-            acc_end = np.hypot(*(6.0 * c[0] * h[:, None] + 2.0 * c[1]).T)
-            max_acc = np.maximum(acc_start, acc_end)
-        else:
-            second = c[:-2] * derivative_factors(self.degree, 2)[:, None, None]
-            max_acc = bernstein_max_norm(second, h)
         counts = np.maximum(1, np.ceil(h * np.sqrt(max_acc / (8.0 * chord_tol)) - 1e-12)).astype(int)
         piece = np.repeat(np.arange(self.n_pieces), counts)
         first = np.repeat(np.cumsum(counts) - counts, counts)
@@ -344,12 +365,7 @@ class Spline:
         """Break points and axis-extreme points (k, 2): the exact bounding box of the spline."""
         if self.degree != 3:
             # x'(s) and y'(s) (degree 4 for a quintic): the extremes are at their sign changes
-            q = self._scaled()
-            pts = [self.eval_t(self.breaks)]
-            for axis in range(2):
-                piece, tau = roots_in_pieces(q[:, 1:, axis] * np.arange(1, self.degree + 1), np.diff(self.breaks))
-                pts.append(self.eval_piece(piece, tau))
-            return np.concatenate(pts)
+            return extreme_points_of([self])[0]
         c = self.coeffs
         pts = [self.eval_t(self.breaks)]
         for axis in range(2):
@@ -524,3 +540,89 @@ class Spline:
                 )
             # the Hermite error falls as (piece length)^4: jump to the subdivision that should do
             subdiv = min(256, max(subdiv + 1, math.ceil(1.1 * subdiv * (err / tol) ** 0.25)))
+
+
+def extreme_points_of(splines: "list[Spline]") -> list[np.ndarray]:
+    """:meth:`Spline.extreme_points` of every spline of ``splines``, bit for bit, the root finding
+    of all the non-cubic ones (their ``x'`` and ``y'``, one set of polynomials per spline and
+    axis) in one vectorised pass (:func:`camgen.numerics.roots.grouped_sign_change_roots`)."""
+    general = [i for i, spline in enumerate(splines) if spline.degree != 3]
+    out = [spline.extreme_points() if spline.degree == 3 else spline.eval_t(spline.breaks) for spline in splines]
+    if not general:
+        return out
+    for degree in sorted({splines[i].degree for i in general}):  # one pass per degree (the rows of a pass share their length)
+        members = [i for i in general if splines[i].degree == degree]
+        scaled = [splines[i]._scaled() for i in members]
+        rows = [q[:, 1:, axis] * np.arange(1, degree + 1) for q in scaled for axis in range(2)]
+        sizes = [r.shape[0] for r in rows]
+        group = np.repeat(np.arange(len(rows)), sizes)
+        s = grouped_sign_change_roots(np.concatenate(rows), -ROOT_TOL, 1.0 + ROOT_TOL, group, len(rows))
+        start = np.cumsum([0] + sizes)
+        for m, i in enumerate(members):
+            spline, h = splines[i], np.diff(splines[i].breaks)
+            pts = [out[i]]
+            for axis in range(2):  # as roots_in_pieces: the finite roots, clipped to the piece
+                block = s[start[2 * m + axis]:start[2 * m + axis + 1]]
+                piece, col = np.nonzero(np.isfinite(block))
+                pts.append(spline.eval_piece(piece, np.clip(block[piece, col], 0.0, 1.0) * h[piece]))
+            out[i] = np.concatenate(pts)
+    return out
+
+
+def bounding_box_of(splines: "list[Spline]") -> tuple[np.ndarray, np.ndarray]:
+    """The exact bounding box ``(lo, hi)`` (each (2,), mm) of ``splines``: the min and max of
+    their :func:`extreme_points_of`, with the roots of only the pieces that can reach beyond the
+    box of the break points.  A piece lies in the convex hull of its Bezier control points (Farin,
+    *Curves and Surfaces for CAGD*, ch. 4): a piece whose control points in an axis stay within
+    that box (less :data:`BOX_SLACK`) has no extreme beyond it, and its roots are not needed."""
+    ends = np.concatenate([spline.eval_t(spline.breaks) for spline in splines])
+    lo, hi = ends.min(axis=0), ends.max(axis=0)
+    slack = BOX_SLACK * float(np.max(np.abs(ends)))
+    pts = [ends] + [spline.extreme_points() for spline in splines if spline.degree == 3]  # closed form: every extreme point
+    for degree in sorted({spline.degree for spline in splines} - {3}):
+        rows, which = [], []
+        for spline in splines:
+            if spline.degree != degree:
+                continue
+            q = spline._scaled()  # (K, degree + 1, 2)
+            ctrl = np.einsum("ji,kic->kjc", _bezier_matrix(degree), q)  # the Bezier control points (K, degree + 1, 2)
+            reach = (ctrl.max(axis=1) > hi - slack) | (ctrl.min(axis=1) < lo + slack)  # (K, 2): pieces that may reach out
+            for axis in range(2):
+                pieces = np.flatnonzero(reach[:, axis])
+                if pieces.size:
+                    rows.append(q[pieces, 1:, axis] * np.arange(1, degree + 1))
+                    which.append((spline, pieces))
+        if not rows:
+            continue
+        sizes = [r.shape[0] for r in rows]
+        s = grouped_sign_change_roots(np.concatenate(rows), -ROOT_TOL, 1.0 + ROOT_TOL, np.repeat(np.arange(len(rows)), sizes), len(rows))
+        start = np.cumsum([0] + sizes)
+        for g, (spline, pieces) in enumerate(which):
+            block = s[start[g]:start[g + 1]]
+            row, col = np.nonzero(np.isfinite(block))
+            if row.size:
+                piece = pieces[row]
+                h = spline.breaks[piece + 1] - spline.breaks[piece]
+                pts.append(spline.eval_piece(piece, np.clip(block[row, col], 0.0, 1.0) * h))
+    every = np.concatenate(pts)
+    return every.min(axis=0), every.max(axis=0)
+
+
+def flatten_params_of(splines: "list[Spline]", chord_tol: float) -> list[np.ndarray]:
+    """:meth:`Spline.flatten_params` of every spline of ``splines`` (bit for bit), the bounds of
+    ``|P''|`` of all the pieces of one degree in one vectorised pass (elementwise per piece)."""
+    bound: dict[int, np.ndarray] = {}
+    for degree in sorted({spline.degree for spline in splines}):
+        members = [spline for spline in splines if spline.degree == degree]
+        h = np.concatenate([np.diff(spline.breaks) for spline in members])
+        c = np.concatenate([spline.coeffs for spline in members], axis=1)
+        if degree == 3:
+            acc_start = np.hypot(*(2.0 * c[1]).T)
+            acc_end = np.hypot(*(6.0 * c[0] * h[:, None] + 2.0 * c[1]).T)
+            max_acc = np.maximum(acc_start, acc_end)
+        else:
+            max_acc = bernstein_max_norm(c[:-2] * derivative_factors(degree, 2)[:, None, None], h)
+        start = np.cumsum([0] + [spline.n_pieces for spline in members])
+        for k, spline in enumerate(members):
+            bound[id(spline)] = max_acc[start[k]:start[k + 1]]
+    return [spline._chord_params(bound[id(spline)], chord_tol) for spline in splines]

@@ -73,7 +73,8 @@ class SegmentTables:
             self.piece_start = self.break_start[:-1] - np.arange(len(splines))  # K pieces per K + 1 breaks
             self.n_pieces = np.array([seg.n_pieces for seg in self.splines])
             self.degree = max(seg.degree for seg in self.splines)
-            self.rows = np.concatenate([np.pad(seg._rows, ((0, 0), (self.degree - seg.degree, 0), (0, 0))) for seg in self.splines])
+            self.rows = np.concatenate([seg._rows if seg.degree == self.degree else
+                                        np.pad(seg._rows, ((0, 0), (self.degree - seg.degree, 0), (0, 0))) for seg in self.splines])
             self.t0 = np.array([seg.breaks[0] for seg in self.splines])
             self.span = np.array([seg.span for seg in self.splines])
 
@@ -90,7 +91,7 @@ class SegmentTables:
         """Rows (into ``self.rows``) and offsets of spline parameters ``t`` of splines
         ``spline``: Spline._locate for many splines at once."""
         local = _grouped_searchsorted(self.breaks, self.break_start, spline, t) - 1
-        local = np.clip(local, 0, self.n_pieces[spline] - 1)
+        local = np.minimum(np.maximum(local, 0), self.n_pieces[spline] - 1)  # np.clip, fewer calls
         return self.piece_start[spline] + local, t - self.breaks[self.break_start[spline] + local]
 
     def spline_values(self, idx: np.ndarray, u: np.ndarray, method: str) -> np.ndarray:

@@ -51,13 +51,35 @@ def form_key(motion_name: str) -> Key:
     return Key("form", Choice(forms), doc, ("profile",), default=get_motion(motion_name).default_form)
 
 
+#: (motion name, form name) -> (the registry entries it was composed from, the kind): a composed
+#: kind (its key schema included) is made once and reused while the motion, form and follower
+#: registries hold the same entries (one registered or removed later recomposes it).
+_COMPOSED: dict[tuple[str, str], tuple[tuple[object, ...], CamKind]] = {}
+
+
+def _entries(motion: "Motion") -> tuple[object, ...]:
+    """The registry entries a composed kind depends on: the motion, every form and every follower."""
+    from camgen.followers import follower_names, get_follower
+    from camgen.forms import form_names, get_form
+
+    return (motion, *(get_form(n) for n in form_names()), None, *(get_follower(n) for n in follower_names()))
+
+
 def get_kind(name: str, form: str | None = None) -> CamKind:
     """The cam type of motion ``name`` realised by ``form`` (default: the motion's default form);
-    KeyError if either is unknown or the form does not realise the motion."""
+    KeyError if either is unknown or the form does not realise the motion.  Composed once per
+    registry state (:data:`_COMPOSED`): the same object while nothing is registered or removed."""
     from camgen.motions import get_motion
 
     motion = get_motion(name)
-    return _compose(name, form if form is not None else motion.default_form, motion)
+    form_name = form if form is not None else motion.default_form
+    entries = _entries(motion)
+    hit = _COMPOSED.get((name, form_name))
+    if hit is not None and len(hit[0]) == len(entries) and all(a is b for a, b in zip(hit[0], entries)):
+        return hit[1]
+    kind = _compose(name, form_name, motion)
+    _COMPOSED[(name, form_name)] = (entries, kind)
+    return kind
 
 
 def _compose(name: str, form_name: str, motion: "Motion") -> CamKind:

@@ -12,6 +12,8 @@ Horner's rule evaluates both (no powers formed).
 """
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 __all__ = ["EXPONENTS", "MAX_DEGREE", "derivative_factors", "exponents", "horner", "horner_ascending", "power_coefficients",
@@ -29,14 +31,16 @@ def exponents(degree: int) -> np.ndarray:
     return EXPONENTS[: degree + 1] if degree <= MAX_DEGREE else np.arange(degree + 1.0)[:, None]
 
 
+@functools.lru_cache(maxsize=None)
 def derivative_factors(degree: int, order: int) -> np.ndarray:
     """Factors (degree + 1 - order,) turning the coefficients (highest power first) of a degree
     ``degree`` polynomial into those of its ``order``-th derivative: ``p!/(p - order)!`` for the
-    powers ``p = degree .. order``."""
+    powers ``p = degree .. order`` (computed once per degree and order; read-only)."""
     powers = np.arange(degree, order - 1, -1, dtype=float)
     out = np.ones_like(powers)
     for j in range(order):
         out *= powers - j
+    out.flags.writeable = False
     return out
 
 
@@ -47,7 +51,12 @@ def horner(c: np.ndarray, tau: np.ndarray, order: int = 0) -> np.ndarray:
     degree = c.shape[1] - 1
     if order > degree:
         return np.zeros(c.shape[:1] + c.shape[2:])
-    f = derivative_factors(degree, order)
+    if order == 0:  # every factor 1: the products by them are exact, left out
+        acc = c[:, 0] * 1.0
+        for m in range(1, degree + 1):
+            acc = acc * tau + c[:, m]
+        return acc
+    f = derivative_factors(degree, order).tolist()
     acc = c[:, 0] * f[0]
     for m in range(1, degree + 1 - order):
         acc = acc * tau + c[:, m] * f[m]
@@ -56,7 +65,8 @@ def horner(c: np.ndarray, tau: np.ndarray, order: int = 0) -> np.ndarray:
 
 def horner_ascending(a: np.ndarray, x: np.ndarray) -> np.ndarray:
     """Values (n, k) of the polynomials with ascending coefficients ``a`` (n, degree + 1) at ``x`` (n, k) (Horner)."""
-    acc = np.broadcast_to(a[:, -1:], x.shape).copy()
+    acc = np.empty(x.shape, dtype=a.dtype)
+    acc[...] = a[:, -1:]
     for i in range(a.shape[1] - 2, -1, -1):
         acc *= x
         acc += a[:, i : i + 1]

@@ -46,7 +46,7 @@ class PiecewisePolynomial:
 
     def piece(self, t: np.ndarray) -> np.ndarray:
         """Index of the piece holding each ``t`` (the right-hand piece at a break)."""
-        return np.clip(np.searchsorted(self.x, t, side="right") - 1, 0, self.x.size - 2)
+        return np.minimum(np.maximum(np.searchsorted(self.x, t, side="right") - 1, 0), self.x.size - 2)  # np.clip, fewer calls
 
     def __call__(self, t: np.ndarray) -> np.ndarray:
         t = np.asarray(t, dtype=float)
