@@ -139,10 +139,11 @@ def main_figures(cam: "CamResult") -> dict[str, float | None]:
 
 
 def design_plan(scene: "Scene") -> "Plan":
-    """The plan of a design's evaluation: synthesis, every design check and the dynamics, no files."""
-    from camgen.planning import plan_run
+    """The plan of a design's evaluation: synthesis, every design check and the dynamics, no
+    files and no figure only the report draws (:func:`camgen.evaluation.evaluation_plan`)."""
+    from camgen.evaluation import evaluation_plan
 
-    return plan_run(scene, ["json"])
+    return evaluation_plan(scene)
 
 
 def evaluate_point(study: StudyScene, keys: "Sequence[KeyPath]", values: "Sequence[Value]") -> Row:
