@@ -1,4 +1,4 @@
-"""Command line: ``camgen run | check | templates | new | keys``.
+"""Command line: ``camgen run | check | templates | new | keys | serve``.
 
 Only argparse is imported at start-up; each command imports what it needs.  Exit status
 (:data:`EXIT_STATUS`): 0 every check passed; 1 a design check failed (``run`` writes the report
@@ -57,6 +57,9 @@ EXAMPLES = {
   camgen keys                                 every scene key: type, range, default, what it changes
   camgen keys motion_law                      the keys of one cam kind ([cams.<name>] with that kind)
   camgen keys machining                       the keys of one table (output, machining, a mechanism)""",
+    "serve": """examples:
+  camgen serve                                the bundled default scene at http://127.0.0.1:8765/
+  camgen serve my_cam.toml --port 8800        edit my_cam.toml in the browser (Save gives the edited TOML)""",
 }
 
 
@@ -224,6 +227,12 @@ def _cmd_keys(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_serve(args: argparse.Namespace) -> int:
+    from camgen.serve.server import serve
+
+    return serve(args.scene, args.host, args.port, args.allow_remote)
+
+
 class _Parser(argparse.ArgumentParser):
     """argparse with camgen's one-line errors (argparse prints the usage and exits 2 itself)."""
 
@@ -265,6 +274,13 @@ def build_parser() -> argparse.ArgumentParser:
     keys = command("keys", "the scene-key reference: type, range, default and what each key changes")
     keys.add_argument("section", nargs="?", help="a cam kind, output, machining or a mechanism (default: all)")
     keys.set_defaults(func=_cmd_keys)
+    serve = command("serve", "the live design page: edit a scene in the browser, see its checks and plots (a local server)")
+    serve.add_argument("scene", nargs="?", help="scene file (TOML); default: the bundled default scene")
+    serve.add_argument("--port", type=int, default=8765, help="TCP port (default 8765; 0: any free port)")
+    serve.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1; others need --allow-remote)")
+    serve.add_argument("--allow-remote", action="store_true", help="allow a --host that is not loopback (no authentication: "
+                       "anyone who reaches the port can use the server)")
+    serve.set_defaults(func=_cmd_serve)
     return parser
 
 
