@@ -107,6 +107,30 @@ def test_serve_page_in_chromium(tmp_path):
             # every cam key of the schema is on the form with its unit, range and help
             assert page.locator('[data-path="cams.plate.roller_radius_mm"] small').inner_text().startswith("a number mm")
 
+            # an answer older than the one shown is dropped: the evaluation of 45 mm is held back
+            # until that of 40 mm is drawn, then let through
+            held: list[Any] = []
+
+            def hold_first(route: Any) -> None:
+                if held:
+                    route.continue_()
+                else:
+                    held.append((route, route.fetch()))
+
+            shown_seq = int(page.get_attribute("body", "data-drawn-seq") or "0")
+            page.route("**/api/evaluate", hold_first)
+            page.fill(f'[data-path="{base}"] input', "45")
+            page.wait_for_timeout(300)  # past the debounce: the request of 45 mm is sent (and held)
+            page.fill(f'[data-path="{base}"] input', "40")
+            page.wait_for_selector(f'body[data-drawn-seq="{shown_seq + 2}"]', state="attached", timeout=STEP_MS)
+            assert len(held) == 1 and json.loads(held[0][0].request.post_data or "{}")["data"]["cams"]["plate"]["base_radius_mm"] == 45
+            route, response = held[0]
+            route.fulfill(response=response)
+            _idle(page)
+            page.unroute("**/api/evaluate")
+            assert page.get_attribute("body", "data-drawn-seq") == str(shown_seq + 2)
+            assert _figure(page, "base_radius_mm") == 40.0
+
             # lower the base radius until the pressure angle is too large
             radius = 40
             while _check(page, "pressure_angle")[0] != "fail":
