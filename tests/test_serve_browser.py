@@ -98,6 +98,8 @@ def test_serve_page_in_chromium(tmp_path):
             page = context.new_page()
             page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
             page.on("pageerror", lambda e: errors.append(str(e)))
+            requests: list[str] = []
+            page.on("request", lambda r: requests.append(r.url))
             page.goto(f"http://127.0.0.1:{port}/")
             _idle(page)
             base = "cams.plate.base_radius_mm"
@@ -106,6 +108,22 @@ def test_serve_page_in_chromium(tmp_path):
             assert page.locator("#verdict").get_attribute("class") == "badge pass"
             # every cam key of the schema is on the form with its unit, range and help
             assert page.locator('[data-path="cams.plate.roller_radius_mm"] small').inner_text().startswith("a number mm")
+            # the profile with its follower and rotation arrow, the plots with the pressure-angle limits
+            assert page.locator("#cam-outline").count() == 1 and page.locator("#rotation-arrow").count() == 1
+            assert page.locator('#follower path[data-label="roller"]').count() == 1
+            for plot in ("plot-s", "plot-v", "plot-a", "plot-j", "plot-pressure", "plot-curvature", "plot-force", "plot-torque"):
+                assert page.locator(f"#{plot} path.series").count() == 1, plot
+            assert page.locator("#plot-pressure line.limit").count() == 2
+
+            # a second cam added (its own tab, form and drawing), then removed
+            page.click("#add-cam")
+            _idle(page)
+            assert page.locator("#tabs button.cam").all_inner_texts() == ["plate", "cam2"]
+            assert page.locator('[data-path="cams.cam2.base_radius_mm"] input').count() == 1
+            assert page.locator("#cam-outline").count() == 1 and _check(page, "pressure_angle")[0] == "pass"
+            page.click("#remove-cam")
+            _idle(page)
+            assert page.locator("#tabs button.cam").all_inner_texts() == ["plate"]
 
             # an answer older than the one shown is dropped: the evaluation of 45 mm is held back
             # until that of 40 mm is drawn, then let through
@@ -120,7 +138,10 @@ def test_serve_page_in_chromium(tmp_path):
             shown_seq = int(page.get_attribute("body", "data-drawn-seq") or "0")
             page.route("**/api/evaluate", hold_first)
             page.fill(f'[data-path="{base}"] input', "45")
-            page.wait_for_timeout(300)  # past the debounce: the request of 45 mm is sent (and held)
+            for _ in range(STEP_MS // 50):  # past the debounce: the request of 45 mm is sent (and held)
+                if held:
+                    break
+                page.wait_for_timeout(50)
             page.fill(f'[data-path="{base}"] input', "40")
             page.wait_for_selector(f'body[data-drawn-seq="{shown_seq + 2}"]', state="attached", timeout=STEP_MS)
             assert len(held) == 1 and json.loads(held[0][0].request.post_data or "{}")["data"]["cams"]["plate"]["base_radius_mm"] == 45
@@ -204,6 +225,8 @@ def test_serve_page_in_chromium(tmp_path):
         except subprocess.TimeoutExpired:
             server.kill()
     assert not errors, errors
+    # the page works offline: it asked nothing of any other host
+    assert [u for u in requests if not u.startswith((f"http://127.0.0.1:{port}/", "blob:", "data:"))] == []
 
     # the saved scene holds what the page showed, and keeps the template's comments where the
     # server has the comment-keeping editor (camgen.scene_edit, issue 28; else it writes plain TOML)
