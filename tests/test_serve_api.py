@@ -90,15 +90,17 @@ def test_scene_is_the_file_as_read(server):
     assert scene["name"] == "default"
 
 
-def test_evaluate_equals_report_json_of_camgen_run(server, tmp_path):
+@pytest.mark.parametrize("template", ["default", "plate_cam"])
+def test_evaluate_equals_report_json_of_camgen_run(server, tmp_path, template):
     """The page's figures and checks of every cam are report.json's of ``camgen run`` (another
     process) on the same scene, value for value (but the figures of the mesh, which the page does
-    not make)."""
-    answer = post(server.port, "/api/evaluate", {"seq": 7, "data": default_data()})
+    not make): the default scene (three cams of two kinds, a mechanism) and the plate cam (dynamics)."""
+    path = template_path(template)
+    answer = post(server.port, "/api/evaluate", {"seq": 7, "data": tomllib.loads(path.read_text(encoding="utf-8"))})
     assert answer["seq"] == 7 and answer["ok"] is True and answer["error"] is None
-    run = camgen("run", "-o", str(tmp_path), "-q")
+    run = camgen("run", str(path), "-o", str(tmp_path), "-q")
     assert run.returncode == 0, run.stderr
-    report = json.loads((tmp_path / "default" / "report.json").read_text(encoding="utf-8"))
+    report = json.loads((tmp_path / template / "report.json").read_text(encoding="utf-8"))
     assert answer["verdict"] == report["status"] == "pass"
     assert [c["name"] for c in answer["cams"]] == list(report["cams"])
     for cam in answer["cams"]:
@@ -107,6 +109,27 @@ def test_evaluate_equals_report_json_of_camgen_run(server, tmp_path):
         assert cam["figures"] == {k: v for k, v in expected["figures"].items() if k not in MESH_FIGURES}
         assert [{k: v for k, v in c.items() if k not in ("where", "keys")} for c in cam["checks"]] == expected["checks"]
     assert answer["mechanisms"] == report["mechanisms"]
+
+
+@pytest.mark.parametrize("template", sorted(p.stem for p in template_path("default").parent.glob("*.toml")))
+def test_every_template_evaluates_to_strict_json_as_run_only_json(template):
+    """Every bundled scene: the answer is strict JSON (no NaN, no infinity), and its figures and
+    checks are report.json's of ``camgen run --only json`` on the scene (the writer's file read
+    back), so the plot data the page adds changes no figure."""
+    from camgen.pipeline import execute, plan_run
+    from camgen.scene import load_template
+    from camgen.serve.api import evaluate, load_source
+
+    answer = evaluate(load_source(str(template_path(template))), {"seq": 1, "data": tomllib.loads(template_path(template).read_text(encoding="utf-8"))})
+    answer = json.loads(json.dumps(answer, allow_nan=False))
+    scene = load_template(template, ["json"])
+    report = json.loads(execute(scene, plan_run(scene, ["json"])).files["report.json"])
+    assert answer["ok"] and answer["verdict"] == report["status"]
+    for cam in answer["cams"]:
+        assert cam["figures"] == report["cams"][cam["name"]]["figures"]
+        assert [{k: v for k, v in c.items() if k not in ("where", "keys")} for c in cam["checks"]] == report["cams"][cam["name"]]["checks"]
+        for check in cam["checks"]:
+            assert all(key.startswith(("cams.", "machining.", "mechanisms.")) for key in check["keys"])
 
 
 def test_evaluate_draws_the_plate_cam(server):
@@ -168,6 +191,13 @@ def test_files_dxf_equal_camgen_run_only_dxf(server, tmp_path):
         assert status == 200 and len(data) == made["bytes"]
         assert data == written[made["name"]], made["name"]
         assert headers["content-disposition"] == f'attachment; filename="{made["name"]}"'
+        assert "sandbox" in headers["content-security-policy"]
+
+
+def test_save_of_an_unchanged_scene_keeps_its_text(server):
+    text = template_path("plate_cam").read_text(encoding="utf-8")
+    answer = post(server.port, "/api/save", {"text": text, "data": tomllib.loads(text)})
+    assert answer == {"text": text, "error": None}
 
 
 def test_save_gives_toml_camgen_run_accepts(server, tmp_path):
@@ -186,6 +216,18 @@ def test_save_gives_toml_camgen_run_accepts(server, tmp_path):
     report = json.loads((tmp_path / "out" / "plate_cam" / "report.json").read_text(encoding="utf-8"))
     assert report["cams"]["plate"]["figures"]["base_radius_mm"] == 45.0
     assert len(report["cams"]["plate"]["figures"]["segments"]) == 5
+
+
+def test_save_of_a_bad_scene_gives_the_line_camgen_check_prints(server, tmp_path):
+    text = template_path("plate_cam").read_text(encoding="utf-8")
+    data = tomllib.loads(text)
+    data["cams"]["plate"]["roller_radius_mm"] = 0.0
+    answer = post(server.port, "/api/save", {"text": text, "data": data})
+    saved = tmp_path / "plate_cam.toml"
+    saved.write_text(answer["text"], encoding="utf-8")
+    check = camgen("check", str(saved))
+    assert check.returncode == 2 and answer["error"]["message"] == check.stderr.strip()
+    assert answer["error"]["key"] == "cams.plate.roller_radius_mm"
 
 
 @pytest.mark.parametrize("name", sorted(p.stem for p in template_path("default").parent.glob("*.toml")))
@@ -230,6 +272,15 @@ def test_page_is_served_with_its_policy(server):
 def test_wrong_host_is_403(server, host):
     status, _, _ = request(server.port, "GET", "/api/scene", headers={"Host": host.format(port=server.port)})
     assert status == 403
+
+
+@pytest.mark.parametrize("origin", ["http://evil.example", "http://127.0.0.1:1", "null", "https://127.0.0.1:{port}"])
+def test_another_sites_page_is_403(server, origin):
+    data = tomllib.loads(template_path("plate_cam").read_text(encoding="utf-8"))
+    headers = {"Origin": origin.format(port=server.port)}
+    assert request(server.port, "POST", "/api/evaluate", {"seq": 1, "data": data}, headers)[0] == 403
+    assert request(server.port, "POST", "/api/evaluate", {"seq": 1, "data": data},
+                   {"Origin": f"http://localhost:{server.port}", "Host": f"localhost:{server.port}"})[0] == 200
 
 
 @pytest.mark.parametrize("host", ["localhost:{port}", "LOCALHOST:{port}", "[::1]:{port}"])

@@ -9,6 +9,7 @@ request; a request the page could not have sent (not a JSON object, a missing fi
 """
 from __future__ import annotations
 
+import functools
 import importlib
 import re
 import time
@@ -128,13 +129,21 @@ def _scene(source: SceneSource, data: Mapping[str, Any], only: tuple[str, ...] |
     return parse_scene(data, source.name, source.source, source.base_dir, only)
 
 
+@functools.lru_cache(maxsize=64)
+def _key_names(kind: str, form: str) -> frozenset[str]:
+    """The key names of a cam table of ``kind`` and ``form`` (the registries' keys are built anew on
+    every call: a few ms each, kept here once per server)."""
+    from camgen.kinds import get_kind
+
+    return frozenset(k.name for k in get_kind(kind, form).keys)
+
+
 def evaluate(source: SceneSource, body: object) -> dict[str, Any]:
     """``POST /api/evaluate``: ``{"seq": int, "data": scene}`` -> the scene's checks, figures and
     curves per cam (:func:`camgen.serve.payload.cam_payload`) and report.json's ``mechanisms``, computed as ``camgen check``
     computes them (:func:`camgen.scene.parse_scene`, :func:`camgen.pipeline.compute`), with the
     analysis report.json's figures need; bad input: ``ok`` false and ``error``
     (:func:`error_json`), ``verdict`` None."""
-    from camgen.kinds import get_kind
     from camgen.pipeline import compute, plan_run
     from camgen.report import report_dict
     from camgen.report_data import report_input
@@ -157,7 +166,7 @@ def evaluate(source: SceneSource, body: object) -> dict[str, Any]:
     assert isinstance(by_name, Mapping)
     cams = []
     for cam in report.cams:
-        keys = {k.name for k in get_kind(cam.kind, cam.form).keys}
+        keys = _key_names(cam.kind, cam.form)
         entry = by_name[cam.name]
         assert isinstance(entry, Mapping)
         cams.append(cam_payload(cam, entry, keys))
@@ -175,21 +184,38 @@ def _editor() -> Callable[[str, Mapping[str, Any]], str] | None:
     return function
 
 
+def _decoded(text: str) -> object:
+    try:
+        return tomllib.loads(text)
+    except (tomllib.TOMLDecodeError, ValueError, RecursionError):
+        return None
+
+
 def save(source: SceneSource, body: object) -> dict[str, Any]:
     """``POST /api/save``: ``{"text": original TOML, "data": scene}`` -> ``{"text": the edited
     scene's TOML, "error": null or the error a run of it would stop on}``: the original's
-    comments kept where the editor is installed (``camgen.scene_edit``), else the scene written
-    plainly (:func:`camgen.serve.toml_text.scene_toml`)."""
+    comments kept where the editor is installed (``camgen.scene_edit``), else the original text
+    itself when nothing was changed, or the scene written plainly
+    (:func:`camgen.serve.toml_text.scene_toml`)."""
     from camgen.serve.toml_text import scene_toml
 
     text = _field(body, "text", str, "the original scene text")
     data = _field(body, "data", dict, "a scene table (a JSON object)")
+    from camgen.pipeline import plan_run
+
     edit = _editor()
+    new: str | None = None
     try:
-        new = edit(text, data) if edit is not None else scene_toml(data)
-        _scene(source, tomllib.loads(new))
+        if edit is not None:
+            new = edit(text, data)
+        else:  # unchanged: the original, comments and all; else written plainly
+            new = text if _decoded(text) == data else scene_toml(data)
+        decoded = _decoded(new)
+        if not isinstance(decoded, dict):  # a writer's bug, said as such
+            raise SceneError("the saved scene is not valid TOML (a bug in camgen's scene writer)")
+        plan_run(_scene(source, decoded))  # what `camgen run` refuses before it computes
     except CamgenError as exc:
-        return {"text": new if "new" in locals() else None, "error": error_json(exc)}
+        return {"text": new, "error": error_json(exc)}
     return {"text": new, "error": None}
 
 

@@ -7,9 +7,12 @@ Safety (issue 29 item 4), checked in this order for every request:
   the server has no authentication);
 * the ``Host`` header must name this server as a browser on this machine does
   (``127.0.0.1:PORT``, ``localhost:PORT``, ``[::1]:PORT``, or the bound address): anything else
-  is 403, so a web page whose DNS name is re-pointed to 127.0.0.1 (DNS rebinding) is refused;
+  is 403, so a web page whose DNS name is re-pointed to 127.0.0.1 (DNS rebinding) is refused; an
+  ``Origin`` header, where a browser sends one, must be this server's own (403: another site's
+  page cannot post to it);
 * a path outside the served set is 404: exactly ``/``, the ``/api/...`` endpoints and
-  ``/files/<token>/<name>`` of a file this server made (:mod:`camgen.serve.files`); a path holding
+  ``/files/<token>/<name>`` of a file this server made (:mod:`camgen.serve.files`, sent as an
+  attachment in a sandbox: a downloaded report runs no script on this origin); a path holding
   ``..`` (also percent-encoded) or a backslash never reaches a lookup, and nothing is read from disk
   by path (no directory listing);
 * a method an endpoint does not take is 405; a POST body must be ``application/json`` (else 415),
@@ -96,6 +99,7 @@ class PageServer(ThreadingHTTPServer):
         port = self.server_address[1]
         bound = address[0] if ":" not in address[0] else f"[{address[0]}]"
         self.hosts = frozenset(f"{h}:{port}".lower() for h in LOOPBACK_HOSTS + (bound,))
+        self.origins = frozenset(f"http://{h}" for h in self.hosts)
 
     @property
     def port(self) -> int:
@@ -144,6 +148,10 @@ class _Handler(BaseHTTPRequestHandler):
         host = (self.headers.get("Host") or "").strip().lower()
         if host not in self.server.hosts:
             self._refuse(403, "camgen serve answers only requests addressed to it on this machine (Host header)")
+            return None
+        origin = self.headers.get("Origin")
+        if origin is not None and origin.strip().lower() not in self.server.origins:
+            self._refuse(403, "camgen serve answers only its own page (Origin header)")
             return None
         raw = urlsplit(self.path).path
         path = unquote(raw)
@@ -205,7 +213,8 @@ class _Handler(BaseHTTPRequestHandler):
                 return
             suffix = name[name.rfind("."):].lower() if "." in name else ""
             safe = "".join(c if c.isalnum() or c in "._-" else "_" for c in name)
-            self._send(200, data, _MEDIA.get(suffix, "application/octet-stream"), {"Content-Disposition": f'attachment; filename="{safe}"'})
+            self._send(200, data, _MEDIA.get(suffix, "application/octet-stream"),
+                       {"Content-Disposition": f'attachment; filename="{safe}"', "Content-Security-Policy": "default-src 'none'; sandbox"})
 
     def _body(self) -> object | None:
         media = (self.headers.get("Content-Type") or "").split(";")[0].strip().lower()
