@@ -251,3 +251,13 @@ def test_serve_page_in_chromium(tmp_path):
     assert done.returncode == 0, done.stderr
     assert dxf.read_bytes() == next((tmp_path / "dxf_out").glob("*/plate.dxf")).read_bytes()
     assert os.path.getsize(dxf) > 0
+
+
+def test_page_is_one_self_contained_file():
+    """The installed page names no other file or host (it works offline): no script or style
+    sheet by reference, no URL but the SVG namespace (checked without a browser too)."""
+    from importlib.resources import files
+
+    text = (files("camgen.serve") / "page.html").read_text(encoding="utf-8")
+    assert re.findall(r"<script[^>]*\bsrc=|<link[^>]*stylesheet|@import|<iframe|<img[^>]*\bsrc=\"?[a-z]", text, re.I) == []
+    assert set(re.findall(r"[a-z]+://[^\s\"'`)]+", text, re.I)) == {"http://www.w3.org/2000/svg"}
