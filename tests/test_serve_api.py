@@ -200,6 +200,27 @@ def test_save_of_an_unchanged_scene_keeps_its_text(server):
     assert answer == {"text": text, "error": None}
 
 
+def test_save_keeps_the_comments_of_the_keys_kept(server):
+    """With the comment-keeping editor (camgen.scene_edit, issue 28's): a changed value keeps its
+    line's comment, and the others stay."""
+    pytest.importorskip("camgen.scene_edit")
+    text = template_path("plate_cam").read_text(encoding="utf-8")
+    data = tomllib.loads(text)
+    data["cams"]["plate"]["base_radius_mm"] = 45.0
+    answer = post(server.port, "/api/save", {"text": text, "data": data})
+    assert answer["error"] is None and tomllib.loads(answer["text"]) == data
+    assert "base_radius_mm = 45.0        # the roller touches the cam 40 mm from the axis at zero lift" in answer["text"]
+    assert [line for line in text.splitlines() if line.startswith("#")] == [line for line in answer["text"].splitlines()
+                                                                             if line.startswith("#")]
+
+
+def test_save_refuses_a_value_toml_cannot_hold(server):
+    data = tomllib.loads(template_path("plate_cam").read_text(encoding="utf-8"))
+    data["cams"]["plate"]["rpm"] = None
+    answer = post(server.port, "/api/save", {"text": "", "data": data})
+    assert answer["text"] is None and answer["error"]["message"].startswith("camgen: error: cams.plate.rpm:")
+
+
 def test_save_gives_toml_camgen_run_accepts(server, tmp_path):
     text = template_path("plate_cam").read_text(encoding="utf-8")
     data = tomllib.loads(text)
@@ -378,11 +399,16 @@ def test_camgen_serve_prints_its_url_and_stops_on_ctrl_c(tmp_path):
         port = int(line.split("http://127.0.0.1:")[1].split("/")[0])
         status, data, _ = request(port, "GET", "/api/scene")
         assert status == 200 and json.loads(data)["text"] == scene.read_text(encoding="utf-8")
+        for cut in (b"POST /api/evaluate HTTP/1.1\r\nHost: 127.0.0.1:%d\r\nContent-Type: application/json\r\n"
+                    b"Content-Length: 100\r\n\r\n{\"seq\"" % port, b"GET /api/sch"):  # browsers that go away mid-request
+            with socket.create_connection(("127.0.0.1", port), timeout=TIMEOUT_S) as conn:
+                conn.sendall(cut)
+        assert request(port, "GET", "/api/scene")[0] == 200  # still serving
         proc.send_signal(signal.SIGINT)
         out, err = proc.communicate(timeout=TIMEOUT_S)
     finally:
         if proc.poll() is None:
             proc.kill()
     assert proc.returncode == 130
-    assert err.strip().splitlines() == [line for line in err.strip().splitlines() if line.startswith("camgen: stopped by SIGINT")]
+    assert err.strip().splitlines() == ["camgen: stopped by SIGINT; the previous outputs are as they were"]  # no traceback
     assert sorted(os.listdir(tmp_path)) == ["plate.toml"]  # nothing written

@@ -206,10 +206,11 @@ def save(source: SceneSource, body: object) -> dict[str, Any]:
     edit = _editor()
     new: str | None = None
     try:
+        plain = scene_toml(data)  # refuses a value TOML cannot hold (a JSON null) naming its key
         if edit is not None:
             new = edit(text, data)
         else:  # unchanged: the original, comments and all; else written plainly
-            new = text if _decoded(text) == data else scene_toml(data)
+            new = text if _decoded(text) == data else plain
         decoded = _decoded(new)
         if not isinstance(decoded, dict):  # a writer's bug, said as such
             raise SceneError("the saved scene is not valid TOML (a bug in camgen's scene writer)")

@@ -108,6 +108,15 @@ class PageServer(ThreadingHTTPServer):
     def service_actions(self) -> None:
         self.stop_check()
 
+    def handle_error(self, request: Any, client_address: Any) -> None:
+        """A connection that failed outside a request's handling (the browser closed it, a read
+        timed out): nothing to answer; anything else one line, never a traceback."""
+        exc = sys.exc_info()[1]
+        if isinstance(exc, (ConnectionError, TimeoutError)):
+            return
+        print(f"camgen: internal error in a connection (a bug in camgen): {type(exc).__name__}: {' '.join(str(exc).split())[:200]}",
+              file=sys.stderr, flush=True)
+
 
 class _Handler(BaseHTTPRequestHandler):
     server: PageServer
@@ -138,8 +147,7 @@ class _Handler(BaseHTTPRequestHandler):
 
     def _refuse(self, status: int, message: str, headers: dict[str, str] | None = None) -> None:
         body = json.dumps({"error": {"key": None, "message": message}}).encode("utf-8")
-        if status in (413, 411, 400):
-            self.close_connection = True  # the body was not read: the connection cannot carry another request
+        self.close_connection = True  # a body may be left unread: the connection cannot carry another request
         self._send(status, body, "application/json", headers)
 
     # -- routing ---------------------------------------------------------------------------------
@@ -186,6 +194,8 @@ class _Handler(BaseHTTPRequestHandler):
                 self._get(path)
             else:
                 self._post(path)
+        except (ConnectionError, TimeoutError):  # the browser went away or stopped sending: nothing to answer
+            self.close_connection = True
         except RequestError as exc:
             self._refuse(400, f"camgen: error: {exc}")
         except CamgenError as exc:  # a refusal the API did not turn into an answer
