@@ -187,8 +187,16 @@ def test_serve_page_in_chromium(tmp_path):
                 _set(page, base, str(radius))
             assert _check(page, "pressure_angle")[0] == "pass"
 
-            # add a segment: the last dwell (60 deg) becomes 30 deg and a 30-deg dwell follows
-            page.fill('[data-path="cams.plate.segments[3].span_deg"] input', "30")
+            # add a segment: the last dwell (60 deg) becomes 30 deg (the program no longer closes:
+            # the line camgen check prints for that scene, next to the table) and a 30-deg dwell follows
+            _set(page, "cams.plate.segments[3].span_deg", "30")
+            last = text.rindex("span_deg = 60.0")
+            edited = text[:last] + "span_deg = 30.0" + text[last + len("span_deg = 60.0"):]
+            probe.write_text(edited.replace("base_radius_mm = 40.0", f"base_radius_mm = {radius}.0"))
+            done = _camgen("check", str(probe), cwd=tmp_path)
+            assert done.returncode == 2
+            assert page.locator(".err:not(:empty)").all_inner_texts() == [done.stderr.strip().splitlines()[-1]]
+            assert page.locator('[data-path="cams.plate.segments"] .err').inner_text() == done.stderr.strip().splitlines()[-1]
             page.click("#add-segment")
             page.select_option('[data-path="cams.plate.segments[4].law"] select', "dwell")
             _set(page, "cams.plate.segments[4].span_deg", "30")
