@@ -30,6 +30,9 @@ from helpers import require_tool
 STEP_MS = 20_000
 #: Longest wait for the server to listen, s.
 START_S = 20.0
+#: camgen check's table prints 6 significant digits: a value it prints is within half a unit of
+#: the 6th digit, at most 5e-6 relative.
+PRINTED_REL = 5e-6
 
 
 def _camgen(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
@@ -161,14 +164,18 @@ def test_serve_page_in_chromium(tmp_path):
             failed_at = radius
             status, angle, keys = _check(page, "pressure_angle")
             assert base in keys.split()
-            assert "fail" in (page.locator("#checks tr.fail").first.get_attribute("class") or "")
+            assert "base_radius_mm" in page.locator('#checks tr[data-check="pressure_angle"] td.keys').inner_text()
+            failing = [row.get_attribute("data-check") for row in page.locator("#checks tr.fail").all()]
             assert page.locator("#verdict").get_attribute("class") == "badge fail"
-            # camgen check agrees on that scene: it fails, naming the pressure angle
+            # camgen check on that scene fails the same checks; its table prints the angle to 6 digits
             text = scene.read_text()
             probe = tmp_path / "probe.toml"
             probe.write_text(re.sub(r"base_radius_mm = 40\.0", f"base_radius_mm = {failed_at}.0", text))
             done = _camgen("check", str(probe), cwd=tmp_path)
-            assert done.returncode == 1 and "pressure_angle" in done.stdout + done.stderr
+            assert done.returncode == 1
+            assert failing == re.findall(r"^\S+\s+(\S+)\s+FAIL\b", done.stdout, re.M) == ["pressure_angle"]
+            printed = re.search(r"^\S+\s+pressure_angle\s+FAIL\s+(\S+)", done.stdout, re.M)
+            assert printed and abs(angle - float(printed.group(1))) <= PRINTED_REL * angle
 
             # a bad value: the CLI's line next to the field, nothing else changed
             _set(page, base, "-3")
