@@ -46,14 +46,16 @@ def _free_port() -> int:
         return int(s.getsockname()[1])
 
 
-def _serve(scene: Path, port: int) -> subprocess.Popen[str]:
-    proc = subprocess.Popen([sys.executable, "-P", "-m", "camgen", "serve", str(scene), "--port", str(port)],
-                            cwd=scene.parent, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            text=True)
+def _serve(scene: Path, port: int, log: Path) -> subprocess.Popen[bytes]:
+    """``camgen serve SCENE --port PORT`` listening; its stderr goes to ``log`` (a pipe nobody
+    reads could fill and stop it)."""
+    with log.open("wb") as err:
+        proc = subprocess.Popen([sys.executable, "-P", "-m", "camgen", "serve", str(scene), "--port", str(port)],
+                                cwd=scene.parent, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=err)
     deadline = time.monotonic() + START_S
     while time.monotonic() < deadline:
         if proc.poll() is not None:
-            raise AssertionError(f"camgen serve ended ({proc.returncode}): {proc.stderr.read() if proc.stderr else ''}")
+            raise AssertionError(f"camgen serve ended ({proc.returncode}): {log.read_text()}")
         try:
             with socket.create_connection(("127.0.0.1", port), timeout=0.5):
                 return proc
@@ -92,7 +94,8 @@ def test_serve_page_in_chromium(tmp_path):
     assert _camgen("new", "plate_cam", "plate_cam.toml", cwd=tmp_path).returncode == 0
     scene = tmp_path / "plate_cam.toml"
     port = _free_port()
-    server = _serve(scene, port)
+    server_log = tmp_path / "serve.err"
+    server = _serve(scene, port, server_log)
     errors: list[str] = []
     try:
         with playwright_api.sync_playwright() as pw:
@@ -240,6 +243,7 @@ def test_serve_page_in_chromium(tmp_path):
         except subprocess.TimeoutExpired:
             server.kill()
     assert not errors, errors
+    assert "Traceback" not in server_log.read_text() and "internal error" not in server_log.read_text()
     # the page works offline: it asked nothing of any other host
     assert [u for u in requests if not u.startswith((f"http://127.0.0.1:{port}/", "blob:", "data:"))] == []
 
