@@ -29,7 +29,7 @@ from helpers import require_tool
 #: Longest wait for one step of the page (an evaluation, a download), ms.
 STEP_MS = 20_000
 #: Longest wait for the server to listen, s.
-START_S = 20.0
+START_S = 60.0
 #: camgen check's table prints 6 significant digits: a value it prints is within half a unit of
 #: the 6th digit, at most 5e-6 relative.
 PRINTED_REL = 5e-6
