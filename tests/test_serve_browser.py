@@ -10,7 +10,6 @@ Timings are in benchmarks/bench_serve.py, not here.
 """
 from __future__ import annotations
 
-import importlib.util
 import json
 import os
 import re
@@ -247,12 +246,10 @@ def test_serve_page_in_chromium(tmp_path):
     # the page works offline: it asked nothing of any other host
     assert [u for u in requests if not u.startswith((f"http://127.0.0.1:{port}/", "blob:", "data:"))] == []
 
-    # the saved scene holds what the page showed, and keeps the template's comments where the
-    # server has the comment-keeping editor (camgen.scene_edit, issue 28; else it writes plain TOML)
+    # the saved scene holds what the page showed, and keeps the template's comments
     saved_text = saved.read_text()
     assert re.search(rf"^base_radius_mm = {radius}(\.0)?\b", saved_text, re.M)
-    if importlib.util.find_spec("camgen.scene_edit") is not None:
-        assert "# the roller touches the cam" in saved_text
+    assert "# the roller touches the cam" in saved_text
     done = _camgen("run", str(saved), "-o", "out", cwd=tmp_path)
     assert done.returncode == 0, done.stderr
     report = json.loads(next((tmp_path / "out").glob("*/report.json")).read_text())
