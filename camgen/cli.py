@@ -1,4 +1,4 @@
-"""Command line: ``camgen run | check | templates | new | keys``.
+"""Command line: ``camgen run | check | templates | new | keys | sweep``.
 
 Only argparse is imported at start-up; each command imports what it needs.  Exit status
 (:data:`EXIT_STATUS`): 0 every check passed; 1 a design check failed (``run`` writes the report
@@ -57,6 +57,11 @@ EXAMPLES = {
   camgen keys                                 every scene key: type, range, default, what it changes
   camgen keys motion_law                      the keys of one cam kind ([cams.<name>] with that kind)
   camgen keys machining                       the keys of one table (output, machining, a mechanism)""",
+    "sweep": """examples:
+  camgen sweep plate_cam.toml --vary base_radius_mm=30:60:5 --vary roller_radius_mm=8,10,12
+  camgen sweep plate_cam.toml --vary base_radius_mm=30:60 --method lhs --samples 1000 --workers 2
+  camgen sweep plate_cam.toml --points designs.parquet --cluster tcp://10.0.0.5:8786
+  camgen sweep plate_cam.toml --vary base_radius_mm=30:60:1 --resume      continue a stopped sweep""",
 }
 
 
@@ -177,6 +182,12 @@ def _cmd_check(args: argparse.Namespace) -> int:
     return status
 
 
+def _cmd_sweep(args: argparse.Namespace) -> int:
+    from camgen.study.sweep import sweep_command
+
+    return sweep_command(args)
+
+
 def _cmd_templates(args: argparse.Namespace) -> int:
     from camgen.scene import template_names, template_path
 
@@ -265,6 +276,26 @@ def build_parser() -> argparse.ArgumentParser:
     keys = command("keys", "the scene-key reference: type, range, default and what each key changes")
     keys.add_argument("section", nargs="?", help="a cam kind, output, machining or a mechanism (default: all)")
     keys.set_defaults(func=_cmd_keys)
+    sweep = command("sweep", "evaluate a scene over many values of its keys: one row per design (README: Design sweeps)")
+    sweep.add_argument("scene", nargs="?", help="scene file (TOML); default: the bundled default scene; its [sweep] table "
+                       "gives defaults for the options below")
+    sweep.add_argument("--vary", action="append", metavar="KEY=SPEC", help="a key and its values: low:high:step (grid), "
+                       "low:high (sampled) or v1,v2,...; repeat for more keys")
+    sweep.add_argument("--method", choices=["grid", "lhs", "sobol"], help="the points: every combination (default when "
+                       "every key has a step or values), a Latin hypercube or a Sobol sequence")
+    sweep.add_argument("--samples", type=int, help="points of an lhs or sobol design")
+    sweep.add_argument("--seed", type=int, help="the sampler's seed (default 0)")
+    sweep.add_argument("--points", metavar="FILE", help="the points from a .csv or .parquet file, one column per key")
+    sweep.add_argument("--workers", type=int, help="local Dask worker processes (default 1: in this process)")
+    sweep.add_argument("--cluster", metavar="ADDRESS", help="a Dask scheduler's address (tcp://host:port, tls://...; "
+                       "default: $DASK_SCHEDULER_ADDRESS when --workers is not given)")
+    sweep.add_argument("--batch", type=int, help="points per task (default: from a measured evaluation)")
+    sweep.add_argument("--dashboard", action="store_true", help="the local cluster's Dask dashboard on 127.0.0.1:8787")
+    sweep.add_argument("--resume", action="store_true", help="continue the sweep in the results folder: only missing points")
+    sweep.add_argument("-o", "--outdir", default="outputs", help="output folder (default: outputs); results go to "
+                       "OUTDIR/<scene name>-sweep/")
+    sweep.add_argument("-q", "--quiet", action="store_true", help="no progress and no summary lines")
+    sweep.set_defaults(func=_cmd_sweep)
     return parser
 
 
