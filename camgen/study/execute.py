@@ -15,13 +15,15 @@ address (``tcp://host:port``; a ``tls://`` address uses Dask's own security conf
   (:data:`TASK_OVERHEAD_S`) stays below :data:`OVERHEAD_SHARE` of a batch's compute.
 - A batch whose worker died is retried by the scheduler; one that killed
   :data:`ALLOWED_FAILURES` + 1 workers (Dask's KilledWorker) is split into single points, and a
-  single point that does it is recorded with status ``crashed``: the sweep goes on.
+  single point that does it :data:`SOLO_KILLS` times is recorded with status ``crashed``: the
+  sweep goes on.
 - At most :data:`TASKS_PER_WORKER` batches per worker are in flight (a killed client loses at
   most those).
 """
 from __future__ import annotations
 
 import math
+import time
 from collections import deque
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable, Sequence
@@ -33,8 +35,8 @@ if TYPE_CHECKING:
     from camgen.study.keys import KeyPath
     from camgen.study.space import Value
 
-__all__ = ["ALLOWED_FAILURES", "CONNECT_TIMEOUT_S", "ClusterLost", "Execution", "OVERHEAD_SHARE", "SERIAL_PART_S",
-           "TASKS_PER_WORKER", "TASK_OVERHEAD_S", "VersionMismatch", "batch_size", "crashed_row", "run_points",
+__all__ = ["ALLOWED_FAILURES", "CONNECT_TIMEOUT_S", "ClusterLost", "Execution", "Runner", "OVERHEAD_SHARE", "SERIAL_PART_S", "SOLO_KILLS", "STALL_S", "WAIT_POLL_S",
+           "TASKS_PER_WORKER", "TASK_OVERHEAD_S", "VersionMismatch", "batch_size", "crashed_row",
            "worker_version"]
 
 #: Dask's overhead per task (scheduling, transfer of a batch and its rows), s: measured ~5 ms.
@@ -45,7 +47,16 @@ OVERHEAD_SHARE = 0.1
 TASKS_PER_WORKER = 4
 #: A local cluster's scheduler gives up on a task (KilledWorker) after its workers died this many
 #: times running it, plus one.
-ALLOWED_FAILURES = 2
+ALLOWED_FAILURES = 1
+#: A point alone that got KilledWorker this many times is recorded ``crashed`` (once may be bad
+#: luck: it was queued on a worker another point killed).
+SOLO_KILLS = 2
+#: Without a finished batch for this long, s, the client asks the scheduler which of its batches
+#: it still runs; one it forgot or gave up on without telling the client (seen with an error too
+#: deep to send back) is handled as a batch that killed its worker.
+STALL_S = 5.0
+#: How often the client looks for finished batches, s (Ctrl-C is seen between two looks).
+WAIT_POLL_S = 0.05
 #: Compute time of one part file in process, s (a killed sweep loses at most this much).
 SERIAL_PART_S = 1.0
 #: How long to wait for a cluster's scheduler and its first worker, s.
@@ -94,15 +105,16 @@ def batch_size(eval_s: float, points: int, workers: int) -> int:
     return max(1, min(need, share))
 
 
-def crashed_row(study: "StudyScene", keys: "Sequence[KeyPath]", values: "Sequence[Value]", deaths: int) -> "Row":
-    """The row of a point whose evaluation killed its worker ``deaths`` times (status ``crashed``)."""
+def crashed_row(study: "StudyScene", keys: "Sequence[KeyPath]", values: "Sequence[Value]") -> "Row":
+    """The row of a point whose evaluation killed its worker every time it ran, until the scheduler
+    gave up on it (Dask's KilledWorker): status ``crashed``."""
     from camgen import __version__
     from camgen.study.design import point_key
 
     names = [k.name for k in keys]
     row: Row = dict(zip(names, values))
     row.update(key=point_key(names, values), status="crashed",
-               error=f"camgen: error: the evaluation of this design killed its worker {deaths} times (a crash in a "
+               error="camgen: error: the evaluation of this design killed its worker each time it ran (a crash in a "
                      "library, or memory); run 'camgen check' on its scene to see why",
                camgen_version=__version__, scene_hash=study.scene_hash, eval_ms=None)
     return row
@@ -119,25 +131,53 @@ def _chunks(points: "Sequence[tuple[Value, ...]]", size: int) -> list[list[tuple
     return [list(points[i:i + size]) for i in range(0, len(points), size)]
 
 
-def run_points(study: "StudyScene", keys: "Sequence[KeyPath]", points: "Sequence[tuple[Value, ...]]", eval_s: float,
-               execution: Execution, sink: Sink) -> int:
-    """Evaluate ``points`` (each a tuple of values of ``keys``) and give each batch of rows to
-    ``sink`` as it finishes; return the number of workers that ran them.
+class Runner:
+    """Where the batches run: in this process, or on the Dask cluster it connected to (every worker
+    checked to run this camgen version).  Use as a context manager (the local cluster is closed at
+    the end); :attr:`workers` is the number of workers."""
 
-    ``eval_s``: a measured evaluation's time, s (it sizes the batches).
-    """
-    if not points:
-        return execution.workers if execution.cluster is None else 0
-    if execution.in_process:
-        from camgen.interrupt import checkpoint
-        from camgen.study.design import evaluate_batch
+    def __init__(self, execution: Execution) -> None:
+        self.execution = execution
+        self.client: Any = None
+        self.workers = 1
 
-        size = execution.batch or max(1, math.ceil(SERIAL_PART_S / max(eval_s, 1e-9)))
-        for batch in _chunks(points, size):
-            checkpoint()
-            sink(evaluate_batch(study, keys, batch))
-        return 1
-    return _run_dask(study, keys, points, eval_s, execution, sink)
+    def __enter__(self) -> "Runner":
+        if not self.execution.in_process:
+            self.client = _client(self.execution)
+            try:
+                self.workers = _check_versions(self.client)
+            except BaseException:
+                self.close()
+                raise
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def close(self) -> None:
+        if self.client is not None:
+            cluster = getattr(self.client, "cluster", None)
+            self.client.close()
+            if cluster is not None:
+                cluster.close()
+            self.client = None
+
+    def run(self, study: "StudyScene", keys: "Sequence[KeyPath]", points: "Sequence[tuple[Value, ...]]", eval_s: float,
+            sink: Sink) -> None:
+        """Evaluate ``points`` (each a tuple of values of ``keys``) and give each batch of rows to
+        ``sink`` as it finishes.  ``eval_s``: a measured evaluation's time, s (it sizes the batches)."""
+        if not points:
+            return
+        if self.client is None:
+            from camgen.interrupt import checkpoint
+            from camgen.study.design import evaluate_batch
+
+            size = self.execution.batch or max(1, math.ceil(SERIAL_PART_S / max(eval_s, 1e-9)))
+            for batch in _chunks(points, size):
+                checkpoint()
+                sink(evaluate_batch(study, keys, batch))
+            return
+        _run_dask(self.client, self.workers, study, keys, points, eval_s, self.execution, sink)
 
 
 def _client(execution: Execution) -> Any:
@@ -155,7 +195,9 @@ def _client(execution: Execution) -> Any:
         except (OSError, TimeoutError, ValueError) as exc:
             raise ClusterLost(f"cannot reach the Dask scheduler at '{execution.cluster}' ({' '.join(str(exc).split())[:160]}): "
                               "start it with 'dask scheduler' (README: Design sweeps) or give another --cluster") from None
-    with dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES}):
+    # a worker takes one batch at a time (no batch queued on a worker that another batch kills)
+    with dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES,
+                          "distributed.scheduler.worker-saturation": 1.0}):
         cluster = distributed.LocalCluster(n_workers=execution.workers, threads_per_worker=1, processes=True,
                                            host="127.0.0.1",
                                            dashboard_address="127.0.0.1:8787" if execution.dashboard else None,
@@ -185,53 +227,62 @@ def _hold(study: "StudyScene") -> "StudyScene":
     return study
 
 
-def _run_dask(study: "StudyScene", keys: "Sequence[KeyPath]", points: "Sequence[tuple[Value, ...]]", eval_s: float,
-              execution: Execution, sink: Sink) -> int:
-    from distributed import KilledWorker, as_completed
+def _live_keys(dask_scheduler: Any, keys: list[str]) -> list[str]:
+    """The ``keys`` the scheduler holds and has not given up on (run on the scheduler)."""
+    return [k for k in keys if k in dask_scheduler.tasks and dask_scheduler.tasks[k].state != "erred"]
+
+
+def _killed(pending: "deque[tuple[list[tuple[Value, ...]], int]]", batch: "list[tuple[Value, ...]]", kills: int,
+            crashed: "Callable[[Row], None]", study: "StudyScene", keys: "Sequence[KeyPath]") -> None:
+    """A batch whose workers died running it: its points each on their own, a point alone again
+    (:data:`SOLO_KILLS`), then recorded ``crashed``."""
+    if len(batch) > 1:
+        pending.extendleft(([p], 0) for p in reversed(batch))
+    elif kills + 1 < SOLO_KILLS:
+        pending.append((batch, kills + 1))
+    else:
+        crashed(crashed_row(study, keys, batch[0]))
+
+
+def _run_dask(client: Any, workers: int, study: "StudyScene", keys: "Sequence[KeyPath]",
+              points: "Sequence[tuple[Value, ...]]", eval_s: float, execution: Execution, sink: Sink) -> None:
+    from distributed import KilledWorker
 
     from camgen.interrupt import checkpoint
     from camgen.study.design import evaluate_batch
 
-    client = _client(execution)
-    try:
-        workers = _check_versions(client)
-        size = execution.batch or batch_size(eval_s, len(points), workers)
-        held = client.submit(_hold, study, pure=False)
-        pending: deque[list[tuple[Value, ...]]] = deque(_chunks(points, size))
-        window = max(1, workers * TASKS_PER_WORKER)
-        flight: dict[Any, list[tuple[Value, ...]]] = {}
-        done = as_completed()
+    size = execution.batch or batch_size(eval_s, len(points), workers)
+    #: a batch of points and how many times it killed its workers (KilledWorker) alone
+    pending: deque[tuple[list[tuple[Value, ...]], int]] = deque((b, 0) for b in _chunks(points, size))
+    window = max(1, workers * TASKS_PER_WORKER)
+    flight: dict[Any, tuple[list[tuple[Value, ...]], int]] = {}
 
-        def submit() -> None:
-            while pending and len(flight) < window:
-                batch = pending.popleft()
-                future = client.submit(evaluate_batch, held, keys, batch, pure=False, retries=1)
-                flight[future] = batch
-                done.add(future)
-
-        submit()
-        for future in done:
-            checkpoint()
-            batch = flight.pop(future)
-            try:
-                rows = future.result()
-            except KilledWorker:
-                if len(batch) > 1:  # find the point that kills: each on its own
-                    pending.extendleft([p] for p in reversed(batch))
-                else:
-                    rows = [crashed_row(study, keys, batch[0], ALLOWED_FAILURES + 1)]
-                    sink(rows)
-            except (OSError, TimeoutError) as exc:
-                raise ClusterLost(f"lost the Dask cluster mid-sweep ({type(exc).__name__}: {' '.join(str(exc).split())[:120]}); "
-                                  "the results so far are kept: run again with --resume") from None
+    progress = time.monotonic()
+    while pending or flight:
+        while pending and len(flight) < window:
+            batch, kills = pending.popleft()
+            flight[client.submit(evaluate_batch, study, keys, batch, pure=False)] = (batch, kills)
+        # lost: its result was on a worker that died before it reached us (the scheduler forgets it)
+        finished = [f for f in flight if f.done() or f.status in ("lost", "cancelled")]
+        if not finished:
+            time.sleep(WAIT_POLL_S)
+            if time.monotonic() - progress > STALL_S:  # nothing for a while: has the scheduler forgotten a batch?
+                progress = time.monotonic()
+                alive = set(client.run_on_scheduler(_live_keys, keys=[str(f.key) for f in flight]))
+                for future in [f for f in flight if str(f.key) not in alive]:  # as a KilledWorker
+                    _killed(pending, *flight.pop(future), lambda row: sink([row]), study, keys)
+        checkpoint()  # Ctrl-C / SIGTERM between two polls
+        if finished:
+            progress = time.monotonic()
+        for future in finished:
+            batch, kills = flight.pop(future)
+            if future.status == "finished":
+                sink(future.result())
+                continue
+            error = future.exception() if future.status == "error" else None
+            if error is not None and not isinstance(error, KilledWorker):
+                raise error
+            if error is None:  # cancelled or lost (a scheduler restart): again
+                pending.append((batch, kills))
             else:
-                sink(rows)
-            future.release()
-            submit()
-        return workers
-    finally:
-        cluster = getattr(client, "cluster", None)
-        client.close()
-        if cluster is not None:
-            cluster.close()
-
+                _killed(pending, batch, kills, lambda row: sink([row]), study, keys)

@@ -197,7 +197,7 @@ def run_sweep(request: SweepRequest) -> SweepOutcome:
     """Plan, run and write the sweep of ``request`` (its results folder: :attr:`SweepOutcome.folder`)."""
     from camgen import __version__
     from camgen.study.design import evaluate_point
-    from camgen.study.execute import run_points
+    from camgen.study.execute import Runner
     from camgen.study.keys import KeyPath
     from camgen.study.monitor import SweepProgress
     from camgen.study.store import ResultsFolder, folder_for
@@ -217,17 +217,19 @@ def run_sweep(request: SweepRequest) -> SweepOutcome:
         folder.write_part(rows, plan.variables)
         progress.add(rows)
 
-    workers = 1
+    workers = 0
     eval_s = 0.0
-    try:
-        if todo:  # the first design here: its time sizes the batches (the second evaluation, imports done)
-            first = evaluate_point(plan.study, keys, todo[0])
-            again = evaluate_point(plan.study, keys, todo[0])
-            eval_s = min(float(first["eval_ms"] or 0.0), float(again["eval_ms"] or 0.0)) / 1e3
-            sink([first])
-            workers = run_points(plan.study, keys, todo[1:], eval_s, request.execution, sink)
-    finally:
-        progress.close()
+    if todo:
+        with Runner(request.execution) as runner:  # connected, every worker's version checked: then the designs
+            workers = runner.workers
+            try:  # the first design here: its time sizes the batches (the second evaluation: imports done)
+                first = evaluate_point(plan.study, keys, todo[0])
+                again = evaluate_point(plan.study, keys, todo[0])
+                eval_s = min(float(first["eval_ms"] or 0.0), float(again["eval_ms"] or 0.0)) / 1e3
+                sink([first])
+                runner.run(plan.study, keys, todo[1:], eval_s, sink)
+            finally:
+                progress.close()
     by_key = {str(r["key"]): r for r in folder.read_rows()}
     missing = [k for k in plan.keys if k not in by_key]
     if missing:
