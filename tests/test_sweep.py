@@ -232,3 +232,12 @@ def test_a_design_the_scene_refuses_is_an_error_row(tmp_path):
                           text=True, timeout=300)
     assert proc.returncode == 2
     assert rows[(30.0, 45.0)]["error"] == proc.stderr.strip()
+
+
+@pytest.mark.parametrize("hidden, option", [(("pyarrow", "pyarrow.parquet"), ()),
+                                            (("distributed",), ("--workers", "2"))])
+def test_a_missing_extra_is_one_line_naming_it(tmp_path, capfd, monkeypatch, hidden, option):
+    for module in hidden:
+        monkeypatch.setitem(sys.modules, module, None)  # import_module raises ImportError
+    err = _refused(tmp_path, capfd, str(TEMPLATE), "--vary", "base_radius_mm=30,40", *option)
+    assert "camgen[sweep]" in err and f"'{hidden[0]}'" in err
