@@ -191,3 +191,29 @@ def test_a_killed_worker_and_client_then_resume_on_a_real_cluster(tmp_path):
                 program.wait(timeout=30)
             except subprocess.TimeoutExpired:
                 program.kill()
+
+
+def test_a_local_worker_killed_mid_sweep_and_every_key_once():
+    """A local cluster's worker SIGKILLed after the third batch (its nanny starts another): every
+    point's row arrives exactly once."""
+    from camgen.study.design import StudyScene, point_key
+    from camgen.study.execute import Execution, Runner
+    from camgen.study.keys import resolve_key
+
+    study = StudyScene.load(str(TEMPLATE))
+    keys = [resolve_key(study.data, "base_radius_mm")]
+    points = [(20.0 + i,) for i in range(16)]
+    got: list[str] = []
+    killed: list[int] = []
+    with Runner(Execution(workers=2, batch=1)) as runner:
+        def sink(rows):
+            got.extend(str(r["key"]) for r in rows)
+            if len(got) == 3:
+                pid = next(iter(runner.client.run(os.getpid).values()))
+                os.kill(pid, signal.SIGKILL)
+                killed.append(pid)
+        runner.run(study, keys, points, 0.03, sink)
+        after = set(runner.client.run(os.getpid).values())
+    assert killed and killed[0] not in after  # the worker did die (and was replaced)
+    assert len(got) == len(set(got)) == 16
+    assert set(got) == {point_key([keys[0].name], p) for p in points}
