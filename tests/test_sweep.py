@@ -241,3 +241,17 @@ def test_a_missing_extra_is_one_line_naming_it(tmp_path, capfd, monkeypatch, hid
         monkeypatch.setitem(sys.modules, module, None)  # import_module raises ImportError
     err = _refused(tmp_path, capfd, str(TEMPLATE), "--vary", "base_radius_mm=30,40", *option)
     assert "camgen[sweep]" in err and f"'{hidden[0]}'" in err
+
+
+def test_the_scenes_sweep_table_gives_the_defaults(tmp_path):
+    scene = tmp_path / "plate_cam.toml"
+    scene.write_text(TEMPLATE.read_text() + '\n[sweep]\nmethod = "grid"\n\n[sweep.vary]\nbase_radius_mm = "30:40:10"\n'
+                     '"cams.plate.roller_radius_mm" = [8.0, 10.0]\n')
+    assert main(["sweep", str(scene), "-o", str(tmp_path / "a"), "-q"]) == 0
+    rows = list(csv.DictReader((tmp_path / "a" / "plate_cam-sweep" / "summary.csv").read_text().splitlines()))
+    assert [(r["cams.plate.base_radius_mm"], r["cams.plate.roller_radius_mm"]) for r in rows] == [
+        ("30.0", "8.0"), ("30.0", "10.0"), ("40.0", "8.0"), ("40.0", "10.0")]
+    # the command line overrides the table: its --vary replaces the table's keys
+    assert main(["sweep", str(scene), "--vary", "rpm=200,400", "-o", str(tmp_path / "b"), "-q"]) == 0
+    facts = json.loads((tmp_path / "b" / "plate_cam-sweep" / "sweep.json").read_text())
+    assert [v["key"] for v in facts["variables"]] == ["cams.plate.rpm"] and facts["points"] == 2
