@@ -47,7 +47,8 @@ class SweepProgress:
             self._show(now)
 
     def line(self, now: float | None = None) -> str:
-        """``done/total  pass N  fail N  error N  [crashed N]  R designs/s  T left``."""
+        """``done/total  pass N  fail N  error N  [crashed N]  R designs/s  T left`` (after
+        ``--resume``: the points done before, and the counts and rate of this run)."""
         elapsed = (now or time.perf_counter()) - self.start
         new = self.done - self.before
         rate = new / elapsed if elapsed > 0 else 0.0
@@ -55,7 +56,8 @@ class SweepProgress:
         counts = "  ".join(f"{s} {self.counts[s]}" for s in ("pass", "fail", "error", "crashed")
                            if s != "crashed" or self.counts[s])
         eta = f"{left:.0f} s left" if left != float("inf") else "time left unknown"
-        return f"camgen sweep: {self.done}/{self.total}  {counts}  {rate:.1f} designs/s  {eta}"
+        before = f" ({self.before} from before; this run:)" if self.before else ""
+        return f"camgen sweep: {self.done}/{self.total}{before}  {counts}  {rate:.1f} designs/s  {eta}"
 
     def _show(self, now: float) -> None:
         if self.tty:
