@@ -171,7 +171,10 @@ def test_a_killed_worker_and_client_then_resume_on_a_real_cluster(tmp_path):
         finished = set(_table(folder)["key"])
         assert 10 <= len(finished) < 40
         before = log.read_text().split()
-        resumed = _camgen(*sweep, "--resume", env={"SWEEP_TEST_LOG": str(log)})
+        # the address from DASK_SCHEDULER_ADDRESS this time (no --cluster, no --workers)
+        at = sweep.index("--cluster")
+        resumed = _camgen(*sweep[:at], *sweep[at + 2:], "--resume",
+                          env={"SWEEP_TEST_LOG": str(log), "DASK_SCHEDULER_ADDRESS": address})
         assert resumed.returncode == 0, resumed.stderr
         again = log.read_text().split()[len(before):]
         table = _table(folder)
@@ -182,6 +185,7 @@ def test_a_killed_worker_and_client_then_resume_on_a_real_cluster(tmp_path):
         assert len(again) == len(set(again)) == len(missing) - 1  # the first is measured in the client
         facts = json.loads((folder / "sweep.json").read_text())
         assert facts["evaluated"] == len(missing) and facts["resumed"] == len(finished) and facts["workers"] == 1
+        assert facts["execution"] == f"cluster {address}"
     finally:
         for program in reversed(programs):
             if program.poll() is None:
