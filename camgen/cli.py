@@ -69,6 +69,11 @@ exit status: 0 the checks pass at the percentile; 1 one fails there; 2 bad input
     "serve": """examples:
   camgen serve                                the bundled default scene at http://127.0.0.1:8765/
   camgen serve my_cam.toml --port 8800        edit my_cam.toml in the browser (Save gives the edited TOML)""",
+    "sweep": """examples:
+  camgen sweep plate_cam.toml --vary base_radius_mm=30:60:5 --vary roller_radius_mm=8,10,12
+  camgen sweep plate_cam.toml --vary base_radius_mm=30:60 --method lhs --samples 1000 --workers 2
+  camgen sweep plate_cam.toml --points designs.parquet --cluster tcp://10.0.0.5:8786
+  camgen sweep plate_cam.toml --vary base_radius_mm=30:60:1 --resume      continue a stopped sweep""",
 }
 
 
@@ -187,6 +192,12 @@ def _cmd_check(args: argparse.Namespace) -> int:
     status = _report_failures(result)
     print(_verdict(result))
     return status
+
+
+def _cmd_sweep(args: argparse.Namespace) -> int:
+    from camgen.study.sweep import sweep_command
+
+    return sweep_command(args)
 
 
 def _cmd_templates(args: argparse.Namespace) -> int:
@@ -325,6 +336,26 @@ def build_parser() -> argparse.ArgumentParser:
     serve.add_argument("--allow-remote", action="store_true", help="allow a --host that is not loopback (no authentication: "
                        "anyone who reaches the port can use the server)")
     serve.set_defaults(func=_cmd_serve)
+    sweep = command("sweep", "evaluate a scene over many values of its keys: one row per design (README: Design sweeps)")
+    sweep.add_argument("scene", nargs="?", help="scene file (TOML); default: the bundled default scene; its [sweep] table "
+                       "gives defaults for the options below")
+    sweep.add_argument("--vary", action="append", metavar="KEY=SPEC", help="a key and its values: low:high:step (grid), "
+                       "low:high (sampled) or v1,v2,...; repeat for more keys")
+    sweep.add_argument("--method", choices=["grid", "lhs", "sobol"], help="the points: every combination (default when "
+                       "every key has a step or values), a Latin hypercube or a Sobol sequence")
+    sweep.add_argument("--samples", type=int, help="points of an lhs or sobol design")
+    sweep.add_argument("--seed", type=int, help="the sampler's seed (default 0)")
+    sweep.add_argument("--points", metavar="FILE", help="the points from a .csv or .parquet file, one column per key")
+    sweep.add_argument("--workers", type=int, help="local Dask worker processes (default 1: in this process)")
+    sweep.add_argument("--cluster", metavar="ADDRESS", help="a Dask scheduler's address (tcp://host:port, tls://...; "
+                       "default: $DASK_SCHEDULER_ADDRESS when --workers is not given)")
+    sweep.add_argument("--batch", type=int, help="points per task (default: from a measured evaluation)")
+    sweep.add_argument("--dashboard", action="store_true", help="the local cluster's Dask dashboard on 127.0.0.1:8787")
+    sweep.add_argument("--resume", action="store_true", help="continue the sweep in the results folder: only missing points")
+    sweep.add_argument("-o", "--outdir", default="outputs", help="output folder (default: outputs); results go to "
+                       "OUTDIR/<scene name>-sweep/")
+    sweep.add_argument("-q", "--quiet", action="store_true", help="no progress and no summary lines")
+    sweep.set_defaults(func=_cmd_sweep)
     return parser
 
 
