@@ -354,6 +354,14 @@ def build_parser() -> argparse.ArgumentParser:
     sweep.add_argument("--resume", action="store_true", help="continue the sweep in the results folder: only missing points")
     sweep.add_argument("-o", "--outdir", default="outputs", help="output folder (default: outputs); results go to "
                        "OUTDIR/<scene name>-sweep/")
+    sweep.add_argument("--map", metavar="KEY,KEY", help="report.html's feasibility map: two varied keys (default: the first two)")
+    sweep.add_argument("--pareto", metavar="FIG,FIG", help="report.html's Pareto front of two figures, both minimised ('-FIG': "
+                       "maximised; default: outer_radius_mm,pressure_angle_deg)")
+    sweep.add_argument("--rank", metavar="FIG", help="the figure ranking the best designs (default: outer_radius_mm, smallest first)")
+    sweep.add_argument("--best", type=int, default=10, help="the best designs listed in report.html with their scenes in best/ "
+                       "(default 10)")
+    sweep.add_argument("--keep-files", type=int, default=0, metavar="N", help="run the best N designs as camgen run does, "
+                       "into best/<key>/ (default 0)")
     sweep.add_argument("-q", "--quiet", action="store_true", help="no progress and no summary lines")
     sweep.set_defaults(func=_cmd_sweep)
     return parser

@@ -255,3 +255,40 @@ def test_the_scenes_sweep_table_gives_the_defaults(tmp_path):
     assert main(["sweep", str(scene), "--vary", "rpm=200,400", "-o", str(tmp_path / "b"), "-q"]) == 0
     facts = json.loads((tmp_path / "b" / "plate_cam-sweep" / "sweep.json").read_text())
     assert [v["key"] for v in facts["variables"]] == ["cams.plate.rpm"] and facts["points"] == 2
+
+
+def test_the_sweep_writes_its_report_and_the_best_designs(grid, tmp_path):
+    """The report and the best designs' scenes come with the sweep: report.html names every point;
+    each best/<key>.toml is the template with that row's values (tomllib), ranked by the outer
+    radius among passing rows (the summary's own numbers); --keep-files 1 runs the best design,
+    whose report.json gives the row's torque."""
+    import tomllib
+
+    folder = _folder(grid)
+    html = (folder / "report.html").read_text(encoding="utf-8")
+    rows = _summary(grid)
+    assert all(r["key"] in html for r in rows)
+    passing = sorted((r for r in rows if r["status"] == "pass"), key=lambda r: float(r["fig.plate.outer_radius_mm"]))
+    scenes = sorted(p.stem for p in (folder / "best").glob("*.toml"))
+    assert scenes == sorted(r["key"] for r in passing[:10])
+    best = passing[0]
+    data = tomllib.loads((folder / "best" / f"{best['key']}.toml").read_text(encoding="utf-8"))
+    assert data["cams"]["plate"]["base_radius_mm"] == float(best["cams.plate.base_radius_mm"])
+    assert data["cams"]["plate"]["roller_radius_mm"] == int(best["cams.plate.roller_radius_mm"])
+    assert _sweep(tmp_path, "--keep-files", "1", "--best", "2") == 0
+    kept = _folder(tmp_path) / "best" / best["key"]
+    report = json.loads((kept / "report.json").read_text(encoding="utf-8"))
+    assert report["cams"]["plate"]["figures"]["dynamics"]["torque_peak_Nm"] == float(best["fig.plate.torque_peak_n_m"])
+    assert len(list((_folder(tmp_path) / "best").glob("*.toml"))) == 2
+
+
+@pytest.mark.parametrize("option, value, named", [
+    ("--pareto", "outer_radius_mm,nope", "--pareto"),
+    ("--map", "base_radius_mm,follower_offset_mm", "--map"),
+    ("--rank", "nope", "--rank"),
+    ("--keep-files", "-1", "--keep-files"),
+])
+def test_bad_report_options_are_refused_before_any_design(tmp_path, capsys, option, value, named):
+    assert _sweep(tmp_path, option, value) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and named in err and not (tmp_path / "out").exists()

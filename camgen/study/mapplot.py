@@ -17,7 +17,7 @@ __all__ = ["Axis", "Cell", "Mark", "category_axis", "numeric_axis", "plot_svg"]
 
 #: Plot size and the margins around the plot area, px (CSS pixels).
 WIDTH, HEIGHT = 720.0, 440.0
-LEFT, RIGHT, TOP, BOTTOM = 84.0, 16.0, 12.0, 58.0
+LEFT, RIGHT, TOP, BOTTOM = 112.0, 16.0, 12.0, 58.0  # LEFT: room for a word tick (modified_sine) and the rotated title
 #: Text size, px; a label's width is estimated at this many font sizes per character.
 FONT_PX = 12.0
 CHAR_EM = 0.6

@@ -30,7 +30,7 @@ if TYPE_CHECKING:
     from camgen.study.space import Value, Variable
     from camgen.study.store import ResultsFolder
 
-__all__ = ["CLUSTER_ENV", "DEFAULT_SEED", "SweepOutcome", "SweepPlan", "SweepRequest", "plan_sweep", "run_sweep",
+__all__ = ["CLUSTER_ENV", "DEFAULT_SEED", "ReportRequest", "SweepOutcome", "SweepPlan", "SweepRequest", "plan_sweep", "run_sweep",
            "sweep_command", "validate_variables", "write_sweep_report"]
 
 #: The environment variable naming a Dask scheduler when neither --cluster nor --workers is given.
@@ -54,6 +54,19 @@ class SweepRequest:
     resume: bool = False
     outdir: str = "outputs"
     quiet: bool = False
+    report: "ReportRequest" = field(default_factory=lambda: ReportRequest())
+
+
+@dataclass(frozen=True)
+class ReportRequest:
+    """What the sweep's report was asked (``--map``, ``--pareto``, ``--rank``, ``--best``,
+    ``--keep-files``), unchecked: :func:`plan_sweep` checks it before any design runs."""
+
+    map_keys: tuple[str, ...] | None = None
+    pareto: tuple[str, ...] | None = None
+    rank: str | None = None
+    best: int = 10
+    keep_files: int = 0
 
 
 @dataclass(frozen=True)
@@ -166,6 +179,12 @@ def plan_sweep(request: SweepRequest) -> SweepPlan:
         points = design_points(variables, method, samples, seed)
     assert method is not None  # a file's, or given, or grid
     validate_variables(study, variables)
+    from camgen.study.best import check_best
+    from camgen.study.report import report_options
+
+    asked = request.report
+    report_options(study, variables, asked.map_keys, asked.pareto, asked.best, asked.rank)  # refused now, not after the designs
+    check_best(asked.keep_files, "--keep-files")
     names = [v.name for v in variables]
     unique: dict[str, tuple[Value, ...]] = {}
     for p in points:
@@ -174,13 +193,21 @@ def plan_sweep(request: SweepRequest) -> SweepPlan:
                      len(points) - len(unique))
 
 
-def write_sweep_report(outcome: SweepOutcome) -> list[Path]:
-    """The sweep report's hook: the files it wrote into the results folder.
+def write_sweep_report(outcome: SweepOutcome, asked: ReportRequest) -> list[Path]:
+    """The sweep report's files written into the results folder (:mod:`camgen.study.report`:
+    ``report.html``, the best designs' scenes ``best/<key>.toml``) and, with ``--keep-files N``,
+    the best N designs run into ``best/<key>/``; the paths written."""
+    from camgen.study.best import keep_files
+    from camgen.study.report import sweep_report_files, write_report_files
 
-    The HTML report (feasibility maps, the Pareto front, the best designs) is
-    ``camgen.study.report``'s, wired in here when it is merged; until then there is none.
-    """
-    return []
+    plan = outcome.plan
+    files = sweep_report_files(plan.study, plan.variables, outcome.rows, map_keys=asked.map_keys, pareto=asked.pareto,
+                               best=asked.best, rank=asked.rank, method=plan.method)
+    written = write_report_files(outcome.folder.root, files)
+    if asked.keep_files:
+        kept = keep_files(plan.study, plan.variables, outcome.rows, asked.keep_files, asked.rank, outcome.folder.root)
+        written += [outcome.folder.root / "best" / str(r.scene.name) for r in kept]
+    return written
 
 
 def _variable_facts(variable: "Variable") -> dict[str, Any]:
@@ -249,7 +276,7 @@ def run_sweep(request: SweepRequest) -> SweepOutcome:
     folder.write_summary(rows)
     folder.write_json(facts)
     outcome = SweepOutcome(plan, folder, rows, {s: counts.get(s, 0) for s in ("pass", "fail", "error", "crashed")}, facts)
-    write_sweep_report(outcome)
+    write_sweep_report(outcome, request.report)
     return outcome
 
 
@@ -269,11 +296,16 @@ def _execution(args: argparse.Namespace) -> Execution:
 
 def sweep_command(args: argparse.Namespace) -> int:
     """``camgen sweep``'s handler: the sweep run, its folder and counts printed (unless -q); 0."""
+    def names(text: str | None) -> tuple[str, ...] | None:
+        return None if text is None else tuple(n.strip() for n in text.split(","))
+
+    report = ReportRequest(names(args.map), names(args.pareto), args.rank, args.best, args.keep_files)
     request = SweepRequest(args.scene, tuple(args.vary or ()), args.method, args.samples, args.seed, args.points,
-                           _execution(args), args.resume, args.outdir, args.quiet)
+                           _execution(args), args.resume, args.outdir, args.quiet, report)
     outcome = run_sweep(request)
     if not args.quiet:
         counts = ", ".join(f"{n} {s}" for s, n in outcome.counts.items() if n or s != "crashed")
+        print(f"{outcome.folder.root}/report.html")
         print(f"{outcome.folder.root}/summary.csv")
         print(f"{outcome.folder.root}/sweep.json")
         print(f"camgen: sweep: {len(outcome.rows)} designs ({counts}); {outcome.facts['evaluated']} evaluated "
