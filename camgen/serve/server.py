@@ -176,14 +176,22 @@ class _Handler(BaseHTTPRequestHandler):
             return ("GET",)
         return None
 
-    def _dispatch(self) -> None:
+    def _known_path(self) -> tuple[str, tuple[str, ...]] | None:
+        """The request's path and the methods it takes; None when refused (an answer sent)."""
         path = self._route()
         if path is None:
-            return
+            return None
         allowed = self._allowed(path)
         if allowed is None:
             self._refuse(404, "not found")
+            return None
+        return path, allowed
+
+    def _dispatch(self) -> None:
+        known = self._known_path()
+        if known is None:
             return
+        path, allowed = known
         if self.command not in allowed:
             self._refuse(405, f"{path} takes {', '.join(allowed)} only", {"Allow": ", ".join(allowed)})
             return
@@ -269,13 +277,9 @@ class _Handler(BaseHTTPRequestHandler):
     do_GET = do_POST = _dispatch
 
     def _not_allowed(self) -> None:
-        path = self._route()
-        if path is None:
-            return
-        allowed = self._allowed(path)
-        if allowed is None:
-            self._refuse(404, "not found")
-        else:
+        known = self._known_path()
+        if known is not None:
+            path, allowed = known
             self._refuse(405, f"{path} takes {', '.join(allowed)} only", {"Allow": ", ".join(allowed)})
 
     do_PUT = do_DELETE = do_PATCH = do_OPTIONS = do_HEAD = do_TRACE = do_CONNECT = _not_allowed
