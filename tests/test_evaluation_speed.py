@@ -16,6 +16,7 @@ No clock: the time is measured in benchmarks/bench_evaluate.py.
 from __future__ import annotations
 
 import copy
+import json
 import math
 import subprocess
 import sys
@@ -385,3 +386,38 @@ def test_the_outer_radius_against_a_dense_sampling_and_the_flattened_outline(tem
         flat = contour.flatten(OUTER_RADIUS_TOL)  # the old figure: at most the chord tolerance too small
         old = float(np.hypot(*flat.T).max())
         assert old <= exact * (1.0 + 1e-12) and exact - old <= OUTER_RADIUS_TOL
+
+
+
+_HEAP_SCRIPT = """
+import json, sys, tomllib
+from camgen.evaluation import evaluation_plan
+from camgen.pipeline import compute
+from camgen.scene import parse_scene, template_path
+from camgen.study.heap import keep_heap
+
+def results():
+    out = []
+    for radius in (20.0, 40.0, 55.0):
+        data = tomllib.loads(template_path("plate_cam").read_text(encoding="utf-8"))
+        data["cams"]["plate"]["base_radius_mm"] = radius
+        scene = parse_scene(data, "plate")
+        (cam,) = compute(scene, evaluation_plan(scene)).cams
+        out.append([repr(c) for c in cam.checks] + [repr(dict(cam.figures))])
+    return out
+
+before = results()
+kept = keep_heap()
+print(json.dumps({"kept": kept, "same": results() == before, "checks": len(before[0])}))
+"""
+
+
+def test_keeping_the_heap_changes_no_value():
+    """camgen.study.heap.keep_heap (glibc's mmap and trim thresholds, set once per study process)
+    changes where arrays live, never a value: in a fresh process the checks (value, limit, where,
+    note) and figures of three designs, one failing, are the same before and after it."""
+    proc = subprocess.run([sys.executable, "-P", "-c", _HEAP_SCRIPT], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    out = json.loads(proc.stdout)
+    assert out["same"] and out["checks"] > 5
+    assert out["kept"] == sys.platform.startswith("linux")  # this machine's C library is glibc

@@ -156,7 +156,9 @@ def evaluate_point(study: StudyScene, keys: "Sequence[KeyPath]", values: "Sequen
     ``scene_hash``; ``eval_ms`` (the evaluation's time, the only column that differs between runs).
     """
     from camgen import __version__
+    from camgen.study.heap import keep_heap
 
+    keep_heap()  # once per process: the designs' large arrays reuse the heap (camgen.study.heap)
     started = time.perf_counter()
     names = [k.name for k in keys]
     row: Row = dict(zip(names, values))
