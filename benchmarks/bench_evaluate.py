@@ -66,7 +66,7 @@ def _split() -> dict[str, list[float]]:
     from camgen.study.design import main_figures, point_scene_data
     from camgen.study.heap import keep_heap
 
-    keep_heap()  # as evaluate_point does (camgen.study.heap)
+    keep_heap()  # as a study's scenes do (camgen.study.heap)
     study, key = _points()
     times: dict[str, list[float]] = {name: [] for name in STAGES}
     for round_ in range(ROUNDS + 1):  # the first round warms up (imports, the composed kinds)

@@ -83,9 +83,12 @@ class StudyScene:
         return study
 
     def scene(self, values: "Mapping[tuple[str | int, ...], Value]") -> "Scene":
-        """The validated scene with ``values`` (path -> value) set (raises the scene reader's errors)."""
+        """The validated scene with ``values`` (path -> value) set (raises the scene reader's errors).
+        The process keeps its freed memory for the next design from now on (:func:`camgen.study.heap.keep_heap`)."""
         from camgen.scene import parse_scene
+        from camgen.study.heap import keep_heap
 
+        keep_heap()  # once per process: every design's large arrays from the heap, not fresh mmaps
         return parse_scene(point_scene_data(self.data, values), self.name, self.source, self.base_dir)
 
 
@@ -156,9 +159,7 @@ def evaluate_point(study: StudyScene, keys: "Sequence[KeyPath]", values: "Sequen
     ``scene_hash``; ``eval_ms`` (the evaluation's time, the only column that differs between runs).
     """
     from camgen import __version__
-    from camgen.study.heap import keep_heap
 
-    keep_heap()  # once per process: the designs' large arrays reuse the heap (camgen.study.heap)
     started = time.perf_counter()
     names = [k.name for k in keys]
     row: Row = dict(zip(names, values))

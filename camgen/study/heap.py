@@ -8,8 +8,8 @@ plate-cam design's time, measured in benchmarks/bench_evaluate.py).  :func:`keep
 threshold (:data:`MMAP_THRESHOLD`) and the heap's trim threshold (:data:`TRIM_THRESHOLD`) with
 ``mallopt``, so such blocks come from the heap and stay in the process between designs.  It
 changes where arrays live, never a value; elsewhere than glibc (or where ``mallopt`` refuses) it
-does nothing.  Called once per process by :func:`camgen.study.design.evaluate_point` (a study's
-worker), never by ``camgen run`` or ``camgen check``.
+does nothing.  Called by :meth:`camgen.study.design.StudyScene.scene` (a study's designs: a
+sweep's worker, the optimiser), never by ``camgen run`` or ``camgen check``.
 """
 from __future__ import annotations
 
