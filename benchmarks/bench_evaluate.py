@@ -1,17 +1,24 @@
 """One plate-cam design evaluated as a sweep evaluates it (issue 28 item 6): the time per design
 and where it goes, against the target of 3 ms.
 
-A sweep decodes the scene's TOML once; per point it changes some values of the decoded table,
-validates it (``camgen.scene.parse_scene``) and runs ``camgen.pipeline.compute(scene,
-camgen.evaluation.evaluation_plan(scene))``: synthesis, every design check, the dynamics, no
-file.  Here templates/plate_cam.toml with its base radius stepped over 40 values (every design a
-new one: no cache of a design's values is reused), split into its stages, each timed per design
-(``time.process_time``: the CPU time of this process, which the other processes of a shared machine disturb far less than the wall time), the median over the designs of several rounds:
+A sweep decodes the scene's TOML once; per point (``camgen.study.design.evaluate_point``) it
+changes some values of the decoded table, validates it (``camgen.scene.parse_scene``), runs
+``camgen.pipeline.compute(scene, camgen.evaluation.evaluation_plan(scene))``: synthesis, every
+design check, the dynamics, no file, and makes the row (the checks and the main figures).  Here
+templates/plate_cam.toml with its base radius stepped over 40 values (every design a new one: no
+cache of a design's values is reused), split into its stages, each timed per design
+(``time.process_time``: the CPU time of this process, which the other processes of a shared
+machine disturb far less than the wall time), the median over the designs of several rounds:
 
-* validate: ``parse_scene`` of the changed table (schema, every key, the law);
+* validate: the point's table (``point_scene_data``) and ``parse_scene`` of it (schema, every key, the law);
 * build: the kind's synthesis (exact envelope of the roller, its spline fit, size, perimeter);
 * checks: every design check (``camgen.checking.evaluate`` without the report-only figures);
-* dynamics: the follower train's forces, jump, torque, contact stress and their checks.
+* dynamics: the follower train's forces, jump, torque, contact stress and their checks;
+* row: the row's main figures (``camgen.study.design.main_figures``: the exact outer radius).
+
+Then ``evaluate_point`` as a whole, on passing designs and on a range half of which fails (base radii from
+18 mm: the pressure angle fails, and the ``min_base_radius`` check, the value in the row,
+searches the smallest base radius that passes: a failing design costs more).
 
 The "before" row is the same split measured on commit 634d245 (before this work) with the
 same scene and designs, on the same machine, alternating three runs of each with this script's
@@ -24,7 +31,6 @@ from __future__ import annotations
 import os
 import statistics
 import time
-import tomllib
 
 from _common import machine, print_table
 
@@ -32,25 +38,42 @@ from _common import machine, print_table
 TARGET_MS = 3.0
 #: Designs per round (base radii 36 .. 55.5 mm) and rounds.
 DESIGNS, ROUNDS = 40, 5
+#: The stages of ``evaluate_point``: the point's table and its validation, the synthesis, the
+#: design checks, the dynamics, the row's main figures (the outer radius: camgen.contour.reach).
+STAGES = ("validate", "build", "checks", "dynamics", "row")
 #: The split measured on commit 634d245 (CPU ms; validate, build, checks, dynamics), same script logic.
 BEFORE = {"validate": 2.50, "build": 9.09, "checks": 12.92, "dynamics": 2.64}
 
 
+def _points():
+    """The study of templates/plate_cam.toml varying its base radius, and the key."""
+    from camgen.scene import template_path
+    from camgen.study.design import StudyScene
+    from camgen.study.keys import resolve_key
+
+    study = StudyScene.load(str(template_path("plate_cam")))
+    return study, resolve_key(study.data, "base_radius_mm")
+
+
 def _split() -> dict[str, list[float]]:
+    """Each stage of ``evaluate_point`` timed by itself on the same designs (CPU ms per design)."""
     from camgen.checking import evaluate
     from camgen.evaluation import evaluation_plan
     from camgen.kinds import get_kind
     from camgen.kinds.dynamics import run_dynamics
-    from camgen.scene import parse_scene, template_path
+    from camgen.pipeline import compute
+    from camgen.scene import parse_scene
+    from camgen.study.design import main_figures, point_scene_data
+    from camgen.study.heap import keep_heap
 
-    data = tomllib.loads(template_path("plate_cam").read_text(encoding="utf-8"))
-    cam = data["cams"]["plate"]
-    times: dict[str, list[float]] = {"validate": [], "build": [], "checks": [], "dynamics": []}
+    keep_heap()  # as a study's scenes do (camgen.study.heap)
+    study, key = _points()
+    times: dict[str, list[float]] = {name: [] for name in STAGES}
     for round_ in range(ROUNDS + 1):  # the first round warms up (imports, the composed kinds)
         for i in range(DESIGNS):
-            point = {**data, "cams": {"plate": {**cam, "base_radius_mm": 36.0 + 0.5 * i + 0.01 * round_}}}
             t0 = time.process_time()
-            scene = parse_scene(point, "plate_cam")
+            data = point_scene_data(study.data, {key.path: 36.0 + 0.5 * i + 0.01 * round_})
+            scene = parse_scene(data, study.name, study.source, study.base_dir)
             plan = evaluation_plan(scene)
             (spec,) = scene.cams
             t1 = time.process_time()
@@ -60,35 +83,32 @@ def _split() -> dict[str, list[float]]:
             t3 = time.process_time()
             run_dynamics(built, spec, plan.stages)
             t4 = time.process_time()
+            (cam,) = compute(scene, plan).cams  # the same cam as a CamResult (not timed): its row's figures
+            t5 = time.process_time()
+            main_figures(cam)
+            t6 = time.process_time()
             if round_:
-                for name, took in zip(times, (t1 - t0, t2 - t1, t3 - t2, t4 - t3)):
+                for name, took in zip(times, (t1 - t0, t2 - t1, t3 - t2, t4 - t3, t6 - t5)):
                     times[name].append(took * 1e3)
     return times
 
 
-def _whole() -> tuple[float, float]:
-    """Median ms of the whole evaluation (validate + compute with the evaluation plan), and of
-    compute with the plan of `camgen run --only json` (the report's figures too) for comparison."""
-    from camgen.evaluation import evaluation_plan
-    from camgen.pipeline import compute, plan_run
-    from camgen.scene import parse_scene, template_path
+def _whole(start: float) -> tuple[float, float]:
+    """Median CPU ms of ``camgen.study.design.evaluate_point`` (what a sweep calls per point) over
+    base radii from ``start`` mm, and the share of its designs that failed a check."""
+    from camgen.study.design import evaluate_point
 
-    data = tomllib.loads(template_path("plate_cam").read_text(encoding="utf-8"))
-    cam = data["cams"]["plate"]
-    evaluation, report = [], []
+    study, key = _points()
+    took, failed = [], 0
     for round_ in range(ROUNDS + 1):
         for i in range(DESIGNS):
-            point = {**data, "cams": {"plate": {**cam, "base_radius_mm": 36.0 + 0.5 * i + 0.01 * round_}}}
             t0 = time.process_time()
-            scene = parse_scene(point, "plate_cam")
-            compute(scene, evaluation_plan(scene))
+            row = evaluate_point(study, [key], [start + 0.5 * i + 0.01 * round_])
             t1 = time.process_time()
-            compute(scene, plan_run(scene, ["json"]))
-            t2 = time.process_time()
             if round_:
-                evaluation.append((t1 - t0) * 1e3)
-                report.append((t2 - t1) * 1e3)
-    return statistics.median(evaluation), statistics.median(report)
+                took.append((t1 - t0) * 1e3)
+                failed += row["status"] == "fail"
+    return statistics.median(took), failed / (DESIGNS * ROUNDS)
 
 
 def main() -> None:
@@ -101,16 +121,22 @@ def main() -> None:
     rows = []
     for label, split in (("before (634d245)", BEFORE), ("now", now)):
         total = sum(split.values())
-        rows.append([label] + [f"{split[n]:.2f}" for n in times] + [f"{total:.2f}", f"{TARGET_MS:g}", "yes" if total <= TARGET_MS else "no"])
-    print_table(["code", "validate", "build", "checks", "dynamics", "total_ms", "target_ms", "met"], rows)
+        rows.append([label] + [f"{split[n]:.2f}" if n in split else "-" for n in STAGES]
+                    + [f"{total:.2f}", f"{TARGET_MS:g}", "yes" if total <= TARGET_MS else "no"])
+    print_table(["code"] + list(STAGES) + ["total_ms", "target_ms", "met"], rows)
     print()
     total = sum(now.values())
     print("share of the total now: " + ", ".join(f"{n} {100 * v / total:.0f} %" for n, v in now.items()))
-    evaluation, report = _whole()
     print()
-    print(f"whole evaluation (validate + compute with evaluation_plan): {evaluation:.2f} ms per design, "
-          f"{1000.0 / evaluation:.0f} designs/s on one core ({1e5 * evaluation / 6e4:.1f} min for 10^5 designs); "
-          f"compute with the plan of `camgen run --only json` (the report's figures too): {report:.2f} ms")
+    rows = []
+    for label, start in (("base radius 36 .. 55.5 mm", 36.0), ("base radius 18 .. 37.5 mm", 18.0)):
+        whole, failed = _whole(start)
+        rows.append([label, f"{100 * failed:.0f} %", f"{whole:.2f}", f"{1000.0 / whole:.0f}", f"{1e5 * whole / 6e4:.1f}",
+                     "yes" if whole <= TARGET_MS else "no"])
+    print("camgen.study.design.evaluate_point as a whole (what a sweep calls per point; a failing design's "
+          "min_base_radius check searches the smallest base radius that passes):")
+    print()
+    print_table(["designs", "failing_share", "ms_per_design", "designs_per_s_core", "min_per_1e5", "met"], rows)
 
 
 if __name__ == "__main__":

@@ -42,6 +42,7 @@ N, torque N*m, power W, stress MPa, speeds rpm.
 """
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -526,12 +527,15 @@ class DynamicsResult:
     jump_margin: float
 
     # ---- scalar summaries -------------------------------------------------------------------
-    @property
+    @functools.cached_property
     def weights(self) -> np.ndarray:
-        """Periodic trapezoid weights (rad) of the samples: ``sum(weights * f)`` ~ ``int f dtheta``."""
+        """Periodic trapezoid weights (rad) of the samples: ``sum(weights * f)`` ~ ``int f dtheta``
+        (made once: the summaries below share them; read-only)."""
         nxt = np.append(self.theta[1:], self.theta[0] + TWO_PI)
         prv = np.insert(self.theta[:-1], 0, self.theta[-1] - TWO_PI)
-        return 0.5 * (nxt - prv)
+        out = 0.5 * (nxt - prv)
+        out.flags.writeable = False
+        return out
 
     def _rms(self, values: np.ndarray) -> float:
         return float(np.sqrt(np.sum(self.weights * values**2) / TWO_PI))

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 from camgen.schema import Angle, Choice, ChoiceList, Count, Flag, Key, Number
 from camgen.export.drawing_spec import DrawingSpec, drawing_keys
@@ -189,8 +190,10 @@ class OutputSpec:
     step_schema: str = "AP214"
 
 
+@lru_cache(maxsize=None)
 def output_keys() -> tuple[Key, ...]:
-    """Keys of the ``[output]`` table (defaults owned by :class:`OutputSpec`)."""
+    """Keys of the ``[output]`` table (defaults owned by :class:`OutputSpec`); made once (constants
+    only: every scene reads its ``[output]`` table through the same frozen keys)."""
     d = OutputSpec()
     return (
         Key("formats", ChoiceList(SELECTABLE), "Files to write per cam (report.json is always written; ride and leg files whenever "
@@ -222,8 +225,10 @@ def output_keys() -> tuple[Key, ...]:
     )
 
 
+@lru_cache(maxsize=None)
 def machining_keys() -> tuple[Key, ...]:
-    """Keys of the ``[machining]`` table (defaults owned by :class:`camgen.export.gcode.MachiningSpec`)."""
+    """Keys of the ``[machining]`` table (defaults owned by :class:`camgen.export.gcode.MachiningSpec`);
+    made once (constants only)."""
     from camgen.export.entry_settings import ENTRIES, MAX_RAMP_ANGLE_DEG
     from camgen.export.gcode import DIALECTS, DIRECTIONS, SPLINE_MODES, MachiningSpec
     from camgen.export.gcode_spec import LEAD_STYLES, MIN_LEAD_RADIUS, UNITS

@@ -8,6 +8,7 @@ tests).  Each axis keeps its own module (:mod:`camgen.motions`, :mod:`camgen.for
 from __future__ import annotations
 
 import importlib
+import sys
 from typing import Generic, Mapping, Protocol, TypeVar
 
 __all__ = ["Named", "Registry"]
@@ -55,5 +56,7 @@ class Registry(Generic[E]):
         """The entry ``name`` (KeyError if none); a registered entry shadows the package's."""
         if name in self._extra:
             return self._extra[name]
-        entry: E = getattr(importlib.import_module(self._modules[name]), self._attribute)
+        path = self._modules[name]
+        module = sys.modules.get(path)  # imported before: the module itself (what import_module returns), without its machinery
+        entry: E = getattr(module if module is not None else importlib.import_module(path), self._attribute)
         return entry

@@ -104,12 +104,18 @@ class Number(ValueType):
         return f"a number{unit}" + (f", {lo}x{hi}" if lo or hi else "")
 
     def parse(self, path: str, value: object) -> float:
-        number = _number(path, value, self.describe())
-        below = number <= self.low if self.low_open else number < self.low
-        above = number >= self.high if self.high_open else number > self.high
-        if below or above:
-            raise ParameterError(path, value, self.describe())
-        return number * self.scale
+        if _is_number(value):  # the usual case first: the range's text is made only for a refusal
+            try:
+                number = float(value)
+            except OverflowError:
+                number = math.nan
+            if math.isfinite(number):
+                below = number <= self.low if self.low_open else number < self.low
+                above = number >= self.high if self.high_open else number > self.high
+                if not (below or above):
+                    return number * self.scale
+        _number(path, value, self.describe())  # not a finite number: refused by the same words
+        raise ParameterError(path, value, self.describe())  # out of range
 
     def to_scene(self, value: Any) -> Any:
         return None if value is None else value / self.scale

@@ -16,6 +16,7 @@ No clock: the time is measured in benchmarks/bench_evaluate.py.
 from __future__ import annotations
 
 import copy
+import json
 import math
 import subprocess
 import sys
@@ -320,3 +321,103 @@ def test_the_chord_parameters_of_several_splines_at_once_are_each_splines_own():
     contour = get_kind(spec.kind, spec.form).build(spec, frozenset()).contour
     assert isinstance(contour, Contour)
     assert chord_deviation(contour, 1e-4) <= 1e-4  # the wall check's polygon
+
+
+def _sampled_farthest(points_of, knots: np.ndarray, samples: int = 400_001) -> float:
+    """The largest |P| of a curve on [knots[0], knots[-1]]: a dense sampling with the knots (where
+    a piecewise curve may have a corner), then a bounded scalar search (scipy's Brent) about the
+    best sample: an independent computation."""
+    from scipy.optimize import minimize_scalar
+
+    t = np.union1d(np.linspace(knots[0], knots[-1], samples), knots)
+    samples = t.size
+    r = np.hypot(*points_of(t).T)
+    k = int(np.argmax(r))
+    a, b = t[max(k - 1, 0)], t[min(k + 1, samples - 1)]
+    found = minimize_scalar(lambda x: -float(np.hypot(*points_of(np.array([x]))[0])), bounds=(a, b), method="bounded",
+                            options={"xatol": 1e-13})
+    return max(float(r.max()), -float(found.fun))
+
+
+@pytest.mark.parametrize("degree", [3, 5])
+def test_the_farthest_distance_of_splines_against_a_dense_sampling(degree):
+    from camgen.contour.reach import splines_farthest_distance
+
+    rng = np.random.default_rng(28 + degree)
+    for _ in range(6):
+        spline = _random_spline(rng, degree, int(rng.integers(1, 9)))
+        exact = splines_farthest_distance([spline])
+        sampled = _sampled_farthest(spline.eval_t, spline.breaks)
+        assert sampled <= exact * (1.0 + 1e-12)  # never a point beyond it
+        assert exact - sampled <= 1e-9 * exact  # and it is reached
+    several = [_random_spline(rng, d, 4) for d in (3, 5, 5)]  # pieces of both degrees at once
+    assert splines_farthest_distance(several) == max(splines_farthest_distance([s]) for s in several)
+
+
+def test_the_farthest_distance_of_arcs_is_the_closed_form():
+    from camgen.contour import Arc
+    from camgen.contour.reach import arc_farthest_distance
+
+    # the direction of the centre (atan2(3, 4)) inside the sweep: |centre| + radius = 5 + 2
+    assert arc_farthest_distance(Arc((4.0, 3.0), 2.0, 0.0, 1.5)) == pytest.approx(7.0, rel=1e-15)
+    assert arc_farthest_distance(Arc((4.0, 3.0), 2.0, 2.0, -1.5)) == pytest.approx(7.0, rel=1e-15)  # clockwise through it
+    # outside the sweep (from pi/2 to pi): the farther end, at angle pi/2: hypot(4, 5)
+    assert arc_farthest_distance(Arc((4.0, 3.0), 2.0, math.pi / 2, math.pi / 2)) == pytest.approx(math.hypot(4.0, 5.0), rel=1e-15)
+    assert arc_farthest_distance(Arc((0.0, 0.0), 3.0, 0.3, 0.2)) == pytest.approx(3.0, rel=1e-15)  # about the axis
+
+
+@pytest.mark.parametrize("template", ["plate_cam", "default"])
+def test_the_outer_radius_against_a_dense_sampling_and_the_flattened_outline(template):
+    from camgen.contour.reach import farthest_distance
+    from camgen.evaluation import evaluation_plan
+    from camgen.pipeline import compute
+    from camgen.scene import parse_scene, template_path
+    from camgen.study.design import OUTER_RADIUS_TOL, main_figures
+
+    scene = parse_scene(tomllib.loads(template_path(template).read_text(encoding="utf-8")), template)
+    for cam in compute(scene, evaluation_plan(scene)).cams:
+        if cam.contour is None:
+            continue
+        contour = cam.contour
+        exact = main_figures(cam)["outer_radius_mm"]
+        assert exact == farthest_distance(contour)
+        sampled = max(_sampled_farthest(lambda u, seg=seg: seg.point(u), np.array([0.0, 1.0]), 100_001) for seg in contour.segments)
+        assert sampled <= exact * (1.0 + 1e-12) and exact - sampled <= 1e-9 * exact, (cam.name, exact, sampled)
+        flat = contour.flatten(OUTER_RADIUS_TOL)  # the old figure: at most the chord tolerance too small
+        old = float(np.hypot(*flat.T).max())
+        assert old <= exact * (1.0 + 1e-12) and exact - old <= OUTER_RADIUS_TOL
+
+
+
+_HEAP_SCRIPT = """
+import json, sys, tomllib
+from camgen.evaluation import evaluation_plan
+from camgen.pipeline import compute
+from camgen.scene import parse_scene, template_path
+from camgen.study.heap import keep_heap
+
+def results():
+    out = []
+    for radius in (20.0, 40.0, 55.0):
+        data = tomllib.loads(template_path("plate_cam").read_text(encoding="utf-8"))
+        data["cams"]["plate"]["base_radius_mm"] = radius
+        scene = parse_scene(data, "plate")
+        (cam,) = compute(scene, evaluation_plan(scene)).cams
+        out.append([repr(c) for c in cam.checks] + [repr(dict(cam.figures))])
+    return out
+
+before = results()
+kept = keep_heap()
+print(json.dumps({"kept": kept, "same": results() == before, "checks": len(before[0])}))
+"""
+
+
+def test_keeping_the_heap_changes_no_value():
+    """camgen.study.heap.keep_heap (glibc's mmap and trim thresholds, set once per study process)
+    changes where arrays live, never a value: in a fresh process the checks (value, limit, where,
+    note) and figures of three designs, one failing, are the same before and after it."""
+    proc = subprocess.run([sys.executable, "-P", "-c", _HEAP_SCRIPT], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    out = json.loads(proc.stdout)
+    assert out["same"] and out["checks"] > 5
+    assert out["kept"] == sys.platform.startswith("linux")  # this machine's C library is glibc

@@ -13,6 +13,7 @@ carries, refusing the milling keys that have no meaning for a wire (a spindle, d
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
+from functools import lru_cache
 from typing import Any
 
 from camgen.errors import ParameterError, require_finite
@@ -111,6 +112,7 @@ def _d(name: str) -> Any:
     return {f.name: f.default for f in fields(WireEdmSpec)}[name]
 
 
+@lru_cache(maxsize=None)  # constants only: made once
 def wire_edm_keys() -> tuple[Key, ...]:
     """The ``[machining]`` keys of the wire-EDM dialect (each only with ``dialect = "wire_edm"``)."""
     only = {"dialect": (WIRE_EDM,)}

@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, field
+from functools import lru_cache
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, Callable, ClassVar, Mapping
 
@@ -202,6 +203,7 @@ def _solid_default(name: str) -> Any:
     return field_default(BodySpec, name)
 
 
+@lru_cache(maxsize=None)  # constants only: made once
 def body_keys() -> tuple[Key, ...]:
     """Keys of the cam body (every kind): thickness, bore, keyway, minimum wall."""
     return (

@@ -161,7 +161,13 @@ def _follower_spec(where: str, **kwargs: Any) -> "FollowerSpec":
     from camgen.keynames import renamed
     from camgen.synthesis.followers import FollowerSpec
 
-    try:
+    try:  # the usual case first: the key schema (rebuilt per call: the registered followers) only names a refused value
+        return FollowerSpec(**kwargs)
+    except ParameterError:
+        pass
+    except GeometryError as exc:
+        raise GeometryError(f"{where}: {exc}") from None
+    try:  # refused: the same spec again, its error renamed to the scene key
         return renamed(where, follower_keys(), lambda: FollowerSpec(**kwargs))
     except GeometryError as exc:
         raise GeometryError(f"{where}: {exc}") from None

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from functools import lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Mapping
 
@@ -57,13 +58,15 @@ CONTACT_KEYS = ("contact_width_mm", "cam_modulus_gpa", "cam_poisson", "follower_
                 "allowable_contact_stress_mpa")
 
 
+@lru_cache(maxsize=None)
 def dynamics_keys(oscillating: bool = True) -> tuple[Key, ...]:
     """The keys of the follower train, the contact materials and the dynamic limits;
     ``oscillating`` False leaves out the keys of an oscillating arm (for kinds whose dynamics
     are for translating followers only).
 
     Each is stored under its own name (``spring_rate_n_per_mm``: no unit suffix is stripped,
-    they are part of the name), ``gravity_deg`` in radians under ``gravity_angle``."""
+    they are part of the name), ``gravity_deg`` in radians under ``gravity_angle``.  Made once per
+    argument (constants only: no registry is read)."""
     # FATIGUE: the friction and life keys on the kinds with the plate's follower envelope (those that take
     # oscillating followers; a translating-only kind's, three_arc's, has neither a roller nor its geometry)
     extra = friction_life_keys() if oscillating else ()
@@ -604,9 +607,10 @@ FATIGUE_KEYS = ("case_depth_factor", "sn_stress_mpa", "sn_cycles", "sn_exponent"
 FRICTION_LIFE_KEYS = GUIDE_KEYS + ("contact_friction",) + ROLLER_KEYS + FATIGUE_KEYS
 
 
+@lru_cache(maxsize=None)
 def friction_life_keys() -> tuple[Key, ...]:
     """The keys of friction, loads, contact fatigue and life (appended to :func:`dynamics_keys`):
-    any of them turns on the friction and life figures (with the dynamics' mass and rpm)."""
+    any of them turns on the friction and life figures (with the dynamics' mass and rpm); made once."""
     from camgen.contact_life import CASE_DEPTH_FACTOR
     from camgen.friction import DEFAULT_CONTACT_FRICTION, DEFAULT_GUIDE_FRICTION, DEFAULT_PIN_FRICTION
 

@@ -39,8 +39,9 @@ Row = dict[str, "str | int | float | bool | None"]
 #: A design's status: every check with a limit passed, one failed, the scene refused it (a value
 #: out of range, a geometry that cannot be built), or its evaluation killed the worker repeatedly.
 STATUSES = ("pass", "fail", "error", "crashed")
-#: The outer radius is the largest vertex radius of the outline flattened within this chord
-#: tolerance, mm: the true largest radius is at most this much more.
+#: A bound of the outer radius's error, mm: it is the exact largest distance of the outline's
+#: pieces (:func:`camgen.contour.reach.farthest_distance`: their ends and the roots of ``P . P'``,
+#: exact to rounding, far within this bound; tests/test_evaluation_speed.py against dense sampling).
 OUTER_RADIUS_TOL = 1e-3
 #: The main figures of every cam (column ``fig.<cam>.<figure>``) and what each is.
 FIGURES = {
@@ -82,9 +83,12 @@ class StudyScene:
         return study
 
     def scene(self, values: "Mapping[tuple[str | int, ...], Value]") -> "Scene":
-        """The validated scene with ``values`` (path -> value) set (raises the scene reader's errors)."""
+        """The validated scene with ``values`` (path -> value) set (raises the scene reader's errors).
+        The process keeps its freed memory for the next design from now on (:func:`camgen.study.heap.keep_heap`)."""
         from camgen.scene import parse_scene
+        from camgen.study.heap import keep_heap
 
+        keep_heap()  # once per process: every design's large arrays from the heap, not fresh mmaps
         return parse_scene(point_scene_data(self.data, values), self.name, self.source, self.base_dir)
 
 
@@ -116,10 +120,9 @@ def finite_number(value: object) -> float | None:
 def _outer_radius(cam: "CamResult") -> float | None:
     if cam.contour is None:
         return None
-    import numpy as np
+    from camgen.contour.reach import farthest_distance
 
-    points = cam.contour.flatten(OUTER_RADIUS_TOL)
-    return float(np.sqrt((points * points).sum(axis=1)).max())
+    return farthest_distance(cam.contour)
 
 
 def main_figures(cam: "CamResult") -> dict[str, float | None]:
