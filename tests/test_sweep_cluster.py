@@ -160,6 +160,7 @@ def test_a_killed_worker_and_client_then_resume_on_a_real_cluster(tmp_path):
                  "-o", str(tmp_path / "out"), "-q"]
         client = subprocess.Popen([sys.executable, "-m", "camgen", *sweep], env=env, stdout=subprocess.DEVNULL,
                                   stderr=subprocess.DEVNULL)
+        programs.append(client)  # stopped at the end whatever happens
         _wait_for(lambda: len(_parts(folder)) >= 5, "five parts")
         programs[1].send_signal(signal.SIGKILL)  # a worker dies mid-sweep: its point goes to the other
         killed_at = len(_parts(folder))
@@ -193,8 +194,9 @@ def test_a_killed_worker_and_client_then_resume_on_a_real_cluster(tmp_path):
         for program in programs:
             try:
                 program.wait(timeout=30)
-            except subprocess.TimeoutExpired:
+            except subprocess.TimeoutExpired:  # a busy machine: killed, and waited for (no process left running)
                 program.kill()
+                program.wait()
 
 
 def test_a_local_worker_killed_mid_sweep_and_every_key_once():
