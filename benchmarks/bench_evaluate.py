@@ -18,7 +18,10 @@ machine disturb far less than the wall time), the median over the designs of sev
 
 Then ``evaluate_point`` as a whole, on passing designs and on a range half of which fails (base radii from
 18 mm: the pressure angle fails, and the ``min_base_radius`` check, the value in the row,
-searches the smallest base radius that passes: a failing design costs more).
+searches the smallest base radius that passes: a failing design costs more), and on a range of
+rises (the rise and the return of the motion changed together, 10 .. 29.5 mm): a sweep over the
+base radius keeps one motion law, whose values a design may reuse (a cache of a pure function of
+the motion's keys); a sweep over the motion makes a new law at every point.
 
 The "before" row is the same split measured on commit 634d245 (before this work) with the
 same scene and designs, on the same machine, alternating three runs of each with this script's
@@ -93,17 +96,22 @@ def _split() -> dict[str, list[float]]:
     return times
 
 
-def _whole(start: float) -> tuple[float, float]:
-    """Median CPU ms of ``camgen.study.design.evaluate_point`` (what a sweep calls per point) over
-    base radii from ``start`` mm, and the share of its designs that failed a check."""
+def _whole(start: float, vary: str = "base_radius") -> tuple[float, float]:
+    """Median CPU ms of ``camgen.study.design.evaluate_point`` (what a sweep calls per point) and
+    the share of its designs that failed a check: ``vary`` "base_radius": base radii from
+    ``start`` mm (the motion law the same at every point); "lift": the rise and the return from
+    ``start`` mm (segments 1 and 3; a new motion law at every point)."""
     from camgen.study.design import evaluate_point
+    from camgen.study.keys import resolve_key
 
     study, key = _points()
+    keys = [key] if vary == "base_radius" else [resolve_key(study.data, f"cams.plate.segments[{i}].lift_mm") for i in (0, 2)]
     took, failed = [], 0
     for round_ in range(ROUNDS + 1):
         for i in range(DESIGNS):
+            value = start + 0.5 * i + 0.01 * round_
             t0 = time.process_time()
-            row = evaluate_point(study, [key], [start + 0.5 * i + 0.01 * round_])
+            row = evaluate_point(study, keys, [value] if vary == "base_radius" else [value, -value])
             t1 = time.process_time()
             if round_:
                 took.append((t1 - t0) * 1e3)
@@ -129,8 +137,9 @@ def main() -> None:
     print("share of the total now: " + ", ".join(f"{n} {100 * v / total:.0f} %" for n, v in now.items()))
     print()
     rows = []
-    for label, start in (("base radius 36 .. 55.5 mm", 36.0), ("base radius 18 .. 37.5 mm", 18.0)):
-        whole, failed = _whole(start)
+    for label, start, vary in (("base radius 36 .. 55.5 mm", 36.0, "base_radius"), ("base radius 18 .. 37.5 mm", 18.0, "base_radius"),
+                               ("rise and return 10 .. 29.5 mm", 10.0, "lift")):
+        whole, failed = _whole(start, vary)
         rows.append([label, f"{100 * failed:.0f} %", f"{whole:.2f}", f"{1000.0 / whole:.0f}", f"{1e5 * whole / 6e4:.1f}",
                      "yes" if whole <= TARGET_MS else "no"])
     print("camgen.study.design.evaluate_point as a whole (what a sweep calls per point; a failing design's "
