@@ -357,6 +357,10 @@ _PHASOR_BLOCK = 64
 #: sines and cosines from :func:`_uniform_phasors` (its fixed cost, ~6 us, is that of a direct sine
 #: and cosine of ~500 angles on the machine of benchmarks/RESULTS.md).
 _PHASOR_MIN_POINTS = 640
+#: Grids whose values :meth:`MotionProgram.on_uniform_grid` keeps on the program (the dense check
+#: grid and the coarse screening grid of a cam, a few more for a sizing search): all are dropped
+#: when this many are kept.
+_GRID_MEMO_SIZE = 4
 
 
 def _uniform_phasors(first: float, step: float, m: int) -> np.ndarray:
@@ -1376,8 +1380,18 @@ class MotionProgram:
         :data:`_PHASOR_MIN_POINTS` uniform angles takes its sines and cosines there from angle addition
         (:func:`_uniform_phasors`: within a few ulps of the direct ones, at a fraction of their cost;
         the dense check grid of a cam is such a grid with the breaks added); a piece with fewer is
-        evaluated at its uniform and added angles in one pass."""
+        evaluated at its uniform and added angles in one pass.
+
+        The values are kept on the program for the next call with the same grid (a pure function
+        of the program, which does not change, and the grid; at most :data:`_GRID_MEMO_SIZE`
+        grids): the arrays returned are read-only, shared by every caller (a sweep's designs that
+        keep the motion law evaluate it once)."""
         extra = np.zeros(0) if extra is None else np.asarray(extra, dtype=float)
+        key = (n, extra.tobytes())
+        memo: dict[tuple[int, bytes], tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = self.__dict__.setdefault("_grid_memo", {})
+        kept = memo.get(key)
+        if kept is not None:
+            return kept
         step = TWO_PI / n
         grid = np.arange(n) * step
         starts = self._piece_lo[1:]
@@ -1396,7 +1410,11 @@ class MotionProgram:
                 self._fill(entry, np.concatenate([grid[lo:hi], extra[elo - n: ehi - n]]), both, None)
                 res[:, lo:hi] = both[:, : hi - lo]
                 res[:, elo:ehi] = both[:, hi - lo:]
-        return res[0], res[1], res[2], res[3]
+        res.setflags(write=False)
+        if len(memo) >= _GRID_MEMO_SIZE:
+            memo.clear()  # (one step: safe with threads sharing the program)
+        memo[key] = values = (res[0], res[1], res[2], res[3])
+        return values
 
     # -- reports ------------------------------------------------------------------------------
     def joins(self) -> list[Join]:
