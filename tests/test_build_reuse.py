@@ -181,3 +181,21 @@ def test_contact_points_are_those_of_the_kinematics(name):
     got = contact_points(follower, law, theta)
     assert got.shape == (theta.size, 2) and np.array_equal(got, want)
     assert np.array_equal(contact_points(follower, law, 0.0), want[:1])
+
+
+def test_a_program_s_kept_values_at_angles_are_a_fresh_program_s_and_the_caller_s_own():
+    """Calls asked again (the motion samples, one angle, unsorted and negative angles, a 2-D
+    array) among others: each answer bit for bit a fresh program's, and a caller that writes
+    into its arrays changes no later answer."""
+    program = _program()
+    rng = np.random.default_rng(11)
+    asks = [2.0 * math.pi * np.arange(3600) / 3600, np.zeros(1), rng.uniform(-TWO_PI, TWO_PI, 7),
+            rng.uniform(0.0, 3.0 * TWO_PI, (3, 4)), np.linspace(0.0, 1.0, 5000)]
+    for turn in range(4):
+        for k in rng.permutation(len(asks) + 3).tolist():
+            theta = asks[k] if k < len(asks) else rng.uniform(0.0, TWO_PI, 50)  # (angles asked once)
+            got = program(theta)
+            want = _program()(theta)
+            for a, b in zip(got, want):
+                assert a.shape == theta.shape and np.array_equal(a, b), (turn, k)
+                a[...] = np.nan  # the caller's own array

@@ -361,6 +361,11 @@ _PHASOR_MIN_POINTS = 640
 #: grid and the coarse screening grid of a cam, a few more for a sizing search): all are dropped
 #: when this many are kept.
 _GRID_MEMO_SIZE = 4
+#: Calls of :meth:`MotionProgram.__call__` whose values the program keeps: at most this many angles
+#: (a cam's motion samples, the zero mark, the angles its checks probe), asked for a second time,
+#: among the last this many distinct calls.
+_CALL_MEMO_ANGLES = 4096
+_CALL_MEMO_SIZE = 16
 
 
 def _uniform_phasors(first: float, step: float, m: int) -> np.ndarray:
@@ -1311,9 +1316,40 @@ class MotionProgram:
 
     def __call__(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """s (unit), ds/dtheta (unit/rad), d2s/dtheta2 (unit/rad^2), d3s/dtheta3 (unit/rad^3) at cam
-        angles ``theta`` (rad, any real, any shape; periodic); at a break the following piece."""
+        angles ``theta`` (rad, any real, any shape; periodic); at a break the following piece.
+
+        The values of a call with at most :data:`_CALL_MEMO_ANGLES` angles asked for a second time
+        are kept on the program for the calls with the same angles after it (among the last
+        :data:`_CALL_MEMO_SIZE` distinct calls; a sweep's designs that keep the law ask for the same
+        angles): each call returns fresh arrays, copies of the kept ones."""
         theta = np.asarray(theta, dtype=float)
         shape = theta.shape
+        key = theta.tobytes() if theta.size <= _CALL_MEMO_ANGLES else None
+        memo: dict[bytes, np.ndarray | None] = self.__dict__.setdefault("_call_memo", {})
+        seen = False
+        if key is not None:
+            seen = key in memo
+            kept = memo.pop(key, None)  # (pop and put back: the most recently used last)
+            if kept is not None:
+                memo[key] = kept
+                res = kept.copy()
+                return res[0].reshape(shape), res[1].reshape(shape), res[2].reshape(shape), res[3].reshape(shape)
+        res = self._values(theta)
+        if key is not None:
+            if len(memo) >= _CALL_MEMO_SIZE:
+                try:
+                    del memo[next(iter(memo))]  # the least recently used
+                except (KeyError, RuntimeError, StopIteration):  # another thread changed it meanwhile: nothing to drop
+                    pass
+            kept = None
+            if seen:  # asked for before: kept from now on (angles asked once are only remembered)
+                kept = res.copy()
+                kept.setflags(write=False)
+            memo[key] = kept
+        return res[0].reshape(shape), res[1].reshape(shape), res[2].reshape(shape), res[3].reshape(shape)
+
+    def _values(self, theta: np.ndarray) -> np.ndarray:
+        """:meth:`__call__`'s values, computed: a (4, theta.size) block."""
         th = theta.ravel()
         if th.size:
             low, high = float(th.min()), float(th.max())
@@ -1348,7 +1384,7 @@ class MotionProgram:
             out = np.empty_like(res)
             out[:, order] = res
             res = out
-        return res[0].reshape(shape), res[1].reshape(shape), res[2].reshape(shape), res[3].reshape(shape)
+        return res
 
     @staticmethod
     def _fill(entry: tuple, ths: np.ndarray, out: np.ndarray, step: float | None) -> None:
