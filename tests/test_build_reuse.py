@@ -146,8 +146,10 @@ def test_sorted_check_grid_is_the_insertion_of_the_added_angles():
             assert np.allclose(raw, value, rtol=1e-12, atol=1e-12 * np.abs(value).max())
         mask = rng.random(n + added.size) < 0.3
         assert np.array_equal(grid.sorted(mask), np.insert(mask[:n], at, mask[n:]))
-    empty = CheckGrid(law, 720, np.zeros(0))
+    empty = CheckGrid(law, 720, np.zeros(0))  # no angle added: the values are the raw ones, the caller's own arrays
     assert np.array_equal(empty.theta, np.arange(720) * (TWO_PI / 720))
+    for got, raw in zip(empty.values, empty.raw):
+        assert np.array_equal(got, raw) and got.flags.writeable
 
 
 @pytest.mark.parametrize("first", [1.0, -1.0])

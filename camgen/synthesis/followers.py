@@ -1153,9 +1153,9 @@ class CheckGrid:
     def values(self) -> _LawValues:
         """``(s, ds, d2s, d3s)`` at ``theta``."""
         s, ds, d2s, d3s = self.raw
-        if not self.added.size:
-            return s, ds, d2s, d3s
-        block = np.stack((s, ds, d2s, d3s)).take(self._layout[1], axis=1)  # the four in one pass
+        block = np.stack((s, ds, d2s, d3s))  # the four in one pass (a copy: the raw values may be the law's kept ones)
+        if self.added.size:
+            block = block.take(self._layout[1], axis=1)
         return block[0], block[1], block[2], block[3]
 
     def to_cam(self, sigma: float) -> np.ndarray:
