@@ -11,7 +11,9 @@ computation that shares no state with it.
   the added angles into the uniform grid, written here); the rotation into the cam frame of a
   ``cw`` cam the complex conjugate of the ``ccw`` one's, whichever is asked first;
 * :func:`camgen.synthesis.followers.contact_points` bit for bit the contact points of
-  :func:`~camgen.synthesis.followers.kinematics`, for every follower.
+  :func:`~camgen.synthesis.followers.kinematics`, for every follower;
+* a program's values at angles asked again bit for bit a fresh program's, the caller's own arrays;
+  a pickled program carries none of its kept values (its size that of an unused one).
 
 No clock: the time is measured in benchmarks/bench_evaluate.py.
 """
@@ -201,3 +203,20 @@ def test_a_program_s_kept_values_at_angles_are_a_fresh_program_s_and_the_caller_
             for a, b in zip(got, want):
                 assert a.shape == theta.shape and np.array_equal(a, b), (turn, k)
                 a[...] = np.nan  # the caller's own array
+
+
+def test_a_pickled_program_carries_no_kept_values_and_answers_the_same():
+    import pickle
+
+    program, fresh = _program(), _program()
+    fresh(np.zeros(1))  # (its evaluation plan made, as the used program's)
+    fresh_size = len(pickle.dumps(fresh))
+    theta = 2.0 * math.pi * np.arange(3600) / 3600
+    for _ in range(3):
+        program(theta)
+    program.on_uniform_grid(7200, _grid_layout(program, D(0.05))[1])
+    text = pickle.dumps(program)
+    assert len(text) <= fresh_size + 64  # (a 3600-angle call alone keeps ~115 kB)
+    back = pickle.loads(text)
+    for a, b in zip(back(theta), _program()(theta)):
+        assert np.array_equal(a, b)

@@ -366,6 +366,8 @@ _GRID_MEMO_SIZE = 4
 #: among the last this many distinct calls.
 _CALL_MEMO_ANGLES = 4096
 _CALL_MEMO_SIZE = 16
+#: The attributes in which a program keeps values (not pickled).
+_KEPT_VALUES = ("_call_memo", "_grid_memo")
 
 
 def _uniform_phasors(first: float, step: float, m: int) -> np.ndarray:
@@ -1282,6 +1284,11 @@ class MotionProgram:
         self.break_continuity = np.array([cont[k] for k in order], dtype=int)
         self._piece_lo = np.asarray(piece_lo, dtype=float)
         self._piece_ref = piece_ref
+
+    def __getstate__(self) -> dict[str, object]:
+        """The program without the values it keeps (:meth:`__call__`, :meth:`on_uniform_grid`): a
+        pickled program (a scene sent to a worker) carries its definition only."""
+        return {k: v for k, v in self.__dict__.items() if k not in _KEPT_VALUES}
 
     # -- the Displacement interface ----------------------------------------------------------
     def _plan(self) -> list[tuple]:
