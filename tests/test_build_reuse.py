@@ -31,7 +31,7 @@ import pytest
 from camgen.scene import template_path
 from camgen.study.design import StudyScene, evaluate_point, point_scene_data
 from camgen.study.keys import resolve_key
-from camgen.synthesis.followers import CheckGrid, FollowerSpec, _grid_layout, contact_points, kinematics
+from camgen.synthesis.followers import CheckGrid, FollowerSpec, _grid_layout, contact_points, kinematics, profile_curvature
 from camgen.synthesis.laws import MotionProgram, Segment
 
 D = math.radians
@@ -220,3 +220,15 @@ def test_a_pickled_program_carries_no_kept_values_and_answers_the_same():
     back = pickle.loads(text)
     for a, b in zip(back(theta), _program()(theta)):
         assert np.array_equal(a, b)
+
+
+@pytest.mark.parametrize("name", FOLLOWERS)
+def test_profile_curvature_is_that_of_the_kinematics(name):
+    """At random angles, the breaks and 1e-9 rad either side of them (where the curvature jumps)."""
+    changes, unit = FOLLOWERS[name]
+    follower = FollowerSpec(**changes)
+    law = _program(unit, 20.0 if unit == "mm" else 0.2)
+    theta = np.concatenate([np.random.default_rng(4).uniform(0.0, TWO_PI, 30), law.breaks, law.breaks - 1e-9, law.breaks + 1e-9])
+    want = kinematics(follower, law, theta).profile_curvature
+    got = profile_curvature(follower, law, theta)
+    assert got.shape == theta.shape and np.array_equal(got, want)

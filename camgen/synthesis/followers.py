@@ -102,7 +102,7 @@ from camgen.errors import (
 __all__ = [
     "BOUND_SPACING", "BREAK_MERGE", "CamEnvelope", "CheckGrid", "DEFAULT_CHECK_STEP", "DEFAULT_FIT_TOL",
     "Displacement", "FollowerSpec", "Kinematics", "MOTIONS", "ROTATIONS", "SCREEN_CLEARANCE",
-    "SCREEN_UNDERCUT", "cam_envelope", "check_grid", "contact_points", "kinematics", "pitch_offset_failures", "pitch_offsets", "profile_failures",
+    "SCREEN_UNDERCUT", "cam_envelope", "check_grid", "contact_points", "kinematics", "profile_curvature", "pitch_offset_failures", "pitch_offsets", "profile_failures",
 ]
 
 TWO_PI = 2.0 * math.pi
@@ -648,6 +648,22 @@ def contact_points(follower: FollowerSpec, law: Displacement, theta: object) -> 
     else:
         contact = _roller(follower, theta, s, ds, d2s, d3s, False, ("profile",))[0][0]
     return _xy(contact)
+
+
+def profile_curvature(follower: FollowerSpec, law: Displacement, theta: object) -> np.ndarray:
+    """The signed curvature of the cam profile (1/mm, > 0 convex) at cam angles ``theta`` (rad):
+    ``kinematics(follower, law, theta).profile_curvature``, the same numbers; for a roller or knife
+    from the pitch curve's curvature alone (no rotation into the cam frame, no points, no
+    pressure angle: a cheap path for a few angles, e.g. either side of the contour's joints)."""
+    if follower.contact == "face":
+        return kinematics(follower, law, theta).profile_curvature
+    theta = np.atleast_1d(np.asarray(theta, dtype=float)).ravel()
+    s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(theta))
+    _, (vx, vy), (ax, ay), (bx, by), _, _ = _centre(follower, s, ds, d2s, d3s)
+    kappa_p = _pitch_curvature(follower.sigma, vx, vy, ax, ay, bx, by)[3]
+    factor = 1.0 - follower.roller_radius * kappa_p
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.divide(kappa_p, factor)  # as in _roller: the profile's rho = rho_pitch - r
 
 
 # --------------------------------------------------------------------------------------------
