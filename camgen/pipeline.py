@@ -74,7 +74,7 @@ def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> "RunResu
     for spec in scene.cams:
         where = f"cams.{spec.name}"
         progress(f"building cam '{spec.name}' ({spec.kind})")
-        built = get_kind(spec.kind, spec.form).build(spec, plan.stages)
+        built = get_kind(spec.kind, spec.form).build(spec, plan.build_stages)
         progress(f"checking cam '{spec.name}'")
         cam = CamResult(spec, built, with_cam(where, lambda: evaluate(built, spec, tool_radius, spec.checks.tool_is_limit,
                                                                         plan.report_figures)))

@@ -19,7 +19,11 @@ if TYPE_CHECKING:
     from camgen.kinds.base import Pocket
     from camgen.scene import Scene
 
-__all__ = ["MAX_FLAT_POINTS", "Plan", "check_flat_size", "claim_file", "plan_run"]
+__all__ = ["MAX_FLAT_POINTS", "Plan", "REPORT_FIGURES_STAGE", "check_flat_size", "claim_file", "plan_run"]
+
+#: The build stage of the report's figures of a cam's shape (a disk cam's area, perimeter and bounds):
+#: in :attr:`Plan.build_stages` when :attr:`Plan.report_figures` (a sweep's design evaluation leaves it out).
+REPORT_FIGURES_STAGE = "report_figures"
 
 
 @dataclass(frozen=True)
@@ -31,12 +35,20 @@ class Plan:
     but one restricted by ``--only`` without ``json``); ``report_figures``: the report's figures
     beyond the checks and the main figures (the law's acceleration harmonics) are computed: every
     planned run; False in the evaluation of one design by a sweep (:mod:`camgen.evaluation`).
+    A build is given :attr:`build_stages`: ``stages`` and, with ``report_figures``, the stage
+    :data:`REPORT_FIGURES_STAGE` (a disk cam's ``area_mm2``, ``perimeter_mm``, ``bounds_mm``).
     """
 
     formats: tuple[str, ...]
     stages: frozenset[str]
     full_report: bool = True
     report_figures: bool = True
+
+    @property
+    def build_stages(self) -> frozenset[str]:
+        """The stages a cam's build is given: :attr:`stages`, with :data:`REPORT_FIGURES_STAGE`
+        when the plan computes the report's figures."""
+        return self.stages | {REPORT_FIGURES_STAGE} if self.report_figures else self.stages
 
 
 def _refuse_formats_of_forms(scene: "Scene", formats: Sequence[str]) -> None:

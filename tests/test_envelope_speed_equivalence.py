@@ -27,7 +27,6 @@ from camgen.synthesis.followers import (
     CheckGrid,
     FollowerSpec,
     _grid_layout,
-    _grid_to_cam,
     _sixth_derivatives,
     _uniform_knots,
     cam_envelope,
@@ -119,7 +118,7 @@ def test_check_grid_rotation_is_the_cosine_and_sine_of_the_grid_angles(rotation)
         theta = grid.theta
         assert np.array_equal(theta, check_grid(Law, step)) and size == n
         assert np.array_equal(theta[grid.added_at], added)
-        got = grid.sorted(_grid_to_cam(follower, size, added))
+        got = grid.to_cam(follower.sigma)
         assert np.max(np.abs(got - (np.cos(theta) - 1j * sigma * np.sin(theta)))) <= 2e-15, trial
 
 

@@ -99,7 +99,9 @@ def test_the_evaluation_plan_makes_the_checks_camgen_check_makes(design, tmp_pat
     if design in ("small_base_radius", "low_torque_limit"):
         assert proc.returncode == 1
     assert "acceleration_harmonics" not in cam.figures  # a report-only figure, not made
-    assert {"bounds_mm", "dynamics"} <= set(cam.figures)  # the size and the dynamics figures are
+    assert "dynamics" in cam.figures  # the dynamics figures are (the row's torque, stress, jump speed)
+    # the shape's report-only figures (the row's size is camgen.contour.reach's outer radius) are not made
+    assert not {"area_mm2", "perimeter_mm", "bounds_mm"} & set(cam.figures)
 
 
 def _random_spline(rng: np.random.Generator, degree: int, pieces: int):
@@ -235,12 +237,12 @@ def test_the_bounding_box_against_a_dense_sampling():
 def test_the_template_profile_length_against_its_dense_polyline():
     """The perimeter (Gauss-Legendre, its nodes computed once) against the chords of 10^6 points:
     the polyline is shorter, by at most (dt^2 / 24) max |P''|^2 / |P'| per unit length."""
-    from camgen.evaluation import evaluation_plan
     from camgen.pipeline import compute
+    from camgen.planning import plan_run
     from camgen.scene import parse_scene
 
     scene = parse_scene(_scene({}), "plate")
-    (cam,) = compute(scene, evaluation_plan(scene)).cams
+    (cam,) = compute(scene, plan_run(scene)).cams  # the full plan: the report's perimeter figure
     polyline = 0.0
     for spline in cam.contour.segments:
         t = np.union1d(np.linspace(spline.breaks[0], spline.breaks[-1], 250_001), spline.breaks)

@@ -26,6 +26,7 @@ import numpy as np
 
 from camgen.errors import FitToleranceError, GeometryError, ParameterError, ceil_significant
 from camgen.kinds.base import BuiltCam, CamSpec, ZeroMark, with_cam
+from camgen.planning import REPORT_FIGURES_STAGE
 from camgen.schema import Choice, Key, Length, Number
 
 if TYPE_CHECKING:
@@ -416,7 +417,7 @@ def _reachable_fit_tol(follower: "FollowerSpec", law: Any, failure: FitTolerance
 def build_disk(spec: CamSpec, stages: frozenset[str]) -> DiskCam:
     """The exact envelope of the follower (report-only when it cannot be made), with sizing,
     the exact motion and, with the ``plots`` stage, the report's animation."""
-    from camgen.synthesis.followers import cam_envelope, kinematics
+    from camgen.synthesis.followers import cam_envelope, contact_points
 
     p: DiskParams = spec.params
     where = f"cams.{spec.name}"
@@ -457,12 +458,13 @@ def build_disk(spec: CamSpec, stages: frozenset[str]) -> DiskCam:
     if profile is not None:
         figures["fit_error_mm"] = env.fit_error
         figures["profile_pieces"] = int(sum(seg.n_pieces for seg in profile.segments))
-        figures["area_mm2"] = profile.area
-        figures["perimeter_mm"] = profile.length
-        figures["bounds_mm"] = list(profile.bounds)
+        if REPORT_FIGURES_STAGE in stages:  # the report's figures of the shape (no check reads them)
+            figures["area_mm2"] = profile.area
+            figures["perimeter_mm"] = profile.length
+            figures["bounds_mm"] = list(profile.bounds)
     if p.source is not None:
         figures["source"] = p.source
-    zero = kinematics(follower, p.law, np.zeros(1)).contact_point[0]
+    zero = contact_points(follower, p.law, np.zeros(1))[0]
     zero_mark = ZeroMark((float(zero[0]), float(zero[1])), follower.sigma)
     pitch = env.pitch if follower.has_radius else None  # a knife's pitch curve is its profile
     drawing = animation = None

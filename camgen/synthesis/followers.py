@@ -77,7 +77,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from functools import cached_property
+from functools import cached_property, lru_cache
 from typing import Any, Callable, Literal, NamedTuple, Protocol, TypeAlias, overload
 
 import numpy as np
@@ -102,7 +102,7 @@ from camgen.errors import (
 __all__ = [
     "BOUND_SPACING", "BREAK_MERGE", "CamEnvelope", "CheckGrid", "DEFAULT_CHECK_STEP", "DEFAULT_FIT_TOL",
     "Displacement", "FollowerSpec", "Kinematics", "MOTIONS", "ROTATIONS", "SCREEN_CLEARANCE",
-    "SCREEN_UNDERCUT", "cam_envelope", "check_grid", "kinematics", "pitch_offset_failures", "pitch_offsets", "profile_failures",
+    "SCREEN_UNDERCUT", "cam_envelope", "check_grid", "contact_points", "kinematics", "profile_curvature", "pitch_offset_failures", "pitch_offsets", "profile_failures",
 ]
 
 TWO_PI = 2.0 * math.pi
@@ -337,10 +337,15 @@ def _xy(z: np.ndarray) -> np.ndarray:
 
 def _to_cam(f: FollowerSpec, theta: np.ndarray) -> np.ndarray:
     """``exp(-i sigma theta)`` (n,): the rotation R(-sigma theta) from the fixed to the cam frame."""
+    return _rotation_to_cam(f.sigma, theta)
+
+
+def _rotation_to_cam(sigma: float, theta: np.ndarray) -> np.ndarray:
+    """:func:`_to_cam` of a cam turning in the direction ``sigma`` (+1 ccw, -1 cw)."""
     back = np.empty(theta.size, dtype=complex)
     np.cos(theta, out=back.real)
     np.sin(theta, out=back.imag)
-    if f.sigma > 0:
+    if sigma > 0:
         np.negative(back.imag, out=back.imag)
     return back
 
@@ -632,6 +637,35 @@ def kinematics(follower: FollowerSpec, law: Displacement, theta: object) -> Kine
     return _kinematics_from(follower, theta, s, ds, d2s, d3s)
 
 
+def contact_points(follower: FollowerSpec, law: Displacement, theta: object) -> np.ndarray:
+    """The contact points on the cam profile at cam angles ``theta`` (rad): ``kinematics(follower,
+    law, theta).contact_point`` (cam frame, mm, (n, 2)), the same numbers, without the pressure
+    angle, the curvatures and the follower point."""
+    theta = np.atleast_1d(np.asarray(theta, dtype=float)).ravel()
+    s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(theta))
+    if follower.contact == "face":
+        contact = _flat(follower, theta, s, ds, d2s, d3s, False)[0][0]
+    else:
+        contact = _roller(follower, theta, s, ds, d2s, d3s, False, ("profile",))[0][0]
+    return _xy(contact)
+
+
+def profile_curvature(follower: FollowerSpec, law: Displacement, theta: object) -> np.ndarray:
+    """The signed curvature of the cam profile (1/mm, > 0 convex) at cam angles ``theta`` (rad):
+    ``kinematics(follower, law, theta).profile_curvature``, the same numbers; for a roller or knife
+    from the pitch curve's curvature alone (no rotation into the cam frame, no points, no
+    pressure angle: a cheap path for a few angles, e.g. either side of the contour's joints)."""
+    if follower.contact == "face":
+        return kinematics(follower, law, theta).profile_curvature
+    theta = np.atleast_1d(np.asarray(theta, dtype=float)).ravel()
+    s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(theta))
+    _, (vx, vy), (ax, ay), (bx, by), _, _ = _centre(follower, s, ds, d2s, d3s)
+    kappa_p = _pitch_curvature(follower.sigma, vx, vy, ax, ay, bx, by)[3]
+    factor = 1.0 - follower.roller_radius * kappa_p
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.divide(kappa_p, factor)  # as in _roller: the profile's rho = rho_pitch - r
+
+
 # --------------------------------------------------------------------------------------------
 # Undercut / validity
 # --------------------------------------------------------------------------------------------
@@ -785,6 +819,17 @@ def _run_ranges(mask: np.ndarray, theta: np.ndarray) -> list[tuple[float, float]
     return [(round(float(deg[a]), 6), round(float(deg[b]), 6)) for a, b in zip(starts, ends)]
 
 
+#: Check grids whose order and rotations are kept (:func:`_added_angles`, :func:`_grid_order`,
+#: :func:`_sorted_grid_to_cam`): a sweep's designs share one or two grids (the grid follows the law's breaks only).
+_GRID_CACHE_SIZE = 8
+
+
+def _read_only(a: np.ndarray) -> np.ndarray:
+    """``a``, made read-only (an array kept across designs)."""
+    a.setflags(write=False)
+    return a
+
+
 def check_grid(law: Displacement, check_step: float = DEFAULT_CHECK_STEP) -> np.ndarray:
     """Sorted cam angles (rad, one turn) for dense checks: a uniform grid of ``check_step`` plus
     every break and both one-sided neighbours of it (1e-9 rad away)."""
@@ -798,14 +843,20 @@ def _grid_layout(law: Displacement, check_step: float) -> tuple[int, np.ndarray]
     neighbours that are not on the uniform grid already)."""
     require_positive("check_step", check_step, "rad")
     n = max(8, math.ceil(TWO_PI / check_step))
-    brk = np.asarray(getattr(law, "breaks", np.zeros(0)), dtype=float).tolist()
+    return n, _added_angles(tuple(np.asarray(getattr(law, "breaks", np.zeros(0)), dtype=float).tolist()), n)
+
+
+@lru_cache(maxsize=_GRID_CACHE_SIZE)
+def _added_angles(brk: tuple[float, ...], n: int) -> np.ndarray:
+    """The sorted angles :func:`_grid_layout` adds to the uniform grid of ``n`` angles for the
+    breaks ``brk`` (rad), read-only (kept across designs: a sweep's designs share their breaks)."""
     if not brk:
-        return n, np.zeros(0)
+        return _read_only(np.zeros(0))
     # a few angles, as Python floats (Python's % is np.mod)
     extra = sorted({(b + d) % TWO_PI for b in brk for d in (0.0, -1e-9, 1e-9)})
     d = TWO_PI / n
     # an angle on the grid is k 2 pi / n exactly for its nearest index k
-    return n, np.array([a for a in extra if round(a / d) * d != a or round(a / d) == n])
+    return _read_only(np.array([a for a in extra if round(a / d) * d != a or round(a / d) == n]))
 
 
 def _insert_added(uniform: np.ndarray, added: np.ndarray, added_values: np.ndarray | None = None) -> np.ndarray:
@@ -832,23 +883,38 @@ def _law_on_grid(law: Displacement, n: int, added: np.ndarray) -> _LawValues:
     return s, ds, d2s, d3s
 
 
-#: Length of the short table of unit phasors of a uniform grid (:func:`_grid_to_cam`).
+#: Length of the short table of unit phasors of a uniform grid (:func:`_sorted_grid_to_cam`).
 _PHASOR_BLOCK = 128
 
 
-def _grid_to_cam(f: FollowerSpec, n: int, added: np.ndarray) -> np.ndarray:
-    """:func:`_to_cam` on the check grid in :class:`CheckGrid` order (the uniform part ``k d``,
-    ``d = 2 pi / n``, then the ``added`` angles): on the uniform part ``exp(-i sigma k d)`` as the
-    products ``exp(-i sigma B j d) exp(-i sigma l d)`` (``k = B j + l``) of two short tables (angle
-    addition: within a few ulps of the cosine and sine of the grid angles), at the added angles directly."""
+@lru_cache(maxsize=_GRID_CACHE_SIZE)
+def _grid_order(n: int, added: bytes) -> tuple[np.ndarray, np.ndarray]:
+    """The sorted check grid of :class:`CheckGrid` (``n`` uniform angles ``k 2 pi / n``, the sorted
+    ``added`` angles as float64 bytes) and its order: ``theta = grid[order]`` with ``grid`` the
+    angles in the grid's own order (uniform part, then the added ones), as :func:`_insert_added`
+    places them.  Both read-only (kept across designs: a pure function of its arguments)."""
+    extra = np.frombuffer(added, dtype=float)
+    order = _insert_added(np.arange(n), extra, np.arange(n, n + extra.size))
+    return _read_only(_insert_added(np.arange(n) * (TWO_PI / n), extra)), _read_only(order)
+
+
+@lru_cache(maxsize=_GRID_CACHE_SIZE)
+def _sorted_grid_to_cam(sigma: float, n: int, added: bytes) -> np.ndarray:
+    """:func:`_to_cam` of a cam turning in the direction ``sigma`` on the check grid (``n`` uniform
+    angles ``k d``, ``d = 2 pi / n``, and the sorted ``added`` angles as float64 bytes), in the order
+    of the sorted grid (``theta`` of :class:`CheckGrid`), read-only (kept across designs): on the
+    uniform part ``exp(-i sigma k d)`` as the products ``exp(-i sigma B j d) exp(-i sigma l d)``
+    (``k = B j + l``) of two short tables (angle addition: within a few ulps of the cosine and sine
+    of the grid angles), at the added angles directly."""
+    extra = np.frombuffer(added, dtype=float)
     d = TWO_PI / n
     rows = -(-n // _PHASOR_BLOCK)
-    big = _to_cam(f, np.arange(rows) * (_PHASOR_BLOCK * d))
-    small = _to_cam(f, np.arange(_PHASOR_BLOCK) * d)
-    out = np.empty(n + added.size, dtype=complex)
+    big = _rotation_to_cam(sigma, np.arange(rows) * (_PHASOR_BLOCK * d))
+    small = _rotation_to_cam(sigma, np.arange(_PHASOR_BLOCK) * d)
+    out = np.empty(n + extra.size, dtype=complex)
     out[:n] = np.multiply.outer(big, small).ravel()[:n]
-    out[n:] = _to_cam(f, added)
-    return out
+    out[n:] = _rotation_to_cam(sigma, extra)
+    return _read_only(out[_grid_order(n, added)[1]] if extra.size else out)
 
 
 # --------------------------------------------------------------------------------------------
@@ -1080,15 +1146,20 @@ class CheckGrid:
     def raw(self) -> _LawValues:
         return _law_on_grid(self.law, self.uniform_size, self.added)
 
+    @cached_property
+    def _layout(self) -> tuple[np.ndarray, np.ndarray]:
+        """(``theta``, the order taking the grid's own order to ``theta``): :func:`_grid_order`."""
+        return _grid_order(self.uniform_size, self.added.tobytes())
+
     def sorted(self, values: np.ndarray) -> np.ndarray:
         """``values`` given in the grid's own order (uniform part, then the added angles) in the
-        order of ``theta``."""
-        n = self.uniform_size
-        return _insert_added(values[:n], self.added, values[n:])
+        order of ``theta`` (``values`` itself when no angle is added)."""
+        return values.take(self._layout[1]) if self.added.size else values
 
-    @cached_property
+    @property
     def theta(self) -> np.ndarray:
-        return _insert_added(np.arange(self.uniform_size) * (TWO_PI / self.uniform_size), self.added)
+        """The sorted cam angles, rad (read-only)."""
+        return self._layout[0]
 
     @cached_property
     def added_at(self) -> np.ndarray:
@@ -1098,7 +1169,14 @@ class CheckGrid:
     def values(self) -> _LawValues:
         """``(s, ds, d2s, d3s)`` at ``theta``."""
         s, ds, d2s, d3s = self.raw
-        return self.sorted(s), self.sorted(ds), self.sorted(d2s), self.sorted(d3s)
+        block = np.stack((s, ds, d2s, d3s))  # the four in one pass (a copy: the raw values may be the law's kept ones)
+        if self.added.size:
+            block = block.take(self._layout[1], axis=1)
+        return block[0], block[1], block[2], block[3]
+
+    def to_cam(self, sigma: float) -> np.ndarray:
+        """:func:`_to_cam` at ``theta`` for a cam turning in the direction ``sigma`` (read-only)."""
+        return _sorted_grid_to_cam(sigma, self.uniform_size, self.added.tobytes())
 
     s = property(lambda self: self.values[0])
     ds = property(lambda self: self.values[1])
@@ -1142,7 +1220,7 @@ class CamEnvelope:
     @cached_property
     def data(self) -> Kinematics:
         g = self.grid
-        return _kinematics_from(self.follower, g.theta, *g.values, g.sorted(_grid_to_cam(self.follower, g.uniform_size, g.added)))
+        return _kinematics_from(self.follower, g.theta, *g.values, g.to_cam(self.follower.sigma))
 
 
 def _failure_message(f: FollowerSpec, failures: list[dict]) -> str:
@@ -1203,7 +1281,7 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
     flat_data = None
     terms = None if f.contact == "face" else _pitch_terms(f, *coarse)
     if terms is None:  # a flat face: its checks need most of its kinematics: made now, kept for `data`
-        flat_data = _kinematics_from(f, grid.theta, *grid.values, grid.sorted(_grid_to_cam(f, n_uniform, added)))
+        flat_data = _kinematics_from(f, grid.theta, *grid.values, grid.to_cam(f.sigma))
         masks = profile_failures(f, flat_data)
     elif _pitch_clear(f, terms, TWO_PI / n_coarse):
         masks = []

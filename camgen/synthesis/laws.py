@@ -357,6 +357,17 @@ _PHASOR_BLOCK = 64
 #: sines and cosines from :func:`_uniform_phasors` (its fixed cost, ~6 us, is that of a direct sine
 #: and cosine of ~500 angles on the machine of benchmarks/RESULTS.md).
 _PHASOR_MIN_POINTS = 640
+#: Grids whose values :meth:`MotionProgram.on_uniform_grid` keeps on the program (the dense check
+#: grid and the coarse screening grid of a cam, a few more for a sizing search): all are dropped
+#: when this many are kept.
+_GRID_MEMO_SIZE = 4
+#: Calls of :meth:`MotionProgram.__call__` whose values the program keeps: at most this many angles
+#: (a cam's motion samples, the zero mark, the angles its checks probe), asked for a second time,
+#: among the last this many distinct calls.
+_CALL_MEMO_ANGLES = 4096
+_CALL_MEMO_SIZE = 16
+#: The attributes in which a program keeps values (not pickled).
+_KEPT_VALUES = ("_call_memo", "_grid_memo")
 
 
 def _uniform_phasors(first: float, step: float, m: int) -> np.ndarray:
@@ -1274,6 +1285,11 @@ class MotionProgram:
         self._piece_lo = np.asarray(piece_lo, dtype=float)
         self._piece_ref = piece_ref
 
+    def __getstate__(self) -> dict[str, object]:
+        """The program without the values it keeps (:meth:`__call__`, :meth:`on_uniform_grid`): a
+        pickled program (a scene sent to a worker) carries its definition only."""
+        return {k: v for k, v in self.__dict__.items() if k not in _KEPT_VALUES}
+
     # -- the Displacement interface ----------------------------------------------------------
     def _plan(self) -> list[tuple]:
         """Per evaluation piece (in cam-angle order): its segment's start and span, the piece's
@@ -1307,9 +1323,40 @@ class MotionProgram:
 
     def __call__(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """s (unit), ds/dtheta (unit/rad), d2s/dtheta2 (unit/rad^2), d3s/dtheta3 (unit/rad^3) at cam
-        angles ``theta`` (rad, any real, any shape; periodic); at a break the following piece."""
+        angles ``theta`` (rad, any real, any shape; periodic); at a break the following piece.
+
+        The values of a call with at most :data:`_CALL_MEMO_ANGLES` angles asked for a second time
+        are kept on the program for the calls with the same angles after it (among the last
+        :data:`_CALL_MEMO_SIZE` distinct calls; a sweep's designs that keep the law ask for the same
+        angles): each call returns fresh arrays, copies of the kept ones."""
         theta = np.asarray(theta, dtype=float)
         shape = theta.shape
+        key = theta.tobytes() if theta.size <= _CALL_MEMO_ANGLES else None
+        memo: dict[bytes, np.ndarray | None] = self.__dict__.setdefault("_call_memo", {})
+        seen = False
+        if key is not None:
+            seen = key in memo
+            kept = memo.pop(key, None)  # (pop and put back: the most recently used last)
+            if kept is not None:
+                memo[key] = kept
+                res = kept.copy()
+                return res[0].reshape(shape), res[1].reshape(shape), res[2].reshape(shape), res[3].reshape(shape)
+        res = self._values(theta)
+        if key is not None:
+            if len(memo) >= _CALL_MEMO_SIZE:
+                try:
+                    del memo[next(iter(memo))]  # the least recently used
+                except (KeyError, RuntimeError, StopIteration):  # another thread changed it meanwhile: nothing to drop
+                    pass
+            kept = None
+            if seen:  # asked for before: kept from now on (angles asked once are only remembered)
+                kept = res.copy()
+                kept.setflags(write=False)
+            memo[key] = kept
+        return res[0].reshape(shape), res[1].reshape(shape), res[2].reshape(shape), res[3].reshape(shape)
+
+    def _values(self, theta: np.ndarray) -> np.ndarray:
+        """:meth:`__call__`'s values, computed: a (4, theta.size) block."""
         th = theta.ravel()
         if th.size:
             low, high = float(th.min()), float(th.max())
@@ -1344,7 +1391,7 @@ class MotionProgram:
             out = np.empty_like(res)
             out[:, order] = res
             res = out
-        return res[0].reshape(shape), res[1].reshape(shape), res[2].reshape(shape), res[3].reshape(shape)
+        return res
 
     @staticmethod
     def _fill(entry: tuple, ths: np.ndarray, out: np.ndarray, step: float | None) -> None:
@@ -1376,8 +1423,18 @@ class MotionProgram:
         :data:`_PHASOR_MIN_POINTS` uniform angles takes its sines and cosines there from angle addition
         (:func:`_uniform_phasors`: within a few ulps of the direct ones, at a fraction of their cost;
         the dense check grid of a cam is such a grid with the breaks added); a piece with fewer is
-        evaluated at its uniform and added angles in one pass."""
+        evaluated at its uniform and added angles in one pass.
+
+        The values are kept on the program for the next call with the same grid (a pure function
+        of the program, which does not change, and the grid; at most :data:`_GRID_MEMO_SIZE`
+        grids): the arrays returned are read-only, shared by every caller (a sweep's designs that
+        keep the motion law evaluate it once)."""
         extra = np.zeros(0) if extra is None else np.asarray(extra, dtype=float)
+        key = (n, extra.tobytes())
+        memo: dict[tuple[int, bytes], tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = self.__dict__.setdefault("_grid_memo", {})
+        kept = memo.get(key)
+        if kept is not None:
+            return kept
         step = TWO_PI / n
         grid = np.arange(n) * step
         starts = self._piece_lo[1:]
@@ -1396,7 +1453,11 @@ class MotionProgram:
                 self._fill(entry, np.concatenate([grid[lo:hi], extra[elo - n: ehi - n]]), both, None)
                 res[:, lo:hi] = both[:, : hi - lo]
                 res[:, elo:ehi] = both[:, hi - lo:]
-        return res[0], res[1], res[2], res[3]
+        res.setflags(write=False)
+        if len(memo) >= _GRID_MEMO_SIZE:
+            memo.clear()  # (one step: safe with threads sharing the program)
+        memo[key] = values = (res[0], res[1], res[2], res[3])
+        return values
 
     # -- reports ------------------------------------------------------------------------------
     def joins(self) -> list[Join]:

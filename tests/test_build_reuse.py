@@ -1,0 +1,234 @@
+"""The synthesis's reuse across designs (issue 28 item 6) and its cheaper paths, each against a
+computation that shares no state with it.
+
+* designs evaluated in a row in one process (the base radius, the lift, a law with other breaks,
+  a failing design, back to the first) give rows bit for bit those of each design evaluated alone
+  in a fresh process (no grid, rotation or law value kept from another design);
+* one motion program reused by builds of other base radii (what a sweep that keeps the law gets):
+  every check bit for bit that of a freshly read scene (its own program); a program's kept grid
+  values are read-only and bit for bit a fresh program's, for every grid asked in turn;
+* the sorted check grid (angles, the law's values) bit for bit its definition (``np.insert`` of
+  the added angles into the uniform grid, written here); the rotation into the cam frame of a
+  ``cw`` cam the complex conjugate of the ``ccw`` one's, whichever is asked first;
+* :func:`camgen.synthesis.followers.contact_points` bit for bit the contact points of
+  :func:`~camgen.synthesis.followers.kinematics`, for every follower;
+* a program's values at angles asked again bit for bit a fresh program's, the caller's own arrays;
+  a pickled program carries none of its kept values (its size that of an unused one).
+
+No clock: the time is measured in benchmarks/bench_evaluate.py.
+"""
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from camgen.scene import template_path
+from camgen.study.design import StudyScene, evaluate_point, point_scene_data
+from camgen.study.keys import resolve_key
+from camgen.synthesis.followers import CheckGrid, FollowerSpec, _grid_layout, contact_points, kinematics, profile_curvature
+from camgen.synthesis.laws import MotionProgram, Segment
+
+D = math.radians
+TWO_PI = 2.0 * math.pi
+PLATE = template_path("plate_cam")
+KEYS = ("cams.plate.base_radius_mm", "cams.plate.segments[0].lift_mm", "cams.plate.segments[2].lift_mm",
+        "cams.plate.segments[0].span_deg", "cams.plate.segments[1].span_deg", "cams.plate.segments[0].law")
+#: A design and the changes of the sequence: the base radius (the same law), the lift (another
+#: law on the same grid), the spans and a law (other breaks: another check grid), a failing
+#: pressure angle (the sizing advice's trial envelopes).
+POINTS = {
+    "first": [40.0, 20.0, -20.0, 120.0, 60.0, "cycloidal"],
+    "base_radius": [46.0, 20.0, -20.0, 120.0, 60.0, "cycloidal"],
+    "lift": [46.0, 15.0, -15.0, 120.0, 60.0, "cycloidal"],
+    "breaks": [46.0, 15.0, -15.0, 100.0, 80.0, "poly345"],
+    "failing": [22.0, 20.0, -20.0, 120.0, 60.0, "cycloidal"],
+}
+_CHILD = """
+import json, sys
+from camgen.study.design import StudyScene, evaluate_point
+from camgen.study.keys import resolve_key
+study = StudyScene.load(sys.argv[1])
+names, values = json.loads(sys.argv[2])
+row = evaluate_point(study, [resolve_key(study.data, n) for n in names], values)
+row.pop("eval_ms")
+print(json.dumps(row))
+"""
+
+
+def _row(study: StudyScene, values: list) -> dict:
+    row = evaluate_point(study, [resolve_key(study.data, n) for n in KEYS], values)
+    row.pop("eval_ms")  # the only column that differs between runs
+    return row
+
+
+def test_designs_in_a_row_equal_each_design_alone_in_a_fresh_process():
+    alone = {name: subprocess.Popen([sys.executable, "-P", "-c", _CHILD, str(PLATE), json.dumps([KEYS, values])],
+                                    stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+             for name, values in POINTS.items()}
+    study = StudyScene.load(str(PLATE))
+    order = ["first", "base_radius", "lift", "breaks", "first", "failing", "base_radius"]
+    in_a_row = [(name, _row(study, POINTS[name])) for name in order]
+    fresh = {}
+    for name, proc in alone.items():
+        out, err = proc.communicate(timeout=300)
+        assert proc.returncode == 0, err
+        fresh[name] = json.loads(out)  # floats by their shortest repr: read back exactly
+    assert {fresh[name]["status"] for name in POINTS} == {"pass", "fail"}  # both verdicts in the sample
+    assert fresh["failing"]["check.plate.pressure_angle.status"] == "fail"
+    for name, row in in_a_row:
+        assert json.loads(json.dumps(row)) == fresh[name], name
+
+
+def test_a_program_reused_by_other_base_radii_gives_a_fresh_scene_s_checks():
+    from camgen.evaluation import evaluation_plan
+    from camgen.pipeline import compute
+    from camgen.scene import parse_scene
+
+    study = StudyScene.load(str(PLATE))
+    path = resolve_key(study.data, "base_radius_mm").path
+    shared = parse_scene(point_scene_data(study.data, {}), "plate")
+    spec = shared.cams[0]
+    for radius in (40.0, 46.0, 23.0, 40.0):  # 23 mm fails the pressure angle
+        params = replace(spec.params, follower=replace(spec.params.follower, base_radius=radius))
+        scene = replace(shared, cams=(replace(spec, params=params),))
+        (mine,) = compute(scene, evaluation_plan(scene)).cams
+        own = parse_scene(point_scene_data(study.data, {path: radius}), "plate")
+        assert own.cams[0].params.law is not spec.params.law
+        (theirs,) = compute(own, evaluation_plan(own)).cams
+        assert [(c.name, c.status, repr(c.value), c.where_deg) for c in mine.checks] == \
+               [(c.name, c.status, repr(c.value), c.where_deg) for c in theirs.checks], radius
+        assert repr(mine.figures) == repr(theirs.figures)
+
+
+def _program(unit: str = "mm", lift: float = 20.0) -> MotionProgram:
+    return MotionProgram([Segment("cycloidal", D(120), lift), Segment("dwell", D(40)), Segment("poly345", D(130), -lift),
+                          Segment("dwell", D(70))], unit=unit)
+
+
+def test_a_program_s_kept_grid_values_are_a_fresh_program_s_and_read_only():
+    program = _program()
+    asked = [(7200, 0.05, 1), (360, 1.0, 1), (7200, 0.05, 1), (100, 3.6, 1), (7200, 0.05, 2), (361, 1.0, 1), (7200, 0.05, 1)]
+    for n, step, every in asked:  # (every other added angle: the same uniform grid, other added angles)
+        added = _grid_layout(program, D(step))[1][::every]
+        got = program.on_uniform_grid(n, added)
+        again = program.on_uniform_grid(n, added)
+        want = _program().on_uniform_grid(n, added)  # a program of its own: nothing kept
+        for a, b, c in zip(got, again, want):
+            assert np.array_equal(a, c) and np.array_equal(b, c), n
+            assert not a.flags.writeable
+            with pytest.raises(ValueError):
+                a[0] = 1.0
+
+
+def test_sorted_check_grid_is_the_insertion_of_the_added_angles():
+    """theta and the law's values on it against np.insert of the added angles (and of the values
+    there) into the uniform grid; random breaks on and off the grid, none."""
+    rng = np.random.default_rng(5)
+    for trial in range(20):
+        spans = rng.uniform(0.3, 1.0, int(rng.integers(2, 6)))
+        spans *= 360.0 / spans.sum()
+        lifts = rng.uniform(-5.0, 5.0, spans.size)
+        lifts[-1] = -lifts[:-1].sum()
+        law = MotionProgram([Segment(str(rng.choice(["cycloidal", "poly345", "harmonic"])), D(a), h) for a, h in zip(spans, lifts)])
+        step = D(float(rng.choice([0.05, 0.3, 1.0])))
+        n, added = _grid_layout(law, step)
+        grid = CheckGrid(law, n, added)
+        uniform = np.arange(n) * (TWO_PI / n)
+        at = np.searchsorted(uniform, added)
+        assert np.array_equal(grid.theta, np.insert(uniform, at, added)), trial
+        direct = law(np.concatenate([uniform, added]))  # the law at the grid's own order, evaluated here
+        for got, raw, value in zip(grid.values, grid.raw, direct):
+            assert np.array_equal(got, np.insert(raw[:n], at, raw[n:])), trial
+            assert np.allclose(raw, value, rtol=1e-12, atol=1e-12 * np.abs(value).max())
+        mask = rng.random(n + added.size) < 0.3
+        assert np.array_equal(grid.sorted(mask), np.insert(mask[:n], at, mask[n:]))
+    empty = CheckGrid(law, 720, np.zeros(0))  # no angle added: the values are the raw ones, the caller's own arrays
+    assert np.array_equal(empty.theta, np.arange(720) * (TWO_PI / 720))
+    for got, raw in zip(empty.values, empty.raw):
+        assert np.array_equal(got, raw) and got.flags.writeable
+
+
+@pytest.mark.parametrize("first", [1.0, -1.0])
+def test_cw_rotation_into_the_cam_frame_is_the_conjugate_of_the_ccw_one(first):
+    law = _program()
+    n, added = _grid_layout(law, D(0.05))
+    grid = CheckGrid(law, n, added)
+    a = grid.to_cam(first)
+    b = CheckGrid(law, n, added).to_cam(-first)
+    assert np.array_equal(b, np.conj(a)) and not np.array_equal(a, b)
+    assert np.max(np.abs(a - (np.cos(grid.theta) - 1j * first * np.sin(grid.theta)))) <= 2e-15
+    assert not a.flags.writeable
+
+
+FOLLOWERS = {
+    "roller": (dict(kind="roller", base_radius=40.0, roller_radius=10.0, offset=12.0), "mm"),
+    "knife": (dict(kind="knife", base_radius=40.0, offset=-6.0, rotation="cw"), "mm"),
+    "flat": (dict(kind="flat", base_radius=45.0, offset=3.0), "mm"),
+    "osc_roller": (dict(kind="roller", base_radius=40.0, motion="oscillating", roller_radius=8.0, pivot=(110.0, 40.0), arm_length=95.0), "rad"),
+    "osc_flat": (dict(kind="flat", base_radius=60.0, motion="oscillating", pivot=(130.0, 50.0), face_offset=20.0, lift_turn="cw"), "rad"),
+}
+
+
+@pytest.mark.parametrize("name", FOLLOWERS)
+def test_contact_points_are_those_of_the_kinematics(name):
+    changes, unit = FOLLOWERS[name]
+    follower = FollowerSpec(**changes)
+    law = _program(unit, 20.0 if unit == "mm" else 0.2)
+    theta = np.concatenate([[0.0], np.random.default_rng(3).uniform(0.0, TWO_PI, 40), law.breaks])
+    want = kinematics(follower, law, theta).contact_point
+    got = contact_points(follower, law, theta)
+    assert got.shape == (theta.size, 2) and np.array_equal(got, want)
+    assert np.array_equal(contact_points(follower, law, 0.0), want[:1])
+
+
+def test_a_program_s_kept_values_at_angles_are_a_fresh_program_s_and_the_caller_s_own():
+    """Calls asked again (the motion samples, one angle, unsorted and negative angles, a 2-D
+    array) among others: each answer bit for bit a fresh program's, and a caller that writes
+    into its arrays changes no later answer."""
+    program = _program()
+    rng = np.random.default_rng(11)
+    asks = [2.0 * math.pi * np.arange(3600) / 3600, np.zeros(1), rng.uniform(-TWO_PI, TWO_PI, 7),
+            rng.uniform(0.0, 3.0 * TWO_PI, (3, 4)), np.linspace(0.0, 1.0, 5000)]
+    for turn in range(4):
+        for k in rng.permutation(len(asks) + 3).tolist():
+            theta = asks[k] if k < len(asks) else rng.uniform(0.0, TWO_PI, 50)  # (angles asked once)
+            got = program(theta)
+            want = _program()(theta)
+            for a, b in zip(got, want):
+                assert a.shape == theta.shape and np.array_equal(a, b), (turn, k)
+                a[...] = np.nan  # the caller's own array
+
+
+def test_a_pickled_program_carries_no_kept_values_and_answers_the_same():
+    import pickle
+
+    program, fresh = _program(), _program()
+    fresh(np.zeros(1))  # (its evaluation plan made, as the used program's)
+    fresh_size = len(pickle.dumps(fresh))
+    theta = 2.0 * math.pi * np.arange(3600) / 3600
+    for _ in range(3):
+        program(theta)
+    program.on_uniform_grid(7200, _grid_layout(program, D(0.05))[1])
+    text = pickle.dumps(program)
+    assert len(text) <= fresh_size + 64  # (a 3600-angle call alone keeps ~115 kB)
+    back = pickle.loads(text)
+    for a, b in zip(back(theta), _program()(theta)):
+        assert np.array_equal(a, b)
+
+
+@pytest.mark.parametrize("name", FOLLOWERS)
+def test_profile_curvature_is_that_of_the_kinematics(name):
+    """At random angles, the breaks and 1e-9 rad either side of them (where the curvature jumps)."""
+    changes, unit = FOLLOWERS[name]
+    follower = FollowerSpec(**changes)
+    law = _program(unit, 20.0 if unit == "mm" else 0.2)
+    theta = np.concatenate([np.random.default_rng(4).uniform(0.0, TWO_PI, 30), law.breaks, law.breaks - 1e-9, law.breaks + 1e-9])
+    want = kinematics(follower, law, theta).profile_curvature
+    got = profile_curvature(follower, law, theta)
+    assert got.shape == theta.shape and np.array_equal(got, want)
