@@ -539,28 +539,31 @@ def _continuity(cam: DiskCam, contour: "Contour") -> "CheckResult":
     eps = 1e-9
     before = kinematics(f, cam.law, angles + f.sigma * eps).profile_curvature  # the contour runs against sigma theta
     after = kinematics(f, cam.law, angles - f.sigma * eps).profile_curvature
-    # where the law's velocity jumps (break continuity 0) the profile has a corner
-    brk, cont = np.asarray(cam.law.breaks, dtype=float), np.asarray(cam.law.break_continuity, dtype=int)
-    gap = np.abs(np.mod(angles[:, None] - brk[None, :] + math.pi, 2.0 * math.pi) - math.pi) if brk.size else np.ones((angles.size, 1))
-    corner = np.any((gap <= 1e-9) & (cont[None, :] == 0), axis=1) if brk.size else np.zeros(angles.size, dtype=bool)
-    expected = np.where(corner, "G0", np.where(np.abs(after - before) > CURVATURE_JUMP_TOL, "G1", "G2"))
-    levels = np.array([j.continuity for j in joints])
-    deviation = max((abs(j.curvature_jump_per_mm - (a - b)) for j, a, b, e in zip(joints, after, before, expected) if e != "G0"),
-                    default=0.0)
+    # where the law's velocity jumps (break continuity 0) the profile has a corner (a handful of
+    # joints and breaks: Python floats, the arithmetic of numpy's mod elementwise)
+    corners_at = [b for b, c in zip(np.asarray(cam.law.breaks, dtype=float).tolist(), np.asarray(cam.law.break_continuity).tolist())
+                  if c == 0]
+    at = angles.tolist()
+    two_pi = 2.0 * math.pi
+    expected = ["G0" if any(abs((a - b + math.pi) % two_pi - math.pi) <= 1e-9 for b in corners_at) else
+                "G1" if abs(k_after - k_before) > CURVATURE_JUMP_TOL else "G2" for a, k_before, k_after in zip(at, before.tolist(), after.tolist())]
+    levels = [j.continuity for j in joints]
+    deviation = max((abs(j.curvature_jump_per_mm - (a - b)) for j, a, b, e in zip(joints, after.tolist(), before.tolist(), expected)
+                     if e != "G0"), default=0.0)
     lowest = min(levels, key=_ORDER.index)
     required = min(expected, key=_ORDER.index) if "G0" in expected else "G1"
-    passed = bool(np.all(levels == expected)) and deviation <= CURVATURE_JUMP_TOL and _ORDER.index(lowest) >= _ORDER.index(required)
-    jumps = levels != "G2"
+    passed = levels == expected and deviation <= CURVATURE_JUMP_TOL and _ORDER.index(lowest) >= _ORDER.index(required)
+    jumps = [level != "G2" for level in levels]
     note = f"{len(joints)} joints at the law's breaks; lowest continuity {lowest}"
-    if jumps.any():
-        note += (f"; curvature jumps at {int(jumps.sum())} cam angles where the law's acceleration (or velocity) jumps: "
+    if any(jumps):
+        note += (f"; curvature jumps at {sum(jumps)} cam angles where the law's acceleration (or velocity) jumps: "
                  "the follower's acceleration jumps there (infinite jerk)")
     note += f"; each joint's curvature jump is the law's within {deviation:.2g} 1/mm"
     if not passed:
-        bad = np.flatnonzero(levels != expected)
-        note += "; joints not as continuous as the law: " + ", ".join(f"{levels[i]} at {math.degrees(angles[i]):.3f} deg "
+        bad = [i for i, (level, e) in enumerate(zip(levels, expected)) if level != e]
+        note += "; joints not as continuous as the law: " + ", ".join(f"{levels[i]} at {math.degrees(at[i]):.3f} deg "
                                                                       f"(law: {expected[i]})" for i in bad[:6])
-    return CheckResult("continuity", str(lowest), str(required), "at least", "", passed, where_degrees(angles[jumps]), note)
+    return CheckResult("continuity", lowest, required, "at least", "", passed, where_degrees(angles[np.array(jumps, dtype=bool)]), note)
 
 
 def mask_where(mask: np.ndarray, theta: np.ndarray, worst: int) -> list[float]:
