@@ -1,4 +1,4 @@
-"""The wall check and the continuity check of a plate cam, made with fewer array passes (issue 28
+"""The wall, continuity and undercut checks of a plate cam, made with fewer array passes (issue 28
 item 6), against the computations they replaced.
 
 * :func:`camgen.body.wall_left` flattens only the pieces of the profile whose Bezier hull can
@@ -10,7 +10,10 @@ item 6), against the computations they replaced.
   whole polygon's, bit for bit, for random sets of pieces;
 * the joints of a contour (:meth:`camgen.contour.Contour.joints`) take the splines' end tangents
   and curvatures in one pass: bit for bit the joints from each segment's own ``derivative`` and
-  ``curvature`` (the code before, verbatim), on cubic, quintic and mixed contours and with arcs.
+  ``curvature`` (the code before, verbatim), on cubic, quintic and mixed contours and with arcs;
+* the undercut check's least convex radius of the pitch curve from the largest curvature
+  (:func:`camgen.kinds.least_radius.least_convex_radius`): bit for bit the least of every
+  sample's reciprocal, ties within the last place included.
 
 No clock: the time is measured in benchmarks/bench_evaluate.py.
 """
@@ -240,3 +243,31 @@ def test_the_plate_cams_joints_are_each_segments_own_bit_for_bit():
     for plate in PLATES:
         contour, _ = _plate(PLATES[plate])
         assert contour.joints(curvature_tol=1e-6) == _segment_joints(contour, 1e-6)
+
+
+def test_the_least_convex_radius_is_the_least_reciprocal_bit_for_bit():
+    """camgen.kinds.least_radius against every sample's radius ``1 / k`` (the pitch curve's radius
+    of curvature before this work): curvatures equal but for a few units in the last place (a
+    dwell's base circle: distinct curvatures whose reciprocals round alike), zeros, negatives, NaN, and one so small its
+    radius overflows."""
+    from camgen.kinds.least_radius import least_convex_radius
+
+    def every_sample(k):
+        with np.errstate(divide="ignore", over="ignore"):
+            rho = np.where(k != 0, 1.0 / np.where(k != 0, k, 1.0), np.inf)
+        convex = np.where(rho > 0, rho, np.inf)
+        i = int(np.argmin(convex))
+        return float(convex[i]), i
+
+    rng = np.random.default_rng(28)
+    for _ in range(3000):
+        n = int(rng.integers(1, 40))
+        base = float(rng.choice([1 / 40, 1.99 / 64, 1.99, 1e-3, 3.0, 1e-310]))  # 1.99 2^e: reciprocals closer than k
+        k = (base + rng.integers(-3, 4, n) * np.spacing(base)) * rng.choice([1.0, -1.0], n, p=[0.7, 0.3])  # a few ulps apart
+        if rng.random() < 0.3:
+            k[rng.integers(n)] = 0.0
+        if rng.random() < 0.1:
+            k[rng.integers(n)] = np.nan
+        if rng.random() < 0.3:
+            k = np.concatenate([k, rng.normal(0.0, base, 5)])
+        assert least_convex_radius(k) == every_sample(k), k

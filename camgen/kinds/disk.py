@@ -576,19 +576,16 @@ def mask_where(mask: np.ndarray, theta: np.ndarray, worst: int) -> list[float]:
 
 def _undercut(cam: DiskCam) -> "CheckResult":
     from camgen.checks import CheckResult
+    from camgen.kinds.least_radius import least_convex_radius
     from camgen.synthesis.followers import profile_failures
 
     f, k, theta = cam.spec_follower, cam.envelope.data, cam.envelope.data.theta
-    masks = profile_failures(f, k)
-    bad = np.zeros(theta.shape, dtype=bool)
-    for _, m in masks:
-        bad |= m
-    reasons = [r for r, m in masks if m.any()]
+    masks = [(r, m) for r, m in profile_failures(f, k) if m.any()]  # the failing conditions
+    reasons = [r for r, _ in masks]
+    bad = np.logical_or.reduce([m for _, m in masks]) if masks else np.zeros(theta.shape, dtype=bool)
     if f.has_radius:
-        rho = _given(k.pitch_radius, "a roller's pitch curve")
-        convex = np.where(rho > 0, rho, np.inf)
-        i = int(np.argmin(convex))
-        value: Any = float(convex[i]) if np.isfinite(convex[i]) else "none"
+        least, i = least_convex_radius(_given(k.pitch_curvature, "a roller's pitch curve"))  # the pitch curve's radii, 1 / k
+        value: Any = least if math.isfinite(least) else "none"
         limit, unit, what = f.roller_radius, "mm", "smallest convex radius of the pitch curve (roller-centre path) against the roller radius"
     elif f.contact == "face":
         rho = k.profile_radius
@@ -598,7 +595,7 @@ def _undercut(cam: DiskCam) -> "CheckResult":
         speed = np.hypot(*_given(k.pitch_d1, "a knife's pitch curve").T)
         i = int(np.argmin(speed))
         value, limit, unit, what = float(speed[i]), 0.0, "mm/rad", "smallest speed of the knife tip over the cam (|dP/dtheta|, a cusp at 0) against 0"
-    if bad.any():
+    if masks:
         i = int(np.argmax(bad))
     note = what + ("; " + "; ".join(reasons) + " (between the listed pairs of cam angles): the profile cannot be made" if reasons else "")
     return CheckResult("undercut", value, limit, ">", unit, not reasons, mask_where(bad, theta, i), note, blocks_manufacture=True)
