@@ -116,6 +116,35 @@ def test_the_wall_is_the_whole_polygons_bit_for_bit(plate):
             assert wall_left(contour, body, tol) == expected, (body, tol)
 
 
+def test_every_templates_walls_are_the_whole_polygons_bit_for_bit():
+    """Every planar cam of every bundled template (plate, groove, conjugate, constant breadth,
+    linear, lift table ...): its own body, a bore with a keyway toward the profile's nearest
+    vertex, and a keyway reaching beyond the profile."""
+    from camgen.body import WALL_TOL, BodySpec, wall_left
+    from camgen.kinds import get_kind
+    from camgen.scene import load_template
+    from golden.regenerate import TEMPLATES
+
+    for name in TEMPLATES:
+        for spec in load_template(name).cams:
+            cam = get_kind(spec.kind, spec.form).build(spec, frozenset())
+            if not cam.planar or cam.contour is None:
+                continue
+            poly = cam.contour.flatten(1e-2)
+            radius = np.hypot(poly[:, 0], poly[:, 1])
+            near, toward = float(radius.min()), float(np.arctan2(*poly[int(np.argmin(radius))][::-1]))
+            bodies = [cam.body, BodySpec(bore_diameter=0.8 * near, keyway_width=0.2 * near, keyway_depth=0.3 * near, keyway_angle=toward),
+                      BodySpec(bore_diameter=0.5 * near, keyway_width=0.1 * near, keyway_depth=0.9 * near, keyway_angle=toward + 0.05)]
+            for body in bodies:
+                try:
+                    expected = _whole_polygon_wall(cam.contour, body, WALL_TOL)
+                except Exception as exc:  # not star-shaped where a keyway corner's ray meets it
+                    with pytest.raises(type(exc)):
+                        wall_left(cam.contour, body)
+                    continue
+                assert wall_left(cam.contour, body) == expected, (name, spec.name, body)
+
+
 def test_a_profile_with_arcs_is_flattened_whole_with_the_same_wall():
     """A contour of arcs (the fallback: no Bezier hulls) gives the whole polygon's wall."""
     from camgen.body import WALL_TOL, BodySpec, wall_left
