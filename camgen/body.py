@@ -90,7 +90,9 @@ def wall_left(contour: Contour, body: BodySpec, chord_tol: float = WALL_TOL) -> 
     i = int(np.argmin(radius))
     wall, where = float(radius[i]) - body.bore_diameter / 2, poly[i]
     if body.keyway_width > 0:
-        # distance of the profile vertices to the keyway rectangle, in the keyway's frame
+        # distance of the profile vertices to the keyway rectangle, in the keyway's frame (the part
+        # has >= 2 vertices: OpenBLAS computes each row of an (n >= 2, 2) @ (2,) product as it does in
+        # the whole polygon's, not a lone row's; tests/test_wall.py compares with the whole polygon)
         c, s = math.cos(body.keyway_angle), math.sin(body.keyway_angle)
         along = poly @ np.array([c, s])
         across = poly @ np.array([-s, c])
