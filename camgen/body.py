@@ -72,17 +72,6 @@ class BodySpec:
 WALL_TOL = 1e-4
 
 
-def _corner_may_reach_profile(corners: np.ndarray, poly: np.ndarray, radius: np.ndarray, chord_tol: float) -> bool:
-    """Whether a keyway corner may lie on or beyond the profile along its ray from the axis: False
-    when every corner is nearer the axis than any point of the profile can be.  Every point of a
-    chord of the polygon ``poly`` (vertex distances ``radius``) is at least the nearer vertex's
-    distance less half the chord from the axis, and the profile is within ``chord_tol`` of its
-    chords: the profile keeps ``min(radius) - max(chord) / 2 - chord_tol`` from the axis."""
-    chords = np.hypot(*(np.roll(poly, -1, axis=0) - poly).T)
-    nearest = float(np.min(radius)) - 0.5 * float(np.max(chords)) - chord_tol
-    return bool(np.max(np.hypot(corners[:, 0], corners[:, 1])) >= nearest)
-
-
 def wall_left(contour: Contour, body: BodySpec, chord_tol: float = WALL_TOL) -> tuple[float, float]:
     """Thinnest wall (mm) between bore/keyway and the profile, and the cam angle (deg) where it is.
 
@@ -92,12 +81,18 @@ def wall_left(contour: Contour, body: BodySpec, chord_tol: float = WALL_TOL) -> 
     """
     if body.bore_diameter <= 0:
         return math.inf, 0.0
-    poly = contour.flatten(chord_tol)
+    from camgen.wall_polygon import wall_polygon
+
+    keyway = body.keyway_corners() if body.keyway_width > 0 else None
+    part = wall_polygon(contour, chord_tol, body.bore_diameter / 2, keyway)  # the vertices that can decide it (the whole polygon's)
+    poly = part.points
     radius = np.hypot(poly[:, 0], poly[:, 1])
     i = int(np.argmin(radius))
     wall, where = float(radius[i]) - body.bore_diameter / 2, poly[i]
     if body.keyway_width > 0:
-        # distance of the profile vertices to the keyway rectangle, in the keyway's frame
+        # distance of the profile vertices to the keyway rectangle, in the keyway's frame (the part
+        # has >= 2 vertices: OpenBLAS computes each row of an (n >= 2, 2) @ (2,) product as it does in
+        # the whole polygon's, not a lone row's; tests/test_wall.py compares with the whole polygon)
         c, s = math.cos(body.keyway_angle), math.sin(body.keyway_angle)
         along = poly @ np.array([c, s])
         across = poly @ np.array([-s, c])
@@ -108,21 +103,25 @@ def wall_left(contour: Contour, body: BodySpec, chord_tol: float = WALL_TOL) -> 
         inside = (along >= 0) & (along <= out) & (np.abs(across) <= body.keyway_width / 2)
         dist = np.where(inside, -1.0, dist)
         # the rectangle's outer corners must lie inside the profile (star-shaped cams)
-        corners = body.keyway_corners()[1:3]
+        assert keyway is not None
+        corners = keyway[1:3]
         j = int(np.argmin(dist))
         k_wall = float(dist[j])
         # two polygons are nearest at a vertex of one and an edge of the other: the profile's
         # vertices against the rectangle (above), and the rectangle's outer corners against the
         # profile's edges (a corner facing the middle of a chord is nearer than both its ends)
-        edge = np.roll(poly, -1, axis=0) - poly
+        chord = np.flatnonzero(part.successor >= 0)
+        start = poly[chord]
+        edge = poly[part.successor[chord]] - start
         for corner in corners:
-            rel = corner - poly
+            rel = corner - start
             u = np.clip(np.einsum("ij,ij->i", rel, edge) / np.maximum(np.einsum("ij,ij->i", edge, edge), 1e-300), 0.0, 1.0)
             gaps = np.hypot(*(rel - u[:, None] * edge).T)
             i_edge = int(np.argmin(gaps))
             if gaps[i_edge] < k_wall:
-                k_wall, j = float(gaps[i_edge]), i_edge
-        if _corner_may_reach_profile(corners, poly, radius, chord_tol):  # else no ray from the axis meets the profile that near
+                k_wall, j = float(gaps[i_edge]), int(chord[i_edge])
+        # no ray from the axis meets the profile nearer than part.near_axis
+        if float(np.max(np.hypot(corners[:, 0], corners[:, 1]))) >= part.near_axis:
             reach = contour.polar_radius(np.arctan2(corners[:, 1], corners[:, 0]))
             if np.any(np.hypot(corners[:, 0], corners[:, 1]) >= reach):
                 k_wall = min(k_wall, -1.0)

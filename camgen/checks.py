@@ -411,9 +411,10 @@ def pressure_angle_check(values: np.ndarray, cam_angle: np.ndarray, limit: float
     mag = np.abs(values)
     i = int(np.argmax(mag))
     bad = mag > limit
-    where = run_ends(bad, cam_angle) if bad.any() else where_degrees(cam_angle[i])
-    return CheckResult("pressure_angle", float(np.degrees(mag[i])), float(np.degrees(limit)), "<=", "deg", bool(not bad.any()),
-                       where, f"largest pressure angle of the {what}" + (" (above the limit between the listed pairs of cam angles)" if bad.any() else ""))
+    failed = bool(bad.any())
+    where = run_ends(bad, cam_angle) if failed else where_degrees(cam_angle[i])
+    return CheckResult("pressure_angle", float(np.degrees(mag[i])), float(np.degrees(limit)), "<=", "deg", not failed,
+                       where, f"largest pressure angle of the {what}" + (" (above the limit between the listed pairs of cam angles)" if failed else ""))
 
 
 # --------------------------------------------------------------------------------------------
@@ -525,14 +526,15 @@ def motion_check(motion: Motion, rpm: float | None) -> CheckResult:
     """Summary of the follower motion (largest |v|, |a|, |jerk| per unit cam speed), informational."""
     v, a, j = motion.peak_values()
     u = motion.unit
-    note = (f"stroke {np.ptp(motion.displacement):.6g} {u}; largest |velocity| {v:.6g} {u}/rad, "
+    ptp = np.ptp(motion.displacement)
+    note = (f"stroke {ptp:.6g} {u}; largest |velocity| {v:.6g} {u}/rad, "
             f"|acceleration| {a:.6g} {u}/rad^2, |jerk| {j:.6g} {u}/rad^3 (finite part)")
     if rpm:
         at = motion.at_rpm(rpm)
         note += f"; at {rpm:g} rpm: " + ", ".join(f"{k} {v:.6g}" for k, v in at.items())
     if motion.jerk_impulses_deg:
         note += f"; jerk impulses (acceleration jumps) at {len(motion.jerk_impulses_deg)} cam angles"
-    stroke, unit = float(np.ptp(motion.displacement)), motion.unit
+    stroke, unit = float(ptp), motion.unit
     if unit == "rad":  # an oscillating follower's swing: degrees at the edges, as every other angle
         stroke, unit = math.degrees(stroke), "deg"
     return information("follower_motion", stroke, unit, motion.jerk_impulses_deg[:12], note)

@@ -21,7 +21,8 @@ rotated by -90 deg.
 Modules: ``arc`` (:class:`Arc`), ``spline`` (:class:`Spline`, the exact Green area of polynomial
 pieces), ``contour`` (:class:`Contour`, :class:`Joint`, the tolerances), ``tables`` (the
 per-contour tables of the vectorised queries: evaluation over many segments, polar radius),
-``arcspline`` (spline segments as biarcs), ``reach`` (the exact largest distance from the axis).  The polynomial kernels, interpolation and fits they
+``arcspline`` (spline segments as biarcs), ``reach`` (the exact largest distance from the axis), ``ends``
+(the splines' end tangents and curvatures at the joints).  The polynomial kernels, interpolation and fits they
 use live in :mod:`camgen.numerics`; the Hermite helpers the envelope fit calls are re-exported
 here for it.
 """

@@ -13,6 +13,7 @@ from typing import Iterable, Union
 import numpy as np
 
 from camgen.contour.arc import Arc
+from camgen.contour.ends import spline_end_values
 from camgen.contour.spline import Spline, bounding_box_of, flatten_params_of
 from camgen.contour.tables import SegmentTables, StarTable
 from camgen.errors import CornerError, GeometryError, require_positive
@@ -477,7 +478,7 @@ class Contour:
         """
         out = []
         n = self.n_segments
-        ends = [self._end_values(seg) for seg in self.segments]  # (tangent, curvature) at u = 0 and u = 1
+        ends = self._all_end_values()  # (tangent, curvature) at u = 0 and u = 1
         for i, seg in enumerate(self.segments):
             nxt = self.segments[(i + 1) % n]
             end = seg.end_point
@@ -498,6 +499,18 @@ class Contour:
                 level = "G2"
             out.append(Joint(i, (float(end[0]), float(end[1])), gap, angle, k_jump, level))
         return tuple(out)
+
+    def _all_end_values(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        """:meth:`_end_values` of every segment: the splines' in one vectorised pass
+        (:func:`camgen.contour.ends.spline_end_values`: the same values), the arcs' one at a time."""
+        tables = self._tables()
+        spline = np.flatnonzero(~tables.is_arc)
+        ends: list[tuple[np.ndarray, np.ndarray] | None] = [None] * self.n_segments
+        if spline.size:
+            tangents, curvatures = spline_end_values(tables, spline)
+            for m, i in enumerate(spline.tolist()):
+                ends[i] = (tangents[m], curvatures[m])
+        return [self._end_values(seg) if got is None else got for seg, got in zip(self.segments, ends)]
 
     @staticmethod
     def _end_values(seg: "Segment") -> tuple[np.ndarray, np.ndarray]:

@@ -541,28 +541,31 @@ def _continuity(cam: DiskCam, contour: "Contour") -> "CheckResult":
     eps = 1e-9
     before = kinematics(f, cam.law, angles + f.sigma * eps).profile_curvature  # the contour runs against sigma theta
     after = kinematics(f, cam.law, angles - f.sigma * eps).profile_curvature
-    # where the law's velocity jumps (break continuity 0) the profile has a corner
-    brk, cont = np.asarray(cam.law.breaks, dtype=float), np.asarray(cam.law.break_continuity, dtype=int)
-    gap = np.abs(np.mod(angles[:, None] - brk[None, :] + math.pi, 2.0 * math.pi) - math.pi) if brk.size else np.ones((angles.size, 1))
-    corner = np.any((gap <= 1e-9) & (cont[None, :] == 0), axis=1) if brk.size else np.zeros(angles.size, dtype=bool)
-    expected = np.where(corner, "G0", np.where(np.abs(after - before) > CURVATURE_JUMP_TOL, "G1", "G2"))
-    levels = np.array([j.continuity for j in joints])
-    deviation = max((abs(j.curvature_jump_per_mm - (a - b)) for j, a, b, e in zip(joints, after, before, expected) if e != "G0"),
-                    default=0.0)
+    # where the law's velocity jumps (break continuity 0) the profile has a corner (a handful of
+    # joints and breaks: Python floats, the arithmetic of numpy's mod elementwise)
+    corners_at = [b for b, c in zip(np.asarray(cam.law.breaks, dtype=float).tolist(), np.asarray(cam.law.break_continuity).tolist())
+                  if c == 0]
+    at = angles.tolist()
+    two_pi = 2.0 * math.pi
+    expected = ["G0" if any(abs((a - b + math.pi) % two_pi - math.pi) <= 1e-9 for b in corners_at) else
+                "G1" if abs(k_after - k_before) > CURVATURE_JUMP_TOL else "G2" for a, k_before, k_after in zip(at, before.tolist(), after.tolist())]
+    levels = [j.continuity for j in joints]
+    deviation = max((abs(j.curvature_jump_per_mm - (a - b)) for j, a, b, e in zip(joints, after.tolist(), before.tolist(), expected)
+                     if e != "G0"), default=0.0)
     lowest = min(levels, key=_ORDER.index)
     required = min(expected, key=_ORDER.index) if "G0" in expected else "G1"
-    passed = bool(np.all(levels == expected)) and deviation <= CURVATURE_JUMP_TOL and _ORDER.index(lowest) >= _ORDER.index(required)
-    jumps = levels != "G2"
+    passed = levels == expected and deviation <= CURVATURE_JUMP_TOL and _ORDER.index(lowest) >= _ORDER.index(required)
+    jumps = [level != "G2" for level in levels]
     note = f"{len(joints)} joints at the law's breaks; lowest continuity {lowest}"
-    if jumps.any():
-        note += (f"; curvature jumps at {int(jumps.sum())} cam angles where the law's acceleration (or velocity) jumps: "
+    if any(jumps):
+        note += (f"; curvature jumps at {sum(jumps)} cam angles where the law's acceleration (or velocity) jumps: "
                  "the follower's acceleration jumps there (infinite jerk)")
     note += f"; each joint's curvature jump is the law's within {deviation:.2g} 1/mm"
     if not passed:
-        bad = np.flatnonzero(levels != expected)
-        note += "; joints not as continuous as the law: " + ", ".join(f"{levels[i]} at {math.degrees(angles[i]):.3f} deg "
+        bad = [i for i, (level, e) in enumerate(zip(levels, expected)) if level != e]
+        note += "; joints not as continuous as the law: " + ", ".join(f"{levels[i]} at {math.degrees(at[i]):.3f} deg "
                                                                       f"(law: {expected[i]})" for i in bad[:6])
-    return CheckResult("continuity", str(lowest), str(required), "at least", "", passed, where_degrees(angles[jumps]), note)
+    return CheckResult("continuity", lowest, required, "at least", "", passed, where_degrees(angles[np.array(jumps, dtype=bool)]), note)
 
 
 def mask_where(mask: np.ndarray, theta: np.ndarray, worst: int) -> list[float]:
@@ -575,19 +578,16 @@ def mask_where(mask: np.ndarray, theta: np.ndarray, worst: int) -> list[float]:
 
 def _undercut(cam: DiskCam) -> "CheckResult":
     from camgen.checks import CheckResult
+    from camgen.kinds.least_radius import least_convex_radius
     from camgen.synthesis.followers import profile_failures
 
     f, k, theta = cam.spec_follower, cam.envelope.data, cam.envelope.data.theta
-    masks = profile_failures(f, k)
-    bad = np.zeros(theta.shape, dtype=bool)
-    for _, m in masks:
-        bad |= m
-    reasons = [r for r, m in masks if m.any()]
+    masks = [(r, m) for r, m in profile_failures(f, k) if m.any()]  # the failing conditions
+    reasons = [r for r, _ in masks]
+    bad = np.logical_or.reduce([m for _, m in masks]) if masks else np.zeros(theta.shape, dtype=bool)
     if f.has_radius:
-        rho = _given(k.pitch_radius, "a roller's pitch curve")
-        convex = np.where(rho > 0, rho, np.inf)
-        i = int(np.argmin(convex))
-        value: Any = float(convex[i]) if np.isfinite(convex[i]) else "none"
+        least, i = least_convex_radius(_given(k.pitch_curvature, "a roller's pitch curve"))  # the pitch curve's radii, 1 / k
+        value: Any = least if math.isfinite(least) else "none"
         limit, unit, what = f.roller_radius, "mm", "smallest convex radius of the pitch curve (roller-centre path) against the roller radius"
     elif f.contact == "face":
         rho = k.profile_radius
@@ -597,7 +597,7 @@ def _undercut(cam: DiskCam) -> "CheckResult":
         speed = np.hypot(*_given(k.pitch_d1, "a knife's pitch curve").T)
         i = int(np.argmin(speed))
         value, limit, unit, what = float(speed[i]), 0.0, "mm/rad", "smallest speed of the knife tip over the cam (|dP/dtheta|, a cusp at 0) against 0"
-    if bad.any():
+    if masks:
         i = int(np.argmax(bad))
     note = what + ("; " + "; ".join(reasons) + " (between the listed pairs of cam angles): the profile cannot be made" if reasons else "")
     return CheckResult("undercut", value, limit, ">", unit, not reasons, mask_where(bad, theta, i), note, blocks_manufacture=True)

@@ -1,0 +1,127 @@
+"""Part of a contour's flattened polygon: the vertices :meth:`Contour.flatten
+<camgen.contour.Contour.flatten>` gives on some of its pieces only, the same values, and the
+Bezier control points of the pieces that say which pieces can matter.
+
+A check that needs the polygon only where it comes near something (the wall between the bore
+and the profile: :func:`camgen.body.wall_left`) bounds every piece by the convex hull of its
+Bezier control points (the piece lies inside it: Farin, *Curves and Surfaces for CAGD*, ch. 4),
+and flattens only the pieces whose bound can reach its answer.  The vertices of a piece come from
+the arithmetic of :meth:`Contour.flatten_params <camgen.contour.Contour.flatten_params>` (the
+chord count of the piece from the Bezier bound of ``|P''|``, its parameters, the contour's
+global parameter), evaluated by :meth:`Contour.evaluate <camgen.contour.Contour.evaluate>`, every
+step elementwise: each vertex is the one the whole polygon has (tests/test_wall.py compares them).
+"""
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from camgen.contour.contour import Contour
+from camgen.contour.spline import Spline
+from camgen.errors import require_positive
+from camgen.numerics.bernstein import bernstein_max_norm
+from camgen.numerics.polynomial import derivative_factors
+
+__all__ = ["ContourPieces", "PolygonPart", "contour_pieces", "polygon_part"]
+
+
+@functools.lru_cache(maxsize=8)
+def _to_bezier(degree: int) -> np.ndarray:
+    """``M[j, i] = C(j, i) / C(degree, i)`` (i <= j): Bezier control points ``M a`` of ascending
+    power coefficients ``a`` on [0, 1] (read-only)."""
+    m = np.zeros((degree + 1, degree + 1))
+    for j in range(degree + 1):
+        for i in range(j + 1):
+            m[j, i] = math.comb(j, i) / math.comb(degree, i)
+    m.flags.writeable = False
+    return m
+
+
+@dataclass(frozen=True)
+class ContourPieces:
+    """The pieces of a contour made of splines of one degree, in order along it (P pieces).
+
+    ``control``: Bezier control points (P, degree + 1, 2), mm (rounded: a bound built on them
+    needs a slack); ``counts``: the chords :meth:`Contour.flatten` gives each piece at its chord
+    tolerance (P,); ``segment``: each piece's segment (P,); ``start``, ``end``: its first and last
+    spline parameter, ``t0``, ``span``: its spline's first parameter and span (P,).
+    """
+
+    contour: Contour
+    control: np.ndarray
+    counts: np.ndarray
+    segment: np.ndarray
+    start: np.ndarray
+    end: np.ndarray
+    t0: np.ndarray
+    span: np.ndarray
+
+    @property
+    def size(self) -> int:
+        """The number of pieces."""
+        return int(self.counts.size)
+
+
+@dataclass(frozen=True)
+class PolygonPart:
+    """Vertices of ``contour.flatten(chord_tol)``, a subsequence in its order: ``points`` (m, 2),
+    mm, and ``successor`` (m,): where the vertex after each in the whole polygon is in
+    ``points``, -1 where it is not there (the chord from it is not in the part)."""
+
+    points: np.ndarray
+    successor: np.ndarray
+
+
+def contour_pieces(contour: Contour, chord_tol: float) -> ContourPieces | None:
+    """The :class:`ContourPieces` of ``contour`` at chord tolerance ``chord_tol`` (mm), or None for
+    a contour with an arc or with splines of two degrees (flatten it whole)."""
+    require_positive("chord_tol", chord_tol)
+    splines = [seg for seg in contour.segments if isinstance(seg, Spline)]
+    if len(splines) != len(contour.segments) or len({s.degree for s in splines}) != 1:
+        return None
+    degree = splines[0].degree
+    pieces = [s.n_pieces for s in splines]
+    breaks = np.concatenate([s.breaks for s in splines])  # each spline's K + 1 breaks
+    first = np.repeat(np.cumsum([0] + [k + 1 for k in pieces[:-1]]), pieces)  # where a piece's spline's breaks start
+    at = first + np.arange(sum(pieces)) - np.repeat(np.cumsum([0] + pieces[:-1]), pieces)  # a piece's first break
+    start, end = breaks[at], breaks[at + 1]
+    h = end - start  # np.diff of each spline's breaks
+    c = np.concatenate([s.coeffs for s in splines], axis=1)  # (degree + 1, P, 2)
+    # the chord counts of Spline._chord_params, from the bound of flatten_params_of (elementwise per piece)
+    if degree == 3:
+        acc_start = np.hypot(*(2.0 * c[1]).T)
+        acc_end = np.hypot(*(6.0 * c[0] * h[:, None] + 2.0 * c[1]).T)
+        max_acc = np.maximum(acc_start, acc_end)
+    else:
+        max_acc = bernstein_max_norm(c[:-2] * derivative_factors(degree, 2)[:, None, None], h)
+    counts = np.maximum(1, np.ceil(h * np.sqrt(max_acc / (8.0 * chord_tol)) - 1e-12)).astype(int)
+    # the pieces in s = tau / h on [0, 1], lowest power first (P, degree + 1, 2), then their Bezier points
+    scaled = c[::-1] * (h ** np.arange(degree + 1.0)[:, None])[:, :, None]
+    control = np.einsum("ji,ikc->kjc", _to_bezier(degree), scaled)
+    span = np.repeat([s.span for s in splines], pieces)
+    return ContourPieces(contour, control, counts, np.repeat(np.arange(len(splines)), pieces), start, end, breaks[first], span)
+
+
+def polygon_part(pieces: ContourPieces, keep: np.ndarray) -> PolygonPart | None:
+    """The vertices of the pieces where ``keep`` (P,) is True, each followed by the first vertex of
+    the next piece (the end of its last chord); None when the whole polygon has fewer than 3
+    vertices (:meth:`Contour.flatten_params` then takes 3 of its own: flatten it whole)."""
+    counts = pieces.counts
+    if int(counts.sum()) < 3:
+        return None
+    after_kept = np.concatenate((keep[-1:], keep[:-1]))
+    take = np.where(keep, counts, after_kept.astype(int))  # a piece not kept: its first vertex after a kept one
+    piece = np.repeat(np.arange(counts.size), take)
+    first = np.repeat(np.cumsum(take) - take, take)
+    j = np.arange(piece.size) - first  # the vertex's number within its piece
+    start = pieces.start[piece]
+    # Spline._chord_params and Contour.flatten_params, vertex by vertex
+    frac = j / counts[piece]
+    t = start + frac * (pieces.end[piece] - start)
+    params = pieces.segment[piece] + (t - pieces.t0[piece]) / pieces.span[piece]
+    points = pieces.contour.evaluate(params)
+    successor = np.where(keep[piece], (np.arange(piece.size) + 1) % piece.size, -1)
+    return PolygonPart(points, successor)
