@@ -468,7 +468,20 @@ def base_radius_advice(follower: FollowerSpec, law: Displacement, limits: Design
     """The base radii to quote in a hint (:class:`BaseRadiusAdvice`): the first run of passing
     base radii found by the search of :func:`min_base_radius` (and, for oscillating followers,
     its upper end by bisection too), each end rounded inwards to ``digits`` decimals and tried
-    again at the rounded value.  Raises :class:`GeometryError` when no base radius passes."""
+    again at the rounded value.  Raises :class:`GeometryError` when no base radius passes.
+
+    The advice does not depend on ``follower.base_radius`` (every radius tried replaces it): the
+    last few advices are kept (:mod:`camgen.synthesis.advice_cache`), so the
+    failing designs of a sweep that changes only the base radius (or keys the search does not
+    read: speed, dynamics, machining) share one search when they share the law object."""
+    from camgen.synthesis.advice_cache import cached_advice
+
+    return cached_advice(_advice_search, follower, law, limits, tol, scan, digits)
+
+
+def _advice_search(follower: FollowerSpec, law: Displacement, limits: DesignLimits, tol: float, scan: int,
+                   digits: int) -> BaseRadiusAdvice:
+    """:func:`base_radius_advice` computed (no cache)."""
     law = law if isinstance(law, _SampledLaw) else _SampledLaw(law)
     theta = check_grid(law, limits.check_step)
     runs, tried = _search(follower, law, limits, tol, scan, upper=True)
