@@ -468,7 +468,8 @@ def jump_speed(kin: Kinematics, train: FollowerTrain, margin: float = 0.0) -> fl
 
 def _jump_rpm(a: np.ndarray, b: np.ndarray, c: np.ndarray, projection: np.ndarray, margin: float) -> float:
     """:func:`jump_speed` from the force coefficients and the contact projection (rpm)."""
-    a = a - margin * projection
+    if margin != 0.0:  # a - 0 * projection is a itself
+        a = a - margin * projection
     if np.any(a <= 0):
         return 0.0
     w = float(np.min(smallest_positive_root(a, b, c)))
@@ -544,7 +545,9 @@ class DynamicsResult:
     contact_force_2 : N, contact 2 of a form-closed train, else None.
     pressure_angle : rad, the direction of the contact force (from the contact point's velocity).
     follower_force, side_force : N, the contact force's components along the follower's
-        motion (``F cos phi``) and across it (``F sin phi``: guide or pivot load).
+        motion (``F cos phi``) and across it (``F sin phi``: guide or pivot load); ``side_force``
+        is a property: a force-closed train's is made on first use (the report draws it, no
+        check reads it), a form-closed train's is given (``given_side_force``, else None).
     torque : N*m, camshaft torque (> 0: the shaft drives the cam); power : W.
     hertz_stress, hertz_stress_2 : MPa, or None without a material (or a sharp knife).
     jump_rpm : rpm at which the contact force first reaches 0 (inf: never; 0: at rest).
@@ -566,7 +569,7 @@ class DynamicsResult:
     contact_force_2: np.ndarray | None
     pressure_angle: np.ndarray
     follower_force: np.ndarray
-    side_force: np.ndarray
+    given_side_force: np.ndarray | None
     torque: np.ndarray
     power: np.ndarray
     hertz_stress: np.ndarray | None
@@ -587,6 +590,14 @@ class DynamicsResult:
         out = 0.5 * (nxt - prv)
         out.flags.writeable = False
         return out
+
+    @functools.cached_property
+    def side_force(self) -> np.ndarray:
+        """N, the contact force's component across the follower's motion: ``F sin phi`` (force
+        closure, made on first use) or what :func:`analyse` gave (form closure: both contacts')."""
+        if self.given_side_force is not None:
+            return self.given_side_force
+        return self.contact_force * np.sin(self.pressure_angle)
 
     def _rms(self, values: np.ndarray) -> float:
         return float(np.sqrt(np.sum(self.weights * values**2) / TWO_PI))
@@ -794,7 +805,7 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
         force_1 = q / projection
         force_2 = None
         along = force_1 * kin.cos_pressure_angle
-        side = force_1 * np.sin(kin.pressure_angle)
+        side = None  # force_1 * sin(phi), made on first use (DynamicsResult.side_force: the report's, no check's)
     torque = q * kin.ds * N_MM_TO_N_M  # power balance, T w = Q w q'
     power = torque * omega
     hertz = hertz_2 = None
