@@ -3,13 +3,15 @@ a fresh ``camgen check`` of its own scene gives.
 
 * The base-radius advice of a failing design (``min_base_radius``: a search over trial base
   radii) is kept for the next designs (:mod:`camgen.synthesis.advice_cache`): asked again with
-  the same law object and another base radius it is taken from the cache (the cache's hit count
-  says so), and it is the value ``camgen check`` prints for that design's scene, run as a
-  program (a fresh process: nothing kept); a follower that differs in another parameter (the
-  roller radius) is searched again and gets its own scene's value.
+  an equal law (the same object, or the law of another parse of the same segments) and another
+  base radius it is taken from the cache (the cache's hit count says so), and it is the value
+  ``camgen check`` prints for that design's scene, run as a program (a fresh process: nothing
+  kept); a follower that differs in another parameter (the roller radius) is searched again and
+  gets its own scene's value.
 * Rows of :func:`camgen.study.design.evaluate_point` made one after the other with the base
-  radius, the roller, the lifts (another law) and the spring changing, the same design twice,
-  each equal to ``camgen check`` of its own scene (every check's status and printed value).
+  radius (the advice reused), the roller, the lifts (another law: searched again) and the spring
+  changing, the same design twice, each equal to ``camgen check`` of its own scene (every
+  check's status and printed value).
 """
 from __future__ import annotations
 
@@ -74,10 +76,15 @@ def checked(study, tmp_path_factory) -> dict[str, tuple[int, dict[str, tuple[str
 
 
 def test_rows_in_a_row_equal_camgen_check_of_each_scene(study, checked):
-    seen = set()
+    from camgen.synthesis import advice_cache
+
+    advice_cache._outcome.cache_clear()  # nothing kept from another test
+    seen, hits = set(), {}
     for name, change in DESIGNS.items():
         keys, values = _values(study, change)
+        before = advice_cache._outcome.cache_info().hits
         row = evaluate_point(study, keys, values)
+        hits[name] = advice_cache._outcome.cache_info().hits - before
         status, table = checked[name]
         assert status == (1 if row["status"] == "fail" else 0), name
         for check, (result, shown) in table.items():
@@ -88,8 +95,9 @@ def test_rows_in_a_row_equal_camgen_check_of_each_scene(study, checked):
             if value is not None:  # the table prints 6 significant digits
                 assert float(shown) == float(f"{value:.6g}"), (name, check, value, shown)
             seen.add((check, result))
-    # the sample reaches what it is for: the advice searched, the jump failing
+    # the sample reaches what it is for: the advice searched, reused and searched again, the jump failing
     assert ("min_base_radius", "info") in seen and ("jump", "fail") in seen and ("pressure_angle", "fail") in seen
+    assert hits["base24"] == 1 and hits["base24_roller6"] == 0 and hits["base20_lift26"] == 0 and hits["base20_again"] == 1
 
 
 def test_advice_kept_for_the_same_law_and_searched_again_for_another_follower(study, checked):
@@ -107,6 +115,7 @@ def test_advice_kept_for_the_same_law_and_searched_again_for_another_follower(st
         limits = design_limits(spec, DesignLimits(max_pressure_angle=pressure_limit(spec), min_concave_radius=tool))
         return spec.params.follower, spec.params.law, limits
 
+    advice_cache._outcome.cache_clear()  # nothing kept from another test
     follower, law, limits = design("base20")  # this law object is given to every follower below
     first = base_radius_advice(follower, law, limits)
     printed = {name: float(checked[name][1]["min_base_radius"][1]) for name in ("base20", "base24", "base24_roller6")}
@@ -116,7 +125,11 @@ def test_advice_kept_for_the_same_law_and_searched_again_for_another_follower(st
     kept = base_radius_advice(follower, law, limits)
     assert advice_cache._outcome.cache_info().hits == hits + 1  # reused, not searched
     assert kept.low == printed["base24"]
+    follower, own_law, limits = design("base24")  # the law of another parse: equal segments
+    assert own_law is not law
+    assert base_radius_advice(follower, own_law, limits).low == printed["base24"]
+    assert advice_cache._outcome.cache_info().hits == hits + 2
     follower, _, limits = design("base24_roller6")
     other = base_radius_advice(follower, law, limits)
-    assert advice_cache._outcome.cache_info().hits == hits + 1  # another roller: searched
+    assert advice_cache._outcome.cache_info().hits == hits + 2  # another roller: searched
     assert other.low == printed["base24_roller6"] != printed["base24"]

@@ -7,10 +7,13 @@ and every follower parameter but the base radius (each trial radius replaces it)
 designs of a sweep over the base radius (or over keys the search does not read: the speed, the
 dynamics, the machining) find the same advice.  Here the advice is computed once per
 :class:`AdviceQuery` and kept (``functools.lru_cache``, :data:`ADVICE_CACHE_SIZE` entries, each
-holding its law): a query equals another only for the *same law object* (the scene parser
-returns one law object for an unchanged motion table) and the same follower parameters and
+holding its law): a query equals another for an equal law and the same follower parameters and
 limits, compared by value and by their exact text (``repr``: ``-0.0`` and ``0.0`` differ), so a
-hit returns exactly what the search would return.  The advice is a frozen dataclass of floats
+hit returns exactly what the search would return.  A law is equal to another when it is the same
+object, or when both are :class:`camgen.synthesis.laws.MotionProgram` of equal segments (the
+frozen :class:`camgen.synthesis.laws.Segment`: law name, span, lift and options, compared by
+value and text), unit and tolerances: the program is made from these alone, so each design's
+parse of an unchanged ``[[segments]]`` table gives an equal law.  The advice is a frozen dataclass of floats
 and tuples (immutable); a search that finds no base radius (:class:`GeometryError`) is kept as
 its message and raised again.
 """
@@ -21,6 +24,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Callable
 
 from camgen.errors import GeometryError
+from camgen.synthesis.laws import MotionProgram
 
 if TYPE_CHECKING:
     from camgen.synthesis.followers import FollowerSpec
@@ -35,6 +39,19 @@ ADVICE_CACHE_SIZE = 4
 Search = Callable[["FollowerSpec", Any, "DesignLimits", float, int, int], "BaseRadiusAdvice"]
 
 
+def _law_key(law: Any) -> tuple[Any, ...]:
+    """What makes ``law`` equal to another: a motion program's segments, unit and tolerances (and
+    their exact text), else the object itself (``("object", id)``, compared by identity)."""
+    if type(law) is MotionProgram:
+        key = (law.segments, law.unit, law.span_tol, law.join_tol)
+        try:
+            hash(key)
+        except TypeError:  # a segment holding a list (a polynomial's ends, spline points): by identity
+            return ("object", id(law))
+        return ("program", key, repr(key))
+    return ("object", id(law))
+
+
 def _follower_text(follower: "FollowerSpec") -> str:
     """Every parameter of ``follower`` the search reads (all but the base radius), as exact text."""
     f = follower
@@ -43,9 +60,10 @@ def _follower_text(follower: "FollowerSpec") -> str:
 
 @dataclass(frozen=True, eq=False)
 class AdviceQuery:
-    """The inputs of one base-radius advice.  Hashed by the law's identity and the exact text of
-    the rest; equal to another query for the same search, the same law object, the same follower
-    parameters (the base radius aside) and equal limits with the same text."""
+    """The inputs of one base-radius advice.  Hashed by the law's key (:func:`_law_key`) and the
+    exact text of the rest; equal to another query for the same search, an equal law (the same
+    object, or a motion program of equal segments), the same follower parameters (the base radius
+    aside) and equal limits with the same text."""
 
     search: Search
     follower: "FollowerSpec"
@@ -58,14 +76,16 @@ class AdviceQuery:
 
     def __post_init__(self) -> None:
         options = repr((self.tol, self.scan, self.digits))
-        object.__setattr__(self, "key", (self.search, id(self.law), _follower_text(self.follower), options, self.limits,
+        object.__setattr__(self, "key", (self.search, _law_key(self.law), _follower_text(self.follower), options, self.limits,
                                          repr(self.limits)))
 
     def __hash__(self) -> int:
         return hash(self.key)
 
     def __eq__(self, other: object) -> bool:
-        return isinstance(other, AdviceQuery) and other.law is self.law and other.key == self.key
+        if not isinstance(other, AdviceQuery) or other.key != self.key:
+            return False
+        return self.key[1][0] == "program" or other.law is self.law  # an object law: the same object
 
 
 @functools.lru_cache(maxsize=ADVICE_CACHE_SIZE)

@@ -474,7 +474,8 @@ def base_radius_advice(follower: FollowerSpec, law: Displacement, limits: Design
     The advice does not depend on ``follower.base_radius`` (every radius tried replaces it): the
     last few advices are kept (:mod:`camgen.synthesis.advice_cache`), so the
     failing designs of a sweep that changes only the base radius (or keys the search does not
-    read: speed, dynamics, machining) share one search when they share the law object."""
+    read: speed, dynamics, machining) share one search when their laws are equal (the same
+    object, or motion programs of equal segments)."""
     from camgen.synthesis.advice_cache import cached_advice
 
     return cached_advice(_advice_search, follower, law, limits, tol, scan, digits)
