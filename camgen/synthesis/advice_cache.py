@@ -21,22 +21,23 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Callable
+from typing import TYPE_CHECKING, Any, Callable, TypeVar, cast
 
 from camgen.errors import GeometryError
 from camgen.synthesis.laws import MotionProgram
 
 if TYPE_CHECKING:
     from camgen.synthesis.followers import FollowerSpec
-    from camgen.synthesis.sizing import BaseRadiusAdvice, DesignLimits
 
 __all__ = ["ADVICE_CACHE_SIZE", "AdviceQuery", "cached_advice"]
 
 #: Advices kept (a sweep's latest few search inputs; each entry holds its law object alive).
 ADVICE_CACHE_SIZE = 4
 
-#: The search: (follower, law, limits, tol mm, scan, digits) -> the advice.
-Search = Callable[["FollowerSpec", Any, "DesignLimits", float, int, int], "BaseRadiusAdvice"]
+#: The advice (:class:`camgen.synthesis.sizing.BaseRadiusAdvice`: frozen, floats and tuples).
+Advice = TypeVar("Advice")
+#: The search: (follower, law, limits (:class:`camgen.synthesis.sizing.DesignLimits`), tol mm, scan, digits) -> the advice.
+Search = Callable[["FollowerSpec", Any, Any, float, int, int], Any]
 
 
 def _law_key(law: Any) -> tuple[Any, ...]:
@@ -68,7 +69,7 @@ class AdviceQuery:
     search: Search
     follower: "FollowerSpec"
     law: Any
-    limits: "DesignLimits"
+    limits: Any  # camgen.synthesis.sizing.DesignLimits (frozen, hashable)
     tol: float
     scan: int
     digits: int
@@ -89,7 +90,7 @@ class AdviceQuery:
 
 
 @functools.lru_cache(maxsize=ADVICE_CACHE_SIZE)
-def _outcome(query: AdviceQuery) -> "tuple[BaseRadiusAdvice | None, tuple[Any, ...]]":
+def _outcome(query: AdviceQuery) -> tuple[Any, tuple[Any, ...]]:
     """The advice of ``query`` and no error, or None and the arguments of the GeometryError raised."""
     try:
         return query.search(query.follower, query.law, query.limits, query.tol, query.scan, query.digits), ()
@@ -99,8 +100,8 @@ def _outcome(query: AdviceQuery) -> "tuple[BaseRadiusAdvice | None, tuple[Any, .
         return None, exc.args
 
 
-def cached_advice(search: Search, follower: "FollowerSpec", law: Any, limits: "DesignLimits", tol: float, scan: int,
-                  digits: int) -> "BaseRadiusAdvice":
+def cached_advice(search: Callable[["FollowerSpec", Any, Any, float, int, int], Advice], follower: "FollowerSpec", law: Any,
+                  limits: Any, tol: float, scan: int, digits: int) -> Advice:
     """``search(follower, law, limits, tol, scan, digits)``, from the last few designs' advices
     when one had the same inputs (the base radius aside); limits that cannot be hashed are
     searched every time.
@@ -118,4 +119,4 @@ def cached_advice(search: Search, follower: "FollowerSpec", law: Any, limits: "D
     advice, error = _outcome(query)
     if advice is None:
         raise GeometryError(*error)
-    return advice
+    return cast(Advice, advice)
