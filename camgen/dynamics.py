@@ -513,7 +513,9 @@ def hertz_line_stress(force: np.ndarray | float, rho_cam: np.ndarray | float, rh
     tighter than the follower (the follower cannot sit in it).  Zero combined curvature (a
     flat face on a straight flank) gives 0: the force spreads over the face, no line contact.
     """
-    force, rho = np.broadcast_arrays(np.asarray(force, dtype=float), np.asarray(rho_cam, dtype=float))
+    force, rho = np.asarray(force, dtype=float), np.asarray(rho_cam, dtype=float)
+    if force.shape != rho.shape:  # a scalar against an array (analyse gives two arrays of one shape)
+        force, rho = np.broadcast_arrays(force, rho)
     if not rho_follower > 0:
         raise ParameterError("follower_radius", rho_follower, "> 0 mm (a sharp knife edge has no finite contact stress)")
     curvature = 1.0 / rho + 1.0 / rho_follower  # 1/inf = 0: a straight flank or a flat face
