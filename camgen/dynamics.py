@@ -248,8 +248,8 @@ def _array(name: str, value: Any, n: int | None, allow_inf: bool = False) -> np.
     arr = np.asarray(value, dtype=float)
     if arr.ndim != 1 or (n is not None and arr.size != n):
         raise ParameterError(name, f"array of shape {arr.shape}", f"a 1-D array of {n} samples (one per cam angle)")
-    bad = np.isnan(arr) if allow_inf else ~np.isfinite(arr)
-    if bad.any():
+    if not (bool(np.isfinite(arr).all()) if not allow_inf else not np.isnan(arr).any()):
+        bad = np.isnan(arr) if allow_inf else ~np.isfinite(arr)
         raise ParameterError(name, f"non-finite value at sample {int(np.argmax(bad))}",
                              "finite values" + (" (+-inf allowed)" if allow_inf else ""))
     return arr
@@ -322,8 +322,9 @@ class Kinematics:
             phi = getattr(self, name)
             if phi is None:
                 continue
-            phi = _array(name, phi, n)
-            object.__setattr__(self, name, phi)
+            if name == "pressure_angle_2":  # the first contact's was converted with s, ds, d2s above
+                phi = _array(name, phi, n)
+                object.__setattr__(self, name, phi)
             if np.any(np.abs(phi) >= math.pi / 2):
                 i = int(np.argmax(np.abs(phi)))
                 raise ParameterError(name, f"{math.degrees(phi[i]):.6g} deg at cam angle {math.degrees(theta[i]):.6g} deg",
@@ -345,6 +346,22 @@ class Kinematics:
             if not np.all(lever > 0):
                 raise ParameterError(name, f"{float(np.min(lever)):g} mm", f"{name} > 0 mm at every cam angle")
             object.__setattr__(self, name, lever)
+
+    @functools.cached_property
+    def cos_pressure_angle(self) -> np.ndarray:
+        """``cos(pressure_angle)``, made once (the contact projection, the force along the motion,
+        the spring hints share it; read-only)."""
+        return _read_only(np.cos(self.pressure_angle))
+
+    @functools.cached_property
+    def cos_pressure_angle_2(self) -> np.ndarray | None:
+        """``cos(pressure_angle_2)`` of a form-closed train's second contact (None without it), made once; read-only."""
+        return None if self.pressure_angle_2 is None else _read_only(np.cos(self.pressure_angle_2))
+
+
+def _read_only(values: np.ndarray) -> np.ndarray:
+    values.flags.writeable = False
+    return values
 
 
 # --------------------------------------------------------------------------------------------
@@ -370,6 +387,31 @@ def force_coefficients(kin: Kinematics, train: FollowerTrain) -> tuple[np.ndarra
 
     ``A``: spring, preload, external load and weight; ``B``: viscous damping; ``C``: inertia.
     """
+    parts = _force_parts(kin, train)
+    return parts.spring_term(train), parts.b, parts.c
+
+
+@dataclass(frozen=True, eq=False)
+class _ForceParts:
+    """The terms of :func:`force_coefficients` that a change of the spring (rate, preload,
+    lengths) leaves alone: the lift above the lowest position ``q - q_min`` (mm or rad), the
+    external load and the weight (N or N*mm), ``B`` and ``C``; :meth:`spring_term` makes ``A``
+    for a train with another spring in the same operations."""
+
+    lift: np.ndarray
+    load: np.ndarray
+    weight: Any
+    b: np.ndarray
+    c: np.ndarray
+
+    def spring_term(self, train: FollowerTrain) -> np.ndarray:
+        """``A``: spring, preload, external load and weight of ``train`` (N or N*mm)."""
+        a = train.spring_rate * self.lift + train.spring_preload + self.load + self.weight
+        return np.broadcast_to(a, self.lift.shape).astype(float)
+
+
+def _force_parts(kin: Kinematics, train: FollowerTrain) -> _ForceParts:
+    """:class:`_ForceParts` of ``kin`` and ``train`` (what :func:`force_coefficients` adds up)."""
     if train.motion == "translating":
         inertia = train.mass * KG_MM_PER_S2_TO_N  # N per (mm/s^2)
         damping = train.damping * N_S_PER_M_TIMES_MM_PER_S_TO_N  # N per (mm/s)
@@ -380,18 +422,17 @@ def force_coefficients(kin: Kinematics, train: FollowerTrain) -> tuple[np.ndarra
         weight_lever = train.cg_distance  # mm
     # the weight's component along +q, with the sign that resists the motion: -m g . e_q
     weight = -train.mass * train.gravity * weight_lever * np.cos(train.gravity_angle - np.asarray(kin.direction, dtype=float))
-    a = train.spring_rate * (kin.s - kin.s.min()) + train.spring_preload + train.load_at(kin.theta) + weight
-    return np.broadcast_to(a, kin.theta.shape).astype(float), damping * kin.ds, inertia * kin.d2s
+    return _ForceParts(kin.s - kin.s.min(), train.load_at(kin.theta), weight, damping * kin.ds, inertia * kin.d2s)
 
 
 def _contact_projection(kin: Kinematics, train: FollowerTrain, second: bool = False) -> np.ndarray:
     """``lever * cos(phi)``: the generalised force per newton along the contact normal (the
     second contact's own lever where the kinematics give one, ``kin.lever_2``)."""
-    phi = kin.pressure_angle_2 if second else kin.pressure_angle
-    assert phi is not None  # a second contact: a form-closed train's kinematics (analyse checks they are given)
+    cos_phi = kin.cos_pressure_angle_2 if second else kin.cos_pressure_angle
+    assert cos_phi is not None  # a second contact: a form-closed train's kinematics (analyse checks they are given)
     if second and kin.lever_2 is not None and train.motion == "oscillating":
-        return kin.lever_2 * np.cos(phi)
-    return _lever(train, kin) * np.cos(phi)
+        return kin.lever_2 * cos_phi
+    return _lever(train, kin) * cos_phi
 
 
 def smallest_positive_root(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
@@ -422,7 +463,13 @@ def jump_speed(kin: Kinematics, train: FollowerTrain, margin: float = 0.0) -> fl
         return math.inf
     margin = require_finite("margin", margin)
     a, b, c = force_coefficients(kin, train)
-    a = a - margin * _contact_projection(kin, train)
+    return _jump_rpm(a, b, c, _contact_projection(kin, train), margin)
+
+
+def _jump_rpm(a: np.ndarray, b: np.ndarray, c: np.ndarray, projection: np.ndarray, margin: float) -> float:
+    """:func:`jump_speed` from the force coefficients and the contact projection (rpm)."""
+    if margin != 0.0:  # a - 0 * projection is a itself
+        a = a - margin * projection
     if np.any(a <= 0):
         return 0.0
     w = float(np.min(smallest_positive_root(a, b, c)))
@@ -443,9 +490,14 @@ def min_contact_force(kin: Kinematics, train: FollowerTrain, rpm: np.ndarray) ->
     if not (np.all(np.isfinite(rpm)) and np.all(rpm >= 0)):
         raise ParameterError("rpm", "a speed array", "finite speeds >= 0 rpm")
     a, b, c = force_coefficients(kin, train)
+    return _min_force(a, b, c, _contact_projection(kin, train), rpm)
+
+
+def _min_force(a: np.ndarray, b: np.ndarray, c: np.ndarray, projection: np.ndarray, rpm: np.ndarray) -> np.ndarray:
+    """:func:`min_contact_force` from the force coefficients and the contact projection (N)."""
     w = rpm.reshape(-1, 1) * RPM_TO_RAD_PER_S
     q = a + b * w + c * w**2  # (R, N)
-    return np.min(q / _contact_projection(kin, train), axis=1).reshape(rpm.shape)
+    return np.min(q / projection, axis=1).reshape(rpm.shape)
 
 
 def hertz_line_stress(force: np.ndarray | float, rho_cam: np.ndarray | float, rho_follower: float,
@@ -461,7 +513,9 @@ def hertz_line_stress(force: np.ndarray | float, rho_cam: np.ndarray | float, rh
     tighter than the follower (the follower cannot sit in it).  Zero combined curvature (a
     flat face on a straight flank) gives 0: the force spreads over the face, no line contact.
     """
-    force, rho = np.broadcast_arrays(np.asarray(force, dtype=float), np.asarray(rho_cam, dtype=float))
+    force, rho = np.asarray(force, dtype=float), np.asarray(rho_cam, dtype=float)
+    if force.shape != rho.shape:  # a scalar against an array (analyse gives two arrays of one shape)
+        force, rho = np.broadcast_arrays(force, rho)
     if not rho_follower > 0:
         raise ParameterError("follower_radius", rho_follower, "> 0 mm (a sharp knife edge has no finite contact stress)")
     curvature = 1.0 / rho + 1.0 / rho_follower  # 1/inf = 0: a straight flank or a flat face
@@ -493,7 +547,9 @@ class DynamicsResult:
     contact_force_2 : N, contact 2 of a form-closed train, else None.
     pressure_angle : rad, the direction of the contact force (from the contact point's velocity).
     follower_force, side_force : N, the contact force's components along the follower's
-        motion (``F cos phi``) and across it (``F sin phi``: guide or pivot load).
+        motion (``F cos phi``) and across it (``F sin phi``: guide or pivot load); ``side_force``
+        is a property: a force-closed train's is made on first use (the report draws it, no
+        check reads it), a form-closed train's is given (``given_side_force``, else None).
     torque : N*m, camshaft torque (> 0: the shaft drives the cam); power : W.
     hertz_stress, hertz_stress_2 : MPa, or None without a material (or a sharp knife).
     jump_rpm : rpm at which the contact force first reaches 0 (inf: never; 0: at rest).
@@ -515,7 +571,7 @@ class DynamicsResult:
     contact_force_2: np.ndarray | None
     pressure_angle: np.ndarray
     follower_force: np.ndarray
-    side_force: np.ndarray
+    given_side_force: np.ndarray | None
     torque: np.ndarray
     power: np.ndarray
     hertz_stress: np.ndarray | None
@@ -526,7 +582,7 @@ class DynamicsResult:
     min_spring_rate: float | None
     jump_margin: float
 
-    # ---- scalar summaries -------------------------------------------------------------------
+    # ---- scalar summaries (each made once: the checks' notes and the figures share them) ------
     @functools.cached_property
     def weights(self) -> np.ndarray:
         """Periodic trapezoid weights (rad) of the samples: ``sum(weights * f)`` ~ ``int f dtheta``
@@ -537,46 +593,54 @@ class DynamicsResult:
         out.flags.writeable = False
         return out
 
+    @functools.cached_property
+    def side_force(self) -> np.ndarray:
+        """N, the contact force's component across the follower's motion: ``F sin phi`` (force
+        closure, made on first use) or what :func:`analyse` gave (form closure: both contacts')."""
+        if self.given_side_force is not None:
+            return self.given_side_force
+        return self.contact_force * np.sin(self.pressure_angle)
+
     def _rms(self, values: np.ndarray) -> float:
         return float(np.sqrt(np.sum(self.weights * values**2) / TWO_PI))
 
-    @property
+    @functools.cached_property
     def torque_peak(self) -> float:
         """Largest |torque|, N*m."""
         return float(np.max(np.abs(self.torque)))
 
-    @property
+    @functools.cached_property
     def torque_rms(self) -> float:
         """RMS torque over one turn, N*m."""
         return self._rms(self.torque)
 
-    @property
+    @functools.cached_property
     def power_peak(self) -> float:
         """Largest |power|, W."""
         return float(np.max(np.abs(self.power)))
 
-    @property
+    @functools.cached_property
     def power_rms(self) -> float:
         """RMS power over one turn, W."""
         return self._rms(self.power)
 
-    @property
+    @functools.cached_property
     def energy_per_turn(self) -> float:
         """Work the shaft does per turn, J (``int T dtheta``): the energy the damping dissipates."""
         return float(np.sum(self.weights * self.torque))
 
-    @property
+    @functools.cached_property
     def mean_power(self) -> float:
         """Mean input power, W."""
         return self.energy_per_turn * self.omega / TWO_PI
 
-    @property
+    @functools.cached_property
     def min_contact_force(self) -> float:
         """Smallest contact force, N (form closure: the smaller contact's smallest force, 0)."""
         forces = self.contact_force if self.contact_force_2 is None else np.minimum(self.contact_force, self.contact_force_2)
         return float(np.min(forces))
 
-    @property
+    @functools.cached_property
     def hertz_peak(self) -> float | None:
         """Largest Hertz stress over both contacts, MPa."""
         stresses = [h for h in (self.hertz_stress, self.hertz_stress_2) if h is not None]
@@ -668,12 +732,15 @@ def spring_hints(result: "DynamicsResult", kin: Kinematics) -> tuple[float | Non
     rate given), the largest installed length (mm; a spring given by its lengths, with its rate
     and free length) and the least rate (with the preload, or the lengths, given) that keep the
     contact force >= the margin at ``result.rpm``; None where none exists or none applies."""
+    from dataclasses import replace
+
     train, margin, speed = result.train, result.jump_margin, np.array([result.rpm])
+    parts = _force_parts(kin, train)  # what a change of the spring leaves alone: made once for every value tried
+    projection = _contact_projection(kin, train)
 
-    def keeps(**change: Any) -> bool:
-        from dataclasses import replace
-
-        return bool(min_contact_force(kin, replace(train, **change), speed)[0] >= margin)
+    def keeps(**change: Any) -> bool:  # min_contact_force of the changed train, from the parts
+        changed = replace(train, **change)
+        return bool(_min_force(parts.spring_term(changed), parts.b, parts.c, projection, speed)[0] >= margin)
 
     free, fitted = train.spring_free_length, train.spring_installed_length
     lengths = None if free is None or fitted is None else (free, fitted)  # a spring given by its lengths (mm)
@@ -688,8 +755,8 @@ def spring_hints(result: "DynamicsResult", kin: Kinematics) -> tuple[float | Non
             installed = floor_significant(longest, 6)
             installed = installed if keeps(spring_installed_length=installed) else None
     if lengths is not None:  # the preload is rate x (free - installed): it grows with the rate (Q is linear in the rate)
-        squeeze = kin.s - kin.s.min() + (lengths[0] - lengths[1])
-        short = margin * _contact_projection(kin, train) - result.generalised_force
+        squeeze = parts.lift + (lengths[0] - lengths[1])
+        short = margin * projection - result.generalised_force
         pressed = squeeze > 0.0
         if not np.any((short > 0) & ~pressed):
             least = train.spring_rate + float(np.max(np.where(pressed, short / np.where(pressed, squeeze, 1.0), -np.inf)))
@@ -725,7 +792,8 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
     form = train.closure == "form"
     if form and (kin.pressure_angle_2 is None or kin.rho_cam_2 is None):
         raise ParameterError("pressure_angle_2", None, "arrays for the second contact of a form-closed train (and rho_cam_2)")
-    a, b, c = force_coefficients(kin, train)
+    parts = _force_parts(kin, train)
+    a, b, c = parts.spring_term(train), parts.b, parts.c  # force_coefficients
     q = a + b * omega + c * omega**2
     projection = _contact_projection(kin, train)
     if form:
@@ -738,8 +806,8 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
     else:
         force_1 = q / projection
         force_2 = None
-        along = force_1 * np.cos(kin.pressure_angle)
-        side = force_1 * np.sin(kin.pressure_angle)
+        along = force_1 * kin.cos_pressure_angle
+        side = None  # force_1 * sin(phi), made on first use (DynamicsResult.side_force: the report's, no check's)
     torque = q * kin.ds * N_MM_TO_N_M  # power balance, T w = Q w q'
     power = torque * omega
     hertz = hertz_2 = None
@@ -751,8 +819,8 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
     if form:
         jump_rpm, ranges, min_preload, min_rate = math.inf, [], None, None
     else:
-        jump_rpm = jump_speed(kin, train)
+        jump_rpm = _jump_rpm(a, b, c, projection, 0.0)  # jump_speed(kin, train): the same coefficients
         ranges = run_ends(force_1 <= 0, kin.theta)
-        min_preload, min_rate = _required_spring(a, b, c, omega, projection, margin, train, kin.s - kin.s.min(), position_tol)
+        min_preload, min_rate = _required_spring(a, b, c, omega, projection, margin, train, parts.lift, position_tol)
     return DynamicsResult(rpm, omega, kin.theta, train, q, force_1, force_2, kin.pressure_angle, along, side, torque, power,
                           hertz, hertz_2, jump_rpm, ranges, min_preload, min_rate, margin)

@@ -471,25 +471,28 @@ def dynamics_figures(result: "DynamicsResult", dyn: DynamicsSpec, train: "Follow
     the effective spring preload, the contact width, the limits given."""
     out: dict[str, Any] = {"closure": train.closure, "follower_motion": train.motion}
     out.update(result.figures())
-    theta = np.degrees(result.theta)
+
+    def deg(i: Any) -> float:  # the cam angle of sample i, deg, 6 decimals (only the angles quoted are converted)
+        return round(float(np.degrees(result.theta[int(i)])), 6)
+
     force = result.contact_force if result.contact_force_2 is None else np.maximum(result.contact_force, result.contact_force_2)
-    out["max_contact_force_deg"] = round(float(theta[int(np.argmax(force))]), 6)
+    out["max_contact_force_deg"] = deg(np.argmax(force))
     if train.closure == "force":
-        out["min_contact_force_deg"] = round(float(theta[int(np.argmin(result.contact_force))]), 6)
+        out["min_contact_force_deg"] = deg(np.argmin(result.contact_force))
         unit = "N" if train.motion == "translating" else "Nmm"
         out[f"spring_preload_{unit}"] = train.spring_preload
     else:
         out["max_contact_force_1_N"] = float(np.max(result.contact_force))
         assert result.contact_force_2 is not None  # a form-closed train's second contact
         out["max_contact_force_2_N"] = float(np.max(result.contact_force_2))
-    out["torque_peak_deg"] = round(float(theta[int(np.argmax(np.abs(result.torque)))]), 6)
+    out["torque_peak_deg"] = deg(np.argmax(np.abs(result.torque)))
     if dyn.torque_limit is not None:
         out["torque_limit_Nm"] = dyn.torque_limit
     if result.hertz_peak is not None:
         stress = result.hertz_stress if result.hertz_stress is not None else np.zeros_like(result.theta)
         if result.hertz_stress_2 is not None:
             stress = np.maximum(stress, result.hertz_stress_2)
-        out["hertz_stress_peak_deg"] = round(float(theta[int(np.argmax(stress))]), 6)
+        out["hertz_stress_peak_deg"] = deg(np.argmax(stress))
     if dyn.material is not None:
         out["contact_width_mm"] = dyn.material.width
         if dyn.material.allowable_stress is not None:

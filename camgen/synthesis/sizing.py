@@ -346,14 +346,15 @@ def feasible_intervals(ok: Callable[[float], bool], lo: float, hi: float, *, tol
 
 
 def _search(follower: FollowerSpec, law: Displacement, limits: DesignLimits, tol: float, scan: int,
-            upper: bool) -> tuple[list[tuple[float, float | None]], int]:
+            upper: bool, theta: np.ndarray | None = None) -> tuple[list[tuple[float, float | None]], int]:
     """The runs of base radii meeting ``limits``: ([(lower end, upper end or None), ...], the base
     radii tried).  Both ends are feasible and within ``tol`` of an infeasible value; translating
     followers have one run whose upper end is None (no upper end is sought: the pressure angle
     falls and the radii of curvature grow with the base radius); oscillating followers every run
-    the scan of the open range finds (only the first, its upper end None, when ``upper`` is False)."""
+    the scan of the open range finds (only the first, its upper end None, when ``upper`` is False).
+    ``theta``: the check grid of ``law`` when the caller has made it."""
     tol = require_positive("tol", tol)
-    theta = check_grid(law, limits.check_step)
+    theta = check_grid(law, limits.check_step) if theta is None else theta
     offset = follower.offset
     lo, hi = _base_range(follower, offset)
     tried = 0
@@ -468,10 +469,24 @@ def base_radius_advice(follower: FollowerSpec, law: Displacement, limits: Design
     """The base radii to quote in a hint (:class:`BaseRadiusAdvice`): the first run of passing
     base radii found by the search of :func:`min_base_radius` (and, for oscillating followers,
     its upper end by bisection too), each end rounded inwards to ``digits`` decimals and tried
-    again at the rounded value.  Raises :class:`GeometryError` when no base radius passes."""
+    again at the rounded value.  Raises :class:`GeometryError` when no base radius passes.
+
+    The advice does not depend on ``follower.base_radius`` (every radius tried replaces it): the
+    last few advices are kept (:mod:`camgen.synthesis.advice_cache`), so the
+    failing designs of a sweep that changes only the base radius (or keys the search does not
+    read: speed, dynamics, machining) share one search when their laws are equal (the same
+    object, or motion programs of equal segments)."""
+    from camgen.synthesis.advice_cache import cached_advice
+
+    return cached_advice(_advice_search, follower, law, limits, tol, scan, digits)
+
+
+def _advice_search(follower: FollowerSpec, law: Displacement, limits: DesignLimits, tol: float, scan: int,
+                   digits: int) -> BaseRadiusAdvice:
+    """:func:`base_radius_advice` computed (no cache)."""
     law = law if isinstance(law, _SampledLaw) else _SampledLaw(law)
     theta = check_grid(law, limits.check_step)
-    runs, tried = _search(follower, law, limits, tol, scan, upper=True)
+    runs, tried = _search(follower, law, limits, tol, scan, upper=True, theta=theta)
 
     def passes(base: float) -> bool:
         nonlocal tried
