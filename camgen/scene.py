@@ -21,16 +21,20 @@ import math
 import re
 import tomllib
 from dataclasses import dataclass, field
+from functools import lru_cache
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Mapping, Sequence, TypeVar
 
 from camgen.errors import ParameterError, SceneError
 from camgen.schema import Choice, Key, Text, check_keys, parse_table, quoted_names, too_deep, type_name
 
 if TYPE_CHECKING:
     from camgen.export.gcode import MachiningSpec
+    from camgen.frozen import Keyed
     from camgen.kinds.base import CamSpec
     from camgen.outputs import OutputSpec
+
+_S = TypeVar("_S")
 
 #: Largest scene file read, bytes.
 MAX_SCENE_BYTES = 1 << 20
@@ -77,6 +81,33 @@ def check_name(where: str, name: object, hint: str = "") -> str:
         shown = name if not isinstance(name, str) or len(name) < 80 else f"<{len(name)} characters>"
         raise ParameterError(where, shown, NAME_RULE, hint or "used as a file name")
     return name
+
+
+#: Output and machining specs :func:`parse_scene` keeps (the last tables read: a study's designs
+#: share them), keyed by the table's values (:func:`camgen.frozen.frozen`).
+SPEC_CACHE = 8
+
+
+def _cached(read: Callable[..., _S], cached: Callable[..., _S], table: object, *args: Any) -> _S:
+    """``read(table, *args)``, kept by ``cached`` (the same reader under ``lru_cache``, taking the
+    table :class:`~camgen.frozen.Keyed`) where the table has a hashable form."""
+    from camgen.frozen import Keyed, Unfreezable
+
+    try:
+        keyed = Keyed(table)
+    except Unfreezable:  # no TOML value: read (and refused) without the cache
+        return read(table, *args)
+    return cached(keyed, *args)
+
+
+@lru_cache(maxsize=SPEC_CACHE)
+def _cached_output(table: "Keyed") -> "OutputSpec":
+    return _output(table.value)
+
+
+@lru_cache(maxsize=SPEC_CACHE)
+def _cached_machining(table: "Keyed", output: "OutputSpec", machined: bool) -> "MachiningSpec":
+    return _machining(table.value, output, machined)
 
 
 def _output(table: object) -> "OutputSpec":
@@ -247,11 +278,11 @@ def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", ba
     cams_table = data["cams"]
     if not isinstance(cams_table, dict) or not cams_table:
         raise SceneError("scene: [cams] must hold at least one [cams.<name>] table")
-    output = _output(data.get("output"))
+    output = _cached(_output, _cached_output, data.get("output"))
     from camgen.outputs import MACHINING_FORMATS
 
     machined = bool(set(MACHINING_FORMATS) & (set(output.formats) | set(only or ())))
-    machining = _machining(data.get("machining"), output, machined)
+    machining = _cached(_machining, _cached_machining, data.get("machining"), output, machined)
     # the tool is a limit where the scene names it or the run machines the cam
     tool_limit = machining.tool_radius if "machining" in data or machined else None
     cams = _bodies(tuple(_cam(k, v, base_dir, tool_limit) for k, v in cams_table.items()))
