@@ -3,55 +3,61 @@
 A design study validates one scene per design, and most of its tables do not change from one
 design to the next (a sweep over the base radius keeps the motion program, the output and the
 machining tables).  The readers of those tables are pure functions of them, so they keep their
-last results (``functools.lru_cache``, bounded) keyed by :func:`frozen`: the table's values with
-their types, so that two tables have the same key only when every reader sees the same table:
+last results (``functools.lru_cache``, bounded) keyed by :func:`frozen`: the table's pickle
+(:mod:`pickle`, the highest protocol), which holds every value with its type, so that two tables
+have the same key only when every reader sees the same table:
 
 * ``1``, ``1.0`` and ``True`` are equal in Python but read differently (a whole number, a
-  number, a flag): each value is keyed with its type;
-* ``0.0`` and ``-0.0`` are equal too: a zero float is keyed by its text, sign included;
+  number, a flag): pickle writes each with its type;
+* ``0.0`` and ``-0.0`` are equal too: pickle writes a float's 8 bytes, its sign included;
 * a dict keeps its order (a reader may name the first of several bad keys) and a
   :class:`camgen.schema.Parsed` its attributes (which keys were given, the tool limit).
 
-A value with no hashable form (not a TOML type) raises :class:`Unfreezable`: the caller reads
-it without its cache.  :class:`Keyed` carries a table into a cached reader under its frozen
-form; :func:`fresh` copies a cached result's dicts and lists for each caller.
+Equal bytes are equal values of equal types (pickle reads them back); equal values may have
+different bytes (a set's order, an object shared twice), which costs a cache miss, never a wrong
+hit.  A value pickle cannot write raises :class:`Unfreezable`: the caller reads it without its
+cache.  :class:`Keyed` carries a table into a cached reader under its frozen form; :func:`fresh`
+copies a cached result's dicts and lists for each caller.
 """
 from __future__ import annotations
 
-from typing import Any, Hashable
+import pickle
+from typing import Any
 
 __all__ = ["Keyed", "Unfreezable", "fresh", "frozen"]
-
-#: Types keyed by type and value (equal values of these types are read the same).
-_TAGGED = frozenset({int, bool, type(None)})
 
 
 class Unfreezable(TypeError):
     """A value with no hashable form (the caller reads it without a cache)."""
 
 
-def frozen(value: object) -> Hashable:
-    """The canonical hashable form of a decoded TOML value or a parsed table: equal forms, equal
-    values of equal types (module notes); raises :class:`Unfreezable` for any other value.  A
-    frozenset is its own form (its items are hashable: a set of key names)."""
-    kind = type(value)
-    if kind is str:
-        return value  # a str never equals the tuples of the other forms
-    if kind is float:
-        return (float, value) if value else (float, repr(value))  # 0.0 and -0.0 apart
-    if kind in _TAGGED or kind is frozenset:
-        return (kind, value)
-    if isinstance(value, dict):
-        items = tuple([(k, v if type(v) is str else frozen(v)) for k, v in value.items()])
-        attrs = getattr(value, "__dict__", None)  # a dict subclass's own attributes (Parsed.given, .tool_limit)
-        return (kind, items) if not attrs else (kind, items, tuple([(k, frozen(v)) for k, v in sorted(attrs.items())]))
-    if kind is list or kind is tuple:
-        return (kind, tuple([v if type(v) is str else frozen(v) for v in value]))  # type: ignore[attr-defined]
+def frozen(value: object) -> bytes:
+    """The canonical hashable form of a decoded TOML value or a parsed table: its pickle (equal
+    forms: equal values of equal types, module notes); raises :class:`Unfreezable` for a value
+    pickle cannot write."""
     try:
-        hash(value)
-    except TypeError:
-        raise Unfreezable(f"no hashable form of a {kind.__name__}") from None
-    return (kind, value)
+        return pickle.dumps(_shallow(value), pickle.HIGHEST_PROTOCOL)
+    except Exception as exc:  # pickle's errors: PicklingError, TypeError, AttributeError, RecursionError ...
+        raise Unfreezable(f"no hashable form of a {type(value).__name__}: {type(exc).__name__}") from None
+
+
+#: Marks a dict subclass written as its class's name, items and attributes (no parsed value is a
+#: tuple starting with this text and a class name).
+_DICT_SUBCLASS = "camgen.frozen: a dict subclass"
+
+
+def _shallow(value: object) -> object:
+    """``value`` with a dict subclass at the top or one level down in a list or tuple written as
+    (marker, its class's name, its items as a dict, its attributes): the same information as its
+    pickle (a :class:`camgen.schema.Parsed`'s ``__reduce__``), in fewer steps.  Deeper ones are
+    pickled as they are."""
+    kind = type(value)
+    if isinstance(value, (tuple, list)) and (kind is tuple or kind is list):
+        items = [_shallow(v) if isinstance(v, dict) and type(v) is not dict else v for v in value]
+        return tuple(items) if kind is tuple else items
+    if isinstance(value, dict) and kind is not dict:
+        return (_DICT_SUBCLASS, f"{kind.__module__}.{kind.__qualname__}", dict(value), getattr(value, "__dict__", None))
+    return value
 
 
 class Keyed:

@@ -182,7 +182,8 @@ def _check_passes(machining: "MachiningSpec", cams: "tuple[CamSpec, ...]") -> No
 
 def _cam(name: str, table: object, base_dir: Path | None, tool_limit: float | None) -> "CamSpec":
     from camgen.forms import form_names
-    from camgen.kinds import form_key, forms_of, get_kind, kind_names
+    from camgen.kinds import forms_of, get_kind, kind_names
+    from camgen.motions import get_motion
 
     where = f"cams.{name}"
     check_name(where, name, "a cam's name is used in its file names")
@@ -190,18 +191,18 @@ def _cam(name: str, table: object, base_dir: Path | None, tool_limit: float | No
         raise SceneError(f"[{where}] must be a table, not {type_name(table)}")
     kinds = tuple(kind_names())
     kind_name = Choice(kinds).parse(f"{where}.kind", table.get("kind"))
-    form = form_key(kind_name)
-    given = table.get("form", form.default)
-    if isinstance(given, str) and given in form_names() and given not in forms_of(kind_name):  # a form, not this motion's
-        assert isinstance(form.type, Choice)
-        raise ParameterError(f"{where}.form", given, form.type.describe(), f"the {given} form does not realise the motion "
+    form = Choice(forms_of(kind_name))  # the type of the cam's form key (camgen.kinds.form_key), its default the motion's form
+    given = table.get("form", get_motion(kind_name).default_form)
+    if isinstance(given, str) and given not in form.values and given in form_names():  # a form, not this motion's
+        raise ParameterError(f"{where}.form", given, form.describe(), f"the {given} form does not realise the motion "
                              f"kind = {kind_name!r} (camgen.forms, camgen.motions)")
-    form_name = form.type.parse(f"{where}.form", given)
+    form_name = form.parse(f"{where}.form", given)
     kind = get_kind(kind_name, form_name)
     parsed = parse_table(where, {k: v for k, v in table.items() if k != "kind"}, kind.keys)
     parsed.tool_limit = tool_limit  # the kind's check settings hold it (read_checks)
     _jerk_limit(where, parsed)  # VDI: a jerk limit needs rpm and its follower motion's unit (issue 26 item 5)
-    return dataclasses.replace(kind.read(where, name, parsed, base_dir), form=form_name)
+    spec = kind.read(where, name, parsed, base_dir)
+    return spec if spec.form == form_name else dataclasses.replace(spec, form=form_name)
 
 
 def _jerk_limit(where: str, parsed: Mapping[str, Any]) -> None:
@@ -253,6 +254,12 @@ def _mechanisms(table: object, cams: "tuple[CamSpec, ...]") -> tuple[MechanismSp
     return tuple(out)
 
 
+#: The keys of a scene's top level (their tables are read by their own schemas).
+_TOP = (Key("name", Text(64), "", ()), Key("output", Text(), "", ()), Key("machining", Text(), "", ()),
+        Key("cams", Text(), "", ()), Key("mechanisms", Text(), "", ()), Key("sweep", Text(), "", ()),
+        Key("tolerance", Text(), "", ()))
+
+
 def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", base_dir: Path | None = None,
                 only: Sequence[str] | None = None) -> Scene:
     """Validate a decoded TOML table and return a :class:`Scene` whose specs are final.
@@ -265,10 +272,7 @@ def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", ba
     deep = too_deep(data, MAX_NESTING)
     if deep is not None:
         raise SceneError(f"{deep}: tables and lists nest more than {MAX_NESTING} levels deep (the limit of a scene)")
-    top = [Key("name", Text(64), "", ()), Key("output", Text(), "", ()), Key("machining", Text(), "", ()),
-           Key("cams", Text(), "", ()), Key("mechanisms", Text(), "", ()), Key("sweep", Text(), "", ()),
-           Key("tolerance", Text(), "", ())]
-    check_keys("scene", data, top)
+    check_keys("scene", data, _TOP)
     if "cams" not in data:
         raise SceneError("scene: missing key(s) 'cams': add at least one [cams.<name>] table")
     if "name" in data:

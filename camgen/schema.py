@@ -374,6 +374,18 @@ class Parsed(dict):
     given: frozenset[str] = frozenset()
     tool_limit: float | None = None
 
+    def __reduce__(self) -> tuple[Any, ...]:
+        """Pickled as its items and attributes (the key of a reader's cache, :mod:`camgen.frozen`)."""
+        return (parsed_table, (dict(self), self.given, self.tool_limit))
+
+
+def parsed_table(items: dict[str, Any], given: frozenset[str], tool_limit: float | None) -> Parsed:
+    """A :class:`Parsed` of ``items`` with its attributes (what its pickle reads back)."""
+    out = Parsed(items)
+    out.given = given
+    out.tool_limit = tool_limit
+    return out
+
 
 def given_keys(parsed: Mapping[str, Any], keys: Sequence[Key]) -> frozenset[str]:
     """The scene names of ``keys`` given in ``parsed`` (a :class:`Parsed`; for a plain mapping,
@@ -511,6 +523,17 @@ def too_deep(value: object, limit: int, path: str = "scene") -> str | None:
     """The path (``cams.x.a_mm[0][0]``) of the first place where lists/tables in a decoded TOML
     value nest more than ``limit`` levels, or None (iterative: deep input cannot exhaust the
     interpreter's stack)."""
+    values: list[object] = [value]  # the levels' values first, without their paths (the usual scene is within the limit)
+    for _ in range(limit + 1):
+        below: list[object] = []
+        for item in values:
+            if isinstance(item, dict):
+                below.extend(item.values())
+            elif isinstance(item, list):
+                below.extend(item)
+        if not below:
+            return None
+        values = below
     level: list[tuple[str, object]] = [(path, value)]
     for _ in range(limit + 1):
         children: list[tuple[str, object]] = []

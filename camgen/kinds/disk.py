@@ -233,13 +233,12 @@ def disk_spec(where: str, name: str, kind: str, parsed: Mapping[str, Any], law: 
     from camgen.kinds.disk_margins import read_margins
     from camgen.kinds.part_cache import body_of, dynamics_of
 
-    params = DiskParams(law, follower, sizing, parsed["fit_tol"], parsed.get("face_half_length"), dict(law_figures), parsed.get("source"))
-    params = replace(params, margins=read_margins(parsed))  # SIZING (issue 26 item 4): the plate form's margin keys
-    # SIZE2 (issue 26 item 4): the sizing answers the scene asks for
     from camgen.kinds.disk_ranges import read_sizing_ranges
 
-    params = replace(params, sizing_ranges=read_sizing_ranges(where, parsed, follower))
-    # end SIZE2
+    margins = read_margins(parsed)  # SIZING (issue 26 item 4): the plate form's margin keys
+    ranges = read_sizing_ranges(where, parsed, follower)  # SIZE2 (issue 26 item 4): the sizing answers the scene asks for
+    params = DiskParams(law, follower, sizing, parsed["fit_tol"], parsed.get("face_half_length"), dict(law_figures), parsed.get("source"),
+                        margins, ranges)
     body, checks = body_of(where, parsed), read_checks(parsed)  # the body and the train: read once while their keys stay the same
     dynamics = dynamics_of(where, parsed, motion=follower.motion, follower=follower.kind, rpm=checks.rpm, thickness=body.thickness,
                            base_dir=base_dir, form_closed=form_closed)
