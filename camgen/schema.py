@@ -105,9 +105,10 @@ class Number(ValueType):
         return f"a number{unit}" + (f", {lo}x{hi}" if lo or hi else "")
 
     def parse(self, path: str, value: object) -> float:
-        if _is_number(value):  # the usual case first: the range's text is made only for a refusal
+        kind = type(value)
+        if kind is float or kind is int or _is_number(value):  # the usual case first: the range's text is made only for a refusal
             try:
-                number = float(value)
+                number = float(value)  # type: ignore[arg-type]
             except OverflowError:
                 number = math.nan
             if math.isfinite(number):
@@ -272,7 +273,8 @@ class TableList(ValueType):
         if not isinstance(value, list) or not self.min_items <= len(value) <= self.max_items:
             shown = value if not isinstance(value, list) or len(value) < 20 else f"<list of {len(value)}>"
             raise ParameterError(path, shown, self.describe())
-        return tuple(parse_table(f"{path}[{i}]", item, self.keys) for i, item in enumerate(value))
+        schema = compiled(self.keys)
+        return tuple([parse_with(f"{path}[{i}]", item, schema) for i, item in enumerate(value)])
 
 
 _REQUIRED = object()
@@ -399,11 +401,15 @@ def parse_table(where: str, table: object, keys: Sequence[Key]) -> Parsed:
     """Validate ``table`` against ``keys``; return ``{field: value}`` in internal units, the
     defaults filled in (keys without a default and not given are absent), as a :class:`Parsed`
     that knows which keys were given.  ``keys`` is read through its :class:`Schema`."""
+    return parse_with(where, table, compiled(keys))
+
+
+def parse_with(where: str, table: object, schema: "Schema") -> Parsed:
+    """:func:`parse_table` of ``table`` against the keys of ``schema`` (:func:`compiled`)."""
     if not isinstance(table, dict):
         raise SceneError(f"[{where}] must be a table, not {type_name(table)}")
-    schema = compiled(keys)
     if not schema.names.issuperset(table) or any(name not in table for name in schema.required):
-        check_keys(where, table, keys)  # names the unknown or missing keys
+        check_keys(where, table, schema.keys)  # names the unknown or missing keys
     out = Parsed()
     out.given = frozenset(table)  # every key of the table is one of keys (checked)
     for name, field_, parse, default in schema.entries:
