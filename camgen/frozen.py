@@ -24,7 +24,7 @@ from __future__ import annotations
 import pickle
 from typing import Any
 
-__all__ = ["Keyed", "Unfreezable", "fresh", "frozen"]
+__all__ = ["Copies", "Keyed", "Unfreezable", "frozen"]
 
 
 class Unfreezable(TypeError):
@@ -79,18 +79,15 @@ class Keyed:
         return isinstance(other, Keyed) and self._hash == other._hash and self.key == other.key
 
 
-def fresh(value: Any) -> Any:
-    """A copy of a cached JSON-like ``value`` for one caller: its dicts and lists new (the caller
-    may change them; a tuple's too), everything else shared (immutable)."""
-    kind = type(value)
-    if kind is dict:
-        return {k: fresh(v) if type(v) in _COPIED else v for k, v in value.items()}
-    if kind is list:
-        return [fresh(v) if type(v) in _COPIED else v for v in value]
-    if kind is tuple:
-        return tuple([fresh(v) if type(v) in _COPIED else v for v in value])
-    return value
+class Copies:
+    """A JSON-like value (dicts, lists, numbers, text) kept as its pickle: :meth:`copy` is a new
+    deep copy of it each time, so a cached result's figures are each caller's own (the caller may
+    change them; the cache's stay as they were made)."""
 
+    __slots__ = ("_pickle",)
 
-#: The containers :func:`fresh` copies.
-_COPIED = frozenset({dict, list, tuple})
+    def __init__(self, value: Any) -> None:
+        self._pickle = pickle.dumps(value, pickle.HIGHEST_PROTOCOL)
+
+    def copy(self) -> Any:
+        return pickle.loads(self._pickle)

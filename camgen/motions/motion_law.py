@@ -27,7 +27,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Mapping
 
 from camgen.errors import ParameterError
-from camgen.frozen import Keyed, Unfreezable, fresh
+from camgen.frozen import Copies, Keyed, Unfreezable
 from camgen.keynames import renamed
 from camgen.motions.base import LawReading, Motion
 from camgen.motions.segment_rows import Rows, rows_per_rad
@@ -216,9 +216,9 @@ def read_law(where: str, parsed: Mapping[str, Any], follower: "FollowerSpec", ba
         keyed = Keyed(segments)
     except Unfreezable:  # not a parsed table (a caller's own values): read without the cache
         program, figures = _read_law(segments, *args)
-    else:
-        program, figures = _cached_law(keyed, *args)
-    return LawReading(program, fresh(figures))
+        return LawReading(program, figures)
+    program, copies = _cached_law(keyed, *args)
+    return LawReading(program, copies.copy())
 
 
 #: Motion programs :func:`read_law` keeps (the last ones read: a scene's cams, a study's designs).
@@ -226,10 +226,10 @@ LAW_CACHE = 16
 
 
 @lru_cache(maxsize=LAW_CACHE)
-def _cached_law(segments: Keyed, where: str, motion: str, abscissa: str, edge: bool, kind: str) -> tuple[Any, dict[str, Any]]:
+def _cached_law(segments: Keyed, where: str, motion: str, abscissa: str, edge: bool, kind: str) -> tuple[Any, Copies]:
     program, figures = _read_law(segments.value, where, motion, abscissa, edge, kind)
     read_only(program)
-    return program, figures
+    return program, Copies(figures)
 
 
 def _read_law(segments: tuple[dict[str, Any], ...], where: str, motion: str, abscissa: str, edge: bool,
