@@ -6,7 +6,8 @@ keyway, thickness) and the follower train's dynamics keys stay the same, and the
 functions of those keys.  Each reader here is given only its own keys of the parsed table
 (:func:`camgen.schema.restricted`: a reader cannot see, and so cannot depend on, a key outside
 its cache key) and keeps its last results (``functools.lru_cache``, :data:`PART_CACHE` each) keyed
-by their values (:func:`camgen.frozen.frozen`) and its other arguments.  What they return is
+by their values (:func:`camgen.frozen.frozen`) and its other arguments (the train's: what it reads
+of the registered follower too).  What they return is
 frozen (a :class:`~camgen.body.BodySpec`, a :class:`~camgen.kinds.dynamics.DynamicsSpec`).
 
 A train whose external load comes from a file (``external_load_csv``) is read each time: the
@@ -54,13 +55,15 @@ def dynamics_of(where: str, parsed: Mapping[str, Any], *, motion: str, follower:
                 base_dir: Path | None = None, form_closed: bool = False) -> "DynamicsSpec | None":
     """:func:`camgen.kinds.dynamics.read_dynamics` of ``parsed``'s dynamics keys (the same
     arguments), kept while they and the arguments are the same (not with a load file)."""
-    from camgen.kinds.dynamics import dynamics_keys, read_dynamics
+    from camgen.followers import get_follower
+    from camgen.kinds.dynamics import dynamics_keys
 
     part = restricted(parsed, dynamics_keys())
     args = (where, motion, follower, rpm, thickness, base_dir, form_closed)
     if "external_load_csv" not in part:
+        model = get_follower(follower)  # what the reader reads of the registered follower is part of the key
         try:
-            return _dynamics(Keyed(part), *args)
+            return _dynamics(Keyed(part), *args, model.contact, model.has_radius)
         except Unfreezable:
             pass
     return _read_dynamics(part, *args)
@@ -76,5 +79,8 @@ def _read_dynamics(part: Parsed, where: str, motion: str, follower: str, rpm: fl
 
 @lru_cache(maxsize=PART_CACHE)
 def _dynamics(part: Keyed, where: str, motion: str, follower: str, rpm: float | None, thickness: float, base_dir: Path | None,
-              form_closed: bool) -> "DynamicsSpec | None":
+              form_closed: bool, contact: str, has_radius: bool) -> "DynamicsSpec | None":
+    """``contact``, ``has_radius``: the registered follower's (a follower registered again under
+    its name with another contact is another key)."""
+    del contact, has_radius  # the reader looks the follower up itself; these only key its result
     return _read_dynamics(part.value, where, motion, follower, rpm, thickness, base_dir, form_closed)
