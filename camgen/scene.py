@@ -191,13 +191,21 @@ def _cam(name: str, table: object, base_dir: Path | None, tool_limit: float | No
         raise SceneError(f"[{where}] must be a table, not {type_name(table)}")
     kinds = tuple(kind_names())
     kind_name = Choice(kinds).parse(f"{where}.kind", table.get("kind"))
-    form = Choice(forms_of(kind_name))  # the type of the cam's form key (camgen.kinds.form_key), its default the motion's form
-    given = table.get("form", get_motion(kind_name).default_form)
-    if isinstance(given, str) and given not in form.values and given in form_names():  # a form, not this motion's
-        raise ParameterError(f"{where}.form", given, form.describe(), f"the {given} form does not realise the motion "
-                             f"kind = {kind_name!r} (camgen.forms, camgen.motions)")
-    form_name = form.parse(f"{where}.form", given)
-    kind = get_kind(kind_name, form_name)
+    kind = None
+    if "form" not in table:  # the motion's own form: get_kind composed it only if that form realises the motion
+        try:
+            form_name = get_motion(kind_name).default_form
+            kind = get_kind(kind_name, form_name)
+        except KeyError:
+            kind = None  # refused below, naming the key
+    if kind is None:
+        form = Choice(forms_of(kind_name))  # the type of the cam's form key (camgen.kinds.form_key), its default the motion's form
+        given = table.get("form", get_motion(kind_name).default_form)
+        if isinstance(given, str) and given not in form.values and given in form_names():  # a form, not this motion's
+            raise ParameterError(f"{where}.form", given, form.describe(), f"the {given} form does not realise the motion "
+                                 f"kind = {kind_name!r} (camgen.forms, camgen.motions)")
+        form_name = form.parse(f"{where}.form", given)
+        kind = get_kind(kind_name, form_name)
     parsed = parse_table(where, {k: v for k, v in table.items() if k != "kind"}, kind.keys)
     parsed.tool_limit = tool_limit  # the kind's check settings hold it (read_checks)
     _jerk_limit(where, parsed)  # VDI: a jerk limit needs rpm and its follower motion's unit (issue 26 item 5)

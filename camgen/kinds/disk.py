@@ -231,7 +231,7 @@ def disk_spec(where: str, name: str, kind: str, parsed: Mapping[str, Any], law: 
     the form holds the follower both ways, a groove)."""
     from camgen.kinds.base import read_checks
     from camgen.kinds.disk_margins import read_margins
-    from camgen.kinds.part_cache import body_of, dynamics_of
+    from camgen.kinds.part_cache import body_and_dynamics
 
     from camgen.kinds.disk_ranges import read_sizing_ranges
 
@@ -239,9 +239,10 @@ def disk_spec(where: str, name: str, kind: str, parsed: Mapping[str, Any], law: 
     ranges = read_sizing_ranges(where, parsed, follower)  # SIZE2 (issue 26 item 4): the sizing answers the scene asks for
     params = DiskParams(law, follower, sizing, parsed["fit_tol"], parsed.get("face_half_length"), dict(law_figures), parsed.get("source"),
                         margins, ranges)
-    body, checks = body_of(where, parsed), read_checks(parsed)  # the body and the train: read once while their keys stay the same
-    dynamics = dynamics_of(where, parsed, motion=follower.motion, follower=follower.kind, rpm=checks.rpm, thickness=body.thickness,
-                           base_dir=base_dir, form_closed=form_closed)
+    checks = read_checks(parsed)
+    # the body and the train: read once while their keys stay the same (camgen.kinds.part_cache)
+    body, dynamics = body_and_dynamics(where, parsed, motion=follower.motion, follower=follower.kind, rpm=checks.rpm,
+                                       base_dir=base_dir, form_closed=form_closed)
     return CamSpec(name, kind, params, body, checks, None, dynamics)
 
 
