@@ -21,16 +21,20 @@ import math
 import re
 import tomllib
 from dataclasses import dataclass, field
+from functools import lru_cache
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Mapping, Sequence, TypeVar
 
 from camgen.errors import ParameterError, SceneError
 from camgen.schema import Choice, Key, Text, check_keys, parse_table, quoted_names, too_deep, type_name
 
 if TYPE_CHECKING:
     from camgen.export.gcode import MachiningSpec
+    from camgen.frozen import Keyed
     from camgen.kinds.base import CamSpec
     from camgen.outputs import OutputSpec
+
+_S = TypeVar("_S")
 
 #: Largest scene file read, bytes.
 MAX_SCENE_BYTES = 1 << 20
@@ -77,6 +81,33 @@ def check_name(where: str, name: object, hint: str = "") -> str:
         shown = name if not isinstance(name, str) or len(name) < 80 else f"<{len(name)} characters>"
         raise ParameterError(where, shown, NAME_RULE, hint or "used as a file name")
     return name
+
+
+#: Output and machining specs :func:`parse_scene` keeps (the last tables read: a study's designs
+#: share them), keyed by the table's values (:func:`camgen.frozen.frozen`).
+SPEC_CACHE = 8
+
+
+def _cached(read: Callable[..., _S], cached: Callable[..., _S], table: object, *args: Any) -> _S:
+    """``read(table, *args)``, kept by ``cached`` (the same reader under ``lru_cache``, taking the
+    table :class:`~camgen.frozen.Keyed`) where the table has a hashable form."""
+    from camgen.frozen import Keyed, Unfreezable
+
+    try:
+        keyed = Keyed(table)
+    except Unfreezable:  # no TOML value: read (and refused) without the cache
+        return read(table, *args)
+    return cached(keyed, *args)
+
+
+@lru_cache(maxsize=SPEC_CACHE)
+def _cached_output(table: "Keyed") -> "OutputSpec":
+    return _output(table.value)
+
+
+@lru_cache(maxsize=SPEC_CACHE)
+def _cached_machining(table: "Keyed", output: "OutputSpec", machined: bool) -> "MachiningSpec":
+    return _machining(table.value, output, machined)
 
 
 def _output(table: object) -> "OutputSpec":
@@ -151,7 +182,8 @@ def _check_passes(machining: "MachiningSpec", cams: "tuple[CamSpec, ...]") -> No
 
 def _cam(name: str, table: object, base_dir: Path | None, tool_limit: float | None) -> "CamSpec":
     from camgen.forms import form_names
-    from camgen.kinds import form_key, forms_of, get_kind, kind_names
+    from camgen.kinds import forms_of, get_kind, kind_names
+    from camgen.motions import get_motion
 
     where = f"cams.{name}"
     check_name(where, name, "a cam's name is used in its file names")
@@ -159,18 +191,26 @@ def _cam(name: str, table: object, base_dir: Path | None, tool_limit: float | No
         raise SceneError(f"[{where}] must be a table, not {type_name(table)}")
     kinds = tuple(kind_names())
     kind_name = Choice(kinds).parse(f"{where}.kind", table.get("kind"))
-    form = form_key(kind_name)
-    given = table.get("form", form.default)
-    if isinstance(given, str) and given in form_names() and given not in forms_of(kind_name):  # a form, not this motion's
-        assert isinstance(form.type, Choice)
-        raise ParameterError(f"{where}.form", given, form.type.describe(), f"the {given} form does not realise the motion "
-                             f"kind = {kind_name!r} (camgen.forms, camgen.motions)")
-    form_name = form.type.parse(f"{where}.form", given)
-    kind = get_kind(kind_name, form_name)
+    kind = None
+    if "form" not in table:  # the motion's own form: get_kind composed it only if that form realises the motion
+        try:
+            form_name = get_motion(kind_name).default_form
+            kind = get_kind(kind_name, form_name)
+        except KeyError:
+            kind = None  # refused below, naming the key
+    if kind is None:
+        form = Choice(forms_of(kind_name))  # the type of the cam's form key (camgen.kinds.form_key), its default the motion's form
+        given = table.get("form", get_motion(kind_name).default_form)
+        if isinstance(given, str) and given not in form.values and given in form_names():  # a form, not this motion's
+            raise ParameterError(f"{where}.form", given, form.describe(), f"the {given} form does not realise the motion "
+                                 f"kind = {kind_name!r} (camgen.forms, camgen.motions)")
+        form_name = form.parse(f"{where}.form", given)
+        kind = get_kind(kind_name, form_name)
     parsed = parse_table(where, {k: v for k, v in table.items() if k != "kind"}, kind.keys)
     parsed.tool_limit = tool_limit  # the kind's check settings hold it (read_checks)
     _jerk_limit(where, parsed)  # VDI: a jerk limit needs rpm and its follower motion's unit (issue 26 item 5)
-    return dataclasses.replace(kind.read(where, name, parsed, base_dir), form=form_name)
+    spec = kind.read(where, name, parsed, base_dir)
+    return spec if spec.form == form_name else dataclasses.replace(spec, form=form_name)
 
 
 def _jerk_limit(where: str, parsed: Mapping[str, Any]) -> None:
@@ -222,6 +262,12 @@ def _mechanisms(table: object, cams: "tuple[CamSpec, ...]") -> tuple[MechanismSp
     return tuple(out)
 
 
+#: The keys of a scene's top level (their tables are read by their own schemas).
+_TOP = (Key("name", Text(64), "", ()), Key("output", Text(), "", ()), Key("machining", Text(), "", ()),
+        Key("cams", Text(), "", ()), Key("mechanisms", Text(), "", ()), Key("sweep", Text(), "", ()),
+        Key("tolerance", Text(), "", ()))
+
+
 def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", base_dir: Path | None = None,
                 only: Sequence[str] | None = None) -> Scene:
     """Validate a decoded TOML table and return a :class:`Scene` whose specs are final.
@@ -234,10 +280,7 @@ def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", ba
     deep = too_deep(data, MAX_NESTING)
     if deep is not None:
         raise SceneError(f"{deep}: tables and lists nest more than {MAX_NESTING} levels deep (the limit of a scene)")
-    top = [Key("name", Text(64), "", ()), Key("output", Text(), "", ()), Key("machining", Text(), "", ()),
-           Key("cams", Text(), "", ()), Key("mechanisms", Text(), "", ()), Key("sweep", Text(), "", ()),
-           Key("tolerance", Text(), "", ())]
-    check_keys("scene", data, top)
+    check_keys("scene", data, _TOP)
     if "cams" not in data:
         raise SceneError("scene: missing key(s) 'cams': add at least one [cams.<name>] table")
     if "name" in data:
@@ -247,11 +290,11 @@ def parse_scene(data: Mapping[str, Any], name: str, source: str = "<memory>", ba
     cams_table = data["cams"]
     if not isinstance(cams_table, dict) or not cams_table:
         raise SceneError("scene: [cams] must hold at least one [cams.<name>] table")
-    output = _output(data.get("output"))
+    output = _cached(_output, _cached_output, data.get("output"))
     from camgen.outputs import MACHINING_FORMATS
 
     machined = bool(set(MACHINING_FORMATS) & (set(output.formats) | set(only or ())))
-    machining = _machining(data.get("machining"), output, machined)
+    machining = _cached(_machining, _cached_machining, data.get("machining"), output, machined)
     # the tool is a limit where the scene names it or the run machines the cam
     tool_limit = machining.tool_radius if "machining" in data or machined else None
     cams = _bodies(tuple(_cam(k, v, base_dir, tool_limit) for k, v in cams_table.items()))

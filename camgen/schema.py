@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Any, Mapping, Sequence, TypeGuard
 
 from camgen.errors import ParameterError, SceneError, quoted
@@ -104,9 +105,10 @@ class Number(ValueType):
         return f"a number{unit}" + (f", {lo}x{hi}" if lo or hi else "")
 
     def parse(self, path: str, value: object) -> float:
-        if _is_number(value):  # the usual case first: the range's text is made only for a refusal
+        kind = type(value)
+        if kind is float or kind is int or _is_number(value):  # the usual case first: the range's text is made only for a refusal
             try:
-                number = float(value)
+                number = float(value)  # type: ignore[arg-type]
             except OverflowError:
                 number = math.nan
             if math.isfinite(number):
@@ -271,7 +273,8 @@ class TableList(ValueType):
         if not isinstance(value, list) or not self.min_items <= len(value) <= self.max_items:
             shown = value if not isinstance(value, list) or len(value) < 20 else f"<list of {len(value)}>"
             raise ParameterError(path, shown, self.describe())
-        return tuple(parse_table(f"{path}[{i}]", item, self.keys) for i, item in enumerate(value))
+        schema = compiled(self.keys)
+        return tuple([parse_with(f"{path}[{i}]", item, schema) for i, item in enumerate(value)])
 
 
 _REQUIRED = object()
@@ -373,6 +376,18 @@ class Parsed(dict):
     given: frozenset[str] = frozenset()
     tool_limit: float | None = None
 
+    def __reduce__(self) -> tuple[Any, ...]:
+        """Pickled as its items and attributes (the key of a reader's cache, :mod:`camgen.frozen`)."""
+        return (parsed_table, (dict(self), self.given, self.tool_limit))
+
+
+def parsed_table(items: dict[str, Any], given: frozenset[str], tool_limit: float | None) -> Parsed:
+    """A :class:`Parsed` of ``items`` with its attributes (what its pickle reads back)."""
+    out = Parsed(items)
+    out.given = given
+    out.tool_limit = tool_limit
+    return out
+
 
 def given_keys(parsed: Mapping[str, Any], keys: Sequence[Key]) -> frozenset[str]:
     """The scene names of ``keys`` given in ``parsed`` (a :class:`Parsed`; for a plain mapping,
@@ -385,36 +400,146 @@ def given_keys(parsed: Mapping[str, Any], keys: Sequence[Key]) -> frozenset[str]
 def parse_table(where: str, table: object, keys: Sequence[Key]) -> Parsed:
     """Validate ``table`` against ``keys``; return ``{field: value}`` in internal units, the
     defaults filled in (keys without a default and not given are absent), as a :class:`Parsed`
-    that knows which keys were given."""
+    that knows which keys were given.  ``keys`` is read through its :class:`Schema`."""
+    return parse_with(where, table, compiled(keys))
+
+
+def parse_with(where: str, table: object, schema: "Schema") -> Parsed:
+    """:func:`parse_table` of ``table`` against the keys of ``schema`` (:func:`compiled`)."""
     if not isinstance(table, dict):
         raise SceneError(f"[{where}] must be a table, not {type_name(table)}")
-    check_keys(where, table, keys)
+    if not schema.names.issuperset(table) or any(name not in table for name in schema.required):
+        check_keys(where, table, schema.keys)  # names the unknown or missing keys
     out = Parsed()
-    out.given = frozenset(k.name for k in keys if k.name in table)
-    for key in keys:
-        if key.name in table:
-            out[key.field] = key.type.parse(f"{where}.{key.name}", table[key.name])
-        else:
-            default = key.default_value()
-            if default is not None:
-                out[key.field] = default
-    for key in keys:  # conditional keys: refused where they would have no effect
-        if key.name in table:
-            for other, allowed in key.requires.items():
-                have = table.get(other, next((k.default for k in keys if k.name == other), None))
+    out.given = frozenset(table)  # every key of the table is one of keys (checked)
+    for name, field_, parse, default in schema.entries:
+        if name in table:
+            out[field_] = parse(f"{where}.{name}", table[name])
+        elif default is _EACH_TIME:
+            value = keys_by_name(schema, name).default_value()
+            if value is not None:
+                out[field_] = value
+        elif default is not None:
+            out[field_] = default
+    for name, requires in schema.conditional:  # conditional keys: refused where they would have no effect
+        if name in table:
+            for other, allowed, other_default in requires:
+                have = table.get(other, other_default)
                 if have not in allowed:
                     raise ParameterError(
-                        f"{where}.{key.name}", table[key.name],
+                        f"{where}.{name}", table[name],
                         f"only with {other} = {' or '.join(repr(a) for a in allowed)}",
-                        f"{other} is {have!r} here, where {key.name} would have no effect",
+                        f"{other} is {have!r} here, where {name} would have no effect",
                     )
     return out
+
+
+def restricted(parsed: Mapping[str, Any], keys: Sequence[Key]) -> Parsed:
+    """The part of ``parsed`` that ``keys`` give: their fields (in ``keys``' order) and which of
+    them were given (not the tool limit): what a reader of those keys alone sees, the key of its
+    cache (:mod:`camgen.frozen`)."""
+    schema = compiled(keys)
+    out = Parsed({f: parsed[f] for f in schema.fields if f in parsed})
+    out.given = given_keys(parsed, keys) & schema.names
+    return out
+
+
+#: A default read per use (its value is mutable, or reading it raised).
+_EACH_TIME = object()
+
+
+@dataclass(frozen=True)
+class Schema:
+    """A tuple of keys made ready for :func:`parse_table` (:func:`compiled`): the names, the
+    required ones, per key (name, field, parse, default in internal units or None, or
+    :data:`_EACH_TIME`), the fields, and the conditional keys with (other, allowed, other's default)."""
+
+    keys: tuple[Key, ...]
+    names: frozenset[str]
+    required: tuple[str, ...]
+    entries: tuple[tuple[str, str, Any, Any], ...]
+    fields: tuple[str, ...]
+    conditional: tuple[tuple[str, tuple[tuple[str, tuple[Any, ...], Any], ...]], ...]
+
+
+def keys_by_name(schema: Schema, name: str) -> Key:
+    """The first key of ``schema`` named ``name``."""
+    return next(k for k in schema.keys if k.name == name)
+
+
+def _immutable(value: object) -> bool:
+    """``value`` is a number, a string, a flag, None or a tuple of them (shared safely)."""
+    if isinstance(value, tuple):
+        return all(_immutable(v) for v in value)
+    return value is None or type(value) in (int, float, str, bool)
+
+
+def _default(key: Key) -> Any:
+    try:
+        value = key.default_value()
+    except Exception:  # a bad default is refused where it is used, as before
+        return _EACH_TIME
+    return value if _immutable(value) else _EACH_TIME
+
+
+def _compile(keys: tuple[Key, ...]) -> Schema:
+    defaults: dict[str, Any] = {}
+    for k in keys:
+        defaults.setdefault(k.name, k.default)
+    conditional = tuple((k.name, tuple((other, tuple(allowed), defaults.get(other)) for other, allowed in k.requires.items()))
+                        for k in keys if k.requires)
+    return Schema(keys, frozenset(k.name for k in keys), tuple(k.name for k in keys if k.required),
+                  tuple((k.name, k.field, k.type.parse, _default(k)) for k in keys), tuple(k.field for k in keys), conditional)
+
+
+class _Same:
+    """A tuple of keys by identity (hashed and compared as the object itself): the key of
+    :func:`_compiled_tuple`, which holds it while cached, so that no other tuple can take its id."""
+
+    __slots__ = ("keys",)
+
+    def __init__(self, keys: tuple[Key, ...]) -> None:
+        self.keys = keys
+
+    def __hash__(self) -> int:
+        return id(self.keys)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, _Same) and other.keys is self.keys
+
+
+#: Key tuples whose :class:`Schema` is kept (the kinds', the output's, the segments', ...).
+SCHEMA_CACHE = 64
+
+
+@lru_cache(maxsize=SCHEMA_CACHE)
+def _compiled_tuple(keys: _Same) -> Schema:
+    return _compile(keys.keys)
+
+
+def compiled(keys: Sequence[Key]) -> Schema:
+    """The :class:`Schema` of ``keys``: made once per tuple of keys (the same tuple object: keys
+    are frozen, a kind's or a table's tuple is made once), per call for any other sequence."""
+    if type(keys) is tuple:
+        return _compiled_tuple(_Same(keys))
+    return _compile(tuple(keys))
 
 
 def too_deep(value: object, limit: int, path: str = "scene") -> str | None:
     """The path (``cams.x.a_mm[0][0]``) of the first place where lists/tables in a decoded TOML
     value nest more than ``limit`` levels, or None (iterative: deep input cannot exhaust the
     interpreter's stack)."""
+    values: list[object] = [value]  # the levels' values first, without their paths (the usual scene is within the limit)
+    for _ in range(limit + 1):
+        below: list[object] = []
+        for item in values:
+            if isinstance(item, dict):
+                below.extend(item.values())
+            elif isinstance(item, list):
+                below.extend(item)
+        if not below:
+            return None
+        values = below
     level: list[tuple[str, object]] = [(path, value)]
     for _ in range(limit + 1):
         children: list[tuple[str, object]] = []

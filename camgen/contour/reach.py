@@ -83,14 +83,19 @@ def splines_farthest_distance(splines: list[Spline], floor: float = 0.0) -> floa
     """Largest ``|P|`` (mm) on ``splines`` (at least ``floor``): every piece's ends, and the sign
     changes of ``d|P|^2/ds`` of the pieces where the Bezier hull of ``|P|^2`` reaches beyond the
     largest end distance by more than :data:`REACH_REL` (all pieces of one degree in one pass)."""
-    by_degree: dict[int, list[np.ndarray]] = {}
+    by_degree: dict[int, list[Spline]] = {}
     for spline in splines:
-        by_degree.setdefault(spline.degree, []).append(scaled_ascending(spline.coeffs, np.diff(spline.breaks)))
+        by_degree.setdefault(spline.degree, []).append(spline)
     squares = []
     best2 = floor * floor
-    for degree, blocks in by_degree.items():
-        q = np.concatenate(blocks)  # (K, degree + 1, 2): Q(s) on s in [0, 1], ascending
-        outer = np.einsum("kic,kjc->kij", q, q).reshape(q.shape[0], -1)
+    for degree, group in by_degree.items():
+        # (K, degree + 1, 2): Q(s) on s in [0, 1], ascending, of every piece of this degree in one pass (elementwise:
+        # the same values as spline by spline); the piece lengths as np.diff makes them (b[1:] - b[:-1])
+        coeffs = group[0].coeffs if len(group) == 1 else np.concatenate([s.coeffs for s in group], axis=1)
+        h = np.concatenate([s.breaks[1:] - s.breaks[:-1] for s in group]) if len(group) > 1 else group[0].breaks[1:] - group[0].breaks[:-1]
+        q = scaled_ascending(coeffs, h)
+        x, y = q[:, :, 0], q[:, :, 1]  # the products summed over the axes as einsum("kic,kjc->kij") sums them, x x + y y
+        outer = (x[:, :, None] * x[:, None, :] + y[:, :, None] * y[:, None, :]).reshape(q.shape[0], -1)
         f = outer @ _square_matrix(degree)  # |Q(s)|^2, ascending (K, 2 degree + 1)
         best2 = max(best2, float(f[:, 0].max()), float(f.sum(axis=1).max()))  # the ends, s = 0 and 1
         squares.append(f)

@@ -230,20 +230,20 @@ def disk_spec(where: str, name: str, kind: str, parsed: Mapping[str, Any], law: 
     """The :class:`CamSpec` of a disk cam (no generic follower model: the kind checks its own),
     with its follower train when the table gives one (:mod:`camgen.kinds.dynamics`; ``form_closed``:
     the form holds the follower both ways, a groove)."""
-    from camgen.kinds.base import read_body, read_checks
+    from camgen.kinds.base import read_checks
     from camgen.kinds.disk_margins import read_margins
-    from camgen.kinds.dynamics import read_dynamics
+    from camgen.kinds.part_cache import body_and_dynamics
 
-    params = DiskParams(law, follower, sizing, parsed["fit_tol"], parsed.get("face_half_length"), dict(law_figures), parsed.get("source"))
-    params = replace(params, margins=read_margins(parsed))  # SIZING (issue 26 item 4): the plate form's margin keys
-    # SIZE2 (issue 26 item 4): the sizing answers the scene asks for
     from camgen.kinds.disk_ranges import read_sizing_ranges
 
-    params = replace(params, sizing_ranges=read_sizing_ranges(where, parsed, follower))
-    # end SIZE2
-    body, checks = read_body(where, parsed), read_checks(parsed)
-    dynamics = read_dynamics(where, parsed, motion=follower.motion, follower=follower.kind, rpm=checks.rpm, thickness=body.thickness,
-                             base_dir=base_dir, form_closed=form_closed)
+    margins = read_margins(parsed)  # SIZING (issue 26 item 4): the plate form's margin keys
+    ranges = read_sizing_ranges(where, parsed, follower)  # SIZE2 (issue 26 item 4): the sizing answers the scene asks for
+    params = DiskParams(law, follower, sizing, parsed["fit_tol"], parsed.get("face_half_length"), dict(law_figures), parsed.get("source"),
+                        margins, ranges)
+    checks = read_checks(parsed)
+    # the body and the train: read once while their keys stay the same (camgen.kinds.part_cache)
+    body, dynamics = body_and_dynamics(where, parsed, motion=follower.motion, follower=follower.kind, rpm=checks.rpm,
+                                       base_dir=base_dir, form_closed=form_closed)
     return CamSpec(name, kind, params, body, checks, None, dynamics)
 
 

@@ -21,10 +21,13 @@ refused naming the one to use.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
+from functools import lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Mapping
 
 from camgen.errors import ParameterError
+from camgen.frozen import Copies, Keyed, Unfreezable
 from camgen.keynames import renamed
 from camgen.motions.base import LawReading, Motion
 from camgen.motions.segment_rows import Rows, rows_per_rad
@@ -201,22 +204,69 @@ def read_law(where: str, parsed: Mapping[str, Any], follower: "FollowerSpec", ba
     """The motion program of a cam table for ``follower`` (a lift in mm for a translating one, a
     swing in rad for an oscillating one) over one turn of the follower's abscissa (``abscissa``:
     a cam angle, or a plate travel whose length the figures give as ``travel_mm``); a velocity
-    jump is refused unless the follower is a knife."""
+    jump is refused unless the follower is a knife.
+
+    The same segments for the same follower give the SAME law object (:data:`LAW_CACHE` programs
+    kept, its arrays read-only): a study whose designs keep the motion reads it once, and what the
+    law keeps of its own evaluation serves every design; the figures are the caller's own copy."""
     abscissa = getattr(follower, "abscissa", ANGLE)  # the form's follower says what the program runs over
-    program = read_program(where, parsed["segments"], follower.motion, abscissa=abscissa)
-    figures: dict[str, Any] = {"segments": _segment_figures(parsed["segments"], follower.motion == "oscillating")}
+    segments = parsed["segments"]
+    args = (where, follower.motion, abscissa, follower.edge, follower.kind)
+    try:
+        keyed = Keyed(segments)
+    except Unfreezable:  # not a parsed table (a caller's own values): read without the cache
+        program, figures = _read_law(segments, *args)
+        return LawReading(program, figures)
+    program, copies = _cached_law(keyed, *args)
+    return LawReading(program, copies.copy())
+
+
+#: Motion programs :func:`read_law` keeps (the last ones read: a scene's cams, a study's designs).
+LAW_CACHE = 16
+
+
+@lru_cache(maxsize=LAW_CACHE)
+def _cached_law(segments: Keyed, where: str, motion: str, abscissa: str, edge: bool, kind: str) -> tuple[Any, Copies]:
+    program, figures = _read_law(segments.value, where, motion, abscissa, edge, kind)
+    read_only(program)
+    return program, Copies(figures)
+
+
+def _read_law(segments: tuple[dict[str, Any], ...], where: str, motion: str, abscissa: str, edge: bool,
+              kind: str) -> tuple[Any, dict[str, Any]]:
+    """The program and figures of :func:`read_law` from the parsed segments and what it reads of
+    the follower (its motion, abscissa, whether it is an edge and its kind's name)."""
+    program = read_program(where, segments, motion, abscissa=abscissa)
+    figures: dict[str, Any] = {"segments": _segment_figures(segments, motion == "oscillating")}
     for item, seg in zip(figures["segments"], program.segments):  # SPLINE (issue 26): the lift a velocity_blend found
         if item["law"] == "velocity_blend" and "lift_mm" not in item and "swing_deg" not in item:
-            item["swing_deg" if follower.motion == "oscillating" else "lift_mm"] = (
-                round(math.degrees(seg.lift), 9) if follower.motion == "oscillating" else seg.lift)
+            item["swing_deg" if motion == "oscillating" else "lift_mm"] = (
+                round(math.degrees(seg.lift), 9) if motion == "oscillating" else seg.lift)
     if abscissa == TRAVEL:
-        figures["travel_mm"] = math.fsum(seg["span_travel"] for seg in parsed["segments"])
-    _refuse_corners(where, program, parsed["segments"], follower, figures.get("travel_mm"))
+        figures["travel_mm"] = math.fsum(seg["span_travel"] for seg in segments)
+    _refuse_corners(where, program, segments, _Edge(edge, kind), figures.get("travel_mm"))
     figures["vdi2143"] = _vdi_figures(program)  # VDI: VDI 2143 names, tasks, characteristic values (issue 26 item 2)
-    return LawReading(program, figures)
+    return program, figures
 
 
-def _refuse_corners(where: str, program: Any, segments: tuple[dict[str, Any], ...], follower: "FollowerSpec",
+@dataclass(frozen=True)
+class _Edge:
+    """What :func:`_refuse_corners` reads of a follower."""
+
+    edge: bool
+    kind: str
+
+
+def read_only(law: Any) -> None:
+    """Make the arrays a law object holds read-only (a cached law is shared by its readers)."""
+    import numpy as np
+
+    for value in vars(law).values():
+        if isinstance(value, np.ndarray):
+            value.flags.writeable = False
+
+
+def _refuse_corners(where: str, program: Any, segments: tuple[dict[str, Any], ...], follower: "FollowerSpec | _Edge",
                     travel: float | None = None) -> None:
     """A velocity jump is refused unless the follower is a knife (segment i of a completed
     half-turn program is the user's segment i modulo their number); ``travel``: a travel
