@@ -98,6 +98,9 @@ def test_a_program_reused_by_other_base_radii_gives_a_fresh_scene_s_checks():
         params = replace(spec.params, follower=replace(spec.params.follower, base_radius=radius))
         scene = replace(shared, cams=(replace(spec, params=params),))
         (mine,) = compute(scene, evaluation_plan(scene)).cams
+        from camgen.motions.motion_law import _cached_law
+
+        _cached_law.cache_clear()  # a fresh program: the scene reader keeps its last ones (camgen.motions.motion_law)
         own = parse_scene(point_scene_data(study.data, {path: radius}), "plate")
         assert own.cams[0].params.law is not spec.params.law
         (theirs,) = compute(own, evaluation_plan(own)).cams
