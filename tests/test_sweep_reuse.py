@@ -125,6 +125,9 @@ def test_advice_kept_for_the_same_law_and_searched_again_for_another_follower(st
     kept = base_radius_advice(follower, law, limits)
     assert advice_cache._outcome.cache_info().hits == hits + 1  # reused, not searched
     assert kept.low == printed["base24"]
+    from camgen.motions.motion_law import _cached_law
+
+    _cached_law.cache_clear()  # a fresh program: the scene reader keeps its last ones (camgen.motions.motion_law)
     follower, own_law, limits = design("base24")  # the law of another parse: equal segments
     assert own_law is not law
     assert base_radius_advice(follower, own_law, limits).low == printed["base24"]
