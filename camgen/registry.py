@@ -11,7 +11,7 @@ import importlib
 import sys
 from typing import Generic, Mapping, Protocol, TypeVar
 
-__all__ = ["Named", "Registry"]
+__all__ = ["Named", "Registry", "generation"]
 
 
 class Named(Protocol):
@@ -20,6 +20,22 @@ class Named(Protocol):
 
 
 E = TypeVar("E", bound=Named)
+
+#: How many times an entry was registered or removed, in any registry of this process (each
+#: :meth:`Registry.register` / :meth:`Registry.unregister` adds one): what is composed from the
+#: registries' entries (:func:`camgen.kinds.get_kind`) stays valid while it is unchanged.
+_GENERATION = 0
+
+
+def generation() -> int:
+    """The registries' state stamp: changes whenever an entry is registered or removed in any
+    registry (the package's own entries, imported on first use, never change)."""
+    return _GENERATION
+
+
+def _changed() -> None:
+    global _GENERATION
+    _GENERATION += 1
 
 
 class Registry(Generic[E]):
@@ -40,10 +56,12 @@ class Registry(Generic[E]):
     def register(self, entry: E) -> None:
         """Add (or replace) an entry defined outside the package."""
         self._extra[entry.name] = entry
+        _changed()
 
     def unregister(self, name: str) -> None:
         """Remove a registered entry (the package's own stay)."""
         self._extra.pop(name, None)
+        _changed()
 
     def names(self) -> list[str]:
         """The package's entries in table order, then the registered ones by name."""

@@ -51,18 +51,12 @@ def form_key(motion_name: str) -> Key:
     return Key("form", Choice(forms), doc, ("profile",), default=get_motion(motion_name).default_form)
 
 
-#: (motion name, form name) -> (the registry entries it was composed from, the kind): a composed
-#: kind (its key schema included) is made once and reused while the motion, form and follower
-#: registries hold the same entries (one registered or removed later recomposes it).
-_COMPOSED: dict[tuple[str, str], tuple[tuple[object, ...], CamKind]] = {}
-
-
-def _entries(motion: "Motion") -> tuple[object, ...]:
-    """The registry entries a composed kind depends on: the motion, every form and every follower."""
-    from camgen.followers import follower_names, get_follower
-    from camgen.forms import form_names, get_form
-
-    return (motion, *(get_form(n) for n in form_names()), None, *(get_follower(n) for n in follower_names()))
+#: (motion name, form name) -> (the registries' state stamp it was composed at, the motion it was
+#: composed from, the kind): a composed kind (its key schema included) is made once and reused
+#: while no motion, form or follower is registered or removed (:func:`camgen.registry.generation`;
+#: one registered or removed later recomposes it).  At most one entry per (motion, form) pair of
+#: the registries.
+_COMPOSED: dict[tuple[str, str], tuple[int, object, CamKind]] = {}
 
 
 def get_kind(name: str, form: str | None = None) -> CamKind:
@@ -70,15 +64,16 @@ def get_kind(name: str, form: str | None = None) -> CamKind:
     KeyError if either is unknown or the form does not realise the motion.  Composed once per
     registry state (:data:`_COMPOSED`): the same object while nothing is registered or removed."""
     from camgen.motions import get_motion
+    from camgen.registry import generation
 
     motion = get_motion(name)
     form_name = form if form is not None else motion.default_form
-    entries = _entries(motion)
+    stamp = generation()
     hit = _COMPOSED.get((name, form_name))
-    if hit is not None and len(hit[0]) == len(entries) and all(a is b for a, b in zip(hit[0], entries)):
-        return hit[1]
+    if hit is not None and hit[0] == stamp and hit[1] is motion:
+        return hit[2]
     kind = _compose(name, form_name, motion)
-    _COMPOSED[(name, form_name)] = (entries, kind)
+    _COMPOSED[(name, form_name)] = (stamp, motion, kind)
     return kind
 
 
