@@ -198,6 +198,31 @@ def test_the_vertices_of_a_part_are_the_whole_polygons(plate):
             assert np.array_equal(index[part.successor[inner]], (index[inner] + 1) % len(whole))
 
 
+@pytest.mark.parametrize("plate", ["template", "clockwise", "large_offset"])
+def test_points_on_known_pieces_are_the_contours_evaluation(plate):
+    """evaluate_on (the vertices' points with their pieces known, no sorted search) gives
+    Contour.evaluate's points bit for bit: every vertex of the whole polygon with its own piece, and
+    with a wrong piece named for some (the other way: evaluate itself), at three tolerances."""
+    from camgen.contour.partial import contour_pieces, evaluate_on
+
+    contour, _ = _plate(PLATES[plate])
+    rng = np.random.default_rng(11)
+    for tol in (1e-4, 1e-3, 0.05):
+        params = contour.flatten_params(tol)
+        pieces = contour_pieces(contour, tol)
+        assert pieces is not None and int(pieces.counts.sum()) == params.size
+        piece = np.repeat(np.arange(pieces.size), pieces.counts)
+        want = contour.evaluate(params)
+        assert np.array_equal(evaluate_on(pieces, piece, params), want)
+        wrong = piece.copy()
+        moved = rng.random(piece.size) < 0.2
+        wrong[moved] = (wrong[moved] + rng.integers(1, pieces.size, moved.sum())) % pieces.size
+        assert np.array_equal(evaluate_on(pieces, wrong, params), want)
+        # a piece's last break (the next piece's start) as a parameter: the next piece's point
+        ends = pieces.segment + (pieces.end - pieces.t0) / pieces.span
+        assert np.array_equal(evaluate_on(pieces, np.arange(pieces.size), ends), contour.evaluate(ends))
+
+
 def _segment_joints(contour, curvature_tol):
     """camgen.contour.Contour.joints before this work (commit 4cd56c6), verbatim: each segment's
     own end tangents and curvatures."""

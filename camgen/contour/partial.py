@@ -23,9 +23,9 @@ from camgen.contour.contour import Contour
 from camgen.contour.spline import Spline
 from camgen.errors import require_positive
 from camgen.numerics.bernstein import bernstein_max_norm
-from camgen.numerics.polynomial import derivative_factors
+from camgen.numerics.polynomial import derivative_factors, horner
 
-__all__ = ["ContourPieces", "PolygonPart", "contour_pieces", "polygon_part"]
+__all__ = ["ContourPieces", "PolygonPart", "contour_pieces", "evaluate_on", "polygon_part"]
 
 
 @functools.lru_cache(maxsize=8)
@@ -47,7 +47,9 @@ class ContourPieces:
     ``control``: Bezier control points (P, degree + 1, 2), mm (rounded: a bound built on them
     needs a slack); ``counts``: the chords :meth:`Contour.flatten` gives each piece at its chord
     tolerance (P,); ``segment``: each piece's segment (P,); ``start``, ``end``: its first and last
-    spline parameter, ``t0``, ``span``: its spline's first parameter and span (P,).
+    spline parameter, ``t0``, ``span``: its spline's first parameter and span (P,); ``coeffs``: the
+    pieces' power coefficients (degree + 1, P, 2), highest first (the splines' own, concatenated);
+    ``first``, ``last``: whether the piece is its spline's first, last (P,).
     """
 
     contour: Contour
@@ -58,6 +60,9 @@ class ContourPieces:
     end: np.ndarray
     t0: np.ndarray
     span: np.ndarray
+    coeffs: np.ndarray
+    first: np.ndarray
+    last: np.ndarray
 
     @property
     def size(self) -> int:
@@ -102,7 +107,9 @@ def contour_pieces(contour: Contour, chord_tol: float) -> ContourPieces | None:
     scaled = c[::-1] * (h ** np.arange(degree + 1.0)[:, None])[:, :, None]
     control = np.einsum("ji,ikc->kjc", _to_bezier(degree), scaled)
     span = np.repeat([s.span for s in splines], pieces)
-    return ContourPieces(contour, control, counts, np.repeat(np.arange(len(splines)), pieces), start, end, breaks[first], span)
+    local = at - first  # the piece's number within its spline
+    return ContourPieces(contour, control, counts, np.repeat(np.arange(len(splines)), pieces), start, end, breaks[first], span, c,
+                         local == 0, local == np.repeat(pieces, pieces) - 1)
 
 
 def polygon_part(pieces: ContourPieces, keep: np.ndarray) -> PolygonPart | None:
@@ -122,6 +129,34 @@ def polygon_part(pieces: ContourPieces, keep: np.ndarray) -> PolygonPart | None:
     frac = j / counts[piece]
     t = start + frac * (pieces.end[piece] - start)
     params = pieces.segment[piece] + (t - pieces.t0[piece]) / pieces.span[piece]
-    points = pieces.contour.evaluate(params)
+    points = evaluate_on(pieces, piece, params)
     successor = np.where(keep[piece], (np.arange(piece.size) + 1) % piece.size, -1)
     return PolygonPart(points, successor)
+
+
+def evaluate_on(pieces: ContourPieces, piece: np.ndarray, params: np.ndarray) -> np.ndarray:
+    """``pieces.contour.evaluate(params)`` (n, 2), mm, for global parameters ``params`` (n,) of
+    vertices made on the pieces ``piece`` (n,): the arithmetic of :meth:`Contour.evaluate
+    <camgen.contour.Contour.evaluate>` (the segment and spline parameter from the global one, the
+    piece's polynomial at the offset from its first break) step by step, without its sorted search
+    for the piece: each vertex's own piece is taken where the search would find it (its segment
+    is the piece's, and its spline parameter ``t`` has ``start <= t < end``, open at the spline's
+    ends as the search's clip is); any other vertex (rounding at a break) by ``evaluate`` itself."""
+    contour = pieces.contour
+    n = contour.n_segments
+    flat = np.mod(params, n)
+    idx = np.minimum(np.floor(flat).astype(int), n - 1)
+    u = flat - idx
+    t = pieces.t0[piece] + u * pieces.span[piece]  # Spline._t of the vertex's segment, where it is the piece's
+    start = pieces.start[piece]
+    found = (idx == pieces.segment[piece]) & (pieces.first[piece] | (start <= t)) & (pieces.last[piece] | (t < pieces.end[piece]))
+    tau = (t - start)[:, None]
+    c = pieces.coeffs[:, piece]  # (degree + 1, n, 2)
+    if c.shape[0] == 4:
+        points = ((c[0] * tau + c[1]) * tau + c[2]) * tau + c[3]
+    else:
+        points = horner(np.ascontiguousarray(c.transpose(1, 0, 2)), tau, 0)
+    if not found.all():
+        miss = np.flatnonzero(~found)
+        points[miss] = contour.evaluate(params[miss])
+    return points
