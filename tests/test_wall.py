@@ -299,6 +299,24 @@ def test_the_plate_cams_joints_are_each_segments_own_bit_for_bit():
         assert contour.joints(curvature_tol=1e-6) == _segment_joints(contour, 1e-6)
 
 
+def test_joints_from_the_splines_alone_are_the_tables_and_each_segments_bit_for_bit():
+    """A fresh contour of splines (no segment tables: the ends from the splines themselves,
+    camgen.contour.ends.splines_end_values), the same contour after an evaluation built its tables
+    (the tables' path), and each segment's own values (the code before) give the same joints."""
+    from camgen.contour import Contour
+
+    for plate in PLATES:
+        contour, _ = _plate(PLATES[plate])
+        fresh = Contour(contour.segments)
+        assert "_segment_tables" not in fresh.__dict__
+        direct = fresh.joints(curvature_tol=1e-6)
+        assert "_segment_tables" not in fresh.__dict__  # the splines' path taken
+        tabled = Contour(contour.segments)
+        tabled.evaluate(np.array([0.5]))
+        assert "_segment_tables" in tabled.__dict__
+        assert direct == tabled.joints(curvature_tol=1e-6) == _segment_joints(contour, 1e-6)
+
+
 def test_the_least_convex_radius_is_the_least_reciprocal_bit_for_bit():
     """camgen.kinds.least_radius against every sample's radius ``1 / k`` (the pitch curve's radius
     of curvature before this work): curvatures equal but for a few units in the last place (a

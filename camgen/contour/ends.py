@@ -10,13 +10,18 @@ or beyond the last piece's start, checked; else the general sorted search).
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Sequence
+
 import numpy as np
 
 from camgen.contour.tables import SegmentTables
 from camgen.geometry import signed_curvature
 from camgen.numerics.polynomial import horner
 
-__all__ = ["spline_end_values"]
+if TYPE_CHECKING:
+    from camgen.contour.spline import Spline
+
+__all__ = ["spline_end_values", "splines_end_values"]
 
 
 def spline_end_values(tables: SegmentTables, segments: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -25,19 +30,58 @@ def spline_end_values(tables: SegmentTables, segments: np.ndarray) -> tuple[np.n
     ``u = 1`` (axis 1)."""
     spline = tables.spline_of[segments]
     t0, span = tables.t0[spline], tables.span[spline]
-    t = np.empty((spline.size, 2))
-    t[:, 0] = t0 + 0.0 * span  # Spline._t(u): breaks[0] + u span
-    t[:, 1] = t0 + 1.0 * span
     first = tables.break_start[spline]  # where each spline's breaks start in tables.breaks
     last = tables.break_start[spline + 1] - 2  # its last piece's start break
-    if np.all(t[:, 0] == tables.breaks[first]) and np.all(t[:, 1] >= tables.breaks[last]):
-        row = np.stack([tables.piece_start[spline], tables.piece_start[spline] + tables.n_pieces[spline] - 1], axis=1).ravel()
-        tau = (t - np.stack([tables.breaks[first], tables.breaks[last]], axis=1)).ravel()
-    else:  # a span so short that rounding moves an end into another piece: the general lookup
-        row, tau = tables.locate(np.repeat(spline, 2), t.ravel())
-    c = tables.rows[row]
-    tau = tau[:, None]
-    if tables.degree != 3:
+    row = np.stack([tables.piece_start[spline], tables.piece_start[spline] + tables.n_pieces[spline] - 1], axis=1).ravel()
+    got = _end_values(t0, span, tables.breaks[first], tables.breaks[last], tables.rows[row], tables.degree)
+    if got is not None:
+        return got
+    # a span so short that rounding moves an end into another piece: the general lookup
+    t = _ends_t(t0, span)
+    row, tau = tables.locate(np.repeat(spline, 2), t.ravel())
+    return _derivatives(tables.rows[row], tau[:, None], span, tables.degree)
+
+
+def splines_end_values(splines: "Sequence[Spline]") -> tuple[np.ndarray, np.ndarray] | None:
+    """:func:`spline_end_values` of every segment of a contour made of splines of one degree,
+    ``splines`` (S,), from the splines themselves (no :class:`SegmentTables`: the same numbers,
+    gathered from each spline's first and last piece); None when the contour's splines have two
+    degrees or an end is not on its end piece (take :func:`spline_end_values`)."""
+    degree = splines[0].degree
+    if any(s.degree != degree for s in splines):
+        return None
+    t0 = np.array([s.breaks[0] for s in splines])
+    span = np.array([s.span for s in splines])
+    b_last = np.array([s.breaks[-2] for s in splines])
+    rows = np.stack([s.coeffs[:, k] for s in splines for k in (0, -1)])  # (2 S, degree + 1, 2): SegmentTables.rows of the end pieces
+    return _end_values(t0, span, t0, b_last, rows, degree)
+
+
+def _ends_t(t0: np.ndarray, span: np.ndarray) -> np.ndarray:
+    """The spline parameters (S, 2) at u = 0 and u = 1 (Spline._t(u): breaks[0] + u span)."""
+    t = np.empty((t0.size, 2))
+    t[:, 0] = t0 + 0.0 * span
+    t[:, 1] = t0 + 1.0 * span
+    return t
+
+
+def _end_values(t0: np.ndarray, span: np.ndarray, b_first: np.ndarray, b_last: np.ndarray, rows: np.ndarray,
+                degree: int) -> tuple[np.ndarray, np.ndarray] | None:
+    """The ends' values from the splines' first parameters ``t0``, spans, first and last pieces'
+    start breaks ``b_first``, ``b_last`` (S,) and those pieces' coefficients ``rows`` (2 S, degree
+    + 1, 2: first, last of each spline); None if an end is not on its end piece (the sorted search
+    would find another)."""
+    t = _ends_t(t0, span)
+    if not (np.all(t[:, 0] == b_first) and np.all(t[:, 1] >= b_last)):
+        return None
+    tau = (t - np.stack([b_first, b_last], axis=1)).ravel()
+    return _derivatives(rows, tau[:, None], span, degree)
+
+
+def _derivatives(c: np.ndarray, tau: np.ndarray, span: np.ndarray, degree: int) -> tuple[np.ndarray, np.ndarray]:
+    """Tangents (S, 2, 2) and curvatures (S, 2) of the pieces ``c`` (2 S, degree + 1, 2) at offsets
+    ``tau`` (2 S, 1): SegmentTables.spline_values' arithmetic."""
+    if degree != 3:
         d1, d2 = horner(c, tau, 1), horner(c, tau, 2)
     else:
         d1 = (3.0 * c[:, 0] * tau + 2.0 * c[:, 1]) * tau + c[:, 2]
