@@ -23,7 +23,7 @@ from camgen.contour.contour import Contour
 from camgen.contour.spline import Spline
 from camgen.errors import require_positive
 from camgen.numerics.bernstein import bernstein_max_norm
-from camgen.numerics.polynomial import derivative_factors, horner
+from camgen.numerics.polynomial import derivative_factors
 
 __all__ = ["ContourPieces", "PolygonPart", "contour_pieces", "evaluate_on", "polygon_part"]
 
@@ -154,8 +154,10 @@ def evaluate_on(pieces: ContourPieces, piece: np.ndarray, params: np.ndarray) ->
     c = pieces.coeffs[:, piece]  # (degree + 1, n, 2)
     if c.shape[0] == 4:
         points = ((c[0] * tau + c[1]) * tau + c[2]) * tau + c[3]
-    else:
-        points = horner(np.ascontiguousarray(c.transpose(1, 0, 2)), tau, 0)
+    else:  # numerics.polynomial.horner's order 0, on the coefficients' rows
+        points = c[0] * 1.0
+        for m in range(1, c.shape[0]):
+            points = points * tau + c[m]
     if not found.all():
         miss = np.flatnonzero(~found)
         points[miss] = contour.evaluate(params[miss])
