@@ -235,3 +235,35 @@ def test_profile_curvature_is_that_of_the_kinematics(name):
     want = kinematics(follower, law, theta).profile_curvature
     got = profile_curvature(follower, law, theta)
     assert got.shape == theta.shape and np.array_equal(got, want)
+
+
+class _Plain:
+    """A law without ``on_uniform_grid`` (its four values separate arrays), or whose values are the
+    rows of one block in another order (``rows``): the check grid's values must still be the law's."""
+
+    def __init__(self, law, rows=(0, 1, 2, 3)):
+        self.law, self.rows = law, rows
+        self.breaks, self.break_continuity = law.breaks, law.break_continuity
+
+    def on_uniform_grid(self, n, extra):
+        block = np.stack(self.law(np.concatenate([np.arange(n) * (TWO_PI / n), extra])))[list(self.rows)]
+        return tuple(block[k] for k in np.argsort(self.rows))  # the law's (s, ds, d2s, d3s), rows of `block` in another order
+
+
+@pytest.mark.parametrize("rows", [(0, 1, 2, 3), (1, 0, 2, 3), (3, 2, 1, 0)])
+def test_check_grid_values_whatever_block_the_law_values_share(rows):
+    """CheckGrid.values (sorted in one take when the raw values are the rows of one block) against
+    np.insert of the law's own values (a fresh program evaluated here), for raw values that are a
+    block's rows in order, in another order, and (a motion program) its kept read-only ones."""
+    law = _program()
+    n, added = _grid_layout(law, D(0.3))
+    uniform = np.arange(n) * (TWO_PI / n)
+    at = np.searchsorted(uniform, added)
+    direct = law(np.concatenate([uniform, added]))
+    fresh = _program()  # the program's kept grid values: those of a fresh program's grid
+    for source, values in ((_Plain(law, rows), direct), (law, fresh.on_uniform_grid(n, added))):
+        grid = CheckGrid(source, n, added)
+        for got, value in zip(grid.values, values):
+            assert np.array_equal(got, np.insert(value[:n], at, value[n:]))
+            assert got.flags.writeable
+        assert all(not np.shares_memory(got, raw) for got in grid.values for raw in grid.raw)

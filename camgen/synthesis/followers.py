@@ -887,6 +887,22 @@ def _law_on_grid(law: Displacement, n: int, added: np.ndarray) -> _LawValues:
 _PHASOR_BLOCK = 128
 
 
+def _rows_of(values: _LawValues) -> np.ndarray | None:
+    """The (4, n) float block whose rows 0 .. 3 are ``values`` in turn (a motion program's
+    :meth:`~camgen.synthesis.laws.MotionProgram.on_uniform_grid` returns the rows of one block),
+    else None: :attr:`CheckGrid.values` sorts the block in one ``take`` instead of stacking first."""
+    base = values[0].base
+    if not isinstance(base, np.ndarray) or base.dtype != np.float64 or base.shape != (4, values[0].size) \
+            or not base.flags.c_contiguous:
+        return None
+    start, step = base.__array_interface__["data"][0], base.strides[0]
+    for k, v in enumerate(values):
+        if v.base is not base or v.ndim != 1 or v.strides[0] != base.strides[1] \
+                or v.__array_interface__["data"][0] != start + k * step:
+            return None
+    return base
+
+
 @lru_cache(maxsize=_GRID_CACHE_SIZE)
 def _grid_order(n: int, added: bytes) -> tuple[np.ndarray, np.ndarray]:
     """The sorted check grid of :class:`CheckGrid` (``n`` uniform angles ``k 2 pi / n``, the sorted
@@ -1168,10 +1184,13 @@ class CheckGrid:
     @cached_property
     def values(self) -> _LawValues:
         """``(s, ds, d2s, d3s)`` at ``theta``."""
-        s, ds, d2s, d3s = self.raw
-        block = np.stack((s, ds, d2s, d3s))  # the four in one pass (a copy: the raw values may be the law's kept ones)
-        if self.added.size:
-            block = block.take(self._layout[1], axis=1)
+        raw = self.raw
+        rows = _rows_of(raw)
+        if rows is None:  # four separate arrays: stacked first (a copy: the raw values may be the law's kept ones)
+            rows = np.stack(raw)
+        elif not self.added.size:
+            rows = rows.copy()  # (a copy: the raw values may be the law's kept ones)
+        block = rows.take(self._layout[1], axis=1) if self.added.size else rows  # (take: a fresh array)
         return block[0], block[1], block[2], block[3]
 
     def to_cam(self, sigma: float) -> np.ndarray:
