@@ -267,3 +267,36 @@ def test_check_grid_values_whatever_block_the_law_values_share(rows):
             assert np.array_equal(got, np.insert(value[:n], at, value[n:]))
             assert got.flags.writeable
         assert all(not np.shares_memory(got, raw) for got in grid.values for raw in grid.raw)
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_a_dwell_s_values_are_its_level_and_the_matrix_product_s(sign):
+    """A dwell's values (no basis, no product: the plan matrix's column) on every path that
+    evaluates a program (a direct call, a uniform grid with and without added angles): ``s`` the
+    dwell's level (the lifts before it, closed form) and the three derivatives +0.0, bit for bit
+    what the product of the plan matrix with the row of ones gives (the code before, written
+    here), also for a matrix with negative zeros."""
+    lifts = (sign * 20.0, sign * 7.5, -sign * 27.5)
+    program = MotionProgram([Segment("cycloidal", D(100), lifts[0]), Segment("dwell", D(40)), Segment("poly345", D(60), lifts[1]),
+                             Segment("dwell", D(50)), Segment("harmonic", D(70), lifts[2]), Segment("dwell", D(40))])
+    dwells = [(D(100), D(140), lifts[0]), (D(200), D(250), lifts[0] + lifts[1]), (D(320), TWO_PI, 0.0)]
+    n, added = _grid_layout(program, D(0.05))
+    uniform = np.arange(n) * (TWO_PI / n)
+    rng = np.random.default_rng(3)
+    odd = np.sort(rng.uniform(0.0, TWO_PI, 500))
+    for theta, values in ((odd, program(odd)), (uniform, program.on_uniform_grid(n)),
+                          (np.concatenate([uniform, added]), program.on_uniform_grid(n, added)),
+                          (np.arange(360) * (TWO_PI / 360), program.on_uniform_grid(360))):
+        for lo, hi, level in dwells:
+            inside = (theta > lo + 1e-9) & (theta < hi - 1e-9)
+            assert inside.sum() > 2
+            assert np.all(values[0][inside] == values[0][inside][0])
+            assert abs(values[0][inside][0] - level) <= 1e-12 * 30.0
+            for d in values[1:]:
+                assert np.all(d[inside] == 0.0) and not np.signbit(d[inside]).any()
+    for column in ([3.5, -0.0, 0.0, -0.0], [-0.0, -0.0, -0.0, -0.0], [-2.0, 0.0, 0.0, 0.0]):
+        matrix = np.array(column)[:, None]
+        got = np.empty((4, 7))
+        MotionProgram._fill((0.0, 1.0, 0.0, True, 0.0, (), matrix, None), np.linspace(0.1, 0.9, 7), got, None)
+        want = np.matmul(matrix, np.ones((1, 7)))
+        assert np.array_equal(got, want) and np.array_equal(np.signbit(got), np.signbit(want))

@@ -1401,6 +1401,10 @@ class MotionProgram:
         the angles are ``ths[0] + j step`` (a uniform grid), and the sines and cosines come from
         :func:`_uniform_phasors` instead of one sin and cos per angle."""
         start, span, ref, forward, const, omegas, matrix, custom = entry
+        if custom is None and matrix.shape[1] == 1:  # a constant piece (a dwell): its basis is the row of ones
+            # (what the matrix product gives: every entry times 1.0 added to 0.0, i.e. -0.0 as +0.0)
+            np.add(matrix, 0.0, out=out)
+            return
         tau = ths - start
         tau /= span
         if custom is not None:
