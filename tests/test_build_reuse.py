@@ -300,3 +300,19 @@ def test_a_dwell_s_values_are_its_level_and_the_matrix_product_s(sign):
         MotionProgram._fill((0.0, 1.0, 0.0, True, 0.0, (), matrix, None), np.linspace(0.1, 0.9, 7), got, None)
         want = np.matmul(matrix, np.ones((1, 7)))
         assert np.array_equal(got, want) and np.array_equal(np.signbit(got), np.signbit(want))
+
+
+def test_kept_rotations_are_the_direct_ones_for_each_direction():
+    """The rotation into the cam frame kept per angles (the coarse grid, the spline's knots and
+    probes) against cos - i sigma sin of the same angles computed here, for a ccw and a cw cam asked
+    in turn with the same angles (neither answer the other's), read-only."""
+    from camgen.synthesis.followers import _kept_rotation_to_cam
+
+    rng = np.random.default_rng(11)
+    for size in (1, 7, 285, 360):
+        theta = rng.uniform(-TWO_PI, TWO_PI, size)
+        for sigma in (1.0, -1.0, 1.0):
+            got = _kept_rotation_to_cam(sigma, theta.tobytes())
+            want = np.empty(size, dtype=complex)
+            want.real, want.imag = np.cos(theta), -sigma * np.sin(theta)
+            assert np.array_equal(got, want) and not got.flags.writeable

@@ -792,7 +792,7 @@ def _pitch_second_derivatives(f: FollowerSpec, theta: np.ndarray, terms: _PitchT
     values): the pitch curve's ``R A`` and the profile's ``R (A (1 - r kappa) - r kappa' V)``
     (:func:`_roller`; a knife's profile is its pitch curve)."""
     n = theta.size
-    back = _to_cam(f, theta)
+    back = _kept_rotation_to_cam(f.sigma, np.ascontiguousarray(theta, dtype=float).tobytes())
     vx, vy, ax, ay = terms.vx[:n], terms.vy[:n], terms.ax[:n], terms.ay[:n]
     out = np.empty((len(want), n), dtype=complex)
     for row, name in zip(out, want):
@@ -901,6 +901,14 @@ def _rows_of(values: _LawValues) -> np.ndarray | None:
                 or v.__array_interface__["data"][0] != start + k * step:
             return None
     return base
+
+
+@lru_cache(maxsize=_GRID_CACHE_SIZE)
+def _kept_rotation_to_cam(sigma: float, angles: bytes) -> np.ndarray:
+    """:func:`_rotation_to_cam` at the cam angles ``angles`` (float64 bytes), read-only (kept
+    across designs: the coarse grid and the spline's knots and probes stay while the law's breaks
+    and the piece counts do)."""
+    return _read_only(_rotation_to_cam(sigma, np.frombuffer(angles, dtype=float)))
 
 
 @lru_cache(maxsize=_GRID_CACHE_SIZE)
@@ -1330,10 +1338,11 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
         from one evaluation of the law: (Q, dQ, d2Q), complex (n, len(want)) each (the curves side by side)."""
         s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(th))
         block = np.empty((3, th.size, len(want)), dtype=complex)
+        back = _kept_rotation_to_cam(sigma, th.tobytes())  # (th: a fresh float64 array)
         if f.contact == "face":
-            block[:, :, 0] = _flat(f, th, s, ds, d2s, d3s, False)[0]
+            block[:, :, 0] = _flat(f, th, s, ds, d2s, d3s, False, back)[0]
         else:
-            _roller(f, th, s, ds, d2s, d3s, False, tuple(want), out=block)
+            _roller(f, th, s, ds, d2s, d3s, False, tuple(want), back=back, out=block)
         return block[0], block[1], block[2]
 
     if want:
