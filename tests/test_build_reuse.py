@@ -316,3 +316,25 @@ def test_kept_rotations_are_the_direct_ones_for_each_direction():
             want = np.empty(size, dtype=complex)
             want.real, want.imag = np.cos(theta), -sigma * np.sin(theta)
             assert np.array_equal(got, want) and not got.flags.writeable
+
+
+@pytest.mark.parametrize("lift", [20.0, -12.5])
+def test_a_program_s_kept_peaks_are_a_fresh_program_s_and_the_sampled_ones(lift):
+    """peak_values asked again (kept on the program) against a fresh program's and against the
+    largest |s'|, |s''|, |s'''| of the law sampled every 0.01 deg (within the sampling's reach);
+    two programs with other lifts asked in turn keep their own; a pickled one answers the same."""
+    import pickle
+
+    program, other = _program(lift=lift), _program(lift=2.0 * lift)
+    for _ in range(3):
+        got, got_other = program.peak_values(), other.peak_values()
+        assert got == _program(lift=lift).peak_values() and got_other == _program(lift=2.0 * lift).peak_values()
+        # twice the lift, twice every peak (a factor 2 is exact), at the same angles
+        assert (got_other.velocity, got_other.acceleration, got_other.jerk) == (2.0 * got.velocity, 2.0 * got.acceleration, 2.0 * got.jerk)
+        assert (got_other.velocity_at, got_other.acceleration_at, got_other.jerk_at) == (got.velocity_at, got.acceleration_at, got.jerk_at)
+    theta = np.arange(36000) * (TWO_PI / 36000)
+    _, ds, d2s, d3s = _program(lift=lift)(theta)
+    for sampled, peak in zip((ds, d2s, d3s), (got.velocity, got.acceleration, got.jerk)):
+        assert np.abs(sampled).max() <= peak * (1 + 1e-12) and np.abs(sampled).max() >= peak * (1 - 1e-4)
+    assert pickle.loads(pickle.dumps(program)).peak_values() == got
+    assert "_peaks" not in pickle.loads(pickle.dumps(program)).__dict__
