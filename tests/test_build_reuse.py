@@ -235,3 +235,106 @@ def test_profile_curvature_is_that_of_the_kinematics(name):
     want = kinematics(follower, law, theta).profile_curvature
     got = profile_curvature(follower, law, theta)
     assert got.shape == theta.shape and np.array_equal(got, want)
+
+
+class _Plain:
+    """A law without ``on_uniform_grid`` (its four values separate arrays), or whose values are the
+    rows of one block in another order (``rows``): the check grid's values must still be the law's."""
+
+    def __init__(self, law, rows=(0, 1, 2, 3)):
+        self.law, self.rows = law, rows
+        self.breaks, self.break_continuity = law.breaks, law.break_continuity
+
+    def on_uniform_grid(self, n, extra):
+        block = np.stack(self.law(np.concatenate([np.arange(n) * (TWO_PI / n), extra])))[list(self.rows)]
+        return tuple(block[k] for k in np.argsort(self.rows))  # the law's (s, ds, d2s, d3s), rows of `block` in another order
+
+
+@pytest.mark.parametrize("rows", [(0, 1, 2, 3), (1, 0, 2, 3), (3, 2, 1, 0)])
+def test_check_grid_values_whatever_block_the_law_values_share(rows):
+    """CheckGrid.values (sorted in one take when the raw values are the rows of one block) against
+    np.insert of the law's own values (a fresh program evaluated here), for raw values that are a
+    block's rows in order, in another order, and (a motion program) its kept read-only ones."""
+    law = _program()
+    n, added = _grid_layout(law, D(0.3))
+    uniform = np.arange(n) * (TWO_PI / n)
+    at = np.searchsorted(uniform, added)
+    direct = law(np.concatenate([uniform, added]))
+    fresh = _program()  # the program's kept grid values: those of a fresh program's grid
+    for source, values in ((_Plain(law, rows), direct), (law, fresh.on_uniform_grid(n, added))):
+        grid = CheckGrid(source, n, added)
+        for got, value in zip(grid.values, values):
+            assert np.array_equal(got, np.insert(value[:n], at, value[n:]))
+            assert got.flags.writeable
+        assert all(not np.shares_memory(got, raw) for got in grid.values for raw in grid.raw)
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_a_dwell_s_values_are_its_level_and_the_matrix_product_s(sign):
+    """A dwell's values (no basis, no product: the plan matrix's column) on every path that
+    evaluates a program (a direct call, a uniform grid with and without added angles): ``s`` the
+    dwell's level (the lifts before it, closed form) and the three derivatives +0.0, bit for bit
+    what the product of the plan matrix with the row of ones gives (the code before, written
+    here), also for a matrix with negative zeros."""
+    lifts = (sign * 20.0, sign * 7.5, -sign * 27.5)
+    program = MotionProgram([Segment("cycloidal", D(100), lifts[0]), Segment("dwell", D(40)), Segment("poly345", D(60), lifts[1]),
+                             Segment("dwell", D(50)), Segment("harmonic", D(70), lifts[2]), Segment("dwell", D(40))])
+    dwells = [(D(100), D(140), lifts[0]), (D(200), D(250), lifts[0] + lifts[1]), (D(320), TWO_PI, 0.0)]
+    n, added = _grid_layout(program, D(0.05))
+    uniform = np.arange(n) * (TWO_PI / n)
+    rng = np.random.default_rng(3)
+    odd = np.sort(rng.uniform(0.0, TWO_PI, 500))
+    for theta, values in ((odd, program(odd)), (uniform, program.on_uniform_grid(n)),
+                          (np.concatenate([uniform, added]), program.on_uniform_grid(n, added)),
+                          (np.arange(360) * (TWO_PI / 360), program.on_uniform_grid(360))):
+        for lo, hi, level in dwells:
+            inside = (theta > lo + 1e-9) & (theta < hi - 1e-9)
+            assert inside.sum() > 2
+            assert np.all(values[0][inside] == values[0][inside][0])
+            assert abs(values[0][inside][0] - level) <= 1e-12 * 30.0
+            for d in values[1:]:
+                assert np.all(d[inside] == 0.0) and not np.signbit(d[inside]).any()
+    for column in ([3.5, -0.0, 0.0, -0.0], [-0.0, -0.0, -0.0, -0.0], [-2.0, 0.0, 0.0, 0.0]):
+        matrix = np.array(column)[:, None]
+        got = np.empty((4, 7))
+        MotionProgram._fill((0.0, 1.0, 0.0, True, 0.0, (), matrix, None), np.linspace(0.1, 0.9, 7), got, None)
+        want = np.matmul(matrix, np.ones((1, 7)))
+        assert np.array_equal(got, want) and np.array_equal(np.signbit(got), np.signbit(want))
+
+
+def test_kept_rotations_are_the_direct_ones_for_each_direction():
+    """The rotation into the cam frame kept per angles (the coarse grid, the spline's knots and
+    probes) against cos - i sigma sin of the same angles computed here, for a ccw and a cw cam asked
+    in turn with the same angles (neither answer the other's), read-only."""
+    from camgen.synthesis.followers import _kept_rotation_to_cam
+
+    rng = np.random.default_rng(11)
+    for size in (1, 7, 285, 360):
+        theta = rng.uniform(-TWO_PI, TWO_PI, size)
+        for sigma in (1.0, -1.0, 1.0):
+            got = _kept_rotation_to_cam(sigma, theta.tobytes())
+            want = np.empty(size, dtype=complex)
+            want.real, want.imag = np.cos(theta), -sigma * np.sin(theta)
+            assert np.array_equal(got, want) and not got.flags.writeable
+
+
+@pytest.mark.parametrize("lift", [20.0, -12.5])
+def test_a_program_s_kept_peaks_are_a_fresh_program_s_and_the_sampled_ones(lift):
+    """peak_values asked again (kept on the program) against a fresh program's and against the
+    largest |s'|, |s''|, |s'''| of the law sampled every 0.01 deg (within the sampling's reach);
+    two programs with other lifts asked in turn keep their own; a pickled one answers the same."""
+    import pickle
+
+    program, other = _program(lift=lift), _program(lift=2.0 * lift)
+    for _ in range(3):
+        got, got_other = program.peak_values(), other.peak_values()
+        assert got == _program(lift=lift).peak_values() and got_other == _program(lift=2.0 * lift).peak_values()
+        # twice the lift, twice every peak (a factor 2 is exact), at the same angles
+        assert (got_other.velocity, got_other.acceleration, got_other.jerk) == (2.0 * got.velocity, 2.0 * got.acceleration, 2.0 * got.jerk)
+        assert (got_other.velocity_at, got_other.acceleration_at, got_other.jerk_at) == (got.velocity_at, got.acceleration_at, got.jerk_at)
+    theta = np.arange(36000) * (TWO_PI / 36000)
+    _, ds, d2s, d3s = _program(lift=lift)(theta)
+    for sampled, peak in zip((ds, d2s, d3s), (got.velocity, got.acceleration, got.jerk)):
+        assert np.abs(sampled).max() <= peak * (1 + 1e-12) and np.abs(sampled).max() >= peak * (1 - 1e-4)
+    assert pickle.loads(pickle.dumps(program)).peak_values() == got
+    assert "_peaks" not in pickle.loads(pickle.dumps(program)).__dict__

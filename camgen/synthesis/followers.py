@@ -792,7 +792,7 @@ def _pitch_second_derivatives(f: FollowerSpec, theta: np.ndarray, terms: _PitchT
     values): the pitch curve's ``R A`` and the profile's ``R (A (1 - r kappa) - r kappa' V)``
     (:func:`_roller`; a knife's profile is its pitch curve)."""
     n = theta.size
-    back = _to_cam(f, theta)
+    back = _kept_rotation_to_cam(f.sigma, np.ascontiguousarray(theta, dtype=float).tobytes())
     vx, vy, ax, ay = terms.vx[:n], terms.vy[:n], terms.ax[:n], terms.ay[:n]
     out = np.empty((len(want), n), dtype=complex)
     for row, name in zip(out, want):
@@ -885,6 +885,30 @@ def _law_on_grid(law: Displacement, n: int, added: np.ndarray) -> _LawValues:
 
 #: Length of the short table of unit phasors of a uniform grid (:func:`_sorted_grid_to_cam`).
 _PHASOR_BLOCK = 128
+
+
+def _rows_of(values: _LawValues) -> np.ndarray | None:
+    """The (4, n) float block whose rows 0 .. 3 are ``values`` in turn (a motion program's
+    :meth:`~camgen.synthesis.laws.MotionProgram.on_uniform_grid` returns the rows of one block),
+    else None: :attr:`CheckGrid.values` sorts the block in one ``take`` instead of stacking first."""
+    base = values[0].base
+    if not isinstance(base, np.ndarray) or base.dtype != np.float64 or base.shape != (4, values[0].size) \
+            or not base.flags.c_contiguous:
+        return None
+    start, step = base.__array_interface__["data"][0], base.strides[0]
+    for k, v in enumerate(values):
+        if v.base is not base or v.ndim != 1 or v.strides[0] != base.strides[1] \
+                or v.__array_interface__["data"][0] != start + k * step:
+            return None
+    return base
+
+
+@lru_cache(maxsize=_GRID_CACHE_SIZE)
+def _kept_rotation_to_cam(sigma: float, angles: bytes) -> np.ndarray:
+    """:func:`_rotation_to_cam` at the cam angles ``angles`` (float64 bytes), read-only (kept
+    across designs: the coarse grid and the spline's knots and probes stay while the law's breaks
+    and the piece counts do)."""
+    return _read_only(_rotation_to_cam(sigma, np.frombuffer(angles, dtype=float)))
 
 
 @lru_cache(maxsize=_GRID_CACHE_SIZE)
@@ -1168,10 +1192,13 @@ class CheckGrid:
     @cached_property
     def values(self) -> _LawValues:
         """``(s, ds, d2s, d3s)`` at ``theta``."""
-        s, ds, d2s, d3s = self.raw
-        block = np.stack((s, ds, d2s, d3s))  # the four in one pass (a copy: the raw values may be the law's kept ones)
-        if self.added.size:
-            block = block.take(self._layout[1], axis=1)
+        raw = self.raw
+        rows = _rows_of(raw)
+        if rows is None:  # four separate arrays: stacked first (a copy: the raw values may be the law's kept ones)
+            rows = np.stack(raw)
+        elif not self.added.size:
+            rows = rows.copy()  # (a copy: the raw values may be the law's kept ones)
+        block = rows.take(self._layout[1], axis=1) if self.added.size else rows  # (take: a fresh array)
         return block[0], block[1], block[2], block[3]
 
     def to_cam(self, sigma: float) -> np.ndarray:
@@ -1311,10 +1338,11 @@ def cam_envelope(follower: FollowerSpec, law: Displacement, *, fit_tol: float = 
         from one evaluation of the law: (Q, dQ, d2Q), complex (n, len(want)) each (the curves side by side)."""
         s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(th))
         block = np.empty((3, th.size, len(want)), dtype=complex)
+        back = _kept_rotation_to_cam(sigma, th.tobytes())  # (th: a fresh float64 array)
         if f.contact == "face":
-            block[:, :, 0] = _flat(f, th, s, ds, d2s, d3s, False)[0]
+            block[:, :, 0] = _flat(f, th, s, ds, d2s, d3s, False, back)[0]
         else:
-            _roller(f, th, s, ds, d2s, d3s, False, tuple(want), out=block)
+            _roller(f, th, s, ds, d2s, d3s, False, tuple(want), back=back, out=block)
         return block[0], block[1], block[2]
 
     if want:

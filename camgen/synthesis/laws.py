@@ -367,7 +367,7 @@ _GRID_MEMO_SIZE = 4
 _CALL_MEMO_ANGLES = 4096
 _CALL_MEMO_SIZE = 16
 #: The attributes in which a program keeps values (not pickled).
-_KEPT_VALUES = ("_call_memo", "_grid_memo")
+_KEPT_VALUES = ("_call_memo", "_grid_memo", "_peaks")
 
 
 def _uniform_phasors(first: float, step: float, m: int) -> np.ndarray:
@@ -1401,6 +1401,10 @@ class MotionProgram:
         the angles are ``ths[0] + j step`` (a uniform grid), and the sines and cosines come from
         :func:`_uniform_phasors` instead of one sin and cos per angle."""
         start, span, ref, forward, const, omegas, matrix, custom = entry
+        if custom is None and matrix.shape[1] == 1:  # a constant piece (a dwell): its basis is the row of ones
+            # (what the matrix product gives: every entry times 1.0 added to 0.0, i.e. -0.0 as +0.0)
+            np.add(matrix, 0.0, out=out)
+            return
         tau = ths - start
         tau /= span
         if custom is not None:
@@ -1475,11 +1479,18 @@ class MotionProgram:
         return self._s_bounds
 
     def peak_values(self) -> Peaks:
-        """Largest |s'|, |s''|, |s'''| (unit/rad^n) over the turn and where (see :class:`Peaks`)."""
+        """Largest |s'|, |s''|, |s'''| (unit/rad^n) over the turn and where (see :class:`Peaks`).
+        Made once per program (a pure function of its segments; :class:`Peaks` is immutable) and
+        kept for the next calls (a sweep's designs that keep the law ask it again)."""
+        kept = self.__dict__.get("_peaks")
+        if kept is not None:
+            return kept
         best = []  # (value, where) of the velocity, acceleration and jerk
         for k in range(3):
             value, at = max((p[k] for p in self._seg_peaks), key=lambda x: x[0])
             best.append((float(value), float(at % TWO_PI)))
         (vel, vel_at), (acc, acc_at), (jerk, jerk_at) = best
-        return Peaks(vel, vel_at, acc, acc_at, jerk, jerk_at, infinite_acceleration=any(j.continuity < 1 for j in self._joins),
-                     infinite_jerk=any(j.continuity < 2 for j in self._joins) or any(c < 2 for c in self.break_continuity))
+        peaks = Peaks(vel, vel_at, acc, acc_at, jerk, jerk_at, infinite_acceleration=any(j.continuity < 1 for j in self._joins),
+                      infinite_jerk=any(j.continuity < 2 for j in self._joins) or any(c < 2 for c in self.break_continuity))
+        self.__dict__["_peaks"] = peaks
+        return peaks
