@@ -665,6 +665,18 @@ class DynamicsResult:
             out["hertz_stress_2_MPa"] = self.hertz_stress_2
         return out
 
+    def row_figures(self) -> dict[str, Any]:
+        """The figures of :meth:`figures` a design's row reads (:func:`camgen.study.design.main_figures`),
+        the same values: the peak torque (N*m), the jump speed (rpm, force closure; None: never) and
+        the peak Hertz stress (MPa, with a material).  A design evaluation makes only these (its
+        plan has no report figures: :attr:`camgen.planning.Plan.report_figures`)."""
+        out: dict[str, Any] = {"torque_peak_Nm": self.torque_peak}
+        if self.train.closure == "force":
+            out["jump_rpm"] = self.jump_rpm if math.isfinite(self.jump_rpm) else None
+        if self.hertz_peak is not None:
+            out["hertz_stress_peak_MPa"] = self.hertz_peak
+        return out
+
     def figures(self) -> dict[str, Any]:
         """Scalar results for report.json (keys carry their unit; no inf or NaN: None instead)."""
         unit = "N" if self.train.motion == "translating" else "Nmm"
@@ -738,9 +750,13 @@ def spring_hints(result: "DynamicsResult", kin: Kinematics) -> tuple[float | Non
     parts = _force_parts(kin, train)  # what a change of the spring leaves alone: made once for every value tried
     projection = _contact_projection(kin, train)
 
-    def keeps(**change: Any) -> bool:  # min_contact_force of the changed train, from the parts
+    w = speed.reshape(-1, 1) * RPM_TO_RAD_PER_S  # _min_force's terms a change of the spring leaves alone, made once
+    damping, inertia = parts.b * w, parts.c * w**2
+
+    def keeps(**change: Any) -> bool:  # min_contact_force of the changed train, from the parts (_min_force's operations)
         changed = replace(train, **change)
-        return bool(_min_force(parts.spring_term(changed), parts.b, parts.c, projection, speed)[0] >= margin)
+        q = parts.spring_term(changed) + damping + inertia
+        return bool(np.min(q / projection, axis=1)[0] >= margin)
 
     free, fitted = train.spring_free_length, train.spring_installed_length
     lengths = None if free is None or fitted is None else (free, fitted)  # a spring given by its lengths (mm)
