@@ -45,7 +45,7 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, cast
 
 import numpy as np
@@ -248,7 +248,8 @@ def _array(name: str, value: Any, n: int | None, allow_inf: bool = False) -> np.
     arr = np.asarray(value, dtype=float)
     if arr.ndim != 1 or (n is not None and arr.size != n):
         raise ParameterError(name, f"array of shape {arr.shape}", f"a 1-D array of {n} samples (one per cam angle)")
-    if not (bool(np.isfinite(arr).all()) if not allow_inf else not np.isnan(arr).any()):
+    low = float(arr.min()) if arr.size else 0.0  # a nan anywhere is the minimum (numpy propagates it)
+    if not (not math.isnan(low) if allow_inf else math.isfinite(low) and math.isfinite(float(arr.max()))):
         bad = np.isnan(arr) if allow_inf else ~np.isfinite(arr)
         raise ParameterError(name, f"non-finite value at sample {int(np.argmax(bad))}",
                              "finite values" + (" (+-inf allowed)" if allow_inf else ""))
@@ -560,6 +561,9 @@ class DynamicsResult:
         preload; None if no rate can (the force falls short where the spring is at its
         lowest) or for form closure.
     jump_margin : N, the margin the jump check holds the contact force to.
+    analysed : what :func:`analyse` made of its kinematics and train, kept for :func:`spring_hints`:
+        the :class:`Kinematics`, the :class:`FollowerTrain`, the force terms a change of the spring
+        leaves alone and the contact projection (None, or others than the hints are given: made again).
     """
 
     rpm: float
@@ -581,15 +585,19 @@ class DynamicsResult:
     min_preload: float | None
     min_spring_rate: float | None
     jump_margin: float
+    analysed: "tuple[Kinematics, FollowerTrain, _ForceParts, np.ndarray] | None" = field(default=None, repr=False)
 
     # ---- scalar summaries (each made once: the checks' notes and the figures share them) ------
     @functools.cached_property
     def weights(self) -> np.ndarray:
         """Periodic trapezoid weights (rad) of the samples: ``sum(weights * f)`` ~ ``int f dtheta``
         (made once: the summaries below share them; read-only)."""
-        nxt = np.append(self.theta[1:], self.theta[0] + TWO_PI)
-        prv = np.insert(self.theta[:-1], 0, self.theta[-1] - TWO_PI)
-        out = 0.5 * (nxt - prv)
+        theta = self.theta  # 0.5 * (next - previous), the turn closed at both ends, in place (the same operations)
+        out = np.empty(theta.shape)
+        np.subtract(theta[2:], theta[:-2], out=out[1:-1])
+        out[0] = theta[1] - (theta[-1] - TWO_PI)
+        out[-1] = (theta[0] + TWO_PI) - theta[-2]
+        out *= 0.5
         out.flags.writeable = False
         return out
 
@@ -747,8 +755,11 @@ def spring_hints(result: "DynamicsResult", kin: Kinematics) -> tuple[float | Non
     from dataclasses import replace
 
     train, margin, speed = result.train, result.jump_margin, np.array([result.rpm])
-    parts = _force_parts(kin, train)  # what a change of the spring leaves alone: made once for every value tried
-    projection = _contact_projection(kin, train)
+    if result.analysed is not None and result.analysed[0] is kin and result.analysed[1] is train:  # analyse's own, of these
+        parts, projection = result.analysed[2], result.analysed[3]
+    else:
+        parts = _force_parts(kin, train)  # what a change of the spring leaves alone: made once for every value tried
+        projection = _contact_projection(kin, train)
 
     w = speed.reshape(-1, 1) * RPM_TO_RAD_PER_S  # _min_force's terms a change of the spring leaves alone, made once
     damping, inertia = parts.b * w, parts.c * w**2
@@ -839,4 +850,4 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
         ranges = run_ends(force_1 <= 0, kin.theta)
         min_preload, min_rate = _required_spring(a, b, c, omega, projection, margin, train, parts.lift, position_tol)
     return DynamicsResult(rpm, omega, kin.theta, train, q, force_1, force_2, kin.pressure_angle, along, side, torque, power,
-                          hertz, hertz_2, jump_rpm, ranges, min_preload, min_rate, margin)
+                          hertz, hertz_2, jump_rpm, ranges, min_preload, min_rate, margin, (kin, train, parts, projection))
