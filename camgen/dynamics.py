@@ -408,6 +408,8 @@ class _ForceParts:
     def spring_term(self, train: FollowerTrain) -> np.ndarray:
         """``A``: spring, preload, external load and weight of ``train`` (N or N*mm)."""
         a = train.spring_rate * self.lift + train.spring_preload + self.load + self.weight
+        if isinstance(a, np.ndarray) and a.shape == self.lift.shape and a.dtype == np.float64:
+            return a  # a new array of the lift's shape already (what the copy below would make)
         return np.broadcast_to(a, self.lift.shape).astype(float)
 
 
@@ -714,11 +716,12 @@ class DynamicsResult:
         return out
 
 
-def _required_spring(a: np.ndarray, b: np.ndarray, c: np.ndarray, omega: float, projection: np.ndarray,
+def _required_spring(a: np.ndarray, damping: np.ndarray, inertia: np.ndarray, projection: np.ndarray,
                      margin: float, train: FollowerTrain, lift: np.ndarray, position_tol: float) -> tuple[float, float | None]:
     """Smallest preload (given rate) and smallest rate (given preload) that keep the contact
-    force >= ``margin`` at ``omega``: both follow from ``Q`` being linear in each."""
-    need = margin * projection - (b * omega + c * omega**2)  # what A must reach
+    force >= ``margin`` at the speed whose damping and inertia terms ``B w`` and ``C w^2`` are
+    given (N or N*mm): both follow from ``Q`` being linear in each."""
+    need = margin * projection - (damping + inertia)  # what A must reach
     without_preload = a - train.spring_preload
     min_preload = max(0.0, float(np.max(need - without_preload)))
     without_spring = a - train.spring_rate * lift
@@ -821,7 +824,8 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
         raise ParameterError("pressure_angle_2", None, "arrays for the second contact of a form-closed train (and rho_cam_2)")
     parts = _force_parts(kin, train)
     a, b, c = parts.spring_term(train), parts.b, parts.c  # force_coefficients
-    q = a + b * omega + c * omega**2
+    damping, inertia = b * omega, c * omega**2
+    q = a + damping + inertia
     projection = _contact_projection(kin, train)
     if form:
         assert kin.pressure_angle_2 is not None and kin.rho_cam_2 is not None  # refused above otherwise
@@ -848,6 +852,6 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
     else:
         jump_rpm = _jump_rpm(a, b, c, projection, 0.0)  # jump_speed(kin, train): the same coefficients
         ranges = run_ends(force_1 <= 0, kin.theta)
-        min_preload, min_rate = _required_spring(a, b, c, omega, projection, margin, train, parts.lift, position_tol)
+        min_preload, min_rate = _required_spring(a, damping, inertia, projection, margin, train, parts.lift, position_tol)
     return DynamicsResult(rpm, omega, kin.theta, train, q, force_1, force_2, kin.pressure_angle, along, side, torque, power,
                           hertz, hertz_2, jump_rpm, ranges, min_preload, min_rate, margin, (kin, train, parts, projection))
