@@ -45,7 +45,7 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, cast
 
 import numpy as np
@@ -248,7 +248,8 @@ def _array(name: str, value: Any, n: int | None, allow_inf: bool = False) -> np.
     arr = np.asarray(value, dtype=float)
     if arr.ndim != 1 or (n is not None and arr.size != n):
         raise ParameterError(name, f"array of shape {arr.shape}", f"a 1-D array of {n} samples (one per cam angle)")
-    if not (bool(np.isfinite(arr).all()) if not allow_inf else not np.isnan(arr).any()):
+    low = float(arr.min()) if arr.size else 0.0  # a nan anywhere is the minimum (numpy propagates it)
+    if not (not math.isnan(low) if allow_inf else math.isfinite(low) and math.isfinite(float(arr.max()))):
         bad = np.isnan(arr) if allow_inf else ~np.isfinite(arr)
         raise ParameterError(name, f"non-finite value at sample {int(np.argmax(bad))}",
                              "finite values" + (" (+-inf allowed)" if allow_inf else ""))
@@ -407,6 +408,8 @@ class _ForceParts:
     def spring_term(self, train: FollowerTrain) -> np.ndarray:
         """``A``: spring, preload, external load and weight of ``train`` (N or N*mm)."""
         a = train.spring_rate * self.lift + train.spring_preload + self.load + self.weight
+        if isinstance(a, np.ndarray) and a.shape == self.lift.shape and a.dtype == np.float64:
+            return a  # a new array of the lift's shape already (what the copy below would make)
         return np.broadcast_to(a, self.lift.shape).astype(float)
 
 
@@ -560,6 +563,9 @@ class DynamicsResult:
         preload; None if no rate can (the force falls short where the spring is at its
         lowest) or for form closure.
     jump_margin : N, the margin the jump check holds the contact force to.
+    analysed : what :func:`analyse` made of its kinematics and train, kept for :func:`spring_hints`:
+        the :class:`Kinematics`, the :class:`FollowerTrain`, the force terms a change of the spring
+        leaves alone and the contact projection (None, or others than the hints are given: made again).
     """
 
     rpm: float
@@ -581,15 +587,19 @@ class DynamicsResult:
     min_preload: float | None
     min_spring_rate: float | None
     jump_margin: float
+    analysed: "tuple[Kinematics, FollowerTrain, _ForceParts, np.ndarray] | None" = field(default=None, repr=False)
 
     # ---- scalar summaries (each made once: the checks' notes and the figures share them) ------
     @functools.cached_property
     def weights(self) -> np.ndarray:
         """Periodic trapezoid weights (rad) of the samples: ``sum(weights * f)`` ~ ``int f dtheta``
         (made once: the summaries below share them; read-only)."""
-        nxt = np.append(self.theta[1:], self.theta[0] + TWO_PI)
-        prv = np.insert(self.theta[:-1], 0, self.theta[-1] - TWO_PI)
-        out = 0.5 * (nxt - prv)
+        theta = self.theta  # 0.5 * (next - previous), the turn closed at both ends, in place (the same operations)
+        out = np.empty(theta.shape)
+        np.subtract(theta[2:], theta[:-2], out=out[1:-1])
+        out[0] = theta[1] - (theta[-1] - TWO_PI)
+        out[-1] = (theta[0] + TWO_PI) - theta[-2]
+        out *= 0.5
         out.flags.writeable = False
         return out
 
@@ -665,6 +675,18 @@ class DynamicsResult:
             out["hertz_stress_2_MPa"] = self.hertz_stress_2
         return out
 
+    def row_figures(self) -> dict[str, Any]:
+        """The figures of :meth:`figures` a design's row reads (:func:`camgen.study.design.main_figures`),
+        the same values: the peak torque (N*m), the jump speed (rpm, force closure; None: never) and
+        the peak Hertz stress (MPa, with a material).  A design evaluation makes only these (its
+        plan has no report figures: :attr:`camgen.planning.Plan.report_figures`)."""
+        out: dict[str, Any] = {"torque_peak_Nm": self.torque_peak}
+        if self.train.closure == "force":
+            out["jump_rpm"] = self.jump_rpm if math.isfinite(self.jump_rpm) else None
+        if self.hertz_peak is not None:
+            out["hertz_stress_peak_MPa"] = self.hertz_peak
+        return out
+
     def figures(self) -> dict[str, Any]:
         """Scalar results for report.json (keys carry their unit; no inf or NaN: None instead)."""
         unit = "N" if self.train.motion == "translating" else "Nmm"
@@ -694,11 +716,12 @@ class DynamicsResult:
         return out
 
 
-def _required_spring(a: np.ndarray, b: np.ndarray, c: np.ndarray, omega: float, projection: np.ndarray,
+def _required_spring(a: np.ndarray, damping: np.ndarray, inertia: np.ndarray, projection: np.ndarray,
                      margin: float, train: FollowerTrain, lift: np.ndarray, position_tol: float) -> tuple[float, float | None]:
     """Smallest preload (given rate) and smallest rate (given preload) that keep the contact
-    force >= ``margin`` at ``omega``: both follow from ``Q`` being linear in each."""
-    need = margin * projection - (b * omega + c * omega**2)  # what A must reach
+    force >= ``margin`` at the speed whose damping and inertia terms ``B w`` and ``C w^2`` are
+    given (N or N*mm): both follow from ``Q`` being linear in each."""
+    need = margin * projection - (damping + inertia)  # what A must reach
     without_preload = a - train.spring_preload
     min_preload = max(0.0, float(np.max(need - without_preload)))
     without_spring = a - train.spring_rate * lift
@@ -735,12 +758,19 @@ def spring_hints(result: "DynamicsResult", kin: Kinematics) -> tuple[float | Non
     from dataclasses import replace
 
     train, margin, speed = result.train, result.jump_margin, np.array([result.rpm])
-    parts = _force_parts(kin, train)  # what a change of the spring leaves alone: made once for every value tried
-    projection = _contact_projection(kin, train)
+    if result.analysed is not None and result.analysed[0] is kin and result.analysed[1] is train:  # analyse's own, of these
+        parts, projection = result.analysed[2], result.analysed[3]
+    else:
+        parts = _force_parts(kin, train)  # what a change of the spring leaves alone: made once for every value tried
+        projection = _contact_projection(kin, train)
 
-    def keeps(**change: Any) -> bool:  # min_contact_force of the changed train, from the parts
+    w = speed.reshape(-1, 1) * RPM_TO_RAD_PER_S  # _min_force's terms a change of the spring leaves alone, made once
+    damping, inertia = parts.b * w, parts.c * w**2
+
+    def keeps(**change: Any) -> bool:  # min_contact_force of the changed train, from the parts (_min_force's operations)
         changed = replace(train, **change)
-        return bool(_min_force(parts.spring_term(changed), parts.b, parts.c, projection, speed)[0] >= margin)
+        q = parts.spring_term(changed) + damping + inertia
+        return bool(np.min(q / projection, axis=1)[0] >= margin)
 
     free, fitted = train.spring_free_length, train.spring_installed_length
     lengths = None if free is None or fitted is None else (free, fitted)  # a spring given by its lengths (mm)
@@ -794,7 +824,8 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
         raise ParameterError("pressure_angle_2", None, "arrays for the second contact of a form-closed train (and rho_cam_2)")
     parts = _force_parts(kin, train)
     a, b, c = parts.spring_term(train), parts.b, parts.c  # force_coefficients
-    q = a + b * omega + c * omega**2
+    damping, inertia = b * omega, c * omega**2
+    q = a + damping + inertia
     projection = _contact_projection(kin, train)
     if form:
         assert kin.pressure_angle_2 is not None and kin.rho_cam_2 is not None  # refused above otherwise
@@ -821,6 +852,6 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
     else:
         jump_rpm = _jump_rpm(a, b, c, projection, 0.0)  # jump_speed(kin, train): the same coefficients
         ranges = run_ends(force_1 <= 0, kin.theta)
-        min_preload, min_rate = _required_spring(a, b, c, omega, projection, margin, train, parts.lift, position_tol)
+        min_preload, min_rate = _required_spring(a, damping, inertia, projection, margin, train, parts.lift, position_tol)
     return DynamicsResult(rpm, omega, kin.theta, train, q, force_1, force_2, kin.pressure_angle, along, side, torque, power,
-                          hertz, hertz_2, jump_rpm, ranges, min_preload, min_rate, margin)
+                          hertz, hertz_2, jump_rpm, ranges, min_preload, min_rate, margin, (kin, train, parts, projection))

@@ -82,7 +82,7 @@ def compute(scene: "Scene", plan: Plan, progress: Progress = _quiet) -> "RunResu
             from camgen.kinds.dynamics import run_dynamics
 
             progress(f"dynamics of cam '{spec.name}'")
-            cam = cam.with_(dynamics_stage=with_cam(where, lambda: run_dynamics(built, spec, plan.stages)))
+            cam = cam.with_(dynamics_stage=with_cam(where, lambda: run_dynamics(built, spec, plan.stages, plan.report_figures)))
         cams.append(cam)
     for cam in cams:
         if cam.manufacturable and cam.contour is not None:

@@ -409,9 +409,11 @@ class DynamicsStage:
     figures: Mapping[str, Any] = field(default_factory=dict)
 
 
-def run_dynamics(cam: "BuiltCam", spec: "CamSpec", stages: frozenset[str]) -> DynamicsStage | None:
+def run_dynamics(cam: "BuiltCam", spec: "CamSpec", stages: frozenset[str], report_figures: bool = True) -> DynamicsStage | None:
     """The dynamics of ``spec`` on the built ``cam``: checks, figures and (``plots`` in ``stages``)
-    the report's curves; None when the scene gives no follower train."""
+    the report's curves; None when the scene gives no follower train.  ``report_figures`` False
+    (a design evaluation's plan: :attr:`camgen.planning.Plan.report_figures`): ``figures.dynamics``
+    holds only what a design's row reads (:meth:`camgen.dynamics.DynamicsResult.row_figures`)."""
     from camgen import dynamics as dy
     from camgen.checks import information
 
@@ -450,7 +452,8 @@ def run_dynamics(cam: "BuiltCam", spec: "CamSpec", stages: frozenset[str]) -> Dy
         speed = np.linspace(0.0, top, SPEED_SAMPLES)
         force = dy.min_contact_force(kin, train, speed)
     allowable = dyn.material.allowable_stress if dyn.material is not None else None
-    figures = dynamics_figures(result, dyn, train)
+    figures = dynamics_figures(result, dyn, train) if report_figures else {"closure": train.closure, "follower_motion": train.motion,
+                                                                          **result.row_figures()}
     compliant = None
     if dyn.compliance is not None:  # compliant follower train (issue 25 item 2)
         from camgen.kinds.compliant import run_compliant

@@ -264,7 +264,44 @@ class SizingResult:
 
 
 def _feasible(follower: FollowerSpec, law: Displacement, limits: DesignLimits, theta: np.ndarray) -> bool:
-    return not measure(follower, law, theta=theta, stress=limits.contact_stress).violations(limits)
+    """Whether ``follower`` meets ``limits`` on ``law`` at the cam angles ``theta``: what
+    ``not measure(follower, law, theta=theta, stress=limits.contact_stress).violations(limits)``
+    says, from the same kinematics and the same comparisons of each measure with its limit (the
+    extremes as np.max / np.min, which are the values measure takes at its argmax / argmin, a nan
+    included), without the cam angles, the degrees or the sentences of the violations (a search
+    asks only whether a trial passes)."""
+    k = kinematics(follower, law, theta)
+    if any(mask.any() for _, mask in profile_failures(follower, k)):
+        return False
+    stress = limits.contact_stress
+    if stress is not None:  # measure computes it for a profile that can be made (and may raise)
+        from camgen.synthesis.sizing_stress import contact_stress
+
+        peak = contact_stress(follower, k, stress.train, stress.material, stress.rpm)[0]
+        if peak is not None and not peak <= stress.allowable:
+            return False
+    alpha = np.abs(k.pressure_angle)
+    if limits.max_pressure_angle_return is not None:
+        ret = k.ds < 0
+        if float(np.max(np.where(ret, 0.0, alpha))) > limits.max_pressure_angle:
+            return False
+        if float(np.max(np.where(ret, alpha, 0.0))) > limits.max_pressure_angle_return:
+            return False
+    elif float(np.max(alpha)) > limits.max_pressure_angle:
+        return False
+    roller_radius = follower.roller_radius if follower.has_radius else 0.0
+    least_pitch = limits.min_pitch_radius_factor * roller_radius
+    if least_pitch > 0 and follower.has_radius and k.pitch_curvature is not None:
+        with np.errstate(divide="ignore"):
+            pitch = float(np.min(1.0 / np.abs(k.pitch_curvature)))
+        if not pitch >= least_pitch:
+            return False
+    rho = k.profile_radius
+    if float(np.min(np.where(rho > 0, rho, np.inf))) < limits.min_convex_radius:
+        return False
+    if follower.contact != "face" and float(np.min(np.where(rho < 0, -rho, np.inf))) < limits.min_concave_radius:
+        return False
+    return True
 
 
 def _with_base(follower: FollowerSpec, base: float, offset: float | None = None) -> FollowerSpec | None:

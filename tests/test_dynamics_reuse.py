@@ -1,0 +1,78 @@
+"""The dynamics' shortcuts of issue 28 item 6, each against what it replaces or an independent fact:
+the finiteness check of the kinematics' arrays (their least and largest values: a nan is the least), the periodic trapezoid weights made in place, and the force terms :func:`analyse`
+keeps for :func:`spring_hints` (which makes them again for other kinematics or another train)."""
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from camgen import dynamics as dy
+from camgen.errors import ParameterError
+from camgen.synthesis.laws import MotionProgram
+from camgen.synthesis.laws import Segment as MotionSegment
+
+N = 720
+THETA = 2 * math.pi * np.arange(N) / N
+
+
+def _kin(s: np.ndarray | None = None, **extra) -> dy.Kinematics:
+    program = MotionProgram([MotionSegment("cycloidal", math.radians(120), 20.0), MotionSegment("dwell", math.radians(60), 0.0),
+                             MotionSegment("cycloidal", math.radians(120), -20.0), MotionSegment("dwell", math.radians(60), 0.0)])
+    s0, ds, d2s, _ = program(THETA)
+    return dy.Kinematics(THETA, s0 if s is None else s, ds, d2s, np.zeros(N), np.full(N, 40.0), 10.0, **extra)
+
+
+def test_finite_values_whose_sum_overflows_are_accepted_and_a_nan_or_inf_is_refused():
+    huge = np.full(N, 1e308)  # every value finite (their sum is not)
+    assert np.array_equal(_kin(s=huge).s, huge)
+    for bad in (math.nan, math.inf, -math.inf):
+        s = np.zeros(N)
+        s[17] = bad
+        with pytest.raises(ParameterError, match="non-finite value at sample 17"):
+            _kin(s=s)
+    # radii of curvature may be +-inf (straight flanks) but not nan: +inf and -inf sum to nan
+    rho = np.full(N, 40.0)
+    rho[3], rho[5] = math.inf, -math.inf
+    kin = dy.Kinematics(THETA, *(_kin().s, _kin().ds, _kin().d2s), np.zeros(N), rho, 10.0)
+    assert kin.rho_cam[3] == math.inf and kin.rho_cam[5] == -math.inf
+    rho[7] = math.nan
+    with pytest.raises(ParameterError, match="non-finite value at sample 7"):
+        dy.Kinematics(THETA, _kin().s, _kin().ds, _kin().d2s, np.zeros(N), rho, 10.0)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_trapezoid_weights_are_the_closed_turns_half_gaps(seed):
+    """Bit for bit the weights as they were made before (np.append / np.insert, verbatim), on
+    uneven grids; they add up to the turn (2 pi) and integrate cos^2 to pi."""
+    rng = np.random.default_rng(seed)
+    theta = np.sort(rng.uniform(0.0, 2 * math.pi, 50 + 100 * seed))
+    theta = theta[np.diff(theta, prepend=-1.0) > 0]
+    result = dy.analyse(dy.Kinematics(theta, np.zeros_like(theta), np.zeros_like(theta), np.zeros_like(theta),
+                                      np.zeros_like(theta), np.full_like(theta, 40.0), 10.0), dy.FollowerTrain(mass=1.0), 100.0)
+    nxt = np.append(theta[1:], theta[0] + 2 * math.pi)
+    prv = np.insert(theta[:-1], 0, theta[-1] - 2 * math.pi)
+    assert np.array_equal(result.weights, 0.5 * (nxt - prv))
+    assert math.isclose(float(np.sum(result.weights)), 2 * math.pi, rel_tol=1e-12)
+    dense = dy.analyse(_kin(), dy.FollowerTrain(mass=1.0), 100.0)
+    assert math.isclose(float(np.sum(dense.weights * np.cos(THETA) ** 2)), math.pi, rel_tol=1e-12)
+
+
+def test_the_spring_hints_from_analyses_terms_are_those_made_again():
+    """The least preload and rate quoted from the terms analyse kept are those made afresh (the
+    result without them), and hints for another train are that train's, not the kept ones."""
+    kin = _kin()
+    train = dy.FollowerTrain(mass=1.5, spring_rate=1.0, preload=10.0, gravity=0.0)
+    result = dy.analyse(kin, train, 900.0, jump_margin=5.0)
+    assert result.analysed is not None and result.analysed[0] is kin
+    kept = dy.spring_hints(result, kin)
+    assert kept[0] is not None and kept[2] is not None  # the spring is too weak at this speed: both hints quoted
+    assert kept == dy.spring_hints(replace(result, analysed=None), kin)
+    assert kept == dy.spring_hints(result, _kin())  # other (equal) kinematics: made again, the same
+    heavier = dy.FollowerTrain(mass=3.0, spring_rate=1.0, preload=10.0, gravity=0.0)
+    heavy = dy.analyse(kin, heavier, 900.0, jump_margin=5.0)
+    assert dy.spring_hints(heavy, kin) != kept  # a heavier follower needs a stronger spring
+    # terms kept for another train (the heavier one) are not used for this one's hints
+    assert dy.spring_hints(replace(result, analysed=heavy.analysed), kin) == kept
