@@ -80,11 +80,11 @@ def _split() -> dict[str, list[float]]:
             plan = evaluation_plan(scene)
             (spec,) = scene.cams
             t1 = time.process_time()
-            built = get_kind(spec.kind, spec.form).build(spec, plan.stages)
+            built = get_kind(spec.kind, spec.form).build(spec, plan.build_stages)
             t2 = time.process_time()
             evaluate(built, spec, scene.machining.tool_radius, spec.checks.tool_is_limit, plan.report_figures)
             t3 = time.process_time()
-            run_dynamics(built, spec, plan.stages)
+            run_dynamics(built, spec, plan.stages, plan.report_figures)
             t4 = time.process_time()
             (cam,) = compute(scene, plan).cams  # the same cam as a CamResult (not timed): its row's figures
             t5 = time.process_time()
