@@ -237,6 +237,23 @@ def test_profile_curvature_is_that_of_the_kinematics(name):
     assert got.shape == theta.shape and np.array_equal(got, want)
 
 
+@pytest.mark.parametrize("name", FOLLOWERS)
+def test_profile_curvatures_in_one_pass_are_each_arrays_own(name):
+    """The continuity check's one pass over both sides of the joints (profile_curvatures): each
+    array's curvatures are its own kinematics', for arrays of 1, 2 and many angles in one call."""
+    from camgen.synthesis.followers import profile_curvatures
+
+    changes, unit = FOLLOWERS[name]
+    follower = FollowerSpec(**changes)
+    law = _program(unit, 20.0 if unit == "mm" else 0.2)
+    thetas = [law.breaks + 1e-9, law.breaks - 1e-9, np.array([1.0]), np.random.default_rng(5).uniform(0.0, TWO_PI, 40),
+              law.breaks[:2]]
+    got = profile_curvatures(follower, law, *thetas)
+    assert len(got) == len(thetas)
+    for theta, value in zip(thetas, got):
+        assert value.shape == theta.shape and np.array_equal(value, kinematics(follower, law, theta).profile_curvature)
+
+
 class _Plain:
     """A law without ``on_uniform_grid`` (its four values separate arrays), or whose values are the
     rows of one block in another order (``rows``): the check grid's values must still be the law's."""

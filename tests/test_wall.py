@@ -343,3 +343,31 @@ def test_the_least_convex_radius_is_the_least_reciprocal_bit_for_bit():
         if rng.random() < 0.3:
             k = np.concatenate([k, rng.normal(0.0, base, 5)])
         assert least_convex_radius(k) == every_sample(k), k
+
+
+def test_the_pieces_layout_kept_across_designs_is_each_contours_own():
+    """The pieces' indices kept per piece counts (``partial._layout``, shared by a study's designs)
+    against a loop over each contour's splines and pieces, for designs in a row with the same
+    piece counts (base radii) and others (a lift, a quintic law); the kept arrays are read-only."""
+    from camgen.body import WALL_TOL
+    from camgen.contour.partial import contour_pieces
+
+    changes = [{}, {"base_radius_mm": 47.5}, {"base_radius_mm": 23.0}, PLATES["clockwise"], PLATES["large_offset"], {}]
+    for change in changes:
+        contour, _ = _plate(change)
+        pieces = contour_pieces(contour, WALL_TOL)
+        assert pieces is not None
+        segment, start, end, t0, first, last = [], [], [], [], [], []
+        for number, spline in enumerate(contour.segments):
+            for k in range(spline.n_pieces):
+                segment.append(number)
+                start.append(spline.breaks[k])
+                end.append(spline.breaks[k + 1])
+                t0.append(spline.breaks[0])
+                first.append(k == 0)
+                last.append(k == spline.n_pieces - 1)
+        for got, want in ((pieces.segment, segment), (pieces.start, start), (pieces.end, end), (pieces.t0, t0),
+                          (pieces.first, first), (pieces.last, last)):
+            assert got.tolist() == want, change
+        for kept in (pieces.segment, pieces.first, pieces.last):
+            assert not kept.flags.writeable

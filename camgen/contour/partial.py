@@ -88,10 +88,9 @@ def contour_pieces(contour: Contour, chord_tol: float) -> ContourPieces | None:
     if len(splines) != len(contour.segments) or len({s.degree for s in splines}) != 1:
         return None
     degree = splines[0].degree
-    pieces = [s.n_pieces for s in splines]
+    pieces = tuple(s.n_pieces for s in splines)
     breaks = np.concatenate([s.breaks for s in splines])  # each spline's K + 1 breaks
-    first = np.repeat(np.cumsum([0] + [k + 1 for k in pieces[:-1]]), pieces)  # where a piece's spline's breaks start
-    at = first + np.arange(sum(pieces)) - np.repeat(np.cumsum([0] + pieces[:-1]), pieces)  # a piece's first break
+    first, at, segment, first_piece, last_piece = _layout(pieces)
     start, end = breaks[at], breaks[at + 1]
     h = end - start  # np.diff of each spline's breaks
     c = np.concatenate([s.coeffs for s in splines], axis=1)  # (degree + 1, P, 2)
@@ -107,9 +106,22 @@ def contour_pieces(contour: Contour, chord_tol: float) -> ContourPieces | None:
     scaled = c[::-1] * (h ** np.arange(degree + 1.0)[:, None])[:, :, None]
     control = np.einsum("ji,ikc->kjc", _to_bezier(degree), scaled)
     span = np.repeat([s.span for s in splines], pieces)
+    return ContourPieces(contour, control, counts, segment, start, end, breaks[first], span, c, first_piece, last_piece)
+
+
+@functools.lru_cache(maxsize=8)
+def _layout(pieces: tuple[int, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Where the pieces of splines of ``pieces`` pieces each (in order) are, all (P,), read-only:
+    the index of a piece's spline's first break and of its own first break in the splines'
+    concatenated breaks (each spline's K + 1), its spline's number, and whether it is its spline's
+    first, last piece.  Kept per piece counts: a study's designs share them (pure integer indices)."""
+    first = np.repeat(np.cumsum([0] + [k + 1 for k in pieces[:-1]]), pieces)  # where a piece's spline's breaks start
+    at = first + np.arange(sum(pieces)) - np.repeat(np.cumsum([0] + list(pieces[:-1])), pieces)  # a piece's first break
     local = at - first  # the piece's number within its spline
-    return ContourPieces(contour, control, counts, np.repeat(np.arange(len(splines)), pieces), start, end, breaks[first], span, c,
-                         local == 0, local == np.repeat(pieces, pieces) - 1)
+    out = (first, at, np.repeat(np.arange(len(pieces)), pieces), local == 0, local == np.repeat(pieces, pieces) - 1)
+    for a in out:
+        a.flags.writeable = False
+    return out
 
 
 def polygon_part(pieces: ContourPieces, keep: np.ndarray) -> PolygonPart | None:

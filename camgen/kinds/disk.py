@@ -529,7 +529,7 @@ def _continuity(cam: DiskCam, contour: "Contour") -> "CheckResult":
     where the acceleration jumps, G0 where the velocity jumps), its curvature jump the law's."""
     from camgen.checks import CheckResult, where_degrees
     from camgen.contour import Spline
-    from camgen.synthesis.followers import profile_curvature
+    from camgen.synthesis.followers import profile_curvatures
 
     f = cam.spec_follower
     joints = contour.joints(curvature_tol=CURVATURE_JUMP_TOL)
@@ -539,8 +539,7 @@ def _continuity(cam: DiskCam, contour: "Contour") -> "CheckResult":
     ends = [float(seg.breaks[-1]) for seg in splines]
     angles = np.mod(np.fmod(-f.sigma * np.array(ends), 2.0 * math.pi), 2.0 * math.pi)
     eps = 1e-9
-    before = profile_curvature(f, cam.law, angles + f.sigma * eps)  # the contour runs against sigma theta
-    after = profile_curvature(f, cam.law, angles - f.sigma * eps)
+    before, after = profile_curvatures(f, cam.law, angles + f.sigma * eps, angles - f.sigma * eps)  # the contour runs against sigma theta
     # where the law's velocity jumps (break continuity 0) the profile has a corner (a handful of
     # joints and breaks: Python floats, the arithmetic of numpy's mod elementwise)
     corners_at = [b for b, c in zip(np.asarray(cam.law.breaks, dtype=float).tolist(), np.asarray(cam.law.break_continuity).tolist())

@@ -102,7 +102,7 @@ from camgen.errors import (
 __all__ = [
     "BOUND_SPACING", "BREAK_MERGE", "CamEnvelope", "CheckGrid", "DEFAULT_CHECK_STEP", "DEFAULT_FIT_TOL",
     "Displacement", "FollowerSpec", "Kinematics", "MOTIONS", "ROTATIONS", "SCREEN_CLEARANCE",
-    "SCREEN_UNDERCUT", "cam_envelope", "check_grid", "contact_points", "kinematics", "profile_curvature", "pitch_offset_failures", "pitch_offsets", "profile_failures",
+    "SCREEN_UNDERCUT", "cam_envelope", "check_grid", "contact_points", "kinematics", "profile_curvature", "profile_curvatures", "pitch_offset_failures", "pitch_offsets", "profile_failures",
 ]
 
 TWO_PI = 2.0 * math.pi
@@ -655,15 +655,27 @@ def profile_curvature(follower: FollowerSpec, law: Displacement, theta: object) 
     ``kinematics(follower, law, theta).profile_curvature``, the same numbers; for a roller or knife
     from the pitch curve's curvature alone (no rotation into the cam frame, no points, no
     pressure angle: a cheap path for a few angles, e.g. either side of the contour's joints)."""
-    if follower.contact == "face":
-        return kinematics(follower, law, theta).profile_curvature
-    theta = np.atleast_1d(np.asarray(theta, dtype=float)).ravel()
-    s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(theta))
+    return profile_curvatures(follower, law, theta)[0]
+
+
+def profile_curvatures(follower: FollowerSpec, law: Displacement, *thetas: object) -> tuple[np.ndarray, ...]:
+    """:func:`profile_curvature` at each of the arrays of cam angles ``thetas`` (rad), the same
+    numbers: the law asked at each array as that call does (its own values and kept calls), then
+    a roller's or knife's curvature of them all in one elementwise pass (no matrix product, no
+    reduction: each angle's value is the one it has alone), split back (one array per ``thetas``)."""
+    if follower.contact == "face" or not thetas:
+        return tuple(kinematics(follower, law, theta).profile_curvature for theta in thetas)
+    values = [[np.asarray(x, dtype=float).ravel() for x in law(np.atleast_1d(np.asarray(theta, dtype=float)).ravel())]
+              for theta in thetas]
+    s, ds, d2s, d3s = values[0] if len(values) == 1 else (np.concatenate(column) for column in zip(*values))
     _, (vx, vy), (ax, ay), (bx, by), _, _ = _centre(follower, s, ds, d2s, d3s)
     kappa_p = _pitch_curvature(follower.sigma, vx, vy, ax, ay, bx, by)[3]
     factor = 1.0 - follower.roller_radius * kappa_p
     with np.errstate(divide="ignore", invalid="ignore"):
-        return np.divide(kappa_p, factor)  # as in _roller: the profile's rho = rho_pitch - r
+        curvature = np.divide(kappa_p, factor)  # as in _roller: the profile's rho = rho_pitch - r
+    if len(values) == 1:
+        return (curvature,)
+    return tuple(np.split(curvature, np.cumsum([v[0].size for v in values[:-1]])))
 
 
 # --------------------------------------------------------------------------------------------
