@@ -386,6 +386,39 @@ def _uniform_phasors(first: float, step: float, m: int) -> np.ndarray:
     return np.multiply.outer(big, small).ravel()[:m]
 
 
+def _piece_basis(tau: np.ndarray, span: float, ref: float, forward: bool, omegas: tuple[float, ...], degree: int,
+                 step: float | None) -> np.ndarray:
+    """:func:`_basis` of a plan entry (:meth:`MotionProgram._plan`) at ``tau`` (its segment's
+    fraction, (m,)): the piece's own variable ``w`` from ``tau``, the piece's ``ref`` and direction;
+    ``step``: the cam angles are uniform with this step (rad), the sines and cosines then come from
+    :func:`_uniform_phasors`."""
+    w = tau if forward and ref == 0.0 else (tau - ref if forward else ref - tau)
+    phasors = None
+    if step is not None:  # om w_j = om w_0 + j (+-om step / span)
+        phasors = [_uniform_phasors(om * w[0], (om if forward else -om) * step / span, w.size) for om in omegas]
+    return _basis(w, degree, omegas, phasors)
+
+
+#: Bases :func:`_uniform_basis` keeps (a piece on the dense check grid and on the coarse grid of a
+#: few programs' places: at most about this many times 7,200 x 10 floats).
+_UNIFORM_BASIS_CACHE = 24
+
+
+@functools.lru_cache(maxsize=_UNIFORM_BASIS_CACHE)
+def _uniform_basis(n: int, lo: int, hi: int, start: float, span: float, ref: float, forward: bool,
+                   omegas: tuple[float, ...], degree: int) -> np.ndarray:
+    """:func:`_piece_basis` at the uniform cam angles ``k 2 pi / n`` (k = lo .. hi - 1, rad) of a
+    piece of a segment starting at ``start`` over ``span`` (rad): the same numbers
+    :meth:`MotionProgram._fill` makes there, read-only, kept (a pure function of its arguments:
+    the designs of a sweep that changes only lifts share them)."""
+    step = TWO_PI / n
+    tau = np.arange(n)[lo:hi] * step - start
+    tau /= span
+    basis = _piece_basis(tau, span, ref, forward, omegas, degree, step)
+    basis.setflags(write=False)
+    return basis
+
+
 def _grouped(idx: np.ndarray, count: int) -> tuple[np.ndarray | None, np.ndarray]:
     """Group points by piece index: (permutation or None if already grouped, bounds of each group)."""
     idx = idx.astype(np.int16 if count < 32000 else np.int64)
@@ -1413,12 +1446,19 @@ class MotionProgram:
                 np.multiply(v, scale / span**n, out=out[n])
             out[0] += const
             return
-        w = tau if forward and ref == 0.0 else (tau - ref if forward else ref - tau)
-        phasors = None
-        if step is not None:  # om w_j = om w_0 + j (+-om step / span)
-            phasors = [_uniform_phasors(om * w[0], (om if forward else -om) * step / span, w.size) for om in omegas]
-        basis = _basis(w, matrix.shape[1] - 1 - 2 * len(omegas), omegas, phasors)
-        np.matmul(matrix, basis, out=out)
+        np.matmul(matrix, _piece_basis(tau, span, ref, forward, omegas, matrix.shape[1] - 1 - 2 * len(omegas), step), out=out)
+
+    @staticmethod
+    def _fill_uniform(entry: tuple, n: int, lo: int, hi: int, out: np.ndarray) -> None:
+        """:meth:`_fill` at the uniform angles ``k 2 pi / n`` (k = lo .. hi - 1) with their sines and
+        cosines from angle addition: the basis of a polynomial-plus-trig piece is
+        :func:`_uniform_basis`'s, kept across programs (a sweep that changes a lift keeps the
+        pieces' places: only the matrix, which carries the lift, is new)."""
+        start, span, ref, forward, const, omegas, matrix, custom = entry
+        if custom is not None or matrix.shape[1] == 1 or math.copysign(1.0, ref) < 0.0:  # (a -0.0 ref keys as 0.0: made here)
+            MotionProgram._fill(entry, np.arange(n)[lo:hi] * (TWO_PI / n), out, TWO_PI / n)
+            return
+        np.matmul(matrix, _uniform_basis(n, lo, hi, start, span, ref, forward, omegas, matrix.shape[1] - 1 - 2 * len(omegas)), out=out)
 
     def on_uniform_grid(self, n: int, extra: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """The displacement and its three derivatives at the cam angles ``k 2 pi / n`` (k = 0 .. n - 1)
@@ -1449,7 +1489,7 @@ class MotionProgram:
             lo, hi = bounds[g], bounds[g + 1]
             elo, ehi = n + extra_bounds[g], n + extra_bounds[g + 1]
             if hi - lo >= _PHASOR_MIN_POINTS:  # angle addition pays off on the uniform part
-                self._fill(entry, grid[lo:hi], res[:, lo:hi], step)
+                self._fill_uniform(entry, n, lo, hi, res[:, lo:hi])
                 if elo < ehi:
                     self._fill(entry, extra[elo - n: ehi - n], res[:, elo:ehi], None)
             elif lo < hi or elo < ehi:  # few angles: the uniform and the added ones in one evaluation
