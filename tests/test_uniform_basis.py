@@ -10,6 +10,7 @@ import math
 import numpy as np
 import pytest
 
+from camgen.errors import ParameterError
 from camgen.synthesis import laws
 from camgen.synthesis.laws import MotionProgram, Segment
 
@@ -70,3 +71,17 @@ def test_kept_bases_are_read_only_and_the_direct_evaluation_s_neighbours():
     direct = program(np.arange(n) * (TWO_PI / n))  # direct sines and cosines
     for a, b in zip(got, direct):
         assert np.allclose(a[:n], b, rtol=0.0, atol=1e-9 * max(1.0, float(np.max(np.abs(b)))))
+
+
+# A segment's options and the laws the Segment docstring gives them to (camgen.synthesis.laws.Segment)
+OPTIONS = [("blend", 0.2, "constant_velocity"), ("scca", (0.25, 0.5, 0.25), "scca"),
+           ("accel_fraction", 0.4, "asymmetric_modified_sine"), ("start", (0.0, 0.0, 0.0), "polynomial"),
+           ("degree", 5, "bspline"), ("interior", ((0.5, 1.0),), "polynomial")]
+
+
+@pytest.mark.parametrize("key, value, owner", OPTIONS)
+def test_a_segment_refuses_another_law_s_option_naming_it(key, value, owner):
+    with pytest.raises(ParameterError) as info:
+        Segment("cycloidal", D(120.0), 10.0, where="cams.c.segments[0]", **{key: value})
+    assert info.value.name == f"cams.c.segments[0].{key}"
+    assert owner in info.value.valid

@@ -1021,6 +1021,12 @@ def _conditions(key: str, value: object) -> tuple[float, ...]:
     return tuple(require_finite(key, x) for x in value)
 
 
+#: A segment's options and the laws that take them (:class:`Segment` refuses an option of another law).
+_OPTION_LAWS = (("blend", "constant_velocity"), ("start", "polynomial or bspline"), ("end", "polynomial or bspline"),
+                ("scca", "scca"), ("accel_fraction", "asymmetric_modified_sine or asymmetric_modified_trapezoid"),
+                ("points", "bspline"), ("degree", "bspline"), ("interior", "polynomial"), ("ends", "velocity_blend"))
+
+
 @dataclass(frozen=True)
 class Segment:
     """One segment of a motion program.
@@ -1087,10 +1093,7 @@ class Segment:
         if span > TWO_PI * (1 + 1e-12):
             raise ParameterError(self._name("span"), self.span, "0 < span <= 2 pi rad (360 deg)")
         object.__setattr__(self, "span", span)
-        for key in ("blend", "start", "end", "scca", "accel_fraction", "points", "degree", "interior", "ends"):
-            allowed = {"blend": "constant_velocity", "start": "polynomial or bspline", "end": "polynomial or bspline",
-                       "scca": "scca", "accel_fraction": "asymmetric_modified_sine or asymmetric_modified_trapezoid",
-                       "points": "bspline", "degree": "bspline", "interior": "polynomial", "ends": "velocity_blend"}[key]
+        for key, allowed in _OPTION_LAWS:
             if getattr(self, key) is not None and name not in allowed.split(" or "):
                 raise ParameterError(self._name(key), getattr(self, key), f"no '{key}' for a {name} segment (only for {allowed})")
         start_level = None
