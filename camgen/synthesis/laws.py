@@ -1452,14 +1452,15 @@ class MotionProgram:
         np.matmul(matrix, _piece_basis(tau, span, ref, forward, omegas, matrix.shape[1] - 1 - 2 * len(omegas), step), out=out)
 
     @staticmethod
-    def _fill_uniform(entry: tuple, n: int, lo: int, hi: int, out: np.ndarray) -> None:
+    def _fill_uniform(entry: tuple, n: int, lo: int, hi: int, ths: np.ndarray, out: np.ndarray) -> None:
         """:meth:`_fill` at the uniform angles ``k 2 pi / n`` (k = lo .. hi - 1) with their sines and
         cosines from angle addition: the basis of a polynomial-plus-trig piece is
         :func:`_uniform_basis`'s, kept across programs (a sweep that changes a lift keeps the
-        pieces' places: only the matrix, which carries the lift, is new)."""
+        pieces' places: only the matrix, which carries the lift, is new); ``ths``: those angles
+        (rad, (hi - lo,)), for the pieces evaluated without a kept basis."""
         start, span, ref, forward, const, omegas, matrix, custom = entry
         if custom is not None or matrix.shape[1] == 1 or math.copysign(1.0, ref) < 0.0:  # (a -0.0 ref keys as 0.0: made here)
-            MotionProgram._fill(entry, np.arange(n)[lo:hi] * (TWO_PI / n), out, TWO_PI / n)
+            MotionProgram._fill(entry, ths, out, TWO_PI / n)
             return
         np.matmul(matrix, _uniform_basis(n, lo, hi, start, span, ref, forward, omegas, matrix.shape[1] - 1 - 2 * len(omegas)), out=out)
 
@@ -1492,7 +1493,7 @@ class MotionProgram:
             lo, hi = bounds[g], bounds[g + 1]
             elo, ehi = n + extra_bounds[g], n + extra_bounds[g + 1]
             if hi - lo >= _PHASOR_MIN_POINTS:  # angle addition pays off on the uniform part
-                self._fill_uniform(entry, n, lo, hi, res[:, lo:hi])
+                self._fill_uniform(entry, n, lo, hi, grid[lo:hi], res[:, lo:hi])
                 if elo < ehi:
                     self._fill(entry, extra[elo - n: ehi - n], res[:, elo:ehi], None)
             elif lo < hi or elo < ehi:  # few angles: the uniform and the added ones in one evaluation
