@@ -6,6 +6,7 @@ Manufacturing Handbook, 2nd ed., eq. 3.9: s = h (x - sin(2 pi x) / (2 pi)), x = 
 from __future__ import annotations
 
 import math
+import pickle
 
 import numpy as np
 import pytest
@@ -85,3 +86,30 @@ def test_a_segment_refuses_another_law_s_option_naming_it(key, value, owner):
         Segment("cycloidal", D(120.0), 10.0, where="cams.c.segments[0]", **{key: value})
     assert info.value.name == f"cams.c.segments[0].{key}"
     assert owner in info.value.valid
+
+
+@pytest.mark.parametrize("n", [3600, 1000])
+def test_sample_grid_values_are_the_direct_call_s_across_programs_with_other_lifts(n):
+    """on_sample_grid(n) against program(2 pi k / n) of a program evaluated with nothing kept, for
+    programs in a row that differ in lifts and spans, twice each (kept values); fresh writeable
+    arrays each call."""
+    theta = 2.0 * math.pi * np.arange(n) / n
+    for k, (lift, rise, dwell) in enumerate(SEQUENCE):
+        program = _program(lift, rise, dwell)
+        got = program.on_sample_grid(n)
+        want = _program(lift, rise, dwell)(theta)  # (the direct evaluation: no kept basis)
+        for a, b in zip(got, want):
+            assert np.array_equal(a, b), (k, n)
+        got[0][:] = -1.0  # the caller's own arrays
+        again = program.on_sample_grid(n)
+        assert again[0].flags.writeable
+        for a, b in zip(again, want):
+            assert np.array_equal(a, b), (k, n)
+        again[1][:] = -2.0
+        third = program.on_sample_grid(n)  # (asked twice before: the kept values)
+        for a, b in zip(third, want):
+            assert np.array_equal(a, b), (k, n)
+        half = program.on_sample_grid(n // 2)  # another sample count on the same program
+        for a, b in zip(half, _program(lift, rise, dwell)(2.0 * math.pi * np.arange(n // 2) / (n // 2))):
+            assert np.array_equal(a, b), (k, n)
+    assert "_sample_memo" not in pickle.loads(pickle.dumps(program)).__dict__  # a pickled program: its definition only

@@ -367,7 +367,7 @@ _GRID_MEMO_SIZE = 4
 _CALL_MEMO_ANGLES = 4096
 _CALL_MEMO_SIZE = 16
 #: The attributes in which a program keeps values (not pickled).
-_KEPT_VALUES = ("_call_memo", "_grid_memo", "_peaks")
+_KEPT_VALUES = ("_call_memo", "_grid_memo", "_peaks", "_sample_memo")
 
 
 def _uniform_phasors(first: float, step: float, m: int) -> np.ndarray:
@@ -1506,6 +1506,26 @@ class MotionProgram:
             memo.clear()  # (one step: safe with threads sharing the program)
         memo[key] = values = (res[0], res[1], res[2], res[3])
         return values
+
+    def on_sample_grid(self, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """What ``self(2.0 * math.pi * np.arange(n) / n)`` gives (the same computation), four fresh
+        arrays (n,): a cam's motion samples.  The values of an ``n`` asked for a second time are kept
+        on the program for the calls after it (a sweep's designs that keep the law ask again; a
+        program asked once keeps nothing), without :meth:`__call__`'s keying by the angles' bytes."""
+        memo: dict[int, np.ndarray | None] = self.__dict__.setdefault("_sample_memo", {})
+        seen = n in memo
+        kept = memo.get(n)
+        if kept is not None:
+            res = kept.copy()
+            return res[0], res[1], res[2], res[3]
+        res = self._values(2.0 * math.pi * np.arange(n) / n)
+        if len(memo) >= _GRID_MEMO_SIZE:
+            memo.clear()  # (one step: safe with threads sharing the program)
+        if seen:  # asked for before: kept from now on
+            kept = res.copy()
+            kept.setflags(write=False)
+        memo[n] = kept
+        return res[0], res[1], res[2], res[3]
 
     # -- reports ------------------------------------------------------------------------------
     def joins(self) -> list[Join]:
