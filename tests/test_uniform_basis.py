@@ -113,3 +113,17 @@ def test_sample_grid_values_are_the_direct_call_s_across_programs_with_other_lif
         for a, b in zip(half, _program(lift, rise, dwell)(2.0 * math.pi * np.arange(n // 2) / (n // 2))):
             assert np.array_equal(a, b), (k, n)
     assert "_sample_memo" not in pickle.loads(pickle.dumps(program)).__dict__  # a pickled program: its definition only
+
+
+#: A segment's exact end values against its evaluated ones at tau = 0 and 1 (relative).
+END_TOL = 1e-12
+
+
+@pytest.mark.parametrize("law, lift", [("cycloidal", 12.0), ("poly345", -7.5), ("harmonic", 3.0), ("modified_trapezoid", 20.0)])
+def test_a_segment_s_end_values_are_its_values_at_its_ends(law, lift):
+    seg = Segment(law, D(100.0), lift)
+    for at_end in (False, True):
+        got = seg.end_values(at_end)
+        want = [float(v[0]) for v in seg.values(np.array([1.0 if at_end else 0.0]))]
+        for n, (a, b) in enumerate(zip(got, want)):
+            assert abs(a - b) <= END_TOL * max(1.0, abs(lift) / D(100.0) ** n * 100.0), (law, at_end, n, a, b)

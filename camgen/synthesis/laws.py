@@ -1159,8 +1159,8 @@ class Segment:
     def end_values(self, at_end: bool) -> tuple[float, float, float, float]:
         """Exact (s - start level, v, a, j) at the segment's start (``False``) or end (``True``)."""
         e = self.shape.end if at_end else self.shape.start
-        s, v, a, j = (self.scale * e[n] / self.span**n for n in range(4))
-        return s, v, a, j
+        scale, span = self.scale, self.span  # (scale e[n] / span^n, written out: the same operations)
+        return scale * e[0] / span**0, scale * e[1] / span**1, scale * e[2] / span**2, scale * e[3] / span**3
 
 
 # --------------------------------------------------------------------------------------------
