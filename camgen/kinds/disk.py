@@ -315,7 +315,8 @@ def _motion(follower: "FollowerSpec", law: Any) -> "Motion":
     from camgen.checks import Motion, where_degrees
 
     theta = 2.0 * math.pi * np.arange(MOTION_SAMPLES) / MOTION_SAMPLES
-    s, ds, d2s, d3s = law(theta)
+    samples = getattr(law, "on_sample_grid", None)  # a motion program: the same numbers, kept across designs
+    s, ds, d2s, d3s = samples(MOTION_SAMPLES) if samples is not None else law(theta)
     peaks = law.peak_values()
     jumps = np.asarray(law.breaks)[np.asarray(law.break_continuity) < 2]
     return Motion(theta, s, ds, d2s, d3s, follower.lift_unit, where_degrees(jumps), lift_zero=0.0,

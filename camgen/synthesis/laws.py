@@ -367,7 +367,7 @@ _GRID_MEMO_SIZE = 4
 _CALL_MEMO_ANGLES = 4096
 _CALL_MEMO_SIZE = 16
 #: The attributes in which a program keeps values (not pickled).
-_KEPT_VALUES = ("_call_memo", "_grid_memo", "_peaks")
+_KEPT_VALUES = ("_call_memo", "_grid_memo", "_peaks", "_sample_memo")
 
 
 def _uniform_phasors(first: float, step: float, m: int) -> np.ndarray:
@@ -384,6 +384,39 @@ def _uniform_phasors(first: float, step: float, m: int) -> np.ndarray:
     np.cos(b, out=small.real)
     np.sin(b, out=small.imag)
     return np.multiply.outer(big, small).ravel()[:m]
+
+
+def _piece_basis(tau: np.ndarray, span: float, ref: float, forward: bool, omegas: tuple[float, ...], degree: int,
+                 step: float | None) -> np.ndarray:
+    """:func:`_basis` of a plan entry (:meth:`MotionProgram._plan`) at ``tau`` (its segment's
+    fraction, (m,)): the piece's own variable ``w`` from ``tau``, the piece's ``ref`` and direction;
+    ``step``: the cam angles are uniform with this step (rad), the sines and cosines then come from
+    :func:`_uniform_phasors`."""
+    w = tau if forward and ref == 0.0 else (tau - ref if forward else ref - tau)
+    phasors = None
+    if step is not None:  # om w_j = om w_0 + j (+-om step / span)
+        phasors = [_uniform_phasors(om * w[0], (om if forward else -om) * step / span, w.size) for om in omegas]
+    return _basis(w, degree, omegas, phasors)
+
+
+#: Bases :func:`_uniform_basis` keeps (a piece on the dense check grid and on the coarse grid of a
+#: few programs' places: at most about this many times 7,200 x 10 floats).
+_UNIFORM_BASIS_CACHE = 24
+
+
+@functools.lru_cache(maxsize=_UNIFORM_BASIS_CACHE)
+def _uniform_basis(n: int, lo: int, hi: int, start: float, span: float, ref: float, forward: bool,
+                   omegas: tuple[float, ...], degree: int) -> np.ndarray:
+    """:func:`_piece_basis` at the uniform cam angles ``k 2 pi / n`` (k = lo .. hi - 1, rad) of a
+    piece of a segment starting at ``start`` over ``span`` (rad): the same numbers
+    :meth:`MotionProgram._fill` makes there, read-only, kept (a pure function of its arguments:
+    the designs of a sweep that changes only lifts share them)."""
+    step = TWO_PI / n
+    tau = np.arange(n)[lo:hi] * step - start
+    tau /= span
+    basis = _piece_basis(tau, span, ref, forward, omegas, degree, step)
+    basis.setflags(write=False)
+    return basis
 
 
 def _grouped(idx: np.ndarray, count: int) -> tuple[np.ndarray | None, np.ndarray]:
@@ -988,6 +1021,12 @@ def _conditions(key: str, value: object) -> tuple[float, ...]:
     return tuple(require_finite(key, x) for x in value)
 
 
+#: A segment's options and the laws that take them (:class:`Segment` refuses an option of another law).
+_OPTION_LAWS = (("blend", "constant_velocity"), ("start", "polynomial or bspline"), ("end", "polynomial or bspline"),
+                ("scca", "scca"), ("accel_fraction", "asymmetric_modified_sine or asymmetric_modified_trapezoid"),
+                ("points", "bspline"), ("degree", "bspline"), ("interior", "polynomial"), ("ends", "velocity_blend"))
+
+
 @dataclass(frozen=True)
 class Segment:
     """One segment of a motion program.
@@ -1054,10 +1093,7 @@ class Segment:
         if span > TWO_PI * (1 + 1e-12):
             raise ParameterError(self._name("span"), self.span, "0 < span <= 2 pi rad (360 deg)")
         object.__setattr__(self, "span", span)
-        for key in ("blend", "start", "end", "scca", "accel_fraction", "points", "degree", "interior", "ends"):
-            allowed = {"blend": "constant_velocity", "start": "polynomial or bspline", "end": "polynomial or bspline",
-                       "scca": "scca", "accel_fraction": "asymmetric_modified_sine or asymmetric_modified_trapezoid",
-                       "points": "bspline", "degree": "bspline", "interior": "polynomial", "ends": "velocity_blend"}[key]
+        for key, allowed in _OPTION_LAWS:
             if getattr(self, key) is not None and name not in allowed.split(" or "):
                 raise ParameterError(self._name(key), getattr(self, key), f"no '{key}' for a {name} segment (only for {allowed})")
         start_level = None
@@ -1123,8 +1159,8 @@ class Segment:
     def end_values(self, at_end: bool) -> tuple[float, float, float, float]:
         """Exact (s - start level, v, a, j) at the segment's start (``False``) or end (``True``)."""
         e = self.shape.end if at_end else self.shape.start
-        s, v, a, j = (self.scale * e[n] / self.span**n for n in range(4))
-        return s, v, a, j
+        scale, span = self.scale, self.span  # (scale e[n] / span^n, written out: the same operations)
+        return scale * e[0] / span**0, scale * e[1] / span**1, scale * e[2] / span**2, scale * e[3] / span**3
 
 
 # --------------------------------------------------------------------------------------------
@@ -1413,12 +1449,20 @@ class MotionProgram:
                 np.multiply(v, scale / span**n, out=out[n])
             out[0] += const
             return
-        w = tau if forward and ref == 0.0 else (tau - ref if forward else ref - tau)
-        phasors = None
-        if step is not None:  # om w_j = om w_0 + j (+-om step / span)
-            phasors = [_uniform_phasors(om * w[0], (om if forward else -om) * step / span, w.size) for om in omegas]
-        basis = _basis(w, matrix.shape[1] - 1 - 2 * len(omegas), omegas, phasors)
-        np.matmul(matrix, basis, out=out)
+        np.matmul(matrix, _piece_basis(tau, span, ref, forward, omegas, matrix.shape[1] - 1 - 2 * len(omegas), step), out=out)
+
+    @staticmethod
+    def _fill_uniform(entry: tuple, n: int, lo: int, hi: int, ths: np.ndarray, out: np.ndarray) -> None:
+        """:meth:`_fill` at the uniform angles ``k 2 pi / n`` (k = lo .. hi - 1) with their sines and
+        cosines from angle addition: the basis of a polynomial-plus-trig piece is
+        :func:`_uniform_basis`'s, kept across programs (a sweep that changes a lift keeps the
+        pieces' places: only the matrix, which carries the lift, is new); ``ths``: those angles
+        (rad, (hi - lo,)), for the pieces evaluated without a kept basis."""
+        start, span, ref, forward, const, omegas, matrix, custom = entry
+        if custom is not None or matrix.shape[1] == 1 or math.copysign(1.0, ref) < 0.0:  # (a -0.0 ref keys as 0.0: made here)
+            MotionProgram._fill(entry, ths, out, TWO_PI / n)
+            return
+        np.matmul(matrix, _uniform_basis(n, lo, hi, start, span, ref, forward, omegas, matrix.shape[1] - 1 - 2 * len(omegas)), out=out)
 
     def on_uniform_grid(self, n: int, extra: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """The displacement and its three derivatives at the cam angles ``k 2 pi / n`` (k = 0 .. n - 1)
@@ -1449,7 +1493,7 @@ class MotionProgram:
             lo, hi = bounds[g], bounds[g + 1]
             elo, ehi = n + extra_bounds[g], n + extra_bounds[g + 1]
             if hi - lo >= _PHASOR_MIN_POINTS:  # angle addition pays off on the uniform part
-                self._fill(entry, grid[lo:hi], res[:, lo:hi], step)
+                self._fill_uniform(entry, n, lo, hi, grid[lo:hi], res[:, lo:hi])
                 if elo < ehi:
                     self._fill(entry, extra[elo - n: ehi - n], res[:, elo:ehi], None)
             elif lo < hi or elo < ehi:  # few angles: the uniform and the added ones in one evaluation
@@ -1462,6 +1506,26 @@ class MotionProgram:
             memo.clear()  # (one step: safe with threads sharing the program)
         memo[key] = values = (res[0], res[1], res[2], res[3])
         return values
+
+    def on_sample_grid(self, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """What ``self(2.0 * math.pi * np.arange(n) / n)`` gives (the same computation), four fresh
+        arrays (n,): a cam's motion samples.  The values of an ``n`` asked for a second time are kept
+        on the program for the calls after it (a sweep's designs that keep the law ask again; a
+        program asked once keeps nothing), without :meth:`__call__`'s keying by the angles' bytes."""
+        memo: dict[int, np.ndarray | None] = self.__dict__.setdefault("_sample_memo", {})
+        seen = n in memo
+        kept = memo.get(n)
+        if kept is not None:
+            res = kept.copy()
+            return res[0], res[1], res[2], res[3]
+        res = self._values(2.0 * math.pi * np.arange(n) / n)
+        if len(memo) >= _GRID_MEMO_SIZE:
+            memo.clear()  # (one step: safe with threads sharing the program)
+        if seen:  # asked for before: kept from now on
+            kept = res.copy()
+            kept.setflags(write=False)
+        memo[n] = kept
+        return res[0], res[1], res[2], res[3]
 
     # -- reports ------------------------------------------------------------------------------
     def joins(self) -> list[Join]:
