@@ -14,30 +14,16 @@ step elementwise: each vertex is the one the whole polygon has (tests/test_wall.
 from __future__ import annotations
 
 import functools
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from camgen.contour.contour import Contour
-from camgen.contour.spline import Spline
+from camgen.contour.spline import Spline, acceleration_bound
 from camgen.errors import require_positive
-from camgen.numerics.bernstein import bernstein_max_norm
-from camgen.numerics.polynomial import derivative_factors
+from camgen.numerics.bernstein import bezier_matrix
 
 __all__ = ["ContourPieces", "PolygonPart", "contour_pieces", "evaluate_on", "polygon_part"]
-
-
-@functools.lru_cache(maxsize=8)
-def _to_bezier(degree: int) -> np.ndarray:
-    """``M[j, i] = C(j, i) / C(degree, i)`` (i <= j): Bezier control points ``M a`` of ascending
-    power coefficients ``a`` on [0, 1] (read-only)."""
-    m = np.zeros((degree + 1, degree + 1))
-    for j in range(degree + 1):
-        for i in range(j + 1):
-            m[j, i] = math.comb(j, i) / math.comb(degree, i)
-    m.flags.writeable = False
-    return m
 
 
 @dataclass(frozen=True)
@@ -95,16 +81,11 @@ def contour_pieces(contour: Contour, chord_tol: float) -> ContourPieces | None:
     h = end - start  # np.diff of each spline's breaks
     c = np.concatenate([s.coeffs for s in splines], axis=1)  # (degree + 1, P, 2)
     # the chord counts of Spline._chord_params, from the bound of flatten_params_of (elementwise per piece)
-    if degree == 3:
-        acc_start = np.hypot(*(2.0 * c[1]).T)
-        acc_end = np.hypot(*(6.0 * c[0] * h[:, None] + 2.0 * c[1]).T)
-        max_acc = np.maximum(acc_start, acc_end)
-    else:
-        max_acc = bernstein_max_norm(c[:-2] * derivative_factors(degree, 2)[:, None, None], h)
+    max_acc = acceleration_bound(c, h, degree)
     counts = np.maximum(1, np.ceil(h * np.sqrt(max_acc / (8.0 * chord_tol)) - 1e-12)).astype(int)
     # the pieces in s = tau / h on [0, 1], lowest power first (P, degree + 1, 2), then their Bezier points
     scaled = c[::-1] * (h ** np.arange(degree + 1.0)[:, None])[:, :, None]
-    control = np.einsum("ji,ikc->kjc", _to_bezier(degree), scaled)
+    control = np.einsum("ji,ikc->kjc", bezier_matrix(degree), scaled)
     span = np.repeat([s.span for s in splines], pieces)
     return ContourPieces(contour, control, counts, segment, start, end, breaks[first], span, c, first_piece, last_piece)
 

@@ -22,6 +22,7 @@ import numpy as np
 
 from camgen.contour.arc import Arc
 from camgen.contour.spline import Spline
+from camgen.numerics.bernstein import bezier_matrix
 from camgen.numerics.polynomial import horner_ascending, scaled_ascending
 from camgen.numerics.roots import grouped_sign_change_roots
 
@@ -70,11 +71,9 @@ def _square_matrix(degree: int) -> np.ndarray:
 @lru_cache(maxsize=None)
 def _bezier_matrix(degree: int) -> np.ndarray:
     """(degree + 1) x (degree + 1): ascending power coefficients on [0, 1] (as a row) times it are
-    the Bezier control values, ``b_j = sum_{i <= j} C(j, i) / C(degree, i) a_i`` (Farin, ch. 4; read-only)."""
-    m = np.zeros((degree + 1, degree + 1))
-    for j in range(degree + 1):
-        for i in range(j + 1):
-            m[i, j] = math.comb(j, i) / math.comb(degree, i)
+    the Bezier control values, ``b_j = sum_{i <= j} C(j, i) / C(degree, i) a_i`` (Farin, ch. 4; read-only):
+    :func:`camgen.numerics.bernstein.bezier_matrix` transposed, laid out by rows."""
+    m = np.ascontiguousarray(bezier_matrix(degree).T)
     m.flags.writeable = False
     return m
 

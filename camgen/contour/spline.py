@@ -17,13 +17,13 @@ import numpy as np
 
 from camgen.errors import GeometryError, ParameterError
 from camgen.geometry import outward_normal, signed_curvature, unit_vectors
-from camgen.numerics.bernstein import bernstein_max_norm, power_to_bezier
+from camgen.numerics.bernstein import bernstein_max_norm, bezier_matrix, power_to_bezier
 from camgen.numerics.hermite import cubic_hermite_coefficients, quintic_hermite_coefficients
 from camgen.numerics.interpolate import clamped_cubic, periodic_spline
 from camgen.numerics.polynomial import derivative_factors, exponents, horner, scaled_ascending
 from camgen.numerics.roots import ROOT_TOL, grouped_sign_change_roots, roots_in_pieces, sign_change_roots
 
-__all__ = ["BOX_SLACK", "SPLINE_DEGREES", "Spline", "bounding_box_of", "extreme_points_of", "flatten_params_of", "piece_green_areas"]
+__all__ = ["BOX_SLACK", "SPLINE_DEGREES", "Spline", "acceleration_bound", "bounding_box_of", "extreme_points_of", "flatten_params_of", "piece_green_areas"]
 
 #: Polynomial degrees a :class:`Spline` piece may have.
 SPLINE_DEGREES = (3, 5)
@@ -49,18 +49,6 @@ def _area_weights(degree: int) -> np.ndarray:
     w[i, m] = (m - i) / (i + m)
     w.flags.writeable = False
     return w
-
-
-@functools.lru_cache(maxsize=None)
-def _bezier_matrix(degree: int) -> np.ndarray:
-    """``M[j, i] = C(j, i) / C(degree, i)`` (i <= j): the Bezier control values ``M a`` of ascending
-    power coefficients ``a`` on [0, 1] (:func:`camgen.numerics.bernstein.power_to_bezier`; read-only)."""
-    m = np.zeros((degree + 1, degree + 1))
-    for j in range(degree + 1):
-        for i in range(j + 1):
-            m[j, i] = math.comb(j, i) / math.comb(degree, i)
-    m.flags.writeable = False
-    return m
 
 
 @functools.lru_cache(maxsize=None)
@@ -585,7 +573,7 @@ def bounding_box_of(splines: "list[Spline]") -> tuple[np.ndarray, np.ndarray]:
             if spline.degree != degree:
                 continue
             q = spline._scaled()  # (K, degree + 1, 2)
-            ctrl = np.einsum("ji,kic->kjc", _bezier_matrix(degree), q)  # the Bezier control points (K, degree + 1, 2)
+            ctrl = np.einsum("ji,kic->kjc", bezier_matrix(degree), q)  # the Bezier control points (K, degree + 1, 2)
             reach = (ctrl.max(axis=1) > hi - slack) | (ctrl.min(axis=1) < lo + slack)  # (K, 2): pieces that may reach out
             for axis in range(2):
                 pieces = np.flatnonzero(reach[:, axis])
@@ -608,6 +596,17 @@ def bounding_box_of(splines: "list[Spline]") -> tuple[np.ndarray, np.ndarray]:
     return every.min(axis=0), every.max(axis=0)
 
 
+def acceleration_bound(c: np.ndarray, h: np.ndarray, degree: int) -> np.ndarray:
+    """A bound of ``|P''|`` (mm per parameter unit squared) over each piece of splines of ``degree``
+    with coefficients ``c`` (degree + 1, P, 2; highest power first) on pieces of lengths ``h`` (P,):
+    exact for a cubic (``|P''|`` is linear, largest at an end), the Bezier hull of ``P''`` otherwise."""
+    if degree == 3:
+        acc_start = np.hypot(*(2.0 * c[1]).T)
+        acc_end = np.hypot(*(6.0 * c[0] * h[:, None] + 2.0 * c[1]).T)
+        return np.maximum(acc_start, acc_end)
+    return bernstein_max_norm(c[:-2] * derivative_factors(degree, 2)[:, None, None], h)
+
+
 def flatten_params_of(splines: "list[Spline]", chord_tol: float) -> list[np.ndarray]:
     """:meth:`Spline.flatten_params` of every spline of ``splines`` (bit for bit), the bounds of
     ``|P''|`` of all the pieces of one degree in one vectorised pass (elementwise per piece)."""
@@ -616,12 +615,7 @@ def flatten_params_of(splines: "list[Spline]", chord_tol: float) -> list[np.ndar
         members = [spline for spline in splines if spline.degree == degree]
         h = np.concatenate([np.diff(spline.breaks) for spline in members])
         c = np.concatenate([spline.coeffs for spline in members], axis=1)
-        if degree == 3:
-            acc_start = np.hypot(*(2.0 * c[1]).T)
-            acc_end = np.hypot(*(6.0 * c[0] * h[:, None] + 2.0 * c[1]).T)
-            max_acc = np.maximum(acc_start, acc_end)
-        else:
-            max_acc = bernstein_max_norm(c[:-2] * derivative_factors(degree, 2)[:, None, None], h)
+        max_acc = acceleration_bound(c, h, degree)
         start = np.cumsum([0] + [spline.n_pieces for spline in members])
         for k, spline in enumerate(members):
             bound[id(spline)] = max_acc[start[k]:start[k + 1]]

@@ -8,11 +8,24 @@ direction (:meth:`~camgen.contour.Spline.support_candidates`).
 """
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
 
-__all__ = ["bernstein_max_norm", "power_to_bezier"]
+__all__ = ["bernstein_max_norm", "bezier_matrix", "power_to_bezier"]
+
+
+@functools.lru_cache(maxsize=None)  # one small matrix per degree
+def bezier_matrix(degree: int) -> np.ndarray:
+    """``M[j, i] = C(j, i) / C(degree, i)`` (i <= j): the Bezier control values ``M a`` on [0, 1] of
+    ascending power coefficients ``a`` (:func:`power_to_bezier` as a matrix; read-only)."""
+    m = np.zeros((degree + 1, degree + 1))
+    for j in range(degree + 1):
+        for i in range(j + 1):
+            m[j, i] = math.comb(j, i) / math.comb(degree, i)
+    m.flags.writeable = False
+    return m
 
 
 def power_to_bezier(a: np.ndarray) -> np.ndarray:
