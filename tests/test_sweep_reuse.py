@@ -136,3 +136,30 @@ def test_advice_kept_for_the_same_law_and_searched_again_for_another_follower(st
     other = base_radius_advice(follower, law, limits)
     assert advice_cache._outcome.cache_info().hits == hits + 2  # another roller: searched
     assert other.low == printed["base24_roller6"] != printed["base24"]
+
+
+def test_a_follower_registered_again_with_another_contact_is_searched_again():
+    """The search reads the follower's contact (point or face) and whether it has a radius, which
+    a FollowerSpec takes from the follower registry: a follower registered again under the same
+    name with another contact is another search (its answer the uncached search's), not the
+    kept answer of the first."""
+    from camgen.followers import FollowerKind, register, unregister
+    from camgen.synthesis import advice_cache, sizing
+    from camgen.synthesis.followers import FollowerSpec
+    from camgen.synthesis.laws import MotionProgram, Segment
+
+    law = MotionProgram([Segment("cycloidal", math.radians(120), 20.0), Segment("dwell", math.radians(60)),
+                         Segment("poly345", math.radians(120), -20.0), Segment("dwell", math.radians(60))])
+    limits = sizing.DesignLimits(max_pressure_angle=math.radians(30.0), min_convex_radius=15.0)
+    advice_cache._outcome.cache_clear()
+    answers = {}
+    for contact in ("point", "face"):
+        register(FollowerKind("probe", "a follower registered twice", contact))
+        try:
+            follower = FollowerSpec("probe", 10.0)
+            answers[contact] = (sizing.base_radius_advice(follower, law, limits).low,
+                                sizing._advice_search(follower, law, limits, sizing.DEFAULT_SIZE_TOL, 32, 3).low)
+        finally:
+            unregister("probe")
+    assert answers["point"][0] == answers["point"][1] and answers["face"][0] == answers["face"][1], answers
+    assert answers["point"][0] != answers["face"][0]  # the two contacts need different base radii

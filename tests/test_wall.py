@@ -340,9 +340,12 @@ def test_the_least_convex_radius_is_the_least_reciprocal_bit_for_bit():
             k[rng.integers(n)] = 0.0
         if rng.random() < 0.1:
             k[rng.integers(n)] = np.nan
+        if rng.random() < 0.1:  # an infinite curvature: radius 1 / inf = 0, not a positive radius
+            k[rng.integers(n)] = np.inf
         if rng.random() < 0.3:
             k = np.concatenate([k, rng.normal(0.0, base, 5)])
         assert least_convex_radius(k) == every_sample(k), k
+    assert least_convex_radius(np.array([0.01, np.inf, 0.02, -0.5])) == every_sample(np.array([0.01, np.inf, 0.02, -0.5])) == (50.0, 2)
 
 
 def test_the_pieces_layout_kept_across_designs_is_each_contours_own():

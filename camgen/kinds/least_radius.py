@@ -24,7 +24,8 @@ def least_convex_radius(curvature: np.ndarray) -> tuple[float, int]:
     """The least positive radius of curvature (mm) of the samples ``curvature`` (1/mm) and the
     first sample where it is, bit for bit ``min`` and ``argmin`` of ``where(rho > 0, rho, inf)``
     with ``rho = where(k != 0, 1 / k, inf)``; ``(inf, 0)`` when no radius is positive and finite."""
-    positive = np.where(curvature > 0, curvature, 0.0)  # NaN is not > 0
+    # NaN is not > 0; an infinite curvature's radius 1 / inf = 0 is not positive either
+    positive = np.where((curvature > 0) & (curvature < math.inf), curvature, 0.0)
     largest = float(positive.max()) if positive.size else 0.0
     if not largest > 0 or math.isinf(1.0 / largest):
         return math.inf, 0

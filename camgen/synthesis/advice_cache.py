@@ -54,9 +54,12 @@ def _law_key(law: Any) -> tuple[Any, ...]:
 
 
 def _follower_text(follower: "FollowerSpec") -> str:
-    """Every parameter of ``follower`` the search reads (all but the base radius), as exact text."""
+    """Every parameter of ``follower`` the search reads (all but the base radius), as exact text;
+    with its contact and whether it has a radius, which the spec takes from the follower registry
+    (a follower registered again under its name with another contact is another search)."""
     f = follower
-    return repr((f.kind, f.motion, f.roller_radius, f.offset, f.pivot, f.arm_length, f.face_offset, f.lift_turn, f.rotation))
+    return repr((f.kind, f.contact, f.has_radius, f.motion, f.roller_radius, f.offset, f.pivot, f.arm_length, f.face_offset,
+                 f.lift_turn, f.rotation))
 
 
 @dataclass(frozen=True, eq=False)
