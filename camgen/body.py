@@ -87,7 +87,7 @@ def wall_left(contour: Contour, body: BodySpec, chord_tol: float = WALL_TOL) -> 
     part = wall_polygon(contour, chord_tol, body.bore_diameter / 2, keyway)  # the vertices that can decide it (the whole polygon's)
     poly = part.points
     radius = np.hypot(poly[:, 0], poly[:, 1])
-    i = int(np.argmin(radius))
+    i = int(radius.argmin())
     wall, where = float(radius[i]) - body.bore_diameter / 2, poly[i]
     if body.keyway_width > 0:
         # distance of the profile vertices to the keyway rectangle, in the keyway's frame (the part
@@ -105,7 +105,7 @@ def wall_left(contour: Contour, body: BodySpec, chord_tol: float = WALL_TOL) -> 
         # the rectangle's outer corners must lie inside the profile (star-shaped cams)
         assert keyway is not None
         corners = keyway[1:3]
-        j = int(np.argmin(dist))
+        j = int(dist.argmin())
         k_wall = float(dist[j])
         # two polygons are nearest at a vertex of one and an edge of the other: the profile's
         # vertices against the rectangle (above), and the rectangle's outer corners against the
@@ -115,13 +115,13 @@ def wall_left(contour: Contour, body: BodySpec, chord_tol: float = WALL_TOL) -> 
         edge = poly[part.successor[chord]] - start
         for corner in corners:
             rel = corner - start
-            u = np.clip(np.einsum("ij,ij->i", rel, edge) / np.maximum(np.einsum("ij,ij->i", edge, edge), 1e-300), 0.0, 1.0)
+            u = (np.einsum("ij,ij->i", rel, edge) / np.maximum(np.einsum("ij,ij->i", edge, edge), 1e-300)).clip(0.0, 1.0)
             gaps = np.hypot(*(rel - u[:, None] * edge).T)
-            i_edge = int(np.argmin(gaps))
+            i_edge = int(gaps.argmin())
             if gaps[i_edge] < k_wall:
                 k_wall, j = float(gaps[i_edge]), int(chord[i_edge])
         # no ray from the axis meets the profile nearer than part.near_axis
-        if float(np.max(np.hypot(corners[:, 0], corners[:, 1]))) >= part.near_axis:
+        if float(np.hypot(corners[:, 0], corners[:, 1]).max()) >= part.near_axis:
             reach = contour.polar_radius(np.arctan2(corners[:, 1], corners[:, 0]))
             if np.any(np.hypot(corners[:, 0], corners[:, 1]) >= reach):
                 k_wall = min(k_wall, -1.0)

@@ -179,7 +179,8 @@ class Follower:
 
 
 def where_degrees(angles: npt.ArrayLike) -> list[float]:
-    return [round(float(a), 6) for a in np.mod(np.degrees(np.atleast_1d(angles)), 360.0)]
+    deg = np.mod(np.degrees(angles), 360.0)  # elementwise: a scalar's value is a one-element array's
+    return [round(a, 6) for a in (deg.tolist() if deg.ndim else [float(deg)])]
 
 
 def _polar_deg(points: np.ndarray) -> list[float]:
@@ -304,12 +305,12 @@ def machinability_from_radii(rho: np.ndarray, angle: np.ndarray, tool_radius: fl
     out = []
     pairs = f" (between the listed pairs of {where})"
     if convex.any():
-        i = int(np.argmin(np.where(convex, rho, np.inf)))
+        i = int(np.where(convex, rho, np.inf).argmin())
         out.append(information("min_convex_radius", float(rho[i]), "mm", where_degrees(angle[i]),
                                f"smallest convex radius of the profile (no limit; the tool radius is {tool_radius:g} mm)"))
     concave = rho < 0
     if concave.any():
-        i = int(np.argmax(np.where(concave, rho, -np.inf)))
+        i = int(np.where(concave, rho, -np.inf).argmax())
         value = float(-rho[i])
         bad = concave & (-rho < tool_radius)
         where_deg = run_ends(bad, angle) if bad.any() else where_degrees(angle[i])
@@ -409,7 +410,7 @@ def roller_kinematics(pitch: Contour, follower: Follower, samples: int = 7200) -
 def pressure_angle_check(values: np.ndarray, cam_angle: np.ndarray, limit: float, what: str) -> CheckResult:
     """Largest |pressure angle| (deg) of ``values`` (rad) at ``cam_angle`` (rad) against ``limit`` (rad)."""
     mag = np.abs(values)
-    i = int(np.argmax(mag))
+    i = int(mag.argmax())
     bad = mag > limit
     failed = bool(bad.any())
     where = run_ends(bad, cam_angle) if failed else where_degrees(cam_angle[i])

@@ -60,13 +60,13 @@ def _keep(pieces: "ContourPieces", bore: float, keyway: np.ndarray | None) -> tu
     circle).  A piece's chords end on it or at the next piece's first vertex: its hull and that
     point."""
     control = pieces.control  # (P, degree + 1, 2)
-    slack = WALL_SLACK_MM + WALL_SLACK_REL * float(np.max(np.abs(control)))
+    slack = WALL_SLACK_MM + WALL_SLACK_REL * float(np.abs(control).max())
     starts = control[:, 0]
     middle = starts + control[:, -1]
     length = np.hypot(middle[:, 0], middle[:, 1])
     n = middle / np.where(length > 0, length, 1.0)[:, None]  # (P, 2), 0 for a chord through the axis
     reach = np.einsum("pjc,pc->pj", control, n).min(axis=1)  # (P,): the least p . n over the piece's hull
-    upper = float(np.min(np.hypot(starts[:, 0], starts[:, 1]))) - bore
+    upper = float(np.hypot(starts[:, 0], starts[:, 1]).min()) - bore
     lower = reach - bore
     if keyway is not None:
         side, across = keyway[1] - keyway[0], keyway[3] - keyway[0]
@@ -74,14 +74,14 @@ def _keep(pieces: "ContourPieces", bore: float, keyway: np.ndarray | None) -> tu
         rel = starts - 0.5 * (keyway[0] + keyway[3])  # from the middle of the axis side: the rectangle [0, out] x [-width / 2, width / 2]
         along, off = rel @ (side / out), rel @ (across / width)
         gaps = np.hypot(np.maximum(np.maximum(-along, along - out), 0.0), np.maximum(np.abs(off) - 0.5 * width, 0.0))
-        upper = min(upper, float(np.min(gaps)))
+        upper = min(upper, float(gaps.min()))
         to_keyway = reach - (n @ keyway.T).max(axis=1)
         to_keyway[to_keyway <= slack] = -np.inf  # the hull may meet the keyway: a vertex may be inside (-1)
         # a chord from the piece to the next piece's first vertex: the outer corners against both
         both = np.minimum(reach, np.einsum("pc,pc->p", np.concatenate((starts[1:], starts[:1])), n))
         to_corner = both - (n @ keyway[1:3].T).max(axis=1)
         lower = np.minimum(np.minimum(lower, to_keyway), to_corner)
-    return lower <= upper + slack, float(np.min(reach)) - slack
+    return lower <= upper + slack, float(reach.min()) - slack
 
 
 def wall_polygon(contour: "Contour", chord_tol: float, bore: float, keyway: np.ndarray | None) -> WallPolygon:

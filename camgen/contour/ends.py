@@ -72,7 +72,7 @@ def _end_values(t0: np.ndarray, span: np.ndarray, b_first: np.ndarray, b_last: n
     + 1, 2: first, last of each spline); None if an end is not on its end piece (the sorted search
     would find another)."""
     t = _ends_t(t0, span)
-    if not (np.all(t[:, 0] == b_first) and np.all(t[:, 1] >= b_last)):
+    if not ((t[:, 0] == b_first).all() and (t[:, 1] >= b_last).all()):
         return None
     tau = (t - np.stack([b_first, b_last], axis=1)).ravel()
     return _derivatives(rows, tau[:, None], span, degree)
@@ -86,5 +86,5 @@ def _derivatives(c: np.ndarray, tau: np.ndarray, span: np.ndarray, degree: int) 
     else:
         d1 = (3.0 * c[:, 0] * tau + 2.0 * c[:, 1]) * tau + c[:, 2]
         d2 = 6.0 * c[:, 0] * tau + 2.0 * c[:, 1]
-    tangents = d1 * np.repeat(span, 2)[:, None]
+    tangents = d1 * span.repeat(2)[:, None]
     return tangents.reshape(-1, 2, 2), signed_curvature(d1, d2).reshape(-1, 2)

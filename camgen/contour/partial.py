@@ -114,8 +114,8 @@ def polygon_part(pieces: ContourPieces, keep: np.ndarray) -> PolygonPart | None:
         return None
     after_kept = np.concatenate((keep[-1:], keep[:-1]))
     take = np.where(keep, counts, after_kept.astype(int))  # a piece not kept: its first vertex after a kept one
-    piece = np.repeat(np.arange(counts.size), take)
-    first = np.repeat(np.cumsum(take) - take, take)
+    piece = np.arange(counts.size).repeat(take)
+    first = (take.cumsum() - take).repeat(take)
     j = np.arange(piece.size) - first  # the vertex's number within its piece
     start = pieces.start[piece]
     # Spline._chord_params and Contour.flatten_params, vertex by vertex
