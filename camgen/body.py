@@ -99,27 +99,27 @@ def wall_left(contour: Contour, body: BodySpec, chord_tol: float = WALL_TOL) -> 
         out = body.keyway_reach
         dx = np.maximum(np.maximum(-along, along - out), 0.0)
         dy = np.maximum(np.abs(across) - body.keyway_width / 2, 0.0)
-        dist = np.hypot(dx, dy)
-        inside = (along >= 0) & (along <= out) & (np.abs(across) <= body.keyway_width / 2)
-        dist = np.where(inside, -1.0, dist)
+        dist = np.hypot(dx, dy)  # 0 exactly where the vertex is inside the rectangle (dx = dy = 0), else > 0
         # the rectangle's outer corners must lie inside the profile (star-shaped cams)
         assert keyway is not None
         corners = keyway[1:3]
-        j = int(dist.argmin())
-        k_wall = float(dist[j])
+        j = int(dist.argmin())  # the first vertex inside (-1), else the nearest
+        k_wall = -1.0 if dist[j] == 0.0 else float(dist[j])
         # two polygons are nearest at a vertex of one and an edge of the other: the profile's
         # vertices against the rectangle (above), and the rectangle's outer corners against the
-        # profile's edges (a corner facing the middle of a chord is nearer than both its ends)
+        # profile's edges (a corner facing the middle of a chord is nearer than both its ends);
+        # both corners at once (2, chords), elementwise: each dot product x0 y0 + x1 y1, the sum
+        # np.einsum("ij,ij->i") gives (tests/test_wall.py compares with the whole polygon)
         chord = np.flatnonzero(part.successor >= 0)
         start = poly[chord]
         edge = poly[part.successor[chord]] - start
-        for corner in corners:
-            rel = corner - start
-            u = (np.einsum("ij,ij->i", rel, edge) / np.maximum(np.einsum("ij,ij->i", edge, edge), 1e-300)).clip(0.0, 1.0)
-            gaps = np.hypot(*(rel - u[:, None] * edge).T)
-            i_edge = int(gaps.argmin())
-            if gaps[i_edge] < k_wall:
-                k_wall, j = float(gaps[i_edge]), int(chord[i_edge])
+        ex, ey = edge[:, 0], edge[:, 1]
+        rx, ry = corners[:, :1] - start[:, 0], corners[:, 1:] - start[:, 1]
+        u = ((rx * ex + ry * ey) / np.maximum(ex * ex + ey * ey, 1e-300)).clip(0.0, 1.0)
+        gaps = np.hypot(rx - u * ex, ry - u * ey)
+        for row, i_edge in enumerate(gaps.argmin(axis=1).tolist()):
+            if gaps[row, i_edge] < k_wall:
+                k_wall, j = float(gaps[row, i_edge]), int(chord[i_edge])
         # no ray from the axis meets the profile nearer than part.near_axis
         if float(np.hypot(corners[:, 0], corners[:, 1]).max()) >= part.near_axis:
             reach = contour.polar_radius(np.arctan2(corners[:, 1], corners[:, 0]))
