@@ -24,13 +24,19 @@ def least_convex_radius(curvature: np.ndarray) -> tuple[float, int]:
     """The least positive radius of curvature (mm) of the samples ``curvature`` (1/mm) and the
     first sample where it is, bit for bit ``min`` and ``argmin`` of ``where(rho > 0, rho, inf)``
     with ``rho = where(k != 0, 1 / k, inf)``; ``(inf, 0)`` when no radius is positive and finite."""
-    # NaN is not > 0; an infinite curvature's radius 1 / inf = 0 is not positive either
-    positive = np.where((curvature > 0) & (curvature < math.inf), curvature, 0.0)
-    largest = float(positive.max()) if positive.size else 0.0
+    top = float(curvature.max()) if curvature.size else 0.0  # NaN if any sample is NaN
+    if 0.0 < top < math.inf:
+        # no NaN, no infinity, and a positive largest: the largest positive curvature, and the
+        # samples near it (a threshold > 0: no sample <= 0 passes it) in one comparison
+        largest, near_of = top, curvature
+    else:
+        # NaN is not > 0; an infinite curvature's radius 1 / inf = 0 is not positive either
+        near_of = np.where((curvature > 0) & (curvature < math.inf), curvature, 0.0)
+        largest = float(near_of.max()) if near_of.size else 0.0
     if not largest > 0 or math.isinf(1.0 / largest):
         return math.inf, 0
-    near = np.flatnonzero(positive >= largest * (1.0 - TIE_REL))
+    near = np.flatnonzero(near_of >= largest * (1.0 - TIE_REL))
     with np.errstate(over="ignore"):
         radius = 1.0 / curvature[near]
     least = float(radius.min())
-    return least, int(near[int(np.argmax(radius == least))])
+    return least, int(near[int((radius == least).argmax())])
