@@ -179,6 +179,12 @@ class Follower:
 
 
 def where_degrees(angles: npt.ArrayLike) -> list[float]:
+    """Cam or polar angles ``angles`` (rad: one, or an array) as a list of degrees in [0, 360),
+    rounded to 1e-6 deg."""
+    if isinstance(angles, float):  # one double (a Python float or numpy.float64): Python's degrees
+        # and %, the same operations as numpy's rad2deg (x * (180 / pi)) and remainder (fmod, then
+        # the divisor's sign), without the ufunc calls (tests/test_checks.py compares them)
+        return [round(math.degrees(angles) % 360.0, 6)]
     deg = np.mod(np.degrees(angles), 360.0)  # elementwise: a scalar's value is a one-element array's
     return [round(a, 6) for a in (deg.tolist() if deg.ndim else [float(deg)])]
 

@@ -170,3 +170,20 @@ def test_motion_at_speed_scales_with_w_w2_w3():
         assert at["max_velocity_mm_per_s"] == pytest.approx(5 * w, rel=1e-12)
         assert at["max_acceleration_m_per_s2"] == pytest.approx(5e-3 * w**2, rel=1e-6)
         assert at["max_jerk_m_per_s3"] == pytest.approx(5e-3 * w**3, rel=1e-6)
+
+
+def test_where_degrees_of_one_angle_is_numpys_bit_for_bit():
+    """A check's angle from one double (Python's math.degrees and %, issue 28 item 6) against
+    numpy's rad2deg and remainder of a one-element array (the arithmetic before), over angles
+    of every sign and size, multiples of a degree and of a right angle, and signed zeros."""
+    from camgen.checks import where_degrees
+
+    rng = np.random.default_rng(286)
+    angles = np.concatenate([rng.uniform(-50.0, 50.0, 20000), rng.normal(0.0, 1e-3, 2000), rng.uniform(-1e6, 1e6, 2000),
+                             np.arange(-800, 800) * (math.pi / 180.0), np.arange(-40, 40) * (math.pi / 2.0),
+                             [0.0, -0.0, 1e-320, -1e-320, 2.0 * math.pi, -2.0 * math.pi, math.pi]])
+    expected = [round(float(a), 6) for a in np.mod(np.degrees(angles), 360.0)]
+    assert [v for a in angles for v in where_degrees(a)] == expected  # numpy.float64, a float
+    assert [v for a in angles.tolist() for v in where_degrees(a)] == expected  # Python floats
+    assert where_degrees(angles) == expected  # the array path
+    assert where_degrees(np.float32(1.0)) == [round(float(np.mod(np.degrees(np.float32(1.0)), 360.0)), 6)]  # single precision: numpy's
