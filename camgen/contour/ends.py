@@ -10,13 +10,14 @@ or beyond the last piece's start, checked; else the general sorted search).
 """
 from __future__ import annotations
 
+import functools
 from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
 
 from camgen.contour.tables import SegmentTables
 from camgen.geometry import signed_curvature
-from camgen.numerics.polynomial import horner
+from camgen.numerics.polynomial import derivative_factors, horner
 
 if TYPE_CHECKING:
     from camgen.contour.spline import Spline
@@ -46,15 +47,25 @@ def splines_end_values(splines: "Sequence[Spline]") -> tuple[np.ndarray, np.ndar
     """:func:`spline_end_values` of every segment of a contour made of splines of one degree,
     ``splines`` (S,), from the splines themselves (no :class:`SegmentTables`: the same numbers,
     gathered from each spline's first and last piece); None when the contour's splines have two
-    degrees or an end is not on its end piece (take :func:`spline_end_values`)."""
+    degrees or an end is not on its end piece (take :func:`spline_end_values`).
+
+    A contour has a handful of splines: the parameters of the ends and their offsets in their
+    pieces are Python floats (the IEEE operations :func:`_end_values` does elementwise: ``t0 +
+    0.0 span``, ``t0 + 1.0 span``, their differences from the pieces' starts)."""
     degree = splines[0].degree
     if any(s.degree != degree for s in splines):
         return None
-    t0 = np.array([s.breaks[0] for s in splines])
-    span = np.array([s.span for s in splines])
-    b_last = np.array([s.breaks[-2] for s in splines])
+    spans, offsets = [], []
+    for s in splines:
+        t0, b_last = s.breaks[[0, -2]].tolist()
+        span = s.span
+        t_first, t_last = t0 + 0.0 * span, t0 + 1.0 * span  # Spline._t(0), Spline._t(1)
+        if not (t_first == t0 and t_last >= b_last):
+            return None
+        spans.append(span)
+        offsets += [t_first - t0, t_last - b_last]
     rows = np.stack([s.coeffs[:, k] for s in splines for k in (0, -1)])  # (2 S, degree + 1, 2): SegmentTables.rows of the end pieces
-    return _end_values(t0, span, t0, b_last, rows, degree)
+    return _derivatives(rows, np.array(offsets)[:, None], np.array(spans), degree)
 
 
 def _ends_t(t0: np.ndarray, span: np.ndarray) -> np.ndarray:
@@ -81,10 +92,31 @@ def _end_values(t0: np.ndarray, span: np.ndarray, b_first: np.ndarray, b_last: n
 def _derivatives(c: np.ndarray, tau: np.ndarray, span: np.ndarray, degree: int) -> tuple[np.ndarray, np.ndarray]:
     """Tangents (S, 2, 2) and curvatures (S, 2) of the pieces ``c`` (2 S, degree + 1, 2) at offsets
     ``tau`` (2 S, 1): SegmentTables.spline_values' arithmetic."""
-    if degree != 3:
+    if degree > 3:
+        d1, d2 = _first_second(c, tau, degree)
+    elif degree != 3:
         d1, d2 = horner(c, tau, 1), horner(c, tau, 2)
     else:
         d1 = (3.0 * c[:, 0] * tau + 2.0 * c[:, 1]) * tau + c[:, 2]
         d2 = 6.0 * c[:, 0] * tau + 2.0 * c[:, 1]
     tangents = d1 * span.repeat(2)[:, None]
     return tangents.reshape(-1, 2, 2), signed_curvature(d1, d2).reshape(-1, 2)
+
+
+def _first_second(c: np.ndarray, tau: np.ndarray, degree: int) -> tuple[np.ndarray, np.ndarray]:
+    """``horner(c, tau, 1)`` and ``horner(c, tau, 2)`` (:func:`camgen.numerics.polynomial.horner`)
+    of a degree > 3, both in one array (2, n, 2): each element by the same products and sums in
+    the same order (the second derivative's Horner steps are the first's but its last)."""
+    f1, f2 = derivative_factors(degree, 1).tolist(), derivative_factors(degree, 2).tolist()
+    acc = c[:, 0] * _factor_column(f1[0], f2[0])
+    for m in range(1, degree - 1):
+        acc = acc * tau + c[:, m] * _factor_column(f1[m], f2[m])
+    return acc[0] * tau + c[:, degree - 1] * f1[degree - 1], acc[1]
+
+
+@functools.lru_cache(maxsize=32)
+def _factor_column(first: float, second: float) -> np.ndarray:
+    """The two derivatives' factors of one coefficient as (2, 1, 1), read-only (kept: a few per degree)."""
+    out = np.array([first, second]).reshape(2, 1, 1)
+    out.flags.writeable = False
+    return out
