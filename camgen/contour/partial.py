@@ -117,12 +117,13 @@ def polygon_part(pieces: ContourPieces, keep: np.ndarray) -> PolygonPart | None:
     piece = np.arange(counts.size).repeat(take)
     first = (take.cumsum() - take).repeat(take)
     j = np.arange(piece.size) - first  # the vertex's number within its piece
-    start = pieces.start[piece]
+    start, end, t0, span, segment = (pieces.start[piece], pieces.end[piece], pieces.t0[piece], pieces.span[piece],
+                                     pieces.segment[piece])
     # Spline._chord_params and Contour.flatten_params, vertex by vertex
     frac = j / counts[piece]
-    t = start + frac * (pieces.end[piece] - start)
-    params = pieces.segment[piece] + (t - pieces.t0[piece]) / pieces.span[piece]
-    points = evaluate_on(pieces, piece, params)
+    t = start + frac * (end - start)
+    params = segment + (t - t0) / span
+    points = _evaluate_gathered(pieces, piece, params, (start, end, t0, span, segment))
     successor = np.where(keep[piece], (np.arange(piece.size) + 1) % piece.size, -1)
     return PolygonPart(points, successor)
 
@@ -135,14 +136,22 @@ def evaluate_on(pieces: ContourPieces, piece: np.ndarray, params: np.ndarray) ->
     for the piece: each vertex's own piece is taken where the search would find it (its segment
     is the piece's, and its spline parameter ``t`` has ``start <= t < end``, open at the spline's
     ends as the search's clip is); any other vertex (rounding at a break) by ``evaluate`` itself."""
+    return _evaluate_gathered(pieces, piece, params, (pieces.start[piece], pieces.end[piece], pieces.t0[piece], pieces.span[piece],
+                                                      pieces.segment[piece]))
+
+
+def _evaluate_gathered(pieces: ContourPieces, piece: np.ndarray, params: np.ndarray,
+                       gathered: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
+    """:func:`evaluate_on` with the vertices' pieces' ``start``, ``end``, ``t0``, ``span`` and
+    ``segment`` (n,) already gathered (:func:`polygon_part` has them)."""
+    start, end, t0, span, segment = gathered
     contour = pieces.contour
     n = contour.n_segments
     flat = np.mod(params, n)
     idx = np.minimum(np.floor(flat).astype(int), n - 1)
     u = flat - idx
-    t = pieces.t0[piece] + u * pieces.span[piece]  # Spline._t of the vertex's segment, where it is the piece's
-    start = pieces.start[piece]
-    found = (idx == pieces.segment[piece]) & (pieces.first[piece] | (start <= t)) & (pieces.last[piece] | (t < pieces.end[piece]))
+    t = t0 + u * span  # Spline._t of the vertex's segment, where it is the piece's
+    found = (idx == segment) & (pieces.first[piece] | (start <= t)) & (pieces.last[piece] | (t < end))
     tau = (t - start)[:, None]
     c = pieces.coeffs[:, piece]  # (degree + 1, n, 2)
     if c.shape[0] == 4:
