@@ -310,15 +310,16 @@ def machinability_from_radii(rho: np.ndarray, angle: np.ndarray, tool_radius: fl
     convex = rho > 0
     out = []
     pairs = f" (between the listed pairs of {where})"
-    if convex.any():
-        i = int(np.where(convex, rho, np.inf).argmin())
+    least = np.where(convex, rho, np.inf)
+    i = int(least.argmin())
+    if least[i] < np.inf or convex.any():  # a finite least convex radius is a convex sample (else look)
         out.append(information("min_convex_radius", float(rho[i]), "mm", where_degrees(angle[i]),
                                f"smallest convex radius of the profile (no limit; the tool radius is {tool_radius:g} mm)"))
     concave = rho < 0
     if concave.any():
         i = int(np.where(concave, rho, -np.inf).argmax())
         value = float(-rho[i])
-        bad = concave & (-rho < tool_radius)
+        bad = concave & (rho > -tool_radius)  # -rho < tool_radius, the negation exact
         where_deg = run_ends(bad, angle) if bad.any() else where_degrees(angle[i])
         note = "a concave radius below the tool radius cannot be cut without gouging" + (pairs if bad.any() else "")
         if tool_is_limit:
@@ -417,8 +418,10 @@ def pressure_angle_check(values: np.ndarray, cam_angle: np.ndarray, limit: float
     """Largest |pressure angle| (deg) of ``values`` (rad) at ``cam_angle`` (rad) against ``limit`` (rad)."""
     mag = np.abs(values)
     i = int(mag.argmax())
-    bad = mag > limit
-    failed = bool(bad.any())
+    failed = False
+    if not mag[i] <= limit:  # the largest beyond the limit, or NaN (argmax points at the first NaN): look at every sample
+        bad = mag > limit
+        failed = bool(bad.any())
     where = run_ends(bad, cam_angle) if failed else where_degrees(cam_angle[i])
     return CheckResult("pressure_angle", float(np.degrees(mag[i])), float(np.degrees(limit)), "<=", "deg", not failed,
                        where, f"largest pressure angle of the {what}" + (" (above the limit between the listed pairs of cam angles)" if failed else ""))

@@ -187,3 +187,62 @@ def test_where_degrees_of_one_angle_is_numpys_bit_for_bit():
     assert [v for a in angles.tolist() for v in where_degrees(a)] == expected  # Python floats
     assert where_degrees(angles) == expected  # the array path
     assert where_degrees(np.float32(1.0)) == [round(float(np.mod(np.degrees(np.float32(1.0)), 360.0)), 6)]  # single precision: numpy's
+
+
+def _pressure_before(values, cam_angle, limit):
+    """camgen.checks.pressure_angle_check's pass/fail and angles before issue 28 item 6, verbatim."""
+    from camgen.checks import run_ends, where_degrees
+
+    mag = np.abs(values)
+    i = int(np.argmax(mag))
+    bad = mag > limit
+    failed = bool(bad.any())
+    where = run_ends(bad, cam_angle) if failed else where_degrees(cam_angle[i])
+    return float(np.degrees(mag[i])), not failed, where
+
+
+def _radii_before(rho, angle, tool_radius):
+    """camgen.checks.machinability_from_radii's values and angles before issue 28 item 6, verbatim."""
+    from camgen.checks import run_ends, where_degrees
+
+    out = []
+    convex = rho > 0
+    if convex.any():
+        i = int(np.argmin(np.where(convex, rho, np.inf)))
+        out.append(("min_convex_radius", float(rho[i]), where_degrees(angle[i])))
+    concave = rho < 0
+    if concave.any():
+        i = int(np.argmax(np.where(concave, rho, -np.inf)))
+        bad = concave & (-rho < tool_radius)
+        out.append(("min_concave_radius", float(-rho[i]), run_ends(bad, angle) if bad.any() else where_degrees(angle[i])))
+    return out
+
+
+def test_pressure_and_radius_checks_are_the_every_sample_passes_bit_for_bit():
+    """The pressure-angle check that looks at every sample only when the largest is beyond the
+    limit (or NaN), and the radius checks with fewer passes (issue 28 item 6), against the code
+    before: random curves within and beyond the limit, with NaN, infinite and zero samples."""
+    from camgen.checks import machinability_from_radii, pressure_angle_check
+
+    rng = np.random.default_rng(2868)
+    angle = np.linspace(0.0, 2.0 * math.pi, 97, endpoint=False)
+    for _ in range(600):
+        values = rng.normal(0.0, 0.4, angle.size)
+        rho = rng.normal(float(rng.uniform(-10.0, 30.0)), 20.0, angle.size)
+        for array in (values, rho):
+            if rng.random() < 0.2:
+                array[rng.integers(angle.size)] = np.nan
+            if rng.random() < 0.2:
+                array[rng.integers(angle.size)] = rng.choice([np.inf, -np.inf, 0.0])
+        if rng.random() < 0.3:
+            rho = np.abs(rho) * rng.choice([1.0, -1.0])  # all convex, or all concave
+        if rng.random() < 0.1:
+            rho = np.where(rho > 0, np.inf, rho)  # straight: every convex radius infinite
+        limit = float(rng.uniform(0.1, 1.5))
+        got = pressure_angle_check(values, angle, limit, "curve")
+        assert repr((got.value, got.passed, got.where_deg)) == repr(_pressure_before(values, angle, limit))  # NaN too
+        tool = float(rng.uniform(1.0, 30.0))
+        if rng.random() < 0.3:
+            rho[rng.integers(angle.size)] = -tool  # a concave radius exactly the tool's
+        checks = machinability_from_radii(rho, angle, tool)
+        assert repr([(c.name, c.value, c.where_deg) for c in checks if c.where_deg]) == repr(_radii_before(rho, angle, tool))
