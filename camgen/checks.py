@@ -202,9 +202,11 @@ def run_ends(mask: np.ndarray, angles: np.ndarray) -> list[float]:
         return []
     if mask.all():
         return where_degrees(angles[[0, -1]])
-    starts = np.nonzero(mask & ~np.roll(mask, 1))[0]
-    ends = np.nonzero(mask & ~np.roll(mask, -1))[0]
-    return [v for s, e in zip(starts, ends) for v in where_degrees(angles[[s, e]])]
+    # np.roll(mask, 1) and np.roll(mask, -1), each one concatenation; every run's start and end
+    # in one elementwise where_degrees: [start, end, start, end, ...]
+    starts = np.flatnonzero(mask & ~np.concatenate((mask[-1:], mask[:-1])))
+    ends = np.flatnonzero(mask & ~np.concatenate((mask[1:], mask[:1])))
+    return where_degrees(angles[np.stack((starts, ends), axis=1).ravel()])
 
 
 #: Most samples of the dense checks on one spline segment (a refitted offset can have 440,000

@@ -189,9 +189,26 @@ def test_where_degrees_of_one_angle_is_numpys_bit_for_bit():
     assert where_degrees(np.float32(1.0)) == [round(float(np.mod(np.degrees(np.float32(1.0)), 360.0)), 6)]  # single precision: numpy's
 
 
+def _degrees_before(angles):
+    """camgen.checks.where_degrees before issue 28 item 6, verbatim."""
+    return [round(float(a), 6) for a in np.mod(np.degrees(np.atleast_1d(angles)), 360.0)]
+
+
+def _run_ends_before(mask, angles):
+    """camgen.checks.run_ends before issue 28 item 6, verbatim."""
+    mask = np.asarray(mask, dtype=bool)
+    if not mask.any():
+        return []
+    if mask.all():
+        return _degrees_before(angles[[0, -1]])
+    starts = np.nonzero(mask & ~np.roll(mask, 1))[0]
+    ends = np.nonzero(mask & ~np.roll(mask, -1))[0]
+    return [v for s, e in zip(starts, ends) for v in _degrees_before(angles[[s, e]])]
+
+
 def _pressure_before(values, cam_angle, limit):
     """camgen.checks.pressure_angle_check's pass/fail and angles before issue 28 item 6, verbatim."""
-    from camgen.checks import run_ends, where_degrees
+    run_ends, where_degrees = _run_ends_before, _degrees_before
 
     mag = np.abs(values)
     i = int(np.argmax(mag))
@@ -203,7 +220,7 @@ def _pressure_before(values, cam_angle, limit):
 
 def _radii_before(rho, angle, tool_radius):
     """camgen.checks.machinability_from_radii's values and angles before issue 28 item 6, verbatim."""
-    from camgen.checks import run_ends, where_degrees
+    run_ends, where_degrees = _run_ends_before, _degrees_before
 
     out = []
     convex = rho > 0
@@ -246,3 +263,18 @@ def test_pressure_and_radius_checks_are_the_every_sample_passes_bit_for_bit():
             rho[rng.integers(angle.size)] = -tool  # a concave radius exactly the tool's
         checks = machinability_from_radii(rho, angle, tool)
         assert repr([(c.name, c.value, c.where_deg) for c in checks if c.where_deg]) == repr(_radii_before(rho, angle, tool))
+
+
+def test_run_ends_are_each_runs_bit_for_bit():
+    """Every run's start and end in one pass (issue 28 item 6) against the code before: random
+    masks of every density, runs through the wrap, one sample, all and none."""
+    from camgen.checks import run_ends
+
+    rng = np.random.default_rng(2869)
+    for n in (1, 2, 3, 7, 360):
+        angle = np.sort(rng.uniform(-1.0, 7.5, n))
+        for _ in range(200):
+            mask = rng.random(n) < float(rng.uniform(0.0, 1.0))
+            assert run_ends(mask, angle) == _run_ends_before(mask, angle)
+        for mask in (np.zeros(n, dtype=bool), np.ones(n, dtype=bool)):
+            assert run_ends(mask, angle) == _run_ends_before(mask, angle)
