@@ -86,7 +86,7 @@ def contour_pieces(contour: Contour, chord_tol: float) -> ContourPieces | None:
     # the pieces in s = tau / h on [0, 1], lowest power first (P, degree + 1, 2), then their Bezier points
     scaled = c[::-1] * (h ** np.arange(degree + 1.0)[:, None])[:, :, None]
     control = np.einsum("ji,ikc->kjc", bezier_matrix(degree), scaled)
-    span = np.repeat([s.span for s in splines], pieces)
+    span = np.array([s.span for s in splines])[segment]  # each piece's spline's span (np.repeat's values, one gather)
     return ContourPieces(contour, control, counts, segment, start, end, breaks[first], span, c, first_piece, last_piece)
 
 
