@@ -309,16 +309,21 @@ def machinability_from_radii(rho: np.ndarray, angle: np.ndarray, tool_radius: fl
     """:func:`machinability_check` from signed radii of curvature ``rho`` (mm, < 0 concave) at
     ``angle`` (rad, in curve order: polar angles, or cam angles for a kind that knows them);
     ``where`` names what the angles are in the notes (e.g. "cam angles")."""
-    convex = rho > 0
     out = []
     pairs = f" (between the listed pairs of {where})"
-    least = np.where(convex, rho, np.inf)
-    i = int(least.argmin())
-    if least[i] < np.inf or convex.any():  # a finite least convex radius is a convex sample (else look)
-        out.append(information("min_convex_radius", float(rho[i]), "mm", where_degrees(angle[i]),
+    convex_at: int | None = int(rho.argmin()) if rho.size else None
+    concave: np.ndarray | None = None
+    if convex_at is None or not rho[convex_at] > 0:  # else every radius > 0 (argmin picks a NaN first): no concave part
+        convex = rho > 0
+        least = np.where(convex, rho, np.inf)
+        convex_at = int(least.argmin()) if rho.size else None
+        if convex_at is not None and not least[convex_at] < np.inf and not convex.any():  # a finite least is a convex sample
+            convex_at = None
+        concave = rho < 0
+    if convex_at is not None:
+        out.append(information("min_convex_radius", float(rho[convex_at]), "mm", where_degrees(angle[convex_at]),
                                f"smallest convex radius of the profile (no limit; the tool radius is {tool_radius:g} mm)"))
-    concave = rho < 0
-    if concave.any():
+    if concave is not None and concave.any():
         i = int(np.where(concave, rho, -np.inf).argmax())
         value = float(-rho[i])
         bad = concave & (rho > -tool_radius)  # -rho < tool_radius, the negation exact

@@ -263,6 +263,8 @@ def test_pressure_and_radius_checks_are_the_every_sample_passes_bit_for_bit():
             rho[rng.integers(angle.size)] = -tool  # a concave radius exactly the tool's
         checks = machinability_from_radii(rho, angle, tool)
         assert repr([(c.name, c.value, c.where_deg) for c in checks if c.where_deg]) == repr(_radii_before(rho, angle, tool))
+    empty = machinability_from_radii(np.zeros(0), np.zeros(0), 3.0)
+    assert [(c.name, c.value) for c in empty] == [("min_concave_radius", "no concave part")]  # and no convex radius
 
 
 def test_run_ends_are_each_runs_bit_for_bit():
