@@ -543,7 +543,7 @@ def motion_check(motion: Motion, rpm: float | None) -> CheckResult:
     """Summary of the follower motion (largest |v|, |a|, |jerk| per unit cam speed), informational."""
     v, a, j = motion.peak_values()
     u = motion.unit
-    ptp = np.ptp(motion.displacement)
+    ptp = motion.displacement.max() - motion.displacement.min()  # np.ptp: the same two reductions
     note = (f"stroke {ptp:.6g} {u}; largest |velocity| {v:.6g} {u}/rad, "
             f"|acceleration| {a:.6g} {u}/rad^2, |jerk| {j:.6g} {u}/rad^3 (finite part)")
     if rpm:

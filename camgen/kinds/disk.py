@@ -577,14 +577,14 @@ def mask_where(mask: np.ndarray, theta: np.ndarray, worst: int) -> list[float]:
 
 
 def _undercut(cam: DiskCam) -> "CheckResult":
-    from camgen.checks import CheckResult
+    from camgen.checks import CheckResult, where_degrees
     from camgen.kinds.least_radius import least_convex_radius
     from camgen.synthesis.followers import profile_failures
 
     f, k, theta = cam.spec_follower, cam.envelope.data, cam.envelope.data.theta
     masks = [(r, m) for r, m in profile_failures(f, k) if m.any()]  # the failing conditions
     reasons = [r for r, _ in masks]
-    bad = np.logical_or.reduce([m for _, m in masks]) if masks else np.zeros(theta.shape, dtype=bool)
+    bad = np.logical_or.reduce([m for _, m in masks]) if masks else None  # None: no sample fails
     if f.has_radius:
         least, i = least_convex_radius(_given(k.pitch_curvature, "a roller's pitch curve"))  # the pitch curve's radii, 1 / k
         value: Any = least if math.isfinite(least) else "none"
@@ -597,10 +597,11 @@ def _undercut(cam: DiskCam) -> "CheckResult":
         speed = np.hypot(*_given(k.pitch_d1, "a knife's pitch curve").T)
         i = int(np.argmin(speed))
         value, limit, unit, what = float(speed[i]), 0.0, "mm/rad", "smallest speed of the knife tip over the cam (|dP/dtheta|, a cusp at 0) against 0"
-    if masks:
-        i = int(np.argmax(bad))
+    if bad is not None:
+        i = int(bad.argmax())
     note = what + ("; " + "; ".join(reasons) + " (between the listed pairs of cam angles): the profile cannot be made" if reasons else "")
-    return CheckResult("undercut", value, limit, ">", unit, not reasons, mask_where(bad, theta, i), note, blocks_manufacture=True)
+    where = mask_where(bad, theta, i) if bad is not None else where_degrees(theta[i])
+    return CheckResult("undercut", value, limit, ">", unit, not reasons, where, note, blocks_manufacture=True)
 
 
 def _face_length(cam: DiskCam, half: float | None) -> "CheckResult":
