@@ -475,8 +475,24 @@ def _jump_rpm(a: np.ndarray, b: np.ndarray, c: np.ndarray, projection: np.ndarra
         a = a - margin * projection
     if np.any(a <= 0):
         return 0.0
-    w = float(np.min(smallest_positive_root(a, b, c)))
+    w = _least_positive_root(a, b, c)
     return w / RPM_TO_RAD_PER_S if math.isfinite(w) else math.inf
+
+
+def _least_positive_root(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> float:
+    """``min(smallest_positive_root(a, b, c))`` (rad/s; inf: none) where ``a > 0``: the same roots
+    in the same operations (``sqrt(disc) - b`` is ``-b + sqrt(disc)`` exactly), without the
+    arrays of the roots that are not positive (fewer passes over the samples)."""
+    disc = b * b
+    four_ac = 4.0 * a
+    four_ac *= c
+    disc -= four_ac
+    ok = disc >= 0
+    den = np.sqrt(np.maximum(disc, 0.0))  # where disc < 0: 0, as the elementwise function's where
+    den -= b
+    ok &= den > 0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return float(np.min(np.divide(2.0 * a, den), where=ok, initial=np.inf))
 
 
 def min_contact_force(kin: Kinematics, train: FollowerTrain, rpm: np.ndarray) -> np.ndarray:

@@ -76,3 +76,20 @@ def test_the_spring_hints_from_analyses_terms_are_those_made_again():
     assert dy.spring_hints(heavy, kin) != kept  # a heavier follower needs a stronger spring
     # terms kept for another train (the heavier one) are not used for this one's hints
     assert dy.spring_hints(replace(result, analysed=heavy.analysed), kin) == kept
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_the_least_positive_root_is_the_least_of_the_elementwise_roots(seed):
+    """The jump speed's root (issue 28 item 6: no arrays of the non-positive roots) is bit for bit
+    the least of :func:`smallest_positive_root`'s, and a root: numpy.roots of each quadratic."""
+    rng = np.random.default_rng(seed)
+    n = 200
+    a = rng.uniform(0.1, 10.0, n)
+    b = rng.choice([-1.0, 0.0, 1.0], n) * rng.uniform(0.0, 5.0, n)
+    c = rng.choice([-1.0, 0.0, 1.0], n) * rng.uniform(0.0, 5.0, n)  # c > 0 with b < 0: two roots or none (disc < 0)
+    if seed == 5:  # none: Q grows with speed everywhere
+        b, c = np.abs(b), np.abs(c)
+    least = dy._least_positive_root(a, b, c)
+    assert least == float(np.min(dy.smallest_positive_root(a, b, c)))
+    roots = [r.real for i in range(n) for r in np.roots([c[i], b[i], a[i]]) if abs(r.imag) < 1e-12 and r.real > 0]
+    assert least == (pytest.approx(min(roots), rel=1e-9) if roots else math.inf)
