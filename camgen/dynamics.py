@@ -407,7 +407,12 @@ class _ForceParts:
 
     def spring_term(self, train: FollowerTrain) -> np.ndarray:
         """``A``: spring, preload, external load and weight of ``train`` (N or N*mm)."""
-        a = train.spring_rate * self.lift + train.spring_preload + self.load + self.weight
+        return self.spring_term_of(train.spring_rate, train.spring_preload)
+
+    def spring_term_of(self, rate: float, preload: float) -> np.ndarray:
+        """``A`` of a train with the spring ``rate`` (N/mm or N*mm/rad) and ``preload`` (its
+        :attr:`FollowerTrain.spring_preload`, N or N*mm): :meth:`spring_term` without making the train."""
+        a = rate * self.lift + preload + self.load + self.weight
         if isinstance(a, np.ndarray) and a.shape == self.lift.shape and a.dtype == np.float64:
             return a  # a new array of the lift's shape already (what the copy below would make)
         return np.broadcast_to(a, self.lift.shape).astype(float)
@@ -771,8 +776,6 @@ def spring_hints(result: "DynamicsResult", kin: Kinematics) -> tuple[float | Non
     rate given), the largest installed length (mm; a spring given by its lengths, with its rate
     and free length) and the least rate (with the preload, or the lengths, given) that keep the
     contact force >= the margin at ``result.rpm``; None where none exists or none applies."""
-    from dataclasses import replace
-
     train, margin, speed = result.train, result.jump_margin, np.array([result.rpm])
     if result.analysed is not None and result.analysed[0] is kin and result.analysed[1] is train:  # analyse's own, of these
         parts, projection = result.analysed[2], result.analysed[3]
@@ -783,32 +786,32 @@ def spring_hints(result: "DynamicsResult", kin: Kinematics) -> tuple[float | Non
     w = speed.reshape(-1, 1) * RPM_TO_RAD_PER_S  # _min_force's terms a change of the spring leaves alone, made once
     damping, inertia = parts.b * w, parts.c * w**2
 
-    def keeps(**change: Any) -> bool:  # min_contact_force of the changed train, from the parts (_min_force's operations)
-        changed = replace(train, **change)
-        q = parts.spring_term(changed) + damping + inertia
+    def keeps(rate: float, preload: float) -> bool:  # min_contact_force of the train with this spring (_min_force's operations)
+        q = parts.spring_term_of(rate, preload) + damping + inertia
         return bool(np.min(q / projection, axis=1)[0] >= margin)
 
     free, fitted = train.spring_free_length, train.spring_installed_length
     lengths = None if free is None or fitted is None else (free, fitted)  # a spring given by its lengths (mm)
     preload = installed = rate = None
     if result.min_preload is not None and lengths is None:
-        preload = _least_quoted(result.min_preload, lambda p: keeps(preload=p))
+        preload = _least_quoted(result.min_preload, lambda p: keeps(train.spring_rate, float(p)))
     if result.min_preload is not None and lengths is not None and train.spring_rate > 0 and result.min_preload > train.spring_preload:
         from camgen.errors import floor_significant
 
         longest = lengths[0] - result.min_preload / train.spring_rate
         if longest > 0.0:
             installed = floor_significant(longest, 6)
-            installed = installed if keeps(spring_installed_length=installed) else None
+            installed = installed if keeps(train.spring_rate, train.spring_rate * (lengths[0] - installed)) else None
     if lengths is not None:  # the preload is rate x (free - installed): it grows with the rate (Q is linear in the rate)
         squeeze = parts.lift + (lengths[0] - lengths[1])
         short = margin * projection - result.generalised_force
         pressed = squeeze > 0.0
         if not np.any((short > 0) & ~pressed):
             least = train.spring_rate + float(np.max(np.where(pressed, short / np.where(pressed, squeeze, 1.0), -np.inf)))
-            rate = _least_quoted(max(least, 0.0), lambda k: keeps(spring_rate=k))
+            span = lengths[0] - lengths[1]  # the train's spring_preload is rate x span
+            rate = _least_quoted(max(least, 0.0), lambda k: keeps(k, k * span))
     elif result.min_spring_rate is not None:
-        rate = _least_quoted(result.min_spring_rate, lambda k: keeps(spring_rate=k))
+        rate = _least_quoted(result.min_spring_rate, lambda k: keeps(k, train.spring_preload))
     return preload, installed, rate
 
 
