@@ -748,11 +748,11 @@ def _required_spring(a: np.ndarray, damping: np.ndarray, inertia: np.ndarray, pr
     without_spring = a - train.spring_rate * lift
     short = need - without_spring  # what rate * lift must cover
     lifted = lift > position_tol
-    if np.any((short > 0) & ~lifted):
+    falls_short = short > 0
+    if np.any(falls_short & ~lifted):
         return min_preload, None
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.where(lifted & (short > 0), short / np.where(lifted, lift, 1.0), 0.0)
-    return min_preload, float(np.max(ratio))
+    with np.errstate(divide="ignore", invalid="ignore"):  # the largest short / lift where short > 0 (lifted there), else 0
+        return min_preload, float(np.max(np.divide(short, lift), where=falls_short, initial=0.0))
 
 
 def _least_quoted(value: float, keeps_margin: Any, digits: int = 6) -> float | None:

@@ -93,3 +93,33 @@ def test_the_least_positive_root_is_the_least_of_the_elementwise_roots(seed):
     assert least == float(np.min(dy.smallest_positive_root(a, b, c)))
     roots = [r.real for i in range(n) for r in np.roots([c[i], b[i], a[i]]) if abs(r.imag) < 1e-12 and r.real > 0]
     assert least == (pytest.approx(min(roots), rel=1e-9) if roots else math.inf)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_least_spring_rate_is_the_one_made_before(seed):
+    """The least preload and rate (issue 28 item 6: a masked maximum, no np.where passes) bit for
+    bit as made before (its np.where operations, verbatim), on random force terms with the lowest
+    position, lifts within the tolerance and samples the spring cannot help (seed 3: none)."""
+    rng = np.random.default_rng(seed)
+    n = 300
+    lift = np.abs(rng.normal(0.0, 5.0, n))
+    lift[rng.integers(0, n, 20)] = 0.0
+    lift[rng.integers(0, n, 5)] = 1e-12
+    a, damping, inertia = rng.normal(20.0, 10.0, n), rng.normal(0.0, 3.0, n), rng.normal(0.0, 8.0, n)
+    if seed == 3:
+        a = np.where(lift <= 1e-9, 100.0, a)  # where the spring is at its lowest the force suffices
+    projection = rng.uniform(0.5, 1.0, n)
+    train = dy.FollowerTrain(spring_rate=1.5, preload=12.0)
+    need = 10.0 * projection - (damping + inertia)
+    min_preload = max(0.0, float(np.max(need - (a - train.spring_preload))))
+    short = need - (a - train.spring_rate * lift)
+    lifted = lift > 1e-9
+    if np.any((short > 0) & ~lifted):
+        expected = (min_preload, None)
+    else:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.where(lifted & (short > 0), short / np.where(lifted, lift, 1.0), 0.0)
+        expected = (min_preload, float(np.max(ratio)))
+    got = dy._required_spring(a, damping, inertia, projection, 10.0, train, lift, 1e-9)
+    assert got == expected
+    assert (got[1] is None) == (seed != 3)
