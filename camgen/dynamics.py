@@ -574,7 +574,7 @@ class DynamicsResult:
         motion (``F cos phi``) and across it (``F sin phi``: guide or pivot load); ``side_force``
         is a property: a force-closed train's is made on first use (the report draws it, no
         check reads it), a form-closed train's is given (``given_side_force``, else None).
-    torque : N*m, camshaft torque (> 0: the shaft drives the cam); power : W.
+    torque : N*m, camshaft torque (> 0: the shaft drives the cam); power : W, ``torque * omega``.
     hertz_stress, hertz_stress_2 : MPa, or None without a material (or a sharp knife).
     jump_rpm : rpm at which the contact force first reaches 0 (inf: never; 0: at rest).
     jump_ranges_deg : start/end cam angles (deg) of the runs where the force <= 0.
@@ -638,7 +638,12 @@ class DynamicsResult:
     @functools.cached_property
     def torque_peak(self) -> float:
         """Largest |torque|, N*m."""
-        return float(np.max(np.abs(self.torque)))
+        return float(abs(self.torque[self.torque_peak_index]))
+
+    @functools.cached_property
+    def torque_peak_index(self) -> int:
+        """The first sample of the largest |torque| (the checks' and figures' cam angle of the peak)."""
+        return int(np.argmax(np.abs(self.torque)))
 
     @functools.cached_property
     def torque_rms(self) -> float:
@@ -647,8 +652,9 @@ class DynamicsResult:
 
     @functools.cached_property
     def power_peak(self) -> float:
-        """Largest |power|, W."""
-        return float(np.max(np.abs(self.power)))
+        """Largest |power|, W: the peak torque times the speed, exactly the largest |torque * omega|
+        (a product with omega > 0 keeps the order of the |torque| and rounds symmetrically)."""
+        return self.torque_peak * self.omega
 
     @functools.cached_property
     def power_rms(self) -> float:

@@ -123,3 +123,33 @@ def test_the_least_spring_rate_is_the_one_made_before(seed):
     got = dy._required_spring(a, damping, inertia, projection, 10.0, train, lift, 1e-9)
     assert got == expected
     assert (got[1] is None) == (seed != 3)
+
+
+@pytest.mark.parametrize("rpm", [37.0, 300.0, 1234.5, 4000.0])
+def test_the_peaks_and_the_checks_where_are_those_of_the_arrays(rpm):
+    """The power peak made from the torque peak (issue 28 item 6) is bit for bit the largest
+    |power| of the array; the torque peak's sample is numpy's first argmax; each check's cam angles
+    are the runs of its failing samples (a limit that some samples pass) or the extreme's angle."""
+    from camgen.checks import run_ends, where_degrees
+    from camgen.kinds.dynamics import dynamics_checks
+
+    material = dy.ContactMaterial(width=10.0, allowable_stress=None)
+    result = dy.analyse(_kin(), dy.FollowerTrain(mass=0.4, spring_rate=1.5, preload=40.0, damping=10.0), rpm, material,
+                        jump_margin=10.0)
+    assert result.power_peak == float(np.max(np.abs(result.power)))
+    assert result.torque_peak == float(np.max(np.abs(result.torque)))
+    assert result.torque_peak_index == int(np.argmax(np.abs(result.torque)))
+    flipped = replace(result, torque=-result.torque, power=-result.power)  # the peak |torque| a negative one
+    assert flipped.torque_peak_index == int(np.argmax(result.torque)) and flipped.torque_peak == result.torque_peak
+    torque, stress, force = np.abs(result.torque), result.hertz_stress, result.contact_force
+    assert stress is not None
+    for scale in (0.5, 1.0, 2.0):  # limits some samples fail, the peak on the limit (passes), all pass
+        limit_t, limit_h, margin = scale * result.torque_peak, scale * float(np.max(stress)), float(np.min(force)) / scale
+        res = replace(result, jump_margin=margin)
+        checks = {c.name: c for c in dynamics_checks(res, res.analysed[0], replace(material, allowable_stress=limit_h), limit_t)}
+        expected = {"camshaft_torque": (torque > limit_t, np.argmax(torque)), "hertz_stress": (stress > limit_h, np.argmax(stress)),
+                    "jump": (force < margin, np.argmin(force))}
+        for name, (bad, i) in expected.items():
+            where = run_ends(bad, THETA) if bad.any() else where_degrees(THETA[i])
+            assert checks[name].where_deg == where, name
+            assert checks[name].passed == (not bad.any()), name
