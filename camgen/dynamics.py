@@ -245,15 +245,21 @@ class ContactMaterial:
 
 
 def _array(name: str, value: Any, n: int | None, allow_inf: bool = False) -> np.ndarray:
+    return _array_range(name, value, n, allow_inf)[0]
+
+
+def _array_range(name: str, value: Any, n: int | None, allow_inf: bool = False) -> tuple[np.ndarray, float, float]:
+    """:func:`_array` and the least and largest values it checked (the largest nan with ``allow_inf``)."""
     arr = np.asarray(value, dtype=float)
     if arr.ndim != 1 or (n is not None and arr.size != n):
         raise ParameterError(name, f"array of shape {arr.shape}", f"a 1-D array of {n} samples (one per cam angle)")
     low = float(arr.min()) if arr.size else 0.0  # a nan anywhere is the minimum (numpy propagates it)
-    if not (not math.isnan(low) if allow_inf else math.isfinite(low) and math.isfinite(float(arr.max()))):
+    high = math.nan if allow_inf or not math.isfinite(low) else float(arr.max())
+    if not (not math.isnan(low) if allow_inf else math.isfinite(low) and math.isfinite(high)):
         bad = np.isnan(arr) if allow_inf else ~np.isfinite(arr)
         raise ParameterError(name, f"non-finite value at sample {int(np.argmax(bad))}",
                              "finite values" + (" (+-inf allowed)" if allow_inf else ""))
-    return arr
+    return arr, low, high
 
 
 @dataclass(frozen=True, eq=False)
@@ -308,8 +314,11 @@ class Kinematics:
         if theta[0] < 0 or theta[-1] >= TWO_PI or np.any(np.diff(theta) <= 0):
             raise ParameterError("theta", "cam angles", "strictly increasing cam angles in [0, 2 pi) rad")
         object.__setattr__(self, "theta", theta)
+        bounds: dict[str, tuple[float, float]] = {}  # the pressure angles' least and largest (their check below)
         for name in ("s", "ds", "d2s", "pressure_angle"):
-            object.__setattr__(self, name, _array(name, getattr(self, name), n))
+            arr, low, high = _array_range(name, getattr(self, name), n)
+            object.__setattr__(self, name, arr)
+            bounds[name] = (low, high)
         for name in ("rho_cam", "rho_cam_2"):
             rho = getattr(self, name)
             if rho is None:
@@ -324,9 +333,11 @@ class Kinematics:
             if phi is None:
                 continue
             if name == "pressure_angle_2":  # the first contact's was converted with s, ds, d2s above
-                phi = _array(name, phi, n)
+                phi, low, high = _array_range(name, phi, n)
                 object.__setattr__(self, name, phi)
-            if np.any(np.abs(phi) >= math.pi / 2):
+                bounds[name] = (low, high)
+            low, high = bounds[name]
+            if low <= -math.pi / 2 or high >= math.pi / 2:  # some |phi| >= pi / 2
                 i = int(np.argmax(np.abs(phi)))
                 raise ParameterError(name, f"{math.degrees(phi[i]):.6g} deg at cam angle {math.degrees(theta[i]):.6g} deg",
                                      "|pressure angle| < 90 deg (the contact transmits no force along the motion)")

@@ -153,3 +153,25 @@ def test_the_peaks_and_the_checks_where_are_those_of_the_arrays(rpm):
             where = run_ends(bad, THETA) if bad.any() else where_degrees(THETA[i])
             assert checks[name].where_deg == where, name
             assert checks[name].passed == (not bad.any()), name
+
+
+@pytest.mark.parametrize("second", [False, True])
+def test_a_pressure_angle_of_90_deg_either_way_is_refused_from_the_bounds_checked(second):
+    """The pressure angles' check from the least and largest values the finiteness check found
+    (issue 28 item 6): |phi| >= pi/2 at one sample, + or -, is refused naming that sample's angles;
+    just below pi/2 is accepted; a cusp (rho 0) is still named first."""
+    kin = _kin()
+    key = "pressure_angle_2" if second else "pressure_angle"
+    extra = {"rho_cam_2": np.full(N, 40.0)} if second else {}
+    for bad in (math.pi / 2, -math.pi / 2, 2.0, -3.0):
+        phi = np.zeros(N)
+        phi[11] = bad
+        with pytest.raises(ParameterError, match=f"{math.degrees(bad):.6g} deg at cam angle {math.degrees(THETA[11]):.6g} deg"):
+            replace(kin, **{key: phi}, **extra)
+    phi = np.zeros(N)
+    phi[11], phi[12] = np.nextafter(math.pi / 2, 0.0), -np.nextafter(math.pi / 2, 0.0)
+    assert np.array_equal(getattr(replace(kin, **{key: phi}, **extra), key), phi)
+    phi[11], rho = math.pi / 2, np.full(N, 40.0)
+    rho[3] = 0.0
+    with pytest.raises(ParameterError, match="a nonzero radius of curvature"):
+        replace(kin, **{key: phi}, rho_cam=rho, **extra)
