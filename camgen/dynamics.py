@@ -423,7 +423,13 @@ class _ForceParts:
     def spring_term_of(self, rate: float, preload: float) -> np.ndarray:
         """``A`` of a train with the spring ``rate`` (N/mm or N*mm/rad) and ``preload`` (its
         :attr:`FollowerTrain.spring_preload`, N or N*mm): :meth:`spring_term` without making the train."""
-        a = rate * self.lift + preload + self.load + self.weight
+        a = rate * self.lift  # ((rate lift + preload) + load) + weight, added in place
+        if isinstance(a, np.ndarray) and a.shape == self.lift.shape and a.dtype == np.float64:
+            a += preload
+            a += self.load
+            a += self.weight  # a number, or an array of the samples' shape (an oscillating arm's direction)
+            return a
+        a = a + preload + self.load + self.weight
         if isinstance(a, np.ndarray) and a.shape == self.lift.shape and a.dtype == np.float64:
             return a  # a new array of the lift's shape already (what the copy below would make)
         return np.broadcast_to(a, self.lift.shape).astype(float)
@@ -451,7 +457,8 @@ def _contact_projection(kin: Kinematics, train: FollowerTrain, second: bool = Fa
     assert cos_phi is not None  # a second contact: a form-closed train's kinematics (analyse checks they are given)
     if second and kin.lever_2 is not None and train.motion == "oscillating":
         return kin.lever_2 * cos_phi
-    return _lever(train, kin) * cos_phi
+    lever = _lever(train, kin)
+    return cos_phi if isinstance(lever, float) and lever == 1.0 else lever * cos_phi  # 1 * x is x (read-only)
 
 
 def smallest_positive_root(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
@@ -553,8 +560,9 @@ def hertz_line_stress(force: np.ndarray | float, rho_cam: np.ndarray | float, rh
         force, rho = np.broadcast_arrays(force, rho)
     if not rho_follower > 0:
         raise ParameterError("follower_radius", rho_follower, "> 0 mm (a sharp knife edge has no finite contact stress)")
-    curvature = 1.0 / rho + 1.0 / rho_follower  # 1/inf = 0: a straight flank or a flat face
-    if np.any(curvature < 0):
+    curvature = 1.0 / rho
+    curvature += 1.0 / rho_follower  # 1/inf = 0: a straight flank or a flat face
+    if curvature.size and float(curvature.min()) < 0:  # a nan is no negative curvature (the least: nan)
         worst = float(np.max(rho[curvature < 0]))
         largest = floor_significant(-worst, 6)  # rounded down: a follower of that radius touches it (combined curvature >= 0)
         shown = f"{largest:g}" if largest <= -worst else repr(-worst)
@@ -563,8 +571,10 @@ def hertz_line_stress(force: np.ndarray | float, rho_cam: np.ndarray | float, rh
         raise GeometryError(
             f"a concave part of the profile (radius of curvature {-worst:.6g} mm) is tighter than the follower "
             f"(radius {rho_follower:g} mm), which cannot touch it: {what}")
-    load = np.maximum(force, 0.0)
-    return np.sqrt(load * curvature / (math.pi * material.width * material.compliance))
+    load = np.maximum(force, 0.0)  # sqrt(load * curvature / (pi b K)), in place
+    load *= curvature
+    load /= math.pi * material.width * material.compliance
+    return np.sqrt(load, out=load) if isinstance(load, np.ndarray) else np.sqrt(load)  # (a number from numbers)
 
 
 @dataclass(frozen=True, eq=False)
@@ -861,7 +871,8 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
     parts = _force_parts(kin, train)
     a, b, c = parts.spring_term(train), parts.b, parts.c  # force_coefficients
     damping, inertia = b * omega, c * omega**2
-    q = a + damping + inertia
+    q = a + damping
+    q += inertia  # (a + damping) + inertia
     projection = _contact_projection(kin, train)
     if form:
         assert kin.pressure_angle_2 is not None and kin.rho_cam_2 is not None  # refused above otherwise
@@ -875,7 +886,8 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
         force_2 = None
         along = force_1 * kin.cos_pressure_angle
         side = None  # force_1 * sin(phi), made on first use (DynamicsResult.side_force: the report's, no check's)
-    torque = q * kin.ds * N_MM_TO_N_M  # power balance, T w = Q w q'
+    torque = q * kin.ds  # power balance, T w = Q w q'
+    torque *= N_MM_TO_N_M
     power = torque * omega
     hertz = hertz_2 = None
     if material is not None and kin.follower_radius > 0:
