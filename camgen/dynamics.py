@@ -311,7 +311,7 @@ class Kinematics:
         n = theta.size
         if n < 3:
             raise ParameterError("theta", f"{n} samples", "at least 3 cam angles")
-        if theta[0] < 0 or theta[-1] >= TWO_PI or np.any(np.diff(theta) <= 0):
+        if theta[0] < 0 or theta[-1] >= TWO_PI or np.any(theta[1:] <= theta[:-1]):  # (finite: a difference <= 0 is this)
             raise ParameterError("theta", "cam angles", "strictly increasing cam angles in [0, 2 pi) rad")
         object.__setattr__(self, "theta", theta)
         bounds: dict[str, tuple[float, float]] = {}  # the pressure angles' least and largest (their check below)
@@ -411,7 +411,7 @@ class _ForceParts:
     for a train with another spring in the same operations."""
 
     lift: np.ndarray
-    load: np.ndarray
+    load: np.ndarray | float
     weight: Any
     b: np.ndarray
     c: np.ndarray
@@ -447,7 +447,8 @@ def _force_parts(kin: Kinematics, train: FollowerTrain) -> _ForceParts:
         weight_lever = train.cg_distance  # mm
     # the weight's component along +q, with the sign that resists the motion: -m g . e_q
     weight = -train.mass * train.gravity * weight_lever * np.cos(train.gravity_angle - np.asarray(kin.direction, dtype=float))
-    return _ForceParts(kin.s - kin.s.min(), train.load_at(kin.theta), weight, damping * kin.ds, inertia * kin.d2s)
+    load = train.load_at(kin.theta) if isinstance(train.load, tuple) else float(train.load)  # a constant added as a number
+    return _ForceParts(kin.s - kin.s.min(), load, weight, damping * kin.ds, inertia * kin.d2s)
 
 
 def _contact_projection(kin: Kinematics, train: FollowerTrain, second: bool = False) -> np.ndarray:
@@ -654,7 +655,9 @@ class DynamicsResult:
         return self.contact_force * np.sin(self.pressure_angle)
 
     def _rms(self, values: np.ndarray) -> float:
-        return float(np.sqrt(np.sum(self.weights * values**2) / TWO_PI))
+        squares = np.square(values)  # sqrt(sum(weights * values**2) / 2 pi), the product in place
+        squares *= self.weights
+        return math.sqrt(float(np.sum(squares)) / TWO_PI)
 
     @functools.cached_property
     def torque_peak(self) -> float:
@@ -803,19 +806,22 @@ def spring_hints(result: "DynamicsResult", kin: Kinematics) -> tuple[float | Non
     rate given), the largest installed length (mm; a spring given by its lengths, with its rate
     and free length) and the least rate (with the preload, or the lengths, given) that keep the
     contact force >= the margin at ``result.rpm``; None where none exists or none applies."""
-    train, margin, speed = result.train, result.jump_margin, np.array([result.rpm])
+    train, margin = result.train, result.jump_margin
     if result.analysed is not None and result.analysed[0] is kin and result.analysed[1] is train:  # analyse's own, of these
         parts, projection = result.analysed[2], result.analysed[3]
     else:
         parts = _force_parts(kin, train)  # what a change of the spring leaves alone: made once for every value tried
         projection = _contact_projection(kin, train)
 
-    w = speed.reshape(-1, 1) * RPM_TO_RAD_PER_S  # _min_force's terms a change of the spring leaves alone, made once
-    damping, inertia = parts.b * w, parts.c * w**2
+    w = float(result.rpm) * RPM_TO_RAD_PER_S  # _min_force's terms a change of the spring leaves alone, made once
+    damping, inertia = parts.b * w, parts.c * (w * w)  # (its speeds' w**2 is w * w)
 
     def keeps(rate: float, preload: float) -> bool:  # min_contact_force of the train with this spring (_min_force's operations)
-        q = parts.spring_term_of(rate, preload) + damping + inertia
-        return bool(np.min(q / projection, axis=1)[0] >= margin)
+        q = parts.spring_term_of(rate, preload)
+        q += damping
+        q += inertia
+        q /= projection
+        return float(q.min()) >= margin
 
     free, fitted = train.spring_free_length, train.spring_installed_length
     lengths = None if free is None or fitted is None else (free, fitted)  # a spring given by its lengths (mm)

@@ -175,3 +175,17 @@ def test_a_pressure_angle_of_90_deg_either_way_is_refused_from_the_bounds_checke
     rho[3] = 0.0
     with pytest.raises(ParameterError, match="a nonzero radius of curvature"):
         replace(kin, **{key: phi}, rho_cam=rho, **extra)
+
+
+def test_cam_angles_that_repeat_or_fall_are_refused():
+    """The angles' order checked by comparing neighbours (issue 28 item 6: no array of differences):
+    a repeated angle or one that falls is refused, angles one ulp apart are accepted."""
+    kin = _kin()
+    for i, value in ((5, THETA[4]), (5, THETA[3]), (N - 1, THETA[N - 2])):
+        theta = THETA.copy()
+        theta[i] = value
+        with pytest.raises(ParameterError, match="strictly increasing"):
+            replace(kin, theta=theta)
+    theta = THETA.copy()
+    theta[5] = np.nextafter(theta[4], 7.0)
+    assert np.array_equal(replace(kin, theta=theta).theta, theta)
