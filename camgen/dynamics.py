@@ -512,7 +512,7 @@ def _least_positive_root(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> float:
     four_ac *= c
     disc -= four_ac
     ok = disc >= 0
-    den = np.sqrt(np.maximum(disc, 0.0))  # where disc < 0: 0, as the elementwise function's where
+    den = np.sqrt(disc, out=np.zeros(disc.shape), where=ok)  # where disc < 0: 0, as the elementwise function's where
     den -= b
     ok &= den > 0
     with np.errstate(divide="ignore", invalid="ignore"):
