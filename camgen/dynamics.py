@@ -245,15 +245,21 @@ class ContactMaterial:
 
 
 def _array(name: str, value: Any, n: int | None, allow_inf: bool = False) -> np.ndarray:
+    return _array_range(name, value, n, allow_inf)[0]
+
+
+def _array_range(name: str, value: Any, n: int | None, allow_inf: bool = False) -> tuple[np.ndarray, float, float]:
+    """:func:`_array` and the least and largest values it checked (the largest nan with ``allow_inf``)."""
     arr = np.asarray(value, dtype=float)
     if arr.ndim != 1 or (n is not None and arr.size != n):
         raise ParameterError(name, f"array of shape {arr.shape}", f"a 1-D array of {n} samples (one per cam angle)")
     low = float(arr.min()) if arr.size else 0.0  # a nan anywhere is the minimum (numpy propagates it)
-    if not (not math.isnan(low) if allow_inf else math.isfinite(low) and math.isfinite(float(arr.max()))):
+    high = math.nan if allow_inf or not math.isfinite(low) else float(arr.max())
+    if not (not math.isnan(low) if allow_inf else math.isfinite(low) and math.isfinite(high)):
         bad = np.isnan(arr) if allow_inf else ~np.isfinite(arr)
         raise ParameterError(name, f"non-finite value at sample {int(np.argmax(bad))}",
                              "finite values" + (" (+-inf allowed)" if allow_inf else ""))
-    return arr
+    return arr, low, high
 
 
 @dataclass(frozen=True, eq=False)
@@ -305,11 +311,14 @@ class Kinematics:
         n = theta.size
         if n < 3:
             raise ParameterError("theta", f"{n} samples", "at least 3 cam angles")
-        if theta[0] < 0 or theta[-1] >= TWO_PI or np.any(np.diff(theta) <= 0):
+        if theta[0] < 0 or theta[-1] >= TWO_PI or np.any(theta[1:] <= theta[:-1]):  # (finite: a difference <= 0 is this)
             raise ParameterError("theta", "cam angles", "strictly increasing cam angles in [0, 2 pi) rad")
         object.__setattr__(self, "theta", theta)
+        bounds: dict[str, tuple[float, float]] = {}  # the pressure angles' least and largest (their check below)
         for name in ("s", "ds", "d2s", "pressure_angle"):
-            object.__setattr__(self, name, _array(name, getattr(self, name), n))
+            arr, low, high = _array_range(name, getattr(self, name), n)
+            object.__setattr__(self, name, arr)
+            bounds[name] = (low, high)
         for name in ("rho_cam", "rho_cam_2"):
             rho = getattr(self, name)
             if rho is None:
@@ -324,9 +333,11 @@ class Kinematics:
             if phi is None:
                 continue
             if name == "pressure_angle_2":  # the first contact's was converted with s, ds, d2s above
-                phi = _array(name, phi, n)
+                phi, low, high = _array_range(name, phi, n)
                 object.__setattr__(self, name, phi)
-            if np.any(np.abs(phi) >= math.pi / 2):
+                bounds[name] = (low, high)
+            low, high = bounds[name]
+            if low <= -math.pi / 2 or high >= math.pi / 2:  # some |phi| >= pi / 2
                 i = int(np.argmax(np.abs(phi)))
                 raise ParameterError(name, f"{math.degrees(phi[i]):.6g} deg at cam angle {math.degrees(theta[i]):.6g} deg",
                                      "|pressure angle| < 90 deg (the contact transmits no force along the motion)")
@@ -400,14 +411,25 @@ class _ForceParts:
     for a train with another spring in the same operations."""
 
     lift: np.ndarray
-    load: np.ndarray
+    load: np.ndarray | float
     weight: Any
     b: np.ndarray
     c: np.ndarray
 
     def spring_term(self, train: FollowerTrain) -> np.ndarray:
         """``A``: spring, preload, external load and weight of ``train`` (N or N*mm)."""
-        a = train.spring_rate * self.lift + train.spring_preload + self.load + self.weight
+        return self.spring_term_of(train.spring_rate, train.spring_preload)
+
+    def spring_term_of(self, rate: float, preload: float) -> np.ndarray:
+        """``A`` of a train with the spring ``rate`` (N/mm or N*mm/rad) and ``preload`` (its
+        :attr:`FollowerTrain.spring_preload`, N or N*mm): :meth:`spring_term` without making the train."""
+        a = rate * self.lift  # ((rate lift + preload) + load) + weight, added in place
+        if isinstance(a, np.ndarray) and a.shape == self.lift.shape and a.dtype == np.float64:
+            a += preload
+            a += self.load
+            a += self.weight  # a number, or an array of the samples' shape (an oscillating arm's direction)
+            return a
+        a = a + preload + self.load + self.weight
         if isinstance(a, np.ndarray) and a.shape == self.lift.shape and a.dtype == np.float64:
             return a  # a new array of the lift's shape already (what the copy below would make)
         return np.broadcast_to(a, self.lift.shape).astype(float)
@@ -425,7 +447,8 @@ def _force_parts(kin: Kinematics, train: FollowerTrain) -> _ForceParts:
         weight_lever = train.cg_distance  # mm
     # the weight's component along +q, with the sign that resists the motion: -m g . e_q
     weight = -train.mass * train.gravity * weight_lever * np.cos(train.gravity_angle - np.asarray(kin.direction, dtype=float))
-    return _ForceParts(kin.s - kin.s.min(), train.load_at(kin.theta), weight, damping * kin.ds, inertia * kin.d2s)
+    load = train.load_at(kin.theta) if isinstance(train.load, tuple) else float(train.load)  # a constant added as a number
+    return _ForceParts(kin.s - kin.s.min(), load, weight, damping * kin.ds, inertia * kin.d2s)
 
 
 def _contact_projection(kin: Kinematics, train: FollowerTrain, second: bool = False) -> np.ndarray:
@@ -435,7 +458,8 @@ def _contact_projection(kin: Kinematics, train: FollowerTrain, second: bool = Fa
     assert cos_phi is not None  # a second contact: a form-closed train's kinematics (analyse checks they are given)
     if second and kin.lever_2 is not None and train.motion == "oscillating":
         return kin.lever_2 * cos_phi
-    return _lever(train, kin) * cos_phi
+    lever = _lever(train, kin)
+    return cos_phi if isinstance(lever, float) and lever == 1.0 else lever * cos_phi  # 1 * x is x (read-only)
 
 
 def smallest_positive_root(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
@@ -475,8 +499,24 @@ def _jump_rpm(a: np.ndarray, b: np.ndarray, c: np.ndarray, projection: np.ndarra
         a = a - margin * projection
     if np.any(a <= 0):
         return 0.0
-    w = float(np.min(smallest_positive_root(a, b, c)))
+    w = _least_positive_root(a, b, c)
     return w / RPM_TO_RAD_PER_S if math.isfinite(w) else math.inf
+
+
+def _least_positive_root(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> float:
+    """``min(smallest_positive_root(a, b, c))`` (rad/s; inf: none) where ``a > 0``: the same roots
+    in the same operations (``sqrt(disc) - b`` is ``-b + sqrt(disc)`` exactly), without the
+    arrays of the roots that are not positive (fewer passes over the samples)."""
+    disc = b * b
+    four_ac = 4.0 * a
+    four_ac *= c
+    disc -= four_ac
+    ok = disc >= 0
+    den = np.sqrt(disc, out=np.zeros(disc.shape), where=ok)  # where disc < 0: 0, as the elementwise function's where
+    den -= b
+    ok &= den > 0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return float(np.min(np.divide(2.0 * a, den), where=ok, initial=np.inf))
 
 
 def min_contact_force(kin: Kinematics, train: FollowerTrain, rpm: np.ndarray) -> np.ndarray:
@@ -521,8 +561,9 @@ def hertz_line_stress(force: np.ndarray | float, rho_cam: np.ndarray | float, rh
         force, rho = np.broadcast_arrays(force, rho)
     if not rho_follower > 0:
         raise ParameterError("follower_radius", rho_follower, "> 0 mm (a sharp knife edge has no finite contact stress)")
-    curvature = 1.0 / rho + 1.0 / rho_follower  # 1/inf = 0: a straight flank or a flat face
-    if np.any(curvature < 0):
+    curvature = 1.0 / rho
+    curvature += 1.0 / rho_follower  # 1/inf = 0: a straight flank or a flat face
+    if curvature.size and float(curvature.min()) < 0:  # a nan is no negative curvature (the least: nan)
         worst = float(np.max(rho[curvature < 0]))
         largest = floor_significant(-worst, 6)  # rounded down: a follower of that radius touches it (combined curvature >= 0)
         shown = f"{largest:g}" if largest <= -worst else repr(-worst)
@@ -531,8 +572,10 @@ def hertz_line_stress(force: np.ndarray | float, rho_cam: np.ndarray | float, rh
         raise GeometryError(
             f"a concave part of the profile (radius of curvature {-worst:.6g} mm) is tighter than the follower "
             f"(radius {rho_follower:g} mm), which cannot touch it: {what}")
-    load = np.maximum(force, 0.0)
-    return np.sqrt(load * curvature / (math.pi * material.width * material.compliance))
+    load = np.maximum(force, 0.0)  # sqrt(load * curvature / (pi b K)), in place
+    load *= curvature
+    load /= math.pi * material.width * material.compliance
+    return np.sqrt(load, out=load) if isinstance(load, np.ndarray) else np.sqrt(load)  # (a number from numbers)
 
 
 @dataclass(frozen=True, eq=False)
@@ -553,7 +596,7 @@ class DynamicsResult:
         motion (``F cos phi``) and across it (``F sin phi``: guide or pivot load); ``side_force``
         is a property: a force-closed train's is made on first use (the report draws it, no
         check reads it), a form-closed train's is given (``given_side_force``, else None).
-    torque : N*m, camshaft torque (> 0: the shaft drives the cam); power : W.
+    torque : N*m, camshaft torque (> 0: the shaft drives the cam); power : W, ``torque * omega``.
     hertz_stress, hertz_stress_2 : MPa, or None without a material (or a sharp knife).
     jump_rpm : rpm at which the contact force first reaches 0 (inf: never; 0: at rest).
     jump_ranges_deg : start/end cam angles (deg) of the runs where the force <= 0.
@@ -612,12 +655,19 @@ class DynamicsResult:
         return self.contact_force * np.sin(self.pressure_angle)
 
     def _rms(self, values: np.ndarray) -> float:
-        return float(np.sqrt(np.sum(self.weights * values**2) / TWO_PI))
+        squares = np.square(values)  # sqrt(sum(weights * values**2) / 2 pi), the product in place
+        squares *= self.weights
+        return math.sqrt(float(np.sum(squares)) / TWO_PI)
 
     @functools.cached_property
     def torque_peak(self) -> float:
         """Largest |torque|, N*m."""
-        return float(np.max(np.abs(self.torque)))
+        return float(abs(self.torque[self.torque_peak_index]))
+
+    @functools.cached_property
+    def torque_peak_index(self) -> int:
+        """The first sample of the largest |torque| (the checks' and figures' cam angle of the peak)."""
+        return int(np.argmax(np.abs(self.torque)))
 
     @functools.cached_property
     def torque_rms(self) -> float:
@@ -626,8 +676,9 @@ class DynamicsResult:
 
     @functools.cached_property
     def power_peak(self) -> float:
-        """Largest |power|, W."""
-        return float(np.max(np.abs(self.power)))
+        """Largest |power|, W: the peak torque times the speed, exactly the largest |torque * omega|
+        (a product with omega > 0 keeps the order of the |torque| and rounds symmetrically)."""
+        return self.torque_peak * self.omega
 
     @functools.cached_property
     def power_rms(self) -> float:
@@ -727,11 +778,11 @@ def _required_spring(a: np.ndarray, damping: np.ndarray, inertia: np.ndarray, pr
     without_spring = a - train.spring_rate * lift
     short = need - without_spring  # what rate * lift must cover
     lifted = lift > position_tol
-    if np.any((short > 0) & ~lifted):
+    falls_short = short > 0
+    if np.any(falls_short & ~lifted):
         return min_preload, None
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.where(lifted & (short > 0), short / np.where(lifted, lift, 1.0), 0.0)
-    return min_preload, float(np.max(ratio))
+    with np.errstate(divide="ignore", invalid="ignore"):  # the largest short / lift where short > 0 (lifted there), else 0
+        return min_preload, float(np.max(np.divide(short, lift), where=falls_short, initial=0.0))
 
 
 def _least_quoted(value: float, keeps_margin: Any, digits: int = 6) -> float | None:
@@ -755,44 +806,45 @@ def spring_hints(result: "DynamicsResult", kin: Kinematics) -> tuple[float | Non
     rate given), the largest installed length (mm; a spring given by its lengths, with its rate
     and free length) and the least rate (with the preload, or the lengths, given) that keep the
     contact force >= the margin at ``result.rpm``; None where none exists or none applies."""
-    from dataclasses import replace
-
-    train, margin, speed = result.train, result.jump_margin, np.array([result.rpm])
+    train, margin = result.train, result.jump_margin
     if result.analysed is not None and result.analysed[0] is kin and result.analysed[1] is train:  # analyse's own, of these
         parts, projection = result.analysed[2], result.analysed[3]
     else:
         parts = _force_parts(kin, train)  # what a change of the spring leaves alone: made once for every value tried
         projection = _contact_projection(kin, train)
 
-    w = speed.reshape(-1, 1) * RPM_TO_RAD_PER_S  # _min_force's terms a change of the spring leaves alone, made once
-    damping, inertia = parts.b * w, parts.c * w**2
+    w = float(result.rpm) * RPM_TO_RAD_PER_S  # _min_force's terms a change of the spring leaves alone, made once
+    damping, inertia = parts.b * w, parts.c * (w * w)  # (its speeds' w**2 is w * w)
 
-    def keeps(**change: Any) -> bool:  # min_contact_force of the changed train, from the parts (_min_force's operations)
-        changed = replace(train, **change)
-        q = parts.spring_term(changed) + damping + inertia
-        return bool(np.min(q / projection, axis=1)[0] >= margin)
+    def keeps(rate: float, preload: float) -> bool:  # min_contact_force of the train with this spring (_min_force's operations)
+        q = parts.spring_term_of(rate, preload)
+        q += damping
+        q += inertia
+        q /= projection
+        return float(q.min()) >= margin
 
     free, fitted = train.spring_free_length, train.spring_installed_length
     lengths = None if free is None or fitted is None else (free, fitted)  # a spring given by its lengths (mm)
     preload = installed = rate = None
     if result.min_preload is not None and lengths is None:
-        preload = _least_quoted(result.min_preload, lambda p: keeps(preload=p))
+        preload = _least_quoted(result.min_preload, lambda p: keeps(train.spring_rate, float(p)))
     if result.min_preload is not None and lengths is not None and train.spring_rate > 0 and result.min_preload > train.spring_preload:
         from camgen.errors import floor_significant
 
         longest = lengths[0] - result.min_preload / train.spring_rate
         if longest > 0.0:
             installed = floor_significant(longest, 6)
-            installed = installed if keeps(spring_installed_length=installed) else None
+            installed = installed if keeps(train.spring_rate, train.spring_rate * (lengths[0] - installed)) else None
     if lengths is not None:  # the preload is rate x (free - installed): it grows with the rate (Q is linear in the rate)
         squeeze = parts.lift + (lengths[0] - lengths[1])
         short = margin * projection - result.generalised_force
         pressed = squeeze > 0.0
         if not np.any((short > 0) & ~pressed):
             least = train.spring_rate + float(np.max(np.where(pressed, short / np.where(pressed, squeeze, 1.0), -np.inf)))
-            rate = _least_quoted(max(least, 0.0), lambda k: keeps(spring_rate=k))
+            span = lengths[0] - lengths[1]  # the train's spring_preload is rate x span
+            rate = _least_quoted(max(least, 0.0), lambda k: keeps(k, k * span))
     elif result.min_spring_rate is not None:
-        rate = _least_quoted(result.min_spring_rate, lambda k: keeps(spring_rate=k))
+        rate = _least_quoted(result.min_spring_rate, lambda k: keeps(k, train.spring_preload))
     return preload, installed, rate
 
 
@@ -825,7 +877,8 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
     parts = _force_parts(kin, train)
     a, b, c = parts.spring_term(train), parts.b, parts.c  # force_coefficients
     damping, inertia = b * omega, c * omega**2
-    q = a + damping + inertia
+    q = a + damping
+    q += inertia  # (a + damping) + inertia
     projection = _contact_projection(kin, train)
     if form:
         assert kin.pressure_angle_2 is not None and kin.rho_cam_2 is not None  # refused above otherwise
@@ -839,7 +892,8 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
         force_2 = None
         along = force_1 * kin.cos_pressure_angle
         side = None  # force_1 * sin(phi), made on first use (DynamicsResult.side_force: the report's, no check's)
-    torque = q * kin.ds * N_MM_TO_N_M  # power balance, T w = Q w q'
+    torque = q * kin.ds  # power balance, T w = Q w q'
+    torque *= N_MM_TO_N_M
     power = torque * omega
     hertz = hertz_2 = None
     if material is not None and kin.follower_radius > 0:

@@ -488,7 +488,7 @@ def dynamics_figures(result: "DynamicsResult", dyn: DynamicsSpec, train: "Follow
         out["max_contact_force_1_N"] = float(np.max(result.contact_force))
         assert result.contact_force_2 is not None  # a form-closed train's second contact
         out["max_contact_force_2_N"] = float(np.max(result.contact_force_2))
-    out["torque_peak_deg"] = deg(np.argmax(np.abs(result.torque)))
+    out["torque_peak_deg"] = deg(result.torque_peak_index)
     if dyn.torque_limit is not None:
         out["torque_limit_Nm"] = dyn.torque_limit
     if result.hertz_peak is not None:
@@ -527,8 +527,8 @@ def dynamics_checks(result: "DynamicsResult", kin: "Kinematics", material: "Cont
     if train.closure == "force":
         force = result.contact_force
         i = int(np.argmin(force))
-        bad = force < result.jump_margin
-        where = run_ends(bad, theta) if bad.any() else where_degrees(theta[i])
+        short = force[i] < result.jump_margin  # some force < the margin: the smallest is
+        where = run_ends(force < result.jump_margin, theta) if short else where_degrees(theta[i])
         # the jump speed rounded down: below the speed quoted the contact force stays positive
         jump = ("never (the contact force does not fall with speed)" if math.isinf(result.jump_rpm)
                 else "at rest (the force is not positive even standing still)" if result.jump_rpm == 0
@@ -580,18 +580,18 @@ def dynamics_checks(result: "DynamicsResult", kin: "Kinematics", material: "Cont
                 checks.append(information("hertz_stress", peak, "MPa", where_degrees(theta[i]),
                                           note + "; give an allowable stress to check it"))
             else:
-                bad = stress > material.allowable_stress
-                where = run_ends(bad, theta) if bad.any() else where_degrees(theta[i])
+                over = stress[i] > material.allowable_stress  # some stress > the allowable: the largest is
+                where = run_ends(stress > material.allowable_stress, theta) if over else where_degrees(theta[i])
                 checks.append(limited("hertz_stress", peak, "<=", material.allowable_stress, "MPa", where, note))
-    i = int(np.argmax(np.abs(result.torque)))
+    i = result.torque_peak_index
     note = (f"camshaft torque peak {result.torque_peak:.6g} N*m at cam angle {math.degrees(theta[i]):.6g} deg, "
             f"RMS {result.torque_rms:.6g} N*m; power peak {result.power_peak:.6g} W, RMS {result.power_rms:.6g} W, "
             f"mean {result.mean_power:.6g} W at {result.rpm:g} rpm (frictionless contact, power balance T w = Q v)")
     if torque_limit is None:
         checks.append(information("camshaft_torque", result.torque_peak, "N*m", where_degrees(theta[i]), note + "; no torque limit given"))
     else:
-        bad = np.abs(result.torque) > torque_limit
-        where = run_ends(bad, theta) if bad.any() else where_degrees(theta[i])
+        over = result.torque_peak > torque_limit  # some |torque| > the limit: the peak is
+        where = run_ends(np.abs(result.torque) > torque_limit, theta) if over else where_degrees(theta[i])
         checks.append(limited("camshaft_torque", result.torque_peak, "<=", float(torque_limit), "N*m", where, note))
     return checks
 

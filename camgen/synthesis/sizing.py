@@ -283,9 +283,9 @@ def _feasible(follower: FollowerSpec, law: Displacement, limits: DesignLimits, t
     alpha = np.abs(k.pressure_angle)
     if limits.max_pressure_angle_return is not None:
         ret = k.ds < 0
-        if float(np.max(np.where(ret, 0.0, alpha))) > limits.max_pressure_angle:
+        if float(np.max(alpha, where=~ret, initial=0.0)) > limits.max_pressure_angle:  # measure's np.where(ret, 0.0, alpha)
             return False
-        if float(np.max(np.where(ret, alpha, 0.0))) > limits.max_pressure_angle_return:
+        if float(np.max(alpha, where=ret, initial=0.0)) > limits.max_pressure_angle_return:  # np.where(ret, alpha, 0.0)
             return False
     elif float(np.max(alpha)) > limits.max_pressure_angle:
         return False
@@ -297,9 +297,10 @@ def _feasible(follower: FollowerSpec, law: Displacement, limits: DesignLimits, t
         if not pitch >= least_pitch:
             return False
     rho = k.profile_radius
-    if float(np.min(np.where(rho > 0, rho, np.inf))) < limits.min_convex_radius:
+    if float(np.min(rho, where=rho > 0, initial=np.inf)) < limits.min_convex_radius:  # measure's np.where(rho > 0, rho, inf)
         return False
-    if follower.contact != "face" and float(np.min(np.where(rho < 0, -rho, np.inf))) < limits.min_concave_radius:
+    # measure's least of np.where(rho < 0, -rho, inf): minus the largest negative radius (negation is exact)
+    if follower.contact != "face" and -float(np.max(rho, where=rho < 0, initial=-np.inf)) < limits.min_concave_radius:
         return False
     return True
 
