@@ -108,3 +108,50 @@ def test_kept_layouts_are_read_only_refuse_non_finite_angles_and_are_not_pickled
         with pytest.raises(ParameterError):
             program(np.array([0.1, math.nan]))
     assert "_places_key" not in pickle.loads(pickle.dumps(program)).__dict__
+
+
+def _grid_before(program: MotionProgram, n: int, extra: np.ndarray) -> np.ndarray:
+    """MotionProgram.on_uniform_grid's loop before the grid layouts were kept (verbatim, but for
+    the values kept on the program), with nothing kept."""
+    laws._uniform_basis.cache_clear()
+    laws._grid_layout.cache_clear()
+    step = TWO_PI / n
+    grid = np.arange(n) * step
+    starts = program._piece_lo[1:]
+    bounds = [0] + np.searchsorted(grid, starts, side="left").tolist() + [n]
+    extra_bounds = [0] + np.searchsorted(extra, starts, side="left").tolist() + [extra.size]
+    res = np.empty((4, n + extra.size))
+    for g, entry in enumerate(program._plan()):
+        lo, hi = bounds[g], bounds[g + 1]
+        elo, ehi = n + extra_bounds[g], n + extra_bounds[g + 1]
+        if hi - lo >= laws._PHASOR_MIN_POINTS:
+            program._fill_uniform(entry, n, lo, hi, grid[lo:hi], res[:, lo:hi])
+            if elo < ehi:
+                program._fill(entry, extra[elo - n: ehi - n], res[:, elo:ehi], None)
+        elif lo < hi or elo < ehi:
+            both = np.empty((4, hi - lo + ehi - elo))
+            program._fill(entry, np.concatenate([grid[lo:hi], extra[elo - n: ehi - n]]), both, None)
+            res[:, lo:hi] = both[:, : hi - lo]
+            res[:, elo:ehi] = both[:, hi - lo:]
+    return res
+
+
+@pytest.mark.parametrize("n", [7200, 2880, 360])
+def test_uniform_grids_across_programs_are_the_loop_before(n):
+    """on_uniform_grid of programs in a row (the grid layouts kept across them) against the loop
+    before the layouts were kept, bit for bit (few and many uniform angles per piece, dwells, the
+    tilted cycloid, the breaks added)."""
+    laws._grid_layout.cache_clear()
+    gots, hits = [], []
+    for args in SEQUENCE:
+        program = _program(*args)
+        before = laws._grid_layout.cache_info().hits
+        gots.append(program.on_uniform_grid(n, np.unique(np.mod(program.breaks, TWO_PI))))
+        hits.append(laws._grid_layout.cache_info().hits > before)
+    assert hits[1] and hits[3] and hits[5] and hits[7]
+    for k, (args, got) in enumerate(zip(SEQUENCE, gots)):
+        program = _program(*args)
+        want = _grid_before(program, n, np.unique(np.mod(program.breaks, TWO_PI)))
+        for a, b in zip(got, want):
+            assert np.array_equal(a, b), (k, n)
+            assert np.array_equal(np.signbit(a), np.signbit(b)), (k, n)

@@ -494,6 +494,56 @@ def _angle_layout(angles: bytes | int, places: _Places) -> tuple[np.ndarray, np.
     return ths, order, tuple(bounds), tuple(bases)
 
 
+#: Grid layouts :func:`_grid_layout` keeps (a cam's dense check grid and coarse grid, a few more).
+_GRID_LAYOUT_CACHE = 8
+
+
+@functools.lru_cache(maxsize=_GRID_LAYOUT_CACHE)
+def _grid_layout(n: int, extra: bytes, places: _Places) -> tuple[tuple[int, int, int, int, np.ndarray | None, np.ndarray | None], ...]:
+    """Per plan entry of a program whose pieces lie at ``places``: its uniform angles ``k 2 pi / n``
+    (``lo .. hi - 1``), its columns ``elo .. ehi - 1`` among the added angles ``extra`` (their
+    float64 bytes, sorted, on ``[0, 2 pi)``), and the bases :meth:`MotionProgram.on_uniform_grid`
+    multiplies its matrix by: the uniform part's (:func:`_uniform_basis`, or the direct one of
+    :meth:`MotionProgram._fill` with its step where it does not key) and the added angles' (None:
+    none); a piece of fewer than :data:`_PHASOR_MIN_POINTS` uniform angles: None and the basis of
+    its uniform and added angles together; a piece evaluated without a basis: None, None.  Every
+    array read-only: a pure function of its arguments, the numbers ``on_uniform_grid`` made per
+    program (the programs of a sweep that changes only lifts share them)."""
+    added = np.frombuffer(extra, dtype=float)
+    step = TWO_PI / n
+    grid = np.arange(n) * step
+    starts = places.piece_lo[1:]
+    bounds = [0] + np.searchsorted(grid, starts, side="left").tolist() + [n]
+    extra_bounds = [0] + np.searchsorted(added, starts, side="left").tolist() + [added.size]
+    out = []
+    for g, place in enumerate(places.bases):
+        lo, hi = bounds[g], bounds[g + 1]
+        elo, ehi = n + extra_bounds[g], n + extra_bounds[g + 1]
+        uniform = together = None
+        if place is not None:
+            start, span, ref, forward, omegas, degree = place
+            if hi - lo >= _PHASOR_MIN_POINTS:
+                if math.copysign(1.0, ref) < 0.0:  # (a -0.0 ref keys as 0.0: made as _fill makes it)
+                    tau = grid[lo:hi] - start
+                    tau /= span
+                    uniform = _piece_basis(tau, span, ref, forward, omegas, degree, step)
+                    uniform.setflags(write=False)
+                else:
+                    uniform = _uniform_basis(n, lo, hi, start, span, ref, forward, omegas, degree)
+                if elo < ehi:
+                    tau = added[elo - n: ehi - n] - start
+                    tau /= span
+                    together = _piece_basis(tau, span, ref, forward, omegas, degree, None)
+            else:
+                tau = np.concatenate([grid[lo:hi], added[elo - n: ehi - n]]) - start
+                tau /= span
+                together = _piece_basis(tau, span, ref, forward, omegas, degree, None)
+            if together is not None:
+                together.setflags(write=False)
+        out.append((lo, hi, elo, ehi, uniform, together))
+    return tuple(out)
+
+
 def _grouped(idx: np.ndarray, count: int) -> tuple[np.ndarray | None, np.ndarray]:
     """Group points by piece index: (permutation or None if already grouped, bounds of each group)."""
     idx = idx.astype(np.int16 if count < 32000 else np.int64)
@@ -1548,6 +1598,22 @@ class MotionProgram:
             return
         np.matmul(matrix, _uniform_basis(n, lo, hi, start, span, ref, forward, omegas, matrix.shape[1] - 1 - 2 * len(omegas)), out=out)
 
+    @staticmethod
+    def _fill_grid_piece(entry: tuple, n: int, extra: np.ndarray, lo: int, hi: int, elo: int, ehi: int, res: np.ndarray) -> None:
+        """:meth:`on_uniform_grid`'s values of one plan entry evaluated without a kept basis (a
+        constant, the tilted cycloid): its uniform angles ``lo .. hi - 1`` and its added ones
+        (columns ``elo .. ehi - 1`` of ``res``, (4, n + extra.size))."""
+        step = TWO_PI / n
+        if hi - lo >= _PHASOR_MIN_POINTS:  # angle addition pays off on the uniform part
+            MotionProgram._fill_uniform(entry, n, lo, hi, np.arange(n)[lo:hi] * step, res[:, lo:hi])
+            if elo < ehi:
+                MotionProgram._fill(entry, extra[elo - n: ehi - n], res[:, elo:ehi], None)
+        elif lo < hi or elo < ehi:  # few angles: the uniform and the added ones in one evaluation
+            both = np.empty((4, hi - lo + ehi - elo))
+            MotionProgram._fill(entry, np.concatenate([np.arange(n)[lo:hi] * step, extra[elo - n: ehi - n]]), both, None)
+            res[:, lo:hi] = both[:, : hi - lo]
+            res[:, elo:ehi] = both[:, hi - lo:]
+
     def on_uniform_grid(self, n: int, extra: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """The displacement and its three derivatives at the cam angles ``k 2 pi / n`` (k = 0 .. n - 1)
         followed by the sorted angles ``extra`` (rad, in ``[0, 2 pi)``): what ``self(np.concatenate([np.arange(n)
@@ -1567,24 +1633,21 @@ class MotionProgram:
         kept = memo.get(key)
         if kept is not None:
             return kept
-        step = TWO_PI / n
-        grid = np.arange(n) * step
-        starts = self._piece_lo[1:]
-        bounds = [0] + np.searchsorted(grid, starts, side="left").tolist() + [n]
-        extra_bounds = [0] + np.searchsorted(extra, starts, side="left").tolist() + [extra.size]
+        plan = self._plan()
         res = np.empty((4, n + extra.size))
-        for g, entry in enumerate(self._plan()):
-            lo, hi = bounds[g], bounds[g + 1]
-            elo, ehi = n + extra_bounds[g], n + extra_bounds[g + 1]
-            if hi - lo >= _PHASOR_MIN_POINTS:  # angle addition pays off on the uniform part
-                self._fill_uniform(entry, n, lo, hi, grid[lo:hi], res[:, lo:hi])
-                if elo < ehi:
-                    self._fill(entry, extra[elo - n: ehi - n], res[:, elo:ehi], None)
-            elif lo < hi or elo < ehi:  # few angles: the uniform and the added ones in one evaluation
+        layout = _grid_layout(n, key[1], self._places())
+        for entry, (lo, hi, elo, ehi, uniform, added) in zip(plan, layout):
+            if uniform is not None:  # what _fill_uniform and _fill make of these bases
+                np.matmul(entry[6], uniform, out=res[:, lo:hi])
+                if added is not None:
+                    np.matmul(entry[6], added, out=res[:, elo:ehi])
+            elif added is not None:  # few uniform angles: with the added ones in one product, as _fill
                 both = np.empty((4, hi - lo + ehi - elo))
-                self._fill(entry, np.concatenate([grid[lo:hi], extra[elo - n: ehi - n]]), both, None)
+                np.matmul(entry[6], added, out=both)
                 res[:, lo:hi] = both[:, : hi - lo]
                 res[:, elo:ehi] = both[:, hi - lo:]
+            else:  # a piece evaluated without a kept basis
+                self._fill_grid_piece(entry, n, extra, lo, hi, elo, ehi, res)
         res.setflags(write=False)
         if len(memo) >= _GRID_MEMO_SIZE:
             memo.clear()  # (one step: safe with threads sharing the program)
