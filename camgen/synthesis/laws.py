@@ -1600,8 +1600,8 @@ class MotionProgram:
 
     @staticmethod
     def _fill_grid_piece(entry: tuple, n: int, extra: np.ndarray, lo: int, hi: int, elo: int, ehi: int, res: np.ndarray) -> None:
-        """:meth:`on_uniform_grid`'s values of one plan entry evaluated without a kept basis (a
-        constant, the tilted cycloid): its uniform angles ``lo .. hi - 1`` and its added ones
+        """:meth:`on_uniform_grid`'s values of one plan entry evaluated without a kept basis (the
+        tilted cycloid): its uniform angles ``lo .. hi - 1`` and its added ones
         (columns ``elo .. ehi - 1`` of ``res``, (4, n + extra.size))."""
         step = TWO_PI / n
         if hi - lo >= _PHASOR_MIN_POINTS:  # angle addition pays off on the uniform part
@@ -1646,7 +1646,12 @@ class MotionProgram:
                 np.matmul(entry[6], added, out=both)
                 res[:, lo:hi] = both[:, : hi - lo]
                 res[:, elo:ehi] = both[:, hi - lo:]
-            else:  # a piece evaluated without a kept basis
+            elif entry[7] is None:  # a constant piece (a dwell): what _fill makes of it, without angles
+                if lo < hi:
+                    np.add(entry[6], 0.0, out=res[:, lo:hi])
+                if elo < ehi:
+                    np.add(entry[6], 0.0, out=res[:, elo:ehi])
+            else:  # a piece that evaluates itself (the tilted cycloid)
                 self._fill_grid_piece(entry, n, extra, lo, hi, elo, ehi, res)
         res.setflags(write=False)
         if len(memo) >= _GRID_MEMO_SIZE:
