@@ -155,3 +155,28 @@ def test_uniform_grids_across_programs_are_the_loop_before(n):
         for a, b in zip(got, want):
             assert np.array_equal(a, b), (k, n)
             assert np.array_equal(np.signbit(a), np.signbit(b)), (k, n)
+
+
+def test_peaks_of_a_program_against_its_sampled_values_the_first_of_equal_peaks():
+    """peak_values against the program's values sampled every 0.001 deg (brute force): the same
+    peaks within the sampling's error, the velocity's where the first segment reaching it has it (a
+    rise and a return of equal lift and span peak equally) or in the segment of the larger Cv
+    (Norton, Table 8-3), and the impulses of a velocity jump."""
+    theta = np.arange(360_000) * (TWO_PI / 360_000)
+    for program, first in ((MotionProgram([Segment("cycloidal", D(120.0), 10.0), Segment("cycloidal", D(120.0), -10.0),
+                                           Segment("dwell", D(120.0))]), (0.0, D(120.0))),
+                           (MotionProgram([Segment("dwell", D(60.0)), Segment("poly345", D(100.0), 8.0), Segment("dwell", D(100.0)),
+                                           Segment("cycloidal", D(100.0), -8.0)]), (D(260.0), TWO_PI))):  # the cycloid's Cv 2 > the 345's 1.875
+        peaks = program.peak_values()
+        values = program(theta)
+        for got, at, v in ((peaks.velocity, peaks.velocity_at, values[1]), (peaks.acceleration, peaks.acceleration_at, values[2]),
+                           (peaks.jerk, peaks.jerk_at, values[3])):
+            assert got == pytest.approx(float(np.max(np.abs(v))), rel=1e-6)
+        assert first[0] <= peaks.velocity_at <= first[1]
+        assert not peaks.infinite_acceleration
+    corner = MotionProgram([Segment("constant_velocity", D(180.0), 10.0), Segment("constant_velocity", D(180.0), -10.0)])
+    assert corner.peak_values().infinite_acceleration and corner.peak_values().infinite_jerk
+    dwelling = MotionProgram([Segment("simple_harmonic", D(180.0), 10.0), Segment("dwell", D(60.0)), Segment("simple_harmonic", D(120.0), -10.0)])
+    assert dwelling.peak_values().infinite_jerk and not dwelling.peak_values().infinite_acceleration  # A jumps at a dwell
+    smooth = MotionProgram([Segment("simple_harmonic", D(180.0), 10.0), Segment("simple_harmonic", D(180.0), -10.0)])  # one cosine
+    assert not smooth.peak_values().infinite_jerk
