@@ -423,3 +423,18 @@ def test_keeping_the_heap_changes_no_value():
     out = json.loads(proc.stdout)
     assert out["same"] and out["checks"] > 5
     assert out["kept"] == sys.platform.startswith("linux")  # this machine's C library is glibc
+
+
+@pytest.mark.parametrize("degree", [3, 5, 7])
+def test_the_outer_radius_s_scaled_pieces_are_scaled_ascending_s(degree):
+    """reach._scaled_pieces (one block, no stack) against camgen.numerics.polynomial.scaled_ascending,
+    bit for bit, on random plane pieces of several lengths."""
+    from camgen.contour.reach import _scaled_pieces
+    from camgen.numerics.polynomial import scaled_ascending
+
+    rng = np.random.default_rng(degree)
+    coeffs = rng.normal(size=(degree + 1, 37, 2)) * 40.0
+    h = rng.uniform(1e-3, 0.3, 37)
+    got, want = _scaled_pieces(coeffs, h), scaled_ascending(coeffs, h)
+    assert got.shape == want.shape == (37, degree + 1, 2)
+    assert np.array_equal(got, want) and np.array_equal(np.signbit(got), np.signbit(want))

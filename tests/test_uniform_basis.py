@@ -35,18 +35,31 @@ SEQUENCE = [(12.0, 120.0, 40.0), (17.0, 120.0, 40.0), (-9.0, 120.0, 40.0), (-14.
             (17.0, 100.0, 60.0)]
 
 
+def _kept_hits() -> int:
+    """Hits of the bases kept across programs: the pieces' (_uniform_basis) and the grid's layout
+    (_grid_layout, which holds them)."""
+    return laws._uniform_basis.cache_info().hits + laws._grid_layout.cache_info().hits
+
+
+def _nothing_kept() -> None:
+    laws._uniform_basis.cache_clear()
+    laws._grid_layout.cache_clear()
+
+
 @pytest.mark.parametrize("n", [7200, 2880])
 def test_programs_with_other_lifts_share_bases_and_give_fresh_values(n):
-    laws._uniform_basis.cache_clear()
-    for k, (lift, rise, dwell) in enumerate(SEQUENCE):
+    _nothing_kept()
+    gots = []
+    for k, (lift, rise, dwell) in enumerate(SEQUENCE):  # the programs in a row, as a sweep's designs
         program = _program(lift, rise, dwell)
-        added = _added(program)
-        hits = laws._uniform_basis.cache_info().hits
-        got = program.on_uniform_grid(n, added)
+        hits = _kept_hits()
+        gots.append(program.on_uniform_grid(n, _added(program)))
         if k % 2:  # the places of the program before (evaluated last): its bases serve this one
-            assert laws._uniform_basis.cache_info().hits > hits, k
-        laws._uniform_basis.cache_clear()  # a program evaluated with nothing kept
-        want = _program(lift, rise, dwell).on_uniform_grid(n, added)
+            assert _kept_hits() > hits, k
+    for k, ((lift, rise, dwell), got) in enumerate(zip(SEQUENCE, gots)):
+        _nothing_kept()  # a program evaluated with nothing kept
+        program = _program(lift, rise, dwell)
+        want = program.on_uniform_grid(n, _added(program))
         for a, b in zip(got, want):
             assert np.array_equal(a, b), (k, n)
         # the closed form of the cycloidal rise on the uniform angles inside it
@@ -60,7 +73,7 @@ def test_programs_with_other_lifts_share_bases_and_give_fresh_values(n):
 
 
 def test_kept_bases_are_read_only_and_the_direct_evaluation_s_neighbours():
-    laws._uniform_basis.cache_clear()
+    _nothing_kept()
     program = _program(15.0)
     n = 7200
     got = program.on_uniform_grid(n, _added(program))

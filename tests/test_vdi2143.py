@@ -232,3 +232,31 @@ def test_harmonics_against_numpys_fft(plate_run):
     bound = float(np.mean(np.abs(_plate_acceleration(theta) - interpolated))) * TWO_PI / math.pi
     assert np.all(np.abs(got - expected) <= bound + 1e-9 * float(expected.max())), (np.abs(got - expected).max(), bound)
     assert bound < 1e-4 * float(expected.max())  # the bound is tight: the harmonics are good to 1e-4 of the largest
+
+
+# --------------------------------------------------------------------------------------------
+# the descriptions kept across programs (camgen.synthesis.vdi2143 ``_law_values``)
+# --------------------------------------------------------------------------------------------
+def test_segments_with_other_lifts_in_a_row_keep_nortons_values_and_the_fresh_ones():
+    """A sweep of lifts: the cycloid's Cv, Ca, Cj are Norton's (Table 8-3: 2.000, 6.283, 40) at every
+    lift, rise or return; every segment's description, kept or not, is the one made with nothing kept;
+    a polynomial's (its own law per segment) differs with its conditions."""
+    from camgen.synthesis import vdi2143
+
+    span = TWO_PI / 3.0
+    segments = [laws.Segment("cycloidal", span, lift) for lift in (7.0, 12.5, -3.0, 7.0, 0.25)]
+    segments += [laws.Segment("poly345", span, lift) for lift in (4.0, -9.0)] + [laws.Segment("dwell", span)]
+    segments += [laws.Segment("polynomial", span, start=(0.0, v, 0.0), end=(2.0, 0.0, 0.0)) for v in (0.0, 3.0, 0.0)]
+    segments += [laws.Segment("double_harmonic", span, lift) for lift in (5.0, -5.0, 6.0)]
+    vdi2143._law_values.cache_clear()
+    rows = [segment_values(seg) for seg in segments]
+    assert vdi2143._law_values.cache_info().hits == 4  # the cycloid's rises 12.5, 7 and 0.25 after 7; the harmonic's 6 after 5
+    for row in rows[:5]:
+        assert (row.cv, row.ca, row.cj) == pytest.approx((2.000, 6.283, 39.48), rel=1e-3)
+        assert row.task == "R-R"
+    assert rows[7].task == "R" and rows[7].cv == 0.0
+    assert rows[9].task == "G-R" and rows[8].task == "R-R" and rows[10].task == "R-R"
+    assert [r.task for r in rows[11:]] == ["R-U", "U-R", "R-U"]  # Norton's single-dwell rise, time-reversed for the return
+    for seg, row in zip(segments, rows):
+        vdi2143._law_values.cache_clear()  # nothing kept
+        assert segment_values(seg) == row

@@ -23,7 +23,7 @@ import numpy as np
 from camgen.contour.arc import Arc
 from camgen.contour.spline import Spline
 from camgen.numerics.bernstein import bezier_matrix
-from camgen.numerics.polynomial import horner_ascending, scaled_ascending
+from camgen.numerics.polynomial import horner_ascending
 from camgen.numerics.roots import grouped_sign_change_roots
 
 if TYPE_CHECKING:
@@ -78,6 +78,17 @@ def _bezier_matrix(degree: int) -> np.ndarray:
     return m
 
 
+def _scaled_pieces(coeffs: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """:func:`camgen.numerics.polynomial.scaled_ascending` of plane pieces (``coeffs`` (degree + 1,
+    K, 2), highest power first; ``h`` (K,)): the same products ``coeffs[degree - i] h^i`` written
+    into one (K, degree + 1, 2) block (no stack of reshaped copies)."""
+    degree = coeffs.shape[0] - 1
+    q = np.empty((h.size, degree + 1, coeffs.shape[2]))
+    for i in range(degree + 1):
+        np.multiply(coeffs[degree - i], (h ** i)[:, None], out=q[:, i])
+    return q
+
+
 def splines_farthest_distance(splines: list[Spline], floor: float = 0.0) -> float:
     """Largest ``|P|`` (mm) on ``splines`` (at least ``floor``): every piece's ends, and the sign
     changes of ``d|P|^2/ds`` of the pieces where the Bezier hull of ``|P|^2`` reaches beyond the
@@ -92,7 +103,7 @@ def splines_farthest_distance(splines: list[Spline], floor: float = 0.0) -> floa
         # the same values as spline by spline); the piece lengths as np.diff makes them (b[1:] - b[:-1])
         coeffs = group[0].coeffs if len(group) == 1 else np.concatenate([s.coeffs for s in group], axis=1)
         h = np.concatenate([s.breaks[1:] - s.breaks[:-1] for s in group]) if len(group) > 1 else group[0].breaks[1:] - group[0].breaks[:-1]
-        q = scaled_ascending(coeffs, h)
+        q = _scaled_pieces(coeffs, h)
         x, y = q[:, :, 0], q[:, :, 1]  # the products summed over the axes as einsum("kic,kjc->kij") sums them, x x + y y
         outer = (x[:, :, None] * x[:, None, :] + y[:, :, None] * y[:, None, :]).reshape(q.shape[0], -1)
         f = outer @ _square_matrix(degree)  # |Q(s)|^2, ascending (K, 2 degree + 1)

@@ -129,6 +129,19 @@ def _spans(where: str, segments: tuple[dict[str, Any], ...], abscissa: str) -> t
     return [2.0 * math.pi * seg["span_travel"] / total for seg in segments], total
 
 
+#: A segment's options (their fields) and the laws that take each (read_program refuses the others).
+_OPTION_OWNERS = (("blend", "constant_velocity"), ("start", "polynomial or bspline"), ("end", "polynomial or bspline"),
+                  ("scca", "scca"), ("accel_fraction", "asymmetric_modified_sine or asymmetric_modified_trapezoid"),
+                  ("points", "bspline"), ("degree", "bspline"), ("interior", "polynomial"))
+_OPTION_FIELDS = frozenset(name for name, _ in _OPTION_OWNERS)
+
+
+@lru_cache(maxsize=2)
+def _segment_keys(other: str) -> tuple[Key, ...]:
+    """:data:`SEGMENT_KEYS` without ``other`` (the other follower motion's lift key), made once."""
+    return tuple(k for k in SEGMENT_KEYS if k.name != other)
+
+
 def read_program(where: str, segments: tuple[dict[str, Any], ...], motion: str, complete: Any = None, abscissa: str = ANGLE):
     """The :class:`~camgen.synthesis.laws.MotionProgram` of the ``[[segments]]`` tables over one
     turn (``abscissa``: :data:`ANGLE` or :data:`TRAVEL`, module notes); ``complete``: segments ->
@@ -140,7 +153,7 @@ def read_program(where: str, segments: tuple[dict[str, Any], ...], motion: str, 
     oscillating = motion == "oscillating"
     key, other = ("swing_deg", "lift_mm") if oscillating else ("lift_mm", "swing_deg")
     field, other_field = key.rsplit("_", 1)[0], other.rsplit("_", 1)[0]
-    segment_keys = tuple(k for k in SEGMENT_KEYS if k.name != other)  # the segment's lift is this follower's key
+    segment_keys = _segment_keys(other)  # the segment's lift is this follower's key
     built = []
     for i, seg in enumerate(segments):
         path = f"{where}.segments[{i}]"
@@ -155,20 +168,21 @@ def read_program(where: str, segments: tuple[dict[str, Any], ...], motion: str, 
             raise ParameterError(f"{path}.{key}", shown, "0 (or leave it out) for a dwell")
         if law not in ("dwell", "polynomial", "bspline", "velocity_blend") and not lift:
             raise ParameterError(f"{path}.{key}", shown, f"a non-zero {key} for a {law} segment (a segment without motion is a dwell)")
-        for name, allowed in (("blend", "constant_velocity"), ("start", "polynomial or bspline"), ("end", "polynomial or bspline"),
-                              ("scca", "scca"), ("accel_fraction", "asymmetric_modified_sine or asymmetric_modified_trapezoid"),
-                              ("points", "bspline"), ("degree", "bspline"), ("interior", "polynomial")):
-            if name in seg and law not in allowed.split(" or "):
-                raise ParameterError(f"{path}.{name}", seg[name], f"no {name} for a {law} segment", f"only for {allowed}")
+        if not _OPTION_FIELDS.isdisjoint(seg):  # (a segment without options has nothing to refuse here)
+            for name, allowed in _OPTION_OWNERS:
+                if name in seg and law not in allowed.split(" or "):
+                    raise ParameterError(f"{path}.{name}", seg[name], f"no {name} for a {law} segment", f"only for {allowed}")
         if law == "polynomial" and ("start" not in seg or "end" not in seg):
             raise ParameterError(f"{path}.{'start' if 'start' not in seg else 'end'}", None,
                                  "[s, v, a] (optionally j) at both ends of a polynomial segment")
         start = _per_rad(seg["start"], oscillating, per_unit) if "start" in seg else None
         end = _per_rad(seg["end"], oscillating, per_unit) if "end" in seg else None
         # SPLINE (issue 26): a bspline's points, a polynomial's interior conditions (positions checked in scene units)
-        span_scene, span_unit = (math.degrees(spans[i]), "deg") if travel is None else (seg["span_travel"], "mm")
-        rows = {name: rows_per_rad(f"{path}.{name}", seg[name], span_scene, span_unit, per_unit, oscillating)
-                for name in ("points", "interior") if name in seg}
+        rows = {}
+        if "points" in seg or "interior" in seg:
+            span_scene, span_unit = (math.degrees(spans[i]), "deg") if travel is None else (seg["span_travel"], "mm")
+            rows = {name: rows_per_rad(f"{path}.{name}", seg[name], span_scene, span_unit, per_unit, oscillating)
+                    for name in ("points", "interior") if name in seg}
         built.append(renamed(path, segment_keys, lambda: laws.Segment(law, spans[i], lift, seg.get("blend"), start, end,
                                                                       seg.get("scca"), seg.get("accel_fraction"), where=path, points=rows.get("points"), degree=seg.get("degree"),
                                                                       interior=rows.get("interior"))))

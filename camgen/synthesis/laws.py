@@ -367,7 +367,7 @@ _GRID_MEMO_SIZE = 4
 _CALL_MEMO_ANGLES = 4096
 _CALL_MEMO_SIZE = 16
 #: The attributes in which a program keeps values (not pickled).
-_KEPT_VALUES = ("_call_memo", "_grid_memo", "_peaks", "_sample_memo")
+_KEPT_VALUES = ("_call_memo", "_grid_memo", "_peaks", "_sample_memo", "_places_key")
 
 
 def _uniform_phasors(first: float, step: float, m: int) -> np.ndarray:
@@ -417,6 +417,131 @@ def _uniform_basis(n: int, lo: int, hi: int, start: float, span: float, ref: flo
     basis = _piece_basis(tau, span, ref, forward, omegas, degree, step)
     basis.setflags(write=False)
     return basis
+
+
+def _sorted_angles(th: np.ndarray, piece_lo: np.ndarray) -> tuple[np.ndarray, np.ndarray | None, list[int]]:
+    """The cam angles ``th`` (rad, (m,), finite) brought onto ``[0, 2 pi)`` and sorted, the order
+    that sorted them (None: already sorted) and the bounds of the evaluation pieces starting at
+    ``piece_lo`` (rad) in them (:meth:`MotionProgram._values`: at a break the right-hand piece)."""
+    if th.size:
+        low, high = float(th.min()), float(th.max())
+        if not (math.isfinite(low) and math.isfinite(high)):
+            raise ParameterError("theta", "non-finite cam angles", "finite angles in rad")
+        # np.mod(theta, 2 pi) is theta itself on [0, 2 pi) and theta + 2 pi on [-2 pi, 0)
+        if low < 0.0 or high >= TWO_PI:
+            if low >= -TWO_PI and high < TWO_PI:
+                th = np.where(th < 0.0, th + TWO_PI, th)
+                th += 0.0  # np.mod gives +0.0 for -0.0
+            else:
+                th = np.mod(th, TWO_PI)
+            th[th >= TWO_PI] -= TWO_PI  # np.mod(-1e-300, 2 pi) == 2 pi
+    order = None
+    ths = th
+    if len(piece_lo) == 1:
+        bounds = [0, th.size]
+    else:
+        if th.size > 1 and not bool((th[1:] >= th[:-1]).all()):  # not sorted (a check grid is): sort
+            order = np.argsort(th)  # (the order among equal angles does not matter)
+            ths = th[order]
+        # the right-hand piece at a break: a piece starts at the first angle >= its start
+        bounds = [0] + np.searchsorted(ths, piece_lo[1:], side="left").tolist() + [th.size]
+    return ths, order, bounds
+
+
+@dataclass(frozen=True)
+class _Places:
+    """Where a motion program's evaluation pieces lie: ``key``, the bytes of their starts and, per
+    plan entry, of its segment's start and span, its ``ref``, direction, degree and trig
+    frequencies (signed zeros kept); hashed and compared by ``key`` alone.  ``bases``: per plan
+    entry ``(start, span, ref, forward, omegas, degree)`` of :func:`_piece_basis`, or None for a
+    piece evaluated without a basis (a constant, the tilted cycloid)."""
+
+    key: bytes
+    piece_lo: np.ndarray = field(compare=False)
+    bases: tuple[tuple[float, float, float, bool, tuple[float, ...], int] | None, ...] = field(compare=False)
+
+
+#: Angle layouts :func:`_angle_layout` keeps (the angles a design asks its law at: the motion
+#: samples, the contour's knots and probes, the joints; at most 4,096 angles each, or a sample grid).
+_ANGLE_LAYOUT_CACHE = 16
+
+
+@functools.lru_cache(maxsize=_ANGLE_LAYOUT_CACHE)
+def _angle_layout(angles: bytes | int, places: _Places) -> tuple[np.ndarray, np.ndarray | None, tuple[int, ...],
+                                                                   tuple[np.ndarray | None, ...]]:
+    """:func:`_sorted_angles` of the cam angles ``angles`` (their float64 bytes, or ``n`` for
+    ``2 pi arange(n) / n``) for pieces at ``places``, and per plan entry the basis
+    :meth:`MotionProgram._fill` multiplies its matrix by there (None: the entry evaluates itself),
+    every array read-only: a pure function of its arguments, the same numbers ``_fill`` makes (the
+    programs of a sweep that changes only lifts share them; only their matrices differ)."""
+    th = np.frombuffer(angles, dtype=float) if isinstance(angles, bytes) else 2.0 * math.pi * np.arange(angles) / angles
+    ths, order, bounds = _sorted_angles(th, places.piece_lo)
+    bases: list[np.ndarray | None] = []
+    for g, place in enumerate(places.bases):
+        lo, hi = bounds[g], bounds[g + 1]
+        if place is None or lo >= hi:
+            bases.append(None)
+            continue
+        start, span, ref, forward, omegas, degree = place
+        tau = ths[lo:hi] - start
+        tau /= span
+        basis = _piece_basis(tau, span, ref, forward, omegas, degree, None)
+        basis.setflags(write=False)
+        bases.append(basis)
+    ths.setflags(write=False)
+    if order is not None:
+        order.setflags(write=False)
+    return ths, order, tuple(bounds), tuple(bases)
+
+
+#: Grid layouts :func:`_grid_layout` keeps (a cam's dense check grid and coarse grid, a few more).
+_GRID_LAYOUT_CACHE = 8
+
+
+@functools.lru_cache(maxsize=_GRID_LAYOUT_CACHE)
+def _grid_layout(n: int, extra: bytes, places: _Places) -> tuple[tuple[int, int, int, int, np.ndarray | None, np.ndarray | None], ...]:
+    """Per plan entry of a program whose pieces lie at ``places``: its uniform angles ``k 2 pi / n``
+    (``lo .. hi - 1``), its columns ``elo .. ehi - 1`` among the added angles ``extra`` (their
+    float64 bytes, sorted, on ``[0, 2 pi)``), and the bases :meth:`MotionProgram.on_uniform_grid`
+    multiplies its matrix by: the uniform part's (:func:`_uniform_basis`, or the direct one of
+    :meth:`MotionProgram._fill` with its step where it does not key) and the added angles' (None:
+    none); a piece of fewer than :data:`_PHASOR_MIN_POINTS` uniform angles: None and the basis of
+    its uniform and added angles together; a piece evaluated without a basis: None, None.  Every
+    array read-only: a pure function of its arguments, the numbers ``on_uniform_grid`` made per
+    program (the programs of a sweep that changes only lifts share them)."""
+    added = np.frombuffer(extra, dtype=float)
+    step = TWO_PI / n
+    grid = np.arange(n) * step
+    starts = places.piece_lo[1:]
+    bounds = [0] + np.searchsorted(grid, starts, side="left").tolist() + [n]
+    extra_bounds = [0] + np.searchsorted(added, starts, side="left").tolist() + [added.size]
+    out = []
+    for g, place in enumerate(places.bases):
+        lo, hi = bounds[g], bounds[g + 1]
+        elo, ehi = n + extra_bounds[g], n + extra_bounds[g + 1]
+        uniform = together = None
+        if place is not None:
+            start, span, ref, forward, omegas, degree = place
+            if hi - lo >= _PHASOR_MIN_POINTS:
+                if math.copysign(1.0, ref) < 0.0:  # (a -0.0 ref keys as 0.0: made as _fill makes it)
+                    tau = grid[lo:hi] - start
+                    tau /= span
+                    uniform = _piece_basis(tau, span, ref, forward, omegas, degree, step)
+                    uniform.setflags(write=False)
+                else:
+                    uniform = _uniform_basis(n, lo, hi, start, span, ref, forward, omegas, degree)
+                if elo < ehi:
+                    tau = added[elo - n: ehi - n] - start
+                    tau /= span
+                    together = _piece_basis(tau, span, ref, forward, omegas, degree, None)
+            else:
+                tau = np.concatenate([grid[lo:hi], added[elo - n: ehi - n]]) - start
+                tau /= span
+                together = _piece_basis(tau, span, ref, forward, omegas, degree, None)
+            if together is not None:
+                together.setflags(write=False)
+        out.append((lo, hi, elo, ehi, uniform, together))
+    return tuple(out)
 
 
 def _grouped(idx: np.ndarray, count: int) -> tuple[np.ndarray | None, np.ndarray]:
@@ -1377,7 +1502,7 @@ class MotionProgram:
                 memo[key] = kept
                 res = kept.copy()
                 return res[0].reshape(shape), res[1].reshape(shape), res[2].reshape(shape), res[3].reshape(shape)
-        res = self._values(theta)
+        res = self._values(theta, key)
         if key is not None:
             if len(memo) >= _CALL_MEMO_SIZE:
                 try:
@@ -1391,38 +1516,47 @@ class MotionProgram:
             memo[key] = kept
         return res[0].reshape(shape), res[1].reshape(shape), res[2].reshape(shape), res[3].reshape(shape)
 
-    def _values(self, theta: np.ndarray) -> np.ndarray:
-        """:meth:`__call__`'s values, computed: a (4, theta.size) block."""
-        th = theta.ravel()
-        if th.size:
-            low, high = float(th.min()), float(th.max())
-            if not (math.isfinite(low) and math.isfinite(high)):
-                raise ParameterError("theta", "non-finite cam angles", "finite angles in rad")
-            # np.mod(theta, 2 pi) is theta itself on [0, 2 pi) and theta + 2 pi on [-2 pi, 0)
-            if low < 0.0 or high >= TWO_PI:
-                if low >= -TWO_PI and high < TWO_PI:
-                    th = np.where(th < 0.0, th + TWO_PI, th)
-                    th += 0.0  # np.mod gives +0.0 for -0.0
-                else:
-                    th = np.mod(th, TWO_PI)
-                th[th >= TWO_PI] -= TWO_PI  # np.mod(-1e-300, 2 pi) == 2 pi
+    def _places(self) -> _Places:
+        """The places of this program's evaluation pieces (:class:`_Places`: the key of
+        :func:`_angle_layout`), made once per program."""
+        places = self.__dict__.get("_places_key")
+        if places is None:
+            plan = self._plan()
+            numbers = [float(len(self._piece_lo)), *self._piece_lo.tolist()]
+            bases: list[tuple[float, float, float, bool, tuple[float, ...], int] | None] = []
+            for start, span, ref, forward, _, omegas, matrix, custom in plan:
+                if custom is not None or matrix.shape[1] == 1:  # evaluated without a basis
+                    numbers += [0.0]
+                    bases.append(None)
+                    continue
+                degree = matrix.shape[1] - 1 - 2 * len(omegas)
+                numbers += [1.0, start, span, ref, float(forward), float(degree), float(len(omegas)), *omegas]
+                bases.append((start, span, ref, forward, omegas, degree))
+            places = _Places(np.array(numbers, dtype=float).tobytes(), self._piece_lo, tuple(bases))
+            self.__dict__["_places_key"] = places
+        return places
+
+    def _values(self, theta: np.ndarray, key: bytes | int | None = None) -> np.ndarray:
+        """:meth:`__call__`'s values, computed: a (4, theta.size) block.  ``key``: the angles'
+        bytes (``theta.tobytes()``), or ``n`` for ``theta = 2 pi arange(n) / n``: the angles'
+        order, pieces and bases then come from :func:`_angle_layout` (kept across programs whose
+        pieces lie at the same places: a sweep of lifts), only the matrix products are made."""
         plan = self._plan()
-        npieces = len(plan)
-        order = None
-        ths = th
-        if npieces == 1:
-            bounds = [0, th.size]
+        bounds: Sequence[int]
+        if key is None:
+            ths, order, bounds = _sorted_angles(theta.ravel(), self._piece_lo)
+            bases: tuple[np.ndarray | None, ...] = (None,) * len(plan)
         else:
-            if th.size > 1 and not bool((th[1:] >= th[:-1]).all()):  # not sorted (a check grid is): sort
-                order = np.argsort(th)  # (the order among equal angles does not matter)
-                ths = th[order]
-            # the right-hand piece at a break: a piece starts at the first angle >= its start
-            bounds = [0] + np.searchsorted(ths, self._piece_lo[1:], side="left").tolist() + [th.size]
-        res = np.empty((4, th.size))  # s and its three derivatives in one block (one allocation)
+            ths, order, bounds, bases = _angle_layout(key, self._places())
+        res = np.empty((4, ths.size))  # s and its three derivatives in one block (one allocation)
         for g, entry in enumerate(plan):
             lo, hi = bounds[g], bounds[g + 1]
             if lo < hi:
-                self._fill(entry, ths[lo:hi], res[:, lo:hi], None)
+                basis = bases[g]
+                if basis is None:
+                    self._fill(entry, ths[lo:hi], res[:, lo:hi], None)
+                else:  # what _fill makes of this basis
+                    np.matmul(entry[6], basis, out=res[:, lo:hi])
         if order is not None:
             out = np.empty_like(res)
             out[:, order] = res
@@ -1464,6 +1598,22 @@ class MotionProgram:
             return
         np.matmul(matrix, _uniform_basis(n, lo, hi, start, span, ref, forward, omegas, matrix.shape[1] - 1 - 2 * len(omegas)), out=out)
 
+    @staticmethod
+    def _fill_grid_piece(entry: tuple, n: int, extra: np.ndarray, lo: int, hi: int, elo: int, ehi: int, res: np.ndarray) -> None:
+        """:meth:`on_uniform_grid`'s values of one plan entry evaluated without a kept basis (the
+        tilted cycloid): its uniform angles ``lo .. hi - 1`` and its added ones
+        (columns ``elo .. ehi - 1`` of ``res``, (4, n + extra.size))."""
+        step = TWO_PI / n
+        if hi - lo >= _PHASOR_MIN_POINTS:  # angle addition pays off on the uniform part
+            MotionProgram._fill_uniform(entry, n, lo, hi, np.arange(n)[lo:hi] * step, res[:, lo:hi])
+            if elo < ehi:
+                MotionProgram._fill(entry, extra[elo - n: ehi - n], res[:, elo:ehi], None)
+        elif lo < hi or elo < ehi:  # few angles: the uniform and the added ones in one evaluation
+            both = np.empty((4, hi - lo + ehi - elo))
+            MotionProgram._fill(entry, np.concatenate([np.arange(n)[lo:hi] * step, extra[elo - n: ehi - n]]), both, None)
+            res[:, lo:hi] = both[:, : hi - lo]
+            res[:, elo:ehi] = both[:, hi - lo:]
+
     def on_uniform_grid(self, n: int, extra: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """The displacement and its three derivatives at the cam angles ``k 2 pi / n`` (k = 0 .. n - 1)
         followed by the sorted angles ``extra`` (rad, in ``[0, 2 pi)``): what ``self(np.concatenate([np.arange(n)
@@ -1483,24 +1633,26 @@ class MotionProgram:
         kept = memo.get(key)
         if kept is not None:
             return kept
-        step = TWO_PI / n
-        grid = np.arange(n) * step
-        starts = self._piece_lo[1:]
-        bounds = [0] + np.searchsorted(grid, starts, side="left").tolist() + [n]
-        extra_bounds = [0] + np.searchsorted(extra, starts, side="left").tolist() + [extra.size]
+        plan = self._plan()
         res = np.empty((4, n + extra.size))
-        for g, entry in enumerate(self._plan()):
-            lo, hi = bounds[g], bounds[g + 1]
-            elo, ehi = n + extra_bounds[g], n + extra_bounds[g + 1]
-            if hi - lo >= _PHASOR_MIN_POINTS:  # angle addition pays off on the uniform part
-                self._fill_uniform(entry, n, lo, hi, grid[lo:hi], res[:, lo:hi])
-                if elo < ehi:
-                    self._fill(entry, extra[elo - n: ehi - n], res[:, elo:ehi], None)
-            elif lo < hi or elo < ehi:  # few angles: the uniform and the added ones in one evaluation
+        layout = _grid_layout(n, key[1], self._places())
+        for entry, (lo, hi, elo, ehi, uniform, added) in zip(plan, layout):
+            if uniform is not None:  # what _fill_uniform and _fill make of these bases
+                np.matmul(entry[6], uniform, out=res[:, lo:hi])
+                if added is not None:
+                    np.matmul(entry[6], added, out=res[:, elo:ehi])
+            elif added is not None:  # few uniform angles: with the added ones in one product, as _fill
                 both = np.empty((4, hi - lo + ehi - elo))
-                self._fill(entry, np.concatenate([grid[lo:hi], extra[elo - n: ehi - n]]), both, None)
+                np.matmul(entry[6], added, out=both)
                 res[:, lo:hi] = both[:, : hi - lo]
                 res[:, elo:ehi] = both[:, hi - lo:]
+            elif entry[7] is None:  # a constant piece (a dwell): what _fill makes of it, without angles
+                if lo < hi:
+                    np.add(entry[6], 0.0, out=res[:, lo:hi])
+                if elo < ehi:
+                    np.add(entry[6], 0.0, out=res[:, elo:ehi])
+            else:  # a piece that evaluates itself (the tilted cycloid)
+                self._fill_grid_piece(entry, n, extra, lo, hi, elo, ehi, res)
         res.setflags(write=False)
         if len(memo) >= _GRID_MEMO_SIZE:
             memo.clear()  # (one step: safe with threads sharing the program)
@@ -1518,7 +1670,7 @@ class MotionProgram:
         if kept is not None:
             res = kept.copy()
             return res[0], res[1], res[2], res[3]
-        res = self._values(2.0 * math.pi * np.arange(n) / n)
+        res = self._values(2.0 * math.pi * np.arange(n) / n, n)
         if len(memo) >= _GRID_MEMO_SIZE:
             memo.clear()  # (one step: safe with threads sharing the program)
         if seen:  # asked for before: kept from now on

@@ -140,21 +140,37 @@ def c_mdyn(law: "Law") -> float:
 
 
 def segment_values(segment: "Segment") -> SegmentValues:
-    """The VDI 2143 description of one program segment (:class:`SegmentValues`)."""
+    """The VDI 2143 description of one program segment (:class:`SegmentValues`): its law's
+    (:func:`_law_values`) with the lift's normalising factor."""
     law = segment.shape
+    (pv, _), (pa, _), _ = law.peaks
+    if law.name == "dwell" or (pv == 0.0 and pa == 0.0):
+        return _law_values(law, None)
+    # the normalised law S = scale shape / L, L the lift (or the excursion of a segment ending where it started)
     lift = float(segment.lift or 0.0)
+    s_min, _, s_max, _ = law.s_range
+    reference = abs(lift) if lift != 0.0 else abs(segment.scale) * (s_max - s_min)
+    return _law_values(law, abs(segment.scale) / reference)
+
+
+#: Segment descriptions :func:`_law_values` keeps (a program's laws and factors: a sweep of lifts
+#: keeps both, the factor of a law scaled by its lift being 1).
+_LAW_VALUES_CACHE = 64
+
+
+@functools.lru_cache(maxsize=_LAW_VALUES_CACHE)
+def _law_values(law: "Law", factor: float | None) -> SegmentValues:
+    """:class:`SegmentValues` of a segment of ``law`` whose normalised law is ``factor`` times its
+    shape (None: a segment at rest): a pure function of the (immutable) law and the factor, kept
+    (the value is immutable)."""
     name = law.name
     vdi = VDI_NAMES.get(name)
     if name == "polynomial":
         degree = law.options.get("degree")
         vdi = _polynomial_name(degree) if isinstance(degree, int) else None
-    (pv, _), (pa, _), (pj, _) = law.peaks
-    if name == "dwell" or (pv == 0.0 and pa == 0.0):
+    if factor is None:
         return SegmentValues(name, VDI_NAMES["dwell"] if name == "dwell" else vdi, "R", 0.0, 0.0, 0.0, 0.0)
-    # the normalised law S = scale shape / L, L the lift (or the excursion of a segment ending where it started)
-    s_min, _, s_max, _ = law.s_range
-    reference = abs(lift) if lift != 0.0 else abs(segment.scale) * (s_max - s_min)
-    factor = abs(segment.scale) / reference
+    (pv, _), (pa, _), (pj, _) = law.peaks
     start = law.start
     end = law.end
     task = f"{end_state(start[1], start[2], pv, pa)}-{end_state(end[1], end[2], pv, pa)}"
