@@ -383,20 +383,49 @@ class Kinematics:
     d3s: np.ndarray
     unit: str
     pressure_angle: np.ndarray
-    follower_point: np.ndarray
     arm_angle: np.ndarray | None
-    pitch_point: np.ndarray | None
     pitch_curvature: np.ndarray | None
-    contact_point: np.ndarray
     profile_curvature: np.ndarray
     profile_radius: np.ndarray
     face_position: np.ndarray | None
     normal_turn_rate: np.ndarray | None
-    # internal: exact first and second derivatives d/dtheta of the pitch and the profile (cam frame)
-    pitch_d1: np.ndarray | None = field(default=None, repr=False)
-    pitch_d2: np.ndarray | None = field(default=None, repr=False)
-    contact_d1: np.ndarray | None = field(default=None, repr=False)
-    contact_d2: np.ndarray | None = field(default=None, repr=False)
+    # internal: the points and the curves' derivatives (made on first use for a roller or knife)
+    curves: "_CurvePoints" = field(repr=False, compare=False)
+
+    @property
+    def follower_point(self) -> np.ndarray:
+        """The roller centre / knife tip / flat-face contact point in the fixed frame, mm (n, 2)."""
+        return self.curves.points()[0]
+
+    @property
+    def pitch_point(self) -> np.ndarray | None:
+        """Roller / knife: the pitch curve in the cam frame, mm (n, 2); flat: None."""
+        return self.curves.points()[1]
+
+    @property
+    def contact_point(self) -> np.ndarray:
+        """The contact point on the cam profile, cam frame, mm (n, 2)."""
+        return self.curves.points()[2]
+
+    @property
+    def pitch_d1(self) -> np.ndarray | None:
+        """Exact d/dtheta of the pitch curve (cam frame, mm/rad, (n, 2)); flat: None."""
+        return self.curves.points()[3]
+
+    @property
+    def pitch_d2(self) -> np.ndarray | None:
+        """Exact d2/dtheta2 of the pitch curve (cam frame, mm/rad^2, (n, 2)); flat: None."""
+        return self.curves.points()[4]
+
+    @property
+    def contact_d1(self) -> np.ndarray:
+        """Exact d/dtheta of the profile at the contact (cam frame, mm/rad, (n, 2))."""
+        return self.curves.points()[5]
+
+    @property
+    def contact_d2(self) -> np.ndarray:
+        """Exact d2/dtheta2 of the profile at the contact (cam frame, mm/rad^2, (n, 2))."""
+        return self.curves.points()[6]
 
     @property
     def pitch_radius(self) -> np.ndarray | None:
@@ -406,6 +435,64 @@ class Kinematics:
         k = self.pitch_curvature
         with np.errstate(divide="ignore"):
             return np.where(k != 0, 1.0 / np.where(k != 0, k, 1.0), np.inf)
+
+
+#: The points of a :class:`Kinematics`: follower point, pitch point, contact point, the pitch
+#: curve's two derivatives, the profile's two ((n, 2) each; None where the follower has none).
+_Points: TypeAlias = ("tuple[np.ndarray, np.ndarray | None, np.ndarray, np.ndarray | None, np.ndarray | None, "
+                      "np.ndarray, np.ndarray]")
+
+
+class _CurvePoints:
+    """The points of a :class:`Kinematics` (:data:`_Points`): given (a flat face) or made on first
+    use from a roller's or knife's terms (:func:`_roller_points`: a design evaluation reads the
+    pressure angle and the curvatures only; the same numbers whenever they are made)."""
+
+    __slots__ = ("_made", "_terms")
+
+    def __init__(self, made: _Points | None = None, terms: "_RollerTerms | None" = None) -> None:
+        self._made = made
+        self._terms = terms
+
+    def points(self) -> _Points:
+        if self._made is None:
+            assert self._terms is not None  # either made or made from these
+            self._made = _roller_points(*self._terms)
+            self._terms = None
+        return self._made
+
+    def __getstate__(self) -> _Points:
+        return self.points()
+
+    def __setstate__(self, made: _Points) -> None:
+        self._made, self._terms = made, None
+
+
+#: What :func:`_roller_points` makes the points from: ``back`` (the rotation into the cam frame),
+#: the roller centre ``(cx, cy)`` (fixed frame), ``V``, ``A`` (:func:`_centre`), the pitch curve's
+#: speed ``|V|``, ``1 - r kappa`` and ``kappa'`` (:func:`_pitch_curvature`), the roller radius
+#: ``r`` and ``sigma``.
+_RollerTerms: TypeAlias = ("tuple[np.ndarray, np.ndarray | float, np.ndarray, np.ndarray, np.ndarray, np.ndarray, "
+                           "np.ndarray, np.ndarray, np.ndarray, np.ndarray, float, float]")
+
+
+def _roller_points(back: np.ndarray, cx: np.ndarray | float, cy: np.ndarray, vx: np.ndarray, vy: np.ndarray,
+                   ax: np.ndarray, ay: np.ndarray, speed: np.ndarray, factor: np.ndarray, kappa_p1: np.ndarray,
+                   r: float, sigma: float) -> _Points:
+    """The points of a roller's or knife's :class:`Kinematics` (:data:`_Points`) by the arithmetic
+    of :func:`_roller` (see there) from its :data:`_RollerTerms`."""
+    cplx = np.empty((7, back.size), dtype=complex)
+    pitch, p1, p2 = _in_cam(back, cx, cy, cplx[1]), _in_cam(back, vx, vy, cplx[2]), _in_cam(back, ax, ay, cplx[3])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        k = (sigma * r) / speed
+    contact = np.multiply(p1, k * -1j, out=cplx[4])
+    contact += pitch
+    q1 = np.multiply(p1, factor, out=cplx[5])
+    q2 = np.multiply(p2, factor, out=cplx[6])
+    q2 -= p1 * (kappa_p1 * r)
+    cplx[0].real = cx
+    cplx[0].imag = cy
+    return _xy(cplx[0]), _xy(pitch), _xy(contact), _xy(p1), _xy(p2), _xy(q1), _xy(q2)
 
 
 def _centre(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray | None):
@@ -523,8 +610,8 @@ def _flat(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d2s
             alpha = real[2]
             alpha[...] = np.where(face_pos != 0, np.arctan(face / face_pos), math.copysign(math.pi / 2, face or 1.0))
             turn = np.multiply(-sigma, psi1, out=real[3])
-    return Kinematics(theta, s, ds, d2s, d3s, f.lift_unit, alpha, _xy(cplx[0]), psi_f, None, None, _xy(contact),
-                      kappa, rho, face_pos, turn, None, None, _xy(q1), _xy(q2))
+    return Kinematics(theta, s, ds, d2s, d3s, f.lift_unit, alpha, psi_f, None, kappa, rho, face_pos, turn,
+                      _CurvePoints((_xy(cplx[0]), None, _xy(contact), None, None, _xy(q1), _xy(q2))))
 
 
 def _pitch_curvature(sigma: float, vx: np.ndarray, vy: np.ndarray, ax: np.ndarray, ay: np.ndarray, bx: np.ndarray, by: np.ndarray,
@@ -567,23 +654,22 @@ def _roller(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d
     ``out``: a complex (3, n, len(want)) block to write them into, curve c in ``out[:, :, c]``).  (The
     outputs share blocks of memory and temporaries are released as soon as they are used: fresh
     memory is much of the cost.)"""
-    sigma, r, n = f.sigma, f.roller_radius, theta.size
-    # full: rows 0-6 follower point, pitch curve and its two derivatives, profile and its two; rows
-    # 0-3 of `real`: pressure angle, pitch and profile curvature, profile radius of curvature
-    cplx: np.ndarray | list[np.ndarray | None] = np.empty((7, n), dtype=complex) if full else [None] * 7
+    if full:
+        return _roller_kinematics(f, theta, s, ds, d2s, d3s, back)
+    sigma, r = f.sigma, f.roller_radius
+    cplx: list[np.ndarray | None] = [None] * 7  # rows 1-3 the pitch curve and its two derivatives, 4-6 the profile and its two
     if out is not None:
         for c, name in enumerate(want):
             first = 1 if name == "pitch" else 4
             cplx[first: first + 3] = out[0, :, c], out[1, :, c], out[2, :, c]
-    real: np.ndarray | list[None] = np.empty((4, n)) if full else [None] * 4
-    (cx, cy), (vx, vy), (ax, ay), (bx, by), m, g = _centre(f, s, ds, d2s, d3s)
+    (cx, cy), (vx, vy), (ax, ay), (bx, by), _, _ = _centre(f, s, ds, d2s, d3s)
     # P = R(-sigma theta) C; P' = R V, P'' = R A, P''' = R B
     back = _to_cam(f, theta) if back is None else back
     pitch, p1, p2 = _in_cam(back, cx, cy, cplx[1]), _in_cam(back, vx, vy, cplx[2]), _in_cam(back, ax, ay, cplx[3])
     del back
-    if "profile" not in want and not full:
+    if "profile" not in want:
         return ((pitch, p1, p2),)
-    speed, _, _, kappa_p, kappa_p1 = _pitch_curvature(sigma, vx, vy, ax, ay, bx, by, real[1])
+    speed, _, _, kappa_p, kappa_p1 = _pitch_curvature(sigma, vx, vy, ax, ay, bx, by)
     del bx, by
     with np.errstate(divide="ignore", invalid="ignore"):
         k = (sigma * r) / speed  # Q = P - r n with the outward normal n = (sigma / |V|) J V (n = -J t, t = -sigma V / |V|)
@@ -599,23 +685,31 @@ def _roller(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d
     q2 = np.multiply(p2, factor, out=cplx[6])
     q2 -= p1 * kappa_p1
     del kappa_p1
-    if not full:
-        curves = {"pitch": (pitch, p1, p2), "profile": (contact, q1, q2)}
-        return tuple(curves[name] for name in want)
-    assert isinstance(cplx, np.ndarray) and isinstance(real, np.ndarray)  # full: the rows, not the placeholders
+    curves = {"pitch": (pitch, p1, p2), "profile": (contact, q1, q2)}
+    return tuple(curves[name] for name in want)
+
+
+def _roller_kinematics(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray,
+                       back: np.ndarray | None = None) -> Kinematics:
+    """The :class:`Kinematics` of a roller or knife (:func:`_roller`'s arithmetic): the pressure
+    angle and the curvatures now, the points (:class:`_CurvePoints`) on first use."""
+    sigma, r, n = f.sigma, f.roller_radius, theta.size
+    real = np.empty((4, n))  # pressure angle, pitch and profile curvature, profile radius of curvature
+    (cx, cy), (vx, vy), (ax, ay), (bx, by), m, g = _centre(f, s, ds, d2s, d3s)
+    speed, _, _, kappa_p, kappa_p1 = _pitch_curvature(sigma, vx, vy, ax, ay, bx, by, real[1])
+    del bx, by
+    factor = 1.0 - r * kappa_p
     if m is None:  # translating: m = (0, 1), V . m = Vy, V x m = Vx
         alpha = np.arctan2(vy, np.abs(vx), out=real[0])
     else:
         alpha = np.arctan2(vx * m[0] + vy * m[1], np.abs(vx * m[1] - vy * m[0]), out=real[0])
-    del vx, vy
     with np.errstate(divide="ignore", invalid="ignore"):
         kappa = np.divide(kappa_p, factor, out=real[2])  # profile: rho = rho_pitch - r
         rho = np.divide(1.0, kappa, out=real[3])
         rho[kappa == 0] = np.inf
-    cplx[0].real = cx
-    cplx[0].imag = cy
-    return Kinematics(theta, s, ds, d2s, d3s, f.lift_unit, alpha, _xy(cplx[0]), g, _xy(pitch), kappa_p,
-                      _xy(contact), kappa, rho, None, None, _xy(p1), _xy(p2), _xy(q1), _xy(q2))
+    back = _to_cam(f, theta) if back is None else back
+    points = _CurvePoints(terms=(back, cx, cy, vx, vy, ax, ay, speed, factor, kappa_p1, r, sigma))
+    return Kinematics(theta, s, ds, d2s, d3s, f.lift_unit, alpha, g, kappa_p, kappa, rho, None, None, points)
 
 
 def _kinematics_from(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray,

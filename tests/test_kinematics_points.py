@@ -1,0 +1,87 @@
+"""A roller's or knife's Kinematics make their points (follower, pitch and contact point, the
+curves' derivatives) on first use (a design evaluation reads the pressure angle and the
+curvatures only): the points against the arithmetic that makes the spline's curves (``_roller``
+without the kinematics), against ``contact_points``, against their own geometry (the contact one
+roller radius from the pitch point, the pitch point the follower point turned into the cam frame)
+and against central differences of the points; a pickled Kinematics carries them."""
+from __future__ import annotations
+
+import math
+import pickle
+
+import numpy as np
+import pytest
+
+from camgen.synthesis.followers import FollowerSpec, _roller, cam_envelope, contact_points, kinematics
+from camgen.synthesis.laws import MotionProgram, Segment
+
+D = math.radians
+FOLLOWERS = {
+    "roller_offset": dict(kind="roller", base_radius=40.0, roller_radius=10.0, offset=12.0),
+    "roller_cw": dict(kind="roller", base_radius=35.0, roller_radius=6.0, offset=-4.0, rotation="cw"),
+    "knife": dict(kind="knife", base_radius=40.0, offset=-6.0),
+    "osc_roller": dict(kind="roller", base_radius=40.0, motion="oscillating", roller_radius=8.0, pivot=(110.0, 40.0), arm_length=95.0),
+    "osc_knife": dict(kind="knife", base_radius=40.0, motion="oscillating", pivot=(110.0, 40.0), arm_length=95.0),
+}
+#: lift (mm) or swing (deg) of each follower's program
+LIFT = {"roller_offset": 16.0, "roller_cw": 12.0, "knife": 16.0, "osc_roller": 12.0, "osc_knife": 10.0}
+#: Relative tolerance of a central difference of step H (rad) against the exact derivative: error ~ H^2 / 6 of the third derivative.
+H, FD_TOL = 1e-5, 1e-6
+
+
+def _case(name):
+    kind = FOLLOWERS[name]
+    oscillating = kind.get("motion") == "oscillating"
+    unit, lift = ("rad", D(LIFT[name])) if oscillating else ("mm", LIFT[name])
+    law = MotionProgram([Segment("cycloidal", D(110), lift), Segment("dwell", D(50)),
+                         Segment("poly345", D(90), -lift), Segment("dwell", D(110))], unit=unit)
+    return FollowerSpec(**kind), law
+
+
+def _complex(xy):
+    return xy[:, 0] + 1j * xy[:, 1]
+
+
+@pytest.mark.parametrize("name", sorted(FOLLOWERS))
+def test_points_made_on_first_use_are_the_curves_arithmetic(name):
+    f, law = _case(name)
+    theta = np.linspace(0.0, 2.0 * math.pi, 721)[:-1] + 0.0003
+    k = kinematics(f, law, theta)
+    s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(theta))
+    (pitch, p1, p2), (contact, q1, q2) = _roller(f, theta, s, ds, d2s, d3s, False, ("pitch", "profile"))
+    for got, want in ((k.pitch_point, pitch), (k.pitch_d1, p1), (k.pitch_d2, p2), (k.contact_point, contact),
+                      (k.contact_d1, q1), (k.contact_d2, q2)):
+        assert got is not None and got.shape == (theta.size, 2)
+        assert np.array_equal(_complex(got), want)  # bit for bit
+    assert np.array_equal(k.contact_point, contact_points(f, law, theta))
+    # geometry: the contact one roller radius from the pitch point; the pitch point the follower point in the cam frame
+    assert np.allclose(np.abs(_complex(k.contact_point) - _complex(k.pitch_point)), f.roller_radius, rtol=0, atol=1e-12)
+    turned = _complex(k.follower_point) * np.exp(-1j * f.sigma * theta)
+    assert np.allclose(turned, _complex(k.pitch_point), rtol=0, atol=1e-12)
+    # the derivatives against central differences of the points (away from the breaks: the law is smooth there)
+    plus, minus = kinematics(f, law, theta + H), kinematics(f, law, theta - H)
+    smooth = np.all(np.abs(np.mod(theta[:, None] - law.breaks[None, :] + math.pi, 2 * math.pi) - math.pi) > 1e-3, axis=1)
+    for point, d1, d2 in (("pitch_point", "pitch_d1", "pitch_d2"), ("contact_point", "contact_d1", "contact_d2")):
+        a, b, c = (_complex(getattr(x, point)) for x in (plus, k, minus))
+        first, second = _complex(getattr(k, d1)), _complex(getattr(k, d2))
+        scale = np.max(np.abs(first))
+        assert np.max(np.abs(((a - c) / (2 * H) - first)[smooth])) <= FD_TOL * scale
+        d2_plus, d2_minus = (_complex(getattr(x, d1)) for x in (plus, minus))
+        assert np.max(np.abs(((d2_plus - d2_minus) / (2 * H) - second)[smooth])) <= FD_TOL * np.max(np.abs(second))
+
+
+@pytest.mark.parametrize("name", ["roller_offset", "osc_knife"])
+def test_envelope_data_points_and_a_pickled_kinematics(name):
+    """The check grid's Kinematics give their points when asked (after the curvatures were read),
+    the same as kinematics() at the grid's angles made fresh; a pickled copy carries them, asked or not."""
+    f, law = _case(name)
+    env = cam_envelope(f, law)
+    data = env.data
+    before = pickle.loads(pickle.dumps(data))  # pickled before any point was asked
+    least = float(np.min(data.profile_radius))
+    fresh = kinematics(f, law, env.grid.theta)
+    for got in (data, before, pickle.loads(pickle.dumps(data))):
+        assert float(np.min(got.profile_radius)) == least
+        for name_ in ("follower_point", "pitch_point", "contact_point", "pitch_d1", "pitch_d2", "contact_d1", "contact_d2"):
+            assert np.allclose(getattr(got, name_), getattr(fresh, name_), rtol=0, atol=1e-12), name_
+    assert data.contact_point is data.contact_point  # made once
