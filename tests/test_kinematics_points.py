@@ -85,3 +85,34 @@ def test_envelope_data_points_and_a_pickled_kinematics(name):
         for name_ in ("follower_point", "pitch_point", "contact_point", "pitch_d1", "pitch_d2", "contact_d1", "contact_d2"):
             assert np.allclose(getattr(got, name_), getattr(fresh, name_), rtol=0, atol=1e-12), name_
     assert data.contact_point is data.contact_point  # made once
+
+
+#: (follower, base radius, roller radius or None: the follower's): passing cams and, with a small
+#: base radius and a large roller, translating rollers that undercut
+FAILING = [(n, 40.0, None) for n in sorted(FOLLOWERS)] + [(n, 23.0, None) for n in ("osc_knife", "osc_roller")] \
+    + [("knife", 8.0, None), ("roller_offset", 4.0, 25.0), ("roller_cw", 4.0, 25.0), ("roller_offset", 4.0, 16.0)]
+
+
+@pytest.mark.parametrize("name, base, roller", FAILING)
+def test_failures_from_the_kinematics_measures_are_the_direct_ones(name, base, roller):
+    """profile_failures of a roller's or knife's Kinematics (from the measures kept when the
+    curvatures were made) are _pitch_failures from the law's s, s', s'' (reasons and masks); the
+    undercut mask is where r kappa >= 1 of the pitch curvature (away from its boundary) and not
+    empty for the small base radii with a large roller."""
+    from camgen.synthesis.followers import _pitch_failures, profile_failures
+
+    _, law = _case(name)
+    f = FollowerSpec(**{**FOLLOWERS[name], "base_radius": base, **({} if roller is None else {"roller_radius": roller})})
+    theta = np.linspace(0.0, 2.0 * math.pi, 3601)[:-1]
+    k = kinematics(f, law, theta)
+    got = profile_failures(f, k)
+    want = _pitch_failures(f, k.s, k.ds, k.d2s)
+    assert [r for r, _ in got] == [r for r, _ in want]
+    for (_, a), (_, b) in zip(got, want):
+        assert np.array_equal(a, b)
+    if f.has_radius:
+        undercut = got[-1][1]
+        r_kappa = f.roller_radius * k.pitch_curvature
+        clear = np.abs(r_kappa - 1.0) > 1e-9
+        assert np.array_equal(undercut[clear], (r_kappa >= 1.0)[clear])
+        assert undercut.any() == (roller is not None)

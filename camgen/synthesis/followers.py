@@ -391,6 +391,8 @@ class Kinematics:
     normal_turn_rate: np.ndarray | None
     # internal: the points and the curves' derivatives (made on first use for a roller or knife)
     curves: "_CurvePoints" = field(repr=False, compare=False)
+    # internal: a roller's or knife's terms of profile_failures (the same numbers as from s, ds, d2s)
+    pitch_measures: "_PitchMeasures | None" = field(default=None, repr=False, compare=False)
 
     @property
     def follower_point(self) -> np.ndarray:
@@ -615,11 +617,14 @@ def _flat(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d2s
 
 
 def _pitch_curvature(sigma: float, vx: np.ndarray, vy: np.ndarray, ax: np.ndarray, ay: np.ndarray, bx: np.ndarray, by: np.ndarray,
-                     out: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+                     out: np.ndarray | None = None, kept: list[np.ndarray] | None = None
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The pitch curve's speed ``|V|`` (mm/rad), ``|V|^2``, ``V . A``, signed curvature ``kappa =
     -sigma (V x A) / |V|^3`` (1/mm, into ``out``; the counter-clockwise contour runs against theta
     for a ccw cam) and ``d kappa / d theta = -sigma ((V x B) / |V|^3 - 3 (V x A) (V . A) / |V|^5)``
-    (``d|V| / d theta = V . A / |V|``) from the components of ``V``, ``A``, ``B`` (:func:`_centre`)."""
+    (``d|V| / d theta = V . A / |V|``) from the components of ``V``, ``A``, ``B`` (:func:`_centre`).
+    ``kept``: a list to append ``V x A`` and ``|V|^3`` to (:class:`_PitchMeasures`; else they are
+    overwritten: the same values either way)."""
     with np.errstate(all="ignore"):
         speed2 = vx * vx + vy * vy
         dot = vx * ax + vy * ay
@@ -629,9 +634,14 @@ def _pitch_curvature(sigma: float, vx: np.ndarray, vy: np.ndarray, ax: np.ndarra
         kappa = np.divide(-sigma * cross, cube, out=out)
         kappa1 = vx * by - vy * bx
         kappa1 /= cube
-        cross *= dot
+        if kept is None:
+            cross *= dot
+            cube *= speed2
+        else:
+            kept += (cross, cube)
+            cross = cross * dot
+            cube = cube * speed2
         cross *= 3.0
-        cube *= speed2
         cross /= cube
         kappa1 -= cross
         kappa1 *= -sigma
@@ -696,8 +706,10 @@ def _roller_kinematics(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np
     sigma, r, n = f.sigma, f.roller_radius, theta.size
     real = np.empty((4, n))  # pressure angle, pitch and profile curvature, profile radius of curvature
     (cx, cy), (vx, vy), (ax, ay), (bx, by), m, g = _centre(f, s, ds, d2s, d3s)
-    speed, _, _, kappa_p, kappa_p1 = _pitch_curvature(sigma, vx, vy, ax, ay, bx, by, real[1])
+    kept: list[np.ndarray] = []
+    speed, speed2, _, kappa_p, kappa_p1 = _pitch_curvature(sigma, vx, vy, ax, ay, bx, by, real[1], kept)
     del bx, by
+    measures = _PitchMeasures(cy, speed2, *kept)
     factor = 1.0 - r * kappa_p
     if m is None:  # translating: m = (0, 1), V . m = Vy, V x m = Vx
         alpha = np.arctan2(vy, np.abs(vx), out=real[0])
@@ -709,7 +721,7 @@ def _roller_kinematics(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np
         rho[kappa == 0] = np.inf
     back = _to_cam(f, theta) if back is None else back
     points = _CurvePoints(terms=(back, cx, cy, vx, vy, ax, ay, speed, factor, kappa_p1, r, sigma))
-    return Kinematics(theta, s, ds, d2s, d3s, f.lift_unit, alpha, g, kappa_p, kappa, rho, None, None, points)
+    return Kinematics(theta, s, ds, d2s, d3s, f.lift_unit, alpha, g, kappa_p, kappa, rho, None, None, points, measures)
 
 
 def _kinematics_from(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray,
@@ -780,6 +792,8 @@ def profile_failures(f: FollowerSpec, k: Kinematics) -> list[tuple[str, np.ndarr
     if f.contact == "face":
         assert k.normal_turn_rate is not None  # a flat face's Kinematics carry its normal's turn rate
         return _flat_failures(f, k.s, k.normal_turn_rate, k.profile_radius)
+    if k.pitch_measures is not None:
+        return _measured_failures(f, k.pitch_measures)
     return _pitch_failures(f, k.s, k.ds, k.d2s)
 
 
@@ -810,21 +824,41 @@ def _pitch_failures(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndar
     ``|V|^2``; ``scale = max(1 mm, Rp)``) and the undercut ``r kappa >= 1`` of a roller (tested as
     ``-sigma r (V x A) >= |V|^3``, ``kappa = -sigma (V x A) / |V|^3`` the pitch curve's curvature)."""
     (_, cy), (vx, vy), (ax, ay), _, _, _ = _centre(f, s, ds, d2s, None)
-    out = []
-    if f.motion == "translating":
-        out.append((_AXIS_REASON, cy <= 0))
-    scale = max(1.0, f.prime_radius)
     with np.errstate(over="ignore", invalid="ignore"):
         speed2 = vx * vx
         speed2 += vy * vy
-        out.append((_CUSP_REASON, ~(speed2 > (1e-12 * scale) ** 2)))
+        cross = cube = None
         if f.has_radius:
             cross = vx * ay
             cross -= vy * ax
-            cross *= -f.sigma * f.roller_radius
             cube = np.sqrt(speed2)
             cube *= speed2
-            np.maximum(cube, np.finfo(float).tiny, out=cube)  # r kappa is NaN (not >= 1) where |V| = 0: a cusp
+    return _measured_failures(f, _PitchMeasures(cy, speed2, cross, cube))
+
+
+class _PitchMeasures(NamedTuple):
+    """What :func:`_pitch_failures` tests of a roller or knife (fixed frame, (n,) arrays): the
+    follower height ``cy`` (:func:`_centre`), ``|V|^2``; ``V x A`` and ``|V|^3`` (a roller's; None
+    when not made)."""
+
+    cy: np.ndarray
+    speed2: np.ndarray
+    cross: np.ndarray | None
+    cube: np.ndarray | None
+
+
+def _measured_failures(f: FollowerSpec, m: _PitchMeasures) -> list[tuple[str, np.ndarray]]:
+    """:func:`_pitch_failures` from its :class:`_PitchMeasures` (not changed)."""
+    out = []
+    if f.motion == "translating":
+        out.append((_AXIS_REASON, m.cy <= 0))
+    scale = max(1.0, f.prime_radius)
+    with np.errstate(over="ignore", invalid="ignore"):
+        out.append((_CUSP_REASON, ~(m.speed2 > (1e-12 * scale) ** 2)))
+        if f.has_radius:
+            assert m.cross is not None and m.cube is not None  # made for a roller
+            cross = m.cross * (-f.sigma * f.roller_radius)
+            cube = np.maximum(m.cube, np.finfo(float).tiny)  # r kappa is NaN (not >= 1) where |V| = 0: a cusp
             out.append((_undercut_reason(f), cross >= cube))
     return out
 
