@@ -116,3 +116,31 @@ def test_failures_from_the_kinematics_measures_are_the_direct_ones(name, base, r
         clear = np.abs(r_kappa - 1.0) > 1e-9
         assert np.array_equal(undercut[clear], (r_kappa >= 1.0)[clear])
         assert undercut.any() == (roller is not None)
+
+
+def test_check_grid_values_kept_by_the_program_in_grid_order():
+    """CheckGrid.values of a motion program come from the program's kept block in the grid's order
+    (MotionProgram.on_uniform_grid_in_order): for designs in a row with the same program (kept),
+    another program (other lifts: its own values) and the first again, each against np.insert of a
+    fresh program's values on the uniform grid and at the added angles (bit for bit); read-only; another order array
+    for the same grid is taken again."""
+    from camgen.synthesis.followers import CheckGrid, _grid_layout
+
+    def program(lift):
+        return MotionProgram([Segment("cycloidal", D(110), lift), Segment("dwell", D(50)),
+                              Segment("poly345", D(90), -lift), Segment("dwell", D(110))])
+
+    first, other = program(16.0), program(9.5)
+    for law, lift in ((first, 16.0), (first, 16.0), (other, 9.5), (first, 16.0)):
+        n, added = _grid_layout(law, D(0.05))
+        at = np.searchsorted(np.arange(n) * (2.0 * math.pi / n), added)
+        direct = program(lift).on_uniform_grid(n, added)  # a fresh program: nothing kept
+        values = CheckGrid(law, n, added).values
+        for got, value in zip(values, direct):
+            assert np.array_equal(got, np.insert(value[:n], at, value[n:]))
+            assert not got.flags.writeable
+    n, added = _grid_layout(first, D(0.05))
+    order = np.arange(n + added.size)[::-1].copy()
+    block = first.on_uniform_grid_in_order(n, added, order)
+    raw = np.stack(first.on_uniform_grid(n, added))
+    assert np.array_equal(block, raw[:, ::-1])

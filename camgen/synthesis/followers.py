@@ -1331,7 +1331,12 @@ class CheckGrid:
 
     @cached_property
     def values(self) -> _LawValues:
-        """``(s, ds, d2s, d3s)`` at ``theta``."""
+        """``(s, ds, d2s, d3s)`` at ``theta`` (a motion program's: read-only, kept by the program
+        for the grid: :meth:`~camgen.synthesis.laws.MotionProgram.on_uniform_grid_in_order`)."""
+        in_order = getattr(self.law, "on_uniform_grid_in_order", None)
+        if in_order is not None and self.added.size:
+            block = in_order(self.uniform_size, self.added, self._layout[1])
+            return block[0], block[1], block[2], block[3]
         raw = self.raw
         rows = _rows_of(raw)
         if rows is None:  # four separate arrays: stacked first (a copy: the raw values may be the law's kept ones)
