@@ -144,3 +144,46 @@ def test_check_grid_values_kept_by_the_program_in_grid_order():
     block = first.on_uniform_grid_in_order(n, added, order)
     raw = np.stack(first.on_uniform_grid(n, added))
     assert np.array_equal(block, raw[:, ::-1])
+
+
+def _round_angles_before(lo, hi, count, sigma, lead):
+    """The knots, spans and angles of a round of _spline_contours as the code before wrote them (inline, nothing kept)."""
+    from camgen.synthesis.followers import _ONE_SIDED_STEPS, _PROBES, _uniform_knots
+
+    lo, hi, count = np.array(lo), np.array(hi), np.array(count)
+    x, first, last = _uniform_knots(lo, hi, count)
+    span = x[1:] - x[:-1]
+    span[last[:-1]] = 1.0
+    probes = x[:-1, None] + _PROBES * span[:, None]
+    front = (np.stack([lo, hi])[:, :, None] + np.array([1.0, -1.0])[:, None, None] * _ONE_SIDED_STEPS).ravel()
+    nlead = front.size if lead else 0
+    return x, first, last, span, -sigma * np.concatenate([front[:nlead], x, probes.ravel()])
+
+
+def test_round_angles_kept_are_the_code_before_and_envelopes_in_a_row_are_fresh_ones():
+    """_round_angles (kept across designs) against the code before for layouts in a row (same,
+    other counts, other sigma, without the lead, the first again), read-only; too close breaks give
+    None each time; cams in a row (other base radii: other piece counts; the first again) have the
+    contours of the same cam made with nothing kept (the cache cleared), bit for bit."""
+    from camgen.synthesis.followers import _round_angles
+
+    lo, hi = (0.5, 2.0, 4.0), (2.0, 4.0, 0.5 + 2 * math.pi)
+    for count, sigma, lead in (((5, 9, 7), 1.0, True), ((5, 9, 7), 1.0, True), ((6, 9, 8), 1.0, True), ((5, 9, 7), -1.0, True),
+                               ((5, 9, 7), 1.0, False), ((5, 9, 7), 1.0, True)):
+        got = _round_angles(lo, hi, count, sigma, lead)
+        assert got is not None
+        for a, b in zip(got, _round_angles_before(lo, hi, count, sigma, lead)):
+            assert np.array_equal(a, b) and a.dtype == b.dtype and not a.flags.writeable
+    for _ in range(2):
+        assert _round_angles((0.5, 0.5), (0.5, 7.0), (2, 3), 1.0, True) is None
+    f, law = _case("roller_offset")
+    for base in (40.0, 25.0, 40.0):
+        g = FollowerSpec(**{**FOLLOWERS["roller_offset"], "base_radius": base})
+        kept = cam_envelope(g, law)
+        _round_angles.cache_clear()
+        fresh = cam_envelope(g, law)
+        for a, b in ((kept.profile, fresh.profile), (kept.pitch, fresh.pitch)):
+            assert len(a.segments) == len(b.segments)
+            for sa, sb in zip(a.segments, b.segments):
+                assert np.array_equal(sa.breaks, sb.breaks) and np.array_equal(sa.coeffs, sb.coeffs)
+        assert kept.fit_error == fresh.fit_error

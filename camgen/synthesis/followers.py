@@ -1159,6 +1159,30 @@ _ONE_SIDED_WEIGHTS = np.array([3.0, -3.0, 1.0])
 _ONE_SIDED_STEPS = _ONE_SIDED_STEP * np.array([1.0, 2.0, 3.0])
 
 
+@lru_cache(maxsize=_GRID_CACHE_SIZE)
+def _round_angles(lo: tuple[float, ...], hi: tuple[float, ...], count: tuple[int, ...], sigma: float, lead: bool
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+    """The knots and cam angles of a round of :func:`_spline_contours` for the segments ``[lo[k],
+    hi[k]]`` (t = -sigma theta) of ``count[k]`` uniform pieces each: the knots and the indices of
+    every segment's first and last knot (:func:`_uniform_knots`), the pieces' spans (1 from one
+    segment's end to the next one's start), and the cam angles ``-sigma t`` of (``lead``: the
+    one-sided steps inside every segment's two ends, :data:`_ONE_SIDED_STEPS`, then) the knots and
+    the probes of every piece.  None when a span is not > 0 (breaks too close for knots).
+    Read-only (kept across designs: a sweep's designs share their breaks and mostly their piece counts)."""
+    lo_a, hi_a = np.array(lo), np.array(hi)
+    x, first, last = _uniform_knots(lo_a, hi_a, np.array(count))
+    span = x[1:] - x[:-1]
+    span[last[:-1]] = 1.0  # from one segment's end to the next one's start (the same angle)
+    if not (span > 0.0).all():
+        return None
+    probes = x[:-1, None] + _PROBES * span[:, None]  # (knots - 1, 3)
+    parts = [x, probes.ravel()]
+    if lead:
+        parts.insert(0, (np.stack([lo_a, hi_a])[:, :, None] + np.array([1.0, -1.0])[:, None, None] * _ONE_SIDED_STEPS).ravel())
+    angles = -sigma * np.concatenate(parts)
+    return _read_only(x), _read_only(first), _read_only(last), _read_only(span), _read_only(angles)
+
+
 def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement, fit_tol: float,
                      bound: tuple[np.ndarray, np.ndarray] | None = None, initial_step: float = math.radians(5.0),
                      max_rounds: int = 12, max_pieces: int = 100_000) -> tuple[list[Contour], list[float]]:
@@ -1203,7 +1227,6 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
         count = np.ceil(want.clip(2, max_pieces)).astype(int)
 
     # one-sided dQ/dt and d2Q/dt2 at every segment's two ends, evaluated with the first round
-    lead = (np.stack([lo, hi])[:, :, None] + np.array([1.0, -1.0])[:, None, None] * _ONE_SIDED_STEPS).ravel()
     ends: tuple[np.ndarray, np.ndarray] | None = None  # (dQ/dt, d2Q/dt2): (2 [start, end], nseg, dims) complex each
     fits: list[tuple[np.ndarray, np.ndarray] | None] = [None] * nseg
     errors = np.zeros((nseg, dims))
@@ -1214,14 +1237,12 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
     seg_area = np.zeros((nseg, dims))
     todo = np.arange(nseg)
     for _ in range(max_rounds):
-        x, first, last = _uniform_knots(lo[todo], hi[todo], count[todo])
-        span = x[1:] - x[:-1]
-        span[last[:-1]] = 1.0  # from one segment's end to the next one's start (the same angle)
-        if not (span > 0.0).all():
+        layout = _round_angles(tuple(lo[todo].tolist()), tuple(hi[todo].tolist()), tuple(count[todo].tolist()), sigma, ends is None)
+        if layout is None:
             raise GeometryError(f"the law's breaks are too close for spline knots between them (fit_tol {fit_tol:g} mm)")
-        probes = x[:-1, None] + _PROBES * span[:, None]  # (knots - 1, 3)
-        nlead = 0 if ends is not None else lead.size
-        q, q1, q2 = exact(-sigma * np.concatenate([lead[:nlead], x, probes.ravel()]))
+        x, first, last, span, angles = layout
+        nlead = 0 if ends is not None else 6 * nseg  # (the first round: todo is every segment)
+        q, q1, q2 = exact(angles)
         q1 *= -sigma  # d/dt = -sigma d/dtheta
         if ends is None:  # quadratic extrapolation from 1, 2, 3 steps inside the segment
             lead1 = _ONE_SIDED_WEIGHTS @ q1[:nlead].reshape(2 * nseg, 3, dims).transpose(1, 0, 2).reshape(3, -1)
