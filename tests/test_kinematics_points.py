@@ -187,3 +187,36 @@ def test_round_angles_kept_are_the_code_before_and_envelopes_in_a_row_are_fresh_
             for sa, sb in zip(a.segments, b.segments):
                 assert np.array_equal(sa.breaks, sb.breaks) and np.array_equal(sa.coeffs, sb.coeffs)
         assert kept.fit_error == fresh.fit_error
+
+
+def _segments_before(brk, sigma):
+    """The segments of _spline_contours as the code before wrote them (inline, nothing kept)."""
+    from camgen.synthesis.followers import BREAK_MERGE
+
+    sorted_brk = sorted(set(brk))
+    tb = []
+    for t in sorted({(-sigma * b) % (2 * math.pi) for b in sorted_brk}) or [0.0]:
+        if not tb or t - tb[-1] > BREAK_MERGE:
+            tb.append(t)
+    if len(tb) > 1 and tb[0] + 2 * math.pi - tb[-1] <= BREAK_MERGE:
+        tb.pop()
+    lo, hi = np.array(tb), np.array(tb[1:] + [tb[0] + 2 * math.pi])
+    mid = np.mod(-sigma * 0.5 * (lo + hi), 2 * math.pi)
+    return np.array(sorted_brk), lo, hi, hi - lo, (np.searchsorted(sorted_brk, mid, side="right") - 1) % max(1, len(sorted_brk))
+
+
+@pytest.mark.parametrize("sigma", [1.0, -1.0])
+def test_segments_kept_are_the_code_before(sigma):
+    """_segments_of (kept across designs) against the code before for break sets in a row: none,
+    the program's, repeated breaks, breaks closer than BREAK_MERGE (one joint), one next to 0 and
+    2 pi (merged round the turn), the program's again; read-only."""
+    from camgen.synthesis.followers import _segments_of
+
+    _, law = _case("roller_offset")
+    program = tuple(np.mod(law.breaks, 2 * math.pi).tolist())
+    for brk in ((), program, program + program[:2], (1.0, 1.0 + 1e-13, 3.0), (0.0, 2 * math.pi - 1e-13, 2.0), program):
+        got = _segments_of(brk, sigma)
+        want = _segments_before(brk, sigma)
+        for a, b in zip(got, want):
+            assert np.array_equal(a, b) and not a.flags.writeable
+        assert got[4].size == got[1].size and np.all(got[4] < max(1, len(set(brk))))

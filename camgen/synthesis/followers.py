@@ -1160,6 +1160,29 @@ _ONE_SIDED_STEPS = _ONE_SIDED_STEP * np.array([1.0, 2.0, 3.0])
 
 
 @lru_cache(maxsize=_GRID_CACHE_SIZE)
+def _segments_of(brk: tuple[float, ...], sigma: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The spline segments of :func:`_spline_contours` for a law with the breaks ``brk`` (rad, in
+    [0, 2 pi)) and a cam turning in the direction ``sigma``: the sorted distinct breaks, every
+    segment's start ``lo`` and end ``hi`` in t = -sigma theta (breaks closer than
+    :data:`BREAK_MERGE` one joint; one segment from 0 without breaks), ``hi - lo``, and the law
+    interval (:func:`_sixth_derivatives`' index) holding every segment's middle.  Read-only (kept
+    across designs: a sweep's designs share their breaks)."""
+    sorted_brk = sorted(set(brk))
+    tb: list[float] = []
+    for t in sorted({(-sigma * b) % TWO_PI for b in sorted_brk}) or [0.0]:
+        if not tb or t - tb[-1] > BREAK_MERGE:  # breaks closer than rounding are one joint
+            tb.append(t)
+    if len(tb) > 1 and tb[0] + TWO_PI - tb[-1] <= BREAK_MERGE:
+        tb.pop()
+    lo, hi = np.array(tb), np.array(tb[1:] + [tb[0] + TWO_PI])
+    # the law interval of every segment (t = -sigma theta): the one holding its middle (one interval without breaks)
+    mid = np.mod(-sigma * 0.5 * (lo + hi), TWO_PI)
+    interval = (np.searchsorted(sorted_brk, mid, side="right") - 1) % max(1, len(sorted_brk))
+    return (_read_only(np.array(sorted_brk, dtype=float)), _read_only(lo), _read_only(hi), _read_only(hi - lo),
+            _read_only(interval))
+
+
+@lru_cache(maxsize=_GRID_CACHE_SIZE)
 def _round_angles(lo: tuple[float, ...], hi: tuple[float, ...], count: tuple[int, ...], sigma: float, lead: bool
                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
     """The knots and cam angles of a round of :func:`_spline_contours` for the segments ``[lo[k],
@@ -1205,25 +1228,16 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
     Returns the contours and the largest measured distance of each.
     """
     brk, _ = _breaks_of(law)
-    sorted_brk = sorted(set(brk.tolist()))
-    tb: list[float] = []
-    for t in sorted({(-sigma * b) % TWO_PI for b in sorted_brk}) or [0.0]:
-        if not tb or t - tb[-1] > BREAK_MERGE:  # breaks closer than rounding are one joint
-            tb.append(t)
-    if len(tb) > 1 and tb[0] + TWO_PI - tb[-1] <= BREAK_MERGE:
-        tb.pop()
-    lo, hi = np.array(tb), np.array(tb[1:] + [tb[0] + TWO_PI])
+    sorted_brk, lo, hi, width, interval = _segments_of(tuple(brk.tolist()), sigma)
     nseg = lo.size
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         if bound is None:
-            want = (hi - lo) / initial_step
+            want = width / initial_step
         else:
-            sixth = _sixth_derivatives(bound[0], bound[1], np.array(sorted_brk))
-            # the law interval of every segment (t = -sigma theta): the one holding its middle
-            mid = np.mod(-sigma * 0.5 * (lo + hi), TWO_PI)
-            sixth = sixth[(np.searchsorted(sorted_brk, mid, side="right") - 1) % sixth.size]
-            want = (hi - lo) * (_SPLINE_ERROR_CONSTANT * sixth / (_FIRST_COUNT_SHARE * fit_tol)) ** (1.0 / 6.0)
-            want = np.where(np.isfinite(want), want, (hi - lo) / initial_step)  # no usable bound: one piece per initial_step
+            sixth = _sixth_derivatives(bound[0], bound[1], sorted_brk)
+            sixth = sixth[interval]
+            want = width * (_SPLINE_ERROR_CONSTANT * sixth / (_FIRST_COUNT_SHARE * fit_tol)) ** (1.0 / 6.0)
+            want = np.where(np.isfinite(want), want, width / initial_step)  # no usable bound: one piece per initial_step
         count = np.ceil(want.clip(2, max_pieces)).astype(int)
 
     # one-sided dQ/dt and d2Q/dt2 at every segment's two ends, evaluated with the first round
