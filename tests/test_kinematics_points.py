@@ -220,3 +220,33 @@ def test_segments_kept_are_the_code_before(sigma):
         for a, b in zip(got, want):
             assert np.array_equal(a, b) and not a.flags.writeable
         assert got[4].size == got[1].size and np.all(got[4] < max(1, len(set(brk))))
+
+
+def _sixth_before(theta, d2, brk):
+    """_sixth_derivatives as the code before wrote it (nothing kept)."""
+    worst = np.abs(np.diff(d2, 4, axis=1)).max(axis=0)
+    worst *= (theta[1] - theta[0]) ** -4
+    if not brk.size:
+        return worst.max(initial=0.0, keepdims=True)
+    below = np.searchsorted(brk, theta, side="right")
+    worst *= below[:-4] == below[4:]
+    start = np.searchsorted(theta, brk, side="left")
+    out = np.maximum.reduceat(worst, np.minimum(start, worst.size - 1))
+    if start[0] > 0:
+        out[-1] = max(out[-1], worst[: start[0]].max())
+    return out
+
+
+def test_sixth_derivatives_with_kept_break_windows_are_the_code_before():
+    """_sixth_derivatives (its break windows kept across designs) against the code before for
+    curves and break sets in a row: breaks at the first angle, inside, within the last windows,
+    past the last angle, none; the first set again with other curves; two grids."""
+    from camgen.synthesis.followers import _sixth_derivatives
+
+    rng = np.random.default_rng(3)
+    for n in (360, 500):
+        theta = np.arange(n) * (2 * math.pi / n)
+        for brk in ([0.0, D(100), D(130), D(250)], [D(3), D(100.2), D(358.9)], [D(359.99)], [], [0.0, D(100), D(130), D(250)]):
+            b = np.array(brk, dtype=float)
+            d2 = rng.normal(size=(2, n)) + 1j * rng.normal(size=(2, n))
+            assert np.array_equal(_sixth_derivatives(theta, d2, b), _sixth_before(theta, d2, b))

@@ -1139,15 +1139,29 @@ def _sixth_derivatives(theta: np.ndarray, d2: np.ndarray, brk: np.ndarray) -> np
     worst *= (theta[1] - theta[0]) ** -4
     if not brk.size:
         return worst.max(initial=0.0, keepdims=True)
-    # window i (angles i .. i + 4) is split iff the number of breaks <= theta differs at its ends
-    below = np.searchsorted(brk, theta, side="right")
-    worst *= below[:-4] == below[4:]
-    # interval k holds the windows from the first angle >= brk[k] on; the last one also those before brk[0]
-    start = np.searchsorted(theta, brk, side="left")
-    out = np.maximum.reduceat(worst, np.minimum(start, worst.size - 1))
-    if start[0] > 0:
-        out[-1] = max(out[-1], worst[: start[0]].max())
+    whole, start, before = _break_windows(np.asarray(theta, dtype=float).tobytes(), np.asarray(brk, dtype=float).tobytes())
+    worst *= whole
+    out = np.maximum.reduceat(worst, start)
+    if before > 0:
+        out[-1] = max(out[-1], worst[:before].max())
     return out
+
+
+@lru_cache(maxsize=_GRID_CACHE_SIZE)
+def _break_windows(theta: bytes, brk: bytes) -> tuple[np.ndarray, np.ndarray, int]:
+    """How :func:`_sixth_derivatives` splits the windows of five consecutive cam angles ``theta``
+    (increasing, float64 bytes) by the sorted breaks ``brk`` (float64 bytes, at least one): whether
+    each window lies inside one interval (bool, read-only), the index of the first window of every
+    interval (the reduceat indices, read-only) and the number of windows before the first break
+    (they belong to the last interval).  Kept across designs (a sweep's designs share their breaks
+    and the coarse grid)."""
+    at, b = np.frombuffer(theta, dtype=float), np.frombuffer(brk, dtype=float)
+    # window i (angles i .. i + 4) is split iff the number of breaks <= theta differs at its ends
+    below = np.searchsorted(b, at, side="right")
+    whole = below[:-4] == below[4:]
+    # interval k holds the windows from the first angle >= brk[k] on; the last one also those before brk[0]
+    start = np.searchsorted(at, b, side="left")
+    return _read_only(whole), _read_only(np.minimum(start, at.size - 5)), int(start[0])
 
 
 #: rad: law breaks closer than this are fitted as one joint (a constant-velocity blend of 0.5 less
