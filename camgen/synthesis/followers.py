@@ -470,31 +470,23 @@ class _CurvePoints:
         self._made, self._terms = made, None
 
 
-#: What :func:`_roller_points` makes the points from: ``back`` (the rotation into the cam frame),
-#: the roller centre ``(cx, cy)`` (fixed frame), ``V``, ``A`` (:func:`_centre`), the pitch curve's
-#: speed ``|V|``, ``1 - r kappa`` and ``kappa'`` (:func:`_pitch_curvature`), the roller radius
-#: ``r`` and ``sigma``.
-_RollerTerms: TypeAlias = ("tuple[np.ndarray, np.ndarray | float, np.ndarray, np.ndarray, np.ndarray, np.ndarray, "
-                           "np.ndarray, np.ndarray, np.ndarray, np.ndarray, float, float]")
+#: What :func:`_roller_points` makes the points from: the follower, the cam angles, the law's
+#: ``s .. s'``, the rotation into the cam frame there (None: made then) and the roller centre
+#: ``(cx, cy)`` (fixed frame, :func:`_centre`).
+_RollerTerms: TypeAlias = ("tuple[FollowerSpec, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray | None, "
+                           "np.ndarray | float, np.ndarray]")
 
 
-def _roller_points(back: np.ndarray, cx: np.ndarray | float, cy: np.ndarray, vx: np.ndarray, vy: np.ndarray,
-                   ax: np.ndarray, ay: np.ndarray, speed: np.ndarray, factor: np.ndarray, kappa_p1: np.ndarray,
-                   r: float, sigma: float) -> _Points:
-    """The points of a roller's or knife's :class:`Kinematics` (:data:`_Points`) by the arithmetic
-    of :func:`_roller` (see there) from its :data:`_RollerTerms`."""
-    cplx = np.empty((7, back.size), dtype=complex)
-    pitch, p1, p2 = _in_cam(back, cx, cy, cplx[1]), _in_cam(back, vx, vy, cplx[2]), _in_cam(back, ax, ay, cplx[3])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        k = (sigma * r) / speed
-    contact = np.multiply(p1, k * -1j, out=cplx[4])
-    contact += pitch
-    q1 = np.multiply(p1, factor, out=cplx[5])
-    q2 = np.multiply(p2, factor, out=cplx[6])
-    q2 -= p1 * (kappa_p1 * r)
-    cplx[0].real = cx
-    cplx[0].imag = cy
-    return _xy(cplx[0]), _xy(pitch), _xy(contact), _xy(p1), _xy(p2), _xy(q1), _xy(q2)
+def _roller_points(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray,
+                   back: np.ndarray | None, cx: np.ndarray | float, cy: np.ndarray) -> _Points:
+    """The points of a roller's or knife's :class:`Kinematics` (:data:`_Points`) from its
+    :data:`_RollerTerms`: the pitch curve and the profile with their two derivatives by
+    :func:`_roller`'s arithmetic (the curves of the spline fit), the follower point ``(cx, cy)``."""
+    (pitch, p1, p2), (contact, q1, q2) = _roller(f, theta, s, ds, d2s, d3s, False, ("pitch", "profile"), back)
+    follower = np.empty(theta.size, dtype=complex)
+    follower.real = cx
+    follower.imag = cy
+    return _xy(follower), _xy(pitch), _xy(contact), _xy(p1), _xy(p2), _xy(q1), _xy(q2)
 
 
 def _centre(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray | None):
@@ -616,16 +608,27 @@ def _flat(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d2s
                       _CurvePoints((_xy(cplx[0]), None, _xy(contact), None, None, _xy(q1), _xy(q2))))
 
 
-def _pitch_curvature(sigma: float, vx: np.ndarray, vy: np.ndarray, ax: np.ndarray, ay: np.ndarray, bx: np.ndarray, by: np.ndarray,
-                     out: np.ndarray | None = None, kept: list[np.ndarray] | None = None
-                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The pitch curve's speed ``|V|`` (mm/rad), ``|V|^2``, ``V . A``, signed curvature ``kappa =
-    -sigma (V x A) / |V|^3`` (1/mm, into ``out``; the counter-clockwise contour runs against theta
-    for a ccw cam) and ``d kappa / d theta = -sigma ((V x B) / |V|^3 - 3 (V x A) (V . A) / |V|^5)``
-    (``d|V| / d theta = V . A / |V|``) from the components of ``V``, ``A``, ``B`` (:func:`_centre`).
-    ``kept``: a list to append ``V x A`` and ``|V|^3`` to (:class:`_PitchMeasures`; else they are
-    overwritten: the same values either way)."""
+def _pitch_kappa(sigma: float, vx: np.ndarray, vy: np.ndarray, ax: np.ndarray, ay: np.ndarray, out: np.ndarray | None = None
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The pitch curve's speed ``|V|`` (mm/rad), ``|V|^2``, ``V x A``, ``|V|^3`` and signed curvature
+    ``kappa = -sigma (V x A) / |V|^3`` (1/mm, into ``out``; the counter-clockwise contour runs
+    against theta for a ccw cam) from the components of ``V``, ``A`` (:func:`_centre`)."""
     with np.errstate(all="ignore"):
+        speed2 = vx * vx + vy * vy
+        cross = vx * ay - vy * ax
+        speed = np.sqrt(speed2)
+        cube = speed * speed2
+        kappa = np.divide(-sigma * cross, cube, out=out)
+    return speed, speed2, cross, cube, kappa
+
+
+def _pitch_curvature(sigma: float, vx: np.ndarray, vy: np.ndarray, ax: np.ndarray, ay: np.ndarray, bx: np.ndarray, by: np.ndarray,
+                     out: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The pitch curve's speed ``|V|`` (mm/rad), ``|V|^2``, ``V . A``, signed curvature ``kappa``
+    (:func:`_pitch_kappa`, into ``out``) and ``d kappa / d theta = -sigma ((V x B) / |V|^3 - 3 (V x A)
+    (V . A) / |V|^5)`` (``d|V| / d theta = V . A / |V|``) from the components of ``V``, ``A``, ``B``
+    (:func:`_centre`)."""
+    with np.errstate(all="ignore"):  # (the arithmetic of _pitch_kappa, written out: no second call and errstate)
         speed2 = vx * vx + vy * vy
         dot = vx * ax + vy * ay
         cross = vx * ay - vy * ax
@@ -634,14 +637,9 @@ def _pitch_curvature(sigma: float, vx: np.ndarray, vy: np.ndarray, ax: np.ndarra
         kappa = np.divide(-sigma * cross, cube, out=out)
         kappa1 = vx * by - vy * bx
         kappa1 /= cube
-        if kept is None:
-            cross *= dot
-            cube *= speed2
-        else:
-            kept += (cross, cube)
-            cross = cross * dot
-            cube = cube * speed2
+        cross *= dot
         cross *= 3.0
+        cube *= speed2
         cross /= cube
         kappa1 -= cross
         kappa1 *= -sigma
@@ -705,11 +703,9 @@ def _roller_kinematics(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np
     angle and the curvatures now, the points (:class:`_CurvePoints`) on first use."""
     sigma, r, n = f.sigma, f.roller_radius, theta.size
     real = np.empty((4, n))  # pressure angle, pitch and profile curvature, profile radius of curvature
-    (cx, cy), (vx, vy), (ax, ay), (bx, by), m, g = _centre(f, s, ds, d2s, d3s)
-    kept: list[np.ndarray] = []
-    speed, speed2, _, kappa_p, kappa_p1 = _pitch_curvature(sigma, vx, vy, ax, ay, bx, by, real[1], kept)
-    del bx, by
-    measures = _PitchMeasures(cy, speed2, *kept)
+    (cx, cy), (vx, vy), (ax, ay), _, m, g = _centre(f, s, ds, d2s, None)  # (B: only the points' second derivatives)
+    _, speed2, cross, cube, kappa_p = _pitch_kappa(sigma, vx, vy, ax, ay, real[1])
+    measures = _PitchMeasures(cy, speed2, cross, cube)
     factor = 1.0 - r * kappa_p
     if m is None:  # translating: m = (0, 1), V . m = Vy, V x m = Vx
         alpha = np.arctan2(vy, np.abs(vx), out=real[0])
@@ -719,8 +715,7 @@ def _roller_kinematics(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np
         kappa = np.divide(kappa_p, factor, out=real[2])  # profile: rho = rho_pitch - r
         rho = np.divide(1.0, kappa, out=real[3])
         rho[kappa == 0] = np.inf
-    back = _to_cam(f, theta) if back is None else back
-    points = _CurvePoints(terms=(back, cx, cy, vx, vy, ax, ay, speed, factor, kappa_p1, r, sigma))
+    points = _CurvePoints(terms=(f, theta, s, ds, d2s, d3s, back, cx, cy))
     return Kinematics(theta, s, ds, d2s, d3s, f.lift_unit, alpha, g, kappa_p, kappa, rho, None, None, points, measures)
 
 
