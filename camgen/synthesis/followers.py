@@ -746,8 +746,14 @@ def contact_points(follower: FollowerSpec, law: Displacement, theta: object) -> 
     s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(theta))
     if follower.contact == "face":
         contact = _flat(follower, theta, s, ds, d2s, d3s, False)[0][0]
-    else:
-        contact = _roller(follower, theta, s, ds, d2s, d3s, False, ("profile",))[0][0]
+    else:  # _roller's contact point alone: Q = P - i k P' with k = sigma r / |V|
+        (cx, cy), (vx, vy), _, _, _, _ = _centre(follower, s, ds, d2s, None)
+        back = _to_cam(follower, theta)
+        p1 = _in_cam(back, vx, vy)
+        with np.errstate(all="ignore"):
+            k = (follower.sigma * follower.roller_radius) / np.sqrt(vx * vx + vy * vy)
+        contact = np.multiply(p1, k * -1j)
+        contact += _in_cam(back, cx, cy)
     return _xy(contact)
 
 
@@ -769,8 +775,8 @@ def profile_curvatures(follower: FollowerSpec, law: Displacement, *thetas: objec
     values = [[np.asarray(x, dtype=float).ravel() for x in law(np.atleast_1d(np.asarray(theta, dtype=float)).ravel())]
               for theta in thetas]
     s, ds, d2s, d3s = values[0] if len(values) == 1 else (np.concatenate(column) for column in zip(*values))
-    _, (vx, vy), (ax, ay), (bx, by), _, _ = _centre(follower, s, ds, d2s, d3s)
-    kappa_p = _pitch_curvature(follower.sigma, vx, vy, ax, ay, bx, by)[3]
+    _, (vx, vy), (ax, ay), _, _, _ = _centre(follower, s, ds, d2s, None)
+    kappa_p = _pitch_kappa(follower.sigma, vx, vy, ax, ay)[4]
     factor = 1.0 - follower.roller_radius * kappa_p
     with np.errstate(divide="ignore", invalid="ignore"):
         curvature = np.divide(kappa_p, factor)  # as in _roller: the profile's rho = rho_pitch - r
