@@ -1,9 +1,11 @@
 """A roller's or knife's Kinematics make their points (follower, pitch and contact point, the
 curves' derivatives) on first use (a design evaluation reads the pressure angle and the
-curvatures only): the points against the arithmetic that makes the spline's curves (``_roller``
-without the kinematics), against ``contact_points``, against their own geometry (the contact one
-roller radius from the pitch point, the pitch point the follower point turned into the cam frame)
-and against central differences of the points; a pickled Kinematics carries them."""
+curvatures only): the points are the spline's curves (``_roller`` without the kinematics, which
+makes them: a check of the wiring), the same as ``contact_points`` (its own arithmetic of the
+contact alone), and they are checked against their own geometry (the contact one roller radius
+from the pitch point, the pitch point the follower point turned into the cam frame) and against
+central differences of the points (independent); a pickled Kinematics carries them.  Then the
+values the synthesis keeps across designs against the code before and against fresh cams."""
 from __future__ import annotations
 
 import math
