@@ -271,7 +271,8 @@ class _Plain:
 def test_check_grid_values_whatever_block_the_law_values_share(rows):
     """CheckGrid.values (sorted in one take when the raw values are the rows of one block) against
     np.insert of the law's own values (a fresh program evaluated here), for raw values that are a
-    block's rows in order, in another order, and (a motion program) its kept read-only ones."""
+    block's rows in order, in another order, and (a motion program) its kept read-only ones (then the
+    values are the program's kept block in the grid's order: read-only)."""
     law = _program()
     n, added = _grid_layout(law, D(0.3))
     uniform = np.arange(n) * (TWO_PI / n)
@@ -282,7 +283,7 @@ def test_check_grid_values_whatever_block_the_law_values_share(rows):
         grid = CheckGrid(source, n, added)
         for got, value in zip(grid.values, values):
             assert np.array_equal(got, np.insert(value[:n], at, value[n:]))
-            assert got.flags.writeable
+            assert got.flags.writeable == (source is not law)  # a motion program's: its kept, read-only block
         assert all(not np.shares_memory(got, raw) for got in grid.values for raw in grid.raw)
 
 

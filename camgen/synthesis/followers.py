@@ -383,20 +383,51 @@ class Kinematics:
     d3s: np.ndarray
     unit: str
     pressure_angle: np.ndarray
-    follower_point: np.ndarray
     arm_angle: np.ndarray | None
-    pitch_point: np.ndarray | None
     pitch_curvature: np.ndarray | None
-    contact_point: np.ndarray
     profile_curvature: np.ndarray
     profile_radius: np.ndarray
     face_position: np.ndarray | None
     normal_turn_rate: np.ndarray | None
-    # internal: exact first and second derivatives d/dtheta of the pitch and the profile (cam frame)
-    pitch_d1: np.ndarray | None = field(default=None, repr=False)
-    pitch_d2: np.ndarray | None = field(default=None, repr=False)
-    contact_d1: np.ndarray | None = field(default=None, repr=False)
-    contact_d2: np.ndarray | None = field(default=None, repr=False)
+    # internal: the points and the curves' derivatives (made on first use for a roller or knife)
+    curves: "_CurvePoints" = field(repr=False, compare=False)
+    # internal: a roller's or knife's terms of profile_failures (the same numbers as from s, ds, d2s)
+    pitch_measures: "_PitchMeasures | None" = field(default=None, repr=False, compare=False)
+
+    @property
+    def follower_point(self) -> np.ndarray:
+        """The roller centre / knife tip / flat-face contact point in the fixed frame, mm (n, 2)."""
+        return self.curves.points()[0]
+
+    @property
+    def pitch_point(self) -> np.ndarray | None:
+        """Roller / knife: the pitch curve in the cam frame, mm (n, 2); flat: None."""
+        return self.curves.points()[1]
+
+    @property
+    def contact_point(self) -> np.ndarray:
+        """The contact point on the cam profile, cam frame, mm (n, 2)."""
+        return self.curves.points()[2]
+
+    @property
+    def pitch_d1(self) -> np.ndarray | None:
+        """Exact d/dtheta of the pitch curve (cam frame, mm/rad, (n, 2)); flat: None."""
+        return self.curves.points()[3]
+
+    @property
+    def pitch_d2(self) -> np.ndarray | None:
+        """Exact d2/dtheta2 of the pitch curve (cam frame, mm/rad^2, (n, 2)); flat: None."""
+        return self.curves.points()[4]
+
+    @property
+    def contact_d1(self) -> np.ndarray:
+        """Exact d/dtheta of the profile at the contact (cam frame, mm/rad, (n, 2))."""
+        return self.curves.points()[5]
+
+    @property
+    def contact_d2(self) -> np.ndarray:
+        """Exact d2/dtheta2 of the profile at the contact (cam frame, mm/rad^2, (n, 2))."""
+        return self.curves.points()[6]
 
     @property
     def pitch_radius(self) -> np.ndarray | None:
@@ -406,6 +437,56 @@ class Kinematics:
         k = self.pitch_curvature
         with np.errstate(divide="ignore"):
             return np.where(k != 0, 1.0 / np.where(k != 0, k, 1.0), np.inf)
+
+
+#: The points of a :class:`Kinematics`: follower point, pitch point, contact point, the pitch
+#: curve's two derivatives, the profile's two ((n, 2) each; None where the follower has none).
+_Points: TypeAlias = ("tuple[np.ndarray, np.ndarray | None, np.ndarray, np.ndarray | None, np.ndarray | None, "
+                      "np.ndarray, np.ndarray]")
+
+
+class _CurvePoints:
+    """The points of a :class:`Kinematics` (:data:`_Points`): given (a flat face) or made on first
+    use from a roller's or knife's terms (:func:`_roller_points`: a design evaluation reads the
+    pressure angle and the curvatures only; the same numbers whenever they are made)."""
+
+    __slots__ = ("_made", "_terms")
+
+    def __init__(self, made: _Points | None = None, terms: "_RollerTerms | None" = None) -> None:
+        self._made = made
+        self._terms = terms
+
+    def points(self) -> _Points:
+        if self._made is None:
+            assert self._terms is not None  # either made or made from these
+            self._made = _roller_points(*self._terms)
+            self._terms = None
+        return self._made
+
+    def __getstate__(self) -> _Points:
+        return self.points()
+
+    def __setstate__(self, made: _Points) -> None:
+        self._made, self._terms = made, None
+
+
+#: What :func:`_roller_points` makes the points from: the follower, the cam angles, the law's
+#: ``s .. s'``, the rotation into the cam frame there (None: made then) and the roller centre
+#: ``(cx, cy)`` (fixed frame, :func:`_centre`).
+_RollerTerms: TypeAlias = ("tuple[FollowerSpec, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray | None, "
+                           "np.ndarray | float, np.ndarray]")
+
+
+def _roller_points(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray,
+                   back: np.ndarray | None, cx: np.ndarray | float, cy: np.ndarray) -> _Points:
+    """The points of a roller's or knife's :class:`Kinematics` (:data:`_Points`) from its
+    :data:`_RollerTerms`: the pitch curve and the profile with their two derivatives by
+    :func:`_roller`'s arithmetic (the curves of the spline fit), the follower point ``(cx, cy)``."""
+    (pitch, p1, p2), (contact, q1, q2) = _roller(f, theta, s, ds, d2s, d3s, False, ("pitch", "profile"), back)
+    follower = np.empty(theta.size, dtype=complex)
+    follower.real = cx
+    follower.imag = cy
+    return _xy(follower), _xy(pitch), _xy(contact), _xy(p1), _xy(p2), _xy(q1), _xy(q2)
 
 
 def _centre(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray | None):
@@ -523,17 +604,31 @@ def _flat(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d2s
             alpha = real[2]
             alpha[...] = np.where(face_pos != 0, np.arctan(face / face_pos), math.copysign(math.pi / 2, face or 1.0))
             turn = np.multiply(-sigma, psi1, out=real[3])
-    return Kinematics(theta, s, ds, d2s, d3s, f.lift_unit, alpha, _xy(cplx[0]), psi_f, None, None, _xy(contact),
-                      kappa, rho, face_pos, turn, None, None, _xy(q1), _xy(q2))
+    return Kinematics(theta, s, ds, d2s, d3s, f.lift_unit, alpha, psi_f, None, kappa, rho, face_pos, turn,
+                      _CurvePoints((_xy(cplx[0]), None, _xy(contact), None, None, _xy(q1), _xy(q2))))
+
+
+def _pitch_kappa(sigma: float, vx: np.ndarray, vy: np.ndarray, ax: np.ndarray, ay: np.ndarray, out: np.ndarray | None = None
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The pitch curve's speed ``|V|`` (mm/rad), ``|V|^2``, ``V x A``, ``|V|^3`` and signed curvature
+    ``kappa = -sigma (V x A) / |V|^3`` (1/mm, into ``out``; the counter-clockwise contour runs
+    against theta for a ccw cam) from the components of ``V``, ``A`` (:func:`_centre`)."""
+    with np.errstate(all="ignore"):
+        speed2 = vx * vx + vy * vy
+        cross = vx * ay - vy * ax
+        speed = np.sqrt(speed2)
+        cube = speed * speed2
+        kappa = np.divide(-sigma * cross, cube, out=out)
+    return speed, speed2, cross, cube, kappa
 
 
 def _pitch_curvature(sigma: float, vx: np.ndarray, vy: np.ndarray, ax: np.ndarray, ay: np.ndarray, bx: np.ndarray, by: np.ndarray,
                      out: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The pitch curve's speed ``|V|`` (mm/rad), ``|V|^2``, ``V . A``, signed curvature ``kappa =
-    -sigma (V x A) / |V|^3`` (1/mm, into ``out``; the counter-clockwise contour runs against theta
-    for a ccw cam) and ``d kappa / d theta = -sigma ((V x B) / |V|^3 - 3 (V x A) (V . A) / |V|^5)``
-    (``d|V| / d theta = V . A / |V|``) from the components of ``V``, ``A``, ``B`` (:func:`_centre`)."""
-    with np.errstate(all="ignore"):
+    """The pitch curve's speed ``|V|`` (mm/rad), ``|V|^2``, ``V . A``, signed curvature ``kappa``
+    (:func:`_pitch_kappa`, into ``out``) and ``d kappa / d theta = -sigma ((V x B) / |V|^3 - 3 (V x A)
+    (V . A) / |V|^5)`` (``d|V| / d theta = V . A / |V|``) from the components of ``V``, ``A``, ``B``
+    (:func:`_centre`)."""
+    with np.errstate(all="ignore"):  # (the arithmetic of _pitch_kappa, written out: no second call and errstate)
         speed2 = vx * vx + vy * vy
         dot = vx * ax + vy * ay
         cross = vx * ay - vy * ax
@@ -567,23 +662,22 @@ def _roller(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d
     ``out``: a complex (3, n, len(want)) block to write them into, curve c in ``out[:, :, c]``).  (The
     outputs share blocks of memory and temporaries are released as soon as they are used: fresh
     memory is much of the cost.)"""
-    sigma, r, n = f.sigma, f.roller_radius, theta.size
-    # full: rows 0-6 follower point, pitch curve and its two derivatives, profile and its two; rows
-    # 0-3 of `real`: pressure angle, pitch and profile curvature, profile radius of curvature
-    cplx: np.ndarray | list[np.ndarray | None] = np.empty((7, n), dtype=complex) if full else [None] * 7
+    if full:
+        return _roller_kinematics(f, theta, s, ds, d2s, d3s, back)
+    sigma, r = f.sigma, f.roller_radius
+    cplx: list[np.ndarray | None] = [None] * 7  # rows 1-3 the pitch curve and its two derivatives, 4-6 the profile and its two
     if out is not None:
         for c, name in enumerate(want):
             first = 1 if name == "pitch" else 4
             cplx[first: first + 3] = out[0, :, c], out[1, :, c], out[2, :, c]
-    real: np.ndarray | list[None] = np.empty((4, n)) if full else [None] * 4
-    (cx, cy), (vx, vy), (ax, ay), (bx, by), m, g = _centre(f, s, ds, d2s, d3s)
+    (cx, cy), (vx, vy), (ax, ay), (bx, by), _, _ = _centre(f, s, ds, d2s, d3s)
     # P = R(-sigma theta) C; P' = R V, P'' = R A, P''' = R B
     back = _to_cam(f, theta) if back is None else back
     pitch, p1, p2 = _in_cam(back, cx, cy, cplx[1]), _in_cam(back, vx, vy, cplx[2]), _in_cam(back, ax, ay, cplx[3])
     del back
-    if "profile" not in want and not full:
+    if "profile" not in want:
         return ((pitch, p1, p2),)
-    speed, _, _, kappa_p, kappa_p1 = _pitch_curvature(sigma, vx, vy, ax, ay, bx, by, real[1])
+    speed, _, _, kappa_p, kappa_p1 = _pitch_curvature(sigma, vx, vy, ax, ay, bx, by)
     del bx, by
     with np.errstate(divide="ignore", invalid="ignore"):
         k = (sigma * r) / speed  # Q = P - r n with the outward normal n = (sigma / |V|) J V (n = -J t, t = -sigma V / |V|)
@@ -599,23 +693,30 @@ def _roller(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d
     q2 = np.multiply(p2, factor, out=cplx[6])
     q2 -= p1 * kappa_p1
     del kappa_p1
-    if not full:
-        curves = {"pitch": (pitch, p1, p2), "profile": (contact, q1, q2)}
-        return tuple(curves[name] for name in want)
-    assert isinstance(cplx, np.ndarray) and isinstance(real, np.ndarray)  # full: the rows, not the placeholders
+    curves = {"pitch": (pitch, p1, p2), "profile": (contact, q1, q2)}
+    return tuple(curves[name] for name in want)
+
+
+def _roller_kinematics(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray,
+                       back: np.ndarray | None = None) -> Kinematics:
+    """The :class:`Kinematics` of a roller or knife (:func:`_roller`'s arithmetic): the pressure
+    angle and the curvatures now, the points (:class:`_CurvePoints`) on first use."""
+    sigma, r, n = f.sigma, f.roller_radius, theta.size
+    real = np.empty((4, n))  # pressure angle, pitch and profile curvature, profile radius of curvature
+    (cx, cy), (vx, vy), (ax, ay), _, m, g = _centre(f, s, ds, d2s, None)  # (B: only the points' second derivatives)
+    _, speed2, cross, cube, kappa_p = _pitch_kappa(sigma, vx, vy, ax, ay, real[1])
+    measures = _PitchMeasures(cy, speed2, cross, cube)
+    factor = 1.0 - r * kappa_p
     if m is None:  # translating: m = (0, 1), V . m = Vy, V x m = Vx
         alpha = np.arctan2(vy, np.abs(vx), out=real[0])
     else:
         alpha = np.arctan2(vx * m[0] + vy * m[1], np.abs(vx * m[1] - vy * m[0]), out=real[0])
-    del vx, vy
     with np.errstate(divide="ignore", invalid="ignore"):
         kappa = np.divide(kappa_p, factor, out=real[2])  # profile: rho = rho_pitch - r
         rho = np.divide(1.0, kappa, out=real[3])
         rho[kappa == 0] = np.inf
-    cplx[0].real = cx
-    cplx[0].imag = cy
-    return Kinematics(theta, s, ds, d2s, d3s, f.lift_unit, alpha, _xy(cplx[0]), g, _xy(pitch), kappa_p,
-                      _xy(contact), kappa, rho, None, None, _xy(p1), _xy(p2), _xy(q1), _xy(q2))
+    points = _CurvePoints(terms=(f, theta, s, ds, d2s, d3s, back, cx, cy))
+    return Kinematics(theta, s, ds, d2s, d3s, f.lift_unit, alpha, g, kappa_p, kappa, rho, None, None, points, measures)
 
 
 def _kinematics_from(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np.ndarray, d2s: np.ndarray, d3s: np.ndarray,
@@ -645,8 +746,14 @@ def contact_points(follower: FollowerSpec, law: Displacement, theta: object) -> 
     s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(theta))
     if follower.contact == "face":
         contact = _flat(follower, theta, s, ds, d2s, d3s, False)[0][0]
-    else:
-        contact = _roller(follower, theta, s, ds, d2s, d3s, False, ("profile",))[0][0]
+    else:  # _roller's contact point alone: Q = P - i k P' with k = sigma r / |V|
+        (cx, cy), (vx, vy), _, _, _, _ = _centre(follower, s, ds, d2s, None)
+        back = _to_cam(follower, theta)
+        p1 = _in_cam(back, vx, vy)
+        with np.errstate(all="ignore"):
+            k = (follower.sigma * follower.roller_radius) / np.sqrt(vx * vx + vy * vy)
+        contact = np.multiply(p1, k * -1j)
+        contact += _in_cam(back, cx, cy)
     return _xy(contact)
 
 
@@ -668,8 +775,8 @@ def profile_curvatures(follower: FollowerSpec, law: Displacement, *thetas: objec
     values = [[np.asarray(x, dtype=float).ravel() for x in law(np.atleast_1d(np.asarray(theta, dtype=float)).ravel())]
               for theta in thetas]
     s, ds, d2s, d3s = values[0] if len(values) == 1 else (np.concatenate(column) for column in zip(*values))
-    _, (vx, vy), (ax, ay), (bx, by), _, _ = _centre(follower, s, ds, d2s, d3s)
-    kappa_p = _pitch_curvature(follower.sigma, vx, vy, ax, ay, bx, by)[3]
+    _, (vx, vy), (ax, ay), _, _, _ = _centre(follower, s, ds, d2s, None)
+    kappa_p = _pitch_kappa(follower.sigma, vx, vy, ax, ay)[4]
     factor = 1.0 - follower.roller_radius * kappa_p
     with np.errstate(divide="ignore", invalid="ignore"):
         curvature = np.divide(kappa_p, factor)  # as in _roller: the profile's rho = rho_pitch - r
@@ -686,6 +793,8 @@ def profile_failures(f: FollowerSpec, k: Kinematics) -> list[tuple[str, np.ndarr
     if f.contact == "face":
         assert k.normal_turn_rate is not None  # a flat face's Kinematics carry its normal's turn rate
         return _flat_failures(f, k.s, k.normal_turn_rate, k.profile_radius)
+    if k.pitch_measures is not None:
+        return _measured_failures(f, k.pitch_measures)
     return _pitch_failures(f, k.s, k.ds, k.d2s)
 
 
@@ -716,21 +825,41 @@ def _pitch_failures(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndar
     ``|V|^2``; ``scale = max(1 mm, Rp)``) and the undercut ``r kappa >= 1`` of a roller (tested as
     ``-sigma r (V x A) >= |V|^3``, ``kappa = -sigma (V x A) / |V|^3`` the pitch curve's curvature)."""
     (_, cy), (vx, vy), (ax, ay), _, _, _ = _centre(f, s, ds, d2s, None)
-    out = []
-    if f.motion == "translating":
-        out.append((_AXIS_REASON, cy <= 0))
-    scale = max(1.0, f.prime_radius)
     with np.errstate(over="ignore", invalid="ignore"):
         speed2 = vx * vx
         speed2 += vy * vy
-        out.append((_CUSP_REASON, ~(speed2 > (1e-12 * scale) ** 2)))
+        cross = cube = None
         if f.has_radius:
             cross = vx * ay
             cross -= vy * ax
-            cross *= -f.sigma * f.roller_radius
             cube = np.sqrt(speed2)
             cube *= speed2
-            np.maximum(cube, np.finfo(float).tiny, out=cube)  # r kappa is NaN (not >= 1) where |V| = 0: a cusp
+    return _measured_failures(f, _PitchMeasures(cy, speed2, cross, cube))
+
+
+class _PitchMeasures(NamedTuple):
+    """What :func:`_pitch_failures` tests of a roller or knife (fixed frame, (n,) arrays): the
+    follower height ``cy`` (:func:`_centre`), ``|V|^2``; ``V x A`` and ``|V|^3`` (a roller's; None
+    when not made)."""
+
+    cy: np.ndarray
+    speed2: np.ndarray
+    cross: np.ndarray | None
+    cube: np.ndarray | None
+
+
+def _measured_failures(f: FollowerSpec, m: _PitchMeasures) -> list[tuple[str, np.ndarray]]:
+    """:func:`_pitch_failures` from its :class:`_PitchMeasures` (not changed)."""
+    out = []
+    if f.motion == "translating":
+        out.append((_AXIS_REASON, m.cy <= 0))
+    scale = max(1.0, f.prime_radius)
+    with np.errstate(over="ignore", invalid="ignore"):
+        out.append((_CUSP_REASON, ~(m.speed2 > (1e-12 * scale) ** 2)))
+        if f.has_radius:
+            assert m.cross is not None and m.cube is not None  # made for a roller
+            cross = m.cross * (-f.sigma * f.roller_radius)
+            cube = np.maximum(m.cube, np.finfo(float).tiny)  # r kappa is NaN (not >= 1) where |V| = 0: a cusp
             out.append((_undercut_reason(f), cross >= cube))
     return out
 
@@ -1011,15 +1140,29 @@ def _sixth_derivatives(theta: np.ndarray, d2: np.ndarray, brk: np.ndarray) -> np
     worst *= (theta[1] - theta[0]) ** -4
     if not brk.size:
         return worst.max(initial=0.0, keepdims=True)
-    # window i (angles i .. i + 4) is split iff the number of breaks <= theta differs at its ends
-    below = np.searchsorted(brk, theta, side="right")
-    worst *= below[:-4] == below[4:]
-    # interval k holds the windows from the first angle >= brk[k] on; the last one also those before brk[0]
-    start = np.searchsorted(theta, brk, side="left")
-    out = np.maximum.reduceat(worst, np.minimum(start, worst.size - 1))
-    if start[0] > 0:
-        out[-1] = max(out[-1], worst[: start[0]].max())
+    whole, start, before = _break_windows(np.asarray(theta, dtype=float).tobytes(), np.asarray(brk, dtype=float).tobytes())
+    worst *= whole
+    out = np.maximum.reduceat(worst, start)
+    if before > 0:
+        out[-1] = max(out[-1], worst[:before].max())
     return out
+
+
+@lru_cache(maxsize=_GRID_CACHE_SIZE)
+def _break_windows(theta: bytes, brk: bytes) -> tuple[np.ndarray, np.ndarray, int]:
+    """How :func:`_sixth_derivatives` splits the windows of five consecutive cam angles ``theta``
+    (increasing, float64 bytes) by the sorted breaks ``brk`` (float64 bytes, at least one): whether
+    each window lies inside one interval (bool, read-only), the index of the first window of every
+    interval (the reduceat indices, read-only) and the number of windows before the first break
+    (they belong to the last interval).  Kept across designs (a sweep's designs share their breaks
+    and the coarse grid)."""
+    at, b = np.frombuffer(theta, dtype=float), np.frombuffer(brk, dtype=float)
+    # window i (angles i .. i + 4) is split iff the number of breaks <= theta differs at its ends
+    below = np.searchsorted(b, at, side="right")
+    whole = below[:-4] == below[4:]
+    # interval k holds the windows from the first angle >= brk[k] on; the last one also those before brk[0]
+    start = np.searchsorted(at, b, side="left")
+    return _read_only(whole), _read_only(np.minimum(start, at.size - 5)), int(start[0])
 
 
 #: rad: law breaks closer than this are fitted as one joint (a constant-velocity blend of 0.5 less
@@ -1029,6 +1172,53 @@ BREAK_MERGE = 1e-12
 #: (quadratic, error O(step^3)), and those steps (rad of cam angle).
 _ONE_SIDED_WEIGHTS = np.array([3.0, -3.0, 1.0])
 _ONE_SIDED_STEPS = _ONE_SIDED_STEP * np.array([1.0, 2.0, 3.0])
+
+
+@lru_cache(maxsize=_GRID_CACHE_SIZE)
+def _segments_of(brk: tuple[float, ...], sigma: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The spline segments of :func:`_spline_contours` for a law with the breaks ``brk`` (rad, in
+    [0, 2 pi)) and a cam turning in the direction ``sigma``: the sorted distinct breaks, every
+    segment's start ``lo`` and end ``hi`` in t = -sigma theta (breaks closer than
+    :data:`BREAK_MERGE` one joint; one segment from 0 without breaks), ``hi - lo``, and the law
+    interval (:func:`_sixth_derivatives`' index) holding every segment's middle.  Read-only (kept
+    across designs: a sweep's designs share their breaks)."""
+    sorted_brk = sorted(set(brk))
+    tb: list[float] = []
+    for t in sorted({(-sigma * b) % TWO_PI for b in sorted_brk}) or [0.0]:
+        if not tb or t - tb[-1] > BREAK_MERGE:  # breaks closer than rounding are one joint
+            tb.append(t)
+    if len(tb) > 1 and tb[0] + TWO_PI - tb[-1] <= BREAK_MERGE:
+        tb.pop()
+    lo, hi = np.array(tb), np.array(tb[1:] + [tb[0] + TWO_PI])
+    # the law interval of every segment (t = -sigma theta): the one holding its middle (one interval without breaks)
+    mid = np.mod(-sigma * 0.5 * (lo + hi), TWO_PI)
+    interval = (np.searchsorted(sorted_brk, mid, side="right") - 1) % max(1, len(sorted_brk))
+    return (_read_only(np.array(sorted_brk, dtype=float)), _read_only(lo), _read_only(hi), _read_only(hi - lo),
+            _read_only(interval))
+
+
+@lru_cache(maxsize=_GRID_CACHE_SIZE)
+def _round_angles(lo: tuple[float, ...], hi: tuple[float, ...], count: tuple[int, ...], sigma: float, lead: bool
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+    """The knots and cam angles of a round of :func:`_spline_contours` for the segments ``[lo[k],
+    hi[k]]`` (t = -sigma theta) of ``count[k]`` uniform pieces each: the knots and the indices of
+    every segment's first and last knot (:func:`_uniform_knots`), the pieces' spans (1 from one
+    segment's end to the next one's start), and the cam angles ``-sigma t`` of (``lead``: the
+    one-sided steps inside every segment's two ends, :data:`_ONE_SIDED_STEPS`, then) the knots and
+    the probes of every piece.  None when a span is not > 0 (breaks too close for knots).
+    Read-only (kept across designs: a sweep's designs share their breaks and mostly their piece counts)."""
+    lo_a, hi_a = np.array(lo), np.array(hi)
+    x, first, last = _uniform_knots(lo_a, hi_a, np.array(count))
+    span = x[1:] - x[:-1]
+    span[last[:-1]] = 1.0  # from one segment's end to the next one's start (the same angle)
+    if not (span > 0.0).all():
+        return None
+    probes = x[:-1, None] + _PROBES * span[:, None]  # (knots - 1, 3)
+    parts = [x, probes.ravel()]
+    if lead:
+        parts.insert(0, (np.stack([lo_a, hi_a])[:, :, None] + np.array([1.0, -1.0])[:, None, None] * _ONE_SIDED_STEPS).ravel())
+    angles = -sigma * np.concatenate(parts)
+    return _read_only(x), _read_only(first), _read_only(last), _read_only(span), _read_only(angles)
 
 
 def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement, fit_tol: float,
@@ -1053,29 +1243,19 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
     Returns the contours and the largest measured distance of each.
     """
     brk, _ = _breaks_of(law)
-    sorted_brk = sorted(set(brk.tolist()))
-    tb: list[float] = []
-    for t in sorted({(-sigma * b) % TWO_PI for b in sorted_brk}) or [0.0]:
-        if not tb or t - tb[-1] > BREAK_MERGE:  # breaks closer than rounding are one joint
-            tb.append(t)
-    if len(tb) > 1 and tb[0] + TWO_PI - tb[-1] <= BREAK_MERGE:
-        tb.pop()
-    lo, hi = np.array(tb), np.array(tb[1:] + [tb[0] + TWO_PI])
+    sorted_brk, lo, hi, width, interval = _segments_of(tuple(brk.tolist()), sigma)
     nseg = lo.size
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         if bound is None:
-            want = (hi - lo) / initial_step
+            want = width / initial_step
         else:
-            sixth = _sixth_derivatives(bound[0], bound[1], np.array(sorted_brk))
-            # the law interval of every segment (t = -sigma theta): the one holding its middle
-            mid = np.mod(-sigma * 0.5 * (lo + hi), TWO_PI)
-            sixth = sixth[(np.searchsorted(sorted_brk, mid, side="right") - 1) % sixth.size]
-            want = (hi - lo) * (_SPLINE_ERROR_CONSTANT * sixth / (_FIRST_COUNT_SHARE * fit_tol)) ** (1.0 / 6.0)
-            want = np.where(np.isfinite(want), want, (hi - lo) / initial_step)  # no usable bound: one piece per initial_step
+            sixth = _sixth_derivatives(bound[0], bound[1], sorted_brk)
+            sixth = sixth[interval]
+            want = width * (_SPLINE_ERROR_CONSTANT * sixth / (_FIRST_COUNT_SHARE * fit_tol)) ** (1.0 / 6.0)
+            want = np.where(np.isfinite(want), want, width / initial_step)  # no usable bound: one piece per initial_step
         count = np.ceil(want.clip(2, max_pieces)).astype(int)
 
     # one-sided dQ/dt and d2Q/dt2 at every segment's two ends, evaluated with the first round
-    lead = (np.stack([lo, hi])[:, :, None] + np.array([1.0, -1.0])[:, None, None] * _ONE_SIDED_STEPS).ravel()
     ends: tuple[np.ndarray, np.ndarray] | None = None  # (dQ/dt, d2Q/dt2): (2 [start, end], nseg, dims) complex each
     fits: list[tuple[np.ndarray, np.ndarray] | None] = [None] * nseg
     errors = np.zeros((nseg, dims))
@@ -1086,14 +1266,12 @@ def _spline_contours(exact: Callable, dims: int, sigma: float, law: Displacement
     seg_area = np.zeros((nseg, dims))
     todo = np.arange(nseg)
     for _ in range(max_rounds):
-        x, first, last = _uniform_knots(lo[todo], hi[todo], count[todo])
-        span = x[1:] - x[:-1]
-        span[last[:-1]] = 1.0  # from one segment's end to the next one's start (the same angle)
-        if not (span > 0.0).all():
+        layout = _round_angles(tuple(lo[todo].tolist()), tuple(hi[todo].tolist()), tuple(count[todo].tolist()), sigma, ends is None)
+        if layout is None:
             raise GeometryError(f"the law's breaks are too close for spline knots between them (fit_tol {fit_tol:g} mm)")
-        probes = x[:-1, None] + _PROBES * span[:, None]  # (knots - 1, 3)
-        nlead = 0 if ends is not None else lead.size
-        q, q1, q2 = exact(-sigma * np.concatenate([lead[:nlead], x, probes.ravel()]))
+        x, first, last, span, angles = layout
+        nlead = 0 if ends is not None else 6 * nseg  # (the first round: todo is every segment)
+        q, q1, q2 = exact(angles)
         q1 *= -sigma  # d/dt = -sigma d/dtheta
         if ends is None:  # quadratic extrapolation from 1, 2, 3 steps inside the segment
             lead1 = _ONE_SIDED_WEIGHTS @ q1[:nlead].reshape(2 * nseg, 3, dims).transpose(1, 0, 2).reshape(3, -1)
@@ -1203,7 +1381,12 @@ class CheckGrid:
 
     @cached_property
     def values(self) -> _LawValues:
-        """``(s, ds, d2s, d3s)`` at ``theta``."""
+        """``(s, ds, d2s, d3s)`` at ``theta`` (a motion program's: read-only, kept by the program
+        for the grid: :meth:`~camgen.synthesis.laws.MotionProgram.on_uniform_grid_in_order`)."""
+        in_order = getattr(self.law, "on_uniform_grid_in_order", None)
+        if in_order is not None and self.added.size:
+            block = in_order(self.uniform_size, self.added, self._layout[1])
+            return block[0], block[1], block[2], block[3]
         raw = self.raw
         rows = _rows_of(raw)
         if rows is None:  # four separate arrays: stacked first (a copy: the raw values may be the law's kept ones)

@@ -367,7 +367,7 @@ _GRID_MEMO_SIZE = 4
 _CALL_MEMO_ANGLES = 4096
 _CALL_MEMO_SIZE = 16
 #: The attributes in which a program keeps values (not pickled).
-_KEPT_VALUES = ("_call_memo", "_grid_memo", "_peaks", "_sample_memo", "_places_key")
+_KEPT_VALUES = ("_call_memo", "_grid_memo", "_order_memo", "_peaks", "_sample_memo", "_places_key")
 
 
 def _uniform_phasors(first: float, step: float, m: int) -> np.ndarray:
@@ -1658,6 +1658,28 @@ class MotionProgram:
             memo.clear()  # (one step: safe with threads sharing the program)
         memo[key] = values = (res[0], res[1], res[2], res[3])
         return values
+
+    def on_uniform_grid_in_order(self, n: int, extra: np.ndarray, order: np.ndarray) -> np.ndarray:
+        """:meth:`on_uniform_grid`'s values at the grid ``(n, extra)`` taken in ``order`` (integer
+        (n + extra.size,): e.g. a cam's sorted check grid), as the rows of one (4, n + extra.size)
+        block.  Read-only and kept on the program with the grid's values (a pure function of the
+        program, the grid and the order; kept while the caller passes the same read-only ``order``
+        array for that grid, which the memo holds: a sweep's designs that keep the law take it once)."""
+        values = self.on_uniform_grid(n, extra)
+        key = (n, extra.tobytes())
+        memo: dict[tuple[int, bytes], tuple[np.ndarray, np.ndarray]] = self.__dict__.setdefault("_order_memo", {})
+        kept = memo.get(key)
+        if kept is not None and kept[0] is order:
+            return kept[1]
+        block = values[0].base
+        if not (isinstance(block, np.ndarray) and block.shape == (4, values[0].size)):
+            block = np.stack(values)
+        taken = block.take(order, axis=1)
+        taken.setflags(write=False)
+        if len(memo) >= _GRID_MEMO_SIZE:
+            memo.clear()  # (one step: safe with threads sharing the program)
+        memo[key] = (order, taken)
+        return taken
 
     def on_sample_grid(self, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """What ``self(2.0 * math.pi * np.arange(n) / n)`` gives (the same computation), four fresh
