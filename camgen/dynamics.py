@@ -563,7 +563,7 @@ def hertz_line_stress(force: np.ndarray | float, rho_cam: np.ndarray | float, rh
         raise ParameterError("follower_radius", rho_follower, "> 0 mm (a sharp knife edge has no finite contact stress)")
     curvature = 1.0 / rho
     curvature += 1.0 / rho_follower  # 1/inf = 0: a straight flank or a flat face
-    if curvature.size and float(curvature.min()) < 0:  # a nan is no negative curvature (the least: nan)
+    if curvature.size and not float(curvature.min()) >= 0 and np.any(curvature < 0):  # (min is nan when any is: look again)
         worst = float(np.max(rho[curvature < 0]))
         largest = floor_significant(-worst, 6)  # rounded down: a follower of that radius touches it (combined curvature >= 0)
         shown = f"{largest:g}" if largest <= -worst else repr(-worst)

@@ -457,11 +457,16 @@ class _CurvePoints:
         self._terms = terms
 
     def points(self) -> _Points:
-        if self._made is None:
-            assert self._terms is not None  # either made or made from these
-            self._made = _roller_points(*self._terms)
+        made = self._made  # (locals: another thread may make them between two reads)
+        if made is None:
+            terms = self._terms
+            if terms is None:  # made by another thread meanwhile
+                made = self._made
+                assert made is not None  # set before the terms are dropped
+                return made
+            made = self._made = _roller_points(*terms)
             self._terms = None
-        return self._made
+        return made
 
     def __getstate__(self) -> _Points:
         return self.points()
@@ -705,7 +710,7 @@ def _roller_kinematics(f: FollowerSpec, theta: np.ndarray, s: np.ndarray, ds: np
     real = np.empty((4, n))  # pressure angle, pitch and profile curvature, profile radius of curvature
     (cx, cy), (vx, vy), (ax, ay), _, m, g = _centre(f, s, ds, d2s, None)  # (B: only the points' second derivatives)
     _, speed2, cross, cube, kappa_p = _pitch_kappa(sigma, vx, vy, ax, ay, real[1])
-    measures = _PitchMeasures(cy, speed2, cross, cube)
+    measures = _PitchMeasures(cy, speed2, cross, cube, f)
     factor = 1.0 - r * kappa_p
     if m is None:  # translating: m = (0, 1), V . m = Vy, V x m = Vx
         alpha = np.arctan2(vy, np.abs(vx), out=real[0])
@@ -732,10 +737,20 @@ def kinematics(follower: FollowerSpec, law: Displacement, theta: object) -> Kine
     Everything comes from ``s, s', s''`` of the law pointwise (the jerk is the law's ``s'''``):
     pressure angle, contact point, radii of curvature of the pitch curve and the profile.
     At a break where ``s''`` jumps the value is the law's own value at that angle.
+
+    The points (follower, pitch and contact point, the curves' derivatives) of a roller or knife
+    are made on first use from ``theta`` and the law's values: ``theta`` is copied, and the
+    Kinematics' ``theta``, ``s`` .. ``d3s`` are read-only, so they are the points of the angles
+    asked whatever the caller writes afterwards.
     """
-    theta = np.atleast_1d(np.asarray(theta, dtype=float)).ravel()
-    s, ds, d2s, d3s = (np.asarray(x, dtype=float).ravel() for x in law(theta))
-    return _kinematics_from(follower, theta, s, ds, d2s, d3s)
+    theta = np.array(theta, dtype=float, ndmin=1).ravel()  # (a copy: the caller keeps its array)
+    theta.setflags(write=False)
+    values = []
+    for x in law(theta):
+        v = np.asarray(x, dtype=float).ravel().view()
+        v.setflags(write=False)
+        values.append(v)
+    return _kinematics_from(follower, theta, *values)
 
 
 def contact_points(follower: FollowerSpec, law: Displacement, theta: object) -> np.ndarray:
@@ -793,7 +808,7 @@ def profile_failures(f: FollowerSpec, k: Kinematics) -> list[tuple[str, np.ndarr
     if f.contact == "face":
         assert k.normal_turn_rate is not None  # a flat face's Kinematics carry its normal's turn rate
         return _flat_failures(f, k.s, k.normal_turn_rate, k.profile_radius)
-    if k.pitch_measures is not None:
+    if k.pitch_measures is not None and (k.pitch_measures.follower is f or k.pitch_measures.follower == f):
         return _measured_failures(f, k.pitch_measures)
     return _pitch_failures(f, k.s, k.ds, k.d2s)
 
@@ -834,18 +849,20 @@ def _pitch_failures(f: FollowerSpec, s: np.ndarray, ds: np.ndarray, d2s: np.ndar
             cross -= vy * ax
             cube = np.sqrt(speed2)
             cube *= speed2
-    return _measured_failures(f, _PitchMeasures(cy, speed2, cross, cube))
+    return _measured_failures(f, _PitchMeasures(cy, speed2, cross, cube, f))
 
 
 class _PitchMeasures(NamedTuple):
     """What :func:`_pitch_failures` tests of a roller or knife (fixed frame, (n,) arrays): the
     follower height ``cy`` (:func:`_centre`), ``|V|^2``; ``V x A`` and ``|V|^3`` (a roller's; None
-    when not made)."""
+    when not made), and the follower they are of (:func:`profile_failures` uses them for that
+    follower only)."""
 
     cy: np.ndarray
     speed2: np.ndarray
     cross: np.ndarray | None
     cube: np.ndarray | None
+    follower: FollowerSpec
 
 
 def _measured_failures(f: FollowerSpec, m: _PitchMeasures) -> list[tuple[str, np.ndarray]]:
