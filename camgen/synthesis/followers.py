@@ -782,7 +782,11 @@ def profile_curvatures(follower: FollowerSpec, law: Displacement, *thetas: objec
         curvature = np.divide(kappa_p, factor)  # as in _roller: the profile's rho = rho_pitch - r
     if len(values) == 1:
         return (curvature,)
-    return tuple(np.split(curvature, np.cumsum([v[0].size for v in values[:-1]])))
+    out, at = [], 0
+    for v in values:  # np.split's views: each array's slice
+        out.append(curvature[at: at + v[0].size])
+        at += v[0].size
+    return tuple(out)
 
 
 # --------------------------------------------------------------------------------------------
