@@ -581,14 +581,16 @@ def mask_where(mask: np.ndarray, theta: np.ndarray, worst: int) -> list[float]:
 def _undercut(cam: DiskCam) -> "CheckResult":
     from camgen.checks import CheckResult, where_degrees
     from camgen.kinds.least_radius import least_convex_radius
-    from camgen.synthesis.followers import profile_failures
+    from camgen.synthesis.followers import failing_conditions
 
     f, k, theta = cam.spec_follower, cam.envelope.data, cam.envelope.data.theta
-    masks = [(r, m) for r, m in profile_failures(f, k) if m.any()]  # the failing conditions
+    # a roller's largest pitch curvature: its undercut screen's and the least convex radius's
+    top = float(k.pitch_curvature.max()) if f.has_radius and k.pitch_curvature is not None and k.pitch_curvature.size else None
+    masks = failing_conditions(f, k, top)  # the failing conditions
     reasons = [r for r, _ in masks]
     bad = np.logical_or.reduce([m for _, m in masks]) if masks else None  # None: no sample fails
     if f.has_radius:
-        least, i = least_convex_radius(_given(k.pitch_curvature, "a roller's pitch curve"))  # the pitch curve's radii, 1 / k
+        least, i = least_convex_radius(_given(k.pitch_curvature, "a roller's pitch curve"), top)  # the pitch curve's radii, 1 / k
         value: Any = least if math.isfinite(least) else "none"
         limit, unit, what = f.roller_radius, "mm", "smallest convex radius of the pitch curve (roller-centre path) against the roller radius"
     elif f.contact == "face":
