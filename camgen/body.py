@@ -7,15 +7,21 @@ together with the bore; the DXF draws the part outside the bore; STEP cuts its p
 """
 from __future__ import annotations
 
+import functools
 import math
+import struct
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from camgen.contour import Contour
 from camgen.errors import ParameterError, require_finite, require_positive
 
-__all__ = ["BodySpec", "WALL_TOL", "wall_left"]
+if TYPE_CHECKING:
+    from camgen.wall_polygon import KeywayTerms
+
+__all__ = ["BodySpec", "WALL_TOL", "kept_keyway_terms", "wall_left"]
 
 
 @dataclass(frozen=True)
@@ -72,6 +78,21 @@ class BodySpec:
 WALL_TOL = 1e-4
 
 
+def kept_keyway_terms(body: BodySpec) -> "KeywayTerms":
+    """:func:`camgen.wall_polygon.keyway_terms` of ``body``'s keyway (a body with a keyway), kept
+    for bodies alike to the bit (a sweep's designs share their body): a bounded cache keyed by
+    the keyway's numbers' bytes (-0.0 is not 0.0 there) and the body; read-only arrays."""
+    key = struct.pack("<4d", body.bore_diameter, body.keyway_width, body.keyway_depth, body.keyway_angle)
+    return _kept_terms(key, body)
+
+
+@functools.lru_cache(maxsize=8)
+def _kept_terms(key: bytes, body: BodySpec) -> "KeywayTerms":
+    from camgen.wall_polygon import keyway_terms
+
+    return keyway_terms(body.keyway_corners(), body.keyway_angle)
+
+
 def wall_left(contour: Contour, body: BodySpec, chord_tol: float = WALL_TOL) -> tuple[float, float]:
     """Thinnest wall (mm) between bore/keyway and the profile, and the cam angle (deg) where it is.
 
@@ -83,8 +104,9 @@ def wall_left(contour: Contour, body: BodySpec, chord_tol: float = WALL_TOL) -> 
         return math.inf, 0.0
     from camgen.wall_polygon import wall_polygon
 
-    keyway = body.keyway_corners() if body.keyway_width > 0 else None
-    part = wall_polygon(contour, chord_tol, body.bore_diameter / 2, keyway)  # the vertices that can decide it (the whole polygon's)
+    terms = kept_keyway_terms(body) if body.keyway_width > 0 else None  # the keyway's own numbers, kept per body
+    keyway = terms.corners if terms is not None else None
+    part = wall_polygon(contour, chord_tol, body.bore_diameter / 2, keyway, terms)  # the vertices that can decide it (the whole polygon's)
     poly = part.points
     radius = np.hypot(poly[:, 0], poly[:, 1])
     i = int(radius.argmin())
@@ -93,9 +115,9 @@ def wall_left(contour: Contour, body: BodySpec, chord_tol: float = WALL_TOL) -> 
         # distance of the profile vertices to the keyway rectangle, in the keyway's frame (the part
         # has >= 2 vertices: OpenBLAS computes each row of an (n >= 2, 2) @ (2,) product as it does in
         # the whole polygon's, not a lone row's; tests/test_wall.py compares with the whole polygon)
-        c, s = math.cos(body.keyway_angle), math.sin(body.keyway_angle)
-        along = poly @ np.array([c, s])
-        across = poly @ np.array([-s, c])
+        assert terms is not None
+        along = poly @ terms.along
+        across = poly @ terms.across_dir
         out = body.keyway_reach
         dx = np.maximum(np.maximum(-along, along - out), 0.0)
         dy = np.maximum(np.abs(across) - body.keyway_width / 2, 0.0)
@@ -121,7 +143,7 @@ def wall_left(contour: Contour, body: BodySpec, chord_tol: float = WALL_TOL) -> 
             if gaps[row, i_edge] < k_wall:
                 k_wall, j = float(gaps[row, i_edge]), int(chord[i_edge])
         # no ray from the axis meets the profile nearer than part.near_axis
-        if float(np.hypot(corners[:, 0], corners[:, 1]).max()) >= part.near_axis:
+        if terms.corner_reach >= part.near_axis:
             reach = contour.polar_radius(np.arctan2(corners[:, 1], corners[:, 0]))
             if np.any(np.hypot(corners[:, 0], corners[:, 1]) >= reach):
                 k_wall = min(k_wall, -1.0)

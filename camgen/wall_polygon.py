@@ -28,7 +28,7 @@ if TYPE_CHECKING:
     from camgen.contour import Contour
     from camgen.contour.partial import ContourPieces
 
-__all__ = ["WALL_SLACK_MM", "WALL_SLACK_REL", "WallPolygon", "wall_polygon"]
+__all__ = ["KeywayTerms", "WALL_SLACK_MM", "WALL_SLACK_REL", "WallPolygon", "keyway_terms", "wall_polygon"]
 
 #: Absolute slack (mm) by which a piece's lower bound must exceed the upper bound of the wall for
 #: the piece to be left out.
@@ -49,7 +49,43 @@ class WallPolygon:
     near_axis: float
 
 
-def _keep(pieces: "ContourPieces", bore: float, keyway: np.ndarray | None) -> tuple[np.ndarray, float]:
+@dataclass(frozen=True)
+class KeywayTerms:
+    """What the wall's bounds and distances take of a keyway rectangle alone (read-only arrays):
+    its ``corners`` (4, 2), mm (:meth:`camgen.body.BodySpec.keyway_corners`); the unit
+    directions along (``side``) and across (``across``) it, its length ``out`` and ``width``
+    (mm), the middle ``mid`` of its axis side; ``along``, ``across_dir``: ``(cos, sin)`` and
+    ``(-sin, cos)`` of ``angle`` (the keyway's direction, rad; :func:`camgen.body.wall_left`'s
+    frame); ``corner_reach``: the outer corners' largest distance from the axis (mm)."""
+
+    corners: np.ndarray
+    side: np.ndarray
+    across: np.ndarray
+    out: float
+    width: float
+    mid: np.ndarray
+    along: np.ndarray
+    across_dir: np.ndarray
+    corner_reach: float
+
+
+def keyway_terms(keyway: np.ndarray, angle: float) -> KeywayTerms:
+    """:class:`KeywayTerms` of the keyway rectangle ``keyway`` (corners (4, 2), as
+    :meth:`camgen.body.BodySpec.keyway_corners` gives them; copied) in the direction ``angle`` (rad)."""
+    keyway = np.array(keyway, dtype=float)
+    side, across = keyway[1] - keyway[0], keyway[3] - keyway[0]
+    out, width = math.hypot(*side), math.hypot(*across)
+    c, s = math.cos(angle), math.sin(angle)
+    outer = keyway[1:3]
+    terms = KeywayTerms(keyway, side / out, across / width, out, width, 0.5 * (keyway[0] + keyway[3]), np.array([c, s]),
+                        np.array([-s, c]), float(np.hypot(outer[:, 0], outer[:, 1]).max()))
+    for a in (terms.corners, terms.side, terms.across, terms.mid, terms.along, terms.across_dir):
+        a.flags.writeable = False
+    return terms
+
+
+def _keep(pieces: "ContourPieces", bore: float, keyway: np.ndarray | None,
+          terms: KeywayTerms | None = None) -> tuple[np.ndarray, float]:
     """The pieces that may hold the wall to a bore of radius ``bore`` (mm) and the keyway
     rectangle ``keyway`` (its corners (4, 2): axis side, outer, outer, axis side; None: no
     keyway), (P,), and a lower bound of the profile's distance from the axis (mm).
@@ -69,10 +105,10 @@ def _keep(pieces: "ContourPieces", bore: float, keyway: np.ndarray | None) -> tu
     upper = float(np.hypot(starts[:, 0], starts[:, 1]).min()) - bore
     lower = reach - bore
     if keyway is not None:
-        side, across = keyway[1] - keyway[0], keyway[3] - keyway[0]
-        out, width = math.hypot(*side), math.hypot(*across)
-        rel = starts - 0.5 * (keyway[0] + keyway[3])  # from the middle of the axis side: the rectangle [0, out] x [-width / 2, width / 2]
-        along, off = rel @ (side / out), rel @ (across / width)
+        kt = keyway_terms(keyway, 0.0) if terms is None else terms  # (the angle's terms are wall_left's)
+        keyway, out, width = kt.corners, kt.out, kt.width
+        rel = starts - kt.mid  # from the middle of the axis side: the rectangle [0, out] x [-width / 2, width / 2]
+        along, off = rel @ kt.side, rel @ kt.across
         gaps = np.hypot(np.maximum(np.maximum(-along, along - out), 0.0), np.maximum(np.abs(off) - 0.5 * width, 0.0))
         upper = min(upper, float(gaps.min()))
         to_keyway = reach - (n @ keyway.T).max(axis=1)
@@ -84,14 +120,16 @@ def _keep(pieces: "ContourPieces", bore: float, keyway: np.ndarray | None) -> tu
     return lower <= upper + slack, float(reach.min()) - slack
 
 
-def wall_polygon(contour: "Contour", chord_tol: float, bore: float, keyway: np.ndarray | None) -> WallPolygon:
+def wall_polygon(contour: "Contour", chord_tol: float, bore: float, keyway: np.ndarray | None,
+                 terms: KeywayTerms | None = None) -> WallPolygon:
     """The vertices of ``contour.flatten(chord_tol)`` that can decide the wall to a bore of radius
     ``bore`` (mm) and the keyway rectangle ``keyway`` (corners (4, 2) as
     :meth:`camgen.body.BodySpec.keyway_corners` gives them; None: no keyway): those of the pieces
-    that may hold it (a profile of splines of one degree), else every vertex."""
+    that may hold it (a profile of splines of one degree), else every vertex.  ``terms``: the
+    keyway's :class:`KeywayTerms` when the caller has them (else made from ``keyway``)."""
     pieces = contour_pieces(contour, chord_tol)
     if pieces is not None:
-        keep, near_axis = _keep(pieces, bore, keyway)
+        keep, near_axis = _keep(pieces, bore, keyway, terms)
         part = polygon_part(pieces, keep)
         if part is not None:
             return WallPolygon(part.points, part.successor, near_axis)

@@ -15,6 +15,7 @@ import numpy as np
 from camgen.contour.arc import Arc
 from camgen.contour.ends import spline_end_values, splines_end_values
 from camgen.contour.spline import Spline, bounding_box_of, flatten_params_of
+from camgen.contour.spline_joints import spline_joint_values
 from camgen.contour.tables import SegmentTables, StarTable
 from camgen.errors import CornerError, GeometryError, require_positive
 from camgen.geometry import cross, unit_vectors, wrap_pi
@@ -477,6 +478,14 @@ class Contour:
         Tolerances: ``position_tol`` mm, ``angle_tol`` rad, ``curvature_tol`` 1/mm.
         """
         out = []
+        if "_segment_tables" not in self.__dict__ and all(isinstance(seg, Spline) for seg in self.segments):
+            values = spline_joint_values(self.segments)  # type: ignore[arg-type]  # (the same values in Python floats)
+            if values is not None:
+                for i, (point, gap, angle, k_jump) in enumerate(values):
+                    level = ("none" if gap > position_tol else "G0" if angle > angle_tol else
+                             "G1" if abs(k_jump) > curvature_tol else "G2")
+                    out.append(Joint(i, point, gap, angle, k_jump, level))
+                return tuple(out)
         n = self.n_segments
         ends = self._all_end_values()  # (tangent, curvature) at u = 0 and u = 1
         for i, seg in enumerate(self.segments):

@@ -537,16 +537,17 @@ def _continuity(cam: DiskCam, contour: "Contour") -> "CheckResult":
     # the spline parameter is t = -sigma theta: each joint ends a segment at t = its last break
     splines = [seg for seg in contour.segments if isinstance(seg, Spline)]
     assert len(splines) == len(contour.segments), "a disk cam's envelope is made of splines"
-    ends = [float(seg.breaks[-1]) for seg in splines]
-    angles = np.mod(np.fmod(-f.sigma * np.array(ends), 2.0 * math.pi), 2.0 * math.pi)
+    # the joints' cam angles in Python floats: numpy's fmod is C's (math.fmod) and its remainder
+    # Python's % (fmod, then the divisor's sign), the same operations elementwise
+    two_pi = 2.0 * math.pi
+    at = [math.fmod(-f.sigma * float(seg.breaks[-1]), two_pi) % two_pi for seg in splines]
+    angles = np.array(at)
     eps = 1e-9
     before, after = profile_curvatures(f, cam.law, angles + f.sigma * eps, angles - f.sigma * eps)  # the contour runs against sigma theta
     # where the law's velocity jumps (break continuity 0) the profile has a corner (a handful of
     # joints and breaks: Python floats, the arithmetic of numpy's mod elementwise)
     corners_at = [b for b, c in zip(np.asarray(cam.law.breaks, dtype=float).tolist(), np.asarray(cam.law.break_continuity).tolist())
                   if c == 0]
-    at = angles.tolist()
-    two_pi = 2.0 * math.pi
     expected = ["G0" if any(abs((a - b + math.pi) % two_pi - math.pi) <= 1e-9 for b in corners_at) else
                 "G1" if abs(k_after - k_before) > CURVATURE_JUMP_TOL else "G2" for a, k_before, k_after in zip(at, before.tolist(), after.tolist())]
     levels = [j.continuity for j in joints]
@@ -565,7 +566,8 @@ def _continuity(cam: DiskCam, contour: "Contour") -> "CheckResult":
         bad = [i for i, (level, e) in enumerate(zip(levels, expected)) if level != e]
         note += "; joints not as continuous as the law: " + ", ".join(f"{levels[i]} at {math.degrees(at[i]):.3f} deg "
                                                                       f"(law: {expected[i]})" for i in bad[:6])
-    return CheckResult("continuity", lowest, required, "at least", "", passed, where_degrees(angles[np.array(jumps, dtype=bool)]), note)
+    where = [w for a, jump in zip(at, jumps) if jump for w in where_degrees(a)]  # (one double: numpy's values, tests/test_checks.py)
+    return CheckResult("continuity", lowest, required, "at least", "", passed, where, note)
 
 
 def mask_where(mask: np.ndarray, theta: np.ndarray, worst: int) -> list[float]:
@@ -579,14 +581,16 @@ def mask_where(mask: np.ndarray, theta: np.ndarray, worst: int) -> list[float]:
 def _undercut(cam: DiskCam) -> "CheckResult":
     from camgen.checks import CheckResult, where_degrees
     from camgen.kinds.least_radius import least_convex_radius
-    from camgen.synthesis.followers import profile_failures
+    from camgen.synthesis.followers import failing_conditions
 
     f, k, theta = cam.spec_follower, cam.envelope.data, cam.envelope.data.theta
-    masks = [(r, m) for r, m in profile_failures(f, k) if m.any()]  # the failing conditions
+    # a roller's largest pitch curvature: its undercut screen's and the least convex radius's
+    top = float(k.pitch_curvature.max()) if f.has_radius and k.pitch_curvature is not None and k.pitch_curvature.size else None
+    masks = failing_conditions(f, k, top)  # the failing conditions
     reasons = [r for r, _ in masks]
     bad = np.logical_or.reduce([m for _, m in masks]) if masks else None  # None: no sample fails
     if f.has_radius:
-        least, i = least_convex_radius(_given(k.pitch_curvature, "a roller's pitch curve"))  # the pitch curve's radii, 1 / k
+        least, i = least_convex_radius(_given(k.pitch_curvature, "a roller's pitch curve"), top)  # the pitch curve's radii, 1 / k
         value: Any = least if math.isfinite(least) else "none"
         limit, unit, what = f.roller_radius, "mm", "smallest convex radius of the pitch curve (roller-centre path) against the roller radius"
     elif f.contact == "face":

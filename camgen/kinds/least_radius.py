@@ -20,11 +20,13 @@ __all__ = ["TIE_REL", "least_convex_radius"]
 TIE_REL = 1e-12
 
 
-def least_convex_radius(curvature: np.ndarray) -> tuple[float, int]:
+def least_convex_radius(curvature: np.ndarray, top: float | None = None) -> tuple[float, int]:
     """The least positive radius of curvature (mm) of the samples ``curvature`` (1/mm) and the
     first sample where it is, bit for bit ``min`` and ``argmin`` of ``where(rho > 0, rho, inf)``
-    with ``rho = where(k != 0, 1 / k, inf)``; ``(inf, 0)`` when no radius is positive and finite."""
-    top = float(curvature.max()) if curvature.size else 0.0  # NaN if any sample is NaN
+    with ``rho = where(k != 0, 1 / k, inf)``; ``(inf, 0)`` when no radius is positive and finite.
+    ``top``: ``float(curvature.max())`` when the caller has it (a non-empty ``curvature``)."""
+    if top is None:
+        top = float(curvature.max()) if curvature.size else 0.0  # NaN if any sample is NaN
     if 0.0 < top < math.inf:
         # no NaN, no infinity, and a positive largest: the largest positive curvature, and the
         # samples near it (a threshold > 0: no sample <= 0 passes it) in one comparison

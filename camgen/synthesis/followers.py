@@ -102,7 +102,7 @@ from camgen.errors import (
 __all__ = [
     "BOUND_SPACING", "BREAK_MERGE", "CamEnvelope", "CheckGrid", "DEFAULT_CHECK_STEP", "DEFAULT_FIT_TOL",
     "Displacement", "FollowerSpec", "Kinematics", "MOTIONS", "ROTATIONS", "SCREEN_CLEARANCE",
-    "SCREEN_UNDERCUT", "cam_envelope", "check_grid", "contact_points", "kinematics", "profile_curvature", "profile_curvatures", "pitch_offset_failures", "pitch_offsets", "profile_failures",
+    "SCREEN_UNDERCUT", "UNDERCUT_SCREEN_MARGIN", "cam_envelope", "failing_conditions", "check_grid", "contact_points", "kinematics", "profile_curvature", "profile_curvatures", "pitch_offset_failures", "pitch_offsets", "profile_failures",
 ]
 
 TWO_PI = 2.0 * math.pi
@@ -797,7 +797,11 @@ def profile_curvatures(follower: FollowerSpec, law: Displacement, *thetas: objec
         curvature = np.divide(kappa_p, factor)  # as in _roller: the profile's rho = rho_pitch - r
     if len(values) == 1:
         return (curvature,)
-    return tuple(np.split(curvature, np.cumsum([v[0].size for v in values[:-1]])))
+    out, at = [], 0
+    for v in values:  # np.split's views: each array's slice
+        out.append(curvature[at: at + v[0].size])
+        at += v[0].size
+    return tuple(out)
 
 
 # --------------------------------------------------------------------------------------------
@@ -863,6 +867,41 @@ class _PitchMeasures(NamedTuple):
     cross: np.ndarray | None
     cube: np.ndarray | None
     follower: FollowerSpec
+
+
+#: Relative margin below 1 of a roller's largest ``r kappa`` on the check grid within which
+#: :func:`failing_conditions` compares every sample for the undercut (the rounding of ``kappa``
+#: and of ``r (V x A)`` is a few units in the last place, 2.2e-16 each).
+UNDERCUT_SCREEN_MARGIN = 1e-12
+
+
+def failing_conditions(f: FollowerSpec, k: Kinematics, top: float | None = None) -> list[tuple[str, np.ndarray]]:
+    """The (reason, mask) pairs of :func:`profile_failures` whose mask has a failing sample, in
+    its order, the same masks; a roller's or knife's conditions first by one reduction each
+    (the least follower height and ``|V|^2``, a roller's largest pitch curvature ``top`` (1/mm:
+    ``k.pitch_curvature.max()``, passed when the caller has it): no sample fails where the least
+    height is > 0, the least ``|V|^2`` beyond the cusp limit, and ``r top <= 1 -``
+    :data:`UNDERCUT_SCREEN_MARGIN` with every ``|V|^3`` finite (``kappa = -sigma (V x A) / |V|^3``
+    below ``1 / r`` by more than its rounding: ``r (V x A) (-sigma) < |V|^3``); a NaN makes the
+    reduction NaN: every sample is then compared, as otherwise."""
+    m = k.pitch_measures
+    if f.contact == "face" or m is None:
+        return [(reason, mask) for reason, mask in profile_failures(f, k) if mask.any()]
+    out = []
+    if f.motion == "translating" and not float(m.cy.min()) > 0:
+        out.append((_AXIS_REASON, m.cy <= 0))
+    scale = max(1.0, f.prime_radius)
+    with np.errstate(over="ignore", invalid="ignore"):
+        if not float(m.speed2.min()) > (1e-12 * scale) ** 2:
+            out.append((_CUSP_REASON, ~(m.speed2 > (1e-12 * scale) ** 2)))
+        if f.has_radius:
+            assert m.cross is not None and m.cube is not None and k.pitch_curvature is not None  # made for a roller
+            top = float(k.pitch_curvature.max()) if top is None else top
+            if not (f.roller_radius * top <= 1.0 - UNDERCUT_SCREEN_MARGIN and math.isfinite(float(m.cube.max()))):
+                cross = m.cross * (-f.sigma * f.roller_radius)
+                cube = np.maximum(m.cube, np.finfo(float).tiny)  # r kappa is NaN (not >= 1) where |V| = 0: a cusp
+                out.append((_undercut_reason(f), cross >= cube))
+    return [(reason, mask) for reason, mask in out if mask.any()]
 
 
 def _measured_failures(f: FollowerSpec, m: _PitchMeasures) -> list[tuple[str, np.ndarray]]:
