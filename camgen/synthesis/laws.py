@@ -1516,6 +1516,21 @@ class MotionProgram:
             memo[key] = kept
         return res[0].reshape(shape), res[1].reshape(shape), res[2].reshape(shape), res[3].reshape(shape)
 
+    def at_kept_angles(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """What ``self(theta)`` gives (the same computation: the same sorted angles, pieces and
+        bases, the same matrix products), four fresh arrays (theta.size,), for the cam angles
+        ``theta`` (rad, 1-D, finite) of any count, with the angles' layout (their order, the
+        pieces' bounds and each piece's basis) kept by their bytes in :func:`_angle_layout`:
+        for a caller that asks programs whose pieces lie at the same places at the same many
+        angles (a base-radius search of a lift sweep's failing designs on their check grid,
+        7,210 angles, beyond :meth:`__call__`'s :data:`_CALL_MEMO_ANGLES`): only the matrix
+        products are made once the layout is kept."""
+        theta = np.asarray(theta, dtype=float)
+        if theta.ndim != 1:
+            raise ParameterError("theta", f"an array of shape {theta.shape}", "a 1-D array of cam angles, rad")
+        res = self._values(theta, theta.tobytes())
+        return res[0], res[1], res[2], res[3]
+
     def _places(self) -> _Places:
         """The places of this program's evaluation pieces (:class:`_Places`: the key of
         :func:`_angle_layout`), made once per program."""
