@@ -1551,14 +1551,16 @@ class MotionProgram:
             self.__dict__["_places_key"] = places
         return places
 
-    def _values(self, theta: np.ndarray, key: bytes | int | None = None) -> np.ndarray:
+    def _values(self, theta: np.ndarray | None, key: bytes | int | None = None) -> np.ndarray:
         """:meth:`__call__`'s values, computed: a (4, theta.size) block.  ``key``: the angles'
         bytes (``theta.tobytes()``), or ``n`` for ``theta = 2 pi arange(n) / n``: the angles'
         order, pieces and bases then come from :func:`_angle_layout` (kept across programs whose
-        pieces lie at the same places: a sweep of lifts), only the matrix products are made."""
+        pieces lie at the same places: a sweep of lifts), only the matrix products are made
+        (``theta`` is then not read: None for a sample grid)."""
         plan = self._plan()
         bounds: Sequence[int]
         if key is None:
+            assert theta is not None  # (only a keyed call passes no angles)
             ths, order, bounds = _sorted_angles(theta.ravel(), self._piece_lo)
             bases: tuple[np.ndarray | None, ...] = (None,) * len(plan)
         else:
@@ -1707,7 +1709,7 @@ class MotionProgram:
         if kept is not None:
             res = kept.copy()
             return res[0], res[1], res[2], res[3]
-        res = self._values(2.0 * math.pi * np.arange(n) / n, n)
+        res = self._values(None, n)  # (the angles 2 pi arange(n) / n: _angle_layout's, none made here)
         if len(memo) >= _GRID_MEMO_SIZE:
             memo.clear()  # (one step: safe with threads sharing the program)
         if seen:  # asked for before: kept from now on
