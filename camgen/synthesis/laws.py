@@ -367,7 +367,8 @@ _GRID_MEMO_SIZE = 4
 _CALL_MEMO_ANGLES = 4096
 _CALL_MEMO_SIZE = 16
 #: The attributes in which a program keeps values (not pickled).
-_KEPT_VALUES = ("_call_memo", "_grid_memo", "_order_memo", "_peaks", "_sample_memo", "_places_key")
+_KEPT_VALUES = ("_call_memo", "_grid_memo", "_order_memo", "_peaks", "_sample_memo", "_places_key",
+                "_advice_law_key")  # (the last: camgen.synthesis.advice_cache.PROGRAM_KEY)
 
 
 def _uniform_phasors(first: float, step: float, m: int) -> np.ndarray:
