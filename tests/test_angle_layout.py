@@ -270,3 +270,20 @@ def test_base_radius_advice_of_failing_lifts_in_a_row_is_the_advice_with_nothing
         theta = check_grid(program, limits.check_step)
         for a, b in zip(sizing._SampledLaw(program)(theta), program(theta)):
             assert np.array_equal(a, b) and np.array_equal(np.signbit(a), np.signbit(b)), lift
+
+
+def test_a_jerk_impulse_inside_a_segment_is_an_infinite_jerk():
+    """Two constant-acceleration segments (rise, return) join smoothly, but each jumps in
+    acceleration at its middle: peak_values' infinite jerk from the law's own breaks, against
+    the acceleration on either side of every break (a jump of ~2 x 4 h / beta^2, Norton's
+    constant-acceleration law), and none where the law has no jump (the modified trapezoid)."""
+    eps = 1e-9
+    for name, impulse in (("constant_acceleration", True), ("modified_trapezoid", False)):
+        program = MotionProgram([Segment(name, D(180.0), 10.0), Segment(name, D(180.0), -10.0)])
+        angles = np.mod(program.breaks, TWO_PI)
+        _, _, before, _ = program(angles - eps)
+        _, _, after, _ = program(angles + eps)
+        jumps = bool(np.any(np.abs(after - before) > 1e-3 * program.peak_values().acceleration))
+        assert jumps == impulse, name
+        assert program.peak_values().infinite_jerk == impulse, name
+        assert not program.peak_values().infinite_acceleration

@@ -107,6 +107,7 @@ from __future__ import annotations
 import functools
 import itertools
 import math
+import operator
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
@@ -1475,7 +1476,7 @@ class MotionProgram:
                                  (piece, seg.scale)))
                     continue
                 scale, span = seg.scale * piece.sign_out, seg.span * piece.sign_in
-                matrix = piece._unit_matrix[:4] * np.array([[scale], [scale / span], [scale / span**2], [scale / span**3]])
+                matrix = piece._unit_matrix[:4] * np.array((scale, scale / span, scale / span**2, scale / span**3)).reshape(4, 1)
                 matrix[0, 0] += levels[i] + seg.scale * piece.offset
                 matrix.flags.writeable = False
                 plan.append((starts[i], seg.span, float(piece.ref), piece.sign_in > 0, 0.0,
@@ -1741,12 +1742,14 @@ class MotionProgram:
         kept = self.__dict__.get("_peaks")
         if kept is not None:
             return kept
-        best = []  # (value, where) of the velocity, acceleration and jerk
+        best = []  # (value, where) of the velocity, acceleration and jerk (max: the first of equal values)
+        first = operator.itemgetter(0)
         for k in range(3):
-            value, at = max((p[k] for p in self._seg_peaks), key=lambda x: x[0])
+            value, at = max([p[k] for p in self._seg_peaks], key=first)
             best.append((float(value), float(at % TWO_PI)))
         (vel, vel_at), (acc, acc_at), (jerk, jerk_at) = best
-        peaks = Peaks(vel, vel_at, acc, acc_at, jerk, jerk_at, infinite_acceleration=any(j.continuity < 1 for j in self._joins),
-                      infinite_jerk=any(j.continuity < 2 for j in self._joins) or any(c < 2 for c in self.break_continuity))
+        least = min([j.continuity for j in self._joins])  # (the joins' continuity are among the breaks')
+        peaks = Peaks(vel, vel_at, acc, acc_at, jerk, jerk_at, infinite_acceleration=least < 1,
+                      infinite_jerk=least < 2 or bool((self.break_continuity < 2).any()))
         self.__dict__["_peaks"] = peaks
         return peaks
