@@ -1417,8 +1417,8 @@ class MotionProgram:
             rp = self.segments[i].end_values(False)
             right = (levels[i] + rp[0],) + rp[1:]
             diff = [r - l for l, r in zip(left, right)]
-            ok = [abs(d) <= self.join_tol * max(abs(l), abs(r), pk) for d, l, r, pk in zip(diff, left, right, peak)]
-            if not ok[0]:
+            tol = self.join_tol
+            if not abs(diff[0]) <= tol * max(abs(left[0]), abs(right[0]), peak[0]):
                 where = math.degrees(starts[i])
                 names = [seg.where or f"segments[{k}]" for k, seg in enumerate(self.segments)]
                 if i == 0:
@@ -1428,7 +1428,11 @@ class MotionProgram:
                 raise ParameterError(names[i], f"starts at s = {right[0]:.9g} {unit}",
                                      f"starting where {names[prev]} ends (s = {left[0]:.9g} {unit})",
                                      f"the displacement jumps by {diff[0]:.6g} {unit} at {where:.9g} deg")
-            continuity = next((k - 1 for k in (1, 2, 3) if not ok[k]), SMOOTH)
+            continuity = SMOOTH  # the order below the first derivative that jumps (within tol of the larger side and peak)
+            for k in (1, 2, 3):
+                if not abs(diff[k]) <= tol * max(abs(left[k]), abs(right[k]), peak[k]):
+                    continuity = k - 1
+                    break
             self._joins.append(Join(starts[i], prev, i, continuity, left, right, (diff[1], diff[2], diff[3]), unit))
         # breaks: joins and internal law breaks; evaluation pieces in cam angle
         brk, cont = [], []
