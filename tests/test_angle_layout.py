@@ -180,3 +180,110 @@ def test_peaks_of_a_program_against_its_sampled_values_the_first_of_equal_peaks(
     assert dwelling.peak_values().infinite_jerk and not dwelling.peak_values().infinite_acceleration  # A jumps at a dwell
     smooth = MotionProgram([Segment("simple_harmonic", D(180.0), 10.0), Segment("simple_harmonic", D(180.0), -10.0)])  # one cosine
     assert not smooth.peak_values().infinite_jerk
+
+
+#: Many angles (beyond __call__'s memo, laws._CALL_MEMO_ANGLES): a plate cam's check grid, and unsorted ones around the turn.
+MANY = [np.unique(np.concatenate([np.arange(7200) * (TWO_PI / 7200), [D(120.0), D(160.0), D(290.0)]])),
+        _RNG.uniform(-TWO_PI, 2.0 * TWO_PI, 5000)]
+
+
+@pytest.mark.parametrize("which", range(len(MANY)))
+def test_at_kept_angles_across_programs_is_a_fresh_programs_call(which):
+    """MotionProgram.at_kept_angles of programs in a row (the many angles' layout kept by their
+    bytes across programs at the same places) against the program's own call, evaluated with
+    nothing kept, bit for bit (signs of zeros included), and the cycloidal rise's closed form."""
+    theta = MANY[which]
+    assert theta.size > laws._CALL_MEMO_ANGLES
+    laws._angle_layout.cache_clear()
+    gots, hits = [], []
+    for args in SEQUENCE:
+        before = laws._angle_layout.cache_info().hits
+        gots.append(_program(*args).at_kept_angles(theta))
+        hits.append(laws._angle_layout.cache_info().hits > before)
+    assert hits[1] and hits[3] and hits[5] and hits[7] and not hits[4]  # the same places: kept; other spans: made
+    for k, (args, got) in enumerate(zip(SEQUENCE, gots)):
+        want = _program(*args)(theta)  # more angles than __call__ keys: its own sorting and bases
+        for a, b in zip(got, want):
+            assert a.flags.writeable and a.shape == theta.shape
+            assert np.array_equal(a, b), (k, which)
+            assert np.array_equal(np.signbit(a), np.signbit(b)), (k, which)
+        lift, rise = args[0], D(args[1])
+        on_turn = np.mod(theta, TWO_PI)
+        inside = on_turn < rise
+        x = on_turn[inside] / rise
+        assert np.allclose(got[0][inside], lift * (x - np.sin(TWO_PI * x) / TWO_PI), rtol=0.0, atol=CLOSED_FORM_TOL * abs(lift) * 10), k
+    with pytest.raises(ParameterError):
+        _program(12.0).at_kept_angles(theta[:10].reshape(5, 2))  # not 1-D
+    with pytest.raises(ParameterError):
+        _program(12.0).at_kept_angles(np.full(5000, math.nan))
+
+
+class _CalledLaw:
+    """A motion program seen through its call alone (no at_kept_angles): sizing evaluates it as
+    before, ``law(theta)``; breaks, peaks and the rest are the program's."""
+
+    def __init__(self, program: MotionProgram) -> None:
+        self._program = program
+
+    def __call__(self, theta: np.ndarray):
+        return self._program(theta)
+
+    def __getattr__(self, name: str):
+        if name == "at_kept_angles":
+            raise AttributeError(name)
+        return getattr(self._program, name)
+
+
+def test_base_radius_advice_of_failing_lifts_in_a_row_is_the_advice_with_nothing_kept():
+    """The base-radius search of designs that fail the pressure angle, another lift each (a lift
+    sweep: the check grid's layout kept across their laws, sizing's _SampledLaw by
+    at_kept_angles), against the same searches with nothing kept (no advice, no layout) and the
+    search's own claim: the quoted least base radius passes and 0.001 mm less fails (measure)."""
+    from camgen.synthesis import advice_cache
+    from camgen.synthesis.followers import FollowerSpec
+    from camgen.synthesis.sizing import DesignLimits, base_radius_advice, measure
+
+    follower = FollowerSpec("roller", 25.0, roller_radius=5.0)
+    limits = DesignLimits(max_pressure_angle=D(30.0))
+    lifts = (26.0, 31.5, 26.5, 40.0)
+    advice_cache._outcome.cache_clear()
+    laws._angle_layout.cache_clear()
+    got = [base_radius_advice(follower, _program(lift), limits) for lift in lifts]
+    assert laws._angle_layout.cache_info().hits >= len(lifts) - 1
+    for lift, advice in zip(lifts, got):
+        advice_cache._outcome.cache_clear()
+        laws._angle_layout.cache_clear()
+        assert advice == base_radius_advice(follower, _program(lift), limits), lift
+        # the search before: the law's own call at the check grid (a law without at_kept_angles)
+        assert advice == base_radius_advice(follower, _CalledLaw(_program(lift)), limits), lift
+        assert measure(follower, _program(lift)).violations(limits)  # a failing design
+        passing = measure(FollowerSpec("roller", advice.low, roller_radius=5.0), _program(lift))
+        assert not passing.violations(limits), lift
+        assert measure(FollowerSpec("roller", round(advice.low - 0.001, 3), roller_radius=5.0), _program(lift)).violations(limits), lift
+    assert len({a.low for a in got}) == len(lifts)
+    # what the trials read: the law's values at the check grid, those of its own call, bit for bit
+    from camgen.synthesis import sizing
+    from camgen.synthesis.followers import check_grid
+
+    for lift in lifts:
+        program = _program(lift)
+        theta = check_grid(program, limits.check_step)
+        for a, b in zip(sizing._SampledLaw(program)(theta), program(theta)):
+            assert np.array_equal(a, b) and np.array_equal(np.signbit(a), np.signbit(b)), lift
+
+
+def test_a_jerk_impulse_inside_a_segment_is_an_infinite_jerk():
+    """Two constant-acceleration segments (rise, return) join smoothly, but each jumps in
+    acceleration at its middle: peak_values' infinite jerk from the law's own breaks, against
+    the acceleration on either side of every break (a jump of ~2 x 4 h / beta^2, Norton's
+    constant-acceleration law), and none where the law has no jump (the modified trapezoid)."""
+    eps = 1e-9
+    for name, impulse in (("constant_acceleration", True), ("modified_trapezoid", False)):
+        program = MotionProgram([Segment(name, D(180.0), 10.0), Segment(name, D(180.0), -10.0)])
+        angles = np.mod(program.breaks, TWO_PI)
+        _, _, before, _ = program(angles - eps)
+        _, _, after, _ = program(angles + eps)
+        jumps = bool(np.any(np.abs(after - before) > 1e-3 * program.peak_values().acceleration))
+        assert jumps == impulse, name
+        assert program.peak_values().infinite_jerk == impulse, name
+        assert not program.peak_values().infinite_acceleration

@@ -17,6 +17,7 @@ The kinds share :func:`follower_keys`, :func:`read_follower`, :func:`build_disk`
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -310,11 +311,20 @@ def size_follower(spec: CamSpec) -> "SizingResult":
     return found
 
 
+@functools.lru_cache(maxsize=2)
+def _sample_angles(n: int) -> np.ndarray:
+    """The motion samples' cam angles ``2 pi arange(n) / n`` (rad), read-only, made once (a pure
+    function of ``n``: every disk cam's :func:`_motion` shares them)."""
+    theta = 2.0 * math.pi * np.arange(n) / n
+    theta.setflags(write=False)
+    return theta
+
+
 def _motion(follower: "FollowerSpec", law: Any) -> "Motion":
     """The follower's SVAJ per unit cam speed on a uniform grid, exactly from the law."""
     from camgen.checks import Motion, where_degrees
 
-    theta = 2.0 * math.pi * np.arange(MOTION_SAMPLES) / MOTION_SAMPLES
+    theta = _sample_angles(MOTION_SAMPLES)
     samples = getattr(law, "on_sample_grid", None)  # a motion program: the same numbers, kept across designs
     s, ds, d2s, d3s = samples(MOTION_SAMPLES) if samples is not None else law(theta)
     peaks = law.peak_values()

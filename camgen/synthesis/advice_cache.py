@@ -29,7 +29,7 @@ from camgen.synthesis.laws import MotionProgram
 if TYPE_CHECKING:
     from camgen.synthesis.followers import FollowerSpec
 
-__all__ = ["ADVICE_CACHE_SIZE", "AdviceQuery", "cached_advice"]
+__all__ = ["ADVICE_CACHE_SIZE", "AdviceQuery", "PROGRAM_KEY", "cached_advice"]
 
 #: Advices kept (a sweep's latest few search inputs; each entry holds its law object alive).
 ADVICE_CACHE_SIZE = 4
@@ -40,16 +40,28 @@ Advice = TypeVar("Advice")
 Search = Callable[["FollowerSpec", Any, Any, float, int, int], Any]
 
 
+#: Where a motion program keeps its :func:`_law_key` (made once per program: a program does not
+#: change; one of the values :class:`camgen.synthesis.laws.MotionProgram` does not pickle).
+PROGRAM_KEY = "_advice_law_key"
+
+
 def _law_key(law: Any) -> tuple[Any, ...]:
     """What makes ``law`` equal to another: a motion program's segments, unit and tolerances (and
-    their exact text), else the object itself (``("object", id)``, compared by identity)."""
+    their exact text), else the object itself (``("object", id)``, compared by identity).  A
+    program's key is made once and kept on it (:data:`PROGRAM_KEY`: a radius sweep's failing
+    designs ask with the same program object)."""
     if type(law) is MotionProgram:
+        kept = law.__dict__.get(PROGRAM_KEY)
+        if kept is not None:
+            return cast(tuple, kept)
         key = (law.segments, law.unit, law.span_tol, law.join_tol)
         try:
             hash(key)
         except TypeError:  # a segment holding a list (a polynomial's ends, spline points): by identity
             return ("object", id(law))
-        return ("program", key, repr(key))
+        made = ("program", key, repr(key))
+        law.__dict__[PROGRAM_KEY] = made
+        return made
     return ("object", id(law))
 
 
@@ -84,7 +96,11 @@ class AdviceQuery:
                                          repr(self.limits)))
 
     def __hash__(self) -> int:
-        return hash(self.key)
+        kept = self.__dict__.get("_hash")  # (made once: the cache's lookup and its insertion both ask)
+        if kept is None:
+            kept = hash(self.key)
+            object.__setattr__(self, "_hash", kept)
+        return cast(int, kept)
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, AdviceQuery) or other.key != self.key:

@@ -107,6 +107,7 @@ from __future__ import annotations
 import functools
 import itertools
 import math
+import operator
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
@@ -367,7 +368,8 @@ _GRID_MEMO_SIZE = 4
 _CALL_MEMO_ANGLES = 4096
 _CALL_MEMO_SIZE = 16
 #: The attributes in which a program keeps values (not pickled).
-_KEPT_VALUES = ("_call_memo", "_grid_memo", "_order_memo", "_peaks", "_sample_memo", "_places_key")
+_KEPT_VALUES = ("_call_memo", "_grid_memo", "_order_memo", "_peaks", "_sample_memo", "_places_key",
+                "_advice_law_key")  # (the last: camgen.synthesis.advice_cache.PROGRAM_KEY)
 
 
 def _uniform_phasors(first: float, step: float, m: int) -> np.ndarray:
@@ -1415,8 +1417,8 @@ class MotionProgram:
             rp = self.segments[i].end_values(False)
             right = (levels[i] + rp[0],) + rp[1:]
             diff = [r - l for l, r in zip(left, right)]
-            ok = [abs(d) <= self.join_tol * max(abs(l), abs(r), pk) for d, l, r, pk in zip(diff, left, right, peak)]
-            if not ok[0]:
+            tol = self.join_tol
+            if not abs(diff[0]) <= tol * max(abs(left[0]), abs(right[0]), peak[0]):
                 where = math.degrees(starts[i])
                 names = [seg.where or f"segments[{k}]" for k, seg in enumerate(self.segments)]
                 if i == 0:
@@ -1426,7 +1428,11 @@ class MotionProgram:
                 raise ParameterError(names[i], f"starts at s = {right[0]:.9g} {unit}",
                                      f"starting where {names[prev]} ends (s = {left[0]:.9g} {unit})",
                                      f"the displacement jumps by {diff[0]:.6g} {unit} at {where:.9g} deg")
-            continuity = next((k - 1 for k in (1, 2, 3) if not ok[k]), SMOOTH)
+            continuity = SMOOTH  # the order below the first derivative that jumps (within tol of the larger side and peak)
+            for k in (1, 2, 3):
+                if not abs(diff[k]) <= tol * max(abs(left[k]), abs(right[k]), peak[k]):
+                    continuity = k - 1
+                    break
             self._joins.append(Join(starts[i], prev, i, continuity, left, right, (diff[1], diff[2], diff[3]), unit))
         # breaks: joins and internal law breaks; evaluation pieces in cam angle
         brk, cont = [], []
@@ -1474,7 +1480,7 @@ class MotionProgram:
                                  (piece, seg.scale)))
                     continue
                 scale, span = seg.scale * piece.sign_out, seg.span * piece.sign_in
-                matrix = piece._unit_matrix[:4] * np.array([[scale], [scale / span], [scale / span**2], [scale / span**3]])
+                matrix = piece._unit_matrix[:4] * np.array((scale, scale / span, scale / span**2, scale / span**3)).reshape(4, 1)
                 matrix[0, 0] += levels[i] + seg.scale * piece.offset
                 matrix.flags.writeable = False
                 plan.append((starts[i], seg.span, float(piece.ref), piece.sign_in > 0, 0.0,
@@ -1516,6 +1522,21 @@ class MotionProgram:
             memo[key] = kept
         return res[0].reshape(shape), res[1].reshape(shape), res[2].reshape(shape), res[3].reshape(shape)
 
+    def at_kept_angles(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """What ``self(theta)`` gives (the same computation: the same sorted angles, pieces and
+        bases, the same matrix products), four fresh arrays (theta.size,), for the cam angles
+        ``theta`` (rad, 1-D, finite) of any count, with the angles' layout (their order, the
+        pieces' bounds and each piece's basis) kept by their bytes in :func:`_angle_layout`:
+        for a caller that asks programs whose pieces lie at the same places at the same many
+        angles (a base-radius search of a lift sweep's failing designs on their check grid,
+        7,210 angles, beyond :meth:`__call__`'s :data:`_CALL_MEMO_ANGLES`): only the matrix
+        products are made once the layout is kept."""
+        theta = np.asarray(theta, dtype=float)
+        if theta.ndim != 1:
+            raise ParameterError("theta", f"an array of shape {theta.shape}", "a 1-D array of cam angles, rad")
+        res = self._values(theta, theta.tobytes())
+        return res[0], res[1], res[2], res[3]
+
     def _places(self) -> _Places:
         """The places of this program's evaluation pieces (:class:`_Places`: the key of
         :func:`_angle_layout`), made once per program."""
@@ -1536,14 +1557,16 @@ class MotionProgram:
             self.__dict__["_places_key"] = places
         return places
 
-    def _values(self, theta: np.ndarray, key: bytes | int | None = None) -> np.ndarray:
+    def _values(self, theta: np.ndarray | None, key: bytes | int | None = None) -> np.ndarray:
         """:meth:`__call__`'s values, computed: a (4, theta.size) block.  ``key``: the angles'
         bytes (``theta.tobytes()``), or ``n`` for ``theta = 2 pi arange(n) / n``: the angles'
         order, pieces and bases then come from :func:`_angle_layout` (kept across programs whose
-        pieces lie at the same places: a sweep of lifts), only the matrix products are made."""
+        pieces lie at the same places: a sweep of lifts), only the matrix products are made
+        (``theta`` is then not read: None for a sample grid)."""
         plan = self._plan()
         bounds: Sequence[int]
         if key is None:
+            assert theta is not None  # (only a keyed call passes no angles)
             ths, order, bounds = _sorted_angles(theta.ravel(), self._piece_lo)
             bases: tuple[np.ndarray | None, ...] = (None,) * len(plan)
         else:
@@ -1692,7 +1715,7 @@ class MotionProgram:
         if kept is not None:
             res = kept.copy()
             return res[0], res[1], res[2], res[3]
-        res = self._values(2.0 * math.pi * np.arange(n) / n, n)
+        res = self._values(None, n)  # (the angles 2 pi arange(n) / n: _angle_layout's, none made here)
         if len(memo) >= _GRID_MEMO_SIZE:
             memo.clear()  # (one step: safe with threads sharing the program)
         if seen:  # asked for before: kept from now on
@@ -1723,12 +1746,14 @@ class MotionProgram:
         kept = self.__dict__.get("_peaks")
         if kept is not None:
             return kept
-        best = []  # (value, where) of the velocity, acceleration and jerk
+        best = []  # (value, where) of the velocity, acceleration and jerk (max: the first of equal values)
+        first = operator.itemgetter(0)
         for k in range(3):
-            value, at = max((p[k] for p in self._seg_peaks), key=lambda x: x[0])
+            value, at = max([p[k] for p in self._seg_peaks], key=first)
             best.append((float(value), float(at % TWO_PI)))
         (vel, vel_at), (acc, acc_at), (jerk, jerk_at) = best
-        peaks = Peaks(vel, vel_at, acc, acc_at, jerk, jerk_at, infinite_acceleration=any(j.continuity < 1 for j in self._joins),
-                      infinite_jerk=any(j.continuity < 2 for j in self._joins) or any(c < 2 for c in self.break_continuity))
+        least = min([j.continuity for j in self._joins])  # (the joins' continuity are among the breaks')
+        peaks = Peaks(vel, vel_at, acc, acc_at, jerk, jerk_at, infinite_acceleration=least < 1,
+                      infinite_jerk=least < 2 or bool((self.break_continuity < 2).any()))
         self.__dict__["_peaks"] = peaks
         return peaks

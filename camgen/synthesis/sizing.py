@@ -207,7 +207,11 @@ class _SampledLaw:
     def __call__(self, theta: np.ndarray):
         theta = np.asarray(theta, dtype=float)
         if self._theta is None or self._theta.shape != theta.shape or not np.array_equal(self._theta, theta):
-            self._theta, self._values = theta.copy(), tuple(np.asarray(v, dtype=float) for v in self._law(theta))
+            # a motion program at the check grid's many angles: law(theta)'s values, the angles' layout
+            # kept across programs at the same places (a lift sweep's failing designs search on one grid)
+            kept = getattr(self._law, "at_kept_angles", None) if theta.ndim == 1 else None
+            values = self._law(theta) if kept is None else kept(theta)
+            self._theta, self._values = theta.copy(), tuple(np.asarray(v, dtype=float) for v in values)
         return self._values
 
     def __getattr__(self, name: str):  # breaks, break_continuity, peak values ... of the law itself
