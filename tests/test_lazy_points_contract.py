@@ -118,3 +118,16 @@ def test_a_nan_radius_does_not_hide_a_concave_one_tighter_than_the_follower() ->
         dy.hertz_line_stress(np.full(3, 100.0), rho, 5.0, material)
     with pytest.raises(GeometryError, match="radius of curvature 3 mm"):
         dy.hertz_line_stress(np.full(2, 100.0), rho[1:], 5.0, material)  # as without the nan
+
+
+def test_the_failing_conditions_of_another_follower_are_its_own() -> None:
+    """:func:`failing_conditions` (the screened undercut check) asked about a 3 mm base with the
+    kinematics of a 40 mm base: the small cam's own failing conditions."""
+    law, theta = _law(), np.linspace(0.0, 2.0 * math.pi, 3601)[:-1]
+    big, small = _roller(40.0), _roller(3.0)
+    k_big, k_small = fo.kinematics(big, law, theta), fo.kinematics(small, law, theta)
+    asked = fo.failing_conditions(small, k_big)
+    own = [(r, m) for r, m in fo._pitch_failures(small, k_small.s, k_small.ds, k_small.d2s) if m.any()]
+    assert [r for r, _ in asked] == [r for r, _ in own] and asked
+    assert all(np.array_equal(m1, m2) for (_, m1), (_, m2) in zip(asked, own))
+    assert fo.failing_conditions(big, k_big) == []

@@ -885,7 +885,7 @@ def failing_conditions(f: FollowerSpec, k: Kinematics, top: float | None = None)
     below ``1 / r`` by more than its rounding: ``r (V x A) (-sigma) < |V|^3``); a NaN makes the
     reduction NaN: every sample is then compared, as otherwise."""
     m = k.pitch_measures
-    if f.contact == "face" or m is None:
+    if f.contact == "face" or m is None or not (m.follower is f or m.follower == f):  # (measures of another follower: not its answer)
         return [(reason, mask) for reason, mask in profile_failures(f, k) if mask.any()]
     out = []
     if f.motion == "translating" and not float(m.cy.min()) > 0:
