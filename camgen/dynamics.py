@@ -307,18 +307,22 @@ class Kinematics:
     lever_2: np.ndarray | None = None
 
     def __post_init__(self) -> None:
-        theta = _array("theta", self.theta, None)
+        theta = self.theta
+        if not _CHECKED_THETA.holds(theta):  # a study's designs share their check grid's angles: checked once
+            theta = _array("theta", theta, None)
+            if theta.size < 3:
+                raise ParameterError("theta", f"{theta.size} samples", "at least 3 cam angles")
+            if theta[0] < 0 or theta[-1] >= TWO_PI or np.any(theta[1:] <= theta[:-1]):  # (finite: a difference <= 0 is this)
+                raise ParameterError("theta", "cam angles", "strictly increasing cam angles in [0, 2 pi) rad")
+            _CHECKED_THETA.keep(theta)
         n = theta.size
-        if n < 3:
-            raise ParameterError("theta", f"{n} samples", "at least 3 cam angles")
-        if theta[0] < 0 or theta[-1] >= TWO_PI or np.any(theta[1:] <= theta[:-1]):  # (finite: a difference <= 0 is this)
-            raise ParameterError("theta", "cam angles", "strictly increasing cam angles in [0, 2 pi) rad")
         object.__setattr__(self, "theta", theta)
         bounds: dict[str, tuple[float, float]] = {}  # the pressure angles' least and largest (their check below)
         for name in ("s", "ds", "d2s", "pressure_angle"):
             arr, low, high = _array_range(name, getattr(self, name), n)
             object.__setattr__(self, name, arr)
             bounds[name] = (low, high)
+        self.__dict__["s_least"] = bounds["s"][0]  # the lowest position, found by the check (float(s.min()))
         for name in ("rho_cam", "rho_cam_2"):
             rho = getattr(self, name)
             if rho is None:
@@ -360,6 +364,11 @@ class Kinematics:
             object.__setattr__(self, name, lever)
 
     @functools.cached_property
+    def s_least(self) -> float:
+        """The lowest follower position ``float(s.min())`` (mm or rad), found by the check of ``s``."""
+        return float(self.s.min())
+
+    @functools.cached_property
     def cos_pressure_angle(self) -> np.ndarray:
         """``cos(pressure_angle)``, made once (the contact projection, the force along the motion,
         the spring hints share it; read-only)."""
@@ -369,6 +378,36 @@ class Kinematics:
     def cos_pressure_angle_2(self) -> np.ndarray | None:
         """``cos(pressure_angle_2)`` of a form-closed train's second contact (None without it), made once; read-only."""
         return None if self.pressure_angle_2 is None else _read_only(np.cos(self.pressure_angle_2))
+
+
+class _CheckedAngles:
+    """The last cam angles that passed :class:`Kinematics`' checks of ``theta``: a read-only array
+    that owns its data (no writable base can change it), held so that its id is not reused.  A study's
+    designs build their kinematics on one check grid's angles (the same read-only array): each design
+    after the first skips the angles' four passes (finite, least, largest, increasing).  One slot:
+    bounded; any other array is checked as before."""
+
+    __slots__ = ("angles",)
+
+    def __init__(self) -> None:
+        self.angles: np.ndarray | None = None
+
+    def holds(self, theta: object) -> bool:
+        """``theta`` is the kept array, still read-only; any other answer forgets the kept array
+        (what is checked next is kept only if it passes: an array made writable is never kept again
+        unchecked).  An array made writable, changed and made read-only again between two designs is
+        outside this rule: the check grid's angles are never written."""
+        if theta is self.angles and not cast(np.ndarray, theta).flags.writeable:
+            return True
+        self.angles = None
+        return False
+
+    def keep(self, theta: np.ndarray) -> None:
+        """Keep ``theta`` (checked) if it is read-only and owns its data, else keep nothing."""
+        self.angles = theta if theta.base is None and not theta.flags.writeable and theta.dtype == np.float64 else None
+
+
+_CHECKED_THETA = _CheckedAngles()
 
 
 def _read_only(values: np.ndarray) -> np.ndarray:
@@ -448,7 +487,7 @@ def _force_parts(kin: Kinematics, train: FollowerTrain) -> _ForceParts:
     # the weight's component along +q, with the sign that resists the motion: -m g . e_q
     weight = -train.mass * train.gravity * weight_lever * np.cos(train.gravity_angle - np.asarray(kin.direction, dtype=float))
     load = train.load_at(kin.theta) if isinstance(train.load, tuple) else float(train.load)  # a constant added as a number
-    return _ForceParts(kin.s - kin.s.min(), load, weight, damping * kin.ds, inertia * kin.d2s)
+    return _ForceParts(kin.s - kin.s_least, load, weight, damping * kin.ds, inertia * kin.d2s)  # (s_least: float(s.min()))
 
 
 def _contact_projection(kin: Kinematics, train: FollowerTrain, second: bool = False) -> np.ndarray:
