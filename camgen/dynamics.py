@@ -887,6 +887,91 @@ def spring_hints(result: "DynamicsResult", kin: Kinematics) -> tuple[float | Non
     return preload, installed, rate
 
 
+@dataclass(eq=False)
+class _LawTerms:
+    """What :func:`analyse` makes from the follower's motion alone (``s``, ``ds``, ``d2s``, the cam
+    angles, the weight's direction), the train and the speed: the force parts, ``A``, the damping
+    and inertia terms ``B w``, ``C w^2``, ``Q``, the torque (N*m), the power (W) and, made on
+    first use, the jump speed (rpm; it needs no contact projection: margin 0)."""
+
+    parts: _ForceParts
+    a: np.ndarray
+    damping: np.ndarray
+    inertia: np.ndarray
+    q: np.ndarray
+    torque: np.ndarray
+    power: np.ndarray
+    jump: float | None = None
+
+    def jump_rpm(self) -> float:
+        """:func:`_jump_rpm` of ``A``, ``B``, ``C`` at margin 0 (made once)."""
+        if self.jump is None:
+            self.jump = _jump_rpm(self.a, self.parts.b, self.parts.c, self.a, 0.0)  # (the projection is unused at margin 0)
+        return self.jump
+
+
+def _make_law_terms(kin: Kinematics, train: FollowerTrain, omega: float) -> _LawTerms:
+    parts = _force_parts(kin, train)
+    a, b, c = parts.spring_term(train), parts.b, parts.c  # force_coefficients
+    damping, inertia = b * omega, c * omega**2
+    q = a + damping
+    q += inertia  # (a + damping) + inertia
+    torque = q * kin.ds  # power balance, T w = Q w q'
+    torque *= N_MM_TO_N_M
+    return _LawTerms(parts, a, damping, inertia, q, torque, torque * omega)
+
+
+def _held_view(values: np.ndarray) -> tuple[int, int, tuple[int, ...], tuple[int, ...]] | None:
+    """The place of ``values`` in a read-only block that owns its data (the block's id, the byte
+    offset, the shape and strides), or None: not such a view (its values could change)."""
+    base = values.base
+    if (values.flags.writeable or not isinstance(base, np.ndarray) or base.base is not None or base.flags.writeable
+            or values.dtype != np.float64):
+        return None
+    offset = values.__array_interface__["data"][0] - base.__array_interface__["data"][0]
+    return id(base), offset, values.shape, values.strides
+
+
+class _KeptLawTerms:
+    """The last :class:`_LawTerms` made for a motion whose ``s``, ``ds``, ``d2s`` are views of a
+    read-only block that owns its data (a motion program's kept check-grid values), with a scalar
+    weight direction, a train object (frozen) whose load is a number (no cam angle enters the terms)
+    and a speed: the next design of a radius sweep (the same law, train and speed) reads them again
+    (their arrays read-only).  The blocks and the train are held, so their ids are not reused; one slot."""
+
+    __slots__ = ("key", "held", "terms")
+
+    def __init__(self) -> None:
+        self.key: object = None
+        self.held: tuple[object, ...] = ()
+        self.terms: _LawTerms | None = None
+
+    def terms_of(self, kin: Kinematics, train: FollowerTrain, omega: float) -> _LawTerms:
+        views = [_held_view(v) for v in (kin.s, kin.ds, kin.d2s)]
+        if any(v is None for v in views) or not isinstance(train.load, float) or isinstance(kin.direction, np.ndarray):
+            return _make_law_terms(kin, train, omega)
+        direction = float(kin.direction)
+        key = (tuple(views), direction, math.copysign(1.0, direction), id(train), omega)  # (omega > 0: equal is identical)
+        if self.terms is not None and key == self.key:
+            return self.terms
+        terms = _make_law_terms(kin, train, omega)
+        for arr in (terms.parts.lift, terms.parts.b, terms.parts.c, terms.a, terms.damping, terms.inertia, terms.q,
+                    terms.torque, terms.power):
+            arr.flags.writeable = False
+        self.key, self.terms = key, terms
+        self.held = (kin.s.base, kin.ds.base, kin.d2s.base, train)
+        return terms
+
+
+_LAW_TERMS = _KeptLawTerms()
+
+
+def _law_terms(kin: Kinematics, train: FollowerTrain, omega: float) -> _LawTerms:
+    """:class:`_LawTerms` of ``kin``, ``train`` and ``omega`` (rad/s): kept for the next design
+    on the same kept motion values, angles, train and speed (:class:`_KeptLawTerms`)."""
+    return _LAW_TERMS.terms_of(kin, train, omega)
+
+
 def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: ContactMaterial | None = None, *,
             jump_margin: float = 0.0, position_tol: float = 1e-9) -> DynamicsResult:
     """Contact forces, camshaft torque and power, Hertz stress, the jump speed and the spring
@@ -913,11 +998,8 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
     form = train.closure == "form"
     if form and (kin.pressure_angle_2 is None or kin.rho_cam_2 is None):
         raise ParameterError("pressure_angle_2", None, "arrays for the second contact of a form-closed train (and rho_cam_2)")
-    parts = _force_parts(kin, train)
-    a, b, c = parts.spring_term(train), parts.b, parts.c  # force_coefficients
-    damping, inertia = b * omega, c * omega**2
-    q = a + damping
-    q += inertia  # (a + damping) + inertia
+    terms = _law_terms(kin, train, omega)
+    parts, a, damping, inertia, q = terms.parts, terms.a, terms.damping, terms.inertia, terms.q
     projection = _contact_projection(kin, train)
     if form:
         assert kin.pressure_angle_2 is not None and kin.rho_cam_2 is not None  # refused above otherwise
@@ -931,9 +1013,7 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
         force_2 = None
         along = force_1 * kin.cos_pressure_angle
         side = None  # force_1 * sin(phi), made on first use (DynamicsResult.side_force: the report's, no check's)
-    torque = q * kin.ds  # power balance, T w = Q w q'
-    torque *= N_MM_TO_N_M
-    power = torque * omega
+    torque, power = terms.torque, terms.power
     hertz = hertz_2 = None
     if material is not None and kin.follower_radius > 0:
         hertz = hertz_line_stress(force_1, kin.rho_cam, kin.follower_radius, material)
@@ -943,7 +1023,7 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
     if form:
         jump_rpm, ranges, min_preload, min_rate = math.inf, [], None, None
     else:
-        jump_rpm = _jump_rpm(a, b, c, projection, 0.0)  # jump_speed(kin, train): the same coefficients
+        jump_rpm = terms.jump_rpm()  # jump_speed(kin, train): the same coefficients
         ranges = run_ends(force_1 <= 0, kin.theta)
         min_preload, min_rate = _required_spring(a, damping, inertia, projection, margin, train, parts.lift, position_tol)
     return DynamicsResult(rpm, omega, kin.theta, train, q, force_1, force_2, kin.pressure_angle, along, side, torque, power,

@@ -1,0 +1,80 @@
+"""The force terms :func:`camgen.dynamics.analyse` keeps for the next design on the same motion
+values, train and speed (issue 28 item 6: a radius sweep's law, train and speed do not change):
+designs in a row, each against the same analysis on writable copies (never kept), bit for bit,
+and the generalised force against its closed form ``k (s - s_min) + P + W + c s' w + m s'' w^2``
+(translating follower, Rothbart ch. 10's force balance)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from camgen import dynamics as dy
+
+N = 720
+THETA = 2 * math.pi * np.arange(N) / N
+THETA.flags.writeable = False
+#: The closed form adds the terms in another order: relative tolerance of the comparison.
+CLOSED_FORM_RTOL = 1e-12
+
+
+def _block(lift: float) -> np.ndarray:
+    """A read-only (3, N) block of s, s', s'' (mm, mm/rad, mm/rad^2) of a harmonic lift, owning its data."""
+    block = np.stack([lift * (1 - np.cos(THETA)) / 2, lift * np.sin(THETA) / 2, lift * np.cos(THETA) / 2])
+    block.flags.writeable = False
+    return block
+
+
+def _kin(block: np.ndarray, phi_scale: float, copies: bool = False) -> dy.Kinematics:
+    s, ds, d2s = (np.array(row) if copies else row for row in block)
+    phi = phi_scale * np.sin(THETA)
+    return dy.Kinematics(THETA, s, ds, d2s, phi, np.full(N, 40.0 + 10 * phi_scale), 10.0)
+
+
+def _same(kept: dy.DynamicsResult, fresh: dy.DynamicsResult) -> None:
+    for name in ("generalised_force", "contact_force", "follower_force", "torque", "power", "hertz_stress"):
+        assert np.array_equal(getattr(kept, name), getattr(fresh, name)), name
+    for name in ("jump_rpm", "min_preload", "min_spring_rate", "torque_peak", "torque_rms", "power_rms"):
+        assert getattr(kept, name) == getattr(fresh, name), name
+    assert kept.jump_ranges_deg == fresh.jump_ranges_deg
+
+
+def test_designs_in_a_row_equal_each_analysed_alone():
+    material = dy.ContactMaterial(width=10.0, allowable_stress=1000.0)
+    train = dy.FollowerTrain(mass=0.4, spring_rate=1.5, preload=40.0, damping=10.0)
+    other_train = dy.FollowerTrain(mass=0.4, spring_rate=1.5, preload=40.0, damping=10.0)  # equal, another object
+    heavy = dy.FollowerTrain(mass=4.0, spring_rate=0.5, preload=5.0, damping=10.0)  # jumps at 600 rpm
+    first, second = _block(20.0), _block(25.0)
+    rows = [(first, 0.3, train, 300.0), (first, 0.2, train, 300.0), (first, 0.1, train, 300.0),  # a radius sweep: kept
+            (first, 0.2, train, 600.0), (first, 0.2, other_train, 600.0), (first, 0.2, heavy, 600.0), (first, 0.2, heavy, 600.0),
+            (second, 0.2, heavy, 600.0), (second, 0.3, heavy, 300.0), (second, 0.2, train, 300.0)]  # each change alone
+    for block, scale, tr, rpm in rows:
+        kept = dy.analyse(_kin(block, scale), tr, rpm, material, jump_margin=2.0)
+        fresh = dy.analyse(_kin(block, scale, copies=True), tr, rpm, material, jump_margin=2.0)
+        _same(kept, fresh)
+        assert not kept.generalised_force.flags.writeable and fresh.generalised_force.flags.writeable  # kept terms / made alone
+        assert dy.spring_hints(kept, kept.analysed[0]) == dy.spring_hints(fresh, fresh.analysed[0])
+        s, ds, d2s = block
+        w = rpm * dy.RPM_TO_RAD_PER_S
+        weight = tr.mass * tr.gravity  # down, against +y: resists the motion
+        closed = (tr.spring_rate * (s - s.min()) + tr.preload + weight + tr.damping * 1e-3 * ds * w
+                  + tr.mass * 1e-3 * d2s * w * w)
+        np.testing.assert_allclose(kept.generalised_force, closed, rtol=CLOSED_FORM_RTOL, atol=CLOSED_FORM_RTOL * 100)
+    assert dy.analyse(_kin(_block(20.0), 0.2), heavy, 600.0).jump_rpm < 600.0  # the heavy train jumps in its rows at 600 rpm
+
+
+def test_a_view_of_a_writable_block_or_another_place_in_the_block_is_not_taken_for_the_kept_one():
+    train = dy.FollowerTrain(mass=0.4, spring_rate=1.5, preload=40.0, damping=10.0)
+    block = _block(20.0)
+    dy.analyse(_kin(block, 0.2), train, 300.0)
+    shifted = np.stack([block[1], block[0], block[2]])  # s and s' swapped: other places than the kept views
+    shifted.flags.writeable = False
+    _same(dy.analyse(_kin(shifted, 0.2), train, 300.0), dy.analyse(_kin(shifted, 0.2, copies=True), train, 300.0))
+    writable = np.array(block)  # the kept values in a block that may change
+    s, ds, d2s = writable
+    s.flags.writeable = ds.flags.writeable = d2s.flags.writeable = False
+    dy.analyse(dy.Kinematics(THETA, s, ds, d2s, np.zeros(N), np.full(N, 40.0), 10.0), train, 300.0)
+    writable[0] *= 2.0
+    again = dy.analyse(dy.Kinematics(THETA, s, ds, d2s, np.zeros(N), np.full(N, 40.0), 10.0), train, 300.0)
+    alone = dy.analyse(dy.Kinematics(THETA, np.array(s), ds, d2s, np.zeros(N), np.full(N, 40.0), 10.0), train, 300.0)
+    _same(again, alone)
