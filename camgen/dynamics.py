@@ -902,6 +902,20 @@ class _LawTerms:
     torque: np.ndarray
     power: np.ndarray
     jump: float | None = None
+    kept: bool = False  # kept for the next design (_KeptLawTerms): its results share the summaries below
+    theta: np.ndarray | None = None  # the cam angles the summaries were made on (read-only, owning its data; held)
+    summaries: dict[str, Any] | None = None
+
+    def share_summaries(self, result: "DynamicsResult") -> None:
+        """Give ``result`` (made from these kept terms) the torque and power summaries of the last
+        result made from them on the same read-only cam angles (they read only the torque, the
+        power, the speed and the angles' weights), or make them now and keep them."""
+        theta = result.theta
+        if self.summaries is not None and theta is self.theta and not theta.flags.writeable:
+            result.__dict__.update(self.summaries)
+            return
+        self.theta = theta if theta.base is None and not theta.flags.writeable else None
+        self.summaries = {name: getattr(result, name) for name in _SUMMARIES} if self.theta is not None else None
 
     def jump_rpm(self) -> float:
         """:func:`_jump_rpm` of ``A``, ``B``, ``C`` at margin 0 (made once)."""
@@ -958,12 +972,18 @@ class _KeptLawTerms:
         for arr in (terms.parts.lift, terms.parts.b, terms.parts.c, terms.a, terms.damping, terms.inertia, terms.q,
                     terms.torque, terms.power):
             arr.flags.writeable = False
+        terms.kept = True
         self.key, self.terms = key, terms
         self.held = (kin.s.base, kin.ds.base, kin.d2s.base, train)
         return terms
 
 
 _LAW_TERMS = _KeptLawTerms()
+
+#: The :class:`DynamicsResult` summaries that read only the torque, the power, the speed and the cam
+#: angles' weights (shared by the results of kept :class:`_LawTerms` on the same angles).
+_SUMMARIES = ("weights", "torque_peak_index", "torque_peak", "torque_rms", "power_peak", "power_rms", "energy_per_turn",
+              "mean_power")
 
 
 def _law_terms(kin: Kinematics, train: FollowerTrain, omega: float) -> _LawTerms:
@@ -1026,5 +1046,8 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
         jump_rpm = terms.jump_rpm()  # jump_speed(kin, train): the same coefficients
         ranges = run_ends(force_1 <= 0, kin.theta)
         min_preload, min_rate = _required_spring(a, damping, inertia, projection, margin, train, parts.lift, position_tol)
-    return DynamicsResult(rpm, omega, kin.theta, train, q, force_1, force_2, kin.pressure_angle, along, side, torque, power,
-                          hertz, hertz_2, jump_rpm, ranges, min_preload, min_rate, margin, (kin, train, parts, projection))
+    result = DynamicsResult(rpm, omega, kin.theta, train, q, force_1, force_2, kin.pressure_angle, along, side, torque, power,
+                            hertz, hertz_2, jump_rpm, ranges, min_preload, min_rate, margin, (kin, train, parts, projection))
+    if terms.kept:  # a radius sweep's next design: the same torque, power and angles, the same summaries
+        terms.share_summaries(result)
+    return result

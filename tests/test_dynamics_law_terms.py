@@ -25,16 +25,17 @@ def _block(lift: float) -> np.ndarray:
     return block
 
 
-def _kin(block: np.ndarray, phi_scale: float, copies: bool = False) -> dy.Kinematics:
+def _kin(block: np.ndarray, phi_scale: float, copies: bool = False, theta: np.ndarray = THETA) -> dy.Kinematics:
     s, ds, d2s = (np.array(row) if copies else row for row in block)
-    phi = phi_scale * np.sin(THETA)
-    return dy.Kinematics(THETA, s, ds, d2s, phi, np.full(N, 40.0 + 10 * phi_scale), 10.0)
+    phi = phi_scale * np.sin(theta)
+    return dy.Kinematics(np.array(theta) if copies else theta, s, ds, d2s, phi, np.full(N, 40.0 + 10 * phi_scale), 10.0)
 
 
 def _same(kept: dy.DynamicsResult, fresh: dy.DynamicsResult) -> None:
     for name in ("generalised_force", "contact_force", "follower_force", "torque", "power", "hertz_stress"):
         assert np.array_equal(getattr(kept, name), getattr(fresh, name)), name
-    for name in ("jump_rpm", "min_preload", "min_spring_rate", "torque_peak", "torque_rms", "power_rms"):
+    for name in ("jump_rpm", "min_preload", "min_spring_rate", "torque_peak", "torque_peak_index", "torque_rms", "power_peak",
+                 "power_rms", "energy_per_turn", "mean_power"):
         assert getattr(kept, name) == getattr(fresh, name), name
     assert kept.jump_ranges_deg == fresh.jump_ranges_deg
 
@@ -61,6 +62,21 @@ def test_designs_in_a_row_equal_each_analysed_alone():
                   + tr.mass * 1e-3 * d2s * w * w)
         np.testing.assert_allclose(kept.generalised_force, closed, rtol=CLOSED_FORM_RTOL, atol=CLOSED_FORM_RTOL * 100)
     assert dy.analyse(_kin(_block(20.0), 0.2), heavy, 600.0).jump_rpm < 600.0  # the heavy train jumps in its rows at 600 rpm
+
+
+def test_the_same_terms_on_other_angles_have_their_own_summaries():
+    """The summaries weigh the samples by the angles' spacing: the same motion values on unevenly
+    spaced angles (another read-only array) give another RMS torque and work per turn."""
+    train = dy.FollowerTrain(mass=0.4, spring_rate=1.5, preload=40.0, damping=10.0)
+    block = _block(20.0)
+    uneven = THETA + 0.3 * (2 * math.pi / N) * np.sin(3 * THETA)  # still increasing, in [0, 2 pi)
+    uneven.flags.writeable = False
+    results = []
+    for theta in (THETA, uneven, uneven, THETA):
+        kept = dy.analyse(_kin(block, 0.2, theta=theta), train, 300.0)
+        _same(kept, dy.analyse(_kin(block, 0.2, copies=True, theta=theta), train, 300.0))
+        results.append(kept)
+    assert results[0].torque_rms != results[1].torque_rms and results[0].torque is results[1].torque  # the same kept terms
 
 
 def test_a_view_of_a_writable_block_or_another_place_in_the_block_is_not_taken_for_the_kept_one():
