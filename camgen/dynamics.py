@@ -935,15 +935,22 @@ def _make_law_terms(kin: Kinematics, train: FollowerTrain, omega: float) -> _Law
     return _LawTerms(parts, a, damping, inertia, q, torque, torque * omega)
 
 
-def _held_view(values: np.ndarray) -> tuple[int, int, tuple[int, ...], tuple[int, ...]] | None:
-    """The place of ``values`` in a read-only block that owns its data (the block's id, the byte
-    offset, the shape and strides), or None: not such a view (its values could change)."""
+def _in_held_block(values: np.ndarray) -> bool:
+    """``values`` is a read-only float view of a read-only block that owns its data (its values
+    cannot change)."""
     base = values.base
-    if (values.flags.writeable or not isinstance(base, np.ndarray) or base.base is not None or base.flags.writeable
-            or values.dtype != np.float64):
-        return None
-    offset = values.__array_interface__["data"][0] - base.__array_interface__["data"][0]
-    return id(base), offset, values.shape, values.strides
+    return (not values.flags.writeable and isinstance(base, np.ndarray) and base.base is None and not base.flags.writeable
+            and values.dtype == np.float64)
+
+
+def _places(views: tuple[np.ndarray, ...]) -> tuple[tuple[int, tuple[int, ...], tuple[int, ...]], ...]:
+    """Each view's place in its block: the byte offset, the shape and the strides."""
+    out = []
+    for values in views:
+        assert isinstance(values.base, np.ndarray)  # (_in_held_block)
+        offset = values.__array_interface__["data"][0] - values.base.__array_interface__["data"][0]
+        out.append((offset, values.shape, values.strides))
+    return tuple(out)
 
 
 class _KeptLawTerms:
@@ -951,30 +958,38 @@ class _KeptLawTerms:
     read-only block that owns its data (a motion program's kept check-grid values), with a scalar
     weight direction, a train object (frozen) whose load is a number (no cam angle enters the terms)
     and a speed: the next design of a radius sweep (the same law, train and speed) reads them again
-    (their arrays read-only).  The blocks and the train are held, so their ids are not reused; one slot."""
+    (their arrays read-only).  The views (so their blocks) and the train are held, so their ids are
+    not reused; one slot.  The views' places in their blocks are compared only when the blocks,
+    the direction, the train and the speed are the kept ones (a lift sweep's new law: a new block)."""
 
-    __slots__ = ("key", "held", "terms")
+    __slots__ = ("key", "views", "places", "train", "terms")
 
     def __init__(self) -> None:
         self.key: object = None
-        self.held: tuple[object, ...] = ()
+        self.views: tuple[np.ndarray, ...] = ()
+        self.places: object = None
+        self.train: FollowerTrain | None = None
         self.terms: _LawTerms | None = None
 
     def terms_of(self, kin: Kinematics, train: FollowerTrain, omega: float) -> _LawTerms:
-        views = [_held_view(v) for v in (kin.s, kin.ds, kin.d2s)]
-        if any(v is None for v in views) or not isinstance(train.load, float) or isinstance(kin.direction, np.ndarray):
+        views = (kin.s, kin.ds, kin.d2s)
+        if (not (_in_held_block(kin.s) and _in_held_block(kin.ds) and _in_held_block(kin.d2s)) or not isinstance(train.load, float)
+                or isinstance(kin.direction, np.ndarray)):
             return _make_law_terms(kin, train, omega)
         direction = float(kin.direction)
-        key = (tuple(views), direction, math.copysign(1.0, direction), id(train), omega)  # (omega > 0: equal is identical)
+        key = (id(kin.s.base), id(kin.ds.base), id(kin.d2s.base), direction, math.copysign(1.0, direction), id(train),
+               omega)  # (omega > 0: equal is identical)
         if self.terms is not None and key == self.key:
-            return self.terms
+            if self.places is None:
+                self.places = _places(self.views)
+            if _places(views) == self.places:
+                return self.terms
         terms = _make_law_terms(kin, train, omega)
         for arr in (terms.parts.lift, terms.parts.b, terms.parts.c, terms.a, terms.damping, terms.inertia, terms.q,
                     terms.torque, terms.power):
             arr.flags.writeable = False
         terms.kept = True
-        self.key, self.terms = key, terms
-        self.held = (kin.s.base, kin.ds.base, kin.d2s.base, train)
+        self.key, self.views, self.places, self.train, self.terms = key, views, None, train, terms
         return terms
 
 

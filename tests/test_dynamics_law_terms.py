@@ -83,6 +83,10 @@ def test_a_view_of_a_writable_block_or_another_place_in_the_block_is_not_taken_f
     train = dy.FollowerTrain(mass=0.4, spring_rate=1.5, preload=40.0, damping=10.0)
     block = _block(20.0)
     dy.analyse(_kin(block, 0.2), train, 300.0)
+    swapped = dy.Kinematics(THETA, block[0], block[2], block[1], np.zeros(N), np.full(N, 40.0), 10.0)  # the kept block, s' and s'' swapped
+    alone = dy.Kinematics(THETA, np.array(block[0]), np.array(block[2]), np.array(block[1]), np.zeros(N), np.full(N, 40.0), 10.0)
+    dy.analyse(_kin(block, 0.2), train, 300.0)
+    _same(dy.analyse(swapped, train, 300.0), dy.analyse(alone, train, 300.0))
     shifted = np.stack([block[1], block[0], block[2]])  # s and s' swapped: other places than the kept views
     shifted.flags.writeable = False
     _same(dy.analyse(_kin(shifted, 0.2), train, 300.0), dy.analyse(_kin(shifted, 0.2, copies=True), train, 300.0))
