@@ -319,7 +319,11 @@ class Kinematics:
         object.__setattr__(self, "theta", theta)
         bounds: dict[str, tuple[float, float]] = {}  # the pressure angles' least and largest (their check below)
         for name in ("s", "ds", "d2s", "pressure_angle"):
-            arr, low, high = _array_range(name, getattr(self, name), n)
+            given = getattr(self, name)
+            known = _CHECKED_ROWS.bounds(given, n) if name != "pressure_angle" else None  # a kept law's values: checked once
+            arr, low, high = (given, *known) if known is not None else _array_range(name, given, n)
+            if known is None and name != "pressure_angle":
+                _CHECKED_ROWS.keep(arr, low, high)
             object.__setattr__(self, name, arr)
             bounds[name] = (low, high)
         self.__dict__["s_least"] = bounds["s"][0]  # the lowest position, found by the check (float(s.min()))
@@ -408,6 +412,43 @@ class _CheckedAngles:
 
 
 _CHECKED_THETA = _CheckedAngles()
+
+
+class _CheckedRows:
+    """The least and largest values (:func:`_array_range`) of the checked views of one read-only
+    block that owns its data (a motion program's kept check-grid values ``s``, ``ds``, ``d2s``): a
+    radius sweep's designs view the same block, each view's values are checked once.  The views
+    (so the block) are held, their ids not reused; a view of another block replaces them; at most
+    a few.  The views' places in the block are found only when a later view is of the same block."""
+
+    __slots__ = ("block", "views", "places")
+
+    def __init__(self) -> None:
+        self.block: object = None
+        self.views: list[tuple[np.ndarray, float, float]] = []
+        self.places: dict[tuple[int, tuple[int, ...], tuple[int, ...]], tuple[float, float]] | None = None
+
+    def bounds(self, values: object, n: int) -> tuple[float, float] | None:
+        """The kept least and largest values of ``values`` (a view of the kept block, of ``n``
+        samples), or None."""
+        if (self.block is None or not isinstance(values, np.ndarray) or values.base is not self.block or values.shape != (n,)
+                or not _in_held_block(values)):
+            return None
+        if self.places is None:
+            self.places = {_places((view,))[0]: (low, high) for view, low, high in self.views}
+        return self.places.get(_places((values,))[0])
+
+    def keep(self, values: np.ndarray, low: float, high: float) -> None:
+        """Keep the checked ``values``' least and largest values if it views a held block."""
+        if not _in_held_block(values):
+            return
+        if values.base is not self.block or len(self.views) >= 4:
+            self.block, self.views = values.base, []
+        self.views.append((values, low, high))
+        self.places = None
+
+
+_CHECKED_ROWS = _CheckedRows()
 
 
 def _read_only(values: np.ndarray) -> np.ndarray:

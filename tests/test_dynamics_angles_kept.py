@@ -69,3 +69,33 @@ def test_lowest_position_is_the_least_sample_and_analyse_matches_unkept_angles()
     weightless = dy.FollowerTrain(mass=0.0, spring_rate=2.0, preload=20.0, gravity=0.0)
     q = dy.analyse(_kin(theta, s), weightless, 300.0).generalised_force  # no inertia, damping, load or weight: the spring alone
     assert np.array_equal(q, 2.0 * (s - s.min()) + 20.0)
+
+
+def _rows(values: np.ndarray, writable_block: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Three read-only views (rows) of one block owning its data (read-only unless ``writable_block``)."""
+    if not writable_block:
+        values.flags.writeable = False
+    s, ds, d2s = values
+    s.flags.writeable = ds.flags.writeable = d2s.flags.writeable = False
+    return s, ds, d2s
+
+
+def test_views_of_a_kept_block_are_checked_once_per_place_and_other_blocks_as_before():
+    theta = _read_only_angles()
+    values = np.stack([5.0 * (1.0 - np.cos(theta)) + 0.25, 5.0 * np.sin(theta), 5.0 * np.cos(theta)])
+    s, ds, d2s = _rows(values)
+    for _ in range(2):  # kept, then read again
+        kin = dy.Kinematics(theta, s, ds, d2s, np.zeros(N), np.full(N, 40.0), 10.0)
+        assert kin.s_least == float(np.min(s)) == 0.25
+    swapped = dy.Kinematics(theta, ds, s, d2s, np.zeros(N), np.full(N, 40.0), 10.0)  # the same block, other places
+    assert swapped.s_least == float(np.min(ds)) == -5.0
+    bad = np.array(values)
+    bad[2, 7] = math.nan
+    with pytest.raises(ParameterError, match="non-finite value at sample 7"):
+        dy.Kinematics(theta, *_rows(bad), np.zeros(N), np.full(N, 40.0), 10.0)
+    block = np.array(values)  # a writable block: its views' values may change, never kept
+    s2, ds2, d2s2 = _rows(block, writable_block=True)
+    dy.Kinematics(theta, s2, ds2, d2s2, np.zeros(N), np.full(N, 40.0), 10.0)
+    block[1, 3] = math.inf
+    with pytest.raises(ParameterError, match="non-finite value at sample 3"):
+        dy.Kinematics(theta, s2, ds2, d2s2, np.zeros(N), np.full(N, 40.0), 10.0)
