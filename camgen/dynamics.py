@@ -1001,7 +1001,9 @@ class _KeptLawTerms:
     and a speed: the next design of a radius sweep (the same law, train and speed) reads them again
     (their arrays read-only).  The views (so their blocks) and the train are held, so their ids are
     not reused; one slot.  The views' places in their blocks are compared only when the blocks,
-    the direction, the train and the speed are the kept ones (a lift sweep's new law: a new block)."""
+    the direction, the train and the speed are the kept ones (a lift sweep's new law: a new block).
+    The terms are kept from the second design on the same values: a lift sweep, whose every design
+    has a new law, holds no arrays of a past design."""
 
     __slots__ = ("key", "views", "places", "train", "terms")
 
@@ -1020,18 +1022,21 @@ class _KeptLawTerms:
         direction = float(kin.direction)
         key = (id(kin.s.base), id(kin.ds.base), id(kin.d2s.base), direction, math.copysign(1.0, direction), id(train),
                omega)  # (omega > 0: equal is identical)
-        if self.terms is not None and key == self.key:
+        if key == self.key:
             if self.places is None:
                 self.places = _places(self.views)
-            if _places(views) == self.places:
-                return self.terms
-        terms = _make_law_terms(kin, train, omega)
-        for arr in (terms.parts.lift, terms.parts.b, terms.parts.c, terms.a, terms.damping, terms.inertia, terms.q,
-                    terms.torque, terms.power):
-            arr.flags.writeable = False
-        terms.kept = True
-        self.key, self.views, self.places, self.train, self.terms = key, views, None, train, terms
-        return terms
+            if _places(views) == self.places:  # the second design on these values: kept from now on
+                if self.terms is not None:
+                    return self.terms
+                terms = _make_law_terms(kin, train, omega)
+                for arr in (terms.parts.lift, terms.parts.b, terms.parts.c, terms.a, terms.damping, terms.inertia, terms.q,
+                            terms.torque, terms.power):
+                    arr.flags.writeable = False
+                terms.kept = True
+                self.terms = terms
+                return terms
+        self.key, self.views, self.places, self.train, self.terms = key, views, None, train, None  # seen once: nothing kept yet
+        return _make_law_terms(kin, train, omega)
 
 
 _LAW_TERMS = _KeptLawTerms()

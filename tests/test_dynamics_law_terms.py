@@ -49,11 +49,11 @@ def test_designs_in_a_row_equal_each_analysed_alone():
     rows = [(first, 0.3, train, 300.0), (first, 0.2, train, 300.0), (first, 0.1, train, 300.0),  # a radius sweep: kept
             (first, 0.2, train, 600.0), (first, 0.2, other_train, 600.0), (first, 0.2, heavy, 600.0), (first, 0.2, heavy, 600.0),
             (second, 0.2, heavy, 600.0), (second, 0.3, heavy, 300.0), (second, 0.2, train, 300.0)]  # each change alone
-    for block, scale, tr, rpm in rows:
+    for i, (block, scale, tr, rpm) in enumerate(rows):
         kept = dy.analyse(_kin(block, scale), tr, rpm, material, jump_margin=2.0)
         fresh = dy.analyse(_kin(block, scale, copies=True), tr, rpm, material, jump_margin=2.0)
         _same(kept, fresh)
-        assert not kept.generalised_force.flags.writeable and fresh.generalised_force.flags.writeable  # kept terms / made alone
+        assert kept.generalised_force.flags.writeable == (i not in (1, 2, 6)) and fresh.generalised_force.flags.writeable  # kept from the second design
         assert dy.spring_hints(kept, kept.analysed[0]) == dy.spring_hints(fresh, fresh.analysed[0])
         s, ds, d2s = block
         w = rpm * dy.RPM_TO_RAD_PER_S
@@ -76,7 +76,7 @@ def test_the_same_terms_on_other_angles_have_their_own_summaries():
         kept = dy.analyse(_kin(block, 0.2, theta=theta), train, 300.0)
         _same(kept, dy.analyse(_kin(block, 0.2, copies=True, theta=theta), train, 300.0))
         results.append(kept)
-    assert results[0].torque_rms != results[1].torque_rms and results[0].torque is results[1].torque  # the same kept terms
+    assert results[2].torque_rms != results[3].torque_rms and results[2].torque is results[3].torque  # the same kept terms
 
 
 def test_a_view_of_a_writable_block_or_another_place_in_the_block_is_not_taken_for_the_kept_one():
