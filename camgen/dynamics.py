@@ -318,14 +318,14 @@ class Kinematics:
         n = theta.size
         object.__setattr__(self, "theta", theta)
         bounds: dict[str, tuple[float, float]] = {}  # the pressure angles' least and largest (their check below)
-        for name in ("s", "ds", "d2s", "pressure_angle"):
-            given = getattr(self, name)
-            known = _CHECKED_ROWS.bounds(given, n) if name != "pressure_angle" else None  # a kept law's values: checked once
+        rows = (self.s, self.ds, self.d2s)
+        kept = _CHECKED_ROWS.bounds(rows, n)  # a kept law's values: checked once
+        for name, given, known in zip(("s", "ds", "d2s", "pressure_angle"), (*rows, self.pressure_angle), (*kept, None)):
             arr, low, high = (given, *known) if known is not None else _array_range(name, given, n)
-            if known is None and name != "pressure_angle":
-                _CHECKED_ROWS.keep(arr, low, high)
             object.__setattr__(self, name, arr)
             bounds[name] = (low, high)
+        _CHECKED_ROWS.keep([(arr, *bounds[name]) for name, arr, known in zip(("s", "ds", "d2s"), (self.s, self.ds, self.d2s), kept)
+                            if known is None])
         self.__dict__["s_least"] = bounds["s"][0]  # the lowest position, found by the check (float(s.min()))
         for name in ("rho_cam", "rho_cam_2"):
             rho = getattr(self, name)
@@ -428,24 +428,29 @@ class _CheckedRows:
         self.views: list[tuple[np.ndarray, float, float]] = []
         self.places: dict[tuple[int, tuple[int, ...], tuple[int, ...]], tuple[float, float]] | None = None
 
-    def bounds(self, values: object, n: int) -> tuple[float, float] | None:
-        """The kept least and largest values of ``values`` (a view of the kept block, of ``n``
-        samples), or None."""
-        if (self.block is None or not isinstance(values, np.ndarray) or values.base is not self.block or values.shape != (n,)
-                or not _in_held_block(values)):
-            return None
-        if self.places is None:
-            self.places = {_places((view,))[0]: (low, high) for view, low, high in self.views}
-        return self.places.get(_places((values,))[0])
+    def bounds(self, rows: tuple[object, ...], n: int) -> list[tuple[float, float] | None]:
+        """The kept least and largest values of each of ``rows`` (a view of the kept block, of ``n``
+        samples), or None (all are asked before any is kept: a new block's views find no places)."""
+        out: list[tuple[float, float] | None] = []
+        for values in rows:
+            if (self.block is None or not isinstance(values, np.ndarray) or values.base is not self.block or values.shape != (n,)
+                    or not _in_held_block(values)):
+                out.append(None)
+                continue
+            if self.places is None:
+                self.places = {_places((view,))[0]: (low, high) for view, low, high in self.views}
+            out.append(self.places.get(_places((values,))[0]))
+        return out
 
-    def keep(self, values: np.ndarray, low: float, high: float) -> None:
-        """Keep the checked ``values``' least and largest values if it views a held block."""
-        if not _in_held_block(values):
-            return
-        if values.base is not self.block or len(self.views) >= 4:
-            self.block, self.views = values.base, []
-        self.views.append((values, low, high))
-        self.places = None
+    def keep(self, checked: list[tuple[np.ndarray, float, float]]) -> None:
+        """Keep the least and largest values of each checked view of a held block (view, least, largest)."""
+        for values, low, high in checked:
+            if not _in_held_block(values):
+                continue
+            if values.base is not self.block or len(self.views) >= 4:
+                self.block, self.views = values.base, []
+            self.views.append((values, low, high))
+            self.places = None
 
 
 _CHECKED_ROWS = _CheckedRows()
