@@ -307,18 +307,26 @@ class Kinematics:
     lever_2: np.ndarray | None = None
 
     def __post_init__(self) -> None:
-        theta = _array("theta", self.theta, None)
+        theta = self.theta
+        if not _CHECKED_THETA.holds(theta):  # a study's designs share their check grid's angles: checked once
+            theta = _array("theta", theta, None)
+            if theta.size < 3:
+                raise ParameterError("theta", f"{theta.size} samples", "at least 3 cam angles")
+            if theta[0] < 0 or theta[-1] >= TWO_PI or np.any(theta[1:] <= theta[:-1]):  # (finite: a difference <= 0 is this)
+                raise ParameterError("theta", "cam angles", "strictly increasing cam angles in [0, 2 pi) rad")
+            _CHECKED_THETA.keep(theta)
         n = theta.size
-        if n < 3:
-            raise ParameterError("theta", f"{n} samples", "at least 3 cam angles")
-        if theta[0] < 0 or theta[-1] >= TWO_PI or np.any(theta[1:] <= theta[:-1]):  # (finite: a difference <= 0 is this)
-            raise ParameterError("theta", "cam angles", "strictly increasing cam angles in [0, 2 pi) rad")
         object.__setattr__(self, "theta", theta)
         bounds: dict[str, tuple[float, float]] = {}  # the pressure angles' least and largest (their check below)
-        for name in ("s", "ds", "d2s", "pressure_angle"):
-            arr, low, high = _array_range(name, getattr(self, name), n)
+        rows = (self.s, self.ds, self.d2s)
+        kept = _CHECKED_ROWS.bounds(rows, n)  # a kept law's values: checked once
+        for name, given, known in zip(("s", "ds", "d2s", "pressure_angle"), (*rows, self.pressure_angle), (*kept, None)):
+            arr, low, high = (given, *known) if known is not None else _array_range(name, given, n)
             object.__setattr__(self, name, arr)
             bounds[name] = (low, high)
+        _CHECKED_ROWS.keep([(arr, *bounds[name]) for name, arr, known in zip(("s", "ds", "d2s"), (self.s, self.ds, self.d2s), kept)
+                            if known is None])
+        self.__dict__["s_least"] = bounds["s"][0]  # the lowest position, found by the check (float(s.min()))
         for name in ("rho_cam", "rho_cam_2"):
             rho = getattr(self, name)
             if rho is None:
@@ -360,6 +368,11 @@ class Kinematics:
             object.__setattr__(self, name, lever)
 
     @functools.cached_property
+    def s_least(self) -> float:
+        """The lowest follower position ``float(s.min())`` (mm or rad), found by the check of ``s``."""
+        return float(self.s.min())
+
+    @functools.cached_property
     def cos_pressure_angle(self) -> np.ndarray:
         """``cos(pressure_angle)``, made once (the contact projection, the force along the motion,
         the spring hints share it; read-only)."""
@@ -369,6 +382,78 @@ class Kinematics:
     def cos_pressure_angle_2(self) -> np.ndarray | None:
         """``cos(pressure_angle_2)`` of a form-closed train's second contact (None without it), made once; read-only."""
         return None if self.pressure_angle_2 is None else _read_only(np.cos(self.pressure_angle_2))
+
+
+class _CheckedAngles:
+    """The last cam angles that passed :class:`Kinematics`' checks of ``theta``: a read-only array
+    that owns its data (no writable base can change it), held so that its id is not reused.  A study's
+    designs build their kinematics on one check grid's angles (the same read-only array): each design
+    after the first skips the angles' four passes (finite, least, largest, increasing).  One slot:
+    bounded; any other array is checked as before."""
+
+    __slots__ = ("angles",)
+
+    def __init__(self) -> None:
+        self.angles: np.ndarray | None = None
+
+    def holds(self, theta: object) -> bool:
+        """``theta`` is the kept array, still read-only; any other answer forgets the kept array
+        (what is checked next is kept only if it passes: an array made writable is never kept again
+        unchecked).  An array made writable, changed and made read-only again between two designs is
+        outside this rule: the check grid's angles are never written."""
+        if theta is self.angles and not cast(np.ndarray, theta).flags.writeable:
+            return True
+        self.angles = None
+        return False
+
+    def keep(self, theta: np.ndarray) -> None:
+        """Keep ``theta`` (checked) if it is read-only and owns its data, else keep nothing."""
+        self.angles = theta if theta.base is None and not theta.flags.writeable and theta.dtype == np.float64 else None
+
+
+_CHECKED_THETA = _CheckedAngles()
+
+
+class _CheckedRows:
+    """The least and largest values (:func:`_array_range`) of the checked views of one read-only
+    block that owns its data (a motion program's kept check-grid values ``s``, ``ds``, ``d2s``): a
+    radius sweep's designs view the same block, each view's values are checked once.  The views
+    (so the block) are held, their ids not reused; a view of another block replaces them; at most
+    a few.  The views' places in the block are found only when a later view is of the same block."""
+
+    __slots__ = ("block", "views", "places")
+
+    def __init__(self) -> None:
+        self.block: object = None
+        self.views: list[tuple[np.ndarray, float, float]] = []
+        self.places: dict[tuple[int, tuple[int, ...], tuple[int, ...]], tuple[float, float]] | None = None
+
+    def bounds(self, rows: tuple[object, ...], n: int) -> list[tuple[float, float] | None]:
+        """The kept least and largest values of each of ``rows`` (a view of the kept block, of ``n``
+        samples), or None (all are asked before any is kept: a new block's views find no places)."""
+        out: list[tuple[float, float] | None] = []
+        for values in rows:
+            if (self.block is None or not isinstance(values, np.ndarray) or values.base is not self.block or values.shape != (n,)
+                    or not _in_held_block(values)):
+                out.append(None)
+                continue
+            if self.places is None:
+                self.places = {_places((view,))[0]: (low, high) for view, low, high in self.views}
+            out.append(self.places.get(_places((values,))[0]))
+        return out
+
+    def keep(self, checked: list[tuple[np.ndarray, float, float]]) -> None:
+        """Keep the least and largest values of each checked view of a held block (view, least, largest)."""
+        for values, low, high in checked:
+            if not _in_held_block(values):
+                continue
+            if values.base is not self.block or len(self.views) >= 4:
+                self.block, self.views = values.base, []
+            self.views.append((values, low, high))
+            self.places = None
+
+
+_CHECKED_ROWS = _CheckedRows()
 
 
 def _read_only(values: np.ndarray) -> np.ndarray:
@@ -448,7 +533,7 @@ def _force_parts(kin: Kinematics, train: FollowerTrain) -> _ForceParts:
     # the weight's component along +q, with the sign that resists the motion: -m g . e_q
     weight = -train.mass * train.gravity * weight_lever * np.cos(train.gravity_angle - np.asarray(kin.direction, dtype=float))
     load = train.load_at(kin.theta) if isinstance(train.load, tuple) else float(train.load)  # a constant added as a number
-    return _ForceParts(kin.s - kin.s.min(), load, weight, damping * kin.ds, inertia * kin.d2s)
+    return _ForceParts(kin.s - kin.s_least, load, weight, damping * kin.ds, inertia * kin.d2s)  # (s_least: float(s.min()))
 
 
 def _contact_projection(kin: Kinematics, train: FollowerTrain, second: bool = False) -> np.ndarray:
@@ -848,6 +933,131 @@ def spring_hints(result: "DynamicsResult", kin: Kinematics) -> tuple[float | Non
     return preload, installed, rate
 
 
+@dataclass(eq=False)
+class _LawTerms:
+    """What :func:`analyse` makes from the follower's motion alone (``s``, ``ds``, ``d2s``, the cam
+    angles, the weight's direction), the train and the speed: the force parts, ``A``, the damping
+    and inertia terms ``B w``, ``C w^2``, ``Q``, the torque (N*m), the power (W) and, made on
+    first use, the jump speed (rpm; it needs no contact projection: margin 0)."""
+
+    parts: _ForceParts
+    a: np.ndarray
+    damping: np.ndarray
+    inertia: np.ndarray
+    q: np.ndarray
+    torque: np.ndarray
+    power: np.ndarray
+    jump: float | None = None
+    kept: bool = False  # kept for the next design (_KeptLawTerms): its results share the summaries below
+    theta: np.ndarray | None = None  # the cam angles the summaries were made on (read-only, owning its data; held)
+    summaries: dict[str, Any] | None = None
+
+    def share_summaries(self, result: "DynamicsResult") -> None:
+        """Give ``result`` (made from these kept terms) the torque and power summaries of the last
+        result made from them on the same read-only cam angles (they read only the torque, the
+        power, the speed and the angles' weights), or make them now and keep them."""
+        theta = result.theta
+        if self.summaries is not None and theta is self.theta and not theta.flags.writeable:
+            result.__dict__.update(self.summaries)
+            return
+        self.theta = theta if theta.base is None and not theta.flags.writeable else None
+        self.summaries = {name: getattr(result, name) for name in _SUMMARIES} if self.theta is not None else None
+
+    def jump_rpm(self) -> float:
+        """:func:`_jump_rpm` of ``A``, ``B``, ``C`` at margin 0 (made once)."""
+        if self.jump is None:
+            self.jump = _jump_rpm(self.a, self.parts.b, self.parts.c, self.a, 0.0)  # (the projection is unused at margin 0)
+        return self.jump
+
+
+def _make_law_terms(kin: Kinematics, train: FollowerTrain, omega: float) -> _LawTerms:
+    parts = _force_parts(kin, train)
+    a, b, c = parts.spring_term(train), parts.b, parts.c  # force_coefficients
+    damping, inertia = b * omega, c * omega**2
+    q = a + damping
+    q += inertia  # (a + damping) + inertia
+    torque = q * kin.ds  # power balance, T w = Q w q'
+    torque *= N_MM_TO_N_M
+    return _LawTerms(parts, a, damping, inertia, q, torque, torque * omega)
+
+
+def _in_held_block(values: np.ndarray) -> bool:
+    """``values`` is a read-only float view of a read-only block that owns its data (its values
+    cannot change)."""
+    base = values.base
+    return (not values.flags.writeable and isinstance(base, np.ndarray) and base.base is None and not base.flags.writeable
+            and values.dtype == np.float64)
+
+
+def _places(views: tuple[np.ndarray, ...]) -> tuple[tuple[int, tuple[int, ...], tuple[int, ...]], ...]:
+    """Each view's place in its block: the byte offset, the shape and the strides."""
+    out = []
+    for values in views:
+        assert isinstance(values.base, np.ndarray)  # (_in_held_block)
+        offset = values.__array_interface__["data"][0] - values.base.__array_interface__["data"][0]
+        out.append((offset, values.shape, values.strides))
+    return tuple(out)
+
+
+class _KeptLawTerms:
+    """The last :class:`_LawTerms` made for a motion whose ``s``, ``ds``, ``d2s`` are views of a
+    read-only block that owns its data (a motion program's kept check-grid values), with a scalar
+    weight direction, a train object (frozen) whose load is a number (no cam angle enters the terms)
+    and a speed: the next design of a radius sweep (the same law, train and speed) reads them again
+    (their arrays read-only).  The views (so their blocks) and the train are held, so their ids are
+    not reused; one slot.  The views' places in their blocks are compared only when the blocks,
+    the direction, the train and the speed are the kept ones (a lift sweep's new law: a new block).
+    The terms are kept from the second design on the same values: a lift sweep, whose every design
+    has a new law, holds no arrays of a past design."""
+
+    __slots__ = ("key", "views", "places", "train", "terms")
+
+    def __init__(self) -> None:
+        self.key: object = None
+        self.views: tuple[np.ndarray, ...] = ()
+        self.places: object = None
+        self.train: FollowerTrain | None = None
+        self.terms: _LawTerms | None = None
+
+    def terms_of(self, kin: Kinematics, train: FollowerTrain, omega: float) -> _LawTerms:
+        views = (kin.s, kin.ds, kin.d2s)
+        if (not (_in_held_block(kin.s) and _in_held_block(kin.ds) and _in_held_block(kin.d2s)) or not isinstance(train.load, float)
+                or isinstance(kin.direction, np.ndarray)):
+            return _make_law_terms(kin, train, omega)
+        direction = float(kin.direction)
+        key = (id(kin.s.base), id(kin.ds.base), id(kin.d2s.base), direction, math.copysign(1.0, direction), id(train),
+               omega)  # (omega > 0: equal is identical)
+        if key == self.key:
+            if self.places is None:
+                self.places = _places(self.views)
+            if _places(views) == self.places:  # the second design on these values: kept from now on
+                if self.terms is not None:
+                    return self.terms
+                terms = _make_law_terms(kin, train, omega)
+                for arr in (terms.parts.lift, terms.parts.b, terms.parts.c, terms.a, terms.damping, terms.inertia, terms.q,
+                            terms.torque, terms.power):
+                    arr.flags.writeable = False
+                terms.kept = True
+                self.terms = terms
+                return terms
+        self.key, self.views, self.places, self.train, self.terms = key, views, None, train, None  # seen once: nothing kept yet
+        return _make_law_terms(kin, train, omega)
+
+
+_LAW_TERMS = _KeptLawTerms()
+
+#: The :class:`DynamicsResult` summaries that read only the torque, the power, the speed and the cam
+#: angles' weights (shared by the results of kept :class:`_LawTerms` on the same angles).
+_SUMMARIES = ("weights", "torque_peak_index", "torque_peak", "torque_rms", "power_peak", "power_rms", "energy_per_turn",
+              "mean_power")
+
+
+def _law_terms(kin: Kinematics, train: FollowerTrain, omega: float) -> _LawTerms:
+    """:class:`_LawTerms` of ``kin``, ``train`` and ``omega`` (rad/s): kept for the next design
+    on the same kept motion values, angles, train and speed (:class:`_KeptLawTerms`)."""
+    return _LAW_TERMS.terms_of(kin, train, omega)
+
+
 def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: ContactMaterial | None = None, *,
             jump_margin: float = 0.0, position_tol: float = 1e-9) -> DynamicsResult:
     """Contact forces, camshaft torque and power, Hertz stress, the jump speed and the spring
@@ -874,11 +1084,8 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
     form = train.closure == "form"
     if form and (kin.pressure_angle_2 is None or kin.rho_cam_2 is None):
         raise ParameterError("pressure_angle_2", None, "arrays for the second contact of a form-closed train (and rho_cam_2)")
-    parts = _force_parts(kin, train)
-    a, b, c = parts.spring_term(train), parts.b, parts.c  # force_coefficients
-    damping, inertia = b * omega, c * omega**2
-    q = a + damping
-    q += inertia  # (a + damping) + inertia
+    terms = _law_terms(kin, train, omega)
+    parts, a, damping, inertia, q = terms.parts, terms.a, terms.damping, terms.inertia, terms.q
     projection = _contact_projection(kin, train)
     if form:
         assert kin.pressure_angle_2 is not None and kin.rho_cam_2 is not None  # refused above otherwise
@@ -892,9 +1099,7 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
         force_2 = None
         along = force_1 * kin.cos_pressure_angle
         side = None  # force_1 * sin(phi), made on first use (DynamicsResult.side_force: the report's, no check's)
-    torque = q * kin.ds  # power balance, T w = Q w q'
-    torque *= N_MM_TO_N_M
-    power = torque * omega
+    torque, power = terms.torque, terms.power
     hertz = hertz_2 = None
     if material is not None and kin.follower_radius > 0:
         hertz = hertz_line_stress(force_1, kin.rho_cam, kin.follower_radius, material)
@@ -904,8 +1109,11 @@ def analyse(kin: Kinematics, train: FollowerTrain, rpm: float, material: Contact
     if form:
         jump_rpm, ranges, min_preload, min_rate = math.inf, [], None, None
     else:
-        jump_rpm = _jump_rpm(a, b, c, projection, 0.0)  # jump_speed(kin, train): the same coefficients
+        jump_rpm = terms.jump_rpm()  # jump_speed(kin, train): the same coefficients
         ranges = run_ends(force_1 <= 0, kin.theta)
         min_preload, min_rate = _required_spring(a, damping, inertia, projection, margin, train, parts.lift, position_tol)
-    return DynamicsResult(rpm, omega, kin.theta, train, q, force_1, force_2, kin.pressure_angle, along, side, torque, power,
-                          hertz, hertz_2, jump_rpm, ranges, min_preload, min_rate, margin, (kin, train, parts, projection))
+    result = DynamicsResult(rpm, omega, kin.theta, train, q, force_1, force_2, kin.pressure_angle, along, side, torque, power,
+                            hertz, hertz_2, jump_rpm, ranges, min_preload, min_rate, margin, (kin, train, parts, projection))
+    if terms.kept:  # a radius sweep's next design: the same torque, power and angles, the same summaries
+        terms.share_summaries(result)
+    return result
