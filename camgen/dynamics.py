@@ -44,9 +44,10 @@ from __future__ import annotations
 
 import functools
 import math
+import threading
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, cast
+from typing import Any, Callable, ParamSpec, TypeVar, cast
 
 import numpy as np
 
@@ -384,6 +385,23 @@ class Kinematics:
         return None if self.pressure_angle_2 is None else _read_only(np.cos(self.pressure_angle_2))
 
 
+_P = ParamSpec("_P")
+_R = TypeVar("_R")
+#: What the designs evaluated in one process share here (the last checked cam angles and law
+#: values, the last law terms and their summaries) is read and replaced under this lock: requests
+#: that `camgen serve` evaluates at once in threads must not see another design's half-replaced slot.
+_SHARED = threading.RLock()
+
+
+def _shared(method: Callable[_P, _R]) -> Callable[_P, _R]:
+    """``method`` run holding :data:`_SHARED`."""
+    @functools.wraps(method)
+    def run(*args: _P.args, **kwargs: _P.kwargs) -> _R:
+        with _SHARED:
+            return method(*args, **kwargs)
+    return run
+
+
 class _CheckedAngles:
     """The last cam angles that passed :class:`Kinematics`' checks of ``theta``: a read-only array
     that owns its data (no writable base can change it), held so that its id is not reused.  A study's
@@ -396,6 +414,7 @@ class _CheckedAngles:
     def __init__(self) -> None:
         self.angles: np.ndarray | None = None
 
+    @_shared
     def holds(self, theta: object) -> bool:
         """``theta`` is the kept array, still read-only; any other answer forgets the kept array
         (what is checked next is kept only if it passes: an array made writable is never kept again
@@ -406,6 +425,7 @@ class _CheckedAngles:
         self.angles = None
         return False
 
+    @_shared
     def keep(self, theta: np.ndarray) -> None:
         """Keep ``theta`` (checked) if it is read-only and owns its data, else keep nothing."""
         self.angles = theta if theta.base is None and not theta.flags.writeable and theta.dtype == np.float64 else None
@@ -428,6 +448,7 @@ class _CheckedRows:
         self.views: list[tuple[np.ndarray, float, float]] = []
         self.places: dict[tuple[int, tuple[int, ...], tuple[int, ...]], tuple[float, float]] | None = None
 
+    @_shared
     def bounds(self, rows: tuple[object, ...], n: int) -> list[tuple[float, float] | None]:
         """The kept least and largest values of each of ``rows`` (a view of the kept block, of ``n``
         samples), or None (all are asked before any is kept: a new block's views find no places)."""
@@ -442,6 +463,7 @@ class _CheckedRows:
             out.append(self.places.get(_places((values,))[0]))
         return out
 
+    @_shared
     def keep(self, checked: list[tuple[np.ndarray, float, float]]) -> None:
         """Keep the least and largest values of each checked view of a held block (view, least, largest)."""
         for values, low, high in checked:
@@ -952,6 +974,7 @@ class _LawTerms:
     theta: np.ndarray | None = None  # the cam angles the summaries were made on (read-only, owning its data; held)
     summaries: dict[str, Any] | None = None
 
+    @_shared
     def share_summaries(self, result: "DynamicsResult") -> None:
         """Give ``result`` (made from these kept terms) the torque and power summaries of the last
         result made from them on the same read-only cam angles (they read only the torque, the
@@ -1019,6 +1042,7 @@ class _KeptLawTerms:
         self.train: FollowerTrain | None = None
         self.terms: _LawTerms | None = None
 
+    @_shared
     def terms_of(self, kin: Kinematics, train: FollowerTrain, omega: float) -> _LawTerms:
         views = (kin.s, kin.ds, kin.d2s)
         if (not (_in_held_block(kin.s) and _in_held_block(kin.ds) and _in_held_block(kin.d2s)) or not isinstance(train.load, float)

@@ -98,3 +98,53 @@ def test_a_view_of_a_writable_block_or_another_place_in_the_block_is_not_taken_f
     again = dy.analyse(dy.Kinematics(THETA, s, ds, d2s, np.zeros(N), np.full(N, 40.0), 10.0), train, 300.0)
     alone = dy.analyse(dy.Kinematics(THETA, np.array(s), ds, d2s, np.zeros(N), np.full(N, 40.0), 10.0), train, 300.0)
     _same(again, alone)
+
+
+def test_a_design_analysed_in_another_thread_meanwhile_leaves_the_kept_terms_its_own():
+    """Thread B is inside the kept slot's lookup (its law seen once before: the second design) when
+    thread A analyses another law laid out alike: afterwards the slot answers A's law with A's terms
+    (the analysis of writable copies, never kept).  The slot is read and replaced holding a lock, so
+    A waits for B; B's pause ends by itself when A cannot come in."""
+    import inspect
+    import sys
+    import threading
+
+    train = dy.FollowerTrain(mass=0.4, spring_rate=1.5, preload=40.0, damping=10.0)
+    first, second = _block(20.0), _block(30.0)
+    dy.analyse(_kin(first, 0.2), train, 300.0)  # B's law seen once
+    code = dy._KeptLawTerms.terms_of.__wrapped__.__code__
+    lines, start = inspect.getsourcelines(dy._KeptLawTerms.terms_of.__wrapped__)
+    pause_at = start + next(i for i, line in enumerate(lines) if "if self.places is None" in line)
+    b_inside, a_done = threading.Event(), threading.Event()
+
+    def tracer(frame, event, arg):  # type: ignore[no-untyped-def]
+        if frame.f_code is not code:
+            return None
+
+        def local(fr, ev, a):  # type: ignore[no-untyped-def]
+            if ev == "line" and fr.f_lineno == pause_at and not b_inside.is_set():
+                b_inside.set()
+                a_done.wait(1.0)  # A analyses meanwhile, unless it waits for B
+            return local
+        return local
+
+    def b() -> None:
+        sys.settrace(tracer)
+        try:
+            dy.analyse(_kin(first, 0.2), train, 300.0)
+        finally:
+            sys.settrace(None)
+
+    def a() -> None:
+        assert b_inside.wait(10)
+        dy.analyse(_kin(second, 0.2), train, 300.0)  # A's law, seen once
+        a_done.set()
+
+    threads = [threading.Thread(target=b), threading.Thread(target=a)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(20)
+    assert b_inside.is_set() and a_done.is_set()
+    kept = dy.analyse(_kin(second, 0.2), train, 300.0)  # A's law again: the slot's answer
+    _same(kept, dy.analyse(_kin(second, 0.2, copies=True), train, 300.0))
