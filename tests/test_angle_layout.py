@@ -110,6 +110,16 @@ def test_kept_layouts_are_read_only_refuse_non_finite_angles_and_are_not_pickled
     assert "_places_key" not in pickle.loads(pickle.dumps(program)).__dict__
 
 
+def _fill_uniform_before(entry: tuple, n: int, lo: int, hi: int, ths: np.ndarray, out: np.ndarray) -> None:
+    """MotionProgram._fill_uniform before the grid layouts were kept (verbatim)."""
+    start, span, ref, forward, const, omegas, matrix, custom = entry
+    if custom is not None or matrix.shape[1] == 1 or math.copysign(1.0, ref) < 0.0:
+        MotionProgram._fill(entry, ths, out, TWO_PI / n)
+        return
+    np.matmul(matrix, laws._uniform_basis(n, lo, hi, start, span, ref, forward, omegas, matrix.shape[1] - 1 - 2 * len(omegas)),
+              out=out)
+
+
 def _grid_before(program: MotionProgram, n: int, extra: np.ndarray) -> np.ndarray:
     """MotionProgram.on_uniform_grid's loop before the grid layouts were kept (verbatim, but for
     the values kept on the program), with nothing kept."""
@@ -125,7 +135,7 @@ def _grid_before(program: MotionProgram, n: int, extra: np.ndarray) -> np.ndarra
         lo, hi = bounds[g], bounds[g + 1]
         elo, ehi = n + extra_bounds[g], n + extra_bounds[g + 1]
         if hi - lo >= laws._PHASOR_MIN_POINTS:
-            program._fill_uniform(entry, n, lo, hi, grid[lo:hi], res[:, lo:hi])
+            _fill_uniform_before(entry, n, lo, hi, grid[lo:hi], res[:, lo:hi])
             if elo < ehi:
                 program._fill(entry, extra[elo - n: ehi - n], res[:, elo:ehi], None)
         elif lo < hi or elo < ehi:

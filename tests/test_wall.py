@@ -300,8 +300,8 @@ def test_the_plate_cams_joints_are_each_segments_own_bit_for_bit():
 
 
 def test_joints_from_the_splines_alone_are_the_tables_and_each_segments_bit_for_bit():
-    """A fresh contour of splines (no segment tables: the ends from the splines themselves,
-    camgen.contour.ends.splines_end_values), the same contour after an evaluation built its tables
+    """A fresh contour of splines (no segment tables: the joints from the splines themselves,
+    camgen.contour.spline_joints.spline_joint_values), the same contour after an evaluation built its tables
     (the tables' path), and each segment's own values (the code before) give the same joints."""
     from camgen.contour import Contour
 

@@ -13,7 +13,7 @@ from typing import Iterable, Union
 import numpy as np
 
 from camgen.contour.arc import Arc
-from camgen.contour.ends import spline_end_values, splines_end_values
+from camgen.contour.ends import spline_end_values
 from camgen.contour.spline import Spline, bounding_box_of, flatten_params_of
 from camgen.contour.spline_joints import spline_joint_values
 from camgen.contour.tables import SegmentTables, StarTable
@@ -511,12 +511,9 @@ class Contour:
 
     def _all_end_values(self) -> list[tuple[np.ndarray, np.ndarray]]:
         """:meth:`_end_values` of every segment: the splines' in one vectorised pass
-        (:func:`camgen.contour.ends.spline_end_values`: the same values; a contour of splines of
-        one degree from its splines alone, without building its tables), the arcs' one at a time."""
-        if "_segment_tables" not in self.__dict__ and all(isinstance(seg, Spline) for seg in self.segments):
-            direct = splines_end_values(self.segments)  # type: ignore[arg-type]
-            if direct is not None:
-                return list(zip(direct[0], direct[1]))
+        (:func:`camgen.contour.ends.spline_end_values`: the same values), the arcs' one at a time.
+        (:meth:`joints` takes a contour of splines of one degree without tables from
+        :func:`camgen.contour.spline_joints.spline_joint_values` instead.)"""
         tables = self._tables()
         spline = np.flatnonzero(~tables.is_arc)
         ends: list[tuple[np.ndarray, np.ndarray] | None] = [None] * self.n_segments

@@ -11,7 +11,6 @@ or beyond the last piece's start, checked; else the general sorted search).
 from __future__ import annotations
 
 import functools
-from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
 
@@ -19,10 +18,7 @@ from camgen.contour.tables import SegmentTables
 from camgen.geometry import signed_curvature
 from camgen.numerics.polynomial import derivative_factors, horner
 
-if TYPE_CHECKING:
-    from camgen.contour.spline import Spline
-
-__all__ = ["spline_end_values", "splines_end_values"]
+__all__ = ["spline_end_values"]
 
 
 def spline_end_values(tables: SegmentTables, segments: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -41,31 +37,6 @@ def spline_end_values(tables: SegmentTables, segments: np.ndarray) -> tuple[np.n
     t = _ends_t(t0, span)
     row, tau = tables.locate(np.repeat(spline, 2), t.ravel())
     return _derivatives(tables.rows[row], tau[:, None], span, tables.degree)
-
-
-def splines_end_values(splines: "Sequence[Spline]") -> tuple[np.ndarray, np.ndarray] | None:
-    """:func:`spline_end_values` of every segment of a contour made of splines of one degree,
-    ``splines`` (S,), from the splines themselves (no :class:`SegmentTables`: the same numbers,
-    gathered from each spline's first and last piece); None when the contour's splines have two
-    degrees or an end is not on its end piece (take :func:`spline_end_values`).
-
-    A contour has a handful of splines: the parameters of the ends and their offsets in their
-    pieces are Python floats (the IEEE operations :func:`_end_values` does elementwise: ``t0 +
-    0.0 span``, ``t0 + 1.0 span``, their differences from the pieces' starts)."""
-    degree = splines[0].degree
-    if any(s.degree != degree for s in splines):
-        return None
-    spans, offsets = [], []
-    for s in splines:
-        t0, b_last = s.breaks[[0, -2]].tolist()
-        span = s.span
-        t_first, t_last = t0 + 0.0 * span, t0 + 1.0 * span  # Spline._t(0), Spline._t(1)
-        if not (t_first == t0 and t_last >= b_last):
-            return None
-        spans.append(span)
-        offsets += [t_first - t0, t_last - b_last]
-    rows = np.stack([s.coeffs[:, k] for s in splines for k in (0, -1)])  # (2 S, degree + 1, 2): SegmentTables.rows of the end pieces
-    return _derivatives(rows, np.array(offsets)[:, None], np.array(spans), degree)
 
 
 def _ends_t(t0: np.ndarray, span: np.ndarray) -> np.ndarray:

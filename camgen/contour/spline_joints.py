@@ -2,8 +2,8 @@
 <camgen.contour.Contour.joints>`, which a disk cam's continuity check calls per design on a
 handful of splines).
 
-The values are those of :func:`camgen.contour.ends.splines_end_values` and the joint loop of
-:meth:`Contour.joints <camgen.contour.Contour.joints>` to the last bit: every product and sum of
+The values are those of :func:`camgen.contour.ends.spline_end_values` (on the contour's tables)
+and the joint loop of :meth:`Contour.joints <camgen.contour.Contour.joints>` to the last bit: every product and sum of
 the Horner steps is one IEEE operation in the same order (Python floats round as numpy's
 elementwise float64 arithmetic does); what numpy computes otherwise stays numpy's: the speeds
 (``np.hypot``, libm's) and their cubes and the curvatures' quotients on one array each, the gaps

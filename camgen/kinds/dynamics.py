@@ -527,7 +527,7 @@ def dynamics_checks(result: "DynamicsResult", kin: "Kinematics", material: "Cont
     if train.closure == "force":
         force = result.contact_force
         i = int(np.argmin(force))
-        short = force[i] < result.jump_margin  # some force < the margin: the smallest is
+        short = force[i] < result.jump_margin  # some force < the margin: the smallest is (finite: dy.Kinematics refuses nan)
         where = run_ends(force < result.jump_margin, theta) if short else where_degrees(theta[i])
         # the jump speed rounded down: below the speed quoted the contact force stays positive
         jump = ("never (the contact force does not fall with speed)" if math.isinf(result.jump_rpm)
@@ -580,7 +580,7 @@ def dynamics_checks(result: "DynamicsResult", kin: "Kinematics", material: "Cont
                 checks.append(information("hertz_stress", peak, "MPa", where_degrees(theta[i]),
                                           note + "; give an allowable stress to check it"))
             else:
-                over = stress[i] > material.allowable_stress  # some stress > the allowable: the largest is
+                over = stress[i] > material.allowable_stress  # some stress > the allowable: the largest is (finite: as the forces)
                 where = run_ends(stress > material.allowable_stress, theta) if over else where_degrees(theta[i])
                 checks.append(limited("hertz_stress", peak, "<=", material.allowable_stress, "MPa", where, note))
     i = result.torque_peak_index
@@ -590,7 +590,7 @@ def dynamics_checks(result: "DynamicsResult", kin: "Kinematics", material: "Cont
     if torque_limit is None:
         checks.append(information("camshaft_torque", result.torque_peak, "N*m", where_degrees(theta[i]), note + "; no torque limit given"))
     else:
-        over = result.torque_peak > torque_limit  # some |torque| > the limit: the peak is
+        over = result.torque_peak > torque_limit  # some |torque| > the limit: the peak is (finite: as the forces)
         where = run_ends(np.abs(result.torque) > torque_limit, theta) if over else where_degrees(theta[i])
         checks.append(limited("camshaft_torque", result.torque_peak, "<=", float(torque_limit), "N*m", where, note))
     return checks

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Callable, TypeVar, cast
 
 from camgen.errors import GeometryError
-from camgen.synthesis.laws import MotionProgram
+from camgen.synthesis.laws import PROGRAM_KEY, MotionProgram
 
 if TYPE_CHECKING:
     from camgen.synthesis.followers import FollowerSpec
@@ -40,9 +40,8 @@ Advice = TypeVar("Advice")
 Search = Callable[["FollowerSpec", Any, Any, float, int, int], Any]
 
 
-#: Where a motion program keeps its :func:`_law_key` (made once per program: a program does not
-#: change; one of the values :class:`camgen.synthesis.laws.MotionProgram` does not pickle).
-PROGRAM_KEY = "_advice_law_key"
+# PROGRAM_KEY (camgen.synthesis.laws): where a motion program keeps its :func:`_law_key` (made
+# once per program: a program does not change; one of the values MotionProgram does not pickle).
 
 
 def _law_key(law: Any) -> tuple[Any, ...]:

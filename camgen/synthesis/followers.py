@@ -627,10 +627,10 @@ def _pitch_kappa(sigma: float, vx: np.ndarray, vy: np.ndarray, ax: np.ndarray, a
     return speed, speed2, cross, cube, kappa
 
 
-def _pitch_curvature(sigma: float, vx: np.ndarray, vy: np.ndarray, ax: np.ndarray, ay: np.ndarray, bx: np.ndarray, by: np.ndarray,
-                     out: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def _pitch_curvature(sigma: float, vx: np.ndarray, vy: np.ndarray, ax: np.ndarray, ay: np.ndarray, bx: np.ndarray,
+                     by: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The pitch curve's speed ``|V|`` (mm/rad), ``|V|^2``, ``V . A``, signed curvature ``kappa``
-    (:func:`_pitch_kappa`, into ``out``) and ``d kappa / d theta = -sigma ((V x B) / |V|^3 - 3 (V x A)
+    (:func:`_pitch_kappa`) and ``d kappa / d theta = -sigma ((V x B) / |V|^3 - 3 (V x A)
     (V . A) / |V|^5)`` (``d|V| / d theta = V . A / |V|``) from the components of ``V``, ``A``, ``B``
     (:func:`_centre`)."""
     with np.errstate(all="ignore"):  # (the arithmetic of _pitch_kappa, written out: no second call and errstate)
@@ -639,7 +639,7 @@ def _pitch_curvature(sigma: float, vx: np.ndarray, vy: np.ndarray, ax: np.ndarra
         cross = vx * ay - vy * ax
         speed = np.sqrt(speed2)
         cube = speed * speed2
-        kappa = np.divide(-sigma * cross, cube, out=out)
+        kappa = np.divide(-sigma * cross, cube)
         kappa1 = vx * by - vy * bx
         kappa1 /= cube
         cross *= dot

@@ -128,7 +128,7 @@ from camgen.synthesis.laws_spline import (
 
 __all__ = [
     "ALIASES", "Displacement", "Join", "KEPLER_MAX_STEPS", "KEPLER_STEP_TOL", "LAWS", "Law", "LawBreak",
-    "MODIFIED_CYCLOID_TILT", "MotionProgram", "ORDER_NAMES", "Peaks", "SMOOTH", "Segment", "constant_velocity",
+    "MODIFIED_CYCLOID_TILT", "MotionProgram", "ORDER_NAMES", "PROGRAM_KEY", "Peaks", "SMOOTH", "Segment", "constant_velocity",
     "polynomial",
     # issue 26 LAWS
     "ACCEL_FRACTION_CATALOGUE", "SCCA_CATALOGUE", "asymmetric_modified_sine", "asymmetric_modified_trapezoid", "scca_law",
@@ -368,8 +368,9 @@ _GRID_MEMO_SIZE = 4
 _CALL_MEMO_ANGLES = 4096
 _CALL_MEMO_SIZE = 16
 #: The attributes in which a program keeps values (not pickled).
-_KEPT_VALUES = ("_call_memo", "_grid_memo", "_order_memo", "_peaks", "_sample_memo", "_places_key",
-                "_advice_law_key")  # (the last: camgen.synthesis.advice_cache.PROGRAM_KEY)
+#: The attribute in which camgen.synthesis.advice_cache keeps a program's key (made once per program).
+PROGRAM_KEY = "_advice_law_key"
+_KEPT_VALUES = ("_call_memo", "_grid_memo", "_order_memo", "_peaks", "_sample_memo", "_places_key", PROGRAM_KEY)
 
 
 def _uniform_phasors(first: float, step: float, m: int) -> np.ndarray:
@@ -1609,26 +1610,13 @@ class MotionProgram:
         np.matmul(matrix, _piece_basis(tau, span, ref, forward, omegas, matrix.shape[1] - 1 - 2 * len(omegas), step), out=out)
 
     @staticmethod
-    def _fill_uniform(entry: tuple, n: int, lo: int, hi: int, ths: np.ndarray, out: np.ndarray) -> None:
-        """:meth:`_fill` at the uniform angles ``k 2 pi / n`` (k = lo .. hi - 1) with their sines and
-        cosines from angle addition: the basis of a polynomial-plus-trig piece is
-        :func:`_uniform_basis`'s, kept across programs (a sweep that changes a lift keeps the
-        pieces' places: only the matrix, which carries the lift, is new); ``ths``: those angles
-        (rad, (hi - lo,)), for the pieces evaluated without a kept basis."""
-        start, span, ref, forward, const, omegas, matrix, custom = entry
-        if custom is not None or matrix.shape[1] == 1 or math.copysign(1.0, ref) < 0.0:  # (a -0.0 ref keys as 0.0: made here)
-            MotionProgram._fill(entry, ths, out, TWO_PI / n)
-            return
-        np.matmul(matrix, _uniform_basis(n, lo, hi, start, span, ref, forward, omegas, matrix.shape[1] - 1 - 2 * len(omegas)), out=out)
-
-    @staticmethod
     def _fill_grid_piece(entry: tuple, n: int, extra: np.ndarray, lo: int, hi: int, elo: int, ehi: int, res: np.ndarray) -> None:
         """:meth:`on_uniform_grid`'s values of one plan entry evaluated without a kept basis (the
         tilted cycloid): its uniform angles ``lo .. hi - 1`` and its added ones
         (columns ``elo .. ehi - 1`` of ``res``, (4, n + extra.size))."""
         step = TWO_PI / n
         if hi - lo >= _PHASOR_MIN_POINTS:  # angle addition pays off on the uniform part
-            MotionProgram._fill_uniform(entry, n, lo, hi, np.arange(n)[lo:hi] * step, res[:, lo:hi])
+            MotionProgram._fill(entry, np.arange(n)[lo:hi] * step, res[:, lo:hi], step)
             if elo < ehi:
                 MotionProgram._fill(entry, extra[elo - n: ehi - n], res[:, elo:ehi], None)
         elif lo < hi or elo < ehi:  # few angles: the uniform and the added ones in one evaluation
@@ -1660,7 +1648,7 @@ class MotionProgram:
         res = np.empty((4, n + extra.size))
         layout = _grid_layout(n, key[1], self._places())
         for entry, (lo, hi, elo, ehi, uniform, added) in zip(plan, layout):
-            if uniform is not None:  # what _fill_uniform and _fill make of these bases
+            if uniform is not None:  # what _fill makes of these bases
                 np.matmul(entry[6], uniform, out=res[:, lo:hi])
                 if added is not None:
                     np.matmul(entry[6], added, out=res[:, elo:ehi])

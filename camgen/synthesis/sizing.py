@@ -165,7 +165,9 @@ class DesignMeasures:
     roller_radius: float = 0.0  #: mm, the follower's roller radius (0: none), which Norton's rule scales
 
     def violations(self, limits: DesignLimits) -> list[str]:
-        """One sentence per limit the design breaks (empty: feasible)."""
+        """One sentence per limit the design breaks (empty: feasible).  :func:`_feasible` judges the
+        same limits from the extremes alone (tests/test_sizing_feasible.py compares the two): a
+        limit added or changed here is added or changed there too."""
         out = list(self.failures)
         roller_radius = self.roller_radius
         if limits.max_pressure_angle_return is not None:

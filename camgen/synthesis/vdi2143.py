@@ -162,7 +162,8 @@ _LAW_VALUES_CACHE = 64
 def _law_values(law: "Law", factor: float | None) -> SegmentValues:
     """:class:`SegmentValues` of a segment of ``law`` whose normalised law is ``factor`` times its
     shape (None: a segment at rest): a pure function of the (immutable) law and the factor, kept
-    (the value is immutable)."""
+    keyed by the law object (laws compare by identity: a program read again, or a law made per
+    design, is a new key) and the factor (the value is immutable)."""
     name = law.name
     vdi = VDI_NAMES.get(name)
     if name == "polynomial":
